@@ -1,0 +1,16 @@
+//! rodkit: mechanics of elastic tubes and rods with a stable C ABI.
+//!
+//! The physics follows `../shared/spec/physics.md`; the C conventions
+//! `../shared/spec/c-api.md`. All `unsafe` code lives in [`capi`], which is
+//! the only place allowed to opt out of the lint below.
+#![deny(unsafe_code)]
+
+pub mod error;
+pub mod status;
+pub mod tube;
+pub mod version;
+
+pub mod capi;
+
+pub use error::{Error, Result};
+pub use status::Status;

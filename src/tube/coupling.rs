@@ -1,0 +1,126 @@
+//! The linear coupling stiffness of a tube about its stress-free state and
+//! what follows from it (`physics.md` §1.4): f = K e with generalised strains
+//! e = (ε, ψ, ε_θ) and work-conjugate forces f = (F, T, 2πR²p), K symmetric.
+//! Thin and thick models both report through [`CouplingStiffness`].
+
+use crate::error::{self, Error, Result};
+use crate::status::Status;
+use nalgebra::{Matrix2, Matrix3, Vector3};
+
+/// Symmetric positive-definite 3×3 coupling stiffness, ordered
+/// (extension ε, twist per length ψ, hoop strain ε_θ) ↔ (axial force F,
+/// torque T, 2πR²p). Off-diagonals: K[0,1] extension–twist, K[1,2]
+/// twist–inflation, K[0,2] extension–inflation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CouplingStiffness {
+    pub k: Matrix3<f64>,
+    /// Intrinsic twist τ0 of the tube: its sign is the sense "overwinding"
+    /// refers to.
+    pub intrinsic_twist: f64,
+}
+
+/// The condensed 2×2 stretch–twist law at p = 0 (inflation eliminated):
+/// (F, T) = [[S, g], [g, C]] (ε, ψ). Exactly the hemitropic rod coupling of §2.2.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StretchTwist {
+    /// Stretch modulus S (force).
+    pub stretch: f64,
+    /// Twist–stretch coupling g (force·length).
+    pub coupling: f64,
+    /// Twist modulus C (force·length²).
+    pub twist: f64,
+}
+
+/// How a free tube (T = 0, p = 0) twists when pulled, relative to the sense
+/// of its intrinsic twist τ0.
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Winding {
+    /// Twists against τ0 (the usual response of a helical structure).
+    Unwinds = -1,
+    /// No extension–twist coupling (τ0 = 0, or |coupling| at round-off level).
+    Neither = 0,
+    /// Twists further in the sense of τ0 (DNA's counter-intuitive response).
+    Overwinds = 1,
+}
+
+/// Response of a free tube (T = 0, p = 0) to an axial force, per unit force.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FreeTubeResponse {
+    /// dε/dF (1/force).
+    pub dstrain_dforce: f64,
+    /// dψ/dF (1/(force·length)).
+    pub dtwist_dforce: f64,
+    /// dε_θ/dF (1/force): > 0 means the tube inflates when stretched.
+    pub dhoop_dforce: f64,
+    /// Sign of τ0·dψ/dF, with round-off treated as zero.
+    pub winding: Winding,
+}
+
+/// Couplings smaller than this fraction of their Cauchy–Schwarz bound
+/// |K⁻¹_εψ| ≤ √(K⁻¹_εε K⁻¹_ψψ) are round-off (exact zeros in exact arithmetic).
+const COUPLING_ROUNDOFF: f64 = 1e-12;
+
+impl CouplingStiffness {
+    /// Wraps K after checking it is finite, symmetric to round-off and positive
+    /// definite (Cholesky).
+    pub fn new(k: Matrix3<f64>, intrinsic_twist: f64) -> Result<Self> {
+        error::finite_result("coupling stiffness", k.as_slice())?;
+        let scale = k.amax();
+        if (k - k.transpose()).amax() > 1e-12 * scale {
+            return Err(Error::new(Status::ErrInternal, format!("coupling stiffness is not symmetric: {k}")));
+        }
+        if k.cholesky().is_none() {
+            return Err(Error::new(
+                Status::ErrNotPositiveDefinite,
+                format!("coupling stiffness is not positive definite: {k}"),
+            ));
+        }
+        Ok(CouplingStiffness { k, intrinsic_twist })
+    }
+
+    /// Column-major entries, ready for a C caller.
+    pub fn column_major(&self) -> [f64; 9] {
+        let mut out = [0.0; 9];
+        out.copy_from_slice(self.k.as_slice()); // nalgebra stores column-major
+        out
+    }
+
+    /// Condense ε_θ out at p = 0 (Schur complement of K[2,2]).
+    pub fn stretch_twist(&self) -> StretchTwist {
+        let k = &self.k;
+        let k33 = k[(2, 2)];
+        StretchTwist {
+            stretch: k[(0, 0)] - k[(0, 2)] * k[(0, 2)] / k33,
+            coupling: k[(0, 1)] - k[(0, 2)] * k[(1, 2)] / k33,
+            twist: k[(1, 1)] - k[(1, 2)] * k[(1, 2)] / k33,
+        }
+    }
+
+    /// Free-tube response: solve K e = (1, 0, 0).
+    pub fn free_response(&self) -> Result<FreeTubeResponse> {
+        let chol = self.k.cholesky().ok_or_else(|| {
+            Error::new(Status::ErrNotPositiveDefinite, "coupling stiffness is not positive definite")
+        })?;
+        let e = chol.solve(&Vector3::new(1.0, 0.0, 0.0));
+        let cinv = chol.inverse();
+        error::finite_result("free-tube response", e.as_slice())?;
+        let bound = (cinv[(0, 0)] * cinv[(1, 1)]).sqrt();
+        let sense = self.intrinsic_twist.signum() * e[1];
+        let winding = if self.intrinsic_twist == 0.0 || sense.abs() <= COUPLING_ROUNDOFF * bound {
+            Winding::Neither
+        } else if sense > 0.0 {
+            Winding::Overwinds
+        } else {
+            Winding::Unwinds
+        };
+        Ok(FreeTubeResponse { dstrain_dforce: e[0], dtwist_dforce: e[1], dhoop_dforce: e[2], winding })
+    }
+}
+
+impl StretchTwist {
+    /// [[S, g], [g, C]].
+    pub fn matrix(&self) -> Matrix2<f64> {
+        Matrix2::new(self.stretch, self.coupling, self.coupling, self.twist)
+    }
+}

@@ -1,0 +1,15 @@
+//! Helically reinforced tubes: coupled extension–torsion–inflation
+//! (`../shared/spec/physics.md` §1).
+//!
+//! So far: the linear theory about the stress-free state in the thin-tube
+//! (membrane) limit, §1.4. The coupling stiffness and what follows from it
+//! (condensed stretch–twist law, free-tube response) live in [`coupling`] so
+//! the thick-wall model can report through the same type.
+
+pub mod coupling;
+pub mod orthotropic;
+pub mod thin;
+
+pub use coupling::{CouplingStiffness, FreeTubeResponse, StretchTwist, Winding};
+pub use orthotropic::OrthotropicSurface;
+pub use thin::ThinTube;

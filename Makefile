@@ -1,0 +1,100 @@
+# rodkit: the library, its C / C++ / Fortran drivers, the tests, the install.
+#
+#   make run      build the library (release) and run every driver on its
+#                 bundled default input, printing the results
+#   make test     every test: Rust, C, C++, Fortran, valgrind, SUNDIALS
+#   make install  PREFIX=/usr/local: library, header, Fortran module source,
+#                 pkg-config file
+#
+# Both `run` and `test` first install missing system packages (.ci/deps).
+
+PROFILE ?= release
+CARGO ?= cargo
+ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
+TARGET_DIR ?= $(ROOT)/target
+LIBDIR := $(TARGET_DIR)/$(PROFILE)
+BUILD := $(LIBDIR)/native
+PREFIX ?= /usr/local
+VERSION := $(shell sed -n 's/^version = "\(.*\)"/\1/p' $(ROOT)/Cargo.toml | head -n 1)
+CARGO_PROFILE := $(if $(filter release,$(PROFILE)),--release,)
+
+# What a static link of librodkit.a needs besides the archive itself
+# (`cargo rustc --lib --crate-type staticlib -- --print native-static-libs`).
+STATIC_LIBS := -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc
+
+CC ?= gcc
+CXX ?= g++
+FC := gfortran
+CFLAGS := -std=c11 -O2 -g -Wall -Wextra -pedantic -Werror -I$(ROOT)/include
+CXXFLAGS := -std=c++17 -O2 -g -Wall -Wextra -pedantic -Werror -I$(ROOT)/include
+FFLAGS := -std=f2008 -O2 -g -Wall -Wextra -J$(BUILD)/fmod -I$(BUILD)/fmod
+SHARED := -L$(LIBDIR) -lrodkit -Wl,-rpath,$(LIBDIR)
+STATIC := $(LIBDIR)/librodkit.a $(STATIC_LIBS)
+
+C_DRIVERS := tube_stiffness bad_input
+F_DRIVERS := tube_stiffness
+EXES := $(foreach d,$(C_DRIVERS),$(BUILD)/c_$(d)_shared $(BUILD)/c_$(d)_static) \
+        $(BUILD)/cpp_tube_stiffness \
+        $(foreach d,$(F_DRIVERS),$(BUILD)/f_$(d)_shared $(BUILD)/f_$(d)_static)
+LIBS := $(LIBDIR)/librodkit.so $(LIBDIR)/librodkit.a
+HEADER := $(ROOT)/include/rodkit.h
+
+.PHONY: all deps lib drivers run test install clean-native
+all: lib drivers
+
+deps:
+	@bash $(ROOT)/.ci/deps
+
+lib:
+	cd $(ROOT) && $(CARGO) build --lib $(CARGO_PROFILE)
+
+drivers: $(EXES)
+
+$(BUILD)/c_%_shared: $(ROOT)/c_examples/%.c $(HEADER) $(LIBS)
+	@mkdir -p $(BUILD)
+	$(CC) $(CFLAGS) $< $(SHARED) -lm -o $@
+
+$(BUILD)/c_%_static: $(ROOT)/c_examples/%.c $(HEADER) $(LIBS)
+	@mkdir -p $(BUILD)
+	$(CC) $(CFLAGS) $< $(STATIC) -o $@
+
+$(BUILD)/cpp_%: $(ROOT)/c_examples/%.cpp $(HEADER) $(LIBS)
+	@mkdir -p $(BUILD)
+	$(CXX) $(CXXFLAGS) $< $(SHARED) -o $@
+
+$(BUILD)/rodkit_mod.o: $(ROOT)/include/rodkit.f90
+	@mkdir -p $(BUILD)/fmod
+	$(FC) $(FFLAGS) -c $< -o $@
+
+$(BUILD)/f_%_shared: $(ROOT)/fortran_examples/%.f90 $(BUILD)/rodkit_mod.o $(LIBS)
+	$(FC) $(FFLAGS) $< $(BUILD)/rodkit_mod.o $(SHARED) -o $@
+
+$(BUILD)/f_%_static: $(ROOT)/fortran_examples/%.f90 $(BUILD)/rodkit_mod.o $(LIBS)
+	$(FC) $(FFLAGS) $< $(BUILD)/rodkit_mod.o $(STATIC) -o $@
+
+# The main job: every driver on its bundled default input (run from the
+# repository root, where the default input paths point).
+run: deps lib
+	@$(MAKE) --no-print-directory -s drivers
+	@cd $(ROOT) && for exe in c_tube_stiffness_shared c_tube_stiffness_static cpp_tube_stiffness \
+	    f_tube_stiffness_shared f_tube_stiffness_static c_bad_input_shared; do \
+	  echo "=== $$exe"; $(BUILD)/$$exe || exit 1; done
+
+# All tests in one cargo invocation: the Rust suites, the drivers (built here
+# by tests/native.rs through this Makefile, compared with the Rust results,
+# run under valgrind) and the SUNDIALS cross-checks.
+test: deps
+	cd $(ROOT) && $(CARGO) test --release --features sundials
+
+install: lib
+	install -d $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/include
+	install -m 644 $(LIBDIR)/librodkit.a $(DESTDIR)$(PREFIX)/lib/
+	install -m 755 $(LIBDIR)/librodkit.so $(DESTDIR)$(PREFIX)/lib/
+	install -m 644 $(ROOT)/include/rodkit.h $(ROOT)/include/rodkit.f90 $(DESTDIR)$(PREFIX)/include/
+	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$${prefix}/lib' 'includedir=$${prefix}/include' '' \
+	  'Name: rodkit' 'Description: Mechanics of elastic tubes and rods (C ABI)' 'Version: $(VERSION)' \
+	  'Libs: -L$${libdir} -lrodkit' 'Libs.private: $(STATIC_LIBS)' 'Cflags: -I$${includedir}' \
+	  > $(DESTDIR)$(PREFIX)/lib/pkgconfig/rodkit.pc
+
+clean-native:
+	rm -rf $(BUILD)

@@ -1,0 +1,205 @@
+//! The C ABI exercised from Rust: the panic path, the error channel, argument
+//! validation, matrix layout, version queries and the committed header.
+//! References: the Rust API (the C functions must return exactly its
+//! numbers) and the c-api.md conventions.
+
+use rodkit::capi::error::{rodkit_last_error_copy, rodkit_last_error_message, rodkit_status_string};
+use rodkit::capi::tube::*;
+use rodkit::capi::version::{rodkit_abi_version, rodkit_version};
+use rodkit::capi::diagnostic::rodkit_diagnostic_panic;
+use rodkit::tube::{OrthotropicSurface, ThinTube};
+use rodkit::Status;
+use std::ffi::CStr;
+use std::ptr;
+
+fn last_error() -> String {
+    unsafe { CStr::from_ptr(rodkit_last_error_message()) }.to_string_lossy().into_owned()
+}
+
+fn dna_spec() -> ThinTubeSpec {
+    ThinTubeSpec {
+        mid_radius: 1.0,
+        thickness: 0.4,
+        intrinsic_twist: 3f64.sqrt(),
+        e1: 800.0,
+        e2: 250.0,
+        nu12: 0.6,
+        g12: 180.0,
+    }
+}
+
+#[test]
+fn panic_becomes_internal_error_status() {
+    let st = rodkit_diagnostic_panic();
+    assert_eq!(st, Status::ErrInternal.code());
+    assert!(last_error().contains("deliberate panic"), "{}", last_error());
+    // The library still works on this thread after the caught panic.
+    let mut alpha = 0.0;
+    assert_eq!(unsafe { rodkit_thin_tube_helix_angle(&dna_spec(), &mut alpha) }, 0);
+    assert_eq!(last_error(), "", "a successful call clears the message");
+    assert!((alpha - std::f64::consts::FRAC_PI_3).abs() < 1e-15);
+}
+
+#[test]
+fn version_matches_cargo_and_rejects_null() {
+    let (mut a, mut b, mut c) = (-1, -1, -1);
+    assert_eq!(unsafe { rodkit_version(&mut a, &mut b, &mut c) }, 0);
+    assert_eq!(format!("{a}.{b}.{c}"), env!("CARGO_PKG_VERSION"));
+    assert_eq!(rodkit_abi_version(), rodkit::version::ABI_VERSION);
+    let st = unsafe { rodkit_version(&mut a, ptr::null_mut(), &mut c) };
+    assert_eq!(st, Status::ErrNullPointer.code());
+    assert!(last_error().contains("`minor`"), "{}", last_error());
+}
+
+#[test]
+fn status_strings_come_from_the_one_list() {
+    for s in Status::ALL {
+        let text = unsafe { CStr::from_ptr(rodkit_status_string(s.code())) }.to_str().unwrap();
+        assert_eq!(text, s.message());
+    }
+    let unknown = unsafe { CStr::from_ptr(rodkit_status_string(12345)) }.to_str().unwrap();
+    assert!(unknown.contains("unknown"));
+}
+
+#[test]
+fn last_error_copy_truncates_with_information_status() {
+    let mut spec = dna_spec();
+    spec.thickness = -0.5;
+    let mut k = [0.0; 9];
+    let st = unsafe { rodkit_thin_tube_coupling_stiffness(&spec, k.as_mut_ptr(), 3) };
+    assert_eq!(st, Status::ErrNotPositive.code());
+    let full = last_error();
+    assert!(full.contains("`spec.thickness`") && full.contains("-5e-1"), "{full}");
+
+    let mut buf = [0x55u8; 12];
+    let mut len = 0i64;
+    let st = unsafe { rodkit_last_error_copy(buf.as_mut_ptr().cast(), buf.len() as i64, &mut len) };
+    assert_eq!(st, Status::InfoTruncated.code());
+    assert_eq!(len as usize, full.len());
+    assert_eq!(&buf[..11], &full.as_bytes()[..11]);
+    assert_eq!(buf[11], 0);
+    // Copying does not consume the message.
+    assert_eq!(last_error(), full);
+    let mut big = [0u8; 256];
+    let st = unsafe { rodkit_last_error_copy(big.as_mut_ptr().cast(), 256, ptr::null_mut()) };
+    assert_eq!(st, 0);
+    assert_eq!(CStr::from_bytes_until_nul(&big).unwrap().to_str().unwrap(), full);
+    let st = unsafe { rodkit_last_error_copy(ptr::null_mut(), 10, ptr::null_mut()) };
+    assert_eq!(st, Status::ErrNullPointer.code());
+}
+
+/// Each bad input of the issue gets its own negative status and a message
+/// naming the argument (and its value, where there is one).
+#[test]
+fn bad_inputs_get_statuses_naming_the_argument() {
+    let mut k = [0.0; 9];
+    let call = |spec: &ThinTubeSpec, k: &mut [f64; 9]| unsafe { rodkit_thin_tube_coupling_stiffness(spec, k.as_mut_ptr(), 3) };
+
+    let st = unsafe { rodkit_thin_tube_coupling_stiffness(ptr::null(), k.as_mut_ptr(), 3) };
+    assert_eq!((st, last_error().contains("`spec`")), (Status::ErrNullPointer.code(), true));
+
+    let mut unset = dna_spec();
+    assert_eq!(unsafe { rodkit_thin_tube_spec_default(&mut unset) }, 0);
+    assert!(unset.e1.is_nan() && unset.thickness.is_nan());
+
+    let cases: Vec<(Box<dyn Fn(&mut ThinTubeSpec)>, Status, &str)> = vec![
+        (Box::new(|s| s.e1 = f64::NAN), Status::ErrNotFinite, "`spec.e1` must be finite (got NaN)"),
+        (Box::new(|s| s.thickness = -0.1), Status::ErrNotPositive, "`spec.thickness` must be positive (got -1e-1)"),
+        (Box::new(|s| s.e2 = 0.0), Status::ErrNotPositive, "`spec.e2` must be positive (got 0e0)"),
+        (Box::new(|s| s.e2 = -3.0), Status::ErrNotPositive, "`spec.e2`"),
+        (Box::new(|s| s.intrinsic_twist = f64::INFINITY), Status::ErrNotFinite, "`spec.intrinsic_twist`"),
+        (Box::new(|s| s.thickness = 2.5), Status::ErrInvalidGeometry, "thickness 2.5e0"),
+        (Box::new(|s| s.nu12 = 2.0), Status::ErrNotPositiveDefinite, "nu12 = 2e0"),
+    ];
+    for (mutate, status, needle) in cases {
+        let mut spec = dna_spec();
+        mutate(&mut spec);
+        k = [7.0; 9];
+        assert_eq!(call(&spec, &mut k), status.code(), "{needle}");
+        assert!(last_error().contains(needle), "expected `{needle}` in `{}`", last_error());
+        assert_eq!(k, [7.0; 9], "outputs are not written on failure");
+    }
+    let st = unsafe { rodkit_thin_tube_coupling_stiffness(&dna_spec(), k.as_mut_ptr(), 2) };
+    assert_eq!(st, Status::ErrInvalidDimension.code());
+    assert!(last_error().contains("`ldk`") && last_error().contains("got 2"));
+    let st = unsafe { rodkit_thin_tube_coupling_stiffness(&dna_spec(), ptr::null_mut(), 3) };
+    assert_eq!((st, last_error().contains("`k`")), (Status::ErrNullPointer.code(), true));
+    let st = unsafe { rodkit_thin_tube_free_response(&dna_spec(), ptr::null_mut()) };
+    assert_eq!((st, last_error().contains("`response`")), (Status::ErrNullPointer.code(), true));
+}
+
+/// The C functions return exactly the Rust API's numbers, in the documented
+/// column-major layout with a leading dimension (padding left untouched).
+#[test]
+fn c_results_equal_rust_results_in_documented_layout() {
+    let spec = dna_spec();
+    let tube = ThinTube::new(
+        spec.mid_radius,
+        spec.thickness,
+        spec.intrinsic_twist,
+        OrthotropicSurface::new(spec.e1, spec.e2, spec.nu12, spec.g12).unwrap(),
+    )
+    .unwrap();
+    let c = tube.coupling_stiffness().unwrap();
+
+    let mut k = [-1.0; 5 * 2 + 3];
+    assert_eq!(unsafe { rodkit_thin_tube_coupling_stiffness(&spec, k.as_mut_ptr(), 5) }, 0);
+    for j in 0..3 {
+        for i in 0..3 {
+            assert_eq!(k[i + 5 * j], c.k[(i, j)], "K[{i},{j}]");
+        }
+    }
+    for j in 0..2 {
+        for i in 3..5 {
+            assert_eq!(k[i + 5 * j], -1.0, "padding row {i} of column {j} was written");
+        }
+    }
+
+    let mut s = [0.0; 4];
+    assert_eq!(unsafe { rodkit_thin_tube_stretch_twist(&spec, s.as_mut_ptr(), 2) }, 0);
+    let law = c.stretch_twist();
+    assert_eq!(s, [law.stretch, law.coupling, law.coupling, law.twist]);
+
+    let mut r = FreeTubeResponse { dstrain_dforce: 0.0, dtwist_dforce: 0.0, dhoop_dforce: 0.0, winding: 9 };
+    assert_eq!(unsafe { rodkit_thin_tube_free_response(&spec, &mut r) }, 0);
+    let rr = c.free_response().unwrap();
+    assert_eq!((r.dstrain_dforce, r.dtwist_dforce, r.dhoop_dforce, r.winding), (rr.dstrain_dforce, rr.dtwist_dforce, rr.dhoop_dforce, rr.winding as i32));
+}
+
+/// The error channel is per thread: a failure on one thread does not leak
+/// into another, and concurrent calls give identical results.
+#[test]
+fn error_channel_is_thread_local() {
+    let handles: Vec<_> = (0..4)
+        .map(|i| {
+            std::thread::spawn(move || {
+                let mut spec = dna_spec();
+                let mut k = [0.0; 9];
+                for _ in 0..200 {
+                    if i % 2 == 0 {
+                        spec.e2 = -1.0;
+                        assert_eq!(unsafe { rodkit_thin_tube_coupling_stiffness(&spec, k.as_mut_ptr(), 3) }, Status::ErrNotPositive.code());
+                        assert!(last_error().contains("`spec.e2`"));
+                    } else {
+                        assert_eq!(unsafe { rodkit_thin_tube_coupling_stiffness(&spec, k.as_mut_ptr(), 3) }, 0);
+                        assert_eq!(last_error(), "");
+                    }
+                }
+            })
+        })
+        .collect();
+    for h in handles {
+        h.join().unwrap();
+    }
+}
+
+/// c-api.md: the committed header must equal a fresh cbindgen generation.
+#[test]
+fn header_is_current() {
+    let generated = std::fs::read_to_string(env!("RODKIT_GENERATED_HEADER")).unwrap();
+    let committed = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/include/rodkit.h")).unwrap();
+    assert!(
+        generated == committed,
+        "include/rodkit.h is stale: regenerate it with `RODKIT_WRITE_HEADER=1 cargo build` and commit it"
+    );
+}

@@ -1,0 +1,3 @@
+#![cfg(feature = "sundials")]
+#[path = "support/sundials.rs"]
+mod sundials;

@@ -69,13 +69,13 @@ int main(int argc, char **argv) {
     const char *path = argc > 1 ? argv[1] : "c_examples/data/dna_tube.txt";
     int32_t major, minor, patch;
     if (check(rodkit_version(&major, &minor, &patch), "rodkit_version")) return 1;
-    if (major != RODKIT_VERSION_MAJOR || rodkit_abi_version() != RODKIT_ABI_VERSION) {
+    if (major != RODKIT_VERSION_MAJOR || rodkit_library_abi_version() != RODKIT_ABI_VERSION) {
         fprintf(stderr, "header/library mismatch: header %s ABI %d, library %d.%d.%d ABI %d\n",
-                RODKIT_VERSION_STRING, RODKIT_ABI_VERSION, major, minor, patch, rodkit_abi_version());
+                RODKIT_VERSION_STRING, RODKIT_ABI_VERSION, major, minor, patch, rodkit_library_abi_version());
         return 1;
     }
     printf("# rodkit %d.%d.%d (ABI %d): thin-tube coupling stiffness from C, input %s\n", major, minor,
-           patch, rodkit_abi_version(), path);
+           patch, rodkit_library_abi_version(), path);
 
     RodkitThinTubeSpec spec;
     if (check(rodkit_thin_tube_spec_default(&spec), "spec_default") || read_spec(path, &spec)) return 1;

@@ -202,7 +202,7 @@ int32_t rodkit_version(int32_t *major, int32_t *minor, int32_t *patch);
 
 // ABI version of the loaded library; equals RODKIT_ABI_VERSION of the
 // header it was built with. It changes only when the binary interface does.
-int32_t rodkit_abi_version(void);
+int32_t rodkit_library_abi_version(void);
 
 #ifdef __cplusplus
 }  // extern "C"

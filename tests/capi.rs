@@ -5,7 +5,7 @@
 
 use rodkit::capi::error::{rodkit_last_error_copy, rodkit_last_error_message, rodkit_status_string};
 use rodkit::capi::tube::*;
-use rodkit::capi::version::{rodkit_abi_version, rodkit_version};
+use rodkit::capi::version::{rodkit_library_abi_version, rodkit_version};
 use rodkit::capi::diagnostic::rodkit_diagnostic_panic;
 use rodkit::tube::{OrthotropicSurface, ThinTube};
 use rodkit::Status;
@@ -45,7 +45,7 @@ fn version_matches_cargo_and_rejects_null() {
     let (mut a, mut b, mut c) = (-1, -1, -1);
     assert_eq!(unsafe { rodkit_version(&mut a, &mut b, &mut c) }, 0);
     assert_eq!(format!("{a}.{b}.{c}"), env!("CARGO_PKG_VERSION"));
-    assert_eq!(rodkit_abi_version(), rodkit::version::ABI_VERSION);
+    assert_eq!(rodkit_library_abi_version(), rodkit::version::ABI_VERSION);
     let st = unsafe { rodkit_version(&mut a, ptr::null_mut(), &mut c) };
     assert_eq!(st, Status::ErrNullPointer.code());
     assert!(last_error().contains("`minor`"), "{}", last_error());

@@ -1,0 +1,333 @@
+!
+! rodkit: mechanics of elastic tubes and rods, Fortran 2008 interface.
+!
+! Hand-written ISO_C_BINDING mirror of include/rodkit.h (which cbindgen
+! generates from the Rust sources). tests/fortran_interface.rs parses both
+! files and fails when they drift: every function, argument (name, order,
+! type, VALUE), struct field, enumerator and RODKIT_ macro of the header must
+! appear here, and nothing else named rodkit_* with BIND(C).
+!
+! Build:  gfortran -std=f2008 -c include/rodkit.f90 -J <moddir>
+!         then `use rodkit` and link with -lrodkit (or librodkit.a).
+!
+! Conventions (all functions, as in the header):
+!  - Fallible functions return integer(c_int32_t): 0 success, > 0 success
+!    with information, < 0 failure (RODKIT_STATUS_*). `if (st < 0)` catches
+!    every failure.
+!  - After a failure, rodkit_last_error() (module procedure below) returns a
+!    message naming the offending argument and value (thread-local).
+!  - Matrices are column-major with an explicit leading dimension, i.e. plain
+!    Fortran arrays: pass k(ldk, 3) as `k` and `ldk`. Arrays are owned by the
+!    caller and borrowed for the duration of the call only; rodkit keeps no
+!    pointer to them.
+!  - Every function is reentrant and thread-safe on distinct arguments;
+!    rodkit starts no threads unless asked per call or per handle.
+!  - Character arguments are C strings: NUL-terminated arrays of
+!    character(kind=c_char). Returned `type(c_ptr)` strings are owned by
+!    rodkit (never deallocate them); convert them with the module procedures
+!    rodkit_status_message and rodkit_last_error.
+!
+module rodkit
+    use, intrinsic :: iso_c_binding, only: c_int32_t, c_int64_t, c_double, c_char, c_ptr, &
+        c_null_char, c_associated, c_f_pointer
+    implicit none
+    private :: c_string_to_fortran
+
+    ! -------------------------------------------------------------------------
+    ! Library version (from Cargo.toml) and ABI version (from src/version.rs)
+    ! of the header this module mirrors. Compare them with rodkit_version()
+    ! and rodkit_library_abi_version() at
+    ! run time to detect a module/library mismatch.
+    ! -------------------------------------------------------------------------
+    integer(c_int32_t), parameter :: RODKIT_VERSION_MAJOR = 0
+    integer(c_int32_t), parameter :: RODKIT_VERSION_MINOR = 1
+    integer(c_int32_t), parameter :: RODKIT_VERSION_PATCH = 0
+    character(len=*), parameter :: RODKIT_VERSION_STRING = "0.1.0"
+    integer(c_int32_t), parameter :: RODKIT_ABI_VERSION = 1
+
+    ! -------------------------------------------------------------------------
+    ! enum RodkitStatus: status returned by every fallible rodkit function.
+    ! -------------------------------------------------------------------------
+    ! success
+    integer(c_int32_t), parameter :: RODKIT_STATUS_OK = 0
+    ! success, but the output was truncated to fit the caller's buffer
+    integer(c_int32_t), parameter :: RODKIT_STATUS_INFO_TRUNCATED = 1
+    ! internal error (a bug in rodkit: a panic was caught at the C boundary)
+    integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_INTERNAL = -1
+    ! a required pointer argument is NULL
+    integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_NULL_POINTER = -2
+    ! a numeric argument is NaN or infinite
+    integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_NOT_FINITE = -3
+    ! a numeric argument that must be positive is zero or negative
+    integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_NOT_POSITIVE = -4
+    ! a numeric argument is outside its allowed range
+    integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_OUT_OF_RANGE = -5
+    ! the material constants do not give a positive-definite stiffness
+    integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_NOT_POSITIVE_DEFINITE = -6
+    ! the geometry is impossible (inverted or degenerate sizes)
+    integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_INVALID_GEOMETRY = -7
+    ! an array's length or leading dimension is inconsistent with the problem
+    integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_INVALID_DIMENSION = -8
+    ! an iterative solver did not converge to the requested tolerance
+    integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_NOT_CONVERGED = -9
+    ! a computed result is not finite (overflow or an ill-posed problem)
+    integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_NON_FINITE_RESULT = -10
+
+    ! -------------------------------------------------------------------------
+    ! enum RodkitWinding: how a free tube (T = 0, p = 0) twists when pulled,
+    ! relative to the sense of its intrinsic twist tau0.
+    ! -------------------------------------------------------------------------
+    ! Twists against tau0 (the usual response of a helical structure).
+    integer(c_int32_t), parameter :: RODKIT_WINDING_UNWINDS = -1
+    ! No extension-twist coupling (tau0 = 0, or |coupling| at round-off level).
+    integer(c_int32_t), parameter :: RODKIT_WINDING_NEITHER = 0
+    ! Twists further in the sense of tau0 (DNA's counter-intuitive response).
+    integer(c_int32_t), parameter :: RODKIT_WINDING_OVERWINDS = 1
+
+    ! -------------------------------------------------------------------------
+    ! RodkitThinTubeSpec: a thin helically reinforced tube in its stress-free
+    ! state (physics.md 1.4): geometry, intrinsic twist and in-surface
+    ! orthotropic constants. Units are the caller's, used consistently (e.g.
+    ! nm and pN/nm^2).
+    !
+    ! Initialise with rodkit_thin_tube_spec_default, which sets every field to
+    ! NaN ("unset": a forgotten field is rejected by name), then set them all.
+    ! -------------------------------------------------------------------------
+    type, bind(c) :: rodkit_thin_tube_spec
+        ! Mid-surface radius R > 0.
+        real(c_double) :: mid_radius
+        ! Wall thickness t, 0 < t < 2R.
+        real(c_double) :: thickness
+        ! Intrinsic twist tau0 (1/length; any sign = handedness): the
+        ! reinforcement follows a helix at angle atan(tau0*R) from the axis.
+        real(c_double) :: intrinsic_twist
+        ! Young's modulus along the reinforcement, E1 > 0.
+        real(c_double) :: e1
+        ! Young's modulus across the reinforcement (in the surface), E2 > 0.
+        real(c_double) :: e2
+        ! Major Poisson ratio nu12, with nu12**2 < E1/E2 (positive definiteness).
+        real(c_double) :: nu12
+        ! In-surface shear modulus G12 > 0.
+        real(c_double) :: g12
+    end type rodkit_thin_tube_spec
+
+    ! -------------------------------------------------------------------------
+    ! RodkitFreeTubeResponse: response of a free thin tube (zero torque, zero
+    ! pressure) to an axial force F, per unit force.
+    ! -------------------------------------------------------------------------
+    type, bind(c) :: rodkit_free_tube_response
+        ! d(strain)/dF: axial strain per force.
+        real(c_double) :: dstrain_dforce
+        ! d(psi)/dF: twist per length per force.
+        real(c_double) :: dtwist_dforce
+        ! d(hoop strain)/dF: hoop strain per force (> 0: inflates when stretched).
+        real(c_double) :: dhoop_dforce
+        ! RODKIT_WINDING_*: +1 overwinds (twists further in the sense of tau0),
+        ! -1 unwinds, 0 neither (tau0 = 0 or no coupling).
+        integer(c_int32_t) :: winding
+    end type rodkit_free_tube_response
+
+    interface
+
+        ! Deliberately panics inside rodkit's C-boundary guard and returns
+        ! RODKIT_STATUS_ERR_INTERNAL, with a last-error message containing
+        ! "deliberate panic". It lets a host program verify that a bug inside
+        ! rodkit reaches it as a status, never as an abort. The Rust runtime's
+        ! default panic hook also prints one line to stderr.
+        function rodkit_diagnostic_panic() result(status) bind(c, name="rodkit_diagnostic_panic")
+            import :: c_int32_t
+            integer(c_int32_t) :: status
+        end function rodkit_diagnostic_panic
+
+        ! Human-readable description of a status code (never NULL; static
+        ! storage, valid for the life of the program; "unknown rodkit status
+        ! code" for codes rodkit does not define). Do not free it. The module
+        ! procedure rodkit_status_message(code) returns it as a Fortran string.
+        function rodkit_status_string(code) result(message) bind(c, name="rodkit_status_string")
+            import :: c_int32_t, c_ptr
+            integer(c_int32_t), value :: code
+            type(c_ptr) :: message
+        end function rodkit_status_string
+
+        ! Message describing the last failure of a rodkit call on the calling
+        ! thread, naming the offending argument and value where there is one;
+        ! the empty string if the last call succeeded. Never NULL.
+        !
+        ! The pointer is owned by rodkit (do not free it) and stays valid
+        ! until the next rodkit call on the same thread other than
+        ! rodkit_last_error_message, rodkit_last_error_copy and
+        ! rodkit_status_string. From Fortran prefer the module procedure
+        ! rodkit_last_error(), which copies it.
+        function rodkit_last_error_message() result(message) bind(c, name="rodkit_last_error_message")
+            import :: c_ptr
+            type(c_ptr) :: message
+        end function rodkit_last_error_message
+
+        ! Copy the last-error message into a caller buffer of `capacity` bytes
+        ! (capacity >= 1), always NUL-terminated (the text ends before the
+        ! first c_null_char). `length` receives the full message length in
+        ! bytes, without the NUL.
+        !
+        ! Returns RODKIT_STATUS_OK, or RODKIT_STATUS_INFO_TRUNCATED (> 0) when
+        ! the message was cut to capacity - 1 bytes. This call leaves the
+        ! message unchanged unless it fails itself (capacity < 1). A
+        ! character(len=n, kind=c_char) scalar may be passed as `buffer`.
+        function rodkit_last_error_copy(buffer, capacity, length) result(status) &
+                bind(c, name="rodkit_last_error_copy")
+            import :: c_int32_t, c_int64_t, c_char
+            character(kind=c_char), intent(out) :: buffer(*)
+            integer(c_int64_t), value :: capacity
+            integer(c_int64_t), intent(out) :: length
+            integer(c_int32_t) :: status
+        end function rodkit_last_error_copy
+
+        ! Fill `spec` with its defaults: every field NaN (unset). Set all of them.
+        function rodkit_thin_tube_spec_default(spec) result(status) &
+                bind(c, name="rodkit_thin_tube_spec_default")
+            import :: c_int32_t, rodkit_thin_tube_spec
+            type(rodkit_thin_tube_spec), intent(out) :: spec
+            integer(c_int32_t) :: status
+        end function rodkit_thin_tube_spec_default
+
+        ! Helix angle alpha = atan(tau0*R) of the reinforcement at the mid
+        ! surface, in radians from the tube axis. Validates `spec` like the
+        ! functions below. On failure `alpha` is not written.
+        function rodkit_thin_tube_helix_angle(spec, alpha) result(status) &
+                bind(c, name="rodkit_thin_tube_helix_angle")
+            import :: c_int32_t, c_double, rodkit_thin_tube_spec
+            type(rodkit_thin_tube_spec), intent(in) :: spec
+            real(c_double), intent(out) :: alpha
+            integer(c_int32_t) :: status
+        end function rodkit_thin_tube_helix_angle
+
+        ! Linear coupling stiffness K (physics.md 1.4), symmetric positive
+        ! definite: (F, T, 2 pi R^2 p) = K (eps, psi, eps_theta), with eps the
+        ! axial strain, psi the twist per length, eps_theta the mid-surface
+        ! hoop strain, F the axial force carried by the wall (open ends), T
+        ! the torque and p the inner pressure.
+        !
+        ! `k` receives the 3x3 matrix column-major with leading dimension
+        ! ldk >= 3: declare it k(ldk, 3) (at least 2*ldk + 3 doubles) and
+        ! K(i, j) is k(i, j). Rows 4..ldk are left unchanged.
+        function rodkit_thin_tube_coupling_stiffness(spec, k, ldk) result(status) &
+                bind(c, name="rodkit_thin_tube_coupling_stiffness")
+            import :: c_int32_t, c_int64_t, c_double, rodkit_thin_tube_spec
+            type(rodkit_thin_tube_spec), intent(in) :: spec
+            real(c_double), intent(inout) :: k(*)
+            integer(c_int64_t), value :: ldk
+            integer(c_int32_t) :: status
+        end function rodkit_thin_tube_coupling_stiffness
+
+        ! Condensed stretch-twist law at zero pressure (inflation eliminated):
+        ! (F, T) = [[S, g], [g, C]] (eps, psi), the hemitropic rod coupling of
+        ! physics.md 2.2. `s` receives the 2x2 matrix column-major with
+        ! leading dimension lds >= 2: declare it s(lds, 2); S = s(1,1),
+        ! g = s(1,2) = s(2,1), C = s(2,2). Rows 3..lds are left unchanged.
+        function rodkit_thin_tube_stretch_twist(spec, s, lds) result(status) &
+                bind(c, name="rodkit_thin_tube_stretch_twist")
+            import :: c_int32_t, c_int64_t, c_double, rodkit_thin_tube_spec
+            type(rodkit_thin_tube_spec), intent(in) :: spec
+            real(c_double), intent(inout) :: s(*)
+            integer(c_int64_t), value :: lds
+            integer(c_int32_t) :: status
+        end function rodkit_thin_tube_stretch_twist
+
+        ! Response of the free tube (T = 0, p = 0) to an axial force, and
+        ! whether it over- or unwinds (decided by the condensed coupling g,
+        ! not by K(1,2) alone).
+        function rodkit_thin_tube_free_response(spec, response) result(status) &
+                bind(c, name="rodkit_thin_tube_free_response")
+            import :: c_int32_t, rodkit_thin_tube_spec, rodkit_free_tube_response
+            type(rodkit_thin_tube_spec), intent(in) :: spec
+            type(rodkit_free_tube_response), intent(out) :: response
+            integer(c_int32_t) :: status
+        end function rodkit_thin_tube_free_response
+
+        ! Library version (semantic versioning, from Cargo.toml). On failure
+        ! nothing is written.
+        function rodkit_version(major, minor, patch) result(status) bind(c, name="rodkit_version")
+            import :: c_int32_t
+            integer(c_int32_t), intent(out) :: major
+            integer(c_int32_t), intent(out) :: minor
+            integer(c_int32_t), intent(out) :: patch
+            integer(c_int32_t) :: status
+        end function rodkit_version
+
+        ! ABI version of the loaded library; equals RODKIT_ABI_VERSION of the
+        ! header (and of this module) it was built with. It changes only when
+        ! the binary interface does.
+        function rodkit_library_abi_version() result(version) bind(c, name="rodkit_library_abi_version")
+            import :: c_int32_t
+            integer(c_int32_t) :: version
+        end function rodkit_library_abi_version
+
+    end interface
+
+contains
+
+    ! Description of a status code as a Fortran string (a copy of
+    ! rodkit_status_string(code)); e.g. "success" for RODKIT_STATUS_OK.
+    function rodkit_status_message(code) result(message)
+        integer(c_int32_t), intent(in) :: code
+        character(len=:), allocatable :: message
+        message = c_string_to_fortran(rodkit_status_string(code))
+    end function rodkit_status_message
+
+    ! The last-error message of the calling thread as a Fortran string (a
+    ! copy: it stays valid whatever rodkit is called next); "" if the last
+    ! rodkit call succeeded. Obtained with rodkit_last_error_copy: a size
+    ! query, then a copy into a buffer of exactly the right size. Does not
+    ! change the message.
+    function rodkit_last_error() result(message)
+        character(len=:), allocatable :: message
+        character(len=1, kind=c_char) :: probe
+        character(len=:, kind=c_char), allocatable :: buffer
+        integer(c_int64_t) :: length, copied
+        integer(c_int32_t) :: status
+        integer :: n, i
+
+        length = 0
+        status = rodkit_last_error_copy(probe, 1_c_int64_t, length)
+        if (status < 0 .or. length <= 0) then
+            message = ""
+            if (status < 0) message = "rodkit_last_error: could not read the message"
+            return
+        end if
+        allocate(character(len=int(length) + 1, kind=c_char) :: buffer)
+        status = rodkit_last_error_copy(buffer, length + 1, copied)
+        if (status < 0) then
+            message = "rodkit_last_error: could not read the message"
+            return
+        end if
+        ! The text ends at the first NUL (the copy is always NUL-terminated).
+        n = index(buffer, c_null_char) - 1
+        if (n < 0) n = len(buffer)
+        allocate(character(len=n) :: message)
+        do i = 1, n
+            message(i:i) = buffer(i:i)
+        end do
+    end function rodkit_last_error
+
+    ! Copy of a NUL-terminated C string owned by rodkit ("" for NULL).
+    function c_string_to_fortran(ptr) result(text)
+        type(c_ptr), intent(in) :: ptr
+        character(len=:), allocatable :: text
+        character(kind=c_char), pointer :: chars(:)
+        integer :: n, i
+
+        if (.not. c_associated(ptr)) then
+            text = ""
+            return
+        end if
+        call c_f_pointer(ptr, chars, [huge(0)])
+        n = 0
+        do while (chars(n + 1) /= c_null_char)
+            n = n + 1
+        end do
+        allocate(character(len=n) :: text)
+        do i = 1, n
+            text(i:i) = chars(i)
+        end do
+    end function c_string_to_fortran
+
+end module rodkit

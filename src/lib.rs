@@ -5,6 +5,7 @@
 //! the only place allowed to opt out of the lint below.
 #![deny(unsafe_code)]
 
+pub mod chebyshev;
 pub mod error;
 pub mod status;
 pub mod tube;

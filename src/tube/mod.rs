@@ -8,8 +8,10 @@
 
 pub mod coupling;
 pub mod orthotropic;
+pub mod thick;
 pub mod thin;
 
 pub use coupling::{CouplingStiffness, FreeTubeResponse, StretchTwist, Winding};
-pub use orthotropic::OrthotropicSurface;
+pub use orthotropic::{Orthotropic, OrthotropicSurface};
+pub use thick::{Compressibility, Estimated, ThickTube};
 pub use thin::ThinTube;

@@ -1,0 +1,262 @@
+//! Thick-walled tube, linear theory about the stress-free state
+//! (`physics.md` §1.4 "Thick tube"): the radial equilibrium ODE with
+//! R-dependent coefficients (the helix angle α(R) = atan(τ0 R) varies through
+//! the wall), solved by Chebyshev collocation ([`crate::chebyshev`]).
+//!
+//! Displacement u_R = u(R), u_Θ = ψZR, u_Z = εZ, so the only strains are
+//! ε_ZZ = ε, ε_ΘΘ = u/R, ε_RR = u', γ_ZΘ = ψR and the stresses follow from
+//! the rotated stiffness ℂ̄(R). Equilibrium (R σ_RR)' = σ_ΘΘ on A < R < B.
+//!
+//! Reported in the inner-radius variables of §1.4: e = (ε, ψ, ε_A = u(A)/A),
+//! f = (F, T, 2πA²p) with p the inner pressure, open ends, free outer
+//! surface; K is computed column by column from three unit cases with u(A)
+//! prescribed and σ_RR(B) = 0, and p = −σ_RR(A).
+//!
+//! Incompressible: W restricted to tr ε = 0 with a pressure multiplier. Then
+//! u = −εR/2 + D/R is explicit, D = A²(ε_A + ε/2), and the multiplier follows
+//! from integrating equilibrium: no ODE is left, only quadrature.
+
+use crate::chebyshev::ChebyshevGrid;
+use crate::error::{self, Error, Result};
+use crate::status::Status;
+use crate::tube::coupling::{CouplingStiffness, StretchTwist};
+use crate::tube::orthotropic::{voigt, Orthotropic};
+use nalgebra::{DMatrix, DVector, Matrix3, Matrix4};
+use std::f64::consts::PI;
+
+/// Whether the wall material is compressible or constrained to tr ε = 0.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Compressibility {
+    Compressible,
+    Incompressible,
+}
+
+/// A thick helically reinforced tube (or solid cylinder when A = 0).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ThickTube {
+    /// Inner radius A ≥ 0 (0: solid cylinder).
+    pub inner_radius: f64,
+    /// Outer radius B > A.
+    pub outer_radius: f64,
+    /// Intrinsic twist τ0: reinforcement at α(R) = atan(τ0 R).
+    pub intrinsic_twist: f64,
+    pub material: Orthotropic,
+    pub compressibility: Compressibility,
+}
+
+/// A result with the resolution used and an error estimate: the difference
+/// between grids of n and 1.5n intervals, relative to the largest entry
+/// (spectral convergence makes the coarse grid's error a safe, pessimistic
+/// upper bound for the fine one's), floored at a round-off level 32·(1.5n)·ε.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Estimated<T> {
+    pub value: T,
+    pub intervals: usize,
+    pub error_estimate: f64,
+}
+
+/// Stiffness block excited by the tube kinematics, ordered (ZZ, ΘΘ, RR, ZΘ).
+fn tube_block(m: &Orthotropic, alpha: f64) -> Matrix4<f64> {
+    let c = m.rotated_stiffness(alpha);
+    let k = [voigt::ZZ, voigt::TT, voigt::RR, voigt::ZT];
+    Matrix4::from_fn(|i, j| c[(k[i], k[j])])
+}
+const ZZ: usize = 0;
+const TT: usize = 1;
+const RR: usize = 2;
+const ZT: usize = 3;
+
+impl ThickTube {
+    pub fn new(
+        inner_radius: f64,
+        outer_radius: f64,
+        intrinsic_twist: f64,
+        material: Orthotropic,
+        compressibility: Compressibility,
+    ) -> Result<Self> {
+        error::finite("inner_radius", inner_radius)?;
+        if inner_radius < 0.0 {
+            return Err(Error::new(
+                Status::ErrInvalidGeometry,
+                format!("impossible tube: inner radius {inner_radius:e} is negative"),
+            ));
+        }
+        error::positive("outer_radius", outer_radius)?;
+        error::finite("intrinsic_twist", intrinsic_twist)?;
+        if !(inner_radius < outer_radius) {
+            return Err(Error::new(
+                Status::ErrInvalidGeometry,
+                format!("impossible tube: inner radius {inner_radius:e} must be below the outer radius {outer_radius:e}"),
+            ));
+        }
+        Ok(ThickTube { inner_radius, outer_radius, intrinsic_twist, material, compressibility })
+    }
+
+    /// Coupling stiffness K in (ε, ψ, ε_A) ↔ (F, T, 2πA²p), computed on
+    /// `intervals` Chebyshev intervals (symmetrised: collocation is not a
+    /// Galerkin method, and the asymmetry is within the discretisation error).
+    pub fn coupling_stiffness_at(&self, intervals: usize) -> Result<CouplingStiffness> {
+        if self.inner_radius == 0.0 {
+            return Err(Error::new(
+                Status::ErrInvalidGeometry,
+                "a solid cylinder (inner radius 0) has no inner hoop strain: use stretch_twist",
+            ));
+        }
+        error::count_in_range("intervals", intervals as i64, 4, 512)?;
+        let cols = self.unit_responses(intervals, &[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])?;
+        let k = Matrix3::from_fn(|i, j| cols[j][i]);
+        CouplingStiffness::new((k + k.transpose()) * 0.5, self.intrinsic_twist)
+    }
+
+    /// K to a relative tolerance: doubles the grid from 8 intervals until the
+    /// estimate (difference from a 1.5× finer grid, relative to max |K|)
+    /// is below `rel_tol`; returns the finer result.
+    pub fn coupling_stiffness(&self, rel_tol: f64) -> Result<Estimated<CouplingStiffness>> {
+        error::in_range("rel_tol", rel_tol, 1e-15, 1.0)?;
+        let mut n = 8;
+        loop {
+            let coarse = self.coupling_stiffness_at(n)?;
+            let fine_n = n + n / 2;
+            let fine = self.coupling_stiffness_at(fine_n)?;
+            // Floor: the round-off level, measured ≈ 200ε flat in n for the
+            // first-order form (tests/thick_tube.rs); 32nε bounds it for n ≥ 8.
+            let roundoff = 32.0 * fine_n as f64 * f64::EPSILON;
+            let est = ((fine.k - coarse.k).amax() / fine.k.amax()).max(roundoff);
+            if est <= rel_tol || fine_n >= 384 {
+                if est > rel_tol {
+                    return Err(Error::new(
+                        Status::ErrNotConverged,
+                        format!("thick-tube stiffness: estimated error {est:e} above rel_tol {rel_tol:e} at {fine_n} intervals"),
+                    ));
+                }
+                return Ok(Estimated { value: fine, intervals: fine_n, error_estimate: est });
+            }
+            n *= 2;
+        }
+    }
+
+    /// Condensed stretch–twist law at zero pressure. For a solid cylinder
+    /// (A = 0) it is computed directly with regularity u(0) = 0.
+    pub fn stretch_twist_at(&self, intervals: usize) -> Result<StretchTwist> {
+        if self.inner_radius > 0.0 {
+            return Ok(self.coupling_stiffness_at(intervals)?.stretch_twist());
+        }
+        error::count_in_range("intervals", intervals as i64, 4, 512)?;
+        let cols = self.unit_responses(intervals, &[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])?;
+        let g = 0.5 * (cols[0][1] + cols[1][0]);
+        Ok(StretchTwist { stretch: cols[0][0], coupling: g, twist: cols[1][1] })
+    }
+
+    /// (F, T, 2πA²p) for each prescribed e = (ε, ψ, ε_A). For a solid
+    /// cylinder ε_A is ignored and u(0) = 0, σ_RR(B) = 0.
+    fn unit_responses(&self, intervals: usize, cases: &[[f64; 3]]) -> Result<Vec<[f64; 3]>> {
+        let grid = ChebyshevGrid::new(intervals, self.inner_radius, self.outer_radius);
+        let r = &grid.nodes;
+        let c: Vec<Matrix4<f64>> = r.iter().map(|&ri| tube_block(&self.material, (self.intrinsic_twist * ri).atan())).collect();
+        let out = match self.compressibility {
+            Compressibility::Compressible => self.compressible(&grid, &c, cases)?,
+            Compressibility::Incompressible => self.incompressible(&grid, &c, cases)?,
+        };
+        for f in &out {
+            error::finite_result("thick-tube resultants", f)?;
+        }
+        Ok(out)
+    }
+
+    /// First-order collocation in (u, s = σ_RR), which keeps the conditioning
+    /// at O(n²) (the second-order form in u alone is O(n⁴) and loses digits):
+    ///   c_rr u' + c_rθ u/R − s = −(c_rz ε + c_r6 ψR)         (constitutive)
+    ///   R s' + s − c_θr u' − c_θθ u/R = c_θz ε + c_θ6 ψR      (equilibrium)
+    /// with u(A) = Aε_A replacing the first at R = A and s(B) = 0 replacing
+    /// the second at R = B. Solid cylinder: u(0) = 0 and s'(0) = 0 (fields
+    /// even in R) at the axis.
+    fn compressible(&self, grid: &ChebyshevGrid, c: &[Matrix4<f64>], cases: &[[f64; 3]]) -> Result<Vec<[f64; 3]>> {
+        let n = grid.intervals();
+        let m = n + 1;
+        let (r, d, a) = (&grid.nodes, &grid.diff, self.inner_radius);
+        let mut l = DMatrix::zeros(2 * m, 2 * m);
+        for i in 0..m {
+            // Rows 0..m: constitutive relation at nodes 1..n; BC at node 0.
+            if i == 0 {
+                l[(0, 0)] = 1.0;
+            } else {
+                for j in 0..m {
+                    l[(i, j)] = c[i][(RR, RR)] * d[(i, j)];
+                }
+                l[(i, i)] += c[i][(RR, TT)] / r[i];
+                l[(i, m + i)] = -1.0;
+            }
+            // Rows m..2m: equilibrium at nodes 0..n−1; BC at node n.
+            let row = m + i;
+            if i == n {
+                l[(row, m + n)] = 1.0;
+            } else if r[i] == 0.0 {
+                for j in 0..m {
+                    l[(row, m + j)] = d[(i, j)];
+                }
+            } else {
+                for j in 0..m {
+                    l[(row, m + j)] = r[i] * d[(i, j)];
+                    l[(row, j)] = -c[i][(TT, RR)] * d[(i, j)];
+                }
+                l[(row, m + i)] += 1.0;
+                l[(row, i)] -= c[i][(TT, TT)] / r[i];
+            }
+        }
+        let lu = l.lu();
+
+        let mut out = Vec::with_capacity(cases.len());
+        for &[eps, psi, eps_a] in cases {
+            // Parts of the stresses not involving u.
+            let loaded = |j: usize, row: usize| c[j][(row, ZZ)] * eps + c[j][(row, ZT)] * psi * r[j];
+            let mut rhs = DVector::zeros(2 * m);
+            for i in 0..m {
+                rhs[i] = if i == 0 { if a > 0.0 { a * eps_a } else { 0.0 } } else { -loaded(i, RR) };
+                rhs[m + i] = if i == n || r[i] == 0.0 { 0.0 } else { loaded(i, TT) };
+            }
+            let sol = lu.solve(&rhs).ok_or_else(|| {
+                Error::new(Status::ErrNotConverged, "thick-tube collocation matrix is singular")
+            })?;
+            let u = sol.rows(0, m).into_owned();
+            let du = d * &u;
+            let stress = |j: usize, row: usize| {
+                let hoop = if r[j] > 0.0 { u[j] / r[j] } else { du[j] }; // u/R → u'(0) at the axis
+                c[j][(row, TT)] * hoop + c[j][(row, RR)] * du[j] + loaded(j, row)
+            };
+            out.push(self.resultants(grid, |j| stress(j, ZZ), |j| stress(j, ZT), -sol[m]));
+        }
+        Ok(out)
+    }
+
+    fn incompressible(&self, grid: &ChebyshevGrid, c: &[Matrix4<f64>], cases: &[[f64; 3]]) -> Result<Vec<[f64; 3]>> {
+        let (r, a, n) = (&grid.nodes, self.inner_radius, grid.intervals());
+        let mut out = Vec::with_capacity(cases.len());
+        for &[eps, psi, eps_a] in cases {
+            // Solid cylinder: D = 0 (regularity), u = −εR/2.
+            let dd = if a > 0.0 { a * a * (eps_a + 0.5 * eps) } else { 0.0 };
+            // Stresses without the multiplier: σ̂ = ℂ̄ (ε, u/R, u', ψR).
+            let hat = |j: usize, row: usize| {
+                let w = if dd == 0.0 { 0.0 } else { dd / (r[j] * r[j]) };
+                let (hoop, radial) = (-0.5 * eps + w, -0.5 * eps - w);
+                c[j][(row, ZZ)] * eps + c[j][(row, TT)] * hoop + c[j][(row, RR)] * radial + c[j][(row, ZT)] * psi * r[j]
+            };
+            // R σ_RR' = σ̂_ΘΘ − σ̂_RR; σ_RR(B) = 0 fixes the constant.
+            let jump = DVector::from_fn(n + 1, |j, _| if r[j] > 0.0 { (hat(j, TT) - hat(j, RR)) / r[j] } else { 0.0 });
+            let cum = grid.cumulative_integral(&jump);
+            let sigma_rr = cum.map(|v| v - cum[n]);
+            // Multiplier p̂ = σ̂_RR − σ_RR; σ_ZZ = σ̂_ZZ − p̂.
+            let szz = |j: usize| hat(j, ZZ) - (hat(j, RR) - sigma_rr[j]);
+            out.push(self.resultants(grid, szz, |j| hat(j, ZT), -sigma_rr[0]));
+        }
+        Ok(out)
+    }
+
+    /// (F, T, 2πA²p) = (2π∫σ_ZZ R dR, 2π∫τ_ZΘ R² dR, 2πA²p).
+    fn resultants(&self, grid: &ChebyshevGrid, szz: impl Fn(usize) -> f64, szt: impl Fn(usize) -> f64, p: f64) -> [f64; 3] {
+        let r = &grid.nodes;
+        let f = grid.integrate(&DVector::from_fn(r.len(), |j, _| szz(j) * r[j]));
+        let t = grid.integrate(&DVector::from_fn(r.len(), |j, _| szt(j) * r[j] * r[j]));
+        let a = self.inner_radius;
+        [2.0 * PI * f, 2.0 * PI * t, 2.0 * PI * a * a * p]
+    }
+}

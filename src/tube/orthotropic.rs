@@ -175,12 +175,13 @@ pub struct Orthotropic {
 }
 
 /// Voigt order of the tube axes used by [`Orthotropic::rotated_stiffness`]:
-/// (ZZ, ΘΘ, RR, ΘR, ZR, ZΘ), engineering shears.
-pub mod voigt {
-    pub const ZZ: usize = 0;
-    pub const TT: usize = 1;
-    pub const RR: usize = 2;
-    pub const ZT: usize = 5;
+/// (ZZ, ΘΘ, RR, ΘR, ZR, ZΘ), engineering shears. (Crate-private: cbindgen
+/// would export public constants into the C header.)
+pub(crate) mod voigt {
+    pub(crate) const ZZ: usize = 0;
+    pub(crate) const TT: usize = 1;
+    pub(crate) const RR: usize = 2;
+    pub(crate) const ZT: usize = 5;
 }
 
 impl Orthotropic {

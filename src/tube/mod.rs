@@ -7,6 +7,7 @@
 //! the thick-wall model can report through the same type.
 
 pub mod coupling;
+pub mod dna;
 pub mod material;
 pub mod orthotropic;
 pub mod thick;

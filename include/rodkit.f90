@@ -72,6 +72,9 @@ module rodkit
     integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_NOT_CONVERGED = -9
     ! a computed result is not finite (overflow or an ill-posed problem)
     integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_NON_FINITE_RESULT = -10
+    ! the material lost stability at the requested state (e.g. Saint
+    ! Venant-Kirchhoff in strong compression)
+    integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_MATERIAL_INSTABILITY = -11
 
     ! -------------------------------------------------------------------------
     ! enum RodkitWinding: how a free tube (T = 0, p = 0) twists when pulled,

@@ -62,6 +62,8 @@ enum RodkitStatus
   RODKIT_STATUS_ERR_NOT_CONVERGED = -9,
   // a computed result is not finite (overflow or an ill-posed problem)
   RODKIT_STATUS_ERR_NON_FINITE_RESULT = -10,
+  // the material lost stability at the requested state (e.g. Saint Venant-Kirchhoff in strong compression)
+  RODKIT_STATUS_ERR_MATERIAL_INSTABILITY = -11,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L

@@ -37,6 +37,8 @@ pub enum Status {
     ErrNotConverged = -9,
     /// a computed result is not finite (overflow or an ill-posed problem)
     ErrNonFiniteResult = -10,
+    /// the material lost stability at the requested state (e.g. Saint Venant-Kirchhoff in strong compression)
+    ErrMaterialInstability = -11,
 }
 
 include!(concat!(env!("OUT_DIR"), "/status_messages.rs"));
@@ -96,7 +98,7 @@ mod tests {
             assert!(!s.message().is_empty() && !s.message().contains('\0'));
             assert_eq!(Status::from_code(s.code()), Some(*s));
         }
-        assert_eq!(Status::ALL.len(), 12);
+        assert_eq!(Status::ALL.len(), 13);
         assert_eq!(Status::from_code(-999), None);
     }
 }

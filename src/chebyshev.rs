@@ -78,6 +78,29 @@ impl ChebyshevGrid {
         ChebyshevGrid { nodes, diff, weights }
     }
 
+    /// Grid uniform in ln x on [a, b], 0 < a < b: nodes x_j = exp(ξ_j) for a
+    /// Chebyshev grid ξ_j on [ln a, ln b], with d/dx = (1/x) d/dξ and
+    /// ∫ f dx = ∫ f x dξ. Fields like C/x near a small hole (a ≪ b) are
+    /// analytic in ξ, so the error stays spectral however large b/a is;
+    /// for b/a → 1 it tends to the plain grid.
+    pub fn logarithmic(n: usize, a: f64, b: f64) -> Self {
+        assert!(a > 0.0 && a < b, "ChebyshevGrid::logarithmic(a = {a}, b = {b})");
+        let xi = Self::new(n, a.ln(), b.ln());
+        let nodes = xi.nodes.map(f64::exp);
+        let mut diff = xi.diff;
+        for i in 0..=n {
+            for j in 0..=n {
+                diff[(i, j)] /= nodes[i];
+            }
+        }
+        // Pin the end nodes to a and b exactly (exp(ln a) may differ by an ulp).
+        let mut nodes = nodes;
+        nodes[0] = a;
+        nodes[n] = b;
+        let weights = xi.weights.component_mul(&nodes);
+        ChebyshevGrid { nodes, diff, weights }
+    }
+
     /// Number of intervals n (the grid has n + 1 nodes).
     pub fn intervals(&self) -> usize {
         self.nodes.len() - 1
@@ -125,6 +148,14 @@ mod tests {
         let g = ChebyshevGrid::new(16, 0.0, 1.0);
         let e = g.nodes.map(f64::exp);
         assert!((g.integrate(&e) - (1f64.exp() - 1.0)).abs() < 1e-14);
+        // Logarithmic grid on [0.01, 1]: f = 1/x + x is analytic in ln x.
+        let lg = ChebyshevGrid::logarithmic(24, 0.01, 1.0);
+        let f = lg.nodes.map(|x| 1.0 / x + x);
+        let df = &lg.diff * &f;
+        for (i, &x) in lg.nodes.iter().enumerate() {
+            assert!((df[i] - (1.0 - 1.0 / (x * x))).abs() < 1e-9 * (1.0 / (x * x)), "x = {x}");
+        }
+        assert!((lg.integrate(&f) - (100f64.ln() + 0.5 * (1.0 - 1e-4))).abs() < 1e-12);
         let cum = g.cumulative_integral(&e);
         for (i, &x) in g.nodes.iter().enumerate() {
             assert!((cum[i] - (x.exp() - 1.0)).abs() < 1e-14, "x = {x}");

@@ -7,6 +7,7 @@
 
 pub mod chebyshev;
 pub mod error;
+pub mod newton;
 pub mod status;
 pub mod tube;
 pub mod version;

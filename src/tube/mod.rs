@@ -8,6 +8,7 @@
 
 pub mod coupling;
 pub mod dna;
+pub mod finite;
 pub mod material;
 pub mod orthotropic;
 pub mod thick;

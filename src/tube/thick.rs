@@ -150,7 +150,12 @@ impl ThickTube {
     /// (F, T, 2πA²p) for each prescribed e = (ε, ψ, ε_A). For a solid
     /// cylinder ε_A is ignored and u(0) = 0, σ_RR(B) = 0.
     fn unit_responses(&self, intervals: usize, cases: &[[f64; 3]]) -> Result<Vec<[f64; 3]>> {
-        let grid = ChebyshevGrid::new(intervals, self.inner_radius, self.outer_radius);
+        // Chebyshev in ln R for a hollow tube: spectral however large B/A.
+        let grid = if self.inner_radius > 0.0 {
+            ChebyshevGrid::logarithmic(intervals, self.inner_radius, self.outer_radius)
+        } else {
+            ChebyshevGrid::new(intervals, 0.0, self.outer_radius)
+        };
         let r = &grid.nodes;
         let c: Vec<Matrix4<f64>> = r.iter().map(|&ri| tube_block(&self.material, (self.intrinsic_twist * ri).atan())).collect();
         let out = match self.compressibility {

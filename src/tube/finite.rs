@@ -1,0 +1,565 @@
+//! Finite-strain extension–torsion–inflation of a thick tube (§1.2–1.3):
+//! r = r(R), θ = Θ + ψZ, z = λZ, any hyperelastic [`WallMaterial`], any mix
+//! of prescribed (λ or F), (ψ or T) and inner/outer pressure, open or closed
+//! ends, hollow or solid.
+//!
+//! Compressible: Chebyshev collocation of the radial equilibrium in Cauchy
+//! form with R as the variable, dσ_rr/dR = (σ_θθ − σ_rr)·r'/r, with σ_rr(A) =
+//! −p (or r(0) = 0 for a solid) and σ_rr(B) = −p_o, solved by Newton for r at
+//! the nodes and the unprescribed λ, ψ. Incompressible: J = 1 gives
+//! r² = a² + (R² − A²)/λ, so the unknowns are the deformed inner radius a and
+//! the unprescribed λ, ψ; the pressure multiplier follows from integrating
+//! equilibrium, σ_rr(B) − σ_rr(A) = ∫ (σ̂_θθ − σ̂_rr) r'/r dR.
+//!
+//! Forces: `wall_force` = 2π∫σ_zz r dr is what the wall carries;
+//! `applied_force` is what the loading device applies besides the pressure on
+//! the caps: equal for open ends, wall_force − πa²p + πb²p_o for closed ends.
+//! Torque T = 2π∫σ_θz r² dr.
+
+use crate::chebyshev::ChebyshevGrid;
+use crate::error::{self, Error, Result};
+use crate::newton::{self, NewtonOptions};
+use crate::status::Status;
+use crate::tube::material::{WallMaterial, WallStrain};
+use nalgebra::{DVector, Matrix3};
+use std::f64::consts::PI;
+
+/// Axial loading: prescribed stretch λ or applied force F.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Axial {
+    Stretch(f64),
+    Force(f64),
+}
+
+/// Torsional loading: prescribed twist per reference length ψ or torque T.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Torsion {
+    Twist(f64),
+    Torque(f64),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ends {
+    /// The wall alone carries the applied force.
+    Open,
+    /// Capped: the pressure on the caps loads the wall axially too.
+    Closed,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Loading {
+    pub axial: Axial,
+    pub torsion: Torsion,
+    pub inner_pressure: f64,
+    pub outer_pressure: f64,
+    pub ends: Ends,
+}
+
+impl Loading {
+    /// The stress-free state's loading: λ = 1, ψ = 0, no pressure.
+    pub fn free() -> Self {
+        Loading { axial: Axial::Stretch(1.0), torsion: Torsion::Twist(0.0), inner_pressure: 0.0, outer_pressure: 0.0, ends: Ends::Open }
+    }
+
+    /// The loading scaled towards the free state by s ∈ [0, 1] (homotopy).
+    fn scaled(&self, s: f64) -> Loading {
+        Loading {
+            axial: match self.axial {
+                Axial::Stretch(l) => Axial::Stretch(1.0 + s * (l - 1.0)),
+                Axial::Force(f) => Axial::Force(s * f),
+            },
+            torsion: match self.torsion {
+                Torsion::Twist(p) => Torsion::Twist(s * p),
+                Torsion::Torque(t) => Torsion::Torque(s * t),
+            },
+            inner_pressure: s * self.inner_pressure,
+            outer_pressure: s * self.outer_pressure,
+            ends: self.ends,
+        }
+    }
+}
+
+/// Stresses through the wall at the collocation nodes (Cauchy, in the
+/// deformed cylindrical basis).
+#[derive(Clone, Debug, PartialEq)]
+pub struct WallProfile {
+    pub reference_radius: Vec<f64>,
+    pub radius: Vec<f64>,
+    pub sigma_rr: Vec<f64>,
+    pub sigma_tt: Vec<f64>,
+    pub sigma_zz: Vec<f64>,
+    pub sigma_tz: Vec<f64>,
+}
+
+/// An equilibrium state of the tube.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TubeState {
+    pub stretch: f64,
+    pub twist: f64,
+    pub wall_force: f64,
+    pub applied_force: f64,
+    pub torque: f64,
+    pub inner_pressure: f64,
+    pub outer_pressure: f64,
+    pub deformed_inner_radius: f64,
+    pub deformed_outer_radius: f64,
+    /// Chebyshev intervals of the returned solution.
+    pub intervals: usize,
+    /// Change of (a, b, λ, ψ, F, T) against the next coarser grid, in the
+    /// tube's scales: radii per outer radius B, λ, ψB, F per μπB², T per μπB³
+    /// with μ the material's small-strain modulus (the two-grid estimator;
+    /// 0 when a fixed grid was requested).
+    pub error_estimate: f64,
+    pub newton_iterations: usize,
+    pub profile: WallProfile,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolveOptions {
+    /// Requested relative accuracy of the state (two-grid estimate).
+    pub rel_tol: f64,
+    /// Fixed number of intervals instead of the adaptive choice.
+    pub intervals: Option<usize>,
+}
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        SolveOptions { rel_tol: 1e-10, intervals: None }
+    }
+}
+
+/// A tube of inner radius A ≥ 0 and outer radius B > A made of `material`.
+pub struct FiniteTube<'m> {
+    pub inner_radius: f64,
+    pub outer_radius: f64,
+    pub material: &'m dyn WallMaterial,
+    /// Stress scale used to make the residual dimensionless.
+    modulus: f64,
+}
+
+/// Unknowns of one solve and how to read them.
+struct Layout {
+    n: usize,
+    /// Index of λ in x, if the force is prescribed.
+    stretch: Option<usize>,
+    /// Index of ψ in x, if the torque is prescribed.
+    twist: Option<usize>,
+}
+
+impl<'m> FiniteTube<'m> {
+    pub fn new(inner_radius: f64, outer_radius: f64, material: &'m dyn WallMaterial) -> Result<Self> {
+        error::finite("inner_radius", inner_radius)?;
+        error::positive("outer_radius", outer_radius)?;
+        if !(inner_radius >= 0.0 && inner_radius < outer_radius) {
+            return Err(Error::new(
+                Status::ErrInvalidGeometry,
+                format!("impossible tube: need 0 <= inner radius ({inner_radius:e}) < outer radius ({outer_radius:e})"),
+            ));
+        }
+        // Stress scale: the small-strain response at mid-wall (compressible
+        // laws) or the multiplier-free stress at rest (incompressible ones).
+        let rm = 0.5 * (inner_radius + outer_radius);
+        let h = 1e-6;
+        let c = Matrix3::identity() * (1.0 + 2.0 * h);
+        let modulus = (material.pk2(rm, &c).amax() / h).max(material.pk2(rm, &Matrix3::identity()).amax());
+        error::positive("material stiffness scale", modulus)?;
+        Ok(FiniteTube { inner_radius, outer_radius, material, modulus })
+    }
+
+    /// Equilibrium under `loading`, to `opts.rel_tol` (or on a fixed grid).
+    pub fn solve(&self, loading: &Loading, opts: &SolveOptions) -> Result<TubeState> {
+        validate(loading)?;
+        if let Some(n) = opts.intervals {
+            error::count_in_range("intervals", n as i64, 4, 256)?;
+            return self.solve_with_homotopy(loading, n);
+        }
+        error::in_range("rel_tol", opts.rel_tol, 1e-14, 1.0)?;
+        // Grids growing by 1.5×; each solution is compared with the previous
+        // one. A failure on a coarse grid (an under-resolved wall) is not
+        // final: the next grid tries again. Material instability is final.
+        let mut n = 12;
+        let mut previous: Option<TubeState> = None;
+        loop {
+            match self.solve_with_homotopy(loading, n) {
+                Ok(mut fine) => {
+                    if let Some(coarse) = &previous {
+                        let est = state_difference(coarse, &fine, self.outer_radius, self.modulus)
+                            .max(32.0 * n as f64 * f64::EPSILON);
+                        fine.error_estimate = est;
+                        if est <= opts.rel_tol {
+                            return Ok(fine);
+                        }
+                    }
+                    previous = Some(fine);
+                }
+                Err(e) if e.status == Status::ErrMaterialInstability => return Err(e),
+                Err(e) => {
+                    if n >= 128 {
+                        return Err(e);
+                    }
+                    previous = None;
+                }
+            }
+            if n >= 128 {
+                let est = previous.map_or(f64::INFINITY, |p| p.error_estimate);
+                return Err(Error::new(
+                    Status::ErrNotConverged,
+                    format!("finite-strain tube: estimated error {est:e} above rel_tol {:e} at {n} intervals", opts.rel_tol),
+                ));
+            }
+            n += n / 2;
+        }
+    }
+
+    /// Newton from the free state; on failure, approach the load in
+    /// bisected increments (load homotopy, at most 2⁸ increments).
+    fn solve_with_homotopy(&self, loading: &Loading, n: usize) -> Result<TubeState> {
+        let grid = self.grid(n);
+        let layout = self.layout(loading, n);
+        let mut x = self.initial_guess(&grid, &layout);
+        let mut s_done: f64 = 0.0;
+        let mut ds: f64 = 1.0;
+        let mut iterations = 0;
+        while s_done < 1.0 {
+            let s = (s_done + ds).min(1.0);
+            let mut trial = x.clone();
+            match self.newton(&grid, &layout, &loading.scaled(s), &mut trial) {
+                Ok(it) => {
+                    iterations += it;
+                    x = trial;
+                    s_done = s;
+                    ds = (2.0 * ds).min(1.0);
+                }
+                Err(e) => {
+                    ds *= 0.5;
+                    if ds < 1.0 / 256.0 {
+                        return Err(Error::new(
+                            e.status,
+                            format!("finite-strain tube: no equilibrium reached at load fraction {s:.4} ({})", e.message),
+                        ));
+                    }
+                }
+            }
+        }
+        let mut state = self.state(&grid, &layout, loading, &x)?;
+        state.newton_iterations = iterations;
+        self.check_stability(&state)?;
+        Ok(state)
+    }
+
+    /// Chebyshev in ln R for a hollow tube (spectral even when A ≪ B), in R
+    /// for a solid cylinder.
+    fn grid(&self, n: usize) -> ChebyshevGrid {
+        if self.inner_radius > 0.0 {
+            ChebyshevGrid::logarithmic(n, self.inner_radius, self.outer_radius)
+        } else {
+            ChebyshevGrid::new(n, 0.0, self.outer_radius)
+        }
+    }
+
+    fn layout(&self, loading: &Loading, n: usize) -> Layout {
+        let base = if self.material.incompressible() { 1 } else { 2 * (n + 1) };
+        let stretch = matches!(loading.axial, Axial::Force(_)).then_some(base);
+        let twist = matches!(loading.torsion, Torsion::Torque(_)).then_some(base + stretch.is_some() as usize);
+        Layout { n, stretch, twist }
+    }
+
+    fn initial_guess(&self, grid: &ChebyshevGrid, layout: &Layout) -> DVector<f64> {
+        let mut x = if self.material.incompressible() {
+            DVector::from_element(1, self.inner_radius)
+        } else {
+            // r = R and σ_rr = 0: the stress-free state.
+            grid.nodes.clone().resize_vertically(2 * (layout.n + 1), 0.0)
+        };
+        let extra = layout.stretch.is_some() as usize + layout.twist.is_some() as usize;
+        let len = x.len();
+        x = x.resize_vertically(len + extra, 0.0);
+        if let Some(i) = layout.stretch {
+            x[i] = 1.0;
+        }
+        x
+    }
+
+    fn newton(&self, grid: &ChebyshevGrid, layout: &Layout, loading: &Loading, x: &mut DVector<f64>) -> Result<usize> {
+        let b = self.outer_radius;
+        let m = layout.n + 1;
+        let incompressible = self.material.incompressible();
+        let typical = DVector::from_fn(x.len(), |k, _| {
+            if Some(k) == layout.stretch {
+                1.0
+            } else if Some(k) == layout.twist {
+                1.0 / b
+            } else if !incompressible && k >= m {
+                self.modulus
+            } else {
+                b
+            }
+        });
+        // The residual's round-off grows like n²ε (first derivatives only).
+        let opts = NewtonOptions { step_tol: 1e-12, residual_tol: (64.0 * (m * m) as f64 * f64::EPSILON).max(1e-11), max_iterations: 60 };
+        let report = newton::solve(x, &typical, &opts, |x, f| {
+            self.residual(grid, layout, loading, x, f)
+        })?;
+        Ok(report.iterations)
+    }
+
+    fn prescribed(&self, layout: &Layout, loading: &Loading, x: &DVector<f64>) -> (f64, f64) {
+        let lambda = match (loading.axial, layout.stretch) {
+            (Axial::Stretch(l), _) => l,
+            (_, Some(i)) => x[i],
+            _ => unreachable!("force prescribed without a stretch unknown"),
+        };
+        let psi = match (loading.torsion, layout.twist) {
+            (Torsion::Twist(p), _) => p,
+            (_, Some(i)) => x[i],
+            _ => unreachable!("torque prescribed without a twist unknown"),
+        };
+        (lambda, psi)
+    }
+
+    /// Deformed radius r, its derivative r' and the Cauchy stress at each
+    /// node; `None` outside the domain (r or r' ≤ 0, λ ≤ 0, non-finite).
+    fn fields(&self, grid: &ChebyshevGrid, layout: &Layout, x: &DVector<f64>, lambda: f64, psi: f64)
+        -> Option<(DVector<f64>, DVector<f64>, Vec<Matrix3<f64>>)> {
+        if !(lambda > 0.0) {
+            return None;
+        }
+        let rr = &grid.nodes;
+        let m = layout.n + 1;
+        let (r, dr) = if self.material.incompressible() {
+            let a = x[0];
+            if a < 0.0 {
+                return None;
+            }
+            let a2 = if self.inner_radius > 0.0 { a * a } else { 0.0 };
+            let r = rr.map(|big| (a2 + (big * big - self.inner_radius * self.inner_radius) / lambda).sqrt());
+            let dr = DVector::from_fn(m, |j, _| if r[j] > 0.0 { rr[j] / (lambda * r[j]) } else { 1.0 / lambda.sqrt() });
+            (r, dr)
+        } else {
+            let r = x.rows(0, m).into_owned();
+            let dr = &grid.diff * &r;
+            (r, dr)
+        };
+        let mut sigma = Vec::with_capacity(m);
+        for j in 0..m {
+            let hoop = if rr[j] > 0.0 { r[j] / rr[j] } else { dr[j] };
+            if !(dr[j] > 0.0 && hoop > 0.0) {
+                return None;
+            }
+            let strain = WallStrain { radial: dr[j], hoop, axial: lambda, shear: r[j] * psi };
+            let s = self.material.cauchy(rr[j], &strain);
+            if !s.iter().all(|v| v.is_finite()) {
+                return None;
+            }
+            sigma.push(s);
+        }
+        Some((r, dr, sigma))
+    }
+
+    /// Radial stress through the wall for an incompressible law (the
+    /// multiplier eliminated): σ_rr(A) = −p plus the integral of equilibrium;
+    /// for a solid cylinder, anchored at σ_rr(B) = −p_o instead.
+    fn incompressible_radial_stress(&self, grid: &ChebyshevGrid, r: &DVector<f64>, dr: &DVector<f64>,
+                                    sigma: &[Matrix3<f64>], loading: &Loading) -> DVector<f64> {
+        let m = r.len();
+        let g = DVector::from_fn(m, |j, _| if r[j] > 0.0 { (sigma[j][(1, 1)] - sigma[j][(0, 0)]) * dr[j] / r[j] } else { 0.0 });
+        let cum = grid.cumulative_integral(&g);
+        if self.inner_radius > 0.0 {
+            cum.map(|c| c - loading.inner_pressure)
+        } else {
+            let total = cum[m - 1];
+            cum.map(|c| -loading.outer_pressure - (total - c))
+        }
+    }
+
+    fn residual(&self, grid: &ChebyshevGrid, layout: &Layout, loading: &Loading, x: &DVector<f64>, f: &mut DVector<f64>) -> bool {
+        let (lambda, psi) = self.prescribed(layout, loading, x);
+        let Some((r, dr, sigma)) = self.fields(grid, layout, x, lambda, psi) else { return false };
+        let (a_len, b) = (self.outer_radius - self.inner_radius, self.outer_radius);
+        let mu = self.modulus;
+        let n = layout.n;
+        let resultants = if self.material.incompressible() {
+            let srr = self.incompressible_radial_stress(grid, &r, &dr, &sigma, loading);
+            // Hollow: σ_rr(B) = −p_o closes the problem for a.
+            f[0] = if self.inner_radius > 0.0 { (srr[n] + loading.outer_pressure) / mu } else { x[0] / b };
+            self.resultants(grid, &r, &dr, &sigma, Some(&srr))
+        } else {
+            // First-order collocation in (r, s = σ_rr): the residual holds
+            // first derivatives only, so its round-off grows like n²ε, not n⁴ε.
+            // Rows 0..m: s_j = σ_rr(r'_j, …) (r(0) = 0 at a solid's axis).
+            // Rows m..2m: s' = (σ_θθ − s) r'/r inside, s(A) = −p (s'(0) = 0 at
+            // a solid's axis) and s(B) = −p_o at the ends.
+            let m = n + 1;
+            let srr = x.rows(m, m);
+            let dsrr = &grid.diff * srr;
+            for j in 0..m {
+                f[j] = if j == 0 && self.inner_radius == 0.0 { r[0] / b } else { (sigma[j][(0, 0)] - srr[j]) / mu };
+                f[m + j] = if j == n {
+                    (srr[n] + loading.outer_pressure) / mu
+                } else if j == 0 && self.inner_radius > 0.0 {
+                    (srr[0] + loading.inner_pressure) / mu
+                } else if j == 0 {
+                    dsrr[0] * a_len / mu // s'(0) = 0
+                } else {
+                    // Multiplied by r: well scaled near a small hole.
+                    (r[j] * dsrr[j] - (sigma[j][(1, 1)] - srr[j]) * dr[j]) / mu
+                };
+            }
+            self.resultants(grid, &r, &dr, &sigma, None)
+        };
+        let (wall_force, torque) = resultants;
+        if let (Axial::Force(target), Some(i)) = (loading.axial, layout.stretch) {
+            let applied = self.applied_force(wall_force, r[0], r[n], loading);
+            f[i] = (applied - target) / (mu * PI * b * b);
+        }
+        if let (Torsion::Torque(target), Some(i)) = (loading.torsion, layout.twist) {
+            f[i] = (torque - target) / (mu * PI * b * b * b);
+        }
+        true
+    }
+
+    fn applied_force(&self, wall_force: f64, a: f64, b: f64, loading: &Loading) -> f64 {
+        match loading.ends {
+            Ends::Open => wall_force,
+            Ends::Closed => wall_force - PI * a * a * loading.inner_pressure + PI * b * b * loading.outer_pressure,
+        }
+    }
+
+    /// (F_wall, T) = (2π∫σ_zz r r' dR, 2π∫σ_θz r² r' dR); for incompressible
+    /// laws σ_zz = σ̂_zz − p̂ with p̂ = σ̂_rr − σ_rr.
+    fn resultants(&self, grid: &ChebyshevGrid, r: &DVector<f64>, dr: &DVector<f64>, sigma: &[Matrix3<f64>],
+                  srr: Option<&DVector<f64>>) -> (f64, f64) {
+        let m = r.len();
+        let szz = |j: usize| match srr {
+            Some(s) => sigma[j][(2, 2)] - (sigma[j][(0, 0)] - s[j]),
+            None => sigma[j][(2, 2)],
+        };
+        let f = grid.integrate(&DVector::from_fn(m, |j, _| szz(j) * r[j] * dr[j]));
+        let t = grid.integrate(&DVector::from_fn(m, |j, _| sigma[j][(1, 2)] * r[j] * r[j] * dr[j]));
+        (2.0 * PI * f, 2.0 * PI * t)
+    }
+
+    fn state(&self, grid: &ChebyshevGrid, layout: &Layout, loading: &Loading, x: &DVector<f64>) -> Result<TubeState> {
+        let (lambda, psi) = self.prescribed(layout, loading, x);
+        let (r, dr, sigma) = self.fields(grid, layout, x, lambda, psi).ok_or_else(|| {
+            Error::new(Status::ErrNonFiniteResult, "finite-strain tube: converged state is outside the domain")
+        })?;
+        let n = layout.n;
+        let (srr, p_hat) = if self.material.incompressible() {
+            let srr = self.incompressible_radial_stress(grid, &r, &dr, &sigma, loading);
+            let p_hat: Vec<f64> = (0..=n).map(|j| sigma[j][(0, 0)] - srr[j]).collect();
+            (srr, p_hat)
+        } else {
+            (DVector::from_fn(n + 1, |j, _| sigma[j][(0, 0)]), vec![0.0; n + 1])
+        };
+        let (wall_force, torque) =
+            self.resultants(grid, &r, &dr, &sigma, self.material.incompressible().then_some(&srr));
+        let profile = WallProfile {
+            reference_radius: grid.nodes.iter().copied().collect(),
+            radius: r.iter().copied().collect(),
+            sigma_rr: srr.iter().copied().collect(),
+            sigma_tt: (0..=n).map(|j| sigma[j][(1, 1)] - p_hat[j]).collect(),
+            sigma_zz: (0..=n).map(|j| sigma[j][(2, 2)] - p_hat[j]).collect(),
+            sigma_tz: (0..=n).map(|j| sigma[j][(1, 2)]).collect(),
+        };
+        let state = TubeState {
+            stretch: lambda,
+            twist: psi,
+            wall_force,
+            applied_force: self.applied_force(wall_force, r[0], r[n], loading),
+            torque,
+            inner_pressure: loading.inner_pressure,
+            outer_pressure: loading.outer_pressure,
+            deformed_inner_radius: if self.inner_radius > 0.0 { r[0] } else { 0.0 },
+            deformed_outer_radius: r[n],
+            intervals: n,
+            error_estimate: 0.0,
+            newton_iterations: 0,
+            profile,
+        };
+        let scalars = [state.stretch, state.twist, state.wall_force, state.torque, state.deformed_inner_radius, state.deformed_outer_radius];
+        error::finite_result("finite-strain tube state", &scalars)?;
+        Ok(state)
+    }
+
+    /// Local stability of a compressible law: the strain energy must be
+    /// convex in the four local deformation modes (a, b, λ, γ) at every node
+    /// (second differences of W, Cholesky). Saint Venant–Kirchhoff fails this
+    /// in strong compression (its nominal stress turns back below stretch
+    /// 1/√3), where the "equilibrium" is not physical.
+    fn check_stability(&self, state: &TubeState) -> Result<()> {
+        if self.material.incompressible() {
+            return Ok(());
+        }
+        let p = &state.profile;
+        let n = p.radius.len() - 1;
+        let grid = self.grid(n);
+        let r = DVector::from_vec(p.radius.clone());
+        let dr = &grid.diff * &r;
+        for j in 0..=n {
+            let big = p.reference_radius[j];
+            let x0 = [dr[j], if big > 0.0 { r[j] / big } else { dr[j] }, state.stretch, r[j] * state.twist];
+            let w = |x: &[f64; 4]| {
+                let strain = WallStrain { radial: x[0], hoop: x[1], axial: x[2], shear: x[3] };
+                self.material.energy(big, &strain.right_cauchy_green())
+            };
+            let h = 1e-4;
+            let hess = nalgebra::Matrix4::from_fn(|k, l| {
+                let at = |dk: f64, dl: f64| {
+                    let mut x = x0;
+                    x[k] += dk;
+                    x[l] += dl;
+                    w(&x)
+                };
+                (at(h, h) - at(h, -h) - at(-h, h) + at(-h, -h)) / (4.0 * h * h)
+            });
+            if hess.cholesky().is_none() {
+                return Err(Error::new(
+                    Status::ErrMaterialInstability,
+                    format!(
+                        "the wall material lost stability at R = {big:e} (stretches radial {:.4}, hoop {:.4}, axial {:.4}, \
+                         shear {:.4}): its energy is not convex there. Saint Venant-Kirchhoff does this in strong \
+                         compression; use a neo-Hookean law",
+                        x0[0], x0[1], x0[2], x0[3]
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+fn validate(loading: &Loading) -> Result<()> {
+    match loading.axial {
+        Axial::Stretch(l) => {
+            error::positive("stretch", l)?;
+        }
+        Axial::Force(f) => {
+            error::finite("force", f)?;
+        }
+    }
+    match loading.torsion {
+        Torsion::Twist(p) => error::finite("twist", p)?,
+        Torsion::Torque(t) => error::finite("torque", t)?,
+    };
+    error::finite("inner_pressure", loading.inner_pressure)?;
+    error::finite("outer_pressure", loading.outer_pressure)?;
+    Ok(())
+}
+
+/// Largest change of the state's scalars between two grids, in the tube's
+/// own scales: radii per B, stretch, twist × B, force per μπB², torque per
+/// μπB³ (so a state near rest is not judged by the relative change of tiny
+/// resultants).
+fn state_difference(a: &TubeState, b: &TubeState, outer: f64, modulus: f64) -> f64 {
+    let force = modulus * PI * outer * outer;
+    let pairs = [
+        (a.deformed_inner_radius - b.deformed_inner_radius) / outer,
+        (a.deformed_outer_radius - b.deformed_outer_radius) / outer,
+        a.stretch - b.stretch,
+        (a.twist - b.twist) * outer,
+        (a.wall_force - b.wall_force) / force,
+        (a.torque - b.torque) / (force * outer),
+    ];
+    pairs.iter().map(|v| v.abs()).fold(0.0, f64::max)
+}

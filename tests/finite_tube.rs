@@ -1,0 +1,156 @@
+//! Finite-strain tube solver (physics.md §1.2–1.3) against independent
+//! references: the linear theory (the finite response differentiated at the
+//! stress-free state), exact neo-Hookean results, and limits.
+
+use rodkit::tube::finite::{Axial, Ends, FiniteTube, Loading, SolveOptions, Torsion};
+use rodkit::tube::material::{NeoHookean, SaintVenantKirchhoff};
+use rodkit::tube::{Compressibility, Orthotropic, ThickTube};
+use rodkit::Status;
+use std::f64::consts::PI;
+
+fn helical() -> Orthotropic {
+    Orthotropic::new(10.0, 2.0, 1.5, 0.35, 0.3, 0.4, 1.2, 0.8, 0.6).unwrap()
+}
+
+fn load(axial: Axial, torsion: Torsion, p: f64) -> Loading {
+    Loading { axial, torsion, inner_pressure: p, outer_pressure: 0.0, ends: Ends::Open }
+}
+
+/// Central differences of the finite-strain solver at the stress-free state
+/// reproduce the linear thick-tube K (reference: ThickTube, an independent
+/// linear collocation code). With e = (ε, ψ, ε_A) and f = (F, T, 2πA²p):
+/// prescribing λ = 1 ± h gives ε_A = −K31 h/K33, F = (K11 − K13K31/K33) h, …
+#[test]
+fn linearisation_at_rest_equals_linear_stiffness() {
+    let (a, b, tau0) = (0.6, 1.4, 1.7);
+    for incompressible in [false, true] {
+        let svk = SaintVenantKirchhoff { material: helical(), intrinsic_twist: tau0, incompressible };
+        let tube = FiniteTube::new(a, b, &svk).unwrap();
+        let comp = if incompressible { Compressibility::Incompressible } else { Compressibility::Compressible };
+        let k = ThickTube::new(a, b, tau0, helical(), comp).unwrap().coupling_stiffness(1e-12).unwrap().value.k;
+        let opts = SolveOptions { rel_tol: 1e-12, intervals: None };
+        let h = 1e-5;
+        let d = |plus: Loading, minus: Loading| {
+            let (p, m) = (tube.solve(&plus, &opts).unwrap(), tube.solve(&minus, &opts).unwrap());
+            let ea = ((p.deformed_inner_radius - m.deformed_inner_radius) / a) / (2.0 * h);
+            (ea, (p.wall_force - m.wall_force) / (2.0 * h), (p.torque - m.torque) / (2.0 * h))
+        };
+        // Stretch at ψ = 0, p = 0.
+        let (ea, df, dt) = d(load(Axial::Stretch(1.0 + h), Torsion::Twist(0.0), 0.0), load(Axial::Stretch(1.0 - h), Torsion::Twist(0.0), 0.0));
+        let ea_lin = -k[(2, 0)] / k[(2, 2)];
+        let tol = 1e-7;
+        assert!((ea - ea_lin).abs() < tol, "{incompressible}: dε_A/dε {ea} vs {ea_lin}");
+        assert!((df - (k[(0, 0)] + k[(0, 2)] * ea_lin)).abs() < tol * k.amax(), "dF/dε {df}");
+        assert!((dt - (k[(1, 0)] + k[(1, 2)] * ea_lin)).abs() < tol * k.amax(), "dT/dε {dt}");
+        // Twist at λ = 1, p = 0.
+        let (ea, df, dt) = d(load(Axial::Stretch(1.0), Torsion::Twist(h), 0.0), load(Axial::Stretch(1.0), Torsion::Twist(-h), 0.0));
+        let ea_lin = -k[(2, 1)] / k[(2, 2)];
+        assert!((ea - ea_lin).abs() < tol, "dε_A/dψ {ea} vs {ea_lin}");
+        assert!((df - (k[(0, 1)] + k[(0, 2)] * ea_lin)).abs() < tol * k.amax(), "dF/dψ {df}");
+        assert!((dt - (k[(1, 1)] + k[(1, 2)] * ea_lin)).abs() < tol * k.amax(), "dT/dψ {dt}");
+        // Inner pressure at λ = 1, ψ = 0: 2πA²p = K33 ε_A.
+        let (ea, df, dt) = d(load(Axial::Stretch(1.0), Torsion::Twist(0.0), h), load(Axial::Stretch(1.0), Torsion::Twist(0.0), -h));
+        let ea_lin = 2.0 * PI * a * a / k[(2, 2)];
+        assert!((ea - ea_lin).abs() < tol * ea_lin.abs(), "dε_A/dp {ea} vs {ea_lin}");
+        assert!((df - k[(0, 2)] * ea_lin).abs() < tol * k.amax() * ea_lin.abs(), "dF/dp {df}");
+        assert!((dt - k[(1, 2)] * ea_lin).abs() < tol * k.amax() * ea_lin.abs(), "dT/dp {dt}");
+    }
+}
+
+/// Poynting effect, exact for an incompressible neo-Hookean solid cylinder
+/// twisted at fixed length (Rivlin 1948; physics.md §1.5): T = πμψb⁴/2 and the
+/// axial force needed to keep the length is N = −πμψ²b⁴/4.
+#[test]
+fn neo_hookean_poynting_effect() {
+    let (mu, b) = (1.3, 0.7);
+    let nh = NeoHookean { shear_modulus: mu, lame_lambda: 0.0, incompressible: true };
+    let tube = FiniteTube::new(0.0, b, &nh).unwrap();
+    for psi in [0.1, 1.0, 3.0] {
+        let s = tube.solve(&load(Axial::Stretch(1.0), Torsion::Twist(psi), 0.0), &SolveOptions::default()).unwrap();
+        let t = PI * mu * psi * b.powi(4) / 2.0;
+        let n = -PI * mu * psi * psi * b.powi(4) / 4.0;
+        assert!((s.torque - t).abs() < 1e-10 * t, "psi {psi}: T {} vs {t}", s.torque);
+        assert!((s.wall_force - n).abs() < 1e-10 * n.abs(), "psi {psi}: N {} vs {n}", s.wall_force);
+    }
+}
+
+/// Incompressible kinematics conserve volume: π(b² − a²)λ = π(B² − A²).
+#[test]
+fn incompressible_tube_conserves_volume() {
+    let svk = SaintVenantKirchhoff { material: helical(), intrinsic_twist: 1.2, incompressible: true };
+    let (a, b) = (0.8, 1.0);
+    let tube = FiniteTube::new(a, b, &svk).unwrap();
+    let s = tube.solve(&load(Axial::Force(0.4), Torsion::Torque(0.0), 0.05), &SolveOptions::default()).unwrap();
+    let vol = (s.deformed_outer_radius.powi(2) - s.deformed_inner_radius.powi(2)) * s.stretch;
+    assert!((vol - (b * b - a * a)).abs() < 1e-13, "{vol}");
+    assert!(s.torque.abs() < 1e-12 && (s.applied_force - 0.4).abs() < 1e-12);
+}
+
+/// The solid cylinder is the A → 0 limit of the hollow one: the resultants
+/// differ by O(A²) (a regular field loses an O(A²) core), so halving A
+/// divides the difference by about 4.
+#[test]
+fn solid_cylinder_is_the_limit_of_a_thin_hole() {
+    let nh = NeoHookean { shear_modulus: 1.0, lame_lambda: 3.0, incompressible: false };
+    let loading = load(Axial::Stretch(1.3), Torsion::Twist(0.8), 0.0);
+    let solid = FiniteTube::new(0.0, 1.0, &nh).unwrap().solve(&loading, &SolveOptions::default()).unwrap();
+    assert_eq!(solid.deformed_inner_radius, 0.0);
+    let diffs: Vec<f64> = [0.04, 0.02, 0.01]
+        .iter()
+        .map(|&a| {
+            let h = FiniteTube::new(a, 1.0, &nh).unwrap().solve(&loading, &SolveOptions::default()).unwrap();
+            (h.wall_force - solid.wall_force).abs() / solid.wall_force.abs() + (h.torque - solid.torque).abs() / solid.torque.abs()
+        })
+        .collect();
+    for w in diffs.windows(2) {
+        let rate = (w[0] / w[1]).log2();
+        assert!(rate > 1.8, "differences {diffs:?}: rate {rate}");
+    }
+    assert!(diffs[2] < 1e-3, "{diffs:?}");
+}
+
+/// Compressible neo-Hookean converges to the incompressible law as λ_L/μ → ∞
+/// (§1.3), the difference falling like μ/λ_L.
+#[test]
+fn compressible_neo_hookean_tends_to_incompressible() {
+    let loading = Loading { axial: Axial::Stretch(1.5), torsion: Torsion::Twist(0.6), inner_pressure: 0.2, outer_pressure: 0.0, ends: Ends::Closed };
+    let inc = NeoHookean { shear_modulus: 1.0, lame_lambda: 0.0, incompressible: true };
+    let reference = FiniteTube::new(0.5, 1.0, &inc).unwrap().solve(&loading, &SolveOptions::default()).unwrap();
+    let mut last = f64::INFINITY;
+    for ratio in [1e2, 1e3, 1e4] {
+        let nh = NeoHookean { shear_modulus: 1.0, lame_lambda: ratio, incompressible: false };
+        let s = FiniteTube::new(0.5, 1.0, &nh).unwrap().solve(&loading, &SolveOptions::default()).unwrap();
+        let diff = (s.applied_force - reference.applied_force).abs() / reference.applied_force.abs()
+            + (s.deformed_inner_radius - reference.deformed_inner_radius).abs();
+        assert!(diff < 20.0 / ratio, "λ/μ = {ratio:e}: difference {diff:e}");
+        assert!(diff < 0.2 * last, "not converging: {diff:e} after {last:e}");
+        last = diff;
+    }
+}
+
+/// Prescribing the force found at a prescribed stretch returns that stretch
+/// (and the same for torque and twist), closed ends with pressure.
+#[test]
+fn force_and_torque_control_invert_stretch_and_twist_control() {
+    let svk = SaintVenantKirchhoff { material: helical(), intrinsic_twist: 1.7, incompressible: false };
+    let tube = FiniteTube::new(0.6, 1.4, &svk).unwrap();
+    let mut l = load(Axial::Stretch(1.15), Torsion::Twist(0.2), 0.1);
+    l.ends = Ends::Closed;
+    let direct = tube.solve(&l, &SolveOptions::default()).unwrap();
+    let mut inv = l;
+    inv.axial = Axial::Force(direct.applied_force);
+    inv.torsion = Torsion::Torque(direct.torque);
+    let back = tube.solve(&inv, &SolveOptions::default()).unwrap();
+    assert!((back.stretch - 1.15).abs() < 1e-9 && (back.twist - 0.2).abs() < 1e-9, "{} {}", back.stretch, back.twist);
+    let caps = PI * direct.deformed_inner_radius.powi(2) * 0.1;
+    assert!((direct.wall_force - direct.applied_force - caps).abs() < 1e-12 * direct.wall_force.abs());
+}
+
+#[test]
+fn svk_in_strong_compression_is_a_clear_status() {
+    let svk = SaintVenantKirchhoff { material: Orthotropic::isotropic(1.0, 0.3).unwrap(), intrinsic_twist: 0.0, incompressible: false };
+    let tube = FiniteTube::new(0.5, 1.0, &svk).unwrap();
+    let e = tube.solve(&load(Axial::Stretch(0.3), Torsion::Twist(0.0), 0.0), &SolveOptions::default()).unwrap_err();
+    assert!(matches!(e.status, Status::ErrMaterialInstability | Status::ErrNotConverged), "{e}");
+    assert!(!e.message.is_empty());
+}

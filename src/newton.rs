@@ -30,13 +30,26 @@ pub struct NewtonReport {
     pub residual_norm: f64,
 }
 
-/// Solve F(x) = 0 from `x`. `residual(x, out)` returns false when x is
-/// outside the domain (e.g. a negative stretch): the step is then shortened.
+/// Solve F(x) = 0 from `x` with a forward-difference Jacobian.
+/// `residual(x, out)` returns false when x is outside the domain (e.g. a
+/// negative stretch): the step is then shortened.
 pub fn solve(
     x: &mut DVector<f64>,
     typical: &DVector<f64>,
     opts: &NewtonOptions,
+    residual: impl FnMut(&DVector<f64>, &mut DVector<f64>) -> bool,
+) -> Result<NewtonReport> {
+    solve_with_jacobian(x, typical, opts, residual, None::<fn(&DVector<f64>, &mut DMatrix<f64>) -> bool>)
+}
+
+/// As [`solve`], with the caller's Jacobian `jacobian(x, J)` when given
+/// (returning false falls back to differences for that iteration).
+pub fn solve_with_jacobian(
+    x: &mut DVector<f64>,
+    typical: &DVector<f64>,
+    opts: &NewtonOptions,
     mut residual: impl FnMut(&DVector<f64>, &mut DVector<f64>) -> bool,
+    mut jacobian: Option<impl FnMut(&DVector<f64>, &mut DMatrix<f64>) -> bool>,
 ) -> Result<NewtonReport> {
     let n = x.len();
     let mut f = DVector::zeros(n);
@@ -48,8 +61,12 @@ pub fn solve(
     let mut trial = DVector::zeros(n);
     let mut ft = DVector::zeros(n);
     for it in 0..opts.max_iterations {
-        // Forward differences, step √ε relative to the typical size.
-        for k in 0..n {
+        let analytic = match jacobian.as_mut() {
+            Some(j) => j(x, &mut jac),
+            None => false,
+        };
+        // Otherwise forward differences, step √ε relative to the typical size.
+        for k in (0..n).filter(|_| !analytic) {
             let h = 1.5e-8 * x[k].abs().max(typical[k]);
             trial.copy_from(x);
             trial[k] += h;

@@ -24,7 +24,7 @@ fn load(axial: Axial, torsion: Torsion, p: f64) -> Loading {
 fn linearisation_at_rest_equals_linear_stiffness() {
     let (a, b, tau0) = (0.6, 1.4, 1.7);
     for incompressible in [false, true] {
-        let svk = SaintVenantKirchhoff { material: helical(), intrinsic_twist: tau0, incompressible };
+        let svk = SaintVenantKirchhoff::new(helical(), tau0, incompressible);
         let tube = FiniteTube::new(a, b, &svk).unwrap();
         let comp = if incompressible { Compressibility::Incompressible } else { Compressibility::Compressible };
         let k = ThickTube::new(a, b, tau0, helical(), comp).unwrap().coupling_stiffness(1e-12).unwrap().value.k;
@@ -77,7 +77,7 @@ fn neo_hookean_poynting_effect() {
 /// Incompressible kinematics conserve volume: π(b² − a²)λ = π(B² − A²).
 #[test]
 fn incompressible_tube_conserves_volume() {
-    let svk = SaintVenantKirchhoff { material: helical(), intrinsic_twist: 1.2, incompressible: true };
+    let svk = SaintVenantKirchhoff::new(helical(), 1.2, true);
     let (a, b) = (0.8, 1.0);
     let tube = FiniteTube::new(a, b, &svk).unwrap();
     let s = tube.solve(&load(Axial::Force(0.4), Torsion::Torque(0.0), 0.05), &SolveOptions::default()).unwrap();
@@ -132,7 +132,7 @@ fn compressible_neo_hookean_tends_to_incompressible() {
 /// (and the same for torque and twist), closed ends with pressure.
 #[test]
 fn force_and_torque_control_invert_stretch_and_twist_control() {
-    let svk = SaintVenantKirchhoff { material: helical(), intrinsic_twist: 1.7, incompressible: false };
+    let svk = SaintVenantKirchhoff::new(helical(), 1.7, false);
     let tube = FiniteTube::new(0.6, 1.4, &svk).unwrap();
     let mut l = load(Axial::Stretch(1.15), Torsion::Twist(0.2), 0.1);
     l.ends = Ends::Closed;
@@ -148,7 +148,7 @@ fn force_and_torque_control_invert_stretch_and_twist_control() {
 
 #[test]
 fn svk_in_strong_compression_is_a_clear_status() {
-    let svk = SaintVenantKirchhoff { material: Orthotropic::isotropic(1.0, 0.3).unwrap(), intrinsic_twist: 0.0, incompressible: false };
+    let svk = SaintVenantKirchhoff::new(Orthotropic::isotropic(1.0, 0.3).unwrap(), 0.0, false);
     let tube = FiniteTube::new(0.5, 1.0, &svk).unwrap();
     let e = tube.solve(&load(Axial::Stretch(0.3), Torsion::Twist(0.0), 0.0), &SolveOptions::default()).unwrap_err();
     assert!(matches!(e.status, Status::ErrMaterialInstability | Status::ErrNotConverged), "{e}");

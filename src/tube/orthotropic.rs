@@ -269,7 +269,7 @@ impl Orthotropic {
 /// Bond stress-transformation matrix for the rotation taking the material
 /// axes (1, 2, 3) to the tube axes (Z, Θ, R): a_ij = (material e_j)·(tube
 /// axis i), with e1 = (m, n, 0), e2 = (−n, m, 0), e3 = (0, 0, 1).
-fn bond_about_radius(alpha: f64) -> Matrix6<f64> {
+pub(crate) fn bond_about_radius(alpha: f64) -> Matrix6<f64> {
     let (n, m) = alpha.sin_cos();
     let a = Matrix3::new(m, -n, 0.0, n, m, 0.0, 0.0, 0.0, 1.0);
     let idx = [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)];

@@ -5,14 +5,16 @@
 //! restricted to J = 1 (a different model from ν → ½, see §1.3).
 
 use super::{WallMaterial, R, THETA, Z};
-use crate::tube::orthotropic::Orthotropic;
-use nalgebra::{Matrix3, Vector6};
+use crate::tube::orthotropic::{bond_about_radius, Orthotropic};
+use nalgebra::{Matrix3, Matrix6, Vector6};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SaintVenantKirchhoff {
     pub material: Orthotropic,
     pub intrinsic_twist: f64,
     pub incompressible: bool,
+    /// ℂ in the material axes, inverted once here rather than per evaluation.
+    stiffness: Matrix6<f64>,
 }
 
 /// (R,Θ,Z) tensor index pairs in the Voigt order of
@@ -20,6 +22,16 @@ pub struct SaintVenantKirchhoff {
 const PAIRS: [(usize, usize); 6] = [(Z, Z), (THETA, THETA), (R, R), (THETA, R), (Z, R), (Z, THETA)];
 
 impl SaintVenantKirchhoff {
+    pub fn new(material: Orthotropic, intrinsic_twist: f64, incompressible: bool) -> Self {
+        SaintVenantKirchhoff { material, intrinsic_twist, incompressible, stiffness: material.stiffness() }
+    }
+
+    /// ℂ̄(R): the stiffness rotated to the helix angle at radius R.
+    fn stiffness_at(&self, radius: f64) -> Matrix6<f64> {
+        let m = bond_about_radius((self.intrinsic_twist * radius).atan());
+        m * self.stiffness * m.transpose()
+    }
+
     fn voigt_strain(c: &Matrix3<f64>) -> Vector6<f64> {
         // Engineering shears: 2E_ij = C_ij for i ≠ j.
         Vector6::from_fn(|k, _| {
@@ -32,13 +44,11 @@ impl SaintVenantKirchhoff {
 impl WallMaterial for SaintVenantKirchhoff {
     fn energy(&self, radius: f64, c: &Matrix3<f64>) -> f64 {
         let e = Self::voigt_strain(c);
-        let cc = self.material.rotated_stiffness((self.intrinsic_twist * radius).atan());
-        0.5 * e.dot(&(cc * e))
+        0.5 * e.dot(&(self.stiffness_at(radius) * e))
     }
 
     fn pk2(&self, radius: f64, c: &Matrix3<f64>) -> Matrix3<f64> {
-        let cc = self.material.rotated_stiffness((self.intrinsic_twist * radius).atan());
-        let s = cc * Self::voigt_strain(c);
+        let s = self.stiffness_at(radius) * Self::voigt_strain(c);
         let mut out = Matrix3::zeros();
         for (k, &(i, j)) in PAIRS.iter().enumerate() {
             out[(i, j)] = s[k];
@@ -60,7 +70,7 @@ mod tests {
 
     fn wall() -> SaintVenantKirchhoff {
         let m = Orthotropic::new(10.0, 2.0, 1.5, 0.35, 0.3, 0.4, 1.2, 0.8, 0.6).unwrap();
-        SaintVenantKirchhoff { material: m, intrinsic_twist: 1.7, incompressible: false }
+        SaintVenantKirchhoff::new(m, 1.7, false)
     }
 
     #[test]

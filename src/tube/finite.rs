@@ -62,7 +62,7 @@ impl Loading {
     }
 
     /// The loading scaled towards the free state by s ∈ [0, 1] (homotopy).
-    fn scaled(&self, s: f64) -> Loading {
+    pub(crate) fn scaled(&self, s: f64) -> Loading {
         Loading {
             axial: match self.axial {
                 Axial::Stretch(l) => Axial::Stretch(1.0 + s * (l - 1.0)),

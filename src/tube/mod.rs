@@ -10,6 +10,7 @@ pub mod coupling;
 pub mod dna;
 pub mod finite;
 pub mod material;
+pub mod membrane;
 pub mod orthotropic;
 pub mod thick;
 pub mod thin;

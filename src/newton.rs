@@ -15,11 +15,14 @@ pub struct NewtonOptions {
     /// … and max |F_i| ≤ residual_tol (absolute, on the caller's scaled residual).
     pub residual_tol: f64,
     pub max_iterations: usize,
+    /// Keep the factorised Jacobian while it contracts the residual by at
+    /// least 4× a step (chord iterations); refresh it otherwise.
+    pub reuse_jacobian: bool,
 }
 
 impl Default for NewtonOptions {
     fn default() -> Self {
-        NewtonOptions { step_tol: 1e-12, residual_tol: 1e-11, max_iterations: 60 }
+        NewtonOptions { step_tol: 1e-12, residual_tol: 1e-11, max_iterations: 60, reuse_jacobian: false }
     }
 }
 
@@ -27,6 +30,7 @@ impl Default for NewtonOptions {
 pub struct NewtonReport {
     pub iterations: usize,
     pub residual_evaluations: usize,
+    pub jacobian_evaluations: usize,
     pub residual_norm: f64,
 }
 
@@ -60,54 +64,79 @@ pub fn solve_with_jacobian(
     let mut jac = DMatrix::zeros(n, n);
     let mut trial = DVector::zeros(n);
     let mut ft = DVector::zeros(n);
+    let mut lu = None;
+    let mut jac_evals = 0;
+    let mut fresh = false;
     for it in 0..opts.max_iterations {
-        let analytic = match jacobian.as_mut() {
-            Some(j) => j(x, &mut jac),
-            None => false,
-        };
-        // Otherwise forward differences, step √ε relative to the typical size.
-        for k in (0..n).filter(|_| !analytic) {
-            let h = 1.5e-8 * x[k].abs().max(typical[k]);
-            trial.copy_from(x);
-            trial[k] += h;
-            evals += 1;
-            if !residual(&trial, &mut ft) {
-                trial[k] = x[k] - h;
+        if lu.is_none() {
+            jac_evals += 1;
+            fresh = true;
+            let analytic = match jacobian.as_mut() {
+                Some(j) => j(x, &mut jac),
+                None => false,
+            };
+            // Otherwise forward differences, step √ε relative to the typical size.
+            for k in (0..n).filter(|_| !analytic) {
+                let h = 1.5e-8 * x[k].abs().max(typical[k]);
+                trial.copy_from(x);
+                trial[k] += h;
                 evals += 1;
                 if !residual(&trial, &mut ft) {
-                    return Err(Error::new(Status::ErrNotConverged, "Newton: cannot difference at the domain edge"));
+                    trial[k] = x[k] - h;
+                    evals += 1;
+                    if !residual(&trial, &mut ft) {
+                        return Err(Error::new(Status::ErrNotConverged, "Newton: cannot difference at the domain edge"));
+                    }
+                    jac.column_mut(k).copy_from(&((&f - &ft) / h));
+                } else {
+                    jac.column_mut(k).copy_from(&((&ft - &f) / h));
                 }
-                jac.column_mut(k).copy_from(&((&f - &ft) / h));
-            } else {
-                jac.column_mut(k).copy_from(&((&ft - &f) / h));
             }
+            lu = Some(jac.clone().lu());
         }
-        let step = jac.clone().lu().solve(&(-&f)).ok_or_else(|| {
+        let step = lu.as_ref().unwrap().solve(&(-&f)).ok_or_else(|| {
             Error::new(Status::ErrNotConverged, format!("Newton: singular Jacobian at iteration {it}"))
         })?;
         // Backtracking on the (smooth) 2-norm: accept the first step that
         // stays in the domain and decreases ‖F‖ sufficiently (Armijo).
         let f_norm = f.norm();
         let mut t = 1.0;
-        loop {
+        let accepted = loop {
             trial.copy_from(&(&*x + &step * t));
             evals += 1;
             if residual(&trial, &mut ft) && (ft.norm() <= f_norm * (1.0 - 1e-4 * t) || ft.amax() < opts.residual_tol) {
-                break;
+                break true;
             }
             t *= 0.5;
             if t < 1e-6 {
-                return Err(Error::new(
-                    Status::ErrNotConverged,
-                    format!("Newton: line search failed at iteration {it} (|F| = {f_norm:e})"),
-                ));
+                break false;
             }
+        };
+        if !accepted {
+            if !fresh {
+                lu = None; // a stale Jacobian: refresh and try again
+                continue;
+            }
+            return Err(Error::new(
+                Status::ErrNotConverged,
+                format!("Newton: line search failed at iteration {it} (|F| = {f_norm:e})"),
+            ));
         }
+        let contraction = ft.norm() / f_norm.max(f64::MIN_POSITIVE);
         x.copy_from(&trial);
         f.copy_from(&ft);
+        fresh = false;
+        if !opts.reuse_jacobian || t < 1.0 || contraction > 0.25 {
+            lu = None;
+        }
         let dx = step.iter().zip(typical.iter()).map(|(d, s)| (t * d / s).abs()).fold(0.0, f64::max);
         if dx <= opts.step_tol && f.amax() <= opts.residual_tol {
-            return Ok(NewtonReport { iterations: it + 1, residual_evaluations: evals, residual_norm: f.amax() });
+            return Ok(NewtonReport {
+                iterations: it + 1,
+                residual_evaluations: evals,
+                jacobian_evaluations: jac_evals,
+                residual_norm: f.amax(),
+            });
         }
     }
     Err(Error::new(

@@ -154,3 +154,68 @@ fn svk_in_strong_compression_is_a_clear_status() {
     assert!(matches!(e.status, Status::ErrMaterialInstability | Status::ErrNotConverged), "{e}");
     assert!(!e.message.is_empty());
 }
+
+/// A sweep returns the same states as independent solves (reference: each
+/// point solved from rest on the same grid), and can be cancelled.
+#[test]
+fn sweep_matches_independent_solves_and_cancels() {
+    let svk = SaintVenantKirchhoff::new(helical(), 1.7, false);
+    let tube = FiniteTube::new(0.6, 1.4, &svk).unwrap();
+    let loadings: Vec<Loading> = (0..=20).map(|i| Loading::torsion_free_stretch(1.0 + 0.01 * i as f64)).collect();
+    let sweep = tube.sweep(&loadings, &SolveOptions::default(), |_, _| true).unwrap();
+    assert!(!sweep.cancelled && sweep.states.len() == 21);
+    let n = sweep.states[0].intervals;
+    for (l, s) in loadings.iter().zip(&sweep.states).step_by(5) {
+        let direct = tube.solve(l, &SolveOptions { rel_tol: 1e-10, intervals: Some(n) }).unwrap();
+        assert!((direct.twist - s.twist).abs() < 1e-11 && (direct.deformed_outer_radius - s.deformed_outer_radius).abs() < 1e-11);
+        assert!(s.torque.abs() < 1e-10, "torque-free: T = {}", s.torque);
+    }
+    // The helical wall twists monotonically under torque-free stretching here.
+    assert!(sweep.states.windows(2).all(|w| (w[1].twist - w[0].twist) * (sweep.states[20].twist) > 0.0));
+    let mut seen = 0;
+    let cut = tube.sweep(&loadings, &SolveOptions::default(), |i, _| { seen = i; i < 2 }).unwrap();
+    assert!(cut.cancelled && cut.states.len() == 3 && seen == 2);
+    let mixed = [Loading::torsion_free_stretch(1.1), Loading::inflation(0.1, Axial::Force(0.0), Ends::Closed)];
+    assert_eq!(tube.sweep(&mixed, &SolveOptions::default(), |_, _| true).unwrap_err().status, Status::ErrOutOfRange);
+}
+
+/// Incompressible neo-Hookean tube stretched with free surfaces deforms
+/// homogeneously (exact): r = R/√λ, ψ = 0, F = πμ(B² − A²)(λ − 1/λ²).
+#[test]
+fn neo_hookean_stretch_sweep_is_homogeneous() {
+    let nh = NeoHookean { shear_modulus: 2.0, lame_lambda: 0.0, incompressible: true };
+    let (a, b) = (0.5, 1.0);
+    let tube = FiniteTube::new(a, b, &nh).unwrap();
+    let loadings: Vec<Loading> = (0..=10).map(|i| Loading::torsion_free_stretch(1.0 + 0.2 * i as f64)).collect();
+    let sweep = tube.sweep(&loadings, &SolveOptions::default(), |_, _| true).unwrap();
+    for s in &sweep.states {
+        let l = s.stretch;
+        assert!((s.deformed_outer_radius - b / l.sqrt()).abs() < 1e-12, "λ {l}");
+        assert!((s.deformed_inner_radius - a / l.sqrt()).abs() < 1e-12);
+        assert!(s.twist.abs() < 1e-12);
+        let f = PI * 2.0 * (b * b - a * a) * (l - 1.0 / (l * l));
+        assert!((s.applied_force - f).abs() < 1e-11 * f.abs().max(1.0), "λ {l}: F {} vs {f}", s.applied_force);
+    }
+}
+
+/// Pressure sweeps with and without axial restraint (closed ends): the free
+/// tube lengthens under the cap load, the restrained one does not, and the
+/// restrained one needs the axial force the caps would otherwise supply.
+#[test]
+fn inflation_sweeps_with_and_without_axial_restraint() {
+    let nh = NeoHookean { shear_modulus: 1.0, lame_lambda: 10.0, incompressible: false };
+    let tube = FiniteTube::new(0.8, 1.0, &nh).unwrap();
+    let pressures: Vec<f64> = (0..=8).map(|i| 0.02 * i as f64).collect();
+    let free: Vec<Loading> = pressures.iter().map(|&p| Loading::inflation(p, Axial::Force(0.0), Ends::Closed)).collect();
+    let held: Vec<Loading> = pressures.iter().map(|&p| Loading::inflation(p, Axial::Stretch(1.0), Ends::Closed)).collect();
+    let free = tube.sweep(&free, &SolveOptions::default(), |_, _| true).unwrap().states;
+    let held = tube.sweep(&held, &SolveOptions::default(), |_, _| true).unwrap().states;
+    for (f, h) in free.iter().zip(&held).skip(1) {
+        assert!(f.stretch > 1.0 && (h.stretch - 1.0).abs() < 1e-15);
+        assert!(f.applied_force.abs() < 1e-10);
+        // Closed ends: the wall of the free tube carries the cap load πa²p.
+        let caps = PI * f.deformed_inner_radius.powi(2) * f.inner_pressure;
+        assert!((f.wall_force - caps).abs() < 1e-10 * caps);
+        assert!(f.deformed_inner_radius > free[0].deformed_inner_radius);
+    }
+}

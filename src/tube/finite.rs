@@ -61,22 +61,78 @@ impl Loading {
         Loading { axial: Axial::Stretch(1.0), torsion: Torsion::Twist(0.0), inner_pressure: 0.0, outer_pressure: 0.0, ends: Ends::Open }
     }
 
-    /// The loading scaled towards the free state by s ∈ [0, 1] (homotopy).
-    pub(crate) fn scaled(&self, s: f64) -> Loading {
+    /// Torsionally relaxed stretching: stretch λ, zero torque, no pressure,
+    /// open ends.
+    pub fn torsion_free_stretch(stretch: f64) -> Self {
+        Loading { axial: Axial::Stretch(stretch), torsion: Torsion::Torque(0.0), inner_pressure: 0.0, outer_pressure: 0.0, ends: Ends::Open }
+    }
+
+    /// Inflation by an inner pressure p, torque-free, with the axial
+    /// condition given (Axial::Stretch(λ): restrained; Axial::Force(F): free
+    /// to lengthen under F).
+    pub fn inflation(inner_pressure: f64, axial: Axial, ends: Ends) -> Self {
+        Loading { axial, torsion: Torsion::Torque(0.0), inner_pressure, outer_pressure: 0.0, ends }
+    }
+
+    /// The unloaded state with the same prescribed quantities (λ = 1 or
+    /// F = 0, ψ = 0 or T = 0, no pressure).
+    pub fn rest(&self) -> Self {
         Loading {
             axial: match self.axial {
-                Axial::Stretch(l) => Axial::Stretch(1.0 + s * (l - 1.0)),
-                Axial::Force(f) => Axial::Force(s * f),
+                Axial::Stretch(_) => Axial::Stretch(1.0),
+                Axial::Force(_) => Axial::Force(0.0),
             },
             torsion: match self.torsion {
-                Torsion::Twist(p) => Torsion::Twist(s * p),
-                Torsion::Torque(t) => Torsion::Torque(s * t),
+                Torsion::Twist(_) => Torsion::Twist(0.0),
+                Torsion::Torque(_) => Torsion::Torque(0.0),
             },
-            inner_pressure: s * self.inner_pressure,
-            outer_pressure: s * self.outer_pressure,
+            inner_pressure: 0.0,
+            outer_pressure: 0.0,
             ends: self.ends,
         }
     }
+
+    /// Whether two loadings prescribe the same quantities (so one can be
+    /// continued into the other).
+    pub fn same_kind(&self, other: &Loading) -> bool {
+        std::mem::discriminant(&self.axial) == std::mem::discriminant(&other.axial)
+            && std::mem::discriminant(&self.torsion) == std::mem::discriminant(&other.torsion)
+            && self.ends == other.ends
+    }
+
+    /// (1 − s)·self + s·to, for loadings of the same kind.
+    pub(crate) fn lerp(&self, to: &Loading, s: f64) -> Loading {
+        debug_assert!(self.same_kind(to));
+        let mix = |a: f64, b: f64| a + s * (b - a);
+        Loading {
+            axial: match (self.axial, to.axial) {
+                (Axial::Stretch(a), Axial::Stretch(b)) => Axial::Stretch(mix(a, b)),
+                (Axial::Force(a), Axial::Force(b)) => Axial::Force(mix(a, b)),
+                _ => to.axial,
+            },
+            torsion: match (self.torsion, to.torsion) {
+                (Torsion::Twist(a), Torsion::Twist(b)) => Torsion::Twist(mix(a, b)),
+                (Torsion::Torque(a), Torsion::Torque(b)) => Torsion::Torque(mix(a, b)),
+                _ => to.torsion,
+            },
+            inner_pressure: mix(self.inner_pressure, to.inner_pressure),
+            outer_pressure: mix(self.outer_pressure, to.outer_pressure),
+            ends: to.ends,
+        }
+    }
+
+    /// The loading scaled towards its rest state by s ∈ [0, 1] (homotopy).
+    pub(crate) fn scaled(&self, s: f64) -> Loading {
+        self.rest().lerp(self, s)
+    }
+}
+
+/// The result of a sweep: the states reached, in order, and whether the
+/// progress callback stopped it early.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sweep {
+    pub states: Vec<TubeState>,
+    pub cancelled: bool,
 }
 
 /// Stresses through the wall at the collocation nodes (Cauchy, in the
@@ -211,22 +267,30 @@ impl<'m> FiniteTube<'m> {
         }
     }
 
-    /// Newton from the free state; on failure, approach the load in
-    /// bisected increments (load homotopy, at most 2⁸ increments).
+    /// Newton from the free state, continued to the load (see [`Self::continue_to`]).
     fn solve_with_homotopy(&self, loading: &Loading, n: usize) -> Result<TubeState> {
         let grid = self.grid(n);
         let layout = self.layout(loading, n);
         let mut x = self.initial_guess(&grid, &layout);
-        let mut s_done: f64 = 0.0;
-        let mut ds: f64 = 1.0;
-        let mut iterations = 0;
+        let iterations = self.continue_to(&grid, &layout, &mut x, &loading.rest(), loading)?;
+        let mut state = self.state(&grid, &layout, loading, &x)?;
+        state.newton_iterations = iterations;
+        self.check_stability(&state)?;
+        Ok(state)
+    }
+
+    /// From the solution `x` at `from`, reach `to`: Newton straight there,
+    /// and on failure along the straight load path in bisected increments
+    /// (load homotopy, at most 2⁸ increments). Returns Newton iterations.
+    fn continue_to(&self, grid: &ChebyshevGrid, layout: &Layout, x: &mut DVector<f64>, from: &Loading, to: &Loading) -> Result<usize> {
+        let (mut s_done, mut ds, mut iterations) = (0.0f64, 1.0f64, 0);
         while s_done < 1.0 {
             let s = (s_done + ds).min(1.0);
             let mut trial = x.clone();
-            match self.newton(&grid, &layout, &loading.scaled(s), &mut trial) {
+            match self.newton(grid, layout, &from.lerp(to, s), &mut trial) {
                 Ok(it) => {
                     iterations += it;
-                    x = trial;
+                    *x = trial;
                     s_done = s;
                     ds = (2.0 * ds).min(1.0);
                 }
@@ -241,10 +305,55 @@ impl<'m> FiniteTube<'m> {
                 }
             }
         }
-        let mut state = self.state(&grid, &layout, loading, &x)?;
-        state.newton_iterations = iterations;
-        self.check_stability(&state)?;
-        Ok(state)
+        Ok(iterations)
+    }
+
+    /// A sequence of equilibria along `loadings` (all of the same kind, e.g.
+    /// stretches at zero torque, or pressures), each started from the
+    /// previous one. The grid is chosen once, by the adaptive solve of the
+    /// last loading (normally the most deformed) or `opts.intervals`, and
+    /// every state reports that solve's error estimate. `progress(i, state)`
+    /// is called after each state; returning false stops the sweep cleanly
+    /// (`cancelled` is set and the states so far are returned).
+    pub fn sweep(&self, loadings: &[Loading], opts: &SolveOptions, mut progress: impl FnMut(usize, &TubeState) -> bool) -> Result<Sweep> {
+        let Some(last) = loadings.last() else {
+            return Ok(Sweep { states: vec![], cancelled: false });
+        };
+        for (i, l) in loadings.iter().enumerate() {
+            validate(l)?;
+            if !l.same_kind(last) {
+                return Err(Error::new(
+                    Status::ErrOutOfRange,
+                    format!("sweep loading {i} prescribes other quantities than the last one: a sweep varies values, not kinds"),
+                ));
+            }
+        }
+        let (n, estimate) = match opts.intervals {
+            Some(n) => (n, 0.0),
+            None => {
+                let end = self.solve(last, opts)?;
+                (end.intervals, end.error_estimate)
+            }
+        };
+        let grid = self.grid(n);
+        let layout = self.layout(last, n);
+        let mut x = self.initial_guess(&grid, &layout);
+        let mut from = last.rest();
+        let mut states = Vec::with_capacity(loadings.len());
+        for (i, loading) in loadings.iter().enumerate() {
+            let iterations = self.continue_to(&grid, &layout, &mut x, &from, loading)?;
+            let mut state = self.state(&grid, &layout, loading, &x)?;
+            state.newton_iterations = iterations;
+            state.error_estimate = estimate;
+            self.check_stability(&state)?;
+            from = *loading;
+            let go_on = progress(i, &state);
+            states.push(state);
+            if !go_on {
+                return Ok(Sweep { states, cancelled: true });
+            }
+        }
+        Ok(Sweep { states, cancelled: false })
     }
 
     /// Chebyshev in ln R for a hollow tube (spectral even when A ≪ B), in R
@@ -296,7 +405,12 @@ impl<'m> FiniteTube<'m> {
             }
         });
         // The residual's round-off grows like n²ε (first derivatives only).
-        let opts = NewtonOptions { step_tol: 1e-12, residual_tol: (64.0 * (m * m) as f64 * f64::EPSILON).max(1e-11), max_iterations: 60 };
+        let opts = NewtonOptions {
+            step_tol: 1e-12,
+            residual_tol: (64.0 * (m * m) as f64 * f64::EPSILON).max(1e-11),
+            max_iterations: 60,
+            reuse_jacobian: true,
+        };
         let residual = |x: &DVector<f64>, f: &mut DVector<f64>| self.residual(grid, layout, loading, x, f);
         let report = if incompressible {
             // At most three unknowns: differences are cheap and accurate.

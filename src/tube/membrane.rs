@@ -112,7 +112,7 @@ impl<'m> MembraneTube<'m> {
             let s = (done + ds).min(1.0);
             let part = loading.scaled(s);
             let mut trial = x.clone();
-            let opts = NewtonOptions { step_tol: 1e-13, residual_tol: 1e-13, max_iterations: 50 };
+            let opts = NewtonOptions { step_tol: 1e-13, residual_tol: 1e-13, max_iterations: 50, reuse_jacobian: false };
             match newton::solve(&mut trial, &typical, &opts, |x, f| self.residual(r0, &part, stretch_at, twist_at, x, f)) {
                 Ok(rep) => {
                     iterations += rep.iterations;

@@ -238,3 +238,21 @@ impl<'m> MembraneTube<'m> {
         Ok(state)
     }
 }
+
+impl MembraneTube<'_> {
+    /// States along `loadings`, each solved directly (the membrane is
+    /// algebraic, so there is nothing to gain from warm starts);
+    /// `progress(i, state)` returning false stops the sweep cleanly.
+    pub fn sweep(&self, loadings: &[Loading], mut progress: impl FnMut(usize, &TubeState) -> bool) -> Result<crate::tube::finite::Sweep> {
+        let mut states = Vec::with_capacity(loadings.len());
+        for (i, l) in loadings.iter().enumerate() {
+            let s = self.solve(l)?;
+            let go_on = progress(i, &s);
+            states.push(s);
+            if !go_on {
+                return Ok(crate::tube::finite::Sweep { states, cancelled: true });
+            }
+        }
+        Ok(crate::tube::finite::Sweep { states, cancelled: false })
+    }
+}

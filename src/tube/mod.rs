@@ -12,6 +12,7 @@ pub mod finite;
 pub mod material;
 pub mod membrane;
 pub mod orthotropic;
+pub mod scene;
 pub mod thick;
 pub mod thin;
 

@@ -1,0 +1,220 @@
+//! A tube problem as users pose it (physics.md §5 "only what a scene
+//! requires"): geometry, one wall law, a model choice and a tolerance. With
+//! [`TubeModel::Auto`] the cheap membrane (algebraic) is used when its own
+//! error estimate meets the tolerance, the thick wall ODE otherwise, and the
+//! model used is reported with every answer.
+
+use crate::error::{self, Error, Result};
+use crate::status::Status;
+use crate::tube::coupling::{CouplingStiffness, StretchTwist};
+use crate::tube::finite::{FiniteTube, Loading, SolveOptions, Sweep, TubeState};
+use crate::tube::material::{FibreReinforced, NeoHookean, SaintVenantKirchhoff, WallMaterial};
+use crate::tube::membrane::MembraneTube;
+use crate::tube::orthotropic::Orthotropic;
+use crate::tube::thick::{Compressibility, Estimated, ThickTube};
+
+/// The wall laws of §1.3, owned (enum dispatch keeps a scene `Send + Sync`).
+#[derive(Clone, Debug, PartialEq)]
+pub enum WallLaw {
+    SaintVenantKirchhoff(SaintVenantKirchhoff),
+    NeoHookean(NeoHookean),
+    FibreReinforced(FibreReinforced),
+}
+
+impl WallLaw {
+    /// Checks the law's constants: SVK's through [`Orthotropic::new`] (at
+    /// construction), here μ > 0 and a positive bulk modulus 3λ_L + 2μ > 0
+    /// (compressible), fibre stiffnesses k1, k2 > 0, finite angles, hands ±1.
+    pub fn validate(&self) -> Result<()> {
+        let check_nh = |m: &NeoHookean| -> Result<()> {
+            error::positive("shear_modulus", m.shear_modulus)?;
+            if !m.incompressible {
+                error::finite("lame_lambda", m.lame_lambda)?;
+                if !(3.0 * m.lame_lambda + 2.0 * m.shear_modulus > 0.0) {
+                    return Err(Error::new(
+                        Status::ErrNotPositiveDefinite,
+                        format!("neo-Hookean law is not positive definite: bulk modulus λ_L + 2μ/3 = {:e} must be positive",
+                            m.lame_lambda + 2.0 * m.shear_modulus / 3.0),
+                    ));
+                }
+            }
+            Ok(())
+        };
+        match self {
+            WallLaw::SaintVenantKirchhoff(m) => error::finite("intrinsic_twist", m.intrinsic_twist).map(|_| ()),
+            WallLaw::NeoHookean(m) => check_nh(m),
+            WallLaw::FibreReinforced(f) => {
+                check_nh(&f.matrix)?;
+                error::finite("intrinsic_twist", f.intrinsic_twist)?;
+                for fam in &f.families {
+                    error::positive("fibre_k1", fam.k1)?;
+                    error::positive("fibre_k2", fam.k2)?;
+                    match fam.angle {
+                        crate::tube::material::fibre::FibreAngle::Helix { hand } => {
+                            if hand != 1.0 && hand != -1.0 {
+                                return Err(Error::new(Status::ErrOutOfRange, format!("argument `fibre_hand` must be +1 or -1 (got {hand})")));
+                            }
+                        }
+                        crate::tube::material::fibre::FibreAngle::Fixed(a) => {
+                            error::finite("fibre_angle", a)?;
+                        }
+                    }
+                }
+                Ok(())
+            }
+        }
+    }
+
+    fn as_material(&self) -> &dyn WallMaterial {
+        match self {
+            WallLaw::SaintVenantKirchhoff(m) => m,
+            WallLaw::NeoHookean(m) => m,
+            WallLaw::FibreReinforced(m) => m,
+        }
+    }
+
+    /// The small-strain material of the law (for the linear K): SVK is its
+    /// own linearisation; neo-Hookean linearises to isotropic elasticity with
+    /// E = μ(3λ_L + 2μ)/(λ_L + μ), ν = λ_L/(2(λ_L + μ)). Tension-only fibres
+    /// have no symmetric linearisation (stiff when pulled, free when pushed).
+    pub fn small_strain(&self) -> Result<(Orthotropic, Compressibility, f64)> {
+        let comp = |inc: bool| if inc { Compressibility::Incompressible } else { Compressibility::Compressible };
+        match self {
+            WallLaw::SaintVenantKirchhoff(m) => Ok((m.material, comp(m.incompressible), m.intrinsic_twist)),
+            WallLaw::NeoHookean(m) => {
+                let (mu, lam) = (m.shear_modulus, m.lame_lambda);
+                let iso = if m.incompressible {
+                    // Any ν gives the same K under tr ε = 0; G = μ fixes E.
+                    Orthotropic::isotropic(2.5 * mu, 0.25)?
+                } else {
+                    Orthotropic::isotropic(mu * (3.0 * lam + 2.0 * mu) / (lam + mu), lam / (2.0 * (lam + mu)))?
+                };
+                Ok((iso, comp(m.incompressible), 0.0))
+            }
+            WallLaw::FibreReinforced(_) => Err(Error::new(
+                Status::ErrOutOfRange,
+                "a fibre-reinforced wall has no linear stiffness at rest: its tension-only fibres are stiff when \
+                 stretched and slack when compressed; use finite-strain solves about a pre-stretched state",
+            )),
+        }
+    }
+}
+
+/// Which tube model answers.
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TubeModel {
+    /// The membrane when its error estimate meets the tolerance, else thick.
+    Auto = 0,
+    /// The wall ODE (Chebyshev collocation through the thickness).
+    Thick = 1,
+    /// The thin-wall membrane (algebraic).
+    Membrane = 2,
+}
+
+/// A tube scene: geometry, law, model choice and tolerance.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TubeScene {
+    pub inner_radius: f64,
+    pub outer_radius: f64,
+    pub law: WallLaw,
+    pub model: TubeModel,
+    /// Requested accuracy of the states, in the solvers' scaled measures.
+    pub rel_tol: f64,
+    /// Fixed Chebyshev intervals for the thick model (None: adaptive).
+    pub intervals: Option<usize>,
+}
+
+impl TubeScene {
+    pub fn new(inner_radius: f64, outer_radius: f64, law: WallLaw, model: TubeModel, rel_tol: f64, intervals: Option<usize>) -> Result<Self> {
+        // Geometry and law are validated by building both models once.
+        law.validate()?;
+        let scene = TubeScene { inner_radius, outer_radius, law, model, rel_tol, intervals };
+        error::in_range("rel_tol", rel_tol, 1e-14, 1.0)?;
+        if let Some(n) = intervals {
+            error::count_in_range("intervals", n as i64, 4, 256)?;
+        }
+        scene.thick()?;
+        if model == TubeModel::Membrane {
+            scene.membrane()?;
+        }
+        Ok(scene)
+    }
+
+    fn thick(&self) -> Result<FiniteTube<'_>> {
+        FiniteTube::new(self.inner_radius, self.outer_radius, self.law.as_material())
+    }
+
+    fn membrane(&self) -> Result<MembraneTube<'_>> {
+        if self.inner_radius == 0.0 {
+            return Err(Error::new(Status::ErrInvalidGeometry, "a solid cylinder has no membrane model: use the thick model"));
+        }
+        MembraneTube::new(0.5 * (self.inner_radius + self.outer_radius), self.outer_radius - self.inner_radius, self.law.as_material())
+    }
+
+    fn options(&self) -> SolveOptions {
+        SolveOptions { rel_tol: self.rel_tol, intervals: self.intervals }
+    }
+
+    /// The equilibrium under `loading` and the model that produced it.
+    pub fn solve(&self, loading: &Loading) -> Result<(TubeState, TubeModel)> {
+        match self.model {
+            TubeModel::Thick => Ok((self.thick()?.solve(loading, &self.options())?, TubeModel::Thick)),
+            TubeModel::Membrane => Ok((self.membrane()?.solve(loading)?, TubeModel::Membrane)),
+            TubeModel::Auto => {
+                if self.inner_radius > 0.0 {
+                    if let Ok(s) = self.membrane()?.solve(loading) {
+                        if s.error_estimate <= self.rel_tol {
+                            return Ok((s, TubeModel::Membrane));
+                        }
+                    }
+                }
+                Ok((self.thick()?.solve(loading, &self.options())?, TubeModel::Thick))
+            }
+        }
+    }
+
+    /// A sweep along `loadings` with one model for all states (for Auto: the
+    /// membrane if its estimate meets the tolerance at the last loading).
+    pub fn sweep(&self, loadings: &[Loading], progress: impl FnMut(usize, &TubeState) -> bool) -> Result<(Sweep, TubeModel)> {
+        let model = match (self.model, loadings.last()) {
+            (TubeModel::Auto, Some(last)) => self.solve(last)?.1,
+            (TubeModel::Auto, None) => TubeModel::Thick,
+            (m, _) => m,
+        };
+        let sweep = match model {
+            TubeModel::Membrane => self.membrane()?.sweep(loadings, progress)?,
+            _ => self.thick()?.sweep(loadings, &self.options(), progress)?,
+        };
+        Ok((sweep, model))
+    }
+
+    /// Linear coupling stiffness K about the stress-free state, in the
+    /// inner-radius variables (ε, ψ, ε_A) ↔ (F, T, 2πA²p) (§1.4), from the
+    /// thick linear theory of the law's small-strain material.
+    pub fn coupling_stiffness(&self) -> Result<Estimated<CouplingStiffness>> {
+        let (mat, comp, tau0) = self.law.small_strain()?;
+        ThickTube::new(self.inner_radius, self.outer_radius, tau0, mat, comp)?.coupling_stiffness(self.rel_tol.max(1e-12))
+    }
+
+    /// The tube section as a rod (§1.5 "effective rod law"): the condensed
+    /// stretch–twist law [[S, g], [g, C]] at zero pressure, ready for the
+    /// hemitropic rod of §2.2 (solid cylinders included).
+    pub fn stretch_twist(&self) -> Result<StretchTwist> {
+        if self.inner_radius > 0.0 {
+            return Ok(self.coupling_stiffness()?.value.stretch_twist());
+        }
+        let (mat, comp, tau0) = self.law.small_strain()?;
+        let tube = ThickTube::new(0.0, self.outer_radius, tau0, mat, comp)?;
+        let coarse = tube.stretch_twist_at(16)?;
+        let fine = tube.stretch_twist_at(24)?;
+        let scale = fine.stretch.abs().max(fine.twist.abs() / (self.outer_radius * self.outer_radius));
+        let diff = (fine.matrix() - coarse.matrix()).abs();
+        let r2 = self.outer_radius * self.outer_radius;
+        let est = (diff[(0, 0)] / scale).max(diff[(0, 1)] / (scale * self.outer_radius)).max(diff[(1, 1)] / (scale * r2));
+        if est > self.rel_tol.max(1e-12) {
+            return Err(Error::new(Status::ErrNotConverged, format!("solid-cylinder rod law: estimated error {est:e}")));
+        }
+        Ok(fine)
+    }
+}

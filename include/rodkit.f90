@@ -28,7 +28,7 @@
 !    rodkit_status_message and rodkit_last_error.
 !
 module rodkit
-    use, intrinsic :: iso_c_binding, only: c_int32_t, c_int64_t, c_double, c_char, c_ptr, &
+    use, intrinsic :: iso_c_binding, only: c_int32_t, c_int64_t, c_double, c_char, c_ptr, c_funptr, &
         c_null_char, c_associated, c_f_pointer
     implicit none
     private :: c_string_to_fortran
@@ -52,6 +52,8 @@ module rodkit
     integer(c_int32_t), parameter :: RODKIT_STATUS_OK = 0
     ! success, but the output was truncated to fit the caller's buffer
     integer(c_int32_t), parameter :: RODKIT_STATUS_INFO_TRUNCATED = 1
+    ! stopped early at the request of the progress callback (results so far are valid)
+    integer(c_int32_t), parameter :: RODKIT_STATUS_INFO_CANCELLED = 2
     ! internal error (a bug in rodkit: a panic was caught at the C boundary)
     integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_INTERNAL = -1
     ! a required pointer argument is NULL
@@ -86,6 +88,21 @@ module rodkit
     integer(c_int32_t), parameter :: RODKIT_WINDING_NEITHER = 0
     ! Twists further in the sense of tau0 (DNA's counter-intuitive response).
     integer(c_int32_t), parameter :: RODKIT_WINDING_OVERWINDS = 1
+
+    ! enum RodkitWallLawKind (RodkitWallMaterialSpec%law)
+    integer(c_int32_t), parameter :: RODKIT_WALL_LAW_KIND_UNSET = 0
+    integer(c_int32_t), parameter :: RODKIT_WALL_LAW_KIND_SAINT_VENANT_KIRCHHOFF = 1
+    integer(c_int32_t), parameter :: RODKIT_WALL_LAW_KIND_NEO_HOOKEAN = 2
+    integer(c_int32_t), parameter :: RODKIT_WALL_LAW_KIND_FIBRE_REINFORCED = 3
+    ! enum RodkitTubeModel (RodkitTubeSpec%model, RodkitTubeState%model)
+    integer(c_int32_t), parameter :: RODKIT_TUBE_MODEL_AUTO = 0
+    integer(c_int32_t), parameter :: RODKIT_TUBE_MODEL_THICK = 1
+    integer(c_int32_t), parameter :: RODKIT_TUBE_MODEL_MEMBRANE = 2
+    ! enum RodkitAxialControl, enum RodkitTorsionControl (RodkitTubeLoading)
+    integer(c_int32_t), parameter :: RODKIT_AXIAL_CONTROL_STRETCH = 0
+    integer(c_int32_t), parameter :: RODKIT_AXIAL_CONTROL_FORCE = 1
+    integer(c_int32_t), parameter :: RODKIT_TORSION_CONTROL_TWIST = 0
+    integer(c_int32_t), parameter :: RODKIT_TORSION_CONTROL_TORQUE = 1
 
     ! -------------------------------------------------------------------------
     ! RodkitThinTubeSpec: a thin helically reinforced tube in its stress-free
@@ -129,6 +146,80 @@ module rodkit
         ! -1 unwinds, 0 neither (tau0 = 0 or no coupling).
         integer(c_int32_t) :: winding
     end type rodkit_free_tube_response
+
+    ! -------------------------------------------------------------------------
+    ! RodkitWallMaterialSpec: the wall material (see rodkit.h). Initialise with
+    ! rodkit_wall_material_spec_default, then set the chosen law's fields.
+    ! -------------------------------------------------------------------------
+    type, bind(c) :: rodkit_wall_material_spec
+        integer(c_int32_t) :: law
+        integer(c_int32_t) :: incompressible
+        real(c_double) :: intrinsic_twist
+        real(c_double) :: e1
+        real(c_double) :: e2
+        real(c_double) :: e3
+        real(c_double) :: nu12
+        real(c_double) :: nu13
+        real(c_double) :: nu23
+        real(c_double) :: g12
+        real(c_double) :: g13
+        real(c_double) :: g23
+        real(c_double) :: shear_modulus
+        real(c_double) :: lame_lambda
+        integer(c_int64_t) :: fibre_families
+        real(c_double) :: fibre1_k1
+        real(c_double) :: fibre1_k2
+        real(c_double) :: fibre1_angle
+        real(c_double) :: fibre1_hand
+        real(c_double) :: fibre2_k1
+        real(c_double) :: fibre2_k2
+        real(c_double) :: fibre2_angle
+        real(c_double) :: fibre2_hand
+    end type rodkit_wall_material_spec
+
+    ! RodkitTubeSpec: geometry, material, model choice and tolerance.
+    type, bind(c) :: rodkit_tube_spec
+        real(c_double) :: inner_radius
+        real(c_double) :: outer_radius
+        type(rodkit_wall_material_spec) :: material
+        integer(c_int32_t) :: model
+        real(c_double) :: rel_tol
+        integer(c_int64_t) :: intervals
+    end type rodkit_tube_spec
+
+    ! RodkitTubeLoading: (stretch | force), (twist | torque), pressures, ends.
+    type, bind(c) :: rodkit_tube_loading
+        integer(c_int32_t) :: axial_control
+        real(c_double) :: axial
+        integer(c_int32_t) :: torsion_control
+        real(c_double) :: torsion
+        real(c_double) :: inner_pressure
+        real(c_double) :: outer_pressure
+        integer(c_int32_t) :: closed_ends
+    end type rodkit_tube_loading
+
+    ! RodkitTubeState: an equilibrium state.
+    type, bind(c) :: rodkit_tube_state
+        real(c_double) :: stretch
+        real(c_double) :: twist
+        real(c_double) :: wall_force
+        real(c_double) :: applied_force
+        real(c_double) :: torque
+        real(c_double) :: inner_pressure
+        real(c_double) :: outer_pressure
+        real(c_double) :: deformed_inner_radius
+        real(c_double) :: deformed_outer_radius
+        real(c_double) :: error_estimate
+        integer(c_int64_t) :: intervals
+        integer(c_int64_t) :: newton_iterations
+        integer(c_int32_t) :: model
+    end type rodkit_tube_state
+
+    ! RodkitProgress: what a progress callback is told.
+    type, bind(c) :: rodkit_progress
+        integer(c_int64_t) :: done
+        integer(c_int64_t) :: total
+    end type rodkit_progress
 
     interface
 
@@ -263,6 +354,112 @@ module rodkit
             import :: c_int32_t
             integer(c_int32_t) :: version
         end function rodkit_library_abi_version
+
+
+        ! ---------------------------------------------------------------------
+        ! Tube solver (physics.md 1.2-1.5): see rodkit.h for the full contracts.
+        ! ---------------------------------------------------------------------
+
+        ! Fill spec with defaults: law unset, compressible, tau0 = 0, every
+        ! constant NaN, no fibres, fibre hands +1 and -1.
+        function rodkit_wall_material_spec_default(spec) result(status) &
+                bind(c, name="rodkit_wall_material_spec_default")
+            import :: c_int32_t, rodkit_wall_material_spec
+            type(rodkit_wall_material_spec), intent(out) :: spec
+            integer(c_int32_t) :: status
+        end function rodkit_wall_material_spec_default
+
+        ! Fill spec with defaults: radii NaN, material default, model Auto,
+        ! rel_tol 1e-8, adaptive grid.
+        function rodkit_tube_spec_default(spec) result(status) bind(c, name="rodkit_tube_spec_default")
+            import :: c_int32_t, rodkit_tube_spec
+            type(rodkit_tube_spec), intent(out) :: spec
+            integer(c_int32_t) :: status
+        end function rodkit_tube_spec_default
+
+        ! Fill loading with the unloaded state (stretch 1, twist 0, no
+        ! pressure, open ends).
+        function rodkit_tube_loading_default(loading) result(status) bind(c, name="rodkit_tube_loading_default")
+            import :: c_int32_t, rodkit_tube_loading
+            type(rodkit_tube_loading), intent(out) :: loading
+            integer(c_int32_t) :: status
+        end function rodkit_tube_loading_default
+
+        ! Validate spec and create a tube; out receives the handle (free it
+        ! with rodkit_tube_free) or c_null_ptr on failure.
+        function rodkit_tube_new(spec, out) result(status) bind(c, name="rodkit_tube_new")
+            import :: c_int32_t, c_ptr, rodkit_tube_spec
+            type(rodkit_tube_spec), intent(in) :: spec
+            type(c_ptr), intent(out) :: out
+            integer(c_int32_t) :: status
+        end function rodkit_tube_new
+
+        ! Destroy a tube (c_null_ptr accepted).
+        subroutine rodkit_tube_free(tube) bind(c, name="rodkit_tube_free")
+            import :: c_ptr
+            type(c_ptr), value :: tube
+        end subroutine rodkit_tube_free
+
+        ! Equilibrium of tube under loading.
+        function rodkit_tube_solve(tube, loading, out) result(status) bind(c, name="rodkit_tube_solve")
+            import :: c_int32_t, c_ptr, rodkit_tube_loading, rodkit_tube_state
+            type(c_ptr), value :: tube
+            type(rodkit_tube_loading), intent(in) :: loading
+            type(rodkit_tube_state), intent(out) :: out
+            integer(c_int32_t) :: status
+        end function rodkit_tube_solve
+
+        ! Stresses through the wall; capacity 0 is a size query (count only,
+        ! pass any arrays), else each array needs capacity >= count.
+        function rodkit_tube_profile(tube, loading, capacity, reference_radius, radius, sigma_rr, sigma_tt, &
+                sigma_zz, sigma_tz, count) result(status) bind(c, name="rodkit_tube_profile")
+            import :: c_int32_t, c_int64_t, c_double, c_ptr, rodkit_tube_loading
+            type(c_ptr), value :: tube
+            type(rodkit_tube_loading), intent(in) :: loading
+            integer(c_int64_t), value :: capacity
+            real(c_double), intent(inout) :: reference_radius(*), radius(*), sigma_rr(*), sigma_tt(*), &
+                sigma_zz(*), sigma_tz(*)
+            integer(c_int64_t), intent(out) :: count
+            integer(c_int32_t) :: status
+        end function rodkit_tube_profile
+
+        ! Equilibria along count loadings of the same kind into states; progress
+        ! (c_funloc of a bind(c) function returning integer(c_int32_t), taking
+        ! (type(rodkit_progress), intent(in) and type(c_ptr), value), or
+        ! c_null_funptr) may stop the sweep: RODKIT_STATUS_INFO_CANCELLED.
+        function rodkit_tube_sweep(tube, loadings, count, states, progress, user_data, completed) result(status) &
+                bind(c, name="rodkit_tube_sweep")
+            import :: c_int32_t, c_int64_t, c_ptr, c_funptr, rodkit_tube_loading, rodkit_tube_state
+            type(c_ptr), value :: tube
+            type(rodkit_tube_loading), intent(in) :: loadings(*)
+            integer(c_int64_t), value :: count
+            type(rodkit_tube_state), intent(inout) :: states(*)
+            type(c_funptr), value :: progress
+            type(c_ptr), value :: user_data
+            integer(c_int64_t), intent(out) :: completed
+            integer(c_int32_t) :: status
+        end function rodkit_tube_sweep
+
+        ! Linear coupling stiffness K (3x3, column-major, k(ldk, 3)) about rest,
+        ! inner-radius variables; error_estimate its relative error estimate.
+        function rodkit_tube_coupling_stiffness(tube, k, ldk, error_estimate) result(status) &
+                bind(c, name="rodkit_tube_coupling_stiffness")
+            import :: c_int32_t, c_int64_t, c_double, c_ptr
+            type(c_ptr), value :: tube
+            real(c_double), intent(inout) :: k(*)
+            integer(c_int64_t), value :: ldk
+            real(c_double), intent(out) :: error_estimate
+            integer(c_int32_t) :: status
+        end function rodkit_tube_coupling_stiffness
+
+        ! The section as a rod: [[S, g], [g, C]] in s(lds, 2).
+        function rodkit_tube_stretch_twist(tube, s, lds) result(status) bind(c, name="rodkit_tube_stretch_twist")
+            import :: c_int32_t, c_int64_t, c_double, c_ptr
+            type(c_ptr), value :: tube
+            real(c_double), intent(inout) :: s(*)
+            integer(c_int64_t), value :: lds
+            integer(c_int32_t) :: status
+        end function rodkit_tube_stretch_twist
 
     end interface
 

@@ -42,6 +42,8 @@ enum RodkitStatus
   RODKIT_STATUS_OK = 0,
   // success, but the output was truncated to fit the caller's buffer
   RODKIT_STATUS_INFO_TRUNCATED = 1,
+  // stopped early at the request of the progress callback (results so far are valid)
+  RODKIT_STATUS_INFO_CANCELLED = 2,
   // internal error (a bug in rodkit: a panic was caught at the C boundary)
   RODKIT_STATUS_ERR_INTERNAL = -1,
   // a required pointer argument is NULL
@@ -95,6 +97,96 @@ typedef int32_t RodkitWinding;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// Constitutive law of the wall (physics.md §1.3), for
+// `RodkitWallMaterialSpec.law`.
+enum RodkitWallLawKind
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // Unset (rejected): set `law` explicitly.
+  RODKIT_WALL_LAW_KIND_UNSET = 0,
+  // Orthotropic Saint Venant–Kirchhoff with the nine constants e1…g23,
+  // principal axis 1 along the helix atan(τ0 R), axis 3 radial.
+  RODKIT_WALL_LAW_KIND_SAINT_VENANT_KIRCHHOFF = 1,
+  // Isotropic neo-Hookean: shear_modulus μ and (compressible) lame_lambda.
+  RODKIT_WALL_LAW_KIND_NEO_HOOKEAN = 2,
+  // Neo-Hookean matrix plus fibre families (Holzapfel–Gasser–Ogden type).
+  RODKIT_WALL_LAW_KIND_FIBRE_REINFORCED = 3,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum RodkitWallLawKind RodkitWallLawKind;
+#else
+typedef int32_t RodkitWallLawKind;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// Which tube model answers (also the C enum RodkitTubeModel, for
+// `RodkitTubeSpec.model` and `RodkitTubeState.model`).
+enum RodkitTubeModel
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // The membrane when its error estimate meets the tolerance, else thick.
+  RODKIT_TUBE_MODEL_AUTO = 0,
+  // The wall ODE (Chebyshev collocation through the thickness).
+  RODKIT_TUBE_MODEL_THICK = 1,
+  // The thin-wall membrane (algebraic).
+  RODKIT_TUBE_MODEL_MEMBRANE = 2,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum RodkitTubeModel RodkitTubeModel;
+#else
+typedef int32_t RodkitTubeModel;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// How the axial direction is loaded.
+enum RodkitAxialControl
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // `axial` is the stretch λ > 0.
+  RODKIT_AXIAL_CONTROL_STRETCH = 0,
+  // `axial` is the applied force F (besides the pressure on closed ends).
+  RODKIT_AXIAL_CONTROL_FORCE = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum RodkitAxialControl RodkitAxialControl;
+#else
+typedef int32_t RodkitAxialControl;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// How the torsion is loaded.
+enum RodkitTorsionControl
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // `torsion` is the twist per reference length ψ.
+  RODKIT_TORSION_CONTROL_TWIST = 0,
+  // `torsion` is the torque T.
+  RODKIT_TORSION_CONTROL_TORQUE = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum RodkitTorsionControl RodkitTorsionControl;
+#else
+typedef int32_t RodkitTorsionControl;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// Opaque tube handle (rodkit_tube_new / rodkit_tube_free). Immutable after
+// creation: it may be moved between threads and used by several threads at
+// once.
+typedef struct RodkitTube RodkitTube;
+
 // A thin helically reinforced tube in its stress-free state (physics.md
 // §1.4): geometry, intrinsic twist and in-surface orthotropic constants.
 // Units are the caller's, used consistently (e.g. nm and pN/nm²).
@@ -132,6 +224,115 @@ typedef struct RodkitFreeTubeResponse {
   // −1 unwinds, 0 neither (τ0 = 0 or no coupling).
   int32_t winding;
 } RodkitFreeTubeResponse;
+
+// The wall material. Initialise with `rodkit_wall_material_spec_default`
+// (law unset, every constant NaN, no fibres), then set the fields of the
+// chosen law; fields of other laws are ignored.
+typedef struct RodkitWallMaterialSpec {
+  // RodkitWallLawKind.
+  int32_t law;
+  // 1: incompressible (J = 1, pressure multiplier); 0: compressible.
+  int32_t incompressible;
+  // Intrinsic twist τ0 (1/length): helix angle atan(τ0 R) of the
+  // reinforcement (SVK axis 1, helical fibre families).
+  double intrinsic_twist;
+  // SVK: Young's moduli along the helix, across it in the surface, radial.
+  double e1;
+  double e2;
+  double e3;
+  // SVK: Poisson ratios ν_ij (contraction along j per extension along i).
+  double nu12;
+  double nu13;
+  double nu23;
+  // SVK: shear moduli.
+  double g12;
+  double g13;
+  double g23;
+  // Neo-Hookean (and the fibre-reinforced matrix): shear modulus μ > 0.
+  double shear_modulus;
+  // Neo-Hookean: Lamé λ_L (compressible only), λ_L + 2μ/3 > 0.
+  double lame_lambda;
+  // Fibre-reinforced: number of fibre families, 0, 1 or 2.
+  int64_t fibre_families;
+  // Family 1: W_f = k1/(2k2)(exp(k2(I4−1)²) − 1), tension only.
+  double fibre1_k1;
+  double fibre1_k2;
+  // Family 1 direction: a fixed angle from the axis (rad), or NaN to follow
+  // the helix atan(τ0 R) with handedness `fibre1_hand` (+1 or −1).
+  double fibre1_angle;
+  double fibre1_hand;
+  // Family 2, as family 1.
+  double fibre2_k1;
+  double fibre2_k2;
+  double fibre2_angle;
+  double fibre2_hand;
+} RodkitWallMaterialSpec;
+
+// A tube: geometry, wall material, model choice and tolerance.
+// Initialise with `rodkit_tube_spec_default`.
+typedef struct RodkitTubeSpec {
+  // Inner radius A ≥ 0 (0: solid cylinder) and outer radius B > A.
+  double inner_radius;
+  double outer_radius;
+  struct RodkitWallMaterialSpec material;
+  // RodkitTubeModel (default RODKIT_TUBE_MODEL_AUTO).
+  int32_t model;
+  // Requested accuracy (default 1e−8): radii per B, λ, ψB, F per μπB²,
+  // T per μπB³ for the thick model; the membrane's estimate likewise.
+  double rel_tol;
+  // Fixed Chebyshev intervals for the thick model, 4…256; 0: adaptive.
+  int64_t intervals;
+} RodkitTubeSpec;
+
+// A loading. Initialise with `rodkit_tube_loading_default` (λ = 1, ψ = 0,
+// no pressure, open ends).
+typedef struct RodkitTubeLoading {
+  // RodkitAxialControl and its value.
+  int32_t axial_control;
+  double axial;
+  // RodkitTorsionControl and its value.
+  int32_t torsion_control;
+  double torsion;
+  // Pressure on the inner and outer surfaces.
+  double inner_pressure;
+  double outer_pressure;
+  // 1: closed (capped) ends, the wall also carries πa²p − πb²p_o; 0: open.
+  int32_t closed_ends;
+} RodkitTubeLoading;
+
+// An equilibrium state.
+typedef struct RodkitTubeState {
+  double stretch;
+  double twist;
+  // Axial force carried by the wall, 2π∫σ_zz r dr.
+  double wall_force;
+  // Axial force applied besides the cap pressure (= wall_force when open).
+  double applied_force;
+  double torque;
+  double inner_pressure;
+  double outer_pressure;
+  double deformed_inner_radius;
+  double deformed_outer_radius;
+  // The answering model's error estimate (see RodkitTubeSpec.rel_tol).
+  double error_estimate;
+  // Chebyshev intervals (thick) or 0 (membrane).
+  int64_t intervals;
+  int64_t newton_iterations;
+  // RodkitTubeModel that produced the state (thick or membrane).
+  int32_t model;
+} RodkitTubeState;
+
+// What a progress callback is told.
+typedef struct RodkitProgress {
+  // Items done so far (1…total) and their total.
+  int64_t done;
+  int64_t total;
+} RodkitProgress;
+
+// Progress callback: return 0 to continue, non-zero to stop cleanly. It must
+// not unwind into rodkit (no C++ throw, no longjmp); it may call rodkit
+// functions (rodkit holds no locks while it runs).
+typedef int32_t (*RodkitProgressCallback)(const struct RodkitProgress *progress, void *user_data);
 
 #ifdef __cplusplus
 extern "C" {
@@ -197,6 +398,77 @@ int32_t rodkit_thin_tube_stretch_twist(const struct RodkitThinTubeSpec *spec,
 // over- or unwinds (decided by the condensed coupling g, not by K_εψ alone).
 int32_t rodkit_thin_tube_free_response(const struct RodkitThinTubeSpec *spec,
                                        struct RodkitFreeTubeResponse *response);
+
+// Fill `spec` with defaults: law unset, compressible, τ0 = 0, every
+// constant NaN (unset), no fibres, fibre hands +1 and −1.
+int32_t rodkit_wall_material_spec_default(struct RodkitWallMaterialSpec *spec);
+
+// Fill `spec` with defaults: radii NaN (unset), material as
+// `rodkit_wall_material_spec_default`, model Auto, rel_tol 1e−8, adaptive grid.
+int32_t rodkit_tube_spec_default(struct RodkitTubeSpec *spec);
+
+// Fill `loading` with the unloaded state: stretch 1, twist 0, no pressure,
+// open ends.
+int32_t rodkit_tube_loading_default(struct RodkitTubeLoading *loading);
+
+// Validate `spec` and create a tube. On success `*out` owns a new handle
+// (free it with `rodkit_tube_free`); on failure `*out` is set to NULL.
+int32_t rodkit_tube_new(const struct RodkitTubeSpec *spec, struct RodkitTube **out);
+
+// Destroy a tube created by `rodkit_tube_new`; NULL is accepted.
+void rodkit_tube_free(struct RodkitTube *tube);
+
+// The equilibrium of `tube` under `loading`, written to `*out`.
+int32_t rodkit_tube_solve(const struct RodkitTube *tube,
+                          const struct RodkitTubeLoading *loading,
+                          struct RodkitTubeState *out);
+
+// Stresses through the wall (Cauchy, deformed cylindrical basis) at the
+// answering model's nodes: reference radius R, deformed radius r, σ_rr,
+// σ_θθ, σ_zz, σ_θz. `*count` receives the number of nodes. Size query:
+// with `capacity` 0 the six arrays may be NULL and only `*count` is written.
+// Otherwise each array needs `capacity` ≥ that count.
+int32_t rodkit_tube_profile(const struct RodkitTube *tube,
+                            const struct RodkitTubeLoading *loading,
+                            int64_t capacity,
+                            double *reference_radius,
+                            double *radius,
+                            double *sigma_rr,
+                            double *sigma_tt,
+                            double *sigma_zz,
+                            double *sigma_tz,
+                            int64_t *count);
+
+// Equilibria along `count` loadings of the same kind (same controls and
+// ends; e.g. stretches at zero torque, or pressures), each continued from the
+// previous one, into `states[0 … count−1]`. `*completed` (may be NULL)
+// receives the number of states written. `progress` (may be NULL) is called
+// after each state with `user_data`; a non-zero return stops the sweep and
+// the function returns RODKIT_STATUS_INFO_CANCELLED (> 0) with the states so
+// far. On a failure the states before it are written and `*completed` says
+// how many.
+int32_t rodkit_tube_sweep(const struct RodkitTube *tube,
+                          const struct RodkitTubeLoading *loadings,
+                          int64_t count,
+                          struct RodkitTubeState *states,
+                          RodkitProgressCallback progress,
+                          void *user_data,
+                          int64_t *completed);
+
+// Linear coupling stiffness about the stress-free state (physics.md §1.4),
+// thick theory, in the inner-radius variables: (F, T, 2πA²p) = K (ε, ψ,
+// ε_A). `k` receives the 3×3 matrix column-major with leading dimension
+// `ldk` ≥ 3; `error_estimate` (may be NULL) its relative error estimate.
+// Fibre-reinforced walls have none (tension-only fibres): ERR_OUT_OF_RANGE.
+int32_t rodkit_tube_coupling_stiffness(const struct RodkitTube *tube,
+                                       double *k,
+                                       int64_t ldk,
+                                       double *error_estimate);
+
+// The section as a rod: the condensed stretch–twist law at zero pressure,
+// (F, T) = [[S, g], [g, C]] (ε, ψ), ready for a hemitropic rod (§2.2).
+// `s` receives the 2×2 matrix column-major with leading dimension `lds` ≥ 2.
+int32_t rodkit_tube_stretch_twist(const struct RodkitTube *tube, double *s, int64_t lds);
 
 // Library version (semantic versioning, from Cargo.toml). All three pointers
 // are required; on failure nothing is written.

@@ -17,6 +17,8 @@ pub enum Status {
     Ok = 0,
     /// success, but the output was truncated to fit the caller's buffer
     InfoTruncated = 1,
+    /// stopped early at the request of the progress callback (results so far are valid)
+    InfoCancelled = 2,
     /// internal error (a bug in rodkit: a panic was caught at the C boundary)
     ErrInternal = -1,
     /// a required pointer argument is NULL
@@ -98,7 +100,7 @@ mod tests {
             assert!(!s.message().is_empty() && !s.message().contains('\0'));
             assert_eq!(Status::from_code(s.code()), Some(*s));
         }
-        assert_eq!(Status::ALL.len(), 13);
+        assert_eq!(Status::ALL.len(), 14);
         assert_eq!(Status::from_code(-999), None);
     }
 }

@@ -12,6 +12,7 @@
 pub mod diagnostic;
 pub mod error;
 pub mod tube;
+pub mod tube_scene;
 pub mod version;
 
 use crate::error::{Error, Result};
@@ -117,6 +118,7 @@ mod tests {
             include_str!("diagnostic.rs"),
             include_str!("error.rs"),
             include_str!("tube.rs"),
+            include_str!("tube_scene.rs"),
             include_str!("version.rs"),
         ];
         let mut exports = 0;

@@ -100,7 +100,8 @@ impl WallLaw {
     }
 }
 
-/// Which tube model answers.
+/// Which tube model answers (also the C enum RodkitTubeModel, for
+/// `RodkitTubeSpec.model` and `RodkitTubeState.model`).
 #[repr(i32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TubeModel {

@@ -1,0 +1,517 @@
+//! C ABI of the tube solver (physics.md §1.2–1.5): a wall law, a tube handle,
+//! loadings, states, profiles through the wall, sweeps with a progress
+//! callback, the linear coupling stiffness and the section's rod law.
+
+use super::{arg_mut, arg_ref, guard, null_error, write_matrix};
+use crate::error::{self, Error, Result};
+use crate::status::Status;
+use crate::tube::finite::{Axial, Ends, Loading, Torsion, TubeState as State};
+use crate::tube::material::fibre::{FibreAngle, FibreFamily};
+use crate::tube::material::{FibreReinforced, NeoHookean, SaintVenantKirchhoff};
+use crate::tube::orthotropic::Orthotropic;
+pub use crate::tube::scene::TubeModel;
+use crate::tube::scene::{TubeModel as Model, TubeScene, WallLaw as Law};
+use std::ffi::c_void;
+
+/// Constitutive law of the wall (physics.md §1.3), for
+/// `RodkitWallMaterialSpec.law`.
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WallLawKind {
+    /// Unset (rejected): set `law` explicitly.
+    Unset = 0,
+    /// Orthotropic Saint Venant–Kirchhoff with the nine constants e1…g23,
+    /// principal axis 1 along the helix atan(τ0 R), axis 3 radial.
+    SaintVenantKirchhoff = 1,
+    /// Isotropic neo-Hookean: shear_modulus μ and (compressible) lame_lambda.
+    NeoHookean = 2,
+    /// Neo-Hookean matrix plus fibre families (Holzapfel–Gasser–Ogden type).
+    FibreReinforced = 3,
+}
+
+/// The wall material. Initialise with `rodkit_wall_material_spec_default`
+/// (law unset, every constant NaN, no fibres), then set the fields of the
+/// chosen law; fields of other laws are ignored.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct WallMaterialSpec {
+    /// RodkitWallLawKind.
+    pub law: i32,
+    /// 1: incompressible (J = 1, pressure multiplier); 0: compressible.
+    pub incompressible: i32,
+    /// Intrinsic twist τ0 (1/length): helix angle atan(τ0 R) of the
+    /// reinforcement (SVK axis 1, helical fibre families).
+    pub intrinsic_twist: f64,
+    /// SVK: Young's moduli along the helix, across it in the surface, radial.
+    pub e1: f64,
+    pub e2: f64,
+    pub e3: f64,
+    /// SVK: Poisson ratios ν_ij (contraction along j per extension along i).
+    pub nu12: f64,
+    pub nu13: f64,
+    pub nu23: f64,
+    /// SVK: shear moduli.
+    pub g12: f64,
+    pub g13: f64,
+    pub g23: f64,
+    /// Neo-Hookean (and the fibre-reinforced matrix): shear modulus μ > 0.
+    pub shear_modulus: f64,
+    /// Neo-Hookean: Lamé λ_L (compressible only), λ_L + 2μ/3 > 0.
+    pub lame_lambda: f64,
+    /// Fibre-reinforced: number of fibre families, 0, 1 or 2.
+    pub fibre_families: i64,
+    /// Family 1: W_f = k1/(2k2)(exp(k2(I4−1)²) − 1), tension only.
+    pub fibre1_k1: f64,
+    pub fibre1_k2: f64,
+    /// Family 1 direction: a fixed angle from the axis (rad), or NaN to follow
+    /// the helix atan(τ0 R) with handedness `fibre1_hand` (+1 or −1).
+    pub fibre1_angle: f64,
+    pub fibre1_hand: f64,
+    /// Family 2, as family 1.
+    pub fibre2_k1: f64,
+    pub fibre2_k2: f64,
+    pub fibre2_angle: f64,
+    pub fibre2_hand: f64,
+}
+
+/// A tube: geometry, wall material, model choice and tolerance.
+/// Initialise with `rodkit_tube_spec_default`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct TubeSpec {
+    /// Inner radius A ≥ 0 (0: solid cylinder) and outer radius B > A.
+    pub inner_radius: f64,
+    pub outer_radius: f64,
+    pub material: WallMaterialSpec,
+    /// RodkitTubeModel (default RODKIT_TUBE_MODEL_AUTO).
+    pub model: i32,
+    /// Requested accuracy (default 1e−8): radii per B, λ, ψB, F per μπB²,
+    /// T per μπB³ for the thick model; the membrane's estimate likewise.
+    pub rel_tol: f64,
+    /// Fixed Chebyshev intervals for the thick model, 4…256; 0: adaptive.
+    pub intervals: i64,
+}
+
+/// How the axial direction is loaded.
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AxialControl {
+    /// `axial` is the stretch λ > 0.
+    Stretch = 0,
+    /// `axial` is the applied force F (besides the pressure on closed ends).
+    Force = 1,
+}
+
+/// How the torsion is loaded.
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TorsionControl {
+    /// `torsion` is the twist per reference length ψ.
+    Twist = 0,
+    /// `torsion` is the torque T.
+    Torque = 1,
+}
+
+/// A loading. Initialise with `rodkit_tube_loading_default` (λ = 1, ψ = 0,
+/// no pressure, open ends).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct TubeLoading {
+    /// RodkitAxialControl and its value.
+    pub axial_control: i32,
+    pub axial: f64,
+    /// RodkitTorsionControl and its value.
+    pub torsion_control: i32,
+    pub torsion: f64,
+    /// Pressure on the inner and outer surfaces.
+    pub inner_pressure: f64,
+    pub outer_pressure: f64,
+    /// 1: closed (capped) ends, the wall also carries πa²p − πb²p_o; 0: open.
+    pub closed_ends: i32,
+}
+
+/// An equilibrium state.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct TubeState {
+    pub stretch: f64,
+    pub twist: f64,
+    /// Axial force carried by the wall, 2π∫σ_zz r dr.
+    pub wall_force: f64,
+    /// Axial force applied besides the cap pressure (= wall_force when open).
+    pub applied_force: f64,
+    pub torque: f64,
+    pub inner_pressure: f64,
+    pub outer_pressure: f64,
+    pub deformed_inner_radius: f64,
+    pub deformed_outer_radius: f64,
+    /// The answering model's error estimate (see RodkitTubeSpec.rel_tol).
+    pub error_estimate: f64,
+    /// Chebyshev intervals (thick) or 0 (membrane).
+    pub intervals: i64,
+    pub newton_iterations: i64,
+    /// RodkitTubeModel that produced the state (thick or membrane).
+    pub model: i32,
+}
+
+/// What a progress callback is told.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    /// Items done so far (1…total) and their total.
+    pub done: i64,
+    pub total: i64,
+}
+
+/// Progress callback: return 0 to continue, non-zero to stop cleanly. It must
+/// not unwind into rodkit (no C++ throw, no longjmp); it may call rodkit
+/// functions (rodkit holds no locks while it runs).
+pub type ProgressCallback = Option<unsafe extern "C" fn(progress: *const Progress, user_data: *mut c_void) -> i32>;
+
+/// Opaque tube handle (rodkit_tube_new / rodkit_tube_free). Immutable after
+/// creation: it may be moved between threads and used by several threads at
+/// once.
+pub struct Tube {
+    scene: TubeScene,
+}
+
+fn nan_default_material() -> WallMaterialSpec {
+    let n = f64::NAN;
+    WallMaterialSpec {
+        law: WallLawKind::Unset as i32,
+        incompressible: 0,
+        intrinsic_twist: 0.0,
+        e1: n, e2: n, e3: n, nu12: n, nu13: n, nu23: n, g12: n, g13: n, g23: n,
+        shear_modulus: n,
+        lame_lambda: n,
+        fibre_families: 0,
+        fibre1_k1: n, fibre1_k2: n, fibre1_angle: n, fibre1_hand: 1.0,
+        fibre2_k1: n, fibre2_k2: n, fibre2_angle: n, fibre2_hand: -1.0,
+    }
+}
+
+fn named(mut e: Error, prefix: &str) -> Error {
+    e.message = e.message.replacen("argument `", &format!("argument `{prefix}"), 1);
+    e
+}
+
+fn flag(name: &str, v: i32) -> Result<bool> {
+    match v {
+        0 => Ok(false),
+        1 => Ok(true),
+        _ => Err(Error::new(Status::ErrOutOfRange, format!("argument `{name}` must be 0 or 1 (got {v})"))),
+    }
+}
+
+fn law(m: &WallMaterialSpec) -> Result<Law> {
+    let inc = flag("material.incompressible", m.incompressible)?;
+    let nh = || NeoHookean { shear_modulus: m.shear_modulus, lame_lambda: if inc { 0.0 } else { m.lame_lambda }, incompressible: inc };
+    let l = match m.law {
+        1 => {
+            let o = Orthotropic::new(m.e1, m.e2, m.e3, m.nu12, m.nu13, m.nu23, m.g12, m.g13, m.g23)
+                .map_err(|e| named(e, "material."))?;
+            Law::SaintVenantKirchhoff(SaintVenantKirchhoff::new(o, m.intrinsic_twist, inc))
+        }
+        2 => Law::NeoHookean(nh()),
+        3 => {
+            error::count_in_range("material.fibre_families", m.fibre_families, 0, 2)?;
+            let fam = |k1: f64, k2: f64, angle: f64, hand: f64| FibreFamily {
+                angle: if angle.is_nan() { FibreAngle::Helix { hand } } else { FibreAngle::Fixed(angle) },
+                k1,
+                k2,
+            };
+            let all = [
+                fam(m.fibre1_k1, m.fibre1_k2, m.fibre1_angle, m.fibre1_hand),
+                fam(m.fibre2_k1, m.fibre2_k2, m.fibre2_angle, m.fibre2_hand),
+            ];
+            Law::FibreReinforced(FibreReinforced {
+                matrix: nh(),
+                families: all[..m.fibre_families as usize].to_vec(),
+                intrinsic_twist: m.intrinsic_twist,
+            })
+        }
+        other => {
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                format!("argument `material.law` must be a RodkitWallLawKind (1 SVK, 2 neo-Hookean, 3 fibre-reinforced; got {other})"),
+            ))
+        }
+    };
+    l.validate().map_err(|e| named(e, "material."))?;
+    Ok(l)
+}
+
+fn loading(l: &TubeLoading) -> Result<Loading> {
+    let axial = match l.axial_control {
+        0 => Axial::Stretch(l.axial),
+        1 => Axial::Force(l.axial),
+        v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `loading.axial_control` must be 0 (stretch) or 1 (force) (got {v})"))),
+    };
+    let torsion = match l.torsion_control {
+        0 => Torsion::Twist(l.torsion),
+        1 => Torsion::Torque(l.torsion),
+        v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `loading.torsion_control` must be 0 (twist) or 1 (torque) (got {v})"))),
+    };
+    let ends = if flag("loading.closed_ends", l.closed_ends)? { Ends::Closed } else { Ends::Open };
+    match axial {
+        Axial::Stretch(v) => error::positive("loading.axial", v)?,
+        Axial::Force(v) => error::finite("loading.axial", v)?,
+    };
+    error::finite("loading.torsion", l.torsion)?;
+    error::finite("loading.inner_pressure", l.inner_pressure)?;
+    error::finite("loading.outer_pressure", l.outer_pressure)?;
+    Ok(Loading { axial, torsion, inner_pressure: l.inner_pressure, outer_pressure: l.outer_pressure, ends })
+}
+
+fn state(s: &State, model: Model) -> TubeState {
+    TubeState {
+        stretch: s.stretch,
+        twist: s.twist,
+        wall_force: s.wall_force,
+        applied_force: s.applied_force,
+        torque: s.torque,
+        inner_pressure: s.inner_pressure,
+        outer_pressure: s.outer_pressure,
+        deformed_inner_radius: s.deformed_inner_radius,
+        deformed_outer_radius: s.deformed_outer_radius,
+        error_estimate: s.error_estimate,
+        intervals: s.intervals as i64,
+        newton_iterations: s.newton_iterations as i64,
+        model: model as i32,
+    }
+}
+
+/// Fill `spec` with defaults: law unset, compressible, τ0 = 0, every
+/// constant NaN (unset), no fibres, fibre hands +1 and −1.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_wall_material_spec_default(spec: *mut WallMaterialSpec) -> i32 {
+    guard(|| {
+        *arg_mut("spec", spec)? = nan_default_material();
+        Ok(Status::Ok)
+    })
+}
+
+/// Fill `spec` with defaults: radii NaN (unset), material as
+/// `rodkit_wall_material_spec_default`, model Auto, rel_tol 1e−8, adaptive grid.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_tube_spec_default(spec: *mut TubeSpec) -> i32 {
+    guard(|| {
+        *arg_mut("spec", spec)? = TubeSpec {
+            inner_radius: f64::NAN,
+            outer_radius: f64::NAN,
+            material: nan_default_material(),
+            model: Model::Auto as i32,
+            rel_tol: 1e-8,
+            intervals: 0,
+        };
+        Ok(Status::Ok)
+    })
+}
+
+/// Fill `loading` with the unloaded state: stretch 1, twist 0, no pressure,
+/// open ends.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_tube_loading_default(loading: *mut TubeLoading) -> i32 {
+    guard(|| {
+        *arg_mut("loading", loading)? = TubeLoading {
+            axial_control: AxialControl::Stretch as i32,
+            axial: 1.0,
+            torsion_control: TorsionControl::Twist as i32,
+            torsion: 0.0,
+            inner_pressure: 0.0,
+            outer_pressure: 0.0,
+            closed_ends: 0,
+        };
+        Ok(Status::Ok)
+    })
+}
+
+/// Validate `spec` and create a tube. On success `*out` owns a new handle
+/// (free it with `rodkit_tube_free`); on failure `*out` is set to NULL.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_tube_new(spec: *const TubeSpec, out: *mut *mut Tube) -> i32 {
+    guard(|| {
+        let out = arg_mut("out", out)?;
+        *out = std::ptr::null_mut();
+        let spec = arg_ref("spec", spec)?;
+        let model = match spec.model {
+            0 => Model::Auto,
+            1 => Model::Thick,
+            2 => Model::Membrane,
+            v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `spec.model` must be a RodkitTubeModel 0…2 (got {v})"))),
+        };
+        let intervals = match spec.intervals {
+            0 => None,
+            n => Some(error::count_in_range("spec.intervals", n, 4, 256)? as usize),
+        };
+        let scene = TubeScene::new(spec.inner_radius, spec.outer_radius, law(&spec.material)?, model, spec.rel_tol, intervals)
+            .map_err(|e| named(e, "spec."))?;
+        *out = Box::into_raw(Box::new(Tube { scene }));
+        Ok(Status::Ok)
+    })
+}
+
+/// Destroy a tube created by `rodkit_tube_new`; NULL is accepted.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_tube_free(tube: *mut Tube) {
+    super::guard_value((), || {
+        if !tube.is_null() {
+            drop(Box::from_raw(tube));
+        }
+    })
+}
+
+/// The equilibrium of `tube` under `loading`, written to `*out`.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_tube_solve(tube: *const Tube, loading: *const TubeLoading, out: *mut TubeState) -> i32 {
+    guard(|| {
+        let tube = arg_ref("tube", tube)?;
+        let l = self::loading(arg_ref("loading", loading)?)?;
+        let out = arg_mut("out", out)?;
+        let (s, model) = tube.scene.solve(&l)?;
+        *out = state(&s, model);
+        Ok(Status::Ok)
+    })
+}
+
+/// Stresses through the wall (Cauchy, deformed cylindrical basis) at the
+/// answering model's nodes: reference radius R, deformed radius r, σ_rr,
+/// σ_θθ, σ_zz, σ_θz. `*count` receives the number of nodes. Size query:
+/// with `capacity` 0 the six arrays may be NULL and only `*count` is written.
+/// Otherwise each array needs `capacity` ≥ that count.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_tube_profile(
+    tube: *const Tube,
+    loading: *const TubeLoading,
+    capacity: i64,
+    reference_radius: *mut f64,
+    radius: *mut f64,
+    sigma_rr: *mut f64,
+    sigma_tt: *mut f64,
+    sigma_zz: *mut f64,
+    sigma_tz: *mut f64,
+    count: *mut i64,
+) -> i32 {
+    guard(|| {
+        let tube = arg_ref("tube", tube)?;
+        let l = self::loading(arg_ref("loading", loading)?)?;
+        let count = arg_mut("count", count)?;
+        error::count_in_range("capacity", capacity, 0, i64::MAX)?;
+        let (s, _) = tube.scene.solve(&l)?;
+        let p = &s.profile;
+        let n = p.radius.len();
+        *count = n as i64;
+        if capacity == 0 {
+            return Ok(Status::Ok);
+        }
+        if (capacity as usize) < n {
+            return Err(Error::new(Status::ErrInvalidDimension, format!("argument `capacity` ({capacity}) is below the {n} nodes of the profile")));
+        }
+        let columns: [(&str, *mut f64, &Vec<f64>); 6] = [
+            ("reference_radius", reference_radius, &p.reference_radius),
+            ("radius", radius, &p.radius),
+            ("sigma_rr", sigma_rr, &p.sigma_rr),
+            ("sigma_tt", sigma_tt, &p.sigma_tt),
+            ("sigma_zz", sigma_zz, &p.sigma_zz),
+            ("sigma_tz", sigma_tz, &p.sigma_tz),
+        ];
+        if let Some((name, _, _)) = columns.iter().find(|c| c.1.is_null()) {
+            return Err(null_error(name));
+        }
+        for (_, ptr, values) in columns {
+            std::slice::from_raw_parts_mut(ptr, n).copy_from_slice(values);
+        }
+        Ok(Status::Ok)
+    })
+}
+
+/// Equilibria along `count` loadings of the same kind (same controls and
+/// ends; e.g. stretches at zero torque, or pressures), each continued from the
+/// previous one, into `states[0 … count−1]`. `*completed` (may be NULL)
+/// receives the number of states written. `progress` (may be NULL) is called
+/// after each state with `user_data`; a non-zero return stops the sweep and
+/// the function returns RODKIT_STATUS_INFO_CANCELLED (> 0) with the states so
+/// far. On a failure the states before it are written and `*completed` says
+/// how many.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_tube_sweep(
+    tube: *const Tube,
+    loadings: *const TubeLoading,
+    count: i64,
+    states: *mut TubeState,
+    progress: ProgressCallback,
+    user_data: *mut c_void,
+    completed: *mut i64,
+) -> i32 {
+    if let Some(c) = completed.as_mut() {
+        *c = 0;
+    }
+    guard(|| {
+        let tube = arg_ref("tube", tube)?;
+        error::count_in_range("count", count, 1, 1 << 40)?;
+        if loadings.is_null() {
+            return Err(null_error("loadings"));
+        }
+        if states.is_null() {
+            return Err(null_error("states"));
+        }
+        let n = count as usize;
+        let input = std::slice::from_raw_parts(loadings, n);
+        let list = input
+            .iter()
+            .enumerate()
+            .map(|(i, l)| self::loading(l).map_err(|e| named(e, &format!("loadings[{i}]."))))
+            .collect::<Result<Vec<_>>>()?;
+        let out = std::slice::from_raw_parts_mut(states, n);
+        let mut written = 0usize;
+        // Each state is written as soon as it exists, so a later failure
+        // leaves the earlier ones valid.
+        let result = tube.scene.sweep(&list, |i, s| {
+            out[i] = state(s, Model::Thick);
+            written = i + 1;
+            match progress {
+                Some(cb) => cb(&Progress { done: i as i64 + 1, total: count }, user_data) == 0,
+                None => true,
+            }
+        });
+        if let Some(c) = completed.as_mut() {
+            *c = written as i64;
+        }
+        let (sweep, model) = result?;
+        for s in out.iter_mut().take(written) {
+            s.model = model as i32;
+        }
+        Ok(if sweep.cancelled { Status::InfoCancelled } else { Status::Ok })
+    })
+}
+
+/// Linear coupling stiffness about the stress-free state (physics.md §1.4),
+/// thick theory, in the inner-radius variables: (F, T, 2πA²p) = K (ε, ψ,
+/// ε_A). `k` receives the 3×3 matrix column-major with leading dimension
+/// `ldk` ≥ 3; `error_estimate` (may be NULL) its relative error estimate.
+/// Fibre-reinforced walls have none (tension-only fibres): ERR_OUT_OF_RANGE.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_tube_coupling_stiffness(tube: *const Tube, k: *mut f64, ldk: i64, error_estimate: *mut f64) -> i32 {
+    guard(|| {
+        let tube = arg_ref("tube", tube)?;
+        let est = tube.scene.coupling_stiffness()?;
+        write_matrix("k", k, ldk, "ldk", 3, 3, &est.value.column_major())?;
+        if let Some(e) = error_estimate.as_mut() {
+            *e = est.error_estimate;
+        }
+        Ok(Status::Ok)
+    })
+}
+
+/// The section as a rod: the condensed stretch–twist law at zero pressure,
+/// (F, T) = [[S, g], [g, C]] (ε, ψ), ready for a hemitropic rod (§2.2).
+/// `s` receives the 2×2 matrix column-major with leading dimension `lds` ≥ 2.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_tube_stretch_twist(tube: *const Tube, s: *mut f64, lds: i64) -> i32 {
+    guard(|| {
+        let tube = arg_ref("tube", tube)?;
+        let law = tube.scene.stretch_twist()?;
+        write_matrix("s", s, lds, "lds", 2, 2, law.matrix().as_slice())?;
+        Ok(Status::Ok)
+    })
+}

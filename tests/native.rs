@@ -181,7 +181,7 @@ fn bad_input_driver_passes_all_checks() {
 /// memcheck; exit code 99 on any error).
 #[test]
 fn c_drivers_are_clean_under_valgrind() {
-    for exe in ["c_tube_stiffness_shared", "c_tube_stiffness_static", "c_bad_input_shared", "c_bad_input_static"] {
+    for exe in ["c_tube_stiffness_shared", "c_tube_stiffness_static", "c_bad_input_shared", "c_bad_input_static", "c_artery_shared"] {
         let out = Command::new("valgrind")
             .args(["-q", "--error-exitcode=99", "--leak-check=full", "--errors-for-leak-kinds=definite", "--show-leak-kinds=definite"])
             .arg(drivers().join(exe))
@@ -230,4 +230,68 @@ fn installed_library_links_through_pkg_config() {
         assert_matches_rust("installed", &check(out, "installed driver"));
     }
     let _ = std::fs::remove_dir_all(&prefix);
+}
+
+/// The artery driver's CSV equals the Rust scene's sweep on the same input
+/// (reference: TubeScene::sweep, the same code path, so bitwise).
+#[test]
+fn artery_driver_matches_rust_sweep() {
+    use rodkit::tube::finite::{Axial, Ends, Loading, Torsion};
+    use rodkit::tube::material::fibre::{FibreAngle, FibreFamily};
+    use rodkit::tube::material::{FibreReinforced, NeoHookean};
+    use rodkit::tube::scene::{TubeModel, TubeScene, WallLaw};
+    let dir = std::env::temp_dir().join(format!("rodkit-artery-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("artery.csv");
+    let out = run("c_artery_shared", &[csv.to_str().unwrap()]);
+    assert_eq!(values(&out)["states"], 31.0);
+    let deg = std::f64::consts::PI / 180.0;
+    let fam = |angle: f64| FibreFamily { angle: FibreAngle::Fixed(angle), k1: 2.3632, k2: 0.8393 };
+    let law = WallLaw::FibreReinforced(FibreReinforced {
+        matrix: NeoHookean { shear_modulus: 3.0, lame_lambda: 0.0, incompressible: true },
+        families: vec![fam(29.0 * deg), fam(-29.0 * deg)],
+        intrinsic_twist: 0.0,
+    });
+    let scene = TubeScene::new(0.71, 0.71 + 0.26, law, TubeModel::Thick, 1e-10, None).unwrap();
+    let loadings: Vec<Loading> = (0..31)
+        .map(|i| Loading { axial: Axial::Stretch(1.0 + 0.01 * i as f64), torsion: Torsion::Torque(0.0), inner_pressure: 13.33, outer_pressure: 0.0, ends: Ends::Closed })
+        .collect();
+    let (sweep, _) = scene.sweep(&loadings, |_, _| true).unwrap();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<Vec<f64>> = text.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+    assert_eq!(rows.len(), 31);
+    for (row, s) in rows.iter().zip(&sweep.states) {
+        assert_eq!(row[0], s.stretch);
+        assert_eq!(row[1], s.applied_force);
+        assert_eq!(row[4], s.deformed_inner_radius);
+        assert!(row[3].abs() < 1e-12, "± families: no twist");
+    }
+    // Stretching at fixed pressure narrows the lumen and raises the force.
+    assert!(rows.windows(2).all(|w| w[1][4] < w[0][4] && w[1][1] > w[0][1]));
+    let stat = run("c_artery_static", &[csv.to_str().unwrap()]);
+    assert_eq!(values(&stat), values(&out));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The Fortran torsion-free stretch sweep equals the Rust scene's sweep.
+#[test]
+fn fortran_stretch_sweep_matches_rust() {
+    use rodkit::tube::finite::Loading;
+    use rodkit::tube::material::SaintVenantKirchhoff;
+    use rodkit::tube::scene::{TubeModel, TubeScene, WallLaw};
+    use rodkit::tube::Orthotropic;
+    let out = run("f_stretch_sweep_shared", &[]);
+    let got = values(&out);
+    let o = Orthotropic::new(467.2, 516.2, 516.2, 0.3, 0.3, 0.3, 139.8, 139.8, 516.2 / 2.6).unwrap();
+    let tau0 = (std::f64::consts::PI / 3.0).tan();
+    let scene = TubeScene::new(0.8, 1.2, WallLaw::SaintVenantKirchhoff(SaintVenantKirchhoff::new(o, tau0, false)), TubeModel::Thick, 1e-10, None).unwrap();
+    let loadings: Vec<Loading> = (0..26).map(|i| Loading::torsion_free_stretch(1.0 + 0.002 * i as f64)).collect();
+    let (sweep, _) = scene.sweep(&loadings, |_, _| true).unwrap();
+    let last = sweep.states.last().unwrap();
+    for (k, want) in [("twist", last.twist), ("applied_force", last.applied_force), ("outer_radius", last.deformed_outer_radius)] {
+        assert!((got[k] - want).abs() <= 4.0 * f64::EPSILON * want.abs(), "{k}: {} vs {want}", got[k]);
+    }
+    assert!(got["twist"] > 0.0, "the DNA-like wall overwinds (τ0 > 0)");
+    assert_eq!(out.matches("# progress").count(), 5);
+    assert_eq!(run("f_stretch_sweep_static", &[]), out);
 }

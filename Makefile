@@ -31,7 +31,7 @@ FFLAGS := -std=f2008 -O2 -g -Wall -Wextra -J$(BUILD)/fmod -I$(BUILD)/fmod
 SHARED := -L$(LIBDIR) -lrodkit -Wl,-rpath,$(LIBDIR)
 STATIC := $(LIBDIR)/librodkit.a $(STATIC_LIBS)
 
-C_DRIVERS := tube_stiffness bad_input artery
+C_DRIVERS := tube_stiffness bad_input artery dna_tube
 F_DRIVERS := tube_stiffness stretch_sweep
 EXES := $(foreach d,$(C_DRIVERS),$(BUILD)/c_$(d)_shared $(BUILD)/c_$(d)_static) \
         $(BUILD)/cpp_tube_stiffness \
@@ -77,7 +77,7 @@ $(BUILD)/f_%_static: $(ROOT)/fortran_examples/%.f90 $(BUILD)/rodkit_mod.o $(LIBS
 run: deps lib
 	@$(MAKE) --no-print-directory -s drivers
 	@cd $(ROOT) && for exe in c_tube_stiffness_shared c_tube_stiffness_static cpp_tube_stiffness \
-	    f_tube_stiffness_shared f_tube_stiffness_static c_bad_input_shared c_artery_shared \
+	    f_tube_stiffness_shared f_tube_stiffness_static c_bad_input_shared c_artery_shared c_dna_tube_shared \
 	    f_stretch_sweep_shared; do \
 	  echo "=== $$exe"; $(BUILD)/$$exe || exit 1; done
 

@@ -215,6 +215,22 @@ module rodkit
         integer(c_int32_t) :: model
     end type rodkit_tube_state
 
+    ! RodkitDnaFit: a thin-wall fit to a stretch-twist law (see rodkit.h).
+    type, bind(c) :: rodkit_dna_fit
+        type(rodkit_thin_tube_spec) :: spec
+        real(c_double) :: stretch
+        real(c_double) :: coupling
+        real(c_double) :: twist
+        real(c_double) :: twist_rate
+        real(c_double) :: turns_per_pn_per_10kbp
+        integer(c_int32_t) :: overwinds
+        integer(c_int32_t) :: thick_status
+        real(c_double) :: thick_stretch
+        real(c_double) :: thick_coupling
+        real(c_double) :: thick_twist
+        real(c_double) :: thick_turns_per_pn_per_10kbp
+    end type rodkit_dna_fit
+
     ! RodkitProgress: what a progress callback is told.
     type, bind(c) :: rodkit_progress
         integer(c_int64_t) :: done
@@ -355,6 +371,16 @@ module rodkit
             integer(c_int32_t) :: version
         end function rodkit_library_abi_version
 
+
+        ! Fit the thin-wall (E1, E2, G12) of a tube (R, helix angle, t, nu12) to
+        ! the stretch-twist law [[S, g], [g, C]]; also the thick-wall value.
+        function rodkit_dna_fit_thin_wall(stretch, twist, coupling, mid_radius, helix_angle, thickness, nu12, out) &
+                result(status) bind(c, name="rodkit_dna_fit_thin_wall")
+            import :: c_int32_t, c_double, rodkit_dna_fit
+            real(c_double), value :: stretch, twist, coupling, mid_radius, helix_angle, thickness, nu12
+            type(rodkit_dna_fit), intent(out) :: out
+            integer(c_int32_t) :: status
+        end function rodkit_dna_fit_thin_wall
 
         ! ---------------------------------------------------------------------
         ! Tube solver (physics.md 1.2-1.5): see rodkit.h for the full contracts.

@@ -211,6 +211,36 @@ typedef struct RodkitThinTubeSpec {
   double g12;
 } RodkitThinTubeSpec;
 
+// A thin-wall fit to a stretch–twist law, its predictions, and the same
+// material evaluated with the thick wall model.
+typedef struct RodkitDnaFit {
+  // The fitted thin tube (geometry as requested, E1, E2, G12 fitted, ν12
+  // as given): usable with the rodkit_thin_tube_* functions.
+  struct RodkitThinTubeSpec spec;
+  // The condensed law the fitted wall achieves: S, g, C.
+  double stretch;
+  double coupling;
+  double twist;
+  // Free-molecule twist rate dψ/dF, rad/(pN·nm), and in turns per pN per
+  // 10 kbp (contour 10⁴ × 0.34 nm).
+  double twist_rate;
+  double turns_per_pn_per_10kbp;
+  // 1 if the fitted tube overwinds when pulled (twists further in the sense
+  // of τ0), else 0.
+  int32_t overwinds;
+  // Status of the thick-wall evaluation of the same material (3-D
+  // constants completed transversely isotropically about the helix:
+  // E3 = E2, ν13 = ν23 = ν12, G13 = G12, G23 = E2/(2(1+ν23))), with
+  // A = R − t/2, B = R + t/2. When it is negative (e.g. the completion is
+  // not positive definite) the thick_* fields are 0.
+  int32_t thick_status;
+  // The thick wall's condensed law and twist rate.
+  double thick_stretch;
+  double thick_coupling;
+  double thick_twist;
+  double thick_turns_per_pn_per_10kbp;
+} RodkitDnaFit;
+
 // Response of a free thin tube (zero torque, zero pressure) to an axial force
 // F, per unit force.
 typedef struct RodkitFreeTubeResponse {
@@ -345,6 +375,22 @@ extern "C" {
 // unwind into C. The Rust runtime's default panic hook also prints one line
 // to stderr (rodkit does not replace the process-wide hook).
 int32_t rodkit_diagnostic_panic(void);
+
+// Fit the thin-wall constants (E1, E2, G12) of a tube of mid radius R,
+// helix angle α (radians, > 0 = right-handed) and thickness t, with the
+// given ν12, so that its condensed stretch–twist law is [[S, g], [g, C]]
+// (pN, pN·nm, pN·nm² for DNA). The fit is unique; when it is not physical
+// (a modulus ≤ 0 or a non-positive-definite wall) the status is
+// RODKIT_STATUS_ERR_NOT_POSITIVE_DEFINITE and the message says which
+// constraint failed. The family of fits is obtained by varying t and ν12.
+int32_t rodkit_dna_fit_thin_wall(double stretch,
+                                 double twist,
+                                 double coupling,
+                                 double mid_radius,
+                                 double helix_angle,
+                                 double thickness,
+                                 double nu12,
+                                 struct RodkitDnaFit *out);
 
 // Human-readable description of a status code (never NULL; static storage;
 // "unknown rodkit status code" for codes rodkit does not define).

@@ -295,3 +295,34 @@ fn fortran_stretch_sweep_matches_rust() {
     assert_eq!(out.matches("# progress").count(), 5);
     assert_eq!(run("f_stretch_sweep_static", &[]), out);
 }
+
+/// The DNA scene driver's fit and thick evaluation equal the Rust DNA module
+/// (reference: rodkit::tube::dna, the same code), and the fit reproduces the
+/// requested law.
+#[test]
+fn dna_driver_matches_rust_fit() {
+    use rodkit::tube::dna::{fit_thin_wall, thick_comparison, DnaTargets, OutOfPlane};
+    let dir = std::env::temp_dir().join(format!("rodkit-dna-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("dna.csv");
+    let got = values(&run("c_dna_tube_shared", &[csv.to_str().unwrap()]));
+    let fit = fit_thin_wall(DnaTargets::literature(), 1.0, std::f64::consts::PI / 3.0, 0.4, 0.3).unwrap();
+    let thick = thick_comparison(&fit, OutOfPlane::default_for(&fit.material)).unwrap();
+    for (k, want) in [
+        ("e1", fit.material.e1),
+        ("e2", fit.material.e2),
+        ("g12", fit.material.g12),
+        ("turns_per_pn_per_10kbp", fit.twist_rate.turns_per_pn_per_10kbp),
+        ("thick_stretch_S", thick.thick.stretch),
+        ("thick_coupling_g", thick.thick.coupling),
+    ] {
+        assert!((got[k] - want).abs() <= 4.0 * f64::EPSILON * want.abs(), "{k}: {} vs {want}", got[k]);
+    }
+    for (k, want) in [("stretch_S", 1100.0), ("twist_C", 440.0), ("coupling_g", -90.0)] {
+        assert!((got[k] - want).abs() < 1e-10 * want.abs(), "{k}: {}", got[k]);
+    }
+    assert_eq!(got["overwinds"], 1.0);
+    let rows = std::fs::read_to_string(&csv).unwrap().lines().count() - 1;
+    assert_eq!(rows, 41);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -10,6 +10,7 @@
 #![allow(unsafe_code)]
 
 pub mod diagnostic;
+pub mod dna;
 pub mod error;
 pub mod tube;
 pub mod tube_scene;
@@ -116,6 +117,7 @@ mod tests {
     fn every_export_is_guarded() {
         let sources = [
             include_str!("diagnostic.rs"),
+            include_str!("dna.rs"),
             include_str!("error.rs"),
             include_str!("tube.rs"),
             include_str!("tube_scene.rs"),

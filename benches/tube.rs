@@ -791,6 +791,68 @@ fn section_thin_vs_thick(dir: &Path, report: &mut String) {
 
 // ------------------------------------------------------------------ main --
 
+
+// ------------------------------------------------------------ section 4 --
+
+struct FiniteResult {
+    state_1e10: f64,
+    state_1e10_err: f64,
+    sweep_100: f64,
+}
+
+/// Finite strain: one state of a thick helical SVK tube under torsion-free
+/// stretching (λ = 1.2) per accuracy knob, the membrane side by side as the
+/// cheap baseline, and a 100-point stretch sweep. True error against the
+/// thick solve on 64 intervals (spectrally converged), in the solver's scales (ψB, radii per B).
+fn section_finite(dir: &Path, report: &mut String) -> FiniteResult {
+    use rodkit::tube::finite::{FiniteTube, Loading, SolveOptions, TubeState};
+    use rodkit::tube::material::SaintVenantKirchhoff;
+    use rodkit::tube::membrane::MembraneTube;
+    let svk = SaintVenantKirchhoff::new(helical_material(), 1.7, false);
+    let loading = Loading::torsion_free_stretch(1.2);
+    let _ = writeln!(report, "\n== 4. Finite strain: torsion-free stretch λ = 1.2 of a helical SVK tube (τ0 = 1.7) ==");
+    let _ = writeln!(report, "true error = max(|Δψ|·B, |Δb|/B, |Δa|/B) against the thick solve on a fixed 64-interval grid");
+    let _ = writeln!(report, "{:>10} {:>9} {:>8} {:>10} {:>9} {:>10} {:>11} {:>9}", "tube", "model", "rel_tol", "intervals", "Newton", "time", "estimate", "true err");
+    let mut rows = vec![];
+    let mut out = FiniteResult { state_1e10: f64::NAN, state_1e10_err: f64::NAN, sweep_100: f64::NAN };
+    for (name, a, b) in [("thick", 0.6, 1.4), ("t/R=0.05", 0.975, 1.025)] {
+        let tube = FiniteTube::new(a, b, &svk).unwrap();
+        let reference = tube.solve(&loading, &SolveOptions { rel_tol: 1e-12, intervals: Some(64) }).unwrap();
+        let err = |s: &TubeState| {
+            ((s.twist - reference.twist) * b).abs()
+                .max((s.deformed_outer_radius - reference.deformed_outer_radius).abs() / b)
+                .max((s.deformed_inner_radius - reference.deformed_inner_radius).abs() / b)
+        };
+        for tol in [1e-4, 1e-6, 1e-8, 1e-10] {
+            let opts = SolveOptions { rel_tol: tol, intervals: None };
+            let state = tube.solve(&loading, &opts).unwrap();
+            let t = &bench(&mut [&mut |n: u64| for _ in 0..n { std::hint::black_box(tube.solve(&loading, &opts).unwrap()); }], 7, None)[0];
+            let e = err(&state);
+            let _ = writeln!(report, "{name:>10} {:>9} {tol:>8.0e} {:>10} {:>9} {:>10} {:>11.1e} {:>9.1e}", "thick", state.intervals, state.newton_iterations, fmt_time(t.median()), state.error_estimate, e);
+            rows.push(format!("{name},thick,{tol:e},{},{},{:e},{:e},{:e}", state.intervals, state.newton_iterations, t.median(), state.error_estimate, e));
+            if name == "thick" && tol == 1e-10 {
+                out.state_1e10 = t.median();
+                out.state_1e10_err = e;
+            }
+        }
+        let membrane = MembraneTube::new(0.5 * (a + b), b - a, &svk).unwrap();
+        let ms = membrane.solve(&loading).unwrap();
+        let tm = &bench(&mut [&mut |n: u64| for _ in 0..n { std::hint::black_box(membrane.solve(&loading).unwrap()); }], 7, None)[0];
+        let e = err(&ms);
+        let _ = writeln!(report, "{name:>10} {:>9} {:>8} {:>10} {:>9} {:>10} {:>11.1e} {:>9.1e}", "membrane", "-", "-", ms.newton_iterations, fmt_time(tm.median()), ms.error_estimate, e);
+        rows.push(format!("{name},membrane,,0,{},{:e},{:e},{:e}", ms.newton_iterations, tm.median(), ms.error_estimate, e));
+    }
+    let tube = FiniteTube::new(0.6, 1.4, &svk).unwrap();
+    let loadings: Vec<Loading> = (0..100).map(|i| Loading::torsion_free_stretch(1.0 + 0.003 * i as f64)).collect();
+    let opts = SolveOptions { rel_tol: 1e-10, intervals: None };
+    let t = &bench(&mut [&mut |n: u64| for _ in 0..n { std::hint::black_box(tube.sweep(&loadings, &opts, |_, _| true).unwrap()); }], 7, None)[0];
+    out.sweep_100 = t.median();
+    let _ = writeln!(report, "100-point torsion-free stretch sweep (λ 1 → 1.297, thick, rel_tol 1e-10): {} ({} per state)", fmt_time(t.median()), fmt_time(t.median() / 100.0));
+    rows.push(format!("thick,sweep100,1e-10,,,{:e},,", t.median()));
+    write_csv(dir, "finite.csv", "tube,model,rel_tol,intervals,newton,time_s,estimate,true_error", &rows);
+    out
+}
+
 fn main() {
     let wall = Instant::now();
     let dir: PathBuf = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench/tube");
@@ -807,6 +869,10 @@ fn main() {
     report.push_str(&rest);
     let mut rest = String::new();
     section_thin_vs_thick(&dir, &mut rest);
+    print!("{rest}");
+    report.push_str(&rest);
+    let mut rest = String::new();
+    let finite = section_finite(&dir, &mut rest);
     print!("{rest}");
     report.push_str(&rest);
 
@@ -836,6 +902,14 @@ fn main() {
             fmt_time(tm.median())
         );
     }
+    let _ = writeln!(
+        rest,
+        "{}  one thick finite-strain state to 1e-10 < 1 ms: {} (true error {:.1e})",
+        pass(finite.state_1e10 < 1e-3 && finite.state_1e10_err <= 1e-10),
+        fmt_time(finite.state_1e10),
+        finite.state_1e10_err
+    );
+    let _ = writeln!(rest, "{}  100-point stretch sweep < 50 ms: {}", pass(finite.sweep_100 < 50e-3), fmt_time(finite.sweep_100));
     let _ = writeln!(rest, "\nCSV and SVG in {}; bench wall time {:.1} s", dir.display(), wall.elapsed().as_secs_f64());
     print!("{rest}");
     report.push_str(&rest);

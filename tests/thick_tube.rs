@@ -79,7 +79,9 @@ fn solid_cylinder_stretch_twist_is_ea_and_gj() {
     let (b, e, nu) = (0.8, 3.0, 0.3);
     let mat = Orthotropic::isotropic(e, nu).unwrap();
     let mu = e / (2.0 * (1.0 + nu));
-    let st = ThickTube::new(0.0, b, 1.0, mat, Compressibility::Compressible).unwrap().stretch_twist_at(24).unwrap();
+    // (Compressible: solved with a 1e−6·b traction-free pinhole on a grid in
+    // ln R, whose O(1e−12) effect the tolerance covers; 40 intervals.)
+    let st = ThickTube::new(0.0, b, 1.0, mat, Compressibility::Compressible).unwrap().stretch_twist_at(40).unwrap();
     assert!((st.stretch - e * PI * b * b).abs() < 1e-12 * st.stretch, "{st:?}");
     assert!((st.twist - mu * PI * b.powi(4) / 2.0).abs() < 1e-12 * st.twist);
     assert!(st.coupling.abs() < 1e-12 * st.stretch);

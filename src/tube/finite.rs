@@ -21,6 +21,7 @@ use crate::error::{self, Error, Result};
 use crate::newton::{self, NewtonOptions};
 use crate::status::Status;
 use crate::tube::material::{WallMaterial, WallStrain};
+use crate::tube::thick::PINHOLE;
 use nalgebra::{DMatrix, DVector, Matrix3};
 use std::f64::consts::PI;
 
@@ -225,6 +226,7 @@ impl<'m> FiniteTube<'m> {
     /// Equilibrium under `loading`, to `opts.rel_tol` (or on a fixed grid).
     pub fn solve(&self, loading: &Loading, opts: &SolveOptions) -> Result<TubeState> {
         validate(loading)?;
+        self.check_solid(loading)?;
         if let Some(n) = opts.intervals {
             error::count_in_range("intervals", n as i64, 4, 256)?;
             return self.solve_with_homotopy(loading, n);
@@ -265,6 +267,17 @@ impl<'m> FiniteTube<'m> {
             }
             n += n / 2;
         }
+    }
+
+    /// A solid cylinder has no inner surface to press on.
+    fn check_solid(&self, loading: &Loading) -> Result<()> {
+        if self.inner_radius == 0.0 && loading.inner_pressure != 0.0 {
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                format!("a solid cylinder has no inner surface: inner_pressure must be 0 (got {:e})", loading.inner_pressure),
+            ));
+        }
+        Ok(())
     }
 
     /// Newton from the free state, continued to the load (see [`Self::continue_to`]).
@@ -321,6 +334,7 @@ impl<'m> FiniteTube<'m> {
         };
         for (i, l) in loadings.iter().enumerate() {
             validate(l)?;
+            self.check_solid(l)?;
             if !l.same_kind(last) {
                 return Err(Error::new(
                     Status::ErrOutOfRange,
@@ -356,13 +370,20 @@ impl<'m> FiniteTube<'m> {
         Ok(Sweep { states, cancelled: false })
     }
 
-    /// Chebyshev in ln R for a hollow tube (spectral even when A ≪ B), in R
-    /// for a solid cylinder.
+    /// Chebyshev in ln R for a hollow tube (spectral even when A ≪ B). A
+    /// solid compressible cylinder is a tube with a traction-free pinhole of
+    /// radius [`PINHOLE`]·B on the same kind of grid (near the axis an
+    /// anisotropic field goes like R^k, non-integer k, which only ln R
+    /// resolves spectrally; the pinhole's core is added back to the
+    /// resultants); a solid incompressible one uses a grid in R with the
+    /// explicit r = R/√λ.
     fn grid(&self, n: usize) -> ChebyshevGrid {
         if self.inner_radius > 0.0 {
             ChebyshevGrid::logarithmic(n, self.inner_radius, self.outer_radius)
-        } else {
+        } else if self.material.incompressible() {
             ChebyshevGrid::new(n, 0.0, self.outer_radius)
+        } else {
+            ChebyshevGrid::logarithmic(n, PINHOLE * self.outer_radius, self.outer_radius)
         }
     }
 
@@ -433,7 +454,7 @@ impl<'m> FiniteTube<'m> {
         let (n, m) = (layout.n, layout.n + 1);
         let (rr, d, w) = (&grid.nodes, &grid.diff, &grid.weights);
         let (mu, b_out, len) = (self.modulus, self.outer_radius, self.outer_radius - self.inner_radius);
-        let solid = self.inner_radius == 0.0;
+        let solid = rr[0] == 0.0; // a grid through the axis (not a pinhole)
         // ds[j][q]: ∂σ/∂q at node j for q = (a, b, λ, γ).
         let mut ds = Vec::with_capacity(m);
         for j in 0..m {
@@ -626,10 +647,11 @@ impl<'m> FiniteTube<'m> {
             let srr = x.rows(m, m);
             let dsrr = &grid.diff * srr;
             for j in 0..m {
-                f[j] = if j == 0 && self.inner_radius == 0.0 { r[0] / b } else { (sigma[j][(0, 0)] - srr[j]) / mu };
+                let axis = grid.nodes[0] == 0.0;
+                f[j] = if j == 0 && axis { r[0] / b } else { (sigma[j][(0, 0)] - srr[j]) / mu };
                 f[m + j] = if j == n {
                     (srr[n] + loading.outer_pressure) / mu
-                } else if j == 0 && self.inner_radius > 0.0 {
+                } else if j == 0 && !axis {
                     (srr[0] + loading.inner_pressure) / mu
                 } else if j == 0 {
                     dsrr[0] * a_len / mu // s'(0) = 0
@@ -667,9 +689,15 @@ impl<'m> FiniteTube<'m> {
             Some(s) => sigma[j][(2, 2)] - (sigma[j][(0, 0)] - s[j]),
             None => sigma[j][(2, 2)],
         };
-        let f = grid.integrate(&DVector::from_fn(m, |j, _| szz(j) * r[j] * dr[j]));
-        let t = grid.integrate(&DVector::from_fn(m, |j, _| sigma[j][(1, 2)] * r[j] * r[j] * dr[j]));
-        (2.0 * PI * f, 2.0 * PI * t)
+        let mut f = 2.0 * PI * grid.integrate(&DVector::from_fn(m, |j, _| szz(j) * r[j] * dr[j]));
+        let mut t = 2.0 * PI * grid.integrate(&DVector::from_fn(m, |j, _| sigma[j][(1, 2)] * r[j] * r[j] * dr[j]));
+        if self.inner_radius == 0.0 && grid.nodes[0] > 0.0 {
+            // The pinhole's core (deformed radius r_0) with the axis field:
+            // σ_zz uniform, σ_θz ∝ r: adds πr_0²σ_zz and πr_0³σ_θz/2.
+            f += PI * r[0] * r[0] * szz(0);
+            t += 0.5 * PI * r[0].powi(3) * sigma[0][(1, 2)];
+        }
+        (f, t)
     }
 
     fn state(&self, grid: &ChebyshevGrid, layout: &Layout, loading: &Loading, x: &DVector<f64>) -> Result<TubeState> {
@@ -810,8 +838,10 @@ mod tests {
         let nh = NeoHookean { shear_modulus: 1.3, lame_lambda: 2.0, incompressible: false };
         for inner in [0.4, 0.0] {
             let tube = FiniteTube::new(inner, 1.1, &nh).unwrap();
-            let loading = Loading { axial: Axial::Force(0.3), torsion: Torsion::Torque(0.1), inner_pressure: 0.2, outer_pressure: 0.05, ends: Ends::Closed };
-            let n = 10;
+            let p_in = if inner > 0.0 { 0.2 } else { 0.0 };
+            let loading = Loading { axial: Axial::Force(0.3), torsion: Torsion::Torque(0.1), inner_pressure: p_in, outer_pressure: 0.05, ends: Ends::Closed };
+            // The solid's pinhole grid spans 14 e-folds of R: more nodes.
+            let n = if inner > 0.0 { 10 } else { 32 };
             let grid = tube.grid(n);
             let layout = tube.layout(&loading, n);
             let m = n + 1;
@@ -827,7 +857,15 @@ mod tests {
             assert!(tube.jacobian(&grid, &layout, &loading, &x, &mut jac));
             let (mut fp, mut fm) = (DVector::zeros(x.len()), DVector::zeros(x.len()));
             for k in 0..x.len() {
-                let h = 1e-6;
+                // Steps that move every strain by ~1e-6: through a = Dr an r
+                // column is amplified by max|D_jk| (up to 1e7 at the pinhole,
+                // where the rows also sum terms of 1e5 that cancel, so the
+                // differences there are good to ~1e-5 only).
+                let h = if k < m {
+                    1e-6 / (0..m).map(|j| grid.diff[(j, k)].abs()).fold(1.0, f64::max)
+                } else {
+                    1e-6 * x[k].abs().max(1.0)
+                };
                 let (mut xp, mut xm) = (x.clone(), x.clone());
                 xp[k] += h;
                 xm[k] -= h;
@@ -835,7 +873,10 @@ mod tests {
                 assert!(tube.residual(&grid, &layout, &loading, &xm, &mut fm));
                 let col = (&fp - &fm) / (2.0 * h);
                 let err = (&col - jac.column(k)).amax();
-                assert!(err < 1e-6 * col.amax().max(1.0), "inner {inner}: column {k}: error {err:e}\n{col}\n{}", jac.column(k));
+                // The differences are noisier across the pinhole (D ~ 1e7 there).
+                let tol = if inner > 0.0 { 1e-6 } else { 1e-4 };
+                let worst = (0..col.len()).max_by(|&a, &b| (col[a] - jac[(a, k)]).abs().partial_cmp(&(col[b] - jac[(b, k)]).abs()).unwrap()).unwrap();
+                assert!(err < tol * col.amax().max(1.0), "inner {inner}: column {k}: error {err:e} of {:e} at row {worst}: {} vs {}", col.amax(), col[worst], jac[(worst, k)]);
             }
         }
     }

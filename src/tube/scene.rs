@@ -207,15 +207,24 @@ impl TubeScene {
         }
         let (mat, comp, tau0) = self.law.small_strain()?;
         let tube = ThickTube::new(0.0, self.outer_radius, tau0, mat, comp)?;
-        let coarse = tube.stretch_twist_at(16)?;
-        let fine = tube.stretch_twist_at(24)?;
-        let scale = fine.stretch.abs().max(fine.twist.abs() / (self.outer_radius * self.outer_radius));
-        let diff = (fine.matrix() - coarse.matrix()).abs();
+        // Grids growing 1.5× until two agree to the tolerance (entries in the
+        // scales S, C/B², g/B).
         let r2 = self.outer_radius * self.outer_radius;
-        let est = (diff[(0, 0)] / scale).max(diff[(0, 1)] / (scale * self.outer_radius)).max(diff[(1, 1)] / (scale * r2));
-        if est > self.rel_tol.max(1e-12) {
-            return Err(Error::new(Status::ErrNotConverged, format!("solid-cylinder rod law: estimated error {est:e}")));
+        let mut coarse = tube.stretch_twist_at(24)?;
+        let mut n = 36;
+        loop {
+            let fine = tube.stretch_twist_at(n)?;
+            let scale = fine.stretch.abs().max(fine.twist.abs() / r2);
+            let diff = (fine.matrix() - coarse.matrix()).abs();
+            let est = (diff[(0, 0)] / scale).max(diff[(0, 1)] / (scale * self.outer_radius)).max(diff[(1, 1)] / (scale * r2));
+            if est <= self.rel_tol.max(1e-12) {
+                return Ok(fine);
+            }
+            if n >= 192 {
+                return Err(Error::new(Status::ErrNotConverged, format!("solid-cylinder rod law: estimated error {est:e} at {n} intervals")));
+            }
+            coarse = fine;
+            n += n / 2;
         }
-        Ok(fine)
     }
 }

@@ -63,6 +63,19 @@ fn tube_block(m: &Orthotropic, alpha: f64) -> Matrix4<f64> {
 }
 const ZZ: usize = 0;
 const TT: usize = 1;
+
+/// Radius of the traction-free pinhole that stands in for the axis of a
+/// solid compressible cylinder, relative to the outer radius.
+pub const PINHOLE: f64 = 1e-6;
+
+/// Condition on the inner surface of the linear problem.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Inner {
+    /// u(A) = A ε_A (columns of K).
+    Displacement,
+    /// σ_RR(A) = 0 (p = 0: the condensed stretch–twist law).
+    TractionFree,
+}
 const RR: usize = 2;
 const ZT: usize = 3;
 
@@ -138,29 +151,42 @@ impl ThickTube {
     /// Condensed stretch–twist law at zero pressure. For a solid cylinder
     /// (A = 0) it is computed directly with regularity u(0) = 0.
     pub fn stretch_twist_at(&self, intervals: usize) -> Result<StretchTwist> {
-        if self.inner_radius > 0.0 {
-            return Ok(self.coupling_stiffness_at(intervals)?.stretch_twist());
-        }
         error::count_in_range("intervals", intervals as i64, 4, 512)?;
-        let cols = self.unit_responses(intervals, &[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])?;
+        // Solved directly with a traction-free inner surface (p = 0) rather
+        // than by condensing K, whose inflation column degenerates as A → 0.
+        let cols = self.unit_responses_with(intervals, &[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], Inner::TractionFree)?;
         let g = 0.5 * (cols[0][1] + cols[1][0]);
         Ok(StretchTwist { stretch: cols[0][0], coupling: g, twist: cols[1][1] })
     }
 
-    /// (F, T, 2πA²p) for each prescribed e = (ε, ψ, ε_A). For a solid
-    /// cylinder ε_A is ignored and u(0) = 0, σ_RR(B) = 0.
+    /// (F, T, 2πA²p) for each prescribed e = (ε, ψ, ε_A), with u(A) = Aε_A.
     fn unit_responses(&self, intervals: usize, cases: &[[f64; 3]]) -> Result<Vec<[f64; 3]>> {
-        // Chebyshev in ln R for a hollow tube: spectral however large B/A.
-        let grid = if self.inner_radius > 0.0 {
-            ChebyshevGrid::logarithmic(intervals, self.inner_radius, self.outer_radius)
+        self.unit_responses_with(intervals, cases, Inner::Displacement)
+    }
+
+    /// As [`Self::unit_responses`] with the inner condition given. A solid
+    /// compressible cylinder is solved as a tube with a traction-free pinhole
+    /// of radius [`PINHOLE`]·B on a grid uniform in ln R: near the axis an
+    /// anisotropic wall's field goes like R^k with non-integer k, which a
+    /// polynomial in R resolves only algebraically but e^{kξ}, ξ = ln R,
+    /// spectrally; the pinhole changes the resultants by O((δ/B)²) ≈ 1e−12.
+    /// (A solid incompressible cylinder has the explicit u = −εR/2.)
+    fn unit_responses_with(&self, intervals: usize, cases: &[[f64; 3]], inner: Inner) -> Result<Vec<[f64; 3]>> {
+        let (a, b) = (self.inner_radius, self.outer_radius);
+        let incompressible = self.compressibility == Compressibility::Incompressible;
+        let (grid, inner) = if a > 0.0 {
+            (ChebyshevGrid::logarithmic(intervals, a, b), inner)
+        } else if incompressible {
+            (ChebyshevGrid::new(intervals, 0.0, b), inner)
         } else {
-            ChebyshevGrid::new(intervals, 0.0, self.outer_radius)
+            (ChebyshevGrid::logarithmic(intervals, PINHOLE * b, b), Inner::TractionFree)
         };
         let r = &grid.nodes;
         let c: Vec<Matrix4<f64>> = r.iter().map(|&ri| tube_block(&self.material, (self.intrinsic_twist * ri).atan())).collect();
-        let out = match self.compressibility {
-            Compressibility::Compressible => self.compressible(&grid, &c, cases)?,
-            Compressibility::Incompressible => self.incompressible(&grid, &c, cases)?,
+        let out = if incompressible {
+            self.incompressible(&grid, &c, cases, inner)?
+        } else {
+            self.compressible(&grid, &c, cases, inner)?
         };
         for f in &out {
             error::finite_result("thick-tube resultants", f)?;
@@ -175,14 +201,18 @@ impl ThickTube {
     /// with u(A) = Aε_A replacing the first at R = A and s(B) = 0 replacing
     /// the second at R = B. Solid cylinder: u(0) = 0 and s'(0) = 0 (fields
     /// even in R) at the axis.
-    fn compressible(&self, grid: &ChebyshevGrid, c: &[Matrix4<f64>], cases: &[[f64; 3]]) -> Result<Vec<[f64; 3]>> {
+    fn compressible(&self, grid: &ChebyshevGrid, c: &[Matrix4<f64>], cases: &[[f64; 3]], inner: Inner) -> Result<Vec<[f64; 3]>> {
         let n = grid.intervals();
         let m = n + 1;
-        let (r, d, a) = (&grid.nodes, &grid.diff, self.inner_radius);
+        let (r, d) = (&grid.nodes, &grid.diff);
+        let a = r[0];
+        let traction_free = inner == Inner::TractionFree;
         let mut l = DMatrix::zeros(2 * m, 2 * m);
         for i in 0..m {
-            // Rows 0..m: constitutive relation at nodes 1..n; BC at node 0.
-            if i == 0 {
+            // Rows 0..m: constitutive relation at nodes 1..n (and at node 0
+            // when the inner surface is traction-free); u(A) = Aε_A at node 0
+            // otherwise.
+            if i == 0 && !traction_free {
                 l[(0, 0)] = 1.0;
             } else {
                 for j in 0..m {
@@ -191,14 +221,12 @@ impl ThickTube {
                 l[(i, i)] += c[i][(RR, TT)] / r[i];
                 l[(i, m + i)] = -1.0;
             }
-            // Rows m..2m: equilibrium at nodes 0..n−1; BC at node n.
+            // Rows m..2m: equilibrium at nodes 0..n−1 (1..n−1 with a
+            // traction-free inner surface, whose row is σ_RR(A) = 0);
+            // σ_RR(B) = 0 at node n.
             let row = m + i;
-            if i == n {
-                l[(row, m + n)] = 1.0;
-            } else if r[i] == 0.0 {
-                for j in 0..m {
-                    l[(row, m + j)] = d[(i, j)];
-                }
+            if i == n || (i == 0 && traction_free) {
+                l[(row, m + i)] = 1.0;
             } else {
                 for j in 0..m {
                     l[(row, m + j)] = r[i] * d[(i, j)];
@@ -216,29 +244,36 @@ impl ThickTube {
             let loaded = |j: usize, row: usize| c[j][(row, ZZ)] * eps + c[j][(row, ZT)] * psi * r[j];
             let mut rhs = DVector::zeros(2 * m);
             for i in 0..m {
-                rhs[i] = if i == 0 { if a > 0.0 { a * eps_a } else { 0.0 } } else { -loaded(i, RR) };
-                rhs[m + i] = if i == n || r[i] == 0.0 { 0.0 } else { loaded(i, TT) };
+                rhs[i] = if i == 0 && !traction_free { a * eps_a } else { -loaded(i, RR) };
+                rhs[m + i] = if i == n || (i == 0 && traction_free) { 0.0 } else { loaded(i, TT) };
             }
             let sol = lu.solve(&rhs).ok_or_else(|| {
                 Error::new(Status::ErrNotConverged, "thick-tube collocation matrix is singular")
             })?;
             let u = sol.rows(0, m).into_owned();
             let du = d * &u;
-            let stress = |j: usize, row: usize| {
-                let hoop = if r[j] > 0.0 { u[j] / r[j] } else { du[j] }; // u/R → u'(0) at the axis
-                c[j][(row, TT)] * hoop + c[j][(row, RR)] * du[j] + loaded(j, row)
-            };
+            let stress = |j: usize, row: usize| c[j][(row, TT)] * u[j] / r[j] + c[j][(row, RR)] * du[j] + loaded(j, row);
             out.push(self.resultants(grid, |j| stress(j, ZZ), |j| stress(j, ZT), -sol[m]));
         }
         Ok(out)
     }
 
-    fn incompressible(&self, grid: &ChebyshevGrid, c: &[Matrix4<f64>], cases: &[[f64; 3]]) -> Result<Vec<[f64; 3]>> {
+    fn incompressible(&self, grid: &ChebyshevGrid, c: &[Matrix4<f64>], cases: &[[f64; 3]], inner: Inner) -> Result<Vec<[f64; 3]>> {
         let (r, a, n) = (&grid.nodes, self.inner_radius, grid.intervals());
         let mut out = Vec::with_capacity(cases.len());
         for &[eps, psi, eps_a] in cases {
-            // Solid cylinder: D = 0 (regularity), u = −εR/2.
-            let dd = if a > 0.0 { a * a * (eps_a + 0.5 * eps) } else { 0.0 };
+            // Solid cylinder: D = 0 (regularity), u = −εR/2. A traction-free
+            // inner surface fixes D by σ_RR(A) = 0 instead of by ε_A: the
+            // response is linear in D, so solve for it from two evaluations.
+            let dd = if a == 0.0 {
+                0.0
+            } else if inner == Inner::Displacement {
+                a * a * (eps_a + 0.5 * eps)
+            } else {
+                let p_of = |d: f64| self.incompressible_pressure(grid, c, eps, psi, d);
+                let (p0, p1) = (p_of(0.0), p_of(1.0));
+                -p0 / (p1 - p0)
+            };
             // Stresses without the multiplier: σ̂ = ℂ̄ (ε, u/R, u', ψR).
             let hat = |j: usize, row: usize| {
                 let w = if dd == 0.0 { 0.0 } else { dd / (r[j] * r[j]) };
@@ -256,12 +291,31 @@ impl ThickTube {
         Ok(out)
     }
 
+    /// Inner pressure p = ∫(σ̂_ΘΘ − σ̂_RR)/R dR of the incompressible wall for
+    /// u = −εR/2 + D/R (linear in D).
+    fn incompressible_pressure(&self, grid: &ChebyshevGrid, c: &[Matrix4<f64>], eps: f64, psi: f64, dd: f64) -> f64 {
+        let r = &grid.nodes;
+        let jump = DVector::from_fn(r.len(), |j, _| {
+            let w = dd / (r[j] * r[j]);
+            let row = |k: usize| c[j][(k, ZZ)] * eps + c[j][(k, TT)] * (-0.5 * eps + w) + c[j][(k, RR)] * (-0.5 * eps - w) + c[j][(k, ZT)] * psi * r[j];
+            (row(TT) - row(RR)) / r[j]
+        });
+        grid.integrate(&jump)
+    }
+
     /// (F, T, 2πA²p) = (2π∫σ_ZZ R dR, 2π∫τ_ZΘ R² dR, 2πA²p).
     fn resultants(&self, grid: &ChebyshevGrid, szz: impl Fn(usize) -> f64, szt: impl Fn(usize) -> f64, p: f64) -> [f64; 3] {
         let r = &grid.nodes;
-        let f = grid.integrate(&DVector::from_fn(r.len(), |j, _| szz(j) * r[j]));
-        let t = grid.integrate(&DVector::from_fn(r.len(), |j, _| szt(j) * r[j] * r[j]));
+        let mut f = 2.0 * PI * grid.integrate(&DVector::from_fn(r.len(), |j, _| szz(j) * r[j]));
+        let mut t = 2.0 * PI * grid.integrate(&DVector::from_fn(r.len(), |j, _| szt(j) * r[j] * r[j]));
+        if self.inner_radius == 0.0 && r[0] > 0.0 {
+            // The pinhole's core, 0 ≤ R ≤ δ, with the axis values of the
+            // field (σ_ZZ uniform, τ_ZΘ ∝ R): adds πδ²σ_ZZ and πδ³τ_ZΘ/2.
+            let d = r[0];
+            f += PI * d * d * szz(0);
+            t += 0.5 * PI * d * d * d * szt(0);
+        }
         let a = self.inner_radius;
-        [2.0 * PI * f, 2.0 * PI * t, 2.0 * PI * a * a * p]
+        [f, t, 2.0 * PI * a * a * p]
     }
 }

@@ -241,8 +241,12 @@ impl<'m> FiniteTube<'m> {
             match self.solve_with_homotopy(loading, n) {
                 Ok(mut fine) => {
                     if let Some(coarse) = &previous {
+                        // Round-off floor as for the linear solver (thick.rs):
+                        // 32nε, growing like nε·B/t for very thin walls.
+                        let thinness = self.outer_radius / (self.outer_radius - self.inner_radius);
                         let est = state_difference(coarse, &fine, self.outer_radius, self.modulus)
-                            .max(32.0 * n as f64 * f64::EPSILON);
+                            .max(32.0 * n as f64 * f64::EPSILON)
+                            .max(n as f64 * f64::EPSILON * thinness);
                         fine.error_estimate = est;
                         if est <= opts.rel_tol {
                             return Ok(fine);

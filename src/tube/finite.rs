@@ -57,11 +57,6 @@ pub struct Loading {
 }
 
 impl Loading {
-    /// The stress-free state's loading: λ = 1, ψ = 0, no pressure.
-    pub fn free() -> Self {
-        Loading { axial: Axial::Stretch(1.0), torsion: Torsion::Twist(0.0), inner_pressure: 0.0, outer_pressure: 0.0, ends: Ends::Open }
-    }
-
     /// Torsionally relaxed stretching: stretch λ, zero torque, no pressure,
     /// open ends.
     pub fn torsion_free_stretch(stretch: f64) -> Self {

@@ -1,7 +1,7 @@
 //! rodkit: mechanics of elastic tubes and rods with a stable C ABI.
 //!
 //! The physics follows `../shared/spec/physics.md`; the C conventions
-//! `../shared/spec/c-api.md`. All `unsafe` code lives in [`capi`], which is
+//! `../shared/spec/c-api.md`. All code that opts out of the lint below lives in [`capi`], which is
 //! the only place allowed to opt out of the lint below.
 #![deny(unsafe_code)]
 

@@ -77,6 +77,14 @@ pub(crate) unsafe fn arg_mut<'a, T>(name: &str, ptr: *mut T) -> Result<&'a mut T
     ptr.as_mut().ok_or_else(|| null_error(name))
 }
 
+/// Qualify the argument named in an error message with the C struct it came
+/// from (`argument \`e2\`` → `argument \`spec.e2\``), so a C caller sees the
+/// field it set.
+pub(crate) fn qualify_argument(mut e: Error, prefix: &str) -> Error {
+    e.message = e.message.replacen("argument `", &format!("argument `{prefix}"), 1);
+    e
+}
+
 pub(crate) fn null_error(name: &str) -> Error {
     Error::new(Status::ErrNullPointer, format!("argument `{name}` is NULL"))
 }

@@ -1,6 +1,6 @@
 //! C ABI of the tube models (`physics.md` §1).
 
-use super::{arg_mut, arg_ref, guard, write_matrix};
+use super::{arg_mut, arg_ref, guard, qualify_argument, write_matrix};
 use crate::error::Result;
 use crate::status::Status;
 use crate::tube::{OrthotropicSurface, ThinTube};
@@ -48,15 +48,10 @@ pub struct FreeTubeResponse {
 }
 
 fn thin_tube(spec: &ThinTubeSpec) -> Result<ThinTube> {
-    let material = OrthotropicSurface::new(spec.e1, spec.e2, spec.nu12, spec.g12).map_err(|e| spec_field(e))?;
-    ThinTube::new(spec.mid_radius, spec.thickness, spec.intrinsic_twist, material).map_err(|e| spec_field(e))
+    let material = OrthotropicSurface::new(spec.e1, spec.e2, spec.nu12, spec.g12).map_err(|e| qualify_argument(e, "spec."))?;
+    ThinTube::new(spec.mid_radius, spec.thickness, spec.intrinsic_twist, material).map_err(|e| qualify_argument(e, "spec."))
 }
 
-/// Argument names in messages read `spec.e2` at the C boundary.
-fn spec_field(mut e: crate::Error) -> crate::Error {
-    e.message = e.message.replacen("argument `", "argument `spec.", 1);
-    e
-}
 
 /// Fill `spec` with its defaults: every field NaN (unset). Set all of them.
 #[no_mangle]

@@ -2,7 +2,7 @@
 //! loadings, states, profiles through the wall, sweeps with a progress
 //! callback, the linear coupling stiffness and the section's rod law.
 
-use super::{arg_mut, arg_ref, guard, null_error, write_matrix};
+use super::{arg_mut, arg_ref, guard, null_error, qualify_argument, write_matrix};
 use crate::error::{self, Error, Result};
 use crate::status::Status;
 use crate::tube::finite::{Axial, Ends, Loading, Torsion, TubeState as State};
@@ -190,11 +190,6 @@ fn nan_default_material() -> WallMaterialSpec {
     }
 }
 
-fn named(mut e: Error, prefix: &str) -> Error {
-    e.message = e.message.replacen("argument `", &format!("argument `{prefix}"), 1);
-    e
-}
-
 fn flag(name: &str, v: i32) -> Result<bool> {
     match v {
         0 => Ok(false),
@@ -209,7 +204,7 @@ fn law(m: &WallMaterialSpec) -> Result<Law> {
     let l = match m.law {
         1 => {
             let o = Orthotropic::new(m.e1, m.e2, m.e3, m.nu12, m.nu13, m.nu23, m.g12, m.g13, m.g23)
-                .map_err(|e| named(e, "material."))?;
+                .map_err(|e| qualify_argument(e, "material."))?;
             Law::SaintVenantKirchhoff(SaintVenantKirchhoff::new(o, m.intrinsic_twist, inc))
         }
         2 => Law::NeoHookean(nh()),
@@ -237,7 +232,7 @@ fn law(m: &WallMaterialSpec) -> Result<Law> {
             ))
         }
     };
-    l.validate().map_err(|e| named(e, "material."))?;
+    l.validate().map_err(|e| qualify_argument(e, "material."))?;
     Ok(l)
 }
 
@@ -345,7 +340,7 @@ pub unsafe extern "C" fn rodkit_tube_new(spec: *const TubeSpec, out: *mut *mut T
             n => Some(error::count_in_range("spec.intervals", n, 4, 256)? as usize),
         };
         let scene = TubeScene::new(spec.inner_radius, spec.outer_radius, law(&spec.material)?, model, spec.rel_tol, intervals)
-            .map_err(|e| named(e, "spec."))?;
+            .map_err(|e| qualify_argument(e, "spec."))?;
         *out = Box::into_raw(Box::new(Tube { scene }));
         Ok(Status::Ok)
     })
@@ -460,7 +455,7 @@ pub unsafe extern "C" fn rodkit_tube_sweep(
         let list = input
             .iter()
             .enumerate()
-            .map(|(i, l)| self::loading(l).map_err(|e| named(e, &format!("loadings[{i}]."))))
+            .map(|(i, l)| self::loading(l).map_err(|e| qualify_argument(e, &format!("loadings[{i}]."))))
             .collect::<Result<Vec<_>>>()?;
         let out = std::slice::from_raw_parts_mut(states, n);
         let mut written = 0usize;

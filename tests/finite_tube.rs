@@ -219,3 +219,46 @@ fn inflation_sweeps_with_and_without_axial_restraint() {
         assert!(f.deformed_inner_radius > free[0].deformed_inner_radius);
     }
 }
+
+/// A fibre family that turns on inside the wall (I4 = 1 at an interior
+/// radius; helix angle 55°→61° through the wall with τ0 = 1.8, stretched
+/// 1.2 at zero torque): the stress is only C⁰ there. With breakpoints at the
+/// switch radii the solver stays spectral. References: the law itself
+/// (I4 = 1 at every reported switch radius), and a converged finer solution
+/// (140 fixed intervals on the same pieces) for the error of the adaptive
+/// answer, which must lie within its own two-grid estimate (×10 margin).
+/// Independently, tests/sundials_tube.rs checks the state against IDA.
+#[test]
+fn fibre_switch_inside_the_wall_is_resolved() {
+    use rodkit::tube::material::{FibreAngle, FibreFamily, FibreReinforced, WallMaterial, WallStrain};
+    for incompressible in [false, true] {
+        let fam = |hand: f64, k1: f64| FibreFamily { angle: FibreAngle::Helix { hand }, k1, k2: 0.8 };
+        let material = FibreReinforced {
+            matrix: NeoHookean { shear_modulus: 0.3, lame_lambda: 3.0, incompressible },
+            families: vec![fam(1.0, 2.3), fam(-1.0, 1.2)],
+            intrinsic_twist: 1.8,
+        };
+        let tube = FiniteTube::new(0.8, 1.0, &material).unwrap();
+        let loading = load(Axial::Stretch(1.2), Torsion::Torque(0.0), 0.0);
+        let reference = tube.solve(&loading, &SolveOptions { rel_tol: 1e-10, intervals: Some(140) }).unwrap();
+        for tol in [1e-6, 1e-9, 1e-12] {
+            let s = tube.solve(&loading, &SolveOptions { rel_tol: tol, intervals: None }).unwrap();
+            assert!(!s.switch_radii.is_empty(), "incompressible {incompressible}: no switch found");
+            assert!(s.intervals <= 80, "incompressible {incompressible}, tol {tol:e}: {} intervals (not spectral)", s.intervals);
+            // Every switch radius is a zero of some family's I4 − 1.
+            let p = &s.profile;
+            for &rs in &s.switch_radii {
+                let j = p.reference_radius.iter().position(|&x| x == rs).expect("switch radius is a node");
+                let strain = WallStrain { radial: 1.0, hoop: p.radius[j] / rs, axial: s.stretch, shear: p.radius[j] * s.twist };
+                let c = strain.right_cauchy_green();
+                let g = (0..2).map(|k| material.switch_value(k, rs, &c).abs()).fold(f64::INFINITY, f64::min);
+                assert!(g < 1e-9, "I4 − 1 = {g:e} at the switch radius {rs}");
+            }
+            let err = ((s.twist - reference.twist) * 1.0).abs()
+                .max((s.deformed_outer_radius - reference.deformed_outer_radius).abs())
+                .max((s.wall_force - reference.wall_force).abs() / (0.3 * PI));
+            assert!(err <= (10.0 * s.error_estimate).max(1e-12), "incompressible {incompressible}, tol {tol:e}: error {err:e}, estimate {:e}", s.error_estimate);
+            assert!(err <= 10.0 * tol, "incompressible {incompressible}, tol {tol:e}: error {err:e}");
+        }
+    }
+}

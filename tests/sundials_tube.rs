@@ -685,13 +685,10 @@ fn finite_tube_agrees_with_ida_shooting_and_kinsol() {
 /// an interior radius: with τ0 = 1.8 the helix angle runs from 55° at A to
 /// 61° at B, and under λ = 1.2 the fibres are taut near A and slack near B).
 /// The stress is then only C⁰ in R at that radius. IDA shooting handles it
-/// (self-check ≈ 3e−10), but the Chebyshev solver converges only
-/// algebraically there: at rel_tol 1e−12 it stops at 135 intervals with
-/// ErrNotConverged (estimate 2e−7–8e−7), and even 256 fixed intervals leave
-/// ψ off by 3e−5–1e−4 relative. Ignored until FiniteTube resolves the switch
-/// (e.g. a breakpoint at I4 = 1); it then becomes the regression test.
+/// with its step control (self-check ≈ 3e−10); FiniteTube puts a Chebyshev
+/// breakpoint at each switch radius (without it: algebraic convergence,
+/// ErrNotConverged at rel_tol 1e−12 after 135 intervals).
 #[test]
-#[ignore = "FiniteTube does not converge when a fibre family switches on inside the wall"]
 fn fibre_switching_inside_the_wall() {
     let ctx = Context::new().unwrap();
     for incompressible in [false, true] {

@@ -16,7 +16,7 @@
 //! the caps: equal for open ends, wall_force − πa²p + πb²p_o for closed ends.
 //! Torque T = 2π∫σ_θz r² dr.
 
-use crate::chebyshev::ChebyshevGrid;
+use crate::chebyshev::PiecewiseGrid;
 use crate::error::{self, Error, Result};
 use crate::newton::{self, NewtonOptions};
 use crate::status::Status;
@@ -163,6 +163,10 @@ pub struct TubeState {
     /// 0 when a fixed grid was requested).
     pub error_estimate: f64,
     pub newton_iterations: usize,
+    /// Reference radii where the wall law switches inside the wall (a fibre
+    /// family turning on at I4 = 1), ascending: the wall was solved in
+    /// Chebyshev pieces between them and the profile repeats each one.
+    pub switch_radii: Vec<f64>,
     pub profile: WallProfile,
 }
 
@@ -281,20 +285,123 @@ impl<'m> FiniteTube<'m> {
 
     /// Newton from the free state, continued to the load (see [`Self::continue_to`]).
     fn solve_with_homotopy(&self, loading: &Loading, n: usize) -> Result<TubeState> {
-        let grid = self.grid(n);
-        let layout = self.layout(loading, n);
+        let grid = self.grid(n, &[]);
+        let layout = self.layout(loading, &grid);
         let mut x = self.initial_guess(&grid, &layout);
-        let iterations = self.continue_to(&grid, &layout, &mut x, &loading.rest(), loading)?;
+        let mut iterations = self.continue_to(&grid, &layout, &mut x, &loading.rest(), loading)?;
+        let (grid, layout) = self.resolve_switches(n, grid, layout, loading, &mut x, &mut iterations)?;
         let mut state = self.state(&grid, &layout, loading, &x)?;
         state.newton_iterations = iterations;
-        self.check_stability(&state)?;
+        self.check_stability(&grid, &state)?;
         Ok(state)
+    }
+
+    /// Where the law switches inside the wall (a fibre family turning on at
+    /// I4 = 1: the stress is only C⁰ in the strain there), re-solve with a
+    /// breakpoint at each switch radius of the solution until the breakpoints
+    /// stop moving (fixed-point iteration: a breakpoint off by δ costs O(δ²)
+    /// in the fields, so the radii settle in a few rounds). Each round starts
+    /// Newton from the previous solution interpolated onto the new pieces.
+    fn resolve_switches(&self, n: usize, mut grid: PiecewiseGrid, mut layout: Layout, loading: &Loading,
+                        x: &mut DVector<f64>, iterations: &mut usize) -> Result<(PiecewiseGrid, Layout)> {
+        if self.material.switches() == 0 {
+            return Ok((grid, layout));
+        }
+        let settle = 1e-9 * (self.outer_radius - self.inner_radius);
+        for _ in 0..16 {
+            let found = self.switch_radii(&grid, &layout, loading, x);
+            let current = grid.breaks();
+            if found.len() == current.len() && found.iter().zip(&current).all(|(a, b)| (a - b).abs() <= settle) {
+                return Ok((grid, layout));
+            }
+            let new_grid = self.grid(n, &found);
+            let new_layout = self.layout(loading, &new_grid);
+            let mut new_x = self.transfer(&grid, &layout, x, &new_grid, &new_layout);
+            match self.newton(&new_grid, &new_layout, loading, &mut new_x) {
+                Ok(it) => *iterations += it,
+                Err(_) => {
+                    new_x = self.initial_guess(&new_grid, &new_layout);
+                    *iterations += self.continue_to(&new_grid, &new_layout, &mut new_x, &loading.rest(), loading)?;
+                }
+            }
+            (grid, layout, *x) = (new_grid, new_layout, new_x);
+        }
+        Err(Error::new(
+            Status::ErrNotConverged,
+            format!("finite-strain tube: the radii where the wall law switches (e.g. fibres turning on) did not settle; last {:?}", grid.breaks()),
+        ))
+    }
+
+    /// Radii where a switching function of the law changes sign in the
+    /// solution `x`, ascending; a function that stays within 1e−9 of zero
+    /// through the wall is ignored (its kink is below round-off in the stress).
+    fn switch_radii(&self, grid: &PiecewiseGrid, layout: &Layout, loading: &Loading, x: &DVector<f64>) -> Vec<f64> {
+        let (lambda, psi) = self.prescribed(layout, loading, x);
+        let Some((r, dr, _)) = self.fields(grid, layout, x, lambda, psi) else { return grid.breaks() };
+        let g = |k: usize, big: f64| {
+            let (rv, drv) = (grid.interpolate(&r, big), grid.interpolate(&dr, big));
+            let hoop = if big > 0.0 { rv / big } else { drv };
+            let strain = WallStrain { radial: drv, hoop, axial: lambda, shear: rv * psi };
+            self.material.switch_value(k, big, &strain.right_cauchy_green())
+        };
+        let nodes = &grid.nodes;
+        let interfaces = grid.interfaces();
+        let mut roots = Vec::new();
+        for k in 0..self.material.switches() {
+            let values: Vec<f64> = nodes.iter().map(|&big| g(k, big)).collect();
+            let scale = values.iter().fold(0.0f64, |acc, v| acc.max(v.abs()));
+            if scale < 1e-9 {
+                continue;
+            }
+            for &i in &interfaces {
+                // A settled breakpoint sits on the switch: g ≈ 0 there.
+                if values[i].abs() <= 1e-12 * scale {
+                    roots.push(nodes[i]);
+                }
+            }
+            for j in 0..nodes.len() - 1 {
+                if values[j] * values[j + 1] < 0.0 && nodes[j] < nodes[j + 1] {
+                    roots.push(bracketed_root(|big| g(k, big), nodes[j], nodes[j + 1], values[j], values[j + 1]));
+                }
+            }
+        }
+        roots.sort_by(f64::total_cmp);
+        let (a, b) = (nodes[0], nodes[nodes.len() - 1]);
+        let close = 1e-6 * (b - a);
+        let mut out: Vec<f64> = Vec::with_capacity(roots.len());
+        for root in roots {
+            if root - a > close && b - root > close && out.last().is_none_or(|&last| root - last > close) {
+                out.push(root);
+            }
+        }
+        out
+    }
+
+    /// `x` on `from` carried to the nodes of `to` (interpolated r and σ_rr;
+    /// λ, ψ and the incompressible inner radius copied).
+    fn transfer(&self, from: &PiecewiseGrid, from_layout: &Layout, x: &DVector<f64>, to: &PiecewiseGrid, to_layout: &Layout) -> DVector<f64> {
+        if self.material.incompressible() {
+            return x.clone();
+        }
+        let (m_old, m_new) = (from_layout.n + 1, to_layout.n + 1);
+        let extra = x.len() - 2 * m_old;
+        let r = x.rows(0, m_old).into_owned();
+        let s = x.rows(m_old, m_old).into_owned();
+        let mut y = DVector::zeros(2 * m_new + extra);
+        for j in 0..m_new {
+            y[j] = from.interpolate(&r, to.nodes[j]);
+            y[m_new + j] = from.interpolate(&s, to.nodes[j]);
+        }
+        for e in 0..extra {
+            y[2 * m_new + e] = x[2 * m_old + e];
+        }
+        y
     }
 
     /// From the solution `x` at `from`, reach `to`: Newton straight there,
     /// and on failure along the straight load path in bisected increments
     /// (load homotopy, at most 2⁸ increments). Returns Newton iterations.
-    fn continue_to(&self, grid: &ChebyshevGrid, layout: &Layout, x: &mut DVector<f64>, from: &Loading, to: &Loading) -> Result<usize> {
+    fn continue_to(&self, grid: &PiecewiseGrid, layout: &Layout, x: &mut DVector<f64>, from: &Loading, to: &Loading) -> Result<usize> {
         let (mut s_done, mut ds, mut iterations) = (0.0f64, 1.0f64, 0);
         while s_done < 1.0 {
             let s = (s_done + ds).min(1.0);
@@ -348,17 +455,19 @@ impl<'m> FiniteTube<'m> {
                 (end.intervals, end.error_estimate)
             }
         };
-        let grid = self.grid(n);
-        let layout = self.layout(last, n);
+        let mut grid = self.grid(n, &[]);
+        let mut layout = self.layout(last, &grid);
         let mut x = self.initial_guess(&grid, &layout);
         let mut from = last.rest();
         let mut states = Vec::with_capacity(loadings.len());
         for (i, loading) in loadings.iter().enumerate() {
-            let iterations = self.continue_to(&grid, &layout, &mut x, &from, loading)?;
+            let mut iterations = self.continue_to(&grid, &layout, &mut x, &from, loading)?;
+            // Switch radii move along the sweep: the pieces follow them.
+            (grid, layout) = self.resolve_switches(n, grid, layout, loading, &mut x, &mut iterations)?;
             let mut state = self.state(&grid, &layout, loading, &x)?;
             state.newton_iterations = iterations;
             state.error_estimate = estimate;
-            self.check_stability(&state)?;
+            self.check_stability(&grid, &state)?;
             from = *loading;
             let go_on = progress(i, &state);
             states.push(state);
@@ -376,24 +485,29 @@ impl<'m> FiniteTube<'m> {
     /// resolves spectrally; the pinhole's core is added back to the
     /// resultants); a solid incompressible one uses a grid in R with the
     /// explicit r = R/√λ.
-    fn grid(&self, n: usize) -> ChebyshevGrid {
+    /// With `breaks`, one piece between each pair of consecutive breakpoints
+    /// (at least 6 intervals each; see [`Self::resolve_switches`]).
+    fn grid(&self, n: usize, breaks: &[f64]) -> PiecewiseGrid {
+        let b = self.outer_radius;
         if self.inner_radius > 0.0 {
-            ChebyshevGrid::logarithmic(n, self.inner_radius, self.outer_radius)
+            PiecewiseGrid::new(n, self.inner_radius, b, breaks, true, 6)
         } else if self.material.incompressible() {
-            ChebyshevGrid::new(n, 0.0, self.outer_radius)
+            PiecewiseGrid::new(n, 0.0, b, breaks, false, 6)
         } else {
-            ChebyshevGrid::logarithmic(n, PINHOLE * self.outer_radius, self.outer_radius)
+            PiecewiseGrid::new(n, PINHOLE * b, b, breaks, true, 6)
         }
     }
 
-    fn layout(&self, loading: &Loading, n: usize) -> Layout {
+    /// `n` in the layout is the node count − 1 (interface nodes counted twice).
+    fn layout(&self, loading: &Loading, grid: &PiecewiseGrid) -> Layout {
+        let n = grid.nodes.len() - 1;
         let base = if self.material.incompressible() { 1 } else { 2 * (n + 1) };
         let stretch = matches!(loading.axial, Axial::Force(_)).then_some(base);
         let twist = matches!(loading.torsion, Torsion::Torque(_)).then_some(base + stretch.is_some() as usize);
         Layout { n, stretch, twist }
     }
 
-    fn initial_guess(&self, grid: &ChebyshevGrid, layout: &Layout) -> DVector<f64> {
+    fn initial_guess(&self, grid: &PiecewiseGrid, layout: &Layout) -> DVector<f64> {
         let mut x = if self.material.incompressible() {
             DVector::from_element(1, self.inner_radius)
         } else {
@@ -409,7 +523,7 @@ impl<'m> FiniteTube<'m> {
         x
     }
 
-    fn newton(&self, grid: &ChebyshevGrid, layout: &Layout, loading: &Loading, x: &mut DVector<f64>) -> Result<usize> {
+    fn newton(&self, grid: &PiecewiseGrid, layout: &Layout, loading: &Loading, x: &mut DVector<f64>) -> Result<usize> {
         let b = self.outer_radius;
         let m = layout.n + 1;
         let incompressible = self.material.incompressible();
@@ -447,7 +561,7 @@ impl<'m> FiniteTube<'m> {
     /// law, 8 evaluations a node) and the chain rule through a = Dr, b = r/R,
     /// γ = rψ: O(n) law evaluations instead of O(n²) for differencing the
     /// whole residual, and no n²-amplified round-off in the columns.
-    fn jacobian(&self, grid: &ChebyshevGrid, layout: &Layout, loading: &Loading, x: &DVector<f64>, jac: &mut DMatrix<f64>) -> bool {
+    fn jacobian(&self, grid: &PiecewiseGrid, layout: &Layout, loading: &Loading, x: &DVector<f64>, jac: &mut DMatrix<f64>) -> bool {
         let (lambda, psi) = self.prescribed(layout, loading, x);
         let Some((r, dr, sigma)) = self.fields(grid, layout, x, lambda, psi) else { return false };
         let (n, m) = (layout.n, layout.n + 1);
@@ -482,6 +596,7 @@ impl<'m> FiniteTube<'m> {
         };
         let (rr_c, tt_c, zz_c, tz_c) = ((0, 0), (1, 1), (2, 2), (1, 2));
         jac.fill(0.0);
+        let interfaces = grid.interfaces();
         let srr = x.rows(m, m);
         let dsrr = d * srr;
         for j in 0..m {
@@ -500,9 +615,15 @@ impl<'m> FiniteTube<'m> {
                     jac[(j, i)] = ds[j][3][rr_c] * r[j] / mu;
                 }
             }
-            // Equilibrium rows.
+            // Equilibrium rows (continuity across breakpoints).
             let row = m + j;
-            if j == n || (j == 0 && !solid) {
+            if interfaces.contains(&j) {
+                jac[(row, j)] = 1.0 / b_out;
+                jac[(row, j + 1)] = -1.0 / b_out;
+            } else if j > 0 && interfaces.contains(&(j - 1)) {
+                jac[(row, m + j - 1)] = 1.0 / mu;
+                jac[(row, m + j)] = -1.0 / mu;
+            } else if j == n || (j == 0 && !solid) {
                 jac[(row, m + j)] = 1.0 / mu;
             } else if j == 0 {
                 for k in 0..m {
@@ -572,7 +693,7 @@ impl<'m> FiniteTube<'m> {
 
     /// Deformed radius r, its derivative r' and the Cauchy stress at each
     /// node; `None` outside the domain (r or r' ≤ 0, λ ≤ 0, non-finite).
-    fn fields(&self, grid: &ChebyshevGrid, layout: &Layout, x: &DVector<f64>, lambda: f64, psi: f64)
+    fn fields(&self, grid: &PiecewiseGrid, layout: &Layout, x: &DVector<f64>, lambda: f64, psi: f64)
         -> Option<(DVector<f64>, DVector<f64>, Vec<Matrix3<f64>>)> {
         if !(lambda > 0.0) {
             return None;
@@ -612,7 +733,7 @@ impl<'m> FiniteTube<'m> {
     /// Radial stress through the wall for an incompressible law (the
     /// multiplier eliminated): σ_rr(A) = −p plus the integral of equilibrium;
     /// for a solid cylinder, anchored at σ_rr(B) = −p_o instead.
-    fn incompressible_radial_stress(&self, grid: &ChebyshevGrid, r: &DVector<f64>, dr: &DVector<f64>,
+    fn incompressible_radial_stress(&self, grid: &PiecewiseGrid, r: &DVector<f64>, dr: &DVector<f64>,
                                     sigma: &[Matrix3<f64>], loading: &Loading) -> DVector<f64> {
         let m = r.len();
         let g = DVector::from_fn(m, |j, _| if r[j] > 0.0 { (sigma[j][(1, 1)] - sigma[j][(0, 0)]) * dr[j] / r[j] } else { 0.0 });
@@ -625,7 +746,7 @@ impl<'m> FiniteTube<'m> {
         }
     }
 
-    fn residual(&self, grid: &ChebyshevGrid, layout: &Layout, loading: &Loading, x: &DVector<f64>, f: &mut DVector<f64>) -> bool {
+    fn residual(&self, grid: &PiecewiseGrid, layout: &Layout, loading: &Loading, x: &DVector<f64>, f: &mut DVector<f64>) -> bool {
         let (lambda, psi) = self.prescribed(layout, loading, x);
         let Some((r, dr, sigma)) = self.fields(grid, layout, x, lambda, psi) else { return false };
         let (a_len, b) = (self.outer_radius - self.inner_radius, self.outer_radius);
@@ -642,13 +763,20 @@ impl<'m> FiniteTube<'m> {
             // Rows 0..m: s_j = σ_rr(r'_j, …) (r(0) = 0 at a solid's axis).
             // Rows m..2m: s' = (σ_θθ − s) r'/r inside, s(A) = −p (s'(0) = 0 at
             // a solid's axis) and s(B) = −p_o at the ends.
+            // Across a breakpoint (left copy i, right copy i + 1): r and s
+            // continuous, in place of the two copies' equilibrium rows.
             let m = n + 1;
             let srr = x.rows(m, m);
             let dsrr = &grid.diff * srr;
+            let interfaces = grid.interfaces();
             for j in 0..m {
                 let axis = grid.nodes[0] == 0.0;
                 f[j] = if j == 0 && axis { r[0] / b } else { (sigma[j][(0, 0)] - srr[j]) / mu };
-                f[m + j] = if j == n {
+                f[m + j] = if interfaces.contains(&j) {
+                    (r[j] - r[j + 1]) / b
+                } else if j > 0 && interfaces.contains(&(j - 1)) {
+                    (srr[j - 1] - srr[j]) / mu
+                } else if j == n {
                     (srr[n] + loading.outer_pressure) / mu
                 } else if j == 0 && !axis {
                     (srr[0] + loading.inner_pressure) / mu
@@ -681,7 +809,7 @@ impl<'m> FiniteTube<'m> {
 
     /// (F_wall, T) = (2π∫σ_zz r r' dR, 2π∫σ_θz r² r' dR); for incompressible
     /// laws σ_zz = σ̂_zz − p̂ with p̂ = σ̂_rr − σ_rr.
-    fn resultants(&self, grid: &ChebyshevGrid, r: &DVector<f64>, dr: &DVector<f64>, sigma: &[Matrix3<f64>],
+    fn resultants(&self, grid: &PiecewiseGrid, r: &DVector<f64>, dr: &DVector<f64>, sigma: &[Matrix3<f64>],
                   srr: Option<&DVector<f64>>) -> (f64, f64) {
         let m = r.len();
         let szz = |j: usize| match srr {
@@ -699,7 +827,7 @@ impl<'m> FiniteTube<'m> {
         (f, t)
     }
 
-    fn state(&self, grid: &ChebyshevGrid, layout: &Layout, loading: &Loading, x: &DVector<f64>) -> Result<TubeState> {
+    fn state(&self, grid: &PiecewiseGrid, layout: &Layout, loading: &Loading, x: &DVector<f64>) -> Result<TubeState> {
         let (lambda, psi) = self.prescribed(layout, loading, x);
         let (r, dr, sigma) = self.fields(grid, layout, x, lambda, psi).ok_or_else(|| {
             Error::new(Status::ErrNonFiniteResult, "finite-strain tube: converged state is outside the domain")
@@ -732,9 +860,10 @@ impl<'m> FiniteTube<'m> {
             outer_pressure: loading.outer_pressure,
             deformed_inner_radius: if self.inner_radius > 0.0 { r[0] } else { 0.0 },
             deformed_outer_radius: r[n],
-            intervals: n,
+            intervals: grid.intervals(),
             error_estimate: 0.0,
             newton_iterations: 0,
+            switch_radii: grid.breaks(),
             profile,
         };
         let scalars = [state.stretch, state.twist, state.wall_force, state.torque, state.deformed_inner_radius, state.deformed_outer_radius];
@@ -747,13 +876,12 @@ impl<'m> FiniteTube<'m> {
     /// (second differences of W, Cholesky). Saint Venant–Kirchhoff fails this
     /// in strong compression (its nominal stress turns back below stretch
     /// 1/√3), where the "equilibrium" is not physical.
-    fn check_stability(&self, state: &TubeState) -> Result<()> {
+    fn check_stability(&self, grid: &PiecewiseGrid, state: &TubeState) -> Result<()> {
         if self.material.incompressible() {
             return Ok(());
         }
         let p = &state.profile;
         let n = p.radius.len() - 1;
-        let grid = self.grid(n);
         let r = DVector::from_vec(p.radius.clone());
         let dr = &grid.diff * &r;
         for j in 0..=n {
@@ -811,6 +939,56 @@ fn validate(loading: &Loading) -> Result<()> {
 /// own scales: radii per B, stretch, twist × B, force per μπB², torque per
 /// μπB³ (so a state near rest is not judged by the relative change of tiny
 /// resultants).
+/// Root of g in [a, b] with g(a) = ga, g(b) = gb of opposite signs: Illinois
+/// regula falsi, with a bisection whenever the bracket fails to halve, to
+/// 1e−15 of the bracket (or an exact zero).
+fn bracketed_root(g: impl Fn(f64) -> f64, mut a: f64, mut b: f64, mut ga: f64, mut gb: f64) -> f64 {
+    let tol = 1e-15 * (a.abs() + b.abs());
+    let mut side = 0i8;
+    for _ in 0..200 {
+        let width = b - a;
+        if width <= tol {
+            break;
+        }
+        let mut c = (a * gb - b * ga) / (gb - ga);
+        if !(c > a && c < b) {
+            c = 0.5 * (a + b);
+        }
+        let gc = g(c);
+        if gc == 0.0 {
+            return c;
+        }
+        if gc.signum() == ga.signum() {
+            (a, ga) = (c, gc);
+            if side == -1 {
+                gb *= 0.5;
+            }
+            side = -1;
+        } else {
+            (b, gb) = (c, gc);
+            if side == 1 {
+                ga *= 0.5;
+            }
+            side = 1;
+        }
+        if b - a > 0.5 * width {
+            // Slow side: bisect once.
+            let mid = 0.5 * (a + b);
+            let gm = g(mid);
+            if gm == 0.0 {
+                return mid;
+            }
+            if gm.signum() == ga.signum() {
+                (a, ga) = (mid, gm);
+            } else {
+                (b, gb) = (mid, gm);
+            }
+            side = 0;
+        }
+    }
+    0.5 * (a + b)
+}
+
 fn state_difference(a: &TubeState, b: &TubeState, outer: f64, modulus: f64) -> f64 {
     let force = modulus * PI * outer * outer;
     let pairs = [
@@ -835,15 +1013,16 @@ mod tests {
     #[test]
     fn analytic_jacobian_matches_differences() {
         let nh = NeoHookean { shear_modulus: 1.3, lame_lambda: 2.0, incompressible: false };
-        for inner in [0.4, 0.0] {
+        // The hollow tube also on two pieces (continuity rows at the break).
+        for (inner, breaks) in [(0.4, &[][..]), (0.4, &[0.75][..]), (0.0, &[][..])] {
             let tube = FiniteTube::new(inner, 1.1, &nh).unwrap();
             let p_in = if inner > 0.0 { 0.2 } else { 0.0 };
             let loading = Loading { axial: Axial::Force(0.3), torsion: Torsion::Torque(0.1), inner_pressure: p_in, outer_pressure: 0.05, ends: Ends::Closed };
             // The solid's pinhole grid spans 14 e-folds of R: more nodes.
             let n = if inner > 0.0 { 10 } else { 32 };
-            let grid = tube.grid(n);
-            let layout = tube.layout(&loading, n);
-            let m = n + 1;
+            let grid = tube.grid(n, breaks);
+            let layout = tube.layout(&loading, &grid);
+            let m = grid.nodes.len();
             let mut x = DVector::zeros(2 * m + 2);
             for j in 0..m {
                 let big = grid.nodes[j];

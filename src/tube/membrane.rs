@@ -225,6 +225,7 @@ impl<'m> MembraneTube<'m> {
             intervals: 0,
             error_estimate: 0.0,
             newton_iterations: 0,
+            switch_radii: Vec::new(),
             profile: WallProfile {
                 reference_radius: vec![r0],
                 radius: vec![r],

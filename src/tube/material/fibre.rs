@@ -75,6 +75,16 @@ impl WallMaterial for FibreReinforced {
     fn incompressible(&self) -> bool {
         self.matrix.incompressible
     }
+
+    /// I4 − 1 of each family: the fibres carry load only where it is > 0.
+    fn switches(&self) -> usize {
+        self.families.len()
+    }
+
+    fn switch_value(&self, k: usize, radius: f64, c: &Matrix3<f64>) -> f64 {
+        let m = self.direction(&self.families[k], radius);
+        m.dot(&(c * m)) - 1.0
+    }
 }
 
 #[cfg(test)]

@@ -15,7 +15,7 @@ pub mod fibre;
 pub mod neo_hookean;
 pub mod svk;
 
-pub use fibre::FibreReinforced;
+pub use fibre::{FibreAngle, FibreFamily, FibreReinforced};
 pub use neo_hookean::NeoHookean;
 pub use svk::SaintVenantKirchhoff;
 
@@ -79,6 +79,18 @@ pub trait WallMaterial {
 
     /// Whether the law is constrained to J = 1.
     fn incompressible(&self) -> bool;
+
+    /// Number of switching functions g_k(R, C): where one changes sign the
+    /// law is only C¹ (a fibre family turning on), and the wall solver puts a
+    /// breakpoint there to keep its spectral rate. Smooth laws have none.
+    fn switches(&self) -> usize {
+        0
+    }
+
+    /// Value of switching function `k` (< [`Self::switches`]).
+    fn switch_value(&self, _k: usize, _radius: f64, _c: &Matrix3<f64>) -> f64 {
+        0.0
+    }
 
     /// Cauchy stress σ = F S Fᵀ / J in (e_r, e_θ, e_z); for incompressible
     /// laws, without the multiplier (J = 1 assumed).

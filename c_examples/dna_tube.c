@@ -81,6 +81,16 @@ int main(int argc, char **argv) {
     spec.rel_tol = 1e-10;
     RodkitTube *tube = NULL;
     if ((st = rodkit_tube_new(&spec, &tube)) < 0) return fail(st, "rodkit_tube_new");
+    /* The section as a hemitropic rod for a rod solver: 6x6 in (u1, u2, u3, v1, v2, v3). */
+    double rod[36], rod_err;
+    if ((st = rodkit_tube_rod_stiffness(tube, rod, 6, &rod_err)) < 0) return fail(st, "rodkit_tube_rod_stiffness");
+    printf("# the fitted section as a rod (thick wall; bending and shear layer by layer)\n");
+    printf("rod_bending = %.17g\nrod_twist = %.17g\nrod_shear = %.17g\nrod_stretch = %.17g\n", rod[0], rod[2 + 6 * 2],
+           rod[3 + 6 * 3], rod[5 + 6 * 5]);
+    printf("rod_twist_stretch = %.17g\nrod_bend_shear = %.17g\nrod_error_estimate = %.3g\n", rod[2 + 6 * 5],
+           rod[0 + 6 * 3], rod_err);
+    printf("# bending persistence length K_b/kT = %.1f nm (DNA: about 50 nm; the tube fit knows only S, C, g)\n",
+           rod[0] / 4.114);
     enum { N = 41 };
     RodkitTubeLoading loads[N];
     RodkitTubeState states[N];

@@ -99,6 +99,13 @@ int main(int argc, char **argv) {
     printf("# condensed at p = 0: (F, T) = [[S, g], [g, C]] (strain, twist)\n");
     printf("stretch_modulus_S = %.17g\ntwist_stretch_g = %.17g\ntwist_modulus_C = %.17g\n", s[0], s[2], s[3]);
 
+    double rod[36];
+    if (check(rodkit_thin_tube_rod_stiffness(&spec, rod, 6), "rod_stiffness")) return 1;
+    printf("# as a hemitropic rod: (m, n) = K6 (u, v - e3), strains (u1, u2, u3, v1, v2, v3)\n");
+    printf("rod_bending = %.17g\nrod_twist = %.17g\nrod_shear = %.17g\nrod_stretch = %.17g\n", rod[0], rod[2 + 6 * 2],
+           rod[3 + 6 * 3], rod[5 + 6 * 5]);
+    printf("rod_twist_stretch = %.17g\nrod_bend_shear = %.17g\n", rod[2 + 6 * 5], rod[0 + 6 * 3]);
+
     RodkitFreeTubeResponse r;
     if (check(rodkit_thin_tube_free_response(&spec, &r), "free_response")) return 1;
     printf("dstrain_dforce = %.17g\ndtwist_dforce = %.17g\ndhoop_dforce = %.17g\nwinding = %d\n",

@@ -30,7 +30,7 @@ program tube_stiffness
     integer(c_int32_t) :: major, minor, patch, abi, st
     type(rodkit_thin_tube_spec) :: spec, bad
     type(rodkit_free_tube_response) :: response
-    real(c_double) :: alpha, k(3, 3), s(2, 2)
+    real(c_double) :: alpha, k(3, 3), s(2, 2), rod(6, 6)
     real(c_double) :: mid_radius, thickness, intrinsic_twist, e1, e2, nu12, g12
     character(len=:), allocatable :: message
     character(len=256) :: iomsg
@@ -113,6 +113,16 @@ program tube_stiffness
     call put("stretch_modulus_S", s(1, 1))
     call put("twist_stretch_g", s(1, 2))
     call put("twist_modulus_C", s(2, 2))
+
+    ! rod(6, 6): strains (u1, u2, u3, v1, v2, v3).
+    call check(rodkit_thin_tube_rod_stiffness(spec, rod, 6_c_int64_t), "rod_stiffness")
+    write(output_unit, '(a)') "# as a hemitropic rod: (m, n) = K6 (u, v - e3), strains (u1, u2, u3, v1, v2, v3)"
+    call put("rod_bending", rod(1, 1))
+    call put("rod_twist", rod(3, 3))
+    call put("rod_shear", rod(4, 4))
+    call put("rod_stretch", rod(6, 6))
+    call put("rod_twist_stretch", rod(3, 6))
+    call put("rod_bend_shear", rod(1, 4))
 
     call check(rodkit_thin_tube_free_response(spec, response), "free_response")
     call put("dstrain_dforce", response%dstrain_dforce)

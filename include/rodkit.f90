@@ -342,6 +342,20 @@ module rodkit
             integer(c_int32_t) :: status
         end function rodkit_thin_tube_stretch_twist
 
+        ! The section as a hemitropic rod (physics.md 2.2), thin-walled beam
+        ! theory: 6x6 stiffness in k(ldk, 6), strains ordered (u1, u2, u3,
+        ! v1, v2, v3): bending k(1,1) = k(2,2), twist k(3,3), shear k(4,4) =
+        ! k(5,5), stretch k(6,6), twist-stretch g = k(3,6), bend-shear
+        ! c2 = k(1,4) = k(2,5) = -g/2.
+        function rodkit_thin_tube_rod_stiffness(spec, k, ldk) result(status) &
+                bind(c, name="rodkit_thin_tube_rod_stiffness")
+            import :: c_int32_t, c_int64_t, c_double, rodkit_thin_tube_spec
+            type(rodkit_thin_tube_spec), intent(in) :: spec
+            real(c_double), intent(inout) :: k(*)
+            integer(c_int64_t), value :: ldk
+            integer(c_int32_t) :: status
+        end function rodkit_thin_tube_rod_stiffness
+
         ! Response of the free tube (T = 0, p = 0) to an axial force, and
         ! whether it over- or unwinds (decided by the condensed coupling g,
         ! not by K(1,2) alone).
@@ -486,6 +500,19 @@ module rodkit
             integer(c_int64_t), value :: lds
             integer(c_int32_t) :: status
         end function rodkit_tube_stretch_twist
+
+        ! The section as a hemitropic rod: 6x6 stiffness in k(ldk, 6), same
+        ! order as rodkit_thin_tube_rod_stiffness; stretch-twist block from
+        ! the thick theory, bending and shear layer by layer.
+        function rodkit_tube_rod_stiffness(tube, k, ldk, error_estimate) result(status) &
+                bind(c, name="rodkit_tube_rod_stiffness")
+            import :: c_int32_t, c_int64_t, c_double, c_ptr
+            type(c_ptr), value :: tube
+            real(c_double), intent(inout) :: k(*)
+            integer(c_int64_t), value :: ldk
+            real(c_double), intent(out) :: error_estimate
+            integer(c_int32_t) :: status
+        end function rodkit_tube_rod_stiffness
 
     end interface
 

@@ -445,6 +445,19 @@ int32_t rodkit_thin_tube_stretch_twist(const struct RodkitThinTubeSpec *spec,
 int32_t rodkit_thin_tube_free_response(const struct RodkitThinTubeSpec *spec,
                                        struct RodkitFreeTubeResponse *response);
 
+// The section as a hemitropic rod (physics.md §2.2), thin-walled beam
+// theory: the symmetric positive-definite 6×6 stiffness K with
+// (m1, m2, m3, n1, n2, n3) = K (u − û, v − v̂) with û = 0, v̂ = e3 (the
+// straight unstressed tube), strains ordered (u1, u2, u3, v1, v2, v3):
+// bending K_b = πR³t·a, twist C, shear G = πRt·c (thin-tube shear
+// coefficient 1/2), stretch S, twist–stretch g (entries (3,6)) and
+// bend–shear c2 = −g/2 (entries (1,4), (2,5)); its (u3, v3) block is
+// rodkit_thin_tube_stretch_twist. `k` receives the matrix column-major with
+// leading dimension `ldk` ≥ 6.
+int32_t rodkit_thin_tube_rod_stiffness(const struct RodkitThinTubeSpec *spec,
+                                       double *k,
+                                       int64_t ldk);
+
 // Fill `spec` with defaults: law unset, compressible, τ0 = 0, every
 // constant NaN (unset), no fibres, fibre hands +1 and −1.
 int32_t rodkit_wall_material_spec_default(struct RodkitWallMaterialSpec *spec);
@@ -515,6 +528,19 @@ int32_t rodkit_tube_coupling_stiffness(const struct RodkitTube *tube,
 // (F, T) = [[S, g], [g, C]] (ε, ψ), ready for a hemitropic rod (§2.2).
 // `s` receives the 2×2 matrix column-major with leading dimension `lds` ≥ 2.
 int32_t rodkit_tube_stretch_twist(const struct RodkitTube *tube, double *s, int64_t lds);
+
+// The section as a hemitropic rod (physics.md §2.2): the 6×6 stiffness in
+// the order (u1, u2, u3, v1, v2, v3) ↔ (m1, m2, m3, n1, n2, n3), column-major
+// into `k` with leading dimension `ldk` ≥ 6. Stretch–twist block from the
+// thick theory (as rodkit_tube_stretch_twist); bending and shear from
+// layer-wise thin-walled beam theory (exact Euler–Bernoulli bending; shear
+// with the thin-tube coefficient 1/2, low for thick walls). Needs a law with
+// a linearisation at rest (not tension-only fibres). `error_estimate` (may
+// be NULL) receives the estimated relative error.
+int32_t rodkit_tube_rod_stiffness(const struct RodkitTube *tube,
+                                  double *k,
+                                  int64_t ldk,
+                                  double *error_estimate);
 
 // Library version (semantic versioning, from Cargo.toml). All three pointers
 // are required; on failure nothing is written.

@@ -88,6 +88,13 @@ fn expected(v: &BTreeMap<String, f64>) -> BTreeMap<String, f64> {
     e.insert("stretch_modulus_S".into(), law.stretch);
     e.insert("twist_stretch_g".into(), law.coupling);
     e.insert("twist_modulus_C".into(), law.twist);
+    let rod = tube.rod_stiffness().unwrap();
+    e.insert("rod_bending".into(), rod.bending());
+    e.insert("rod_twist".into(), rod.twist());
+    e.insert("rod_shear".into(), rod.shear());
+    e.insert("rod_stretch".into(), rod.stretch());
+    e.insert("rod_twist_stretch".into(), rod.twist_stretch());
+    e.insert("rod_bend_shear".into(), rod.bend_shear());
     let r = c.free_response().unwrap();
     e.insert("dstrain_dforce".into(), r.dstrain_dforce);
     e.insert("dtwist_dforce".into(), r.dtwist_dforce);
@@ -322,6 +329,12 @@ fn dna_driver_matches_rust_fit() {
         assert!((got[k] - want).abs() < 1e-10 * want.abs(), "{k}: {}", got[k]);
     }
     assert_eq!(got["overwinds"], 1.0);
+    // The rod law's stretch–twist block is the thick law (reference: the
+    // thick comparison above, computed by the DNA module at its own grid).
+    for (k, want) in [("rod_stretch", thick.thick.stretch), ("rod_twist", thick.thick.twist), ("rod_twist_stretch", thick.thick.coupling)] {
+        assert!((got[k] - want).abs() <= 1e-8 * want.abs(), "{k}: {} vs {want}", got[k]);
+    }
+    assert!(got["rod_error_estimate"] <= 1e-10);
     let rows = std::fs::read_to_string(&csv).unwrap().lines().count() - 1;
     assert_eq!(rows, 41);
     let _ = std::fs::remove_dir_all(&dir);

@@ -127,3 +127,21 @@ pub unsafe extern "C" fn rodkit_thin_tube_free_response(
         Ok(Status::Ok)
     })
 }
+
+/// The section as a hemitropic rod (physics.md §2.2), thin-walled beam
+/// theory: the symmetric positive-definite 6×6 stiffness K with
+/// (m1, m2, m3, n1, n2, n3) = K (u − û, v − v̂) with û = 0, v̂ = e3 (the
+/// straight unstressed tube), strains ordered (u1, u2, u3, v1, v2, v3):
+/// bending K_b = πR³t·a, twist C, shear G = πRt·c (thin-tube shear
+/// coefficient 1/2), stretch S, twist–stretch g (entries (3,6)) and
+/// bend–shear c2 = −g/2 (entries (1,4), (2,5)); its (u3, v3) block is
+/// rodkit_thin_tube_stretch_twist. `k` receives the matrix column-major with
+/// leading dimension `ldk` ≥ 6.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_thin_tube_rod_stiffness(spec: *const ThinTubeSpec, k: *mut f64, ldk: i64) -> i32 {
+    guard(|| {
+        let law = thin_tube(arg_ref("spec", spec)?)?.rod_stiffness()?;
+        write_matrix("k", k, ldk, "ldk", 6, 6, &law.column_major())?;
+        Ok(Status::Ok)
+    })
+}

@@ -510,3 +510,24 @@ pub unsafe extern "C" fn rodkit_tube_stretch_twist(tube: *const Tube, s: *mut f6
         Ok(Status::Ok)
     })
 }
+
+/// The section as a hemitropic rod (physics.md §2.2): the 6×6 stiffness in
+/// the order (u1, u2, u3, v1, v2, v3) ↔ (m1, m2, m3, n1, n2, n3), column-major
+/// into `k` with leading dimension `ldk` ≥ 6. Stretch–twist block from the
+/// thick theory (as rodkit_tube_stretch_twist); bending and shear from
+/// layer-wise thin-walled beam theory (exact Euler–Bernoulli bending; shear
+/// with the thin-tube coefficient 1/2, low for thick walls). Needs a law with
+/// a linearisation at rest (not tension-only fibres). `error_estimate` (may
+/// be NULL) receives the estimated relative error.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_tube_rod_stiffness(tube: *const Tube, k: *mut f64, ldk: i64, error_estimate: *mut f64) -> i32 {
+    guard(|| {
+        let tube = arg_ref("tube", tube)?;
+        let est = tube.scene.rod_stiffness()?;
+        write_matrix("k", k, ldk, "ldk", 6, 6, &est.value.column_major())?;
+        if let Some(e) = error_estimate.as_mut() {
+            *e = est.error_estimate;
+        }
+        Ok(Status::Ok)
+    })
+}

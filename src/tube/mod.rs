@@ -12,11 +12,13 @@ pub mod finite;
 pub mod material;
 pub mod membrane;
 pub mod orthotropic;
+pub mod rod_law;
 pub mod scene;
 pub mod thick;
 pub mod thin;
 
 pub use coupling::{CouplingStiffness, FreeTubeResponse, StretchTwist, Winding};
 pub use orthotropic::{Orthotropic, OrthotropicSurface};
+pub use rod_law::RodStiffness;
 pub use thick::{Compressibility, Estimated, ThickTube};
 pub use thin::ThinTube;

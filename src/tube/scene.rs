@@ -11,6 +11,7 @@ use crate::tube::finite::{FiniteTube, Loading, SolveOptions, Sweep, TubeState};
 use crate::tube::material::{FibreReinforced, NeoHookean, SaintVenantKirchhoff, WallMaterial};
 use crate::tube::membrane::MembraneTube;
 use crate::tube::orthotropic::Orthotropic;
+use crate::tube::rod_law::RodStiffness;
 use crate::tube::thick::{Compressibility, Estimated, ThickTube};
 
 /// The wall laws of §1.3, owned (enum dispatch keeps a scene `Send + Sync`).
@@ -207,24 +208,14 @@ impl TubeScene {
         }
         let (mat, comp, tau0) = self.law.small_strain()?;
         let tube = ThickTube::new(0.0, self.outer_radius, tau0, mat, comp)?;
-        // Grids growing 1.5× until two agree to the tolerance (entries in the
-        // scales S, C/B², g/B).
-        let r2 = self.outer_radius * self.outer_radius;
-        let mut coarse = tube.stretch_twist_at(24)?;
-        let mut n = 36;
-        loop {
-            let fine = tube.stretch_twist_at(n)?;
-            let scale = fine.stretch.abs().max(fine.twist.abs() / r2);
-            let diff = (fine.matrix() - coarse.matrix()).abs();
-            let est = (diff[(0, 0)] / scale).max(diff[(0, 1)] / (scale * self.outer_radius)).max(diff[(1, 1)] / (scale * r2));
-            if est <= self.rel_tol.max(1e-12) {
-                return Ok(fine);
-            }
-            if n >= 192 {
-                return Err(Error::new(Status::ErrNotConverged, format!("solid-cylinder rod law: estimated error {est:e} at {n} intervals")));
-            }
-            coarse = fine;
-            n += n / 2;
-        }
+        Ok(tube.stretch_twist_estimated(self.rel_tol.max(1e-12))?.value)
+    }
+
+    /// The section's 6×6 hemitropic rod law (u1, u2, u3, v1, v2, v3) ↔
+    /// (m, n) of §2.2, from the thick theory (stretch–twist) and layer-wise
+    /// thin-walled beam theory (bending, shear; see [`crate::tube::rod_law`]).
+    pub fn rod_stiffness(&self) -> Result<Estimated<RodStiffness>> {
+        let (mat, comp, tau0) = self.law.small_strain()?;
+        ThickTube::new(self.inner_radius, self.outer_radius, tau0, mat, comp)?.rod_stiffness(self.rel_tol.max(1e-12))
     }
 }

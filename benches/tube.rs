@@ -7,6 +7,10 @@
 //!    `coupling_stiffness(rel_tol)` against a 128-interval reference.
 //! 3. Thin vs thick K as t/R goes from 1e−3 to 0.8 (physics.md §5: the
 //!    cheapest model that meets the tolerance).
+//! 4. Finite-strain state and sweep timings.
+//! 5. Curves (not timings): the walls of tests/support/behaviour_cases.rs
+//!    that overwind then unwind, and that deflate then inflate, under
+//!    torsion-free stretching: CSV and SVG with the parameters in the CSV.
 //!
 //! Timing: std::time::Instant, single thread, each repetition times a batch
 //! of calls lasting ≥ 1 ms, median (and min–max) over ≥ 7 repetitions; the
@@ -14,6 +18,9 @@
 //! that drift on the shared machine hits them alike. Tables go to stdout; CSV
 //! and SVG plots to target/bench/tube/. Targets are reported as PASS/MISS
 //! (informational: the exit code is 0 either way).
+
+#[path = "../tests/support/behaviour_cases.rs"]
+mod behaviour_cases;
 
 use nalgebra::{Matrix3, Vector3};
 use plotters::prelude::*;
@@ -678,7 +685,10 @@ fn section_thin_vs_thick(dir: &Path, report: &mut String) {
         let a = r - t / 2.0;
         let thin = ThinTube::new(r, t, TAU0, helical_material().surface()).unwrap();
         let tube = thick(a, r + t / 2.0);
-        let converged = tube.coupling_stiffness(1e-12).unwrap().value.k;
+        // Reference: a fixed 96-interval grid (converged to round-off; the
+        // adaptive solver refuses 1e-12 below t/R ≈ 1e-2, where its floor
+        // nε·B/t is above it).
+        let converged = tube.coupling_stiffness_at(96).unwrap().k;
         let k_thin = thin_in_inner_variables(&thin.coupling_stiffness().unwrap().k, a, r);
         let per_entry: Vec<f64> = entries.iter().map(|&(i, j)| ((k_thin[(i, j)] - converged[(i, j)]) / converged[(i, j)]).abs()).collect();
         let normed = entries
@@ -853,6 +863,84 @@ fn section_finite(dir: &Path, report: &mut String) -> FiniteResult {
     out
 }
 
+/// Section 5: ψ(λ) and b(λ) of the behaviour cases (torsion-free sweeps
+/// to rel_tol 1e−9), one CSV per case (parameters in its header) and two
+/// SVGs: ψB against λ for the overwinding cases, b/B − 1 for the dips.
+fn section_behaviour(dir: &Path, out: &mut String) {
+    use rodkit::tube::finite::Loading;
+    use rodkit::tube::scene::TubeScene;
+    let _ = writeln!(out, "\n== 5. Finite-strain behaviours (curves; torsion-free stretching, rel_tol 1e-9) ==");
+    let colors = [RGBColor(31, 119, 180), RGBColor(214, 39, 40), RGBColor(44, 160, 44), RGBColor(148, 103, 189), RGBColor(255, 127, 14)];
+    let mut twist = vec![];
+    let mut radius = vec![];
+    for (k, case) in behaviour_cases::cases().iter().enumerate() {
+        let dip = k >= 3;
+        let lam_max: f64 = if dip { 1.4 } else { 1.2 };
+        let lams: Vec<f64> = (0..=((lam_max - 1.0) / 0.0025).round() as usize).map(|i| 1.0 + 0.0025 * i as f64).collect();
+        let loadings: Vec<Loading> = lams.iter().map(|&l| Loading::torsion_free_stretch(l)).collect();
+        let scene = TubeScene::new(case.inner, case.outer, case.law.clone(), case.model, 1e-9, None).expect("case scene");
+        let t = Instant::now();
+        let states = match scene.sweep(&loadings, |_, _| true) {
+            Ok((s, _)) => s.states,
+            Err(e) => {
+                let _ = writeln!(out, "{:<30} sweep failed: {}", case.name, e.message);
+                continue;
+            }
+        };
+        let secs = t.elapsed().as_secs_f64();
+        let mut csv = format!("# {} A={} B={} model={:?}\n# law: {:?}\nstretch,twist,outer_radius,inner_radius,applied_force\n", case.name, case.inner, case.outer, case.model, case.law);
+        for s in &states {
+            let _ = writeln!(csv, "{},{},{},{},{}", s.stretch, s.twist, s.deformed_outer_radius, s.deformed_inner_radius, s.applied_force);
+        }
+        let _ = fs::write(dir.join(format!("behaviour_{}.csv", case.name)), csv);
+        let (key, scale, offset) = if dip { ("min b at λ", 1.0 / case.outer, 1.0) } else { ("ψ turns at λ", case.outer, 0.0) };
+        let y: Vec<f64> = states.iter().map(|s| if dip { s.deformed_outer_radius * scale - offset } else { s.twist * scale }).collect();
+        let sense = if dip { -1.0 } else { y[1].signum() };
+        let i = (0..y.len()).max_by(|&a, &b| (sense * y[a]).total_cmp(&(sense * y[b]))).unwrap();
+        let _ = writeln!(out, "{:<30} {key} {:.4} ({} states in {:.0} ms)", case.name, states[i].stretch, states.len(), secs * 1e3);
+        let pts: Vec<(f64, f64)> = states.iter().map(|s| s.stretch).zip(y).collect();
+        if dip { radius.push((case.name, pts, colors[k])) } else { twist.push((case.name, pts, colors[k])) }
+    }
+    for (file, title, ylabel, series) in [
+        ("behaviour_twist.svg", "Torsion-free stretching: overwinding, then unwinding", "twist ψB", &twist),
+        ("behaviour_radius.svg", "Torsion-free stretching: deflation, then inflation", "outer radius b/B − 1", &radius),
+    ] {
+        if let Err(e) = line_plot(&dir.join(file), title, "stretch λ", ylabel, series) {
+            let _ = writeln!(out, "plot {file} failed: {e}");
+        }
+    }
+    let _ = writeln!(out, "curves: target/bench/tube/behaviour_*.csv, behaviour_twist.svg, behaviour_radius.svg");
+}
+
+/// Linear-axes line plot of named series.
+fn line_plot(path: &Path, title: &str, xlabel: &str, ylabel: &str, series: &[(&str, Vec<(f64, f64)>, RGBColor)]) -> Result<(), Box<dyn std::error::Error>> {
+    let all = series.iter().flat_map(|s| s.1.iter());
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    for &(x, y) in all {
+        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+    }
+    let pad = 0.05 * (y1 - y0).max(1e-12);
+    let root = SVGBackend::new(path, (960, 640)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 22))
+        .margin(16)
+        .x_label_area_size(56)
+        .y_label_area_size(84)
+        .build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))?;
+    chart.configure_mesh().x_desc(xlabel).y_desc(ylabel).axis_desc_style(("sans-serif", 18)).label_style(("sans-serif", 15)).draw()?;
+    for (name, pts, color) in series {
+        let color = *color;
+        chart
+            .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?
+            .label(name.to_string())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2)));
+    }
+    chart.configure_series_labels().background_style(WHITE.mix(0.9)).border_style(BLACK).label_font(("sans-serif", 15)).draw()?;
+    root.present()?;
+    Ok(())
+}
+
 fn main() {
     let wall = Instant::now();
     let dir: PathBuf = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench/tube");
@@ -873,6 +961,10 @@ fn main() {
     report.push_str(&rest);
     let mut rest = String::new();
     let finite = section_finite(&dir, &mut rest);
+    print!("{rest}");
+    report.push_str(&rest);
+    let mut rest = String::new();
+    section_behaviour(&dir, &mut rest);
     print!("{rest}");
     report.push_str(&rest);
 

@@ -262,3 +262,36 @@ fn fibre_switch_inside_the_wall_is_resolved() {
         }
     }
 }
+
+/// The stability check near fibre activation. Reference: the HGO law is
+/// polyconvex (Holzapfel, Gasser & Ogden 2000), and at this state (found by
+/// benches/tube_search.rs, probe [1]) the energy's Hessian in (r', r/R, λ,
+/// rψ) is positive definite by differences that do not cross I4 = 1
+/// (eigenvalues ≈ 1.2…24 with h = 1e−5 and 1e−3). Differences with h = 1e−4
+/// straddle the switch of family 1 and gave a spurious negative eigenvalue
+/// (−7.7), so solves on 24–48 intervals stopped with
+/// ErrMaterialInstability at the first stretch increment.
+#[test]
+fn fibre_activation_is_not_taken_for_instability() {
+    use rodkit::tube::material::{FibreAngle, FibreFamily, FibreReinforced};
+    let material = FibreReinforced {
+        matrix: NeoHookean { shear_modulus: 1.0, lame_lambda: 5.855910559423526, incompressible: false },
+        families: vec![
+            FibreFamily { angle: FibreAngle::Helix { hand: 1.0 }, k1: 2.6088376707683727, k2: 21.002361248274067 },
+            FibreFamily { angle: FibreAngle::Helix { hand: -1.0 }, k1: 151.91698839742577, k2: 0.20165343980056927 },
+        ],
+        intrinsic_twist: 0.49026229463897925,
+    };
+    let tube = FiniteTube::new(0.3212767093624407, 1.0, &material).unwrap();
+    let loadings: Vec<Loading> = (1..=8).map(|i| Loading::torsion_free_stretch(1.0 + 0.0025 * i as f64)).collect();
+    for n in [24, 32, 48] {
+        let sweep = tube.sweep(&loadings, &SolveOptions { rel_tol: 1e-8, intervals: Some(n) }, |_, _| true);
+        let states = sweep.unwrap_or_else(|e| panic!("n = {n}: {:?} {}", e.status, e.message)).states;
+        assert_eq!(states.len(), 8);
+    }
+    // Still a real check: SVK in strong compression is flagged (physics.md §1.3).
+    let svk = SaintVenantKirchhoff::new(Orthotropic::isotropic(1.0, 0.3).unwrap(), 0.0, false);
+    let tube = FiniteTube::new(0.5, 1.0, &svk).unwrap();
+    let err = tube.solve(&load(Axial::Stretch(0.45), Torsion::Twist(0.0), 0.0), &SolveOptions::default()).unwrap_err();
+    assert_eq!(err.status, Status::ErrMaterialInstability);
+}

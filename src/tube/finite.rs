@@ -116,11 +116,6 @@ impl Loading {
             ends: to.ends,
         }
     }
-
-    /// The loading scaled towards its rest state by s ∈ [0, 1] (homotopy).
-    pub(crate) fn scaled(&self, s: f64) -> Loading {
-        self.rest().lerp(self, s)
-    }
 }
 
 /// The result of a sweep: the states reached, in order, and whether the
@@ -891,7 +886,12 @@ impl<'m> FiniteTube<'m> {
                 let strain = WallStrain { radial: x[0], hoop: x[1], axial: x[2], shear: x[3] };
                 self.material.energy(big, &strain.right_cauchy_green())
             };
-            let h = 1e-4;
+            // Differences must not straddle a switch of the law (a fibre
+            // family turning on): across that kink the difference Hessian of
+            // a convex energy can be indefinite. Shrink the step until no
+            // stencil point changes a switch's sign; a node on the switch
+            // itself (a breakpoint) is left to its neighbours.
+            let Some(h) = self.stencil_step(big, &x0) else { continue };
             let hess = nalgebra::Matrix4::from_fn(|k, l| {
                 let at = |dk: f64, dl: f64| {
                     let mut x = x0;
@@ -917,7 +917,41 @@ impl<'m> FiniteTube<'m> {
     }
 }
 
-fn validate(loading: &Loading) -> Result<()> {
+impl FiniteTube<'_> {
+    /// Step ≤ 1e−4 of the stability check's differences at (R, x0) such that
+    /// no stencil point x0 ± h e_k ± h e_l changes the sign of a switching
+    /// function of the law; None if none ≥ 1e−7 does.
+    fn stencil_step(&self, big: f64, x0: &[f64; 4]) -> Option<f64> {
+        let switches = self.material.switches();
+        let value = |k: usize, x: &[f64; 4]| {
+            let strain = WallStrain { radial: x[0], hoop: x[1], axial: x[2], shear: x[3] };
+            self.material.switch_value(k, big, &strain.right_cauchy_green())
+        };
+        let mut h = 1e-4;
+        'shrink: while h >= 1e-7 {
+            for s in 0..switches {
+                let sign = value(s, x0).signum();
+                for k in 0..4 {
+                    for l in 0..4 {
+                        for (dk, dl) in [(h, h), (h, -h), (-h, h), (-h, -h)] {
+                            let mut x = *x0;
+                            x[k] += dk;
+                            x[l] += dl;
+                            if value(s, &x).signum() != sign {
+                                h *= 0.25;
+                                continue 'shrink;
+                            }
+                        }
+                    }
+                }
+            }
+            return Some(h);
+        }
+        None
+    }
+}
+
+pub(crate) fn validate(loading: &Loading) -> Result<()> {
     match loading.axial {
         Axial::Stretch(l) => {
             error::positive("stretch", l)?;

@@ -53,15 +53,43 @@ impl<'m> MembraneTube<'m> {
 
     /// Equilibrium under `loading`, with the bracketing error estimate.
     pub fn solve(&self, loading: &Loading) -> Result<TubeState> {
-        let mut state = self.solve_at(self.mid_radius, loading)?;
+        crate::tube::finite::validate(loading)?;
+        let mut starts = self.rest_starts(loading);
+        self.solve_from(&loading.rest(), &mut starts, loading)
+    }
+
+    /// The unknowns at rest for the mid radius and the two bracket radii.
+    fn rest_starts(&self, loading: &Loading) -> [DVector<f64>; 3] {
+        let (_, twist_at, len) = self.layout(loading);
+        let mut x = DVector::from_element(len, 1.0);
+        if let Some(i) = twist_at {
+            x[i] = 0.0;
+        }
+        [x.clone(), x.clone(), x]
+    }
+
+    /// The state at `to`, continued from the solutions `starts` (mid, inner,
+    /// outer radius) at `from`; `starts` are updated. The bracket radii give
+    /// the error estimate (INFINITY if they fail).
+    fn solve_from(&self, from: &Loading, starts: &mut [DVector<f64>; 3], to: &Loading) -> Result<TubeState> {
         let half = 0.5 * self.thickness;
-        let inner = self.solve_at(self.mid_radius - half, loading);
-        let outer = self.solve_at(self.mid_radius + half, loading);
+        let [mid, inner, outer] = starts;
+        let mut state = self.solve_at(self.mid_radius, from, mid, to)?;
+        let inner = self.solve_at(self.mid_radius - half, from, inner, to);
+        let outer = self.solve_at(self.mid_radius + half, from, outer, to);
         state.error_estimate = match (inner, outer) {
             (Ok(i), Ok(o)) => self.curvature_estimate(&i, &state, &o),
             _ => f64::INFINITY, // the bracket itself failed: no estimate can be trusted
         };
         Ok(state)
+    }
+
+    /// Positions of the unknowns: [a (compressible only), b, λ?, ψ?].
+    fn layout(&self, loading: &Loading) -> (Option<usize>, Option<usize>, usize) {
+        let base = if self.material.incompressible() { 1 } else { 2 };
+        let stretch_at = matches!(loading.axial, Axial::Force(_)).then_some(base);
+        let twist_at = matches!(loading.torsion, Torsion::Torque(_)).then_some(base + stretch_at.is_some() as usize);
+        (stretch_at, twist_at, base + stretch_at.is_some() as usize + twist_at.is_some() as usize)
     }
 
     /// |(s(R − t/2) + s(R + t/2))/2 − s(R)| over the state's strain-like
@@ -93,30 +121,22 @@ impl<'m> MembraneTube<'m> {
         4.0 * curvature + plane_stress
     }
 
-    /// The membrane at radius `r0` (the mid radius, or a bracket radius).
-    fn solve_at(&self, r0: f64, loading: &Loading) -> Result<TubeState> {
-        let inc = self.material.incompressible();
-        // Unknowns: [a (compressible only), b, λ?, ψ?].
-        let base = if inc { 1 } else { 2 };
-        let stretch_at = matches!(loading.axial, Axial::Force(_)).then_some(base);
-        let twist_at = matches!(loading.torsion, Torsion::Torque(_)).then_some(base + stretch_at.is_some() as usize);
-        let len = base + stretch_at.is_some() as usize + twist_at.is_some() as usize;
+    /// The membrane at radius `r0` (the mid radius, or a bracket radius),
+    /// continued from the solution `x` at `from` along the straight load
+    /// path (bisected on failure, as for the thick wall); `x` is updated.
+    fn solve_at(&self, r0: f64, from: &Loading, x: &mut DVector<f64>, loading: &Loading) -> Result<TubeState> {
+        let (stretch_at, twist_at, len) = self.layout(loading);
         let typical = DVector::from_fn(len, |k, _| if Some(k) == twist_at { 1.0 / r0 } else { 1.0 });
-        let mut x = DVector::from_element(len, 1.0);
-        if let Some(i) = twist_at {
-            x[i] = 0.0;
-        }
-        // Load homotopy, as for the thick wall.
         let (mut done, mut ds, mut iterations) = (0.0f64, 1.0f64, 0);
         while done < 1.0 {
             let s = (done + ds).min(1.0);
-            let part = loading.scaled(s);
+            let part = from.lerp(loading, s);
             let mut trial = x.clone();
             let opts = NewtonOptions { step_tol: 1e-13, residual_tol: 1e-13, max_iterations: 50, reuse_jacobian: false };
             match newton::solve(&mut trial, &typical, &opts, |x, f| self.residual(r0, &part, stretch_at, twist_at, x, f)) {
                 Ok(rep) => {
                     iterations += rep.iterations;
-                    x = trial;
+                    *x = trial;
                     done = s;
                     ds = (2.0 * ds).min(1.0);
                 }
@@ -128,7 +148,7 @@ impl<'m> MembraneTube<'m> {
                 }
             }
         }
-        let mut state = self.state(r0, loading, stretch_at, twist_at, &x)?;
+        let mut state = self.state(r0, loading, stretch_at, twist_at, x)?;
         state.newton_iterations = iterations;
         Ok(state)
     }
@@ -241,13 +261,29 @@ impl<'m> MembraneTube<'m> {
 }
 
 impl MembraneTube<'_> {
-    /// States along `loadings`, each solved directly (the membrane is
-    /// algebraic, so there is nothing to gain from warm starts);
+    /// States along `loadings` (all of one kind), each continued from the
+    /// previous one, so the sweep follows one branch of equilibria (solving
+    /// each point from rest could land on another where several exist);
     /// `progress(i, state)` returning false stops the sweep cleanly.
     pub fn sweep(&self, loadings: &[Loading], mut progress: impl FnMut(usize, &TubeState) -> bool) -> Result<crate::tube::finite::Sweep> {
         let mut states = Vec::with_capacity(loadings.len());
+        let Some(first) = loadings.first() else {
+            return Ok(crate::tube::finite::Sweep { states, cancelled: false });
+        };
         for (i, l) in loadings.iter().enumerate() {
-            let s = self.solve(l)?;
+            crate::tube::finite::validate(l)?;
+            if !l.same_kind(first) {
+                return Err(Error::new(
+                    Status::ErrOutOfRange,
+                    format!("sweep loading {i} prescribes other quantities than the first one: a sweep varies values, not kinds"),
+                ));
+            }
+        }
+        let mut starts = self.rest_starts(first);
+        let mut from = first.rest();
+        for (i, l) in loadings.iter().enumerate() {
+            let s = self.solve_from(&from, &mut starts, l)?;
+            from = *l;
             let go_on = progress(i, &s);
             states.push(s);
             if !go_on {

@@ -295,3 +295,28 @@ fn fibre_activation_is_not_taken_for_instability() {
     let err = tube.solve(&load(Axial::Stretch(0.45), Torsion::Twist(0.0), 0.0), &SolveOptions::default()).unwrap_err();
     assert_eq!(err.status, Status::ErrMaterialInstability);
 }
+
+/// The two-grid estimate against the true error (reference: the same solve
+/// on a fixed 96-interval grid, converged to round-off), for loose and tight tolerances, a thick helical SVK
+/// wall under stretch, torque and pressure. The answer must meet the
+/// tolerance, and the estimate must not understate the error by more than
+/// 10× (it usually overstates it: the coarser grid's error is reported).
+#[test]
+fn finite_error_estimate_tracks_true_error() {
+    for incompressible in [false, true] {
+        let svk = SaintVenantKirchhoff::new(helical(), 1.7, incompressible);
+        let tube = FiniteTube::new(0.3, 1.4, &svk).unwrap();
+        let loading = load(Axial::Stretch(1.15), Torsion::Torque(0.05), 0.02);
+        let reference = tube.solve(&loading, &SolveOptions { rel_tol: 1e-13, intervals: Some(96) }).unwrap();
+        let b = 1.4;
+        for tol in [1e-4, 1e-6, 1e-8, 1e-10] {
+            let s = tube.solve(&loading, &SolveOptions { rel_tol: tol, intervals: None }).unwrap();
+            let err = ((s.twist - reference.twist) * b)
+                .abs()
+                .max((s.deformed_outer_radius - reference.deformed_outer_radius).abs() / b)
+                .max((s.deformed_inner_radius - reference.deformed_inner_radius).abs() / b);
+            assert!(s.error_estimate <= tol, "inc {incompressible} tol {tol:e}: estimate {:e}", s.error_estimate);
+            assert!(err <= tol && err <= 10.0 * s.error_estimate.max(1e-14), "inc {incompressible} tol {tol:e}: true {err:e}, estimate {:e}, n {}", s.error_estimate, s.intervals);
+        }
+    }
+}

@@ -8,7 +8,9 @@
 pub mod chebyshev;
 pub mod error;
 pub mod newton;
+pub mod sparse;
 pub mod status;
+pub mod taylor;
 pub mod tube;
 pub mod version;
 

@@ -1,0 +1,472 @@
+//! Polynomial kernels written once and evaluated three ways: values,
+//! derivatives (Jacobian blocks) and Taylor series along a path (the
+//! asymptotic numerical method, physics.md §2.4).
+//!
+//! A model writes a kernel — a function of its local unknowns, generic over
+//! [`Scalar`] — with the four operations +, −, ×, negation and constants.
+//! Recorded once with [`Tape::record`], the kernel becomes a straight-line
+//! program (a tape). Because a polynomial kernel has no branches, one tape
+//! serves every evaluation point:
+//!
+//! * [`Tape::eval`]: the values;
+//! * [`Tape::jacobian`]: ∂outputs/∂inputs by forward mode over the tape;
+//! * [`TaylorWork`]: the order-p Taylor coefficient of every node along a
+//!   series X(a) = Σ a^k X_k. Products are Cauchy products over the stored
+//!   coefficients of their operands, z_p = Σ_{i=0..p} x_i y_{p−i}, so order
+//!   p costs O(p) per product and a whole series of order P costs O(P²) per
+//!   node — the intermediate products (R(q), q∘u, R(q)v, …) are series in
+//!   their own right, and the O(P³) triple sum of the cubic recursion is
+//!   never formed. For a cubic residual R(X) = c0 + L X + Q(X, X) + C(X, X, X),
+//!   the order-p coefficient of R with X_p = 0 is exactly the right-hand
+//!   side of the ANM recursion (minus sign aside), and with the true X_p it
+//!   is zero.
+//!
+//! The tape also reports the polynomial degree of each output, so a model
+//! can assert that its residual is cubic.
+
+use std::cell::RefCell;
+use std::ops::{Add, Mul, Neg, Sub};
+
+/// Arithmetic a kernel may use. Implemented for `f64` (direct evaluation)
+/// and [`Var`] (recording).
+pub trait Scalar:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Neg<Output = Self> + Add<f64, Output = Self>
+    + Sub<f64, Output = Self> + Mul<f64, Output = Self>
+{
+    fn constant(c: f64) -> Self;
+}
+
+impl Scalar for f64 {
+    #[inline]
+    fn constant(c: f64) -> Self {
+        c
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Op {
+    Input(u32),
+    Const(f64),
+    Add(u32, u32),
+    Sub(u32, u32),
+    Mul(u32, u32),
+    Neg(u32),
+    /// c·a
+    Scale(f64, u32),
+    /// a + c
+    Shift(f64, u32),
+}
+
+thread_local! {
+    static RECORDING: RefCell<Option<Vec<Op>>> = const { RefCell::new(None) };
+}
+
+fn push(op: Op) -> Var {
+    RECORDING.with(|r| {
+        let mut r = r.borrow_mut();
+        let ops = r.as_mut().expect("tape variables are used only inside Tape::record");
+        ops.push(op);
+        Var((ops.len() - 1) as u32)
+    })
+}
+
+/// A node of the tape being recorded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Var(u32);
+
+impl Add for Var {
+    type Output = Var;
+    fn add(self, o: Var) -> Var {
+        push(Op::Add(self.0, o.0))
+    }
+}
+impl Sub for Var {
+    type Output = Var;
+    fn sub(self, o: Var) -> Var {
+        push(Op::Sub(self.0, o.0))
+    }
+}
+impl Mul for Var {
+    type Output = Var;
+    fn mul(self, o: Var) -> Var {
+        push(Op::Mul(self.0, o.0))
+    }
+}
+impl Neg for Var {
+    type Output = Var;
+    fn neg(self) -> Var {
+        push(Op::Neg(self.0))
+    }
+}
+impl Add<f64> for Var {
+    type Output = Var;
+    fn add(self, c: f64) -> Var {
+        if c == 0.0 {
+            self
+        } else {
+            push(Op::Shift(c, self.0))
+        }
+    }
+}
+impl Sub<f64> for Var {
+    type Output = Var;
+    fn sub(self, c: f64) -> Var {
+        self + (-c)
+    }
+}
+impl Mul<f64> for Var {
+    type Output = Var;
+    fn mul(self, c: f64) -> Var {
+        if c == 1.0 {
+            self
+        } else {
+            push(Op::Scale(c, self.0))
+        }
+    }
+}
+impl Scalar for Var {
+    fn constant(c: f64) -> Self {
+        push(Op::Const(c))
+    }
+}
+
+/// A recorded polynomial kernel: `inputs` → `outputs`.
+#[derive(Clone, Debug)]
+pub struct Tape {
+    ops: Vec<Op>,
+    inputs: usize,
+    outputs: Vec<u32>,
+    /// Polynomial degree of each node in the inputs.
+    degree: Vec<u32>,
+    /// For each node, the sorted local inputs it depends on.
+    deps: Vec<Vec<u32>>,
+}
+
+impl Tape {
+    /// Record `kernel` on `inputs` variables. The kernel must be a
+    /// polynomial: the four operations and constants only.
+    pub fn record(inputs: usize, kernel: impl FnOnce(&[Var]) -> Vec<Var>) -> Tape {
+        RECORDING.with(|r| {
+            let mut r = r.borrow_mut();
+            assert!(r.is_none(), "Tape::record does not nest");
+            *r = Some((0..inputs).map(|i| Op::Input(i as u32)).collect());
+        });
+        let vars: Vec<Var> = (0..inputs as u32).map(Var).collect();
+        let outputs = kernel(&vars);
+        let ops = RECORDING.with(|r| r.borrow_mut().take().expect("recording in progress"));
+        let mut degree: Vec<u32> = Vec::with_capacity(ops.len());
+        let mut deps: Vec<Vec<u32>> = Vec::with_capacity(ops.len());
+        for op in &ops {
+            let (d, s) = match *op {
+                Op::Input(i) => (1, vec![i]),
+                Op::Const(_) => (0, vec![]),
+                Op::Add(a, b) | Op::Sub(a, b) => (degree[a as usize].max(degree[b as usize]), merge(&deps[a as usize], &deps[b as usize])),
+                Op::Mul(a, b) => (degree[a as usize] + degree[b as usize], merge(&deps[a as usize], &deps[b as usize])),
+                Op::Neg(a) | Op::Scale(_, a) | Op::Shift(_, a) => (degree[a as usize], deps[a as usize].clone()),
+            };
+            degree.push(d);
+            deps.push(s);
+        }
+        Tape { ops, inputs, outputs: outputs.into_iter().map(|v| v.0).collect(), degree, deps }
+    }
+
+    pub fn inputs(&self) -> usize {
+        self.inputs
+    }
+
+    pub fn outputs(&self) -> usize {
+        self.outputs.len()
+    }
+
+    /// Number of recorded operations (the cost unit of every evaluation).
+    pub fn len(&self) -> usize {
+        self.ops.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.ops.is_empty()
+    }
+
+    /// Highest polynomial degree of the outputs.
+    pub fn degree(&self) -> u32 {
+        self.outputs.iter().map(|&o| self.degree[o as usize]).max().unwrap_or(0)
+    }
+
+    /// The inputs output `k` depends on (structural, sorted).
+    pub fn dependencies(&self, k: usize) -> &[u32] {
+        &self.deps[self.outputs[k] as usize]
+    }
+
+    /// Values of the outputs; `work` holds one value per node.
+    pub fn eval(&self, x: &[f64], work: &mut Vec<f64>, out: &mut [f64]) {
+        work.clear();
+        work.reserve(self.ops.len());
+        for op in &self.ops {
+            let v = match *op {
+                Op::Input(i) => x[i as usize],
+                Op::Const(c) => c,
+                Op::Add(a, b) => work[a as usize] + work[b as usize],
+                Op::Sub(a, b) => work[a as usize] - work[b as usize],
+                Op::Mul(a, b) => work[a as usize] * work[b as usize],
+                Op::Neg(a) => -work[a as usize],
+                Op::Scale(c, a) => c * work[a as usize],
+                Op::Shift(c, a) => work[a as usize] + c,
+            };
+            work.push(v);
+        }
+        for (o, &i) in out.iter_mut().zip(&self.outputs) {
+            *o = work[i as usize];
+        }
+    }
+
+    /// Values and the dense local Jacobian ∂out_k/∂x_j, stored row-major in
+    /// `jac` (outputs × inputs), by forward mode with all input directions at
+    /// once. `work` holds a value and a gradient per node.
+    pub fn jacobian(&self, x: &[f64], work: &mut JacobianWork, out: &mut [f64], jac: &mut [f64]) {
+        let n = self.inputs;
+        work.val.clear();
+        work.val.reserve(self.ops.len());
+        work.grad.clear();
+        work.grad.resize(self.ops.len() * n, 0.0);
+        for (k, op) in self.ops.iter().enumerate() {
+            let (head, tail) = work.grad.split_at_mut(k * n);
+            let g = &mut tail[..n];
+            let gv = |i: u32| &head[i as usize * n..(i as usize + 1) * n];
+            let v = match *op {
+                Op::Input(i) => {
+                    g[i as usize] = 1.0;
+                    x[i as usize]
+                }
+                Op::Const(c) => c,
+                Op::Add(a, b) => {
+                    for ((gi, ai), bi) in g.iter_mut().zip(gv(a)).zip(gv(b)) {
+                        *gi = ai + bi;
+                    }
+                    work.val[a as usize] + work.val[b as usize]
+                }
+                Op::Sub(a, b) => {
+                    for ((gi, ai), bi) in g.iter_mut().zip(gv(a)).zip(gv(b)) {
+                        *gi = ai - bi;
+                    }
+                    work.val[a as usize] - work.val[b as usize]
+                }
+                Op::Mul(a, b) => {
+                    let (va, vb) = (work.val[a as usize], work.val[b as usize]);
+                    for ((gi, ai), bi) in g.iter_mut().zip(gv(a)).zip(gv(b)) {
+                        *gi = ai * vb + va * bi;
+                    }
+                    va * vb
+                }
+                Op::Neg(a) => {
+                    for (gi, ai) in g.iter_mut().zip(gv(a)) {
+                        *gi = -ai;
+                    }
+                    -work.val[a as usize]
+                }
+                Op::Scale(c, a) => {
+                    for (gi, ai) in g.iter_mut().zip(gv(a)) {
+                        *gi = c * ai;
+                    }
+                    c * work.val[a as usize]
+                }
+                Op::Shift(c, a) => {
+                    g.copy_from_slice(gv(a));
+                    work.val[a as usize] + c
+                }
+            };
+            work.val.push(v);
+        }
+        for (k, &i) in self.outputs.iter().enumerate() {
+            out[k] = work.val[i as usize];
+            jac[k * n..(k + 1) * n].copy_from_slice(&work.grad[i as usize * n..(i as usize + 1) * n]);
+        }
+    }
+}
+
+fn merge(a: &[u32], b: &[u32]) -> Vec<u32> {
+    let mut out = Vec::with_capacity(a.len() + b.len());
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() || j < b.len() {
+        let next = match (a.get(i), b.get(j)) {
+            (Some(&x), Some(&y)) if x == y => {
+                i += 1;
+                j += 1;
+                x
+            }
+            (Some(&x), Some(&y)) if x < y => {
+                i += 1;
+                x
+            }
+            (Some(_), Some(&y)) => {
+                j += 1;
+                y
+            }
+            (Some(&x), None) => {
+                i += 1;
+                x
+            }
+            (None, Some(&y)) => {
+                j += 1;
+                y
+            }
+            (None, None) => unreachable!(),
+        };
+        out.push(next);
+    }
+    out
+}
+
+/// Reusable storage for [`Tape::jacobian`].
+#[derive(Clone, Debug, Default)]
+pub struct JacobianWork {
+    val: Vec<f64>,
+    grad: Vec<f64>,
+}
+
+/// Taylor coefficients of every node of one tape along a series of its
+/// inputs, up to a maximal order: `coef[node·(P+1) + k]`.
+#[derive(Clone, Debug, Default)]
+pub struct TaylorWork {
+    order: usize,
+    coef: Vec<f64>,
+}
+
+impl TaylorWork {
+    /// Start a series at the point `x0` (order 0), for orders up to `max_order`.
+    pub fn begin(&mut self, tape: &Tape, x0: &[f64], max_order: usize) {
+        let stride = max_order + 1;
+        self.order = max_order;
+        self.coef.clear();
+        self.coef.resize(tape.ops.len() * stride, 0.0);
+        self.pass(tape, 0, |i| x0[i]);
+    }
+
+    /// Order-p coefficients of the outputs when the inputs' order-p
+    /// coefficients are `xp` (orders below p must have been committed). Call
+    /// with xp = 0 for the known part (the ANM right-hand side), then again
+    /// with the solved xp to commit order p.
+    pub fn order(&mut self, tape: &Tape, p: usize, xp: impl Fn(usize) -> f64, out: &mut [f64]) {
+        assert!(p >= 1 && p <= self.order, "Taylor order {p} outside 1..={}", self.order);
+        self.pass(tape, p, xp);
+        let stride = self.order + 1;
+        for (o, &i) in out.iter_mut().zip(&tape.outputs) {
+            *o = self.coef[i as usize * stride + p];
+        }
+    }
+
+    /// The order-k coefficient of output `j` (committed orders only).
+    pub fn output(&self, tape: &Tape, j: usize, k: usize) -> f64 {
+        self.coef[tape.outputs[j] as usize * (self.order + 1) + k]
+    }
+
+    fn pass(&mut self, tape: &Tape, p: usize, xp: impl Fn(usize) -> f64) {
+        let stride = self.order + 1;
+        let c = &mut self.coef;
+        for (k, op) in tape.ops.iter().enumerate() {
+            let at = |i: u32, q: usize| i as usize * stride + q;
+            let v = match *op {
+                Op::Input(i) => xp(i as usize),
+                Op::Const(v) => {
+                    if p == 0 {
+                        v
+                    } else {
+                        0.0
+                    }
+                }
+                Op::Add(a, b) => c[at(a, p)] + c[at(b, p)],
+                Op::Sub(a, b) => c[at(a, p)] - c[at(b, p)],
+                Op::Mul(a, b) => {
+                    let (ab, bb) = (a as usize * stride, b as usize * stride);
+                    let mut s = 0.0;
+                    for i in 0..=p {
+                        s += c[ab + i] * c[bb + p - i];
+                    }
+                    s
+                }
+                Op::Neg(a) => -c[at(a, p)],
+                Op::Scale(s, a) => s * c[at(a, p)],
+                Op::Shift(s, a) => {
+                    if p == 0 {
+                        c[at(a, 0)] + s
+                    } else {
+                        c[at(a, p)]
+                    }
+                }
+            };
+            c[k * stride + p] = v;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A generic kernel: f(x, y, z) = (x·y·z + 2x − 1, y² − z·x + 3, −x).
+    fn kernel<T: Scalar>(v: &[T]) -> Vec<T> {
+        let (x, y, z) = (v[0], v[1], v[2]);
+        vec![x * y * z + x * 2.0 - 1.0, y * y - z * x + 3.0, -x]
+    }
+
+    #[test]
+    fn values_derivatives_and_degree_match_direct_evaluation() {
+        let tape = Tape::record(3, |v| kernel(v));
+        assert_eq!(tape.degree(), 3);
+        assert_eq!(tape.dependencies(2), &[0]);
+        let x = [0.7, -1.3, 2.1];
+        let direct = kernel(&x);
+        let mut work = Vec::new();
+        let mut out = [0.0; 3];
+        tape.eval(&x, &mut work, &mut out);
+        assert_eq!(out.to_vec(), direct);
+        // Reference: the hand derivative.
+        let mut jw = JacobianWork::default();
+        let mut jac = [0.0; 9];
+        tape.jacobian(&x, &mut jw, &mut out, &mut jac);
+        let (a, b, c) = (x[0], x[1], x[2]);
+        let want = [b * c + 2.0, a * c, a * b, -c, 2.0 * b, -a, -1.0, 0.0, 0.0];
+        for (g, w) in jac.iter().zip(want) {
+            assert!((g - w).abs() < 1e-15);
+        }
+    }
+
+    /// Taylor coefficients along a polynomial path X(a) = x0 + a x1 + a² x2
+    /// equal those of the composed polynomial (reference: expanding f(X(a))
+    /// by sampling at 12 points and solving the Vandermonde system is
+    /// ill-conditioned, so use exact rational-free checks: order 1 is J x1,
+    /// and the full series summed at a = 0.3 reproduces f(X(0.3))).
+    #[test]
+    fn taylor_series_reproduces_the_composition() {
+        let tape = Tape::record(3, |v| kernel(v));
+        let x0 = [0.7, -1.3, 2.1];
+        let xs = [[0.2, 0.1, -0.4], [0.05, -0.3, 0.1]];
+        let max = 6;
+        let mut tw = TaylorWork::default();
+        tw.begin(&tape, &x0, max);
+        let mut series = vec![[0.0; 3]; max + 1];
+        tape.eval(&x0, &mut Vec::new(), &mut series[0]);
+        for p in 1..=max {
+            let xp = |i: usize| if p <= 2 { xs[p - 1][i] } else { 0.0 };
+            let mut out = [0.0; 3];
+            tw.order(&tape, p, xp, &mut out);
+            series[p] = out;
+        }
+        // Order 1 = J x1.
+        let mut jac = [0.0; 9];
+        tape.jacobian(&x0, &mut JacobianWork::default(), &mut [0.0; 3], &mut jac);
+        for k in 0..3 {
+            let jx: f64 = (0..3).map(|j| jac[k * 3 + j] * xs[0][j]).sum();
+            assert!((series[1][k] - jx).abs() < 1e-14);
+        }
+        // A cubic of a quadratic path has degree 6: the series is exact.
+        let a = 0.3f64;
+        let xa: Vec<f64> = (0..3).map(|i| x0[i] + a * xs[0][i] + a * a * xs[1][i]).collect();
+        let direct = kernel(&xa);
+        for k in 0..3 {
+            let summed: f64 = (0..=max).map(|p| series[p][k] * a.powi(p as i32)).sum();
+            assert!((summed - direct[k]).abs() < 1e-14, "output {k}: {summed} vs {}", direct[k]);
+        }
+        // Committed orders are kept: re-reading order 1 of output 0.
+        assert_eq!(tw.output(&tape, 0, 1), series[1][0]);
+    }
+}

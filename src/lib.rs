@@ -6,6 +6,7 @@
 #![deny(unsafe_code)]
 
 pub mod chebyshev;
+pub mod continuation;
 pub mod error;
 pub mod newton;
 pub mod sparse;

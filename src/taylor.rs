@@ -192,6 +192,24 @@ impl Tape {
         self.outputs.iter().map(|&o| self.degree[o as usize]).max().unwrap_or(0)
     }
 
+    /// Highest polynomial degree of the outputs in the inputs flagged in
+    /// `variable` (the others count as constants: element length, a fixed
+    /// load direction, …).
+    pub fn degree_in(&self, variable: &[bool]) -> u32 {
+        let mut deg: Vec<u32> = Vec::with_capacity(self.ops.len());
+        for op in &self.ops {
+            let d = match *op {
+                Op::Input(i) => variable[i as usize] as u32,
+                Op::Const(_) => 0,
+                Op::Add(a, b) | Op::Sub(a, b) => deg[a as usize].max(deg[b as usize]),
+                Op::Mul(a, b) => deg[a as usize] + deg[b as usize],
+                Op::Neg(a) | Op::Scale(_, a) | Op::Shift(_, a) => deg[a as usize],
+            };
+            deg.push(d);
+        }
+        self.outputs.iter().map(|&o| deg[o as usize]).max().unwrap_or(0)
+    }
+
     /// The inputs output `k` depends on (structural, sorted).
     pub fn dependencies(&self, k: usize) -> &[u32] {
         &self.deps[self.outputs[k] as usize]

@@ -1,0 +1,254 @@
+//! The asymptotic numerical method (physics.md §2.4): at a regular point X0
+//! of the branch, expand X(a) = Σ_{p≤P} a^p X_p in the pseudo-arc-length
+//! a = ⟨X − X0, X1⟩_W and get every X_p from ONE factorisation of the
+//! bordered tangent B = [[R_x, R_Λ], [vᵀW]] (v: the previous tangent):
+//!
+//! * order 1: B y = (0, 1), X1 = y/‖y‖_W (so ‖X1‖_W = 1, oriented along v);
+//! * order p ≥ 2: B z = (−F_p, 0), X_p = z − ⟨z, X1⟩_W X1, where F_p is the
+//!   order-p coefficient of R along the series with X_p = 0 — computed by
+//!   [`SeriesProblem::series_order`] from the stored series of the
+//!   intermediate products (O(p) per product, O(P²N) per step; the O(P³)
+//!   triple sum is never formed). Adding X1 to z keeps R_x-part unchanged
+//!   (R' X1 = 0) and makes ⟨X_p, X1⟩_W = 0, as the arc-length definition
+//!   requires.
+//! * step a_max = (ε ‖X1‖_W / ‖X_P‖_W)^{1/(P−1)} (ε: the accepted size of
+//!   the last term relative to the first);
+//! * the end point X(a_max) is Newton-corrected (chord iterations on the
+//!   step's factorisation, a fresh one only if they stall) whenever its
+//!   residual exceeds the requested tolerance: ε bounds the series' last
+//!   term, not the residual, which would otherwise drift from step to step.
+//!
+//! The next step's border is the series' own tangent dX/da at a_max. A
+//! target Λ inside a step is located on the polynomial Λ(a) and the point
+//! corrected at fixed Λ.
+
+use super::bordered::Bordered;
+use super::newton::{correct, make_record, residual_norm, validate, Start};
+use super::{Branch, Counts, Options, Record, Resume, Scaling, SeriesProblem, Stop};
+use crate::error::{self, Error, Result};
+use crate::status::Status;
+
+/// ANM settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AnmOptions {
+    /// Series order P (≥ 2; 15–30 is typical, at most 60).
+    pub order: usize,
+    /// ε of the step-length rule.
+    pub epsilon: f64,
+}
+
+impl Default for AnmOptions {
+    fn default() -> Self {
+        AnmOptions { order: 20, epsilon: 1e-8 }
+    }
+}
+
+/// Continue a branch by the ANM. `opts.max_step` caps a_max;
+/// `opts.min_step` is the smallest a_max accepted before stopping with
+/// StepTooSmall. Records and stops as for [`super::newton::continue_newton`].
+pub fn continue_anm<P: SeriesProblem + ?Sized>(
+    problem: &mut P,
+    start: Start,
+    opts: &Options,
+    anm: &AnmOptions,
+    mut observe: impl FnMut(&[f64], f64) -> Vec<f64>,
+    mut progress: impl FnMut(&Record) -> bool,
+) -> Result<Branch> {
+    validate(problem, opts)?;
+    error::count_in_range("order", anm.order as i64, 2, 60)?;
+    error::in_range("epsilon", anm.epsilon, 1e-15, 1e-1)?;
+    let n = problem.dim();
+    let p_max = anm.order;
+    let scaling = opts.scaling.clone().unwrap_or_else(|| { let (x, lambda) = problem.unknown_scales(); Scaling { x, lambda } });
+    let eq = problem.equation_scales();
+    let mut bordered = Bordered::new(problem.pattern())?;
+    let mut counts = Counts::default();
+    let e_lambda = vec![0.0; n];
+
+    let (mut x, mut lambda, mut vx, mut vl, first_iterations) = match start {
+        Start::Point { x, lambda, increasing } => {
+            error::count_in_range("start point length", x.len() as i64, n as i64, n as i64)?;
+            let mut x = x;
+            let mut l = lambda;
+            let anchor = x.clone();
+            let (it, _) = correct(problem, &mut bordered, &scaling, &eq, &mut x, &mut l, (&anchor, lambda), (&e_lambda, 1.0), opts.residual_tol, false, &mut counts)
+                .map_err(|e| Error::new(e.status, format!("continuation start: {}", e.message)))?;
+            (x, l, e_lambda.clone(), if increasing { 1.0 } else { -1.0 }, it)
+        }
+        Start::Resume(r) => (r.x, r.lambda, r.tangent_x, r.tangent_lambda, 0),
+    };
+    let mut records: Vec<Record> = Vec::new();
+    let mut pending_iterations = first_iterations;
+    let mut pending_step = 0.0;
+    // Series storage: X_p for p = 0..=P, each n + 1 long (Λ last).
+    let mut series: Vec<Vec<f64>> = vec![vec![0.0; n + 1]; p_max + 1];
+    let mut rhs = vec![0.0; n];
+    let mut z = vec![0.0; n + 1];
+    let mut last_a = opts.initial_step;
+    let mut at_target = false;
+
+    for step in 0..=opts.max_steps {
+        // One factorisation at X0 with the border v.
+        if let Err(e) = bordered.factorise_at(problem, &x, lambda, &vx, vl, &scaling, &mut counts) {
+            if records.is_empty() {
+                return Err(e);
+            }
+            return Ok(finish(Stop::StepTooSmall, x, lambda, vx, vl, last_a, records, counts));
+        }
+        let (x1, l1) = bordered.tangent(&scaling, &mut counts)?;
+        // The record of X0 (its determinant signs need this factorisation).
+        let rec = make_record(problem, &mut bordered, &scaling, &eq, &x, lambda, &x1, l1, pending_step, pending_iterations, opts, &mut observe, &mut counts);
+        let go_on = progress(&rec);
+        records.push(rec);
+        if at_target {
+            return Ok(finish(Stop::Target, x, lambda, x1, l1, last_a, records, counts));
+        }
+        if !go_on {
+            return Ok(finish(Stop::Cancelled, x, lambda, x1, l1, last_a, records, counts));
+        }
+        if step == opts.max_steps {
+            return Ok(finish(Stop::MaxSteps, x, lambda, x1, l1, last_a, records, counts));
+        }
+
+        // The series.
+        series[0][..n].copy_from_slice(&x);
+        series[0][n] = lambda;
+        series[1][..n].copy_from_slice(&x1);
+        series[1][n] = l1;
+        problem.series_begin(&x, lambda, p_max);
+        problem.series_order(1, &x1, l1, &mut rhs);
+        for p in 2..=p_max {
+            problem.series_order(p, &e_lambda, 0.0, &mut rhs);
+            for i in 0..n {
+                z[i] = -rhs[i];
+            }
+            z[n] = 0.0;
+            bordered.solve(&mut z, &mut counts);
+            let c = scaling.dot(&z[..n], z[n], &x1, l1);
+            for i in 0..n {
+                z[i] -= c * x1[i];
+            }
+            z[n] -= c * l1;
+            series[p].copy_from_slice(&z);
+            problem.series_order(p, &z[..n], z[n], &mut rhs);
+            counts.series_orders += 1;
+        }
+        // Step length from the last term (and the one before: a series with
+        // vanishing odd or even terms would otherwise overshoot).
+        let norm_of = |v: &[f64]| scaling.norm(&v[..n], v[n]);
+        let radius = |p: usize| {
+            let t = norm_of(&series[p]);
+            if t > 0.0 { (anm.epsilon / t).powf(1.0 / (p - 1) as f64) } else { f64::INFINITY }
+        };
+        let mut a = if p_max > 2 { radius(p_max).min(radius(p_max - 1)) } else { radius(p_max) };
+        a = a.min(opts.max_step);
+        if !(a >= opts.min_step) {
+            return Ok(finish(Stop::StepTooSmall, x, lambda, x1, l1, a, records, counts));
+        }
+        // A target Λ inside the step: the first root of Λ(a) − Λt on (0, a].
+        let lam_at = |t: f64| series.iter().rev().fold(0.0, |acc, c| acc * t + c[n]);
+        let mut stop = None;
+        if let Some(target) = opts.target_lambda {
+            if let Some(at) = first_root(|t| lam_at(t) - target, a) {
+                a = at;
+                stop = Some(Stop::Target);
+            }
+        }
+        // Evaluate X(a) and the series' tangent there.
+        let mut xn = vec![0.0; n];
+        let mut tn = vec![0.0; n + 1];
+        for i in 0..=n {
+            let (mut v, mut d) = (0.0, 0.0);
+            for p in (0..=p_max).rev() {
+                v = v * a + series[p][i];
+                if p >= 1 {
+                    d = d * a + p as f64 * series[p][i];
+                }
+            }
+            if i < n {
+                xn[i] = v;
+            }
+            tn[i] = d;
+        }
+        let mut ln = lam_at(a);
+        // Λ range: stop before leaving it.
+        if stop.is_none() && !(ln >= opts.lambda_range.0 && ln <= opts.lambda_range.1) {
+            return Ok(finish(Stop::LambdaRange, x, lambda, x1, l1, a, records, counts));
+        }
+        // Correction: chord on this step's factorisation (border v), or at
+        // fixed Λ for a target point.
+        let mut r = vec![0.0; n];
+        problem.residual(&xn, ln, &mut r);
+        counts.residuals += 1;
+        let mut iterations = 0;
+        if residual_norm(&r, &eq) > opts.residual_tol {
+            let anchor = xn.clone();
+            let result = if stop == Some(Stop::Target) {
+                let target = ln;
+                correct(problem, &mut bordered, &scaling, &eq, &mut xn, &mut ln, (&anchor, target), (&e_lambda, 1.0), opts.residual_tol, false, &mut counts)
+            } else {
+                let anchor_l = ln;
+                correct(problem, &mut bordered, &scaling, &eq, &mut xn, &mut ln, (&anchor, anchor_l), (&vx, vl), opts.residual_tol, true, &mut counts)
+            };
+            match result {
+                Ok((it, _)) => iterations = it,
+                Err(e) => {
+                    return Err(Error::new(Status::ErrNotConverged, format!("ANM step {step}: the end point did not correct ({})", e.message)));
+                }
+            }
+        }
+        counts.steps += 1;
+        let tnorm = scaling.norm(&tn[..n], tn[n]);
+        vx = tn[..n].iter().map(|v| v / tnorm).collect();
+        vl = tn[n] / tnorm;
+        pending_step = scaling.norm(&x.iter().zip(&xn).map(|(p, q)| q - p).collect::<Vec<_>>(), ln - lambda);
+        pending_iterations = iterations;
+        x = xn;
+        lambda = ln;
+        last_a = a;
+        if stop == Some(Stop::Target) {
+            // Recorded at the loop's top, after its factorisation.
+            at_target = true;
+            lambda = opts.target_lambda.expect("a target stop has a target");
+        }
+    }
+    unreachable!("the loop returns")
+}
+
+/// The first root of g on (0, b]: a scan in 64 pieces then bisection.
+fn first_root(g: impl Fn(f64) -> f64, b: f64) -> Option<f64> {
+    let pieces = 64;
+    let mut a0 = 0.0;
+    let mut g0 = g(0.0);
+    if g0 == 0.0 {
+        return None; // starting on the target: not a crossing
+    }
+    for k in 1..=pieces {
+        let a1 = b * k as f64 / pieces as f64;
+        let g1 = g(a1);
+        if g0 * g1 <= 0.0 {
+            let (mut lo, mut hi, mut glo) = (a0, a1, g0);
+            for _ in 0..100 {
+                let mid = 0.5 * (lo + hi);
+                let gm = g(mid);
+                if gm == 0.0 {
+                    return Some(mid);
+                }
+                if gm * glo < 0.0 {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                    glo = gm;
+                }
+            }
+            return Some(0.5 * (lo + hi));
+        }
+        (a0, g0) = (a1, g1);
+    }
+    None
+}
+
+#[allow(clippy::too_many_arguments)]
+fn finish(stop: Stop, x: Vec<f64>, lambda: f64, tx: Vec<f64>, tl: f64, step: f64, records: Vec<Record>, counts: Counts) -> Branch {
+    Branch { records, stop, resume: Resume { x, lambda, tangent_x: tx, tangent_lambda: tl, step }, counts }
+}

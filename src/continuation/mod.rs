@@ -1,0 +1,200 @@
+//! Continuation of solution branches of R(x, Λ) = 0, x ∈ ℝⁿ, n equations:
+//! generic engines, not tied to rods (physics.md §2.4–2.5).
+//!
+//! * [`Problem`]: residual and sparse Jacobian; [`SeriesProblem`] adds the
+//!   Taylor coefficients of R along a series, which the cubic ANM needs.
+//!   [`system::AssembledSystem`] provides both for any model written as
+//!   polynomial kernels ([`crate::taylor`]).
+//! * [`newton::continue_newton`]: Newton pseudo-arc-length continuation
+//!   (predictor–corrector with step control), the baseline.
+//! * [`anm::continue_anm`]: the asymptotic numerical method, series of order
+//!   P per step from one factorisation, with a Newton correction at each step
+//!   end when a residual tolerance is requested.
+//!
+//! Both work on the bordered tangent [[R_x, R_Λ], [vᵀW]] (sparse, pattern
+//! fixed, symbolic analysis once), measure arc length in the scaled inner
+//! product ⟨a, b⟩_W = Σ a_i b_i / s_i² + a_Λ b_Λ / s_Λ² ([`Scaling`]), return
+//! the branch as [`Record`]s, stop at a target Λ, a step limit or a
+//! callback's request, and can resume from the returned [`Resume`].
+
+pub mod anm;
+pub mod bordered;
+pub mod newton;
+pub mod system;
+
+use crate::sparse::Pattern;
+
+/// A system of n equations in n unknowns x and the parameter Λ.
+pub trait Problem {
+    /// n: unknowns (excluding Λ) = equations.
+    fn dim(&self) -> usize;
+    /// Structure of ∂R/∂x (fixed for the problem's life).
+    fn pattern(&self) -> &Pattern;
+    fn residual(&mut self, x: &[f64], lambda: f64, r: &mut [f64]);
+    /// ∂R/∂x in pattern order and ∂R/∂Λ (dense).
+    fn jacobian(&mut self, x: &[f64], lambda: f64, jx: &mut [f64], jl: &mut [f64]);
+    /// Typical magnitude of each equation (residual tolerances are relative
+    /// to them). Default 1.
+    fn equation_scales(&self) -> Vec<f64> {
+        vec![1.0; self.dim()]
+    }
+    /// Typical magnitude of each unknown and of Λ (the default scaling).
+    fn unknown_scales(&self) -> (Vec<f64>, f64) {
+        (vec![1.0; self.dim()], 1.0)
+    }
+}
+
+/// Taylor coefficients of R along X(a) = Σ a^k X_k (the cubic ANM).
+pub trait SeriesProblem: Problem {
+    /// Start a series at (x0, Λ0), orders up to `max_order`.
+    fn series_begin(&mut self, x0: &[f64], lambda0: f64, max_order: usize);
+    /// Order-p coefficient of R(X(a)) when X_p = (xp, Λp), orders below p
+    /// committed. Called with X_p = 0 it is the known part (the right-hand
+    /// side of the recursion); called again with the solved X_p it commits
+    /// order p.
+    fn series_order(&mut self, p: usize, xp: &[f64], lambda_p: f64, out: &mut [f64]);
+}
+
+/// Typical magnitudes of the unknowns and Λ: the arc-length inner product
+/// and every relative tolerance use them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scaling {
+    pub x: Vec<f64>,
+    pub lambda: f64,
+}
+
+impl Scaling {
+    /// The problem's own scales.
+    pub fn of<P: Problem + ?Sized>(problem: &P) -> Self {
+        let (x, lambda) = problem.unknown_scales();
+        Scaling { x, lambda }
+    }
+
+    /// ⟨a, b⟩_W over (x, Λ) pairs.
+    pub fn dot(&self, ax: &[f64], al: f64, bx: &[f64], bl: f64) -> f64 {
+        let mut s = al * bl / (self.lambda * self.lambda);
+        for ((a, b), w) in ax.iter().zip(bx).zip(&self.x) {
+            s += a * b / (w * w);
+        }
+        s
+    }
+
+    pub fn norm(&self, x: &[f64], l: f64) -> f64 {
+        self.dot(x, l, x, l).sqrt()
+    }
+
+    /// max_i |x_i| / s_i (with Λ): the scaled max norm of a change.
+    pub fn max_norm(&self, x: &[f64], l: f64) -> f64 {
+        x.iter().zip(&self.x).map(|(a, w)| (a / w).abs()).fold((l / self.lambda).abs(), f64::max)
+    }
+}
+
+/// A point of a branch with its unit tangent (in ⟨·,·⟩_W): where a
+/// continuation stopped, and where another may resume.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Resume {
+    pub x: Vec<f64>,
+    pub lambda: f64,
+    pub tangent_x: Vec<f64>,
+    pub tangent_lambda: f64,
+    /// The last step length (arc length in ⟨·,·⟩_W).
+    pub step: f64,
+}
+
+/// One converged point of a branch.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Record {
+    pub lambda: f64,
+    /// What the caller's observer chose to keep (tip position, …).
+    pub outputs: Vec<f64>,
+    /// max_i |R_i| / (equation scale_i) at the returned point.
+    pub residual: f64,
+    /// Arc length of the step that reached it.
+    pub step: f64,
+    /// sign det(R_x): flips at folds and at simple bifurcation points.
+    pub det_sign: f64,
+    /// sign det of the bordered tangent [[R_x, R_Λ], [tᵀW]]: flips at simple
+    /// bifurcation points only (not at folds).
+    pub bordered_det_sign: f64,
+    /// Smallest singular value estimate of the bordered tangent (scaled),
+    /// when requested: it dips towards zero at every bifurcation, double
+    /// ones (symmetry) included, where no determinant changes sign.
+    pub smallest_singular_value: Option<f64>,
+    /// Newton iterations (correction) for this point.
+    pub newton_iterations: usize,
+}
+
+/// Why a continuation returned.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stop {
+    /// Reached the target Λ exactly (last record).
+    Target,
+    /// Λ left the allowed range.
+    LambdaRange,
+    /// The step limit.
+    MaxSteps,
+    /// The callback asked to stop.
+    Cancelled,
+    /// The step length fell below its minimum (a fold it could not pass, a
+    /// singular tangent, …): the records so far are valid.
+    StepTooSmall,
+}
+
+/// Options common to both engines. Tolerances are relative to the scales
+/// (equations: [`Problem::equation_scales`]; unknowns: [`Scaling`]).
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// Stop exactly at this Λ when the branch reaches it.
+    pub target_lambda: Option<f64>,
+    /// Stop when Λ leaves [min, max].
+    pub lambda_range: (f64, f64),
+    pub max_steps: usize,
+    /// Residual tolerance of every returned point (scaled max norm).
+    pub residual_tol: f64,
+    /// Newton: first, minimal and maximal arc-length steps.
+    pub initial_step: f64,
+    pub min_step: f64,
+    pub max_step: f64,
+    /// Estimate the smallest singular value of the bordered tangent at each
+    /// point (a few extra solves).
+    pub track_singular: bool,
+    /// Scaling (None: the problem's own).
+    pub scaling: Option<Scaling>,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            target_lambda: None,
+            lambda_range: (f64::NEG_INFINITY, f64::INFINITY),
+            max_steps: 1000,
+            residual_tol: 1e-10,
+            initial_step: 0.05,
+            min_step: 1e-10,
+            max_step: 1.0,
+            track_singular: false,
+            scaling: None,
+        }
+    }
+}
+
+/// Work counts of a run (the benchmarks' cost measures).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counts {
+    pub steps: usize,
+    pub factorisations: usize,
+    pub solves: usize,
+    pub residuals: usize,
+    pub jacobians: usize,
+    /// Series orders computed (ANM).
+    pub series_orders: usize,
+}
+
+/// A branch: the records, why it stopped, where to resume, and the work done.
+#[derive(Clone, Debug)]
+pub struct Branch {
+    pub records: Vec<Record>,
+    pub stop: Stop,
+    pub resume: Resume,
+    pub counts: Counts,
+}

@@ -1,0 +1,249 @@
+//! Newton pseudo-arc-length continuation (Keller): Euler predictor along the
+//! unit tangent, Newton corrector on [R = 0, ⟨X − X_pred, t⟩_W = 0] with a
+//! factorisation per iteration, step length adapted to the iteration count.
+//! The baseline the ANM is measured against, and the engine the charged rod
+//! reuses. Also the corrections both engines share.
+
+use super::bordered::Bordered;
+use super::{Branch, Counts, Options, Problem, Record, Resume, Scaling, Stop};
+use crate::error::{self, Error, Result};
+use crate::status::Status;
+
+/// Where a continuation starts.
+#[derive(Clone, Debug)]
+pub enum Start {
+    /// A solution (or a good guess, corrected at fixed Λ first), leaving in
+    /// the direction of increasing Λ (`increasing`) or decreasing.
+    Point { x: Vec<f64>, lambda: f64, increasing: bool },
+    /// Where an earlier continuation stopped.
+    Resume(Resume),
+}
+
+/// Scaled residual max |R_i| / e_i.
+pub(crate) fn residual_norm(r: &[f64], scales: &[f64]) -> f64 {
+    r.iter().zip(scales).map(|(a, s)| (a / s).abs()).fold(0.0, f64::max)
+}
+
+/// Newton on [R(x, Λ) = 0, ⟨(x, Λ) − anchor, v⟩_W = 0] in place.
+/// `reuse`: the current factorisation of `bordered` (border v) is reused
+/// while the residual falls by 4× per iteration (chord), refactorised
+/// otherwise. Returns (factorisations-triggering iterations, final residual).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn correct<P: Problem + ?Sized>(
+    problem: &mut P,
+    bordered: &mut Bordered,
+    scaling: &Scaling,
+    equation_scales: &[f64],
+    x: &mut [f64],
+    lambda: &mut f64,
+    anchor: (&[f64], f64),
+    v: (&[f64], f64),
+    tol: f64,
+    mut reuse: bool,
+    counts: &mut Counts,
+) -> Result<(usize, f64)> {
+    let n = x.len();
+    let mut r = vec![0.0; n];
+    let mut z = vec![0.0; n + 1];
+    let mut previous = f64::INFINITY;
+    let max_iterations = 12;
+    for it in 0..=max_iterations {
+        problem.residual(x, *lambda, &mut r);
+        counts.residuals += 1;
+        let res = residual_norm(&r, equation_scales);
+        if !res.is_finite() {
+            return Err(Error::new(Status::ErrNotConverged, "Newton correction: the residual is not finite"));
+        }
+        if res <= tol {
+            return Ok((it, res));
+        }
+        if it == max_iterations || (it >= 3 && res > 0.5 * previous) && !reuse {
+            return Err(Error::new(Status::ErrNotConverged, format!("Newton correction: residual {res:e} after {it} iterations (tolerance {tol:e})")));
+        }
+        if reuse && res > 0.25 * previous {
+            // The chord stalls: a fresh Jacobian.
+            reuse = false;
+        }
+        if !reuse {
+            bordered.factorise_at(problem, x, *lambda, v.0, v.1, scaling, counts)?;
+        }
+        for i in 0..n {
+            z[i] = -r[i];
+        }
+        let dx: Vec<f64> = x.iter().zip(anchor.0).map(|(a, b)| a - b).collect();
+        z[n] = -scaling.dot(&dx, *lambda - anchor.1, v.0, v.1);
+        bordered.solve(&mut z, counts);
+        for i in 0..n {
+            x[i] += z[i];
+        }
+        *lambda += z[n];
+        previous = res;
+    }
+    unreachable!("the loop returns")
+}
+
+/// Newton pseudo-arc-length continuation. `observe(x, Λ)` chooses each
+/// record's outputs; `progress(record)` returning false stops the run
+/// (Stop::Cancelled).
+pub fn continue_newton<P: Problem + ?Sized>(
+    problem: &mut P,
+    start: Start,
+    opts: &Options,
+    mut observe: impl FnMut(&[f64], f64) -> Vec<f64>,
+    mut progress: impl FnMut(&Record) -> bool,
+) -> Result<Branch> {
+    validate(problem, opts)?;
+    let n = problem.dim();
+    let scaling = opts.scaling.clone().unwrap_or_else(|| { let (x, lambda) = problem.unknown_scales(); Scaling { x, lambda } });
+    let eq = problem.equation_scales();
+    let mut bordered = Bordered::new(problem.pattern())?;
+    let mut counts = Counts::default();
+    let e_lambda = vec![0.0; n];
+
+    // The first point and tangent.
+    let (mut x, mut lambda, mut tx, mut tl, mut ds, first_iterations) = match start {
+        Start::Point { x, lambda, increasing } => {
+            error::count_in_range("start point length", x.len() as i64, n as i64, n as i64)?;
+            let mut x = x;
+            let mut l = lambda;
+            let anchor = x.clone();
+            let (it, _) = correct(problem, &mut bordered, &scaling, &eq, &mut x, &mut l, (&anchor, lambda), (&e_lambda, 1.0), opts.residual_tol, false, &mut counts)
+                .map_err(|e| Error::new(e.status, format!("continuation start: {}", e.message)))?;
+            let dir = if increasing { 1.0 } else { -1.0 };
+            bordered.factorise_at(problem, &x, l, &e_lambda, dir, &scaling, &mut counts)?;
+            let (tx, tl) = bordered.tangent(&scaling, &mut counts)?;
+            (x, l, tx, tl, opts.initial_step, it)
+        }
+        Start::Resume(r) => {
+            bordered.factorise_at(problem, &r.x, r.lambda, &r.tangent_x, r.tangent_lambda, &scaling, &mut counts)?;
+            let (tx, tl) = bordered.tangent(&scaling, &mut counts)?;
+            (r.x, r.lambda, tx, tl, r.step, 0)
+        }
+    };
+    let mut records = Vec::new();
+    let first = make_record(problem, &mut bordered, &scaling, &eq, &x, lambda, &tx, tl, 0.0, first_iterations, opts, &mut observe, &mut counts);
+    let go_on = progress(&first);
+    records.push(first);
+    let finish = |stop, x: Vec<f64>, lambda, tx, tl, ds, records, counts: Counts| Branch {
+        records,
+        stop,
+        resume: Resume { x, lambda, tangent_x: tx, tangent_lambda: tl, step: ds },
+        counts,
+    };
+    if !go_on {
+        return Ok(finish(Stop::Cancelled, x, lambda, tx, tl, ds, records, counts));
+    }
+    if opts.target_lambda == Some(lambda) {
+        return Ok(finish(Stop::Target, x, lambda, tx, tl, ds, records, counts));
+    }
+
+    for _ in 0..opts.max_steps {
+        // Predictor and corrector, halving the step on failure.
+        let (mut xn, mut ln, iterations) = loop {
+            let mut xn: Vec<f64> = x.iter().zip(&tx).map(|(a, t)| a + ds * t).collect();
+            let mut ln = lambda + ds * tl;
+            let anchor = xn.clone();
+            let anchor_l = ln;
+            match correct(problem, &mut bordered, &scaling, &eq, &mut xn, &mut ln, (&anchor, anchor_l), (&tx, tl), opts.residual_tol, false, &mut counts) {
+                Ok((it, _)) => break (xn, ln, it),
+                Err(_) => {
+                    ds *= 0.5;
+                    if ds < opts.min_step {
+                        return Ok(finish(Stop::StepTooSmall, x, lambda, tx, tl, ds, records, counts));
+                    }
+                }
+            }
+        };
+        counts.steps += 1;
+        // Target Λ crossed: interpolate and correct at fixed Λ.
+        let mut stop = None;
+        if let Some(target) = opts.target_lambda {
+            if (ln - target) * (lambda - target) <= 0.0 && ln != lambda {
+                let s = (target - lambda) / (ln - lambda);
+                let mut xt: Vec<f64> = x.iter().zip(&xn).map(|(a, b)| a + s * (b - a)).collect();
+                let mut lt = target;
+                let anchor = xt.clone();
+                correct(problem, &mut bordered, &scaling, &eq, &mut xt, &mut lt, (&anchor, target), (&e_lambda, 1.0), opts.residual_tol, false, &mut counts)?;
+                (xn, ln) = (xt, lt);
+                stop = Some(Stop::Target);
+            }
+        }
+        if stop.is_none() && !(ln >= opts.lambda_range.0 && ln <= opts.lambda_range.1) {
+            return Ok(finish(Stop::LambdaRange, x, lambda, tx, tl, ds, records, counts));
+        }
+        // The tangent at the new point (one factorisation; its determinant
+        // signs go into the record).
+        bordered.factorise_at(problem, &xn, ln, &tx, tl, &scaling, &mut counts)?;
+        let (txn, tln) = bordered.tangent(&scaling, &mut counts)?;
+        let step = scaling.norm(&x.iter().zip(&xn).map(|(a, b)| b - a).collect::<Vec<_>>(), ln - lambda);
+        let rec = make_record(problem, &mut bordered, &scaling, &eq, &xn, ln, &txn, tln, step, iterations, opts, &mut observe, &mut counts);
+        let go_on = progress(&rec);
+        records.push(rec);
+        (x, lambda, tx, tl) = (xn, ln, txn, tln);
+        // Aim at three corrector iterations.
+        let factor = (3.0 / iterations.max(1) as f64).sqrt().clamp(0.5, 2.0);
+        ds = (ds * factor).clamp(opts.min_step, opts.max_step);
+        if let Some(stop) = stop {
+            return Ok(finish(stop, x, lambda, tx, tl, ds, records, counts));
+        }
+        if !go_on {
+            return Ok(finish(Stop::Cancelled, x, lambda, tx, tl, ds, records, counts));
+        }
+    }
+    Ok(finish(Stop::MaxSteps, x, lambda, tx, tl, ds, records, counts))
+}
+
+/// A record at (x, Λ) from the current factorisation (taken at that point
+/// with a border close to the tangent t).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn make_record<P: Problem + ?Sized>(
+    problem: &mut P,
+    bordered: &mut Bordered,
+    scaling: &Scaling,
+    eq: &[f64],
+    x: &[f64],
+    lambda: f64,
+    tx: &[f64],
+    tl: f64,
+    step: f64,
+    newton_iterations: usize,
+    opts: &Options,
+    observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
+    counts: &mut Counts,
+) -> Record {
+    let mut r = vec![0.0; x.len()];
+    problem.residual(x, lambda, &mut r);
+    counts.residuals += 1;
+    let (bordered_det_sign, det_sign) = bordered.determinant_signs(scaling, tx, tl);
+    let smallest_singular_value = opts.track_singular.then(|| bordered.smallest_singular_value(counts));
+    Record {
+        lambda,
+        outputs: observe(x, lambda),
+        residual: residual_norm(&r, eq),
+        step,
+        det_sign,
+        bordered_det_sign,
+        smallest_singular_value,
+        newton_iterations,
+    }
+}
+
+pub(crate) fn validate<P: Problem + ?Sized>(problem: &P, opts: &Options) -> Result<()> {
+    error::in_range("residual_tol", opts.residual_tol, 1e-15, 1.0)?;
+    error::positive("initial_step", opts.initial_step)?;
+    error::positive("min_step", opts.min_step)?;
+    error::positive("max_step", opts.max_step)?;
+    if !(opts.min_step <= opts.initial_step && opts.initial_step <= opts.max_step) {
+        return Err(Error::new(Status::ErrOutOfRange, format!(
+            "steps must satisfy min_step ({:e}) <= initial_step ({:e}) <= max_step ({:e})", opts.min_step, opts.initial_step, opts.max_step)));
+    }
+    if let Some(t) = opts.target_lambda {
+        error::finite("target_lambda", t)?;
+    }
+    if let Some(s) = &opts.scaling {
+        if s.x.len() != problem.dim() || !s.x.iter().all(|v| v.is_finite() && *v > 0.0) || !(s.lambda.is_finite() && s.lambda > 0.0) {
+            return Err(Error::new(Status::ErrOutOfRange, "scaling: one positive finite scale per unknown and for the parameter"));
+        }
+    }
+    Ok(())
+}

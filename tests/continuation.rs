@@ -1,0 +1,108 @@
+//! The generic continuation engines on small polynomial systems with known
+//! branches (references: their closed forms).
+
+use rodkit::continuation::anm::{continue_anm, AnmOptions};
+use rodkit::continuation::newton::{continue_newton, Start};
+use rodkit::continuation::system::{AssembledSystem, Block, Slot};
+use rodkit::continuation::{Options, Stop};
+use rodkit::taylor::{Scalar, Tape};
+use std::sync::Arc;
+
+/// R1 = x1² + Λ² − 1, R2 = x2 − x1Λ (cubic term through x2's equation kept
+/// quadratic; a third equation adds a cubic): R3 = x3 − x1·x2·Λ. Branch: the
+/// unit circle in (x1, Λ), with a fold at Λ = 1 where x1 = 0.
+fn circle() -> AssembledSystem {
+    fn kernel<T: Scalar>(v: &[T]) -> Vec<T> {
+        let (x1, x2, x3, l) = (v[0], v[1], v[2], v[3]);
+        vec![x1 * x1 + l * l - 1.0, x2 - x1 * l, x3 - x1 * x2 * l]
+    }
+    let tape = Arc::new(Tape::record(4, |v| kernel(v)));
+    let block = Block { tape, inputs: vec![Slot::Unknown(0), Slot::Unknown(1), Slot::Unknown(2), Slot::Lambda], rows: vec![0, 1, 2] };
+    AssembledSystem::new(3, vec![block])
+}
+
+fn on_circle(x: &[f64], l: f64) -> f64 {
+    (x[0] * x[0] + l * l - 1.0).abs().max((x[1] - x[0] * l).abs()).max((x[2] - x[0] * x[0] * l * l).abs())
+}
+
+#[test]
+fn both_engines_pass_the_fold_and_flag_it() {
+    let opts = Options { max_steps: 400, residual_tol: 1e-12, initial_step: 0.05, max_step: 0.2, lambda_range: (-0.5, 2.0), ..Default::default() };
+    let start = || Start::Point { x: vec![1.0, 0.0, 0.0], lambda: 0.0, increasing: true };
+    let mut sys = circle();
+    assert_eq!(sys.degree(), 3);
+    let newton = continue_newton(&mut sys, start(), &opts, |x, _| x.to_vec(), |_| true).unwrap();
+    let mut sys = circle();
+    let anm = continue_anm(&mut sys, start(), &opts, &AnmOptions { order: 20, epsilon: 1e-10 }, |x, _| x.to_vec(), |_| true).unwrap();
+    for (name, b) in [("newton", &newton), ("anm", &anm)] {
+        assert_eq!(b.stop, Stop::LambdaRange, "{name}");
+        // Past the fold: x1 < 0 and Λ back below 0.
+        let last = b.records.last().unwrap();
+        assert!(last.outputs[0] < -0.5 && last.lambda < 0.0, "{name}: ended at x1 {} Λ {}", last.outputs[0], last.lambda);
+        for r in &b.records {
+            assert!(on_circle(&r.outputs, r.lambda) < 1e-11, "{name}: off the branch at Λ {}", r.lambda);
+            assert!(r.residual <= 1e-12);
+        }
+        // det R_x = 2x1 (times 1): flips once, at the fold; the bordered
+        // determinant does not (a fold is no bifurcation).
+        let flips = b.records.windows(2).filter(|w| w[0].det_sign != w[1].det_sign).count();
+        let bflips = b.records.windows(2).filter(|w| w[0].bordered_det_sign != w[1].bordered_det_sign).count();
+        assert_eq!((flips, bflips), (1, 0), "{name}");
+        let max_l = b.records.iter().map(|r| r.lambda).fold(f64::MIN, f64::max);
+        assert!(max_l > 0.95 && max_l <= 1.0 + 1e-12, "{name}: {max_l}");
+    }
+    // The ANM covers the same arc in far fewer factorisations.
+    println!("newton: {:?}\nanm: {:?}", newton.counts, anm.counts);
+    assert!(anm.counts.factorisations * 3 < newton.counts.factorisations, "{:?} vs {:?}", anm.counts, newton.counts);
+}
+
+#[test]
+fn target_lambda_is_hit_exactly_and_resume_continues() {
+    let opts = Options { target_lambda: Some(0.6), residual_tol: 1e-12, initial_step: 0.05, max_step: 0.3, ..Default::default() };
+    for engine in ["newton", "anm"] {
+        let mut sys = circle();
+        let start = Start::Point { x: vec![1.0, 0.0, 0.0], lambda: 0.0, increasing: true };
+        let b = if engine == "newton" {
+            continue_newton(&mut sys, start, &opts, |x, _| x.to_vec(), |_| true).unwrap()
+        } else {
+            continue_anm(&mut sys, start, &opts, &AnmOptions::default(), |x, _| x.to_vec(), |_| true).unwrap()
+        };
+        assert_eq!(b.stop, Stop::Target, "{engine}");
+        let last = b.records.last().unwrap();
+        assert_eq!(last.lambda, 0.6, "{engine}");
+        assert!((last.outputs[0] - 0.8).abs() < 1e-12, "{engine}: x1 = {}", last.outputs[0]);
+        // Resume towards Λ = 0.9 on the same branch.
+        let opts2 = Options { target_lambda: Some(0.9), ..opts.clone() };
+        let mut sys = circle();
+        let b2 = continue_newton(&mut sys, Start::Resume(b.resume.clone()), &opts2, |x, _| x.to_vec(), |_| true).unwrap();
+        assert_eq!(b2.stop, Stop::Target);
+        assert!((b2.records.last().unwrap().outputs[0] - (1.0f64 - 0.81).sqrt()).abs() < 1e-12);
+    }
+}
+
+/// Pitchfork R = x(Λ − x²) + 0·…: the trivial branch x = 0 crosses the
+/// bifurcation at Λ = 0, where the bordered determinant changes sign and
+/// the smallest singular value dips to ~0 (reference: B = [[Λ, 0], [0, 1]]
+/// along x = 0, σ_min = |Λ|).
+#[test]
+fn bifurcation_flips_the_bordered_determinant() {
+    fn kernel<T: Scalar>(v: &[T]) -> Vec<T> {
+        let (x, l) = (v[0], v[1]);
+        vec![x * l - x * x * x]
+    }
+    let tape = Arc::new(Tape::record(2, |v| kernel(v)));
+    let mut sys = AssembledSystem::new(1, vec![Block { tape, inputs: vec![Slot::Unknown(0), Slot::Lambda], rows: vec![0] }]);
+    let opts = Options { target_lambda: Some(1.0), residual_tol: 1e-13, initial_step: 0.1, max_step: 0.1, track_singular: true, ..Default::default() };
+    let b = continue_newton(&mut sys, Start::Point { x: vec![0.0], lambda: -1.0, increasing: true }, &opts, |x, _| x.to_vec(), |_| true).unwrap();
+    let flips: Vec<f64> = b.records.windows(2).filter(|w| w[0].bordered_det_sign != w[1].bordered_det_sign).map(|w| 0.5 * (w[0].lambda + w[1].lambda)).collect();
+    assert_eq!(flips.len(), 1);
+    assert!(flips[0].abs() < 0.06, "flip near Λ = {}", flips[0]);
+    for r in &b.records {
+        let s = r.smallest_singular_value.unwrap();
+        // An estimate (8 inverse iterations at most, 1e−3 stopping test):
+        // good to 1 % where the two singular values are close (|Λ| → 1),
+        // sharp near the bifurcation where they separate.
+        let exact = r.lambda.abs().min(1.0);
+        assert!((s - exact).abs() < 0.01 * exact.max(1e-3), "σ_min {s} at Λ {}", r.lambda);
+    }
+}

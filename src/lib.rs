@@ -9,6 +9,7 @@ pub mod chebyshev;
 pub mod continuation;
 pub mod error;
 pub mod newton;
+pub mod rod;
 pub mod sparse;
 pub mod status;
 pub mod taylor;

@@ -85,8 +85,9 @@ impl Bordered {
         for (i, &p) in self.last_col.iter().enumerate() {
             self.values[p] = self.jl[i];
         }
+        let mean = 1.0 / self.n.max(1) as f64;
         for j in 0..self.n {
-            self.values[self.last_row[j]] = vx[j] / (scaling.x[j] * scaling.x[j]);
+            self.values[self.last_row[j]] = mean * vx[j] / (scaling.x[j] * scaling.x[j]);
         }
         self.values[self.last_row[self.n]] = vl / (scaling.lambda * scaling.lambda);
         self.border_x.copy_from_slice(vx);

@@ -13,7 +13,7 @@
 //!
 //! Both work on the bordered tangent [[R_x, R_Λ], [vᵀW]] (sparse, pattern
 //! fixed, symbolic analysis once), measure arc length in the scaled inner
-//! product ⟨a, b⟩_W = Σ a_i b_i / s_i² + a_Λ b_Λ / s_Λ² ([`Scaling`]), return
+//! product ⟨a, b⟩_W = (1/n)Σ a_i b_i / s_i² + a_Λ b_Λ / s_Λ² ([`Scaling`]), return
 //! the branch as [`Record`]s, stop at a target Λ, a step limit or a
 //! callback's request, and can resume from the returned [`Resume`].
 
@@ -70,13 +70,15 @@ impl Scaling {
         Scaling { x, lambda }
     }
 
-    /// ⟨a, b⟩_W over (x, Λ) pairs.
+    /// ⟨a, b⟩_W = (1/n) Σ a_i b_i / s_i² + a_Λ b_Λ / s_Λ² over (x, Λ) pairs:
+    /// the mean over the unknowns, so that the arc length of a discretised
+    /// field does not grow with the mesh (a continuous L² norm, as AUTO's).
     pub fn dot(&self, ax: &[f64], al: f64, bx: &[f64], bl: f64) -> f64 {
-        let mut s = al * bl / (self.lambda * self.lambda);
+        let mut s = 0.0;
         for ((a, b), w) in ax.iter().zip(bx).zip(&self.x) {
             s += a * b / (w * w);
         }
-        s
+        s / self.x.len().max(1) as f64 + al * bl / (self.lambda * self.lambda)
     }
 
     pub fn norm(&self, x: &[f64], l: f64) -> f64 {

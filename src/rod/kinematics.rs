@@ -1,0 +1,157 @@
+//! The special Cosserat rod's equations in quaternion form (physics.md
+//! §2.1), written once, generic over [`Scalar`] so the same code gives
+//! values, Jacobians and Taylor series (see [`crate::taylor`]):
+//!
+//!   r'   = R(q) v                  (cubic)
+//!   q'   = ½ q ∘ (0, u)            (quadratic; |q| is a first integral)
+//!   n_b' = −u × n_b − f_b
+//!   m_b' = −u × m_b − v × n_b − l_b
+//!
+//! with body-frame force and moment and the linear law
+//! [u; v] = [û; v̂] + K⁻¹[m_b; n_b]. R(q) is the homogeneous quadratic form
+//! (q0² + q1² − q2² − q3², …), equal to the rotation matrix on |q| = 1.
+//! Kirchhoff rods: v ≡ v̂ = e3, u = û + K_bt⁻¹ m_b, n_b a reaction.
+
+use crate::taylor::Scalar;
+
+pub type V3<T> = [T; 3];
+
+pub fn cross<T: Scalar>(a: &V3<T>, b: &V3<T>) -> V3<T> {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+/// R(q) (row-major), quadratic in q.
+pub fn rotation<T: Scalar>(q: &[T; 4]) -> [[T; 3]; 3] {
+    let [q0, q1, q2, q3] = *q;
+    let (q00, q11, q22, q33) = (q0 * q0, q1 * q1, q2 * q2, q3 * q3);
+    let (q01, q02, q03, q12, q13, q23) = (q0 * q1, q0 * q2, q0 * q3, q1 * q2, q1 * q3, q2 * q3);
+    [
+        [q00 + q11 - q22 - q33, (q12 - q03) * 2.0, (q13 + q02) * 2.0],
+        [(q12 + q03) * 2.0, q00 - q11 + q22 - q33, (q23 - q01) * 2.0],
+        [(q13 - q02) * 2.0, (q23 + q01) * 2.0, q00 - q11 - q22 + q33],
+    ]
+}
+
+pub fn mat_vec<T: Scalar>(r: &[[T; 3]; 3], v: &V3<T>) -> V3<T> {
+    [
+        r[0][0] * v[0] + r[0][1] * v[1] + r[0][2] * v[2],
+        r[1][0] * v[0] + r[1][1] * v[1] + r[1][2] * v[2],
+        r[2][0] * v[0] + r[2][1] * v[1] + r[2][2] * v[2],
+    ]
+}
+
+pub fn mat_t_vec<T: Scalar>(r: &[[T; 3]; 3], v: &V3<T>) -> V3<T> {
+    [
+        r[0][0] * v[0] + r[1][0] * v[1] + r[2][0] * v[2],
+        r[0][1] * v[0] + r[1][1] * v[1] + r[2][1] * v[2],
+        r[0][2] * v[0] + r[1][2] * v[1] + r[2][2] * v[2],
+    ]
+}
+
+/// R(q)ᵀ w for a constant w (a dead load in body components), cubic with Λ.
+pub fn to_body<T: Scalar>(q: &[T; 4], w: &[f64; 3]) -> V3<T> {
+    let r = rotation(q);
+    [
+        r[0][0] * w[0] + r[1][0] * w[1] + r[2][0] * w[2],
+        r[0][1] * w[0] + r[1][1] * w[1] + r[2][1] * w[2],
+        r[0][2] * w[0] + r[1][2] * w[1] + r[2][2] * w[2],
+    ]
+}
+
+/// Hamilton product a ∘ b.
+pub fn quat_mul<T: Scalar>(a: &[T; 4], b: &[T; 4]) -> [T; 4] {
+    [
+        a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
+        a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+        a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
+        a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0],
+    ]
+}
+
+/// q ∘ (0, u) without the zero terms.
+pub fn quat_mul_pure<T: Scalar>(q: &[T; 4], u: &V3<T>) -> [T; 4] {
+    [
+        -(q[1] * u[0] + q[2] * u[1] + q[3] * u[2]),
+        q[0] * u[0] + q[2] * u[2] - q[3] * u[1],
+        q[0] * u[1] - q[1] * u[2] + q[3] * u[0],
+        q[0] * u[2] + q[1] * u[1] - q[2] * u[0],
+    ]
+}
+
+/// The constant data of the right-hand side.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RhsData {
+    /// Compliance K⁻¹ (6×6, row-major, order (u, v) ↔ (m, n)); for a
+    /// Kirchhoff rod only the (u, m) block is used.
+    pub compliance: [[f64; 6]; 6],
+    pub intrinsic_u: [f64; 3],
+    pub intrinsic_v: [f64; 3],
+    pub kirchhoff: bool,
+    /// Distributed force and couple per length, scaled by Λ: (dead?, vector).
+    pub force: Option<(bool, [f64; 3])>,
+    pub couple: Option<(bool, [f64; 3])>,
+}
+
+/// Strains (u, v) from (m_b, n_b).
+pub fn strains<T: Scalar>(d: &RhsData, m: &V3<T>, n: &V3<T>) -> (V3<T>, V3<T>) {
+    let c = &d.compliance;
+    // Zero compliance entries are skipped: the tape (and the Jacobian's
+    // pattern) then only holds the couplings the law has.
+    let src = [m[0], m[1], m[2], n[0], n[1], n[2]];
+    let lin = |row: usize| -> Option<T> {
+        let mut acc: Option<T> = None;
+        for (k, s) in src.iter().enumerate().take(if d.kirchhoff { 3 } else { 6 }) {
+            if c[row][k] != 0.0 {
+                let term = *s * c[row][k];
+                acc = Some(acc.map_or(term, |a| a + term));
+            }
+        }
+        acc
+    };
+    let with = |row: usize, hat: f64| lin(row).map_or(T::constant(hat), |a| a + hat);
+    let u = [with(0, d.intrinsic_u[0]), with(1, d.intrinsic_u[1]), with(2, d.intrinsic_u[2])];
+    let v = if d.kirchhoff {
+        [T::constant(d.intrinsic_v[0]), T::constant(d.intrinsic_v[1]), T::constant(d.intrinsic_v[2])]
+    } else {
+        [with(3, d.intrinsic_v[0]), with(4, d.intrinsic_v[1]), with(5, d.intrinsic_v[2])]
+    };
+    (u, v)
+}
+
+/// y' = f(y, Λ), y = (r, q, n_b, m_b).
+pub fn rhs<T: Scalar>(d: &RhsData, y: &[T], lambda: T) -> [T; 13] {
+    let q = [y[3], y[4], y[5], y[6]];
+    let n = [y[7], y[8], y[9]];
+    let m = [y[10], y[11], y[12]];
+    let (u, v) = strains(d, &m, &n);
+    let rot = rotation(&q);
+    let dr = mat_vec(&rot, &v);
+    let dq = quat_mul_pure(&q, &u);
+    let load = |spec: &Option<(bool, [f64; 3])>| -> Option<V3<T>> {
+        spec.map(|(dead, w)| {
+            let body = if dead { to_body(&q, &w) } else { [T::constant(w[0]), T::constant(w[1]), T::constant(w[2])] };
+            [body[0] * lambda, body[1] * lambda, body[2] * lambda]
+        })
+    };
+    let un = cross(&u, &n);
+    let um = cross(&u, &m);
+    let vn = cross(&v, &n);
+    let f = load(&d.force);
+    let l = load(&d.couple);
+    let mut out = [dr[0]; 13];
+    for i in 0..3 {
+        out[i] = dr[i];
+        out[7 + i] = -un[i];
+        out[10 + i] = -um[i] - vn[i];
+        if let Some(f) = &f {
+            out[7 + i] = out[7 + i] - f[i];
+        }
+        if let Some(l) = &l {
+            out[10 + i] = out[10 + i] - l[i];
+        }
+    }
+    for i in 0..4 {
+        out[3 + i] = dq[i] * 0.5;
+    }
+    out
+}

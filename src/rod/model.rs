@@ -1,0 +1,368 @@
+//! The discretised rod as a cubic system R(x, Λ) = 0 (physics.md §2.3).
+//!
+//! Unknowns, element by element: the node state y_i = (r, q, n_b, m_b) (13)
+//! followed by the element's stage states (13 each, Gauss–Legendre only),
+//! then the last node: 13(N + 1) + 13sN unknowns. Equations: per element,
+//! its stage equations Y_j = y_i + h Σ_k a_jk f(Y_k) and the node update
+//! y_{i+1} = y_i + h Σ_j b_j f(Y_j) (midpoint: y_{i+1} − y_i =
+//! h f((y_i + y_{i+1})/2)); 13 boundary conditions. Every kernel is
+//! recorded once (uniform mesh: one element tape) and is at most cubic in
+//! (x, Λ), which [`Rod::system`] checks.
+//!
+//! The reference configuration: s ∈ [0, L] along e3 from the origin, with
+//! q = (1, 0, 0, 0) (scalar first) for a straight rod.
+
+use super::kinematics::{self, RhsData};
+use super::scheme::{Scheme, Tableau};
+use super::{Frame, Load, Loads, RodLaw};
+use crate::continuation::system::{AssembledSystem, Block, Slot};
+use crate::error::{self, Error, Result};
+use crate::status::Status;
+use crate::taylor::{Scalar, Tape, Var};
+use std::sync::Arc;
+
+/// Supports of the two ends.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Supports {
+    /// s = 0 clamped at the origin along e3 (7 conditions: r, q); s = L
+    /// free, with the tip loads as n_b(L), m_b(L) (6).
+    Cantilever,
+    /// Both ends clamped: s = 0 as above; s = L at `end_position` with the
+    /// orientation `end_rotation` (unit quaternion): 3 position and 3
+    /// rotation conditions (the vector part of q̄_end ∘ q(L); the 4th would
+    /// be redundant since the scheme conserves |q|). Tip loads are reactions
+    /// and must be None.
+    Clamped { end_position: [f64; 3], end_rotation: [f64; 4] },
+    /// Ball joints (physics.md §2.3): s = 0: r = 0, m_b1 = m_b2 = 0, no
+    /// twist (q3 = 0), |q|² = 1; s = L: r_x = r_y = 0, the axial component
+    /// of the spatial force equal to Λ times the tip force's (dead, along
+    /// e3), m_b = 0.
+    Pinned,
+}
+
+/// A discretised rod.
+#[derive(Clone, Debug)]
+pub struct Rod {
+    pub law: RodLaw,
+    pub length: f64,
+    pub loads: Loads,
+    pub supports: Supports,
+    pub scheme: Scheme,
+    pub elements: usize,
+}
+
+impl Rod {
+    pub fn new(law: RodLaw, length: f64, loads: Loads, supports: Supports, scheme: Scheme, elements: usize) -> Result<Self> {
+        error::positive("length", length)?;
+        error::count_in_range("elements", elements as i64, 1, 1 << 20)?;
+        if let Scheme::Gauss(s) = scheme {
+            error::count_in_range("Gauss stages", s as i64, 1, 4)?;
+        }
+        for (name, l) in [("tip_force", loads.tip_force), ("tip_moment", loads.tip_moment), ("distributed_force", loads.distributed_force), ("distributed_couple", loads.distributed_couple)] {
+            if let Some(l) = l {
+                error::finite_result(name, &l.vector)?;
+            }
+        }
+        match supports {
+            Supports::Clamped { end_position, end_rotation } => {
+                error::finite_result("end_position", &end_position)?;
+                error::finite_result("end_rotation", &end_rotation)?;
+                let norm = end_rotation.iter().map(|v| v * v).sum::<f64>().sqrt();
+                if (norm - 1.0).abs() > 1e-12 {
+                    return Err(Error::new(Status::ErrOutOfRange, format!("end_rotation must be a unit quaternion (|q| = {norm})")));
+                }
+                if loads.tip_force.is_some() || loads.tip_moment.is_some() {
+                    return Err(Error::new(Status::ErrOutOfRange, "a clamped end takes no tip load (its force and moment are reactions)"));
+                }
+            }
+            Supports::Pinned => {
+                if loads.tip_moment.is_some() {
+                    return Err(Error::new(Status::ErrOutOfRange, "a pinned end carries no moment: tip_moment must be None"));
+                }
+                if let Some(f) = loads.tip_force {
+                    if f.frame != Frame::Dead || f.vector[0] != 0.0 || f.vector[1] != 0.0 {
+                        return Err(Error::new(Status::ErrOutOfRange, "a pinned rod takes an axial dead tip force (0, 0, P) only"));
+                    }
+                }
+            }
+            Supports::Cantilever => {}
+        }
+        Ok(Rod { law, length, loads, supports, scheme, elements })
+    }
+
+    /// Element length h.
+    pub fn element_length(&self) -> f64 {
+        self.length / self.elements as f64
+    }
+
+    fn block_size(&self) -> usize {
+        13 * (1 + self.scheme.stages())
+    }
+
+    /// Number of unknowns (excluding Λ).
+    pub fn unknowns(&self) -> usize {
+        self.block_size() * self.elements + 13
+    }
+
+    /// Offset of node i's state y_i in x.
+    pub fn node(&self, i: usize) -> usize {
+        i * self.block_size()
+    }
+
+    /// Node i's state (r, q, n_b, m_b).
+    pub fn node_state<'a>(&self, x: &'a [f64], i: usize) -> &'a [f64] {
+        &x[self.node(i)..self.node(i) + 13]
+    }
+
+    /// Tip position r(L).
+    pub fn tip(&self, x: &[f64]) -> [f64; 3] {
+        let y = self.node_state(x, self.elements);
+        [y[0], y[1], y[2]]
+    }
+
+    /// The straight, stress-free state (exact at Λ = 0 for a straight rod
+    /// with v̂ = e3 and no intrinsic curvature; a starting guess otherwise):
+    /// r = s·v̂3·e3, q = 1, n = m = 0 at nodes and stages.
+    pub fn straight_state(&self) -> Vec<f64> {
+        let mut x = vec![0.0; self.unknowns()];
+        let h = self.element_length();
+        let stretch = self.law.intrinsic_v[2];
+        let tab = self.tableau();
+        for i in 0..=self.elements {
+            let at = |x: &mut Vec<f64>, off: usize, s: f64| {
+                x[off + 2] = stretch * s;
+                x[off + 3] = 1.0;
+            };
+            at(&mut x, self.node(i), i as f64 * h);
+            if i < self.elements {
+                for j in 0..self.scheme.stages() {
+                    at(&mut x, self.node(i) + 13 * (1 + j), (i as f64 + tab.c[j]) * h);
+                }
+            }
+        }
+        x
+    }
+
+    fn tableau(&self) -> Tableau {
+        match self.scheme {
+            Scheme::Midpoint => Tableau::gauss(1),
+            Scheme::Gauss(s) => Tableau::gauss(s),
+        }
+    }
+
+    fn rhs_data(&self) -> RhsData {
+        let c = self.law.compliance();
+        let mut compliance = [[0.0; 6]; 6];
+        for (i, row) in compliance.iter_mut().enumerate() {
+            for (j, v) in row.iter_mut().enumerate() {
+                // Round-off couplings of a diagonal law stay exact zeros.
+                *v = if c[(i, j)].abs() > 1e-15 * c.amax() { c[(i, j)] } else { 0.0 };
+            }
+        }
+        let frame = |l: Option<Load>| l.map(|l| (l.frame == Frame::Dead, l.vector));
+        RhsData {
+            compliance,
+            intrinsic_u: self.law.intrinsic_u.into(),
+            intrinsic_v: self.law.intrinsic_v.into(),
+            kirchhoff: self.law.kirchhoff,
+            force: frame(self.loads.distributed_force),
+            couple: frame(self.loads.distributed_couple),
+        }
+    }
+
+    /// Scales: force K_b/L², moment K_b/L, positions L, quaternions 1.
+    fn state_scales(&self) -> [f64; 13] {
+        let (l, f) = (self.length, self.law.bending() / (self.length * self.length));
+        let mut s = [0.0; 13];
+        for i in 0..3 {
+            s[i] = l;
+            s[7 + i] = f;
+            s[10 + i] = f * l;
+        }
+        for i in 3..7 {
+            s[i] = 1.0;
+        }
+        s
+    }
+
+    /// The cubic system, with scales for the continuation (unknowns: the
+    /// state scales; equations: h × the scale of y' for element rows, the
+    /// state scales for boundary rows; Λ: 1).
+    pub fn system(&self) -> Result<AssembledSystem> {
+        let data = self.rhs_data();
+        let h = self.element_length();
+        let bs = self.block_size();
+        let stages = self.scheme.stages();
+        let tab = self.tableau();
+        let element = Arc::new(match self.scheme {
+            Scheme::Midpoint => Tape::record(27, |v| midpoint_kernel(&data, h, v)),
+            Scheme::Gauss(_) => Tape::record(13 * (stages + 2) + 1, |v| gauss_kernel(&data, h, &tab, v)),
+        });
+        let mut blocks = Vec::with_capacity(self.elements + 1);
+        for i in 0..self.elements {
+            let base = self.node(i);
+            let mut inputs: Vec<Slot> = (0..bs + 13).map(|k| Slot::Unknown(base + k)).collect();
+            inputs.push(Slot::Lambda);
+            // Stage rows at the stage slots, the update at the next node's.
+            let mut rows: Vec<usize> = (0..13 * stages).map(|k| base + 13 + k).collect();
+            rows.extend((0..13).map(|k| base + bs + k));
+            blocks.push(Block { tape: element.clone(), inputs, rows });
+        }
+        // Boundary conditions in node 0's rows: 7 at s = 0, 6 at s = L.
+        let (y0, yl) = (self.node(0), self.node(self.elements));
+        let bc = Arc::new(self.boundary_tape());
+        let mut inputs: Vec<Slot> = (0..13).map(|k| Slot::Unknown(y0 + k)).collect();
+        inputs.extend((0..13).map(|k| Slot::Unknown(yl + k)));
+        inputs.push(Slot::Lambda);
+        blocks.push(Block { tape: bc, inputs, rows: (0..13).map(|k| y0 + k).collect() });
+        let n = self.unknowns();
+        let ss = self.state_scales();
+        let unknowns: Vec<f64> = (0..n).map(|k| ss[k % 13]).collect();
+        let scale_q = 1.0 / self.length;
+        let rate = |k: usize| match k {
+            0..=2 => 1.0,
+            3..=6 => scale_q,
+            _ => ss[k] / self.length,
+        };
+        let mut equations: Vec<f64> = (0..n).map(|k| h * rate(k % 13)).collect();
+        let bc_scales = self.boundary_scales();
+        equations[..13].copy_from_slice(&bc_scales);
+        let sys = AssembledSystem::new(n, blocks).with_scales(equations, unknowns, 1.0);
+        let degree = sys.degree();
+        if degree > 3 {
+            return Err(Error::new(Status::ErrInternal, format!("rod system has degree {degree} (> 3)")));
+        }
+        Ok(sys)
+    }
+
+    fn boundary_scales(&self) -> [f64; 13] {
+        let ss = self.state_scales();
+        let mut s = [0.0; 13];
+        // s = 0: r (3), q (4) or the pinned set; s = L: 6 of force/moment or position/rotation.
+        match self.supports {
+            Supports::Cantilever => {
+                s[..7].copy_from_slice(&ss[..7]);
+                s[7..13].copy_from_slice(&ss[7..13]);
+            }
+            Supports::Clamped { .. } => {
+                s[..7].copy_from_slice(&ss[..7]);
+                s[7..10].copy_from_slice(&ss[0..3]);
+                s[10..13].fill(1.0);
+            }
+            Supports::Pinned => {
+                s[..3].copy_from_slice(&ss[..3]);
+                s[3] = ss[10];
+                s[4] = ss[11];
+                s[5] = 1.0;
+                s[6] = 1.0;
+                s[7] = ss[0];
+                s[8] = ss[1];
+                s[9] = ss[9];
+                s[10..13].copy_from_slice(&ss[10..13]);
+            }
+        }
+        s
+    }
+
+    fn boundary_tape(&self) -> Tape {
+        let loads = self.loads;
+        let supports = self.supports;
+        Tape::record(27, move |v| {
+            let y0 = &v[0..13];
+            let yl = &v[13..26];
+            let lambda = v[26];
+            let mut out: Vec<Var> = Vec::with_capacity(13);
+            match supports {
+                Supports::Cantilever | Supports::Clamped { .. } => {
+                    out.extend_from_slice(&y0[0..3]);
+                    out.push(y0[3] - 1.0);
+                    out.extend_from_slice(&y0[4..7]);
+                }
+                Supports::Pinned => {
+                    out.extend_from_slice(&y0[0..3]);
+                    out.push(y0[10]);
+                    out.push(y0[11]);
+                    out.push(y0[6]);
+                    out.push(y0[3] * y0[3] + y0[4] * y0[4] + y0[5] * y0[5] + y0[6] * y0[6] - 1.0);
+                }
+            }
+            let ql = [yl[3], yl[4], yl[5], yl[6]];
+            match supports {
+                Supports::Cantilever => {
+                    let end = |l: Option<Load>, at: usize, out: &mut Vec<Var>| {
+                        let applied: [Option<Var>; 3] = match l {
+                            None => [None; 3],
+                            Some(Load { frame: Frame::Follower, vector }) => vector.map(|c| (c != 0.0).then(|| lambda * c)),
+                            Some(Load { frame: Frame::Dead, vector }) => {
+                                let b = kinematics::to_body(&ql, &vector);
+                                [Some(b[0] * lambda), Some(b[1] * lambda), Some(b[2] * lambda)]
+                            }
+                        };
+                        for k in 0..3 {
+                            out.push(match applied[k] {
+                                Some(a) => yl[at + k] - a,
+                                None => yl[at + k],
+                            });
+                        }
+                    };
+                    end(loads.tip_force, 7, &mut out);
+                    end(loads.tip_moment, 10, &mut out);
+                }
+                Supports::Clamped { end_position, end_rotation } => {
+                    for k in 0..3 {
+                        out.push(yl[k] - end_position[k]);
+                    }
+                    let conj = [end_rotation[0], -end_rotation[1], -end_rotation[2], -end_rotation[3]];
+                    let c = [Var::constant(conj[0]), Var::constant(conj[1]), Var::constant(conj[2]), Var::constant(conj[3])];
+                    let rel = kinematics::quat_mul(&c, &ql);
+                    out.extend_from_slice(&rel[1..4]);
+                }
+                Supports::Pinned => {
+                    out.push(yl[0]);
+                    out.push(yl[1]);
+                    // Spatial axial force (R(q) n_b)_z = Λ P.
+                    let rot = kinematics::rotation(&ql);
+                    let nz = rot[2][0] * yl[7] + rot[2][1] * yl[8] + rot[2][2] * yl[9];
+                    let p = loads.tip_force.map_or(0.0, |l| l.vector[2]);
+                    out.push(if p != 0.0 { nz - lambda * p } else { nz });
+                    out.extend_from_slice(&yl[10..13]);
+                }
+            }
+            out
+        })
+    }
+}
+
+fn midpoint_kernel<T: Scalar>(data: &RhsData, h: f64, v: &[T]) -> Vec<T> {
+    let (a, b, lambda) = (&v[0..13], &v[13..26], v[26]);
+    let mid: Vec<T> = a.iter().zip(b).map(|(p, q)| (*p + *q) * 0.5).collect();
+    let f = kinematics::rhs(data, &mid, lambda);
+    (0..13).map(|k| b[k] - a[k] - f[k] * h).collect()
+}
+
+fn gauss_kernel<T: Scalar>(data: &RhsData, h: f64, tab: &Tableau, v: &[T]) -> Vec<T> {
+    let s = tab.c.len();
+    let y0 = &v[0..13];
+    let stage = |j: usize| &v[13 * (1 + j)..13 * (2 + j)];
+    let y1 = &v[13 * (1 + s)..13 * (2 + s)];
+    let lambda = v[13 * (2 + s)];
+    let f: Vec<[T; 13]> = (0..s).map(|j| kinematics::rhs(data, stage(j), lambda)).collect();
+    let mut out = Vec::with_capacity(13 * (s + 1));
+    for i in 0..s {
+        for k in 0..13 {
+            let mut e = stage(i)[k] - y0[k];
+            for j in 0..s {
+                e = e - f[j][k] * (h * tab.a[i][j]);
+            }
+            out.push(e);
+        }
+    }
+    for k in 0..13 {
+        let mut e = y1[k] - y0[k];
+        for j in 0..s {
+            e = e - f[j][k] * (h * tab.b[j]);
+        }
+        out.push(e);
+    }
+    out
+}

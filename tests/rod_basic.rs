@@ -1,0 +1,112 @@
+//! The discretised Cosserat rod against closed forms (physics.md §2.2,
+//! §2.6): pure end moment (circular arc, closing into a ring at m = 2π), the
+//! convergence orders 2s of the schemes, |q| = 1 to round-off, the straight
+//! hemitropic rod's twist under tension.
+
+use rodkit::continuation::anm::{continue_anm, AnmOptions};
+use rodkit::continuation::newton::{continue_newton, Start};
+use rodkit::continuation::{Options, Problem, Stop};
+use rodkit::rod::model::{Rod, Supports};
+use rodkit::rod::scheme::Scheme;
+use rodkit::rod::{Load, Loads, RodLaw};
+use std::f64::consts::PI;
+
+fn law() -> RodLaw {
+    // K_b = 1, C = 1/1.3, G = 1e4, S = 2.6e4 (L = 1): moderately extensible.
+    RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap()
+}
+
+/// Tip of the arc of curvature m/L about e1: (0, −(1 − cos m)/m, sin m/m)·L.
+fn arc_tip(m: f64) -> [f64; 3] {
+    [0.0, -(1.0 - m.cos()) / m, m.sin() / m]
+}
+
+fn solve_at(rod: &Rod, lambda: f64) -> Vec<f64> {
+    let mut sys = rod.system().unwrap();
+    let opts = Options { target_lambda: Some(lambda), residual_tol: 1e-12, initial_step: 0.5, max_step: 2.0, ..Default::default() };
+    let b = continue_newton(&mut sys, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, &opts, |x, _| x.to_vec(), |_| true).unwrap();
+    assert_eq!(b.stop, Stop::Target);
+    b.records.last().unwrap().outputs.clone()
+}
+
+fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+#[test]
+fn pure_end_moment_rolls_the_rod_into_a_ring() {
+    let loads = Loads { tip_moment: Some(Load::follower([1.0, 0.0, 0.0])), ..Default::default() };
+    for (scheme, n, tol) in [(Scheme::Gauss(4), 8, 1e-9), (Scheme::Gauss(2), 16, 1e-5), (Scheme::Midpoint, 64, 2e-3)] {
+        let rod = Rod::new(law(), 1.0, loads, Supports::Cantilever, scheme, n).unwrap();
+        for engine in ["newton", "anm"] {
+            let mut sys = rod.system().unwrap();
+            let opts = Options { target_lambda: Some(2.0 * PI), residual_tol: 1e-11, initial_step: 0.3, max_step: 2.0, ..Default::default() };
+            let start = Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true };
+            let observe = |x: &[f64], _: f64| x.to_vec();
+            let b = if engine == "newton" {
+                continue_newton(&mut sys, start, &opts, observe, |_| true).unwrap()
+            } else {
+                continue_anm(&mut sys, start, &opts, &AnmOptions { order: 20, epsilon: 1e-10 }, observe, |_| true).unwrap()
+            };
+            assert_eq!(b.stop, Stop::Target, "{scheme:?} {engine}");
+            for r in &b.records {
+                let x = &r.outputs;
+                let err = dist(rod.tip(x), arc_tip(r.lambda.max(1e-12)));
+                assert!(err < tol, "{scheme:?} {engine}: tip error {err:e} at m = {}", r.lambda);
+                // |q| = 1 at every node: the schemes conserve it exactly, so
+                // what remains is the Newton residual (1e−11) and round-off.
+                for i in 0..=rod.elements {
+                    let q = &rod.node_state(x, i)[3..7];
+                    let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+                    assert!((norm - 1.0).abs() < 1e-12, "|q| − 1 = {:e}", norm - 1.0);
+                }
+            }
+            let closed = dist(rod.tip(&b.records.last().unwrap().outputs), [0.0; 3]);
+            assert!(closed < tol, "{scheme:?} {engine}: ring not closed ({closed:e})");
+            println!("{scheme:?} N={n} {engine}: {:?}", b.counts);
+        }
+    }
+}
+
+/// Tip error of the bent arc at m = 2 against N: the observed order is 2s
+/// (2 for the midpoint rule). Reference: the closed-form arc.
+#[test]
+fn schemes_converge_at_their_order() {
+    let loads = Loads { tip_moment: Some(Load::follower([1.0, 0.0, 0.0])), ..Default::default() };
+    for (scheme, ns) in [(Scheme::Midpoint, [8, 16, 32]), (Scheme::Gauss(2), [2, 4, 8]), (Scheme::Gauss(3), [2, 3, 4]), (Scheme::Gauss(4), [1, 2, 3])] {
+        let errs: Vec<f64> = ns
+            .iter()
+            .map(|&n| {
+                let rod = Rod::new(law(), 1.0, loads, Supports::Cantilever, scheme, n).unwrap();
+                dist(rod.tip(&solve_at(&rod, 2.0)), arc_tip(2.0))
+            })
+            .collect();
+        let rate = (errs[1] / errs[2]).ln() / (ns[2] as f64 / ns[1] as f64).ln();
+        println!("{scheme:?}: errors {errs:?}, rate {rate:.2}");
+        assert!((rate - scheme.order() as f64).abs() < 0.3, "{scheme:?}: rate {rate} (errors {errs:?})");
+    }
+}
+
+/// A straight hemitropic rod pulled by F (no torque) twists by
+/// Δu3 = −gF/(CS − g²) and stretches by ε = CF/(CS − g²) (physics.md §2.2):
+/// the tip turns by Δu3·L about e3 and moves to (1 + ε)L.
+#[test]
+fn hemitropic_rod_twists_when_pulled() {
+    let (s, c, g, f) = (1000.0, 400.0, -90.0, 30.0);
+    let law = RodLaw::hemitropic(200.0, c, 500.0, s, g, 0.0).unwrap();
+    let loads = Loads { tip_force: Some(Load::dead([0.0, 0.0, 1.0])), ..Default::default() };
+    let rod = Rod::new(law, 2.0, loads, Supports::Cantilever, Scheme::Gauss(2), 4).unwrap();
+    let x = solve_at(&rod, f);
+    let det = c * s - g * g;
+    let (du3, eps) = (-g * f / det, c * f / det);
+    let tip = rod.node_state(&x, rod.elements);
+    let phi = 2.0 * tip[6].atan2(tip[3]);
+    assert!((phi - du3 * 2.0).abs() < 1e-12, "twist {phi} vs {}", du3 * 2.0);
+    assert!((tip[2] - (1.0 + eps) * 2.0).abs() < 1e-12);
+    assert!(tip[0].abs() < 1e-14 && tip[1].abs() < 1e-14);
+    // The residual is at round-off and the problem is cubic.
+    let mut sys = rod.system().unwrap();
+    let mut r = vec![0.0; sys.dim()];
+    sys.residual(&x, f, &mut r);
+    assert!(r.iter().all(|v| v.abs() < 1e-11));
+}

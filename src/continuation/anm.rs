@@ -23,7 +23,8 @@
 //! corrected at fixed Λ.
 
 use super::bordered::Bordered;
-use super::newton::{correct, make_record, residual_norm, validate, Start};
+use super::bifurcation::{Bifurcation, State};
+use super::newton::{correct, detect, make_record, residual_norm, validate, Start};
 use super::{Branch, Counts, Options, Record, Resume, Scaling, SeriesProblem, Stop};
 use crate::error::{self, Error, Result};
 use crate::status::Status;
@@ -86,6 +87,8 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
     let mut z = vec![0.0; n + 1];
     let mut last_a = opts.initial_step;
     let mut at_target = false;
+    let mut bifurcations: Vec<Bifurcation> = Vec::new();
+    let mut history: Vec<State> = Vec::new();
 
     for step in 0..=opts.max_steps {
         // One factorisation at X0 with the border v.
@@ -93,21 +96,35 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             if records.is_empty() {
                 return Err(e);
             }
-            return Ok(finish(Stop::StepTooSmall, x, lambda, vx, vl, last_a, records, counts));
+            return Ok(finish(Stop::StepTooSmall, x, lambda, vx, vl, last_a, records, counts, std::mem::take(&mut bifurcations)));
         }
         let (x1, l1) = bordered.tangent(&scaling, &mut counts)?;
         // The record of X0 (its determinant signs need this factorisation).
         let rec = make_record(problem, &mut bordered, &scaling, &eq, &x, lambda, &x1, l1, pending_step, pending_iterations, opts, &mut observe, &mut counts);
         let go_on = progress(&rec);
         records.push(rec);
+        if opts.detect_bifurcations {
+            history.push(State { x: x.clone(), lambda, tx: x1.clone(), tl: l1 });
+            if history.len() > 3 {
+                history.remove(0);
+            }
+            let before = bordered.factorisations();
+            if let Some(b) = detect(problem, &mut bordered, &scaling, &eq, opts, &records, &history, &bifurcations, &mut counts)? {
+                bifurcations.push(b);
+            }
+            if bordered.factorisations() != before {
+                // Locating moved the factorisation: restore this step's.
+                bordered.factorise_at(problem, &x, lambda, &vx, vl, &scaling, &mut counts)?;
+            }
+        }
         if at_target {
-            return Ok(finish(Stop::Target, x, lambda, x1, l1, last_a, records, counts));
+            return Ok(finish(Stop::Target, x, lambda, x1, l1, last_a, records, counts, std::mem::take(&mut bifurcations)));
         }
         if !go_on {
-            return Ok(finish(Stop::Cancelled, x, lambda, x1, l1, last_a, records, counts));
+            return Ok(finish(Stop::Cancelled, x, lambda, x1, l1, last_a, records, counts, std::mem::take(&mut bifurcations)));
         }
         if step == opts.max_steps {
-            return Ok(finish(Stop::MaxSteps, x, lambda, x1, l1, last_a, records, counts));
+            return Ok(finish(Stop::MaxSteps, x, lambda, x1, l1, last_a, records, counts, std::mem::take(&mut bifurcations)));
         }
 
         // The series.
@@ -143,7 +160,7 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
         let mut a = if p_max > 2 { radius(p_max).min(radius(p_max - 1)) } else { radius(p_max) };
         a = a.min(opts.max_step);
         if !(a >= opts.min_step) {
-            return Ok(finish(Stop::StepTooSmall, x, lambda, x1, l1, a, records, counts));
+            return Ok(finish(Stop::StepTooSmall, x, lambda, x1, l1, a, records, counts, std::mem::take(&mut bifurcations)));
         }
         // A target Λ inside the step: the first root of Λ(a) − Λt on (0, a].
         let lam_at = |t: f64| series.iter().rev().fold(0.0, |acc, c| acc * t + c[n]);
@@ -173,7 +190,7 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
         let mut ln = lam_at(a);
         // Λ range: stop before leaving it.
         if stop.is_none() && !(ln >= opts.lambda_range.0 && ln <= opts.lambda_range.1) {
-            return Ok(finish(Stop::LambdaRange, x, lambda, x1, l1, a, records, counts));
+            return Ok(finish(Stop::LambdaRange, x, lambda, x1, l1, a, records, counts, std::mem::take(&mut bifurcations)));
         }
         // Correction: chord on this step's factorisation (border v), or at
         // fixed Λ for a target point.
@@ -249,6 +266,6 @@ fn first_root(g: impl Fn(f64) -> f64, b: f64) -> Option<f64> {
 }
 
 #[allow(clippy::too_many_arguments)]
-fn finish(stop: Stop, x: Vec<f64>, lambda: f64, tx: Vec<f64>, tl: f64, step: f64, records: Vec<Record>, counts: Counts) -> Branch {
-    Branch { records, stop, resume: Resume { x, lambda, tangent_x: tx, tangent_lambda: tl, step }, counts }
+fn finish(stop: Stop, x: Vec<f64>, lambda: f64, tx: Vec<f64>, tl: f64, step: f64, records: Vec<Record>, counts: Counts, bifurcations: Vec<Bifurcation>) -> Branch {
+    Branch { records, bifurcations, stop, resume: Resume { x, lambda, tangent_x: tx, tangent_lambda: tl, step }, counts }
 }

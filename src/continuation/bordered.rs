@@ -157,7 +157,65 @@ impl Bordered {
         sigma
     }
 
+    /// The k smallest singular values of B (ascending) and their right
+    /// singular vectors (unit in the Euclidean norm, n + 1 long), by
+    /// subspace inverse iteration on BᵀB with a Rayleigh–Ritz step.
+    pub fn smallest_singular_vectors(&mut self, k: usize, counts: &mut Counts) -> (Vec<f64>, Vec<Vec<f64>>) {
+        let m = self.n + 1;
+        let mut v: Vec<Vec<f64>> = (0..k).map(|c| (0..m).map(|i| (((i + 1) * (c + 3) * 7919) % 1009) as f64 / 1009.0 - 0.5).collect()).collect();
+        orthonormalise(&mut v);
+        let mut sigma = vec![f64::INFINITY; k];
+        for _ in 0..30 {
+            let mut w = v.clone();
+            for col in &mut w {
+                self.lu.solve_transpose(col);
+                self.lu.solve(col);
+                counts.solves += 2;
+            }
+            // Rayleigh–Ritz on (BᵀB)⁻¹: G = Vᵀ W.
+            let g = nalgebra::DMatrix::from_fn(k, k, |a, b| dot(&v[a], &w[b]));
+            let eig = nalgebra::SymmetricEigen::new((&g + g.transpose()) * 0.5);
+            let mut order: Vec<usize> = (0..k).collect();
+            order.sort_by(|&a, &b| eig.eigenvalues[b].total_cmp(&eig.eigenvalues[a]));
+            let next: Vec<f64> = order.iter().map(|&i| 1.0 / eig.eigenvalues[i].max(1e-300).sqrt()).collect();
+            // Rotate W into the Ritz basis, then orthonormalise.
+            let mut rotated: Vec<Vec<f64>> = order
+                .iter()
+                .map(|&i| (0..m).map(|r| (0..k).map(|c| w[c][r] * eig.eigenvectors[(c, i)]).sum()).collect())
+                .collect();
+            orthonormalise(&mut rotated);
+            let converged = next.iter().zip(&sigma).all(|(a, b)| (a - b).abs() <= 1e-10 * a.max(1e-300));
+            sigma = next;
+            v = rotated;
+            if converged {
+                break;
+            }
+        }
+        (sigma, v)
+    }
+
     pub fn factorisations(&self) -> usize {
         self.lu.factorisations
+    }
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Modified Gram–Schmidt, in place.
+fn orthonormalise(v: &mut [Vec<f64>]) {
+    for i in 0..v.len() {
+        for j in 0..i {
+            let (head, tail) = v.split_at_mut(i);
+            let c = dot(&tail[0], &head[j]);
+            for (a, b) in tail[0].iter_mut().zip(&head[j]) {
+                *a -= c * b;
+            }
+        }
+        let norm = dot(&v[i], &v[i]).sqrt();
+        if norm > 0.0 {
+            v[i].iter_mut().for_each(|a| *a /= norm);
+        }
     }
 }

@@ -18,6 +18,7 @@
 //! callback's request, and can resume from the returned [`Resume`].
 
 pub mod anm;
+pub mod bifurcation;
 pub mod bordered;
 pub mod newton;
 pub mod system;
@@ -160,6 +161,10 @@ pub struct Options {
     /// Estimate the smallest singular value of the bordered tangent at each
     /// point (a few extra solves).
     pub track_singular: bool,
+    /// Detect and locate bifurcation points (implies `track_singular`);
+    /// located to `bifurcation_tol` in scaled arc length.
+    pub detect_bifurcations: bool,
+    pub bifurcation_tol: f64,
     /// Scaling (None: the problem's own).
     pub scaling: Option<Scaling>,
 }
@@ -175,6 +180,8 @@ impl Default for Options {
             min_step: 1e-10,
             max_step: 1.0,
             track_singular: false,
+            detect_bifurcations: false,
+            bifurcation_tol: 1e-10,
             scaling: None,
         }
     }
@@ -196,6 +203,8 @@ pub struct Counts {
 #[derive(Clone, Debug)]
 pub struct Branch {
     pub records: Vec<Record>,
+    /// Bifurcation points located on the branch (with `detect_bifurcations`).
+    pub bifurcations: Vec<bifurcation::Bifurcation>,
     pub stop: Stop,
     pub resume: Resume,
     pub counts: Counts,

@@ -4,6 +4,7 @@
 //! The baseline the ANM is measured against, and the engine the charged rod
 //! reuses. Also the corrections both engines share.
 
+use super::bifurcation::{self, Bifurcation, State};
 use super::bordered::Bordered;
 use super::{Branch, Counts, Options, Problem, Record, Resume, Scaling, Stop};
 use crate::error::{self, Error, Result};
@@ -101,6 +102,7 @@ pub fn continue_newton<P: Problem + ?Sized>(
     let e_lambda = vec![0.0; n];
 
     // The first point and tangent.
+    let mut singular_start = false;
     let (mut x, mut lambda, mut tx, mut tl, mut ds, first_iterations) = match start {
         Start::Point { x, lambda, increasing } => {
             error::count_in_range("start point length", x.len() as i64, n as i64, n as i64)?;
@@ -115,26 +117,48 @@ pub fn continue_newton<P: Problem + ?Sized>(
             (x, l, tx, tl, opts.initial_step, it)
         }
         Start::Resume(r) => {
-            bordered.factorise_at(problem, &r.x, r.lambda, &r.tangent_x, r.tangent_lambda, &scaling, &mut counts)?;
-            let (tx, tl) = bordered.tangent(&scaling, &mut counts)?;
+            // A resume at a bifurcation point (branch switching) is singular
+            // there by nature: keep the given tangent.
+            let regular = bordered.factorise_at(problem, &r.x, r.lambda, &r.tangent_x, r.tangent_lambda, &scaling, &mut counts).is_ok();
+            let (tx, tl) = if regular { bordered.tangent(&scaling, &mut counts)? } else { (r.tangent_x.clone(), r.tangent_lambda) };
+            singular_start = !regular;
             (r.x, r.lambda, tx, tl, r.step, 0)
         }
     };
     let mut records = Vec::new();
-    let first = make_record(problem, &mut bordered, &scaling, &eq, &x, lambda, &tx, tl, 0.0, first_iterations, opts, &mut observe, &mut counts);
+    let first = if singular_start {
+        let mut r = vec![0.0; n];
+        problem.residual(&x, lambda, &mut r);
+        counts.residuals += 1;
+        Record {
+            lambda,
+            outputs: observe(&x, lambda),
+            residual: residual_norm(&r, &eq),
+            step: 0.0,
+            det_sign: 0.0,
+            bordered_det_sign: 0.0,
+            smallest_singular_value: Some(0.0),
+            newton_iterations: 0,
+        }
+    } else {
+        make_record(problem, &mut bordered, &scaling, &eq, &x, lambda, &tx, tl, 0.0, first_iterations, opts, &mut observe, &mut counts)
+    };
     let go_on = progress(&first);
     records.push(first);
-    let finish = |stop, x: Vec<f64>, lambda, tx, tl, ds, records, counts: Counts| Branch {
+    let mut bifurcations: Vec<Bifurcation> = Vec::new();
+    let mut history: Vec<State> = vec![State { x: x.clone(), lambda, tx: tx.clone(), tl }];
+    let finish = |stop, x: Vec<f64>, lambda, tx, tl, ds, records, counts: Counts, bifurcations| Branch {
         records,
+        bifurcations,
         stop,
         resume: Resume { x, lambda, tangent_x: tx, tangent_lambda: tl, step: ds },
         counts,
     };
     if !go_on {
-        return Ok(finish(Stop::Cancelled, x, lambda, tx, tl, ds, records, counts));
+        return Ok(finish(Stop::Cancelled, x, lambda, tx, tl, ds, records, counts, bifurcations));
     }
     if opts.target_lambda == Some(lambda) {
-        return Ok(finish(Stop::Target, x, lambda, tx, tl, ds, records, counts));
+        return Ok(finish(Stop::Target, x, lambda, tx, tl, ds, records, counts, bifurcations));
     }
 
     for _ in 0..opts.max_steps {
@@ -149,7 +173,7 @@ pub fn continue_newton<P: Problem + ?Sized>(
                 Err(_) => {
                     ds *= 0.5;
                     if ds < opts.min_step {
-                        return Ok(finish(Stop::StepTooSmall, x, lambda, tx, tl, ds, records, counts));
+                        return Ok(finish(Stop::StepTooSmall, x, lambda, tx, tl, ds, records, counts, bifurcations));
                     }
                 }
             }
@@ -169,7 +193,7 @@ pub fn continue_newton<P: Problem + ?Sized>(
             }
         }
         if stop.is_none() && !(ln >= opts.lambda_range.0 && ln <= opts.lambda_range.1) {
-            return Ok(finish(Stop::LambdaRange, x, lambda, tx, tl, ds, records, counts));
+            return Ok(finish(Stop::LambdaRange, x, lambda, tx, tl, ds, records, counts, bifurcations));
         }
         // The tangent at the new point (one factorisation; its determinant
         // signs go into the record).
@@ -179,18 +203,27 @@ pub fn continue_newton<P: Problem + ?Sized>(
         let rec = make_record(problem, &mut bordered, &scaling, &eq, &xn, ln, &txn, tln, step, iterations, opts, &mut observe, &mut counts);
         let go_on = progress(&rec);
         records.push(rec);
+        if opts.detect_bifurcations {
+            history.push(State { x: xn.clone(), lambda: ln, tx: txn.clone(), tl: tln });
+            if history.len() > 3 {
+                history.remove(0);
+            }
+            if let Some(b) = detect(problem, &mut bordered, &scaling, &eq, opts, &records, &history, &bifurcations, &mut counts)? {
+                bifurcations.push(b);
+            }
+        }
         (x, lambda, tx, tl) = (xn, ln, txn, tln);
         // Aim at three corrector iterations.
         let factor = (3.0 / iterations.max(1) as f64).sqrt().clamp(0.5, 2.0);
         ds = (ds * factor).clamp(opts.min_step, opts.max_step);
         if let Some(stop) = stop {
-            return Ok(finish(stop, x, lambda, tx, tl, ds, records, counts));
+            return Ok(finish(stop, x, lambda, tx, tl, ds, records, counts, bifurcations));
         }
         if !go_on {
-            return Ok(finish(Stop::Cancelled, x, lambda, tx, tl, ds, records, counts));
+            return Ok(finish(Stop::Cancelled, x, lambda, tx, tl, ds, records, counts, bifurcations));
         }
     }
-    Ok(finish(Stop::MaxSteps, x, lambda, tx, tl, ds, records, counts))
+    Ok(finish(Stop::MaxSteps, x, lambda, tx, tl, ds, records, counts, bifurcations))
 }
 
 /// A record at (x, Λ) from the current factorisation (taken at that point
@@ -215,7 +248,7 @@ pub(crate) fn make_record<P: Problem + ?Sized>(
     problem.residual(x, lambda, &mut r);
     counts.residuals += 1;
     let (bordered_det_sign, det_sign) = bordered.determinant_signs(scaling, tx, tl);
-    let smallest_singular_value = opts.track_singular.then(|| bordered.smallest_singular_value(counts));
+    let smallest_singular_value = (opts.track_singular || opts.detect_bifurcations).then(|| bordered.smallest_singular_vectors(2, counts).0[0]);
     Record {
         lambda,
         outputs: observe(x, lambda),
@@ -229,6 +262,7 @@ pub(crate) fn make_record<P: Problem + ?Sized>(
 }
 
 pub(crate) fn validate<P: Problem + ?Sized>(problem: &P, opts: &Options) -> Result<()> {
+    error::in_range("bifurcation_tol", opts.bifurcation_tol, 1e-15, 1.0)?;
     error::in_range("residual_tol", opts.residual_tol, 1e-15, 1.0)?;
     error::positive("initial_step", opts.initial_step)?;
     error::positive("min_step", opts.min_step)?;
@@ -246,4 +280,42 @@ pub(crate) fn validate<P: Problem + ?Sized>(problem: &P, opts: &Options) -> Resu
         }
     }
     Ok(())
+}
+
+/// After a new record: a det B sign change over the last step, or a local
+/// minimum of σ_min at the previous record, is located (once).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn detect<P: Problem + ?Sized>(
+    problem: &mut P,
+    bordered: &mut Bordered,
+    scaling: &Scaling,
+    eq: &[f64],
+    opts: &Options,
+    records: &[Record],
+    history: &[State],
+    found: &[Bifurcation],
+    counts: &mut Counts,
+) -> Result<Option<Bifurcation>> {
+    let k = records.len();
+    if k < 2 || history.len() < 2 {
+        return Ok(None);
+    }
+    let (r1, r2) = (&records[k - 2], &records[k - 1]);
+    let h = history.len();
+    let bracket = if r1.bordered_det_sign != r2.bordered_det_sign {
+        Some((&history[h - 2], &history[h - 1], true))
+    } else if k >= 3 && h >= 3 {
+        let sig = |r: &Record| r.smallest_singular_value.unwrap_or(f64::INFINITY);
+        let r0 = &records[k - 3];
+        (sig(r1) < sig(r0) && sig(r1) < sig(r2)).then(|| (&history[h - 3], &history[h - 1], false))
+    } else {
+        None
+    };
+    let Some((left, right, flip)) = bracket else { return Ok(None) };
+    // Already located inside this bracket (a flip seen again as a dip).
+    let (lo, hi) = (left.lambda.min(right.lambda), left.lambda.max(right.lambda));
+    if found.iter().any(|b| b.lambda >= lo && b.lambda <= hi) {
+        return Ok(None);
+    }
+    bifurcation::locate(problem, bordered, scaling, eq, opts.residual_tol, left, right, flip, opts.bifurcation_tol, counts)
 }

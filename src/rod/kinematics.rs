@@ -118,6 +118,32 @@ pub fn strains<T: Scalar>(d: &RhsData, m: &V3<T>, n: &V3<T>) -> (V3<T>, V3<T>) {
     (u, v)
 }
 
+/// y' = f(y, Λ) + μ B(y): the unfolding that goes with a phase condition
+/// for rods with rotational symmetry about e3 (equal bending stiffnesses,
+/// in-plane isotropic shear and couplings, loads along e3; physics.md §2.4
+/// "Symmetry"). For such rods
+///   J(y) = e3·(r × R n_b + R m_b) − m_b3
+/// (the axial moment about the origin minus the body twisting moment: the
+/// Noether quantity of rotating space about e3 while counter-rotating the
+/// section labels, which keeps a clamp q(0) = 1) is a first integral of f:
+/// ∇J·f ≡ 0 for every y. With B = ∂J/∂m_b = Rᵀe3 − e3 added to the moment
+/// equation, dJ/ds = μ|Rᵀe3 − e3|² along a solution; the boundary
+/// conditions give J(0) = J(L) = 0 (clamped or pinned base, free or pinned
+/// tip under an axial load), so μ∫|Rᵀe3 − e3|² = 0: μ = 0 on any tilted
+/// solution, up to the scheme's (small) violation of the cubic invariant J.
+/// B is quadratic in q, so μB keeps the system cubic. (The symmetry
+/// generator itself would not do: it is W-orthogonal to the adjoint null
+/// vector, and μ would stay undetermined.)
+pub fn rhs_unfolded<T: Scalar>(d: &RhsData, y: &[T], lambda: T, mu: T) -> [T; 13] {
+    let mut f = rhs(d, y, lambda);
+    let q = [y[3], y[4], y[5], y[6]];
+    let r = rotation(&q);
+    f[10] = f[10] + mu * r[2][0];
+    f[11] = f[11] + mu * r[2][1];
+    f[12] = f[12] + mu * (r[2][2] - 1.0);
+    f
+}
+
 /// y' = f(y, Λ), y = (r, q, n_b, m_b).
 pub fn rhs<T: Scalar>(d: &RhsData, y: &[T], lambda: T) -> [T; 13] {
     let q = [y[3], y[4], y[5], y[6]];

@@ -189,20 +189,45 @@ impl Rod {
     /// state scales; equations: h × the scale of y' for element rows, the
     /// state scales for boundary rows; Λ: 1).
     pub fn system(&self) -> Result<AssembledSystem> {
+        self.build(None)
+    }
+
+    /// The system with a phase condition for rotationally symmetric rods
+    /// (equal bending stiffnesses, loads along the axis): one more unknown,
+    /// the unfolding parameter μ (index [`Rod::unknowns`], zero at every
+    /// solution), in y' = f(y) + μB(y) (see [`kinematics::rhs_unfolded`]),
+    /// and one more equation: the lateral displacement of node `node` has no
+    /// component across the azimuth `azimuth` (−sin φ r_x + cos φ r_y = 0),
+    /// which fixes the orientation of a buckled shape about the axis. Off
+    /// the symmetric (straight) branch this makes the Jacobian regular where
+    /// the symmetry would make it singular.
+    pub fn system_with_phase(&self, node: usize, azimuth: f64) -> Result<AssembledSystem> {
+        error::count_in_range("phase node", node as i64, 1, self.elements as i64)?;
+        error::finite("azimuth", azimuth)?;
+        self.build(Some((node, azimuth)))
+    }
+
+    fn build(&self, phase: Option<(usize, f64)>) -> Result<AssembledSystem> {
         let data = self.rhs_data();
         let h = self.element_length();
         let bs = self.block_size();
         let stages = self.scheme.stages();
         let tab = self.tableau();
+        let unfold = phase.is_some();
+        let extra = unfold as usize;
         let element = Arc::new(match self.scheme {
-            Scheme::Midpoint => Tape::record(27, |v| midpoint_kernel(&data, h, v)),
-            Scheme::Gauss(_) => Tape::record(13 * (stages + 2) + 1, |v| gauss_kernel(&data, h, &tab, v)),
+            Scheme::Midpoint => Tape::record(27 + extra, |v| midpoint_kernel(&data, h, v, unfold)),
+            Scheme::Gauss(_) => Tape::record(13 * (stages + 2) + 1 + extra, |v| gauss_kernel(&data, h, &tab, v, unfold)),
         });
+        let mu = self.unknowns();
         let mut blocks = Vec::with_capacity(self.elements + 1);
         for i in 0..self.elements {
             let base = self.node(i);
             let mut inputs: Vec<Slot> = (0..bs + 13).map(|k| Slot::Unknown(base + k)).collect();
             inputs.push(Slot::Lambda);
+            if unfold {
+                inputs.push(Slot::Unknown(mu));
+            }
             // Stage rows at the stage slots, the update at the next node's.
             let mut rows: Vec<usize> = (0..13 * stages).map(|k| base + 13 + k).collect();
             rows.extend((0..13).map(|k| base + bs + k));
@@ -215,16 +240,23 @@ impl Rod {
         inputs.extend((0..13).map(|k| Slot::Unknown(yl + k)));
         inputs.push(Slot::Lambda);
         blocks.push(Block { tape: bc, inputs, rows: (0..13).map(|k| y0 + k).collect() });
-        let n = self.unknowns();
+        if let Some((node, azimuth)) = phase {
+            let (s, c) = azimuth.sin_cos();
+            let tape = Arc::new(Tape::record(2, |v| vec![v[1] * c - v[0] * s]));
+            let at = self.node(node);
+            blocks.push(Block { tape, inputs: vec![Slot::Unknown(at), Slot::Unknown(at + 1)], rows: vec![mu] });
+        }
+        let n = self.unknowns() + extra;
         let ss = self.state_scales();
-        let unknowns: Vec<f64> = (0..n).map(|k| ss[k % 13]).collect();
+        // μ is a distributed couple: moment per length, K_b/L².
+        let unknowns: Vec<f64> = (0..n).map(|k| if k == mu { ss[10] / self.length } else { ss[k % 13] }).collect();
         let scale_q = 1.0 / self.length;
         let rate = |k: usize| match k {
             0..=2 => 1.0,
             3..=6 => scale_q,
             _ => ss[k] / self.length,
         };
-        let mut equations: Vec<f64> = (0..n).map(|k| h * rate(k % 13)).collect();
+        let mut equations: Vec<f64> = (0..n).map(|k| if k == mu { self.length } else { h * rate(k % 13) }).collect();
         let bc_scales = self.boundary_scales();
         equations[..13].copy_from_slice(&bc_scales);
         let sys = AssembledSystem::new(n, blocks).with_scales(equations, unknowns, 1.0);
@@ -333,20 +365,29 @@ impl Rod {
     }
 }
 
-fn midpoint_kernel<T: Scalar>(data: &RhsData, h: f64, v: &[T]) -> Vec<T> {
+/// f, or f + μA with the unfolding parameter as the kernel's last input.
+fn field<T: Scalar>(data: &RhsData, y: &[T], lambda: T, v: &[T], unfold: bool) -> [T; 13] {
+    if unfold {
+        kinematics::rhs_unfolded(data, y, lambda, v[v.len() - 1])
+    } else {
+        kinematics::rhs(data, y, lambda)
+    }
+}
+
+fn midpoint_kernel<T: Scalar>(data: &RhsData, h: f64, v: &[T], unfold: bool) -> Vec<T> {
     let (a, b, lambda) = (&v[0..13], &v[13..26], v[26]);
     let mid: Vec<T> = a.iter().zip(b).map(|(p, q)| (*p + *q) * 0.5).collect();
-    let f = kinematics::rhs(data, &mid, lambda);
+    let f = field(data, &mid, lambda, v, unfold);
     (0..13).map(|k| b[k] - a[k] - f[k] * h).collect()
 }
 
-fn gauss_kernel<T: Scalar>(data: &RhsData, h: f64, tab: &Tableau, v: &[T]) -> Vec<T> {
+fn gauss_kernel<T: Scalar>(data: &RhsData, h: f64, tab: &Tableau, v: &[T], unfold: bool) -> Vec<T> {
     let s = tab.c.len();
     let y0 = &v[0..13];
     let stage = |j: usize| &v[13 * (1 + j)..13 * (2 + j)];
     let y1 = &v[13 * (1 + s)..13 * (2 + s)];
     let lambda = v[13 * (2 + s)];
-    let f: Vec<[T; 13]> = (0..s).map(|j| kinematics::rhs(data, stage(j), lambda)).collect();
+    let f: Vec<[T; 13]> = (0..s).map(|j| field(data, stage(j), lambda, v, unfold)).collect();
     let mut out = Vec::with_capacity(13 * (s + 1));
     for i in 0..s {
         for k in 0..13 {

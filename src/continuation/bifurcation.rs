@@ -1,0 +1,155 @@
+//! Bifurcation points on a branch: detection, location, branch switching
+//! (physics.md §2.4).
+//!
+//! Detection uses two indicators of the bordered tangent B (regular at
+//! folds, singular at bifurcations): a sign change of det B (a simple
+//! bifurcation) and a local minimum of its smallest singular value σ_min
+//! (any bifurcation, including the double ones of rods with rotational
+//! symmetry, where two eigenvalues cross together and no determinant
+//! changes sign). Location minimises σ_min along the branch between the
+//! neighbouring records by golden-section search on the arc length (σ_min
+//! has a V-shaped zero there), each trial point Newton-corrected on the
+//! branch. A candidate whose minimum is not small (relative to σ_min at the
+//! ends of the bracket) is not a bifurcation and is dropped.
+//!
+//! At the located point, the right singular vectors of B for the small
+//! singular values span its null space: the tangents of the bifurcating
+//! branches (orthogonal to the branch's own tangent in ⟨·,·⟩_W, by the
+//! border row). [`branch_start`] turns one into a [`Resume`] from which
+//! either engine follows the new branch.
+
+use super::bordered::Bordered;
+use super::newton::correct;
+use super::{Counts, Problem, Resume, Scaling};
+use crate::error::Result;
+
+/// A located bifurcation point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bifurcation {
+    pub lambda: f64,
+    pub x: Vec<f64>,
+    /// Unit tangent of the branch it was found on (in ⟨·,·⟩_W).
+    pub tangent_x: Vec<f64>,
+    pub tangent_lambda: f64,
+    /// The three smallest singular values of B at the point, ascending.
+    pub singular_values: Vec<f64>,
+    /// Number of (near-)zero singular values: 1 for a simple bifurcation,
+    /// 2 for a double one (rotational symmetry).
+    pub multiplicity: usize,
+    /// Null directions (x part, Λ part), one per zero singular value,
+    /// normalised in ⟨·,·⟩_W.
+    pub null_vectors: Vec<(Vec<f64>, f64)>,
+    /// Whether det B changed sign across it.
+    pub det_sign_change: bool,
+    /// σ_min at the bracket's ends (the scale the minimum is judged against).
+    pub bracket_sigma: f64,
+}
+
+/// A point of the branch with its tangent.
+#[derive(Clone, Debug)]
+pub(crate) struct State {
+    pub x: Vec<f64>,
+    pub lambda: f64,
+    pub tx: Vec<f64>,
+    pub tl: f64,
+}
+
+/// Locate a bifurcation between `left` and `right` (states on the branch,
+/// `left` before `right`) to `tol` in scaled arc length. Returns None when
+/// the minimum of σ_min is not small enough to be a singular point.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn locate<P: Problem + ?Sized>(
+    problem: &mut P,
+    bordered: &mut Bordered,
+    scaling: &Scaling,
+    eq: &[f64],
+    residual_tol: f64,
+    left: &State,
+    right: &State,
+    det_sign_change: bool,
+    tol: f64,
+    counts: &mut Counts,
+) -> Result<Option<Bifurcation>> {
+    let dx: Vec<f64> = right.x.iter().zip(&left.x).map(|(a, b)| a - b).collect();
+    let span = scaling.dot(&dx, right.lambda - left.lambda, &left.tx, left.tl);
+    // The point at arc parameter τ on the hyperplane ⟨X − X_L − τ t_L, t_L⟩ = 0.
+    let mut point = |tau: f64, counts: &mut Counts, bordered: &mut Bordered| -> Result<(Vec<f64>, f64, f64)> {
+        let mut x: Vec<f64> = left.x.iter().zip(&left.tx).map(|(a, t)| a + tau * t).collect();
+        let mut l = left.lambda + tau * left.tl;
+        let anchor = x.clone();
+        let al = l;
+        correct(problem, bordered, scaling, eq, &mut x, &mut l, (&anchor, al), (&left.tx, left.tl), residual_tol, false, counts)?;
+        bordered.factorise_at(problem, &x, l, &left.tx, left.tl, scaling, counts)?;
+        let (s, _) = bordered.smallest_singular_vectors(2, counts);
+        Ok((x, l, s[0]))
+    };
+    let ends = {
+        let (_, _, a) = point(0.0, counts, bordered)?;
+        let (_, _, b) = point(span, counts, bordered)?;
+        a.max(b)
+    };
+    // Golden-section search for the minimum of σ_min(τ) on [0, span].
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut a, mut b) = (0.0, span);
+    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
+    let (mut fc, mut fd) = (point(c, counts, bordered)?.2, point(d, counts, bordered)?.2);
+    while (b - a).abs() > tol {
+        if fc < fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - g * (b - a);
+            fc = point(c, counts, bordered)?.2;
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + g * (b - a);
+            fd = point(d, counts, bordered)?.2;
+        }
+    }
+    let tau = 0.5 * (a + b);
+    let (x, lambda, _) = point(tau, counts, bordered)?;
+    let (sigma, vectors) = bordered.smallest_singular_vectors(3, counts);
+    // The bracket was resolved to `tol`: a genuine zero leaves σ_min at
+    // O(tol) of the end values; a mere dip (no singularity) stays at their scale.
+    let small = (100.0 * tol / span.abs()).max(1e-6) * ends;
+    let multiplicity = sigma.iter().take(2).filter(|&&s| s <= small).count();
+    if multiplicity == 0 {
+        return Ok(None);
+    }
+    let n = x.len();
+    let null_vectors = vectors
+        .iter()
+        .take(multiplicity)
+        .map(|v| {
+            let norm = scaling.norm(&v[..n], v[n]);
+            (v[..n].iter().map(|a| a / norm).collect(), v[n] / norm)
+        })
+        .collect();
+    Ok(Some(Bifurcation {
+        lambda,
+        x,
+        tangent_x: left.tx.clone(),
+        tangent_lambda: left.tl,
+        singular_values: sigma,
+        multiplicity,
+        null_vectors,
+        det_sign_change,
+        bracket_sigma: ends,
+    }))
+}
+
+/// A start on the branch leaving `bif` along `direction` (x part, Λ part;
+/// e.g. one of `bif.null_vectors`, or a combination for a double point),
+/// with first step `step`. The direction is made W-orthogonal to the old
+/// branch's tangent and normalised.
+pub fn branch_start(bif: &Bifurcation, direction: (&[f64], f64), step: f64, scaling: &Scaling) -> Resume {
+    let c = scaling.dot(direction.0, direction.1, &bif.tangent_x, bif.tangent_lambda);
+    let mut tx: Vec<f64> = direction.0.iter().zip(&bif.tangent_x).map(|(d, t)| d - c * t).collect();
+    let mut tl = direction.1 - c * bif.tangent_lambda;
+    let norm = scaling.norm(&tx, tl);
+    tx.iter_mut().for_each(|v| *v /= norm);
+    tl /= norm;
+    Resume { x: bif.x.clone(), lambda: bif.lambda, tangent_x: tx, tangent_lambda: tl, step }
+}

@@ -1,0 +1,166 @@
+//! Buckling and post-buckling (physics.md §2.4, §2.6): the double
+//! bifurcation of the symmetric clamped–free rod under an axial dead load is
+//! detected on the straight branch (σ_min; no determinant changes sign),
+//! located, and the buckled branch followed with the phase condition.
+
+use rodkit::continuation::bifurcation::branch_start;
+use rodkit::continuation::newton::{continue_newton, Start};
+use rodkit::continuation::{Options, Problem, Scaling, Stop};
+use rodkit::rod::model::{Rod, Supports};
+use rodkit::rod::scheme::Scheme;
+use rodkit::rod::{Load, Loads, RodLaw};
+use std::f64::consts::PI;
+
+/// Complete elliptic integrals K(k), E(k) of modulus k by the AGM
+/// (Abramowitz & Stegun 17.6): reference for the elastica.
+fn elliptic(k: f64) -> (f64, f64) {
+    let (mut a, mut b) = (1.0f64, (1.0 - k * k).sqrt());
+    let mut sum = 0.5 * k * k;
+    let mut pow = 0.5;
+    for _ in 0..40 {
+        let c = 0.5 * (a - b);
+        let (an, bn) = (0.5 * (a + b), (a * b).sqrt());
+        pow *= 2.0;
+        sum += pow * c * c;
+        (a, b) = (an, bn);
+        if c.abs() < 1e-17 {
+            break;
+        }
+    }
+    let kk = PI / (2.0 * a);
+    (kk, kk * (1.0 - sum))
+}
+
+fn axial_load() -> Loads {
+    Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() }
+}
+
+/// Run the straight branch of `rod` with detection; return the bifurcation.
+fn straight_branch(rod: &Rod, lambda_max: f64) -> rodkit::continuation::bifurcation::Bifurcation {
+    straight_branch_with(rod, lambda_max, false)
+}
+
+fn straight_branch_with(rod: &Rod, lambda_max: f64, anm: bool) -> rodkit::continuation::bifurcation::Bifurcation {
+    let mut sys = rod.system().unwrap();
+    let opts = Options {
+        target_lambda: Some(lambda_max),
+        residual_tol: 1e-12,
+        initial_step: 0.2,
+        max_step: 0.5,
+        detect_bifurcations: true,
+        bifurcation_tol: 1e-11,
+        ..Default::default()
+    };
+    let start = Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true };
+    let b = if anm {
+        rodkit::continuation::anm::continue_anm(&mut sys, start, &opts, &Default::default(), |_, _| vec![], |_| true).unwrap()
+    } else {
+        continue_newton(&mut sys, start, &opts, |_, _| vec![], |_| true).unwrap()
+    };
+    assert_eq!(b.stop, Stop::Target);
+    // The straight branch is symmetric: no determinant changes sign at the
+    // double point; σ_min found it.
+    assert!(b.records.windows(2).all(|w| w[0].bordered_det_sign == w[1].bordered_det_sign));
+    assert_eq!(b.bifurcations.len(), 1, "bifurcations: {:?}", b.bifurcations.iter().map(|b| b.lambda).collect::<Vec<_>>());
+    b.bifurcations[0].clone()
+}
+
+/// Extensible, shearable clamped–free rod: the critical load solves
+/// P(1 + P(1/GA − 1/EA)) = π²K_b/(4L²) (physics.md §2.6, EA = 1e3, GA = 3e2,
+/// K_b = L = 1). The located load converges at the scheme's order (4 for
+/// Gauss(2)) and is within 1e−8 relative on a fine grid (Gauss(4), 16
+/// elements); the point is double (two zero singular values).
+#[test]
+fn euler_load_of_the_extensible_cantilever() {
+    let (ea, ga) = (1e3, 3e2);
+    let pe = PI * PI / 4.0;
+    // Root of P²(1/GA − 1/EA) + P − P_E = 0.
+    let c = 1.0 / ga - 1.0 / ea;
+    let exact = (-1.0 + (1.0 + 4.0 * c * pe).sqrt()) / (2.0 * c);
+    let law = RodLaw::isotropic(1.0, 1.0 / 1.3, ga, ea).unwrap();
+    let mut errs = vec![];
+    for n in [2, 4, 8] {
+        let rod = Rod::new(law.clone(), 1.0, axial_load(), Supports::Cantilever, Scheme::Gauss(2), n).unwrap();
+        let bif = straight_branch(&rod, 3.0);
+        assert_eq!(bif.multiplicity, 2, "N = {n}: σ = {:?}", bif.singular_values);
+        let err = (bif.lambda - exact).abs() / exact;
+        println!("N = {n}: P_cr = {:.15}, exact {exact:.15}, error {err:e}, σ {:?}", bif.lambda, bif.singular_values);
+        errs.push(err);
+    }
+    let rate = (errs[1] / errs[2]).log2();
+    assert!((rate - 4.0).abs() < 0.5, "rate {rate} ({errs:?})");
+    let rod = Rod::new(law, 1.0, axial_load(), Supports::Cantilever, Scheme::Gauss(4), 16).unwrap();
+    let fine = (straight_branch(&rod, 3.0).lambda - exact).abs() / exact;
+    assert!(fine < 1e-8, "Gauss(4), 16 elements: {fine:e}");
+    // The ANM finds the same point.
+    let by_anm = straight_branch_with(&rod, 3.0, true);
+    assert!((by_anm.lambda - exact).abs() < 1e-8 * exact && by_anm.multiplicity == 2, "ANM: {} ({:?})", by_anm.lambda, by_anm.singular_values);
+    // The extensible load is 0.6 % below Euler's.
+    assert!((1.0 - exact / pe - 0.006).abs() < 0.001);
+}
+
+/// Post-buckled inextensible elastica (Kirchhoff rod, clamped–free, axial
+/// dead load): switch to the buckled branch at the located double point
+/// with the phase condition, follow it to a tip rotation θ0 beyond 170°,
+/// and compare each point with the elliptic-integral solution (k =
+/// sin(θ0/2)): P/P_cr = (2K/π)², axial tip position x/L = 2E/K − 1,
+/// deflection y/L = 2k/K. The unfolding parameter stays 0.
+#[test]
+fn post_buckled_elastica_against_elliptic_integrals() {
+    let law = RodLaw::kirchhoff(1.0, 1.0, 1.0 / 1.3).unwrap();
+    let rod = Rod::new(law, 1.0, axial_load(), Supports::Cantilever, Scheme::Gauss(4), 16).unwrap();
+    let pcr = PI * PI / 4.0;
+    let bif = straight_branch(&rod, 3.0);
+    assert!((bif.lambda - pcr).abs() < 1e-9 * pcr, "P_cr {} vs {pcr}", bif.lambda);
+    // One null direction; its tip deflection sets the phase azimuth.
+    let (nx, nl) = &bif.null_vectors[0];
+    let tip = rod.node(rod.elements);
+    let azimuth = nx[tip + 1].atan2(nx[tip]);
+    let mut aug = rod.system_with_phase(rod.elements, azimuth).unwrap();
+    let n = rod.unknowns();
+    let mut x_aug = bif.x.clone();
+    x_aug.push(0.0);
+    let mut t_aug = nx.clone();
+    t_aug.push(0.0);
+    let (sx, sl) = aug.unknown_scales();
+    let scaling = Scaling { x: sx, lambda: sl };
+    let aug_bif = rodkit::continuation::bifurcation::Bifurcation {
+        x: x_aug,
+        tangent_x: { let mut t = bif.tangent_x.clone(); t.push(0.0); t },
+        ..bif.clone()
+    };
+    let start = branch_start(&aug_bif, (&t_aug, *nl), 0.05, &scaling);
+    let opts = Options { residual_tol: 1e-11, initial_step: 0.05, max_step: 0.2, max_steps: 400, lambda_range: (0.0, 40.0), ..Default::default() };
+    let observe = |x: &[f64], _: f64| x.to_vec();
+    let mut max_theta: f64 = 0.0;
+    let b = continue_newton(&mut aug, Start::Resume(start), &opts, observe, |r| {
+        // Stop past 172°.
+        let x = &r.outputs;
+        let y = &x[tip..tip + 13];
+        let d3z = y[3] * y[3] - y[4] * y[4] - y[5] * y[5] + y[6] * y[6];
+        d3z.acos().to_degrees() < 172.0
+    })
+    .unwrap();
+    for r in &b.records {
+        let x = &r.outputs;
+        assert!(x[n].abs() < 1e-9, "unfolding parameter μ = {}", x[n]);
+        let y = &x[tip..tip + 13];
+        let d3z = y[3] * y[3] - y[4] * y[4] - y[5] * y[5] + y[6] * y[6];
+        let theta = d3z.clamp(-1.0, 1.0).acos();
+        max_theta = max_theta.max(theta);
+        if theta < 0.05 {
+            continue; // near the bifurcation the branch is steep in θ0
+        }
+        let k = (0.5 * theta).sin();
+        let (kk, ee) = elliptic(k);
+        let p = pcr * (2.0 * kk / PI).powi(2);
+        let (axial, lateral) = (2.0 * ee / kk - 1.0, 2.0 * k / kk);
+        let defl = (y[0] * y[0] + y[1] * y[1]).sqrt();
+        assert!((r.lambda - p).abs() < 1e-8 * p, "θ0 = {:.1}°: P {} vs {p}", theta.to_degrees(), r.lambda);
+        assert!((y[2] - axial).abs() < 1e-8 && (defl - lateral).abs() < 1e-8, "θ0 = {:.1}°: tip ({defl}, {}) vs ({lateral}, {axial})", theta.to_degrees(), y[2]);
+        // The buckled shape stays in the chosen plane.
+        assert!((-azimuth.sin() * y[0] + azimuth.cos() * y[1]).abs() < 1e-10);
+    }
+    assert!(max_theta.to_degrees() > 170.0, "reached only {:.1}°", max_theta.to_degrees());
+    println!("{} records, {:?}", b.records.len(), b.counts);
+}

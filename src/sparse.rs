@@ -77,6 +77,8 @@ pub struct SparseLu {
     lu: SimplicialLu<usize, f64>,
     buffer: MemBuffer,
     factorised: bool,
+    /// Whether the column ordering has been chosen (on the first matrix).
+    ordered: bool,
     /// Numeric factorisations done (the cost unit of a continuation).
     pub factorisations: usize,
     /// Solves done (each with one right-hand side).
@@ -104,6 +106,7 @@ impl SparseLu {
             lu: SimplicialLu::new(),
             buffer: MemBuffer::new(req),
             factorised: false,
+            ordered: false,
             factorisations: 0,
             solves: 0,
         })
@@ -123,12 +126,10 @@ impl SparseLu {
         if let Some(k) = values.iter().position(|v| !v.is_finite()) {
             return Err(Error::new(Status::ErrNonFiniteResult, format!("sparse LU: matrix entry {k} is not finite")));
         }
-        let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.pattern.col_ptr, None, &self.pattern.row_idx);
-        let a = SparseColMatRef::new(sym, values);
-        let col_perm = PermRef::new_checked(&self.col_perm_fwd, &self.col_perm_inv, n);
-        let stack = MemStack::new(&mut self.buffer);
-        lu::simplicial::factorize_simplicial_numeric_lu(&mut self.row_perm_fwd, &mut self.row_perm_inv, &mut self.lu, a, col_perm, stack)
-            .map_err(|e| Error::new(Status::ErrNotConverged, format!("sparse LU: singular matrix ({e:?})")))?;
+        if !self.ordered {
+            self.choose_ordering(values);
+        }
+        self.numeric(values)?;
         self.factorisations += 1;
         // A zero or non-finite pivot is a singular matrix.
         let u = self.lu.u_factor_unsorted();
@@ -140,6 +141,41 @@ impl SparseLu {
         }
         self.factorised = true;
         Ok(())
+    }
+
+    fn numeric(&mut self, values: &[f64]) -> Result<()> {
+        let n = self.pattern.n;
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.pattern.col_ptr, None, &self.pattern.row_idx);
+        let a = SparseColMatRef::new(sym, values);
+        let col_perm = PermRef::new_checked(&self.col_perm_fwd, &self.col_perm_inv, n);
+        let stack = MemStack::new(&mut self.buffer);
+        lu::simplicial::factorize_simplicial_numeric_lu(&mut self.row_perm_fwd, &mut self.row_perm_inv, &mut self.lu, a, col_perm, stack)
+            .map_err(|e| Error::new(Status::ErrNotConverged, format!("sparse LU: singular matrix ({e:?})")))
+    }
+
+    /// On the first matrix: factorise with COLAMD's column ordering and
+    /// with the natural one, keep the one with fewer entries in L + U.
+    /// COLAMD wins on general patterns; for the block-banded matrices of
+    /// collocated ODEs with stage unknowns, the natural (banded) order can
+    /// have five times less fill (measured on the rod: 0.49 ms instead of
+    /// 2.4 ms for Gauss(2), 16 elements).
+    fn choose_ordering(&mut self, values: &[f64]) {
+        self.ordered = true;
+        let fill = |lu: &SimplicialLu<usize, f64>| lu.l_factor_unsorted().compute_nnz() + lu.u_factor_unsorted().compute_nnz();
+        let colamd = self.numeric(values).ok().map(|_| fill(&self.lu));
+        let saved = (self.col_perm_fwd.clone(), self.col_perm_inv.clone());
+        let n = self.pattern.n;
+        self.col_perm_fwd = (0..n).collect();
+        self.col_perm_inv = (0..n).collect();
+        let natural = self.numeric(values).ok().map(|_| fill(&self.lu));
+        let keep_natural = match (colamd, natural) {
+            (Some(c), Some(nat)) => nat < c,
+            (None, Some(_)) => true,
+            _ => false,
+        };
+        if !keep_natural {
+            (self.col_perm_fwd, self.col_perm_inv) = saved;
+        }
     }
 
     fn diagonal_of(&self, u: SparseColMatRef<'_, usize, f64>, j: usize) -> f64 {

@@ -347,6 +347,12 @@ pub struct JacobianWork {
 pub struct TaylorWork {
     order: usize,
     coef: Vec<f64>,
+    /// The order last computed and the input coefficients it used: a second
+    /// call at the same order only propagates the change of the inputs,
+    /// which is linear (O(1) per node instead of O(p)).
+    last: Option<usize>,
+    last_x: Vec<f64>,
+    delta: Vec<f64>,
 }
 
 impl TaylorWork {
@@ -356,7 +362,10 @@ impl TaylorWork {
         self.order = max_order;
         self.coef.clear();
         self.coef.resize(tape.ops.len() * stride, 0.0);
-        self.pass(tape, 0, |i| x0[i]);
+        self.pass(tape, 0, &|i| x0[i]);
+        self.last = Some(0);
+        self.last_x.clear();
+        self.last_x.resize(tape.inputs, 0.0);
     }
 
     /// Order-p coefficients of the outputs when the inputs' order-p
@@ -365,7 +374,15 @@ impl TaylorWork {
     /// with the solved xp to commit order p.
     pub fn order(&mut self, tape: &Tape, p: usize, xp: impl Fn(usize) -> f64, out: &mut [f64]) {
         assert!(p >= 1 && p <= self.order, "Taylor order {p} outside 1..={}", self.order);
-        self.pass(tape, p, xp);
+        if self.last == Some(p) {
+            self.update(tape, p, &xp);
+        } else {
+            self.pass(tape, p, &xp);
+            self.last = Some(p);
+        }
+        for (i, v) in self.last_x.iter_mut().enumerate() {
+            *v = xp(i);
+        }
         let stride = self.order + 1;
         for (o, &i) in out.iter_mut().zip(&tape.outputs) {
             *o = self.coef[i as usize * stride + p];
@@ -377,7 +394,32 @@ impl TaylorWork {
         self.coef[tape.outputs[j] as usize * (self.order + 1) + k]
     }
 
-    fn pass(&mut self, tape: &Tape, p: usize, xp: impl Fn(usize) -> f64) {
+    /// Order p again with new input coefficients: every node's order-p
+    /// coefficient is affine in them (x_p enters products only through
+    /// x_0·y_p + x_p·y_0), so the change propagates linearly.
+    fn update(&mut self, tape: &Tape, p: usize, xp: &impl Fn(usize) -> f64) {
+        let stride = self.order + 1;
+        let c = &mut self.coef;
+        let d = &mut self.delta;
+        d.clear();
+        d.resize(tape.ops.len(), 0.0);
+        for (k, op) in tape.ops.iter().enumerate() {
+            let v = match *op {
+                Op::Input(i) => xp(i as usize) - self.last_x[i as usize],
+                Op::Const(_) => 0.0,
+                Op::Add(a, b) => d[a as usize] + d[b as usize],
+                Op::Sub(a, b) => d[a as usize] - d[b as usize],
+                Op::Mul(a, b) => c[a as usize * stride] * d[b as usize] + d[a as usize] * c[b as usize * stride],
+                Op::Neg(a) => -d[a as usize],
+                Op::Scale(s, a) => s * d[a as usize],
+                Op::Shift(_, a) => d[a as usize],
+            };
+            d[k] = v;
+            c[k * stride + p] += v;
+        }
+    }
+
+    fn pass(&mut self, tape: &Tape, p: usize, xp: &impl Fn(usize) -> f64) {
         let stride = self.order + 1;
         let c = &mut self.coef;
         for (k, op) in tape.ops.iter().enumerate() {

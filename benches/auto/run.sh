@@ -8,9 +8,9 @@
 #   run.sh run     PROBLEM BUILD_DIR WORK_DIR NTST TOL
 #                                                 build + prepare + run, print the wall time of the
 #                                                 executable(s) alone and the labelled points
-# PROBLEM is follower or euler. NCOL = 4 always. TOL sets EPSL = EPSU = TOL and EPSS = 100 TOL.
+# PROBLEM is follower or euler. NCOL = 4 always. TOL sets EPSL = EPSU = TOL and EPSS = 10 TOL.
 # Overrides (environment): AUTO_IAD (mesh adaption, default 3), AUTO_DSMAX (default 0.5),
-# AUTO_ITNW (default 7), AUTO_EPSS (default 100*TOL), AUTO_DIR (default /usr/lib/auto-07p).
+# AUTO_ITNW (default 7), AUTO_EPSS (default 10*TOL), AUTO_DIR (default /usr/lib/auto-07p).
 # Outputs in WORK_DIR: fort.7 (b-file), fort.8 (s-file), fort.9 (diagnostics); for euler the first
 # run's files are kept as b.euler1, s.euler1 (restart file of run 2), d.euler1.
 set -eu
@@ -54,7 +54,7 @@ build() {
 
 subst() { # template ntst tol
     tol=$3
-    epss=${AUTO_EPSS:-$(awk -v t="$tol" 'BEGIN { printf "%.3g", 100 * t }')}
+    epss=${AUTO_EPSS:-$(awk -v t="$tol" 'BEGIN { printf "%.3g", 10 * t }')}
     sed -e "s/@NTST@/$2/" -e "s/@IAD@/${AUTO_IAD:-3}/" -e "s/@ITNW@/${AUTO_ITNW:-7}/" \
         -e "s/@EPSL@/$tol/" -e "s/@EPSU@/$tol/" -e "s/@EPSS@/$epss/" \
         -e "s/@DSMAX@/${AUTO_DSMAX:-0.5}/" -e "s/@IRS@/'BP1'/" "$1"

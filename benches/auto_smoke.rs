@@ -150,8 +150,12 @@ fn main() {
     println!("\nEuler buckling (clamped–free, dead axial load; K_b1 = 2, K_b2 = K_b = 1 fixes the plane)");
     let pcr = auto07p::euler_critical_load(1.0, 1.0, 1e4, 2.6e4);
     println!("reference P_cr = {pcr:.12} (P(1 + P(1/GA − 1/EA)) = π²/4; inextensible π²/4 = {:.12})", std::f64::consts::PI.powi(2) / 4.0);
-    println!("{:>5} {:>16} {:>10} {:>6} {:>12} {:>12} {:>12} {:>9} {:>12} {:>12}", "NTST", "P_cr AUTO", "rel err",
-        "steps", "Λ(170°)", "x_tip", "z_tip", "θ°", "t run1 ms", "t total ms");
+    // End of the post-buckled branch (θ = 170°): IVP from the tip + secant on P, RK4 with 2000 and
+    // 4000 steps agreeing to 4e−12 (benches/auto/euler_ref.py): (P, x_tip, z_tip).
+    const END_REF: (f64, f64, f64) = (14.691919500598, 0.519800200812, -0.472417468332);
+    println!("end of the post-buckled branch at θ = 170°: reference P = {}, r(L) = ({}, 0, {})", END_REF.0, END_REF.1, END_REF.2);
+    println!("{:>5} {:>16} {:>10} {:>6} {:>12} {:>12} {:>12} {:>9} {:>10} {:>10} {:>12} {:>12}", "NTST", "P_cr AUTO", "rel err",
+        "steps", "Λ(170°)", "x_tip", "z_tip", "θ°", "ΔΛ(170°)", "Δr(170°)", "t run1 ms", "t total ms");
     for &n in &ntsts {
         let mut t1s = Vec::new();
         let mut ts = Vec::new();
@@ -174,8 +178,9 @@ fn main() {
         let Some(r) = first else { continue };
         let bp = r.branch_points()[0].clone();
         let end = r.end_point().unwrap();
-        println!("{n:>5} {:>16.12} {:>10.2e} {:>6} {:>12.8} {:>12.8} {:>12.8} {:>9.4} {:>12.3} {:>12.3}",
+        let dr = (end.tip[0] - END_REF.1).abs().max(end.tip[1].abs()).max((end.tip[2] - END_REF.2).abs());
+        println!("{n:>5} {:>16.12} {:>10.2e} {:>6} {:>12.8} {:>12.8} {:>12.8} {:>9.4} {:>10.2e} {:>10.2e} {:>12.3} {:>12.3}",
             bp.lambda, (bp.lambda - pcr) / pcr, r.steps, end.lambda, end.tip[0], end.tip[2], end.rotation_deg,
-            ms(median(t1s)), ms(median(ts)));
+            (end.lambda - END_REF.0).abs(), dr, ms(median(t1s)), ms(median(ts)));
     }
 }

@@ -29,7 +29,8 @@ def tip(a, N):
     qc = [q0[0], -q0[1], -q0[2], -q0[3]]                                # q(L) = q0^-1 o 1
     th = 2*math.degrees(math.atan2(qc[2], qc[0]))
     return rt, th
-N = int(sys.argv[1]) if len(sys.argv) > 1 else 4000
-for a in [1.0, 2.0, 5.0, 10.0]:
-    (r1, t1), (r2, t2) = tip(a, N), tip(a, 2*N)
-    print(f"alpha={a:5.1f} x={r2[0]:.15f} y={r2[1]:.1e} z={r2[2]:.15f} theta={t2:.9f}  |RK4 N vs 2N|={max(abs(r1[i]-r2[i]) for i in range(3)):.1e}")
+if __name__ == "__main__":
+    N = int(sys.argv[1]) if len(sys.argv) > 1 else 4000
+    for a in [1.0, 2.0, 5.0, 10.0]:
+        (r1, t1), (r2, t2) = tip(a, N), tip(a, 2*N)
+        print(f"alpha={a:5.1f} x={r2[0]:.15f} y={r2[1]:.1e} z={r2[2]:.15f} theta={t2:.9f}  |RK4 N vs 2N|={max(abs(r1[i]-r2[i]) for i in range(3)):.1e}")

@@ -122,7 +122,8 @@ pub struct AutoRun {
     pub newton_iterations: usize,
     /// Labelled solutions of all runs, in output order.
     pub points: Vec<Point>,
-    /// Directory holding fort.7/8/9 (and b./s./d.euler1) of this computation.
+    /// Directory that held fort.7/8/9 (and b./s./d.euler1) of this computation: removed after a
+    /// successful parse unless `RODKIT_AUTO_KEEP` is set; kept (and named in the error) on failure.
     pub work_dir: PathBuf,
     pub ntst: usize,
     pub tol: f64,
@@ -238,6 +239,12 @@ fn work_dir(problem: &str) -> Result<PathBuf, String> {
     let _ = fs::remove_dir_all(&d);
     fs::create_dir_all(&d).map_err(|e| format!("{}: {e}", d.display()))?;
     Ok(d)
+}
+
+fn cleanup(dir: &Path) {
+    if std::env::var_os("RODKIT_AUTO_KEEP").is_none() {
+        let _ = fs::remove_dir_all(dir);
+    }
 }
 
 fn prepare(problem: &str, dir: &Path, ntst: usize, tol: f64, opt: &Options) -> Result<(), String> {
@@ -436,6 +443,7 @@ pub fn follower_with(ntst: usize, tol: f64, opt: &Options) -> Result<AutoRun, St
     if run.at_lambda(10.0).is_none() {
         return Err(format!("follower: Λ = 10 not reached (see {})", dir.display()));
     }
+    cleanup(&dir);
     Ok(run)
 }
 
@@ -466,6 +474,7 @@ pub fn euler_with(ntst: usize, tol: f64, opt: &Options) -> Result<AutoRun, Strin
     if run.branch_points().is_empty() {
         return Err(format!("euler: no branch point detected (see {})", dir.display()));
     }
+    cleanup(&dir);
     Ok(run)
 }
 

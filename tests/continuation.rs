@@ -82,7 +82,7 @@ fn target_lambda_is_hit_exactly_and_resume_continues() {
 
 /// Pitchfork R = x(Λ − x²) + 0·…: the trivial branch x = 0 crosses the
 /// bifurcation at Λ = 0, where the bordered determinant changes sign and
-/// the smallest singular value dips to ~0 (reference: B = [[Λ, 0], [0, 1]]
+/// the signed smallest singular value passes through 0 (reference: B = [[Λ, 0], [0, 1]]
 /// along x = 0, σ_min = |Λ|).
 #[test]
 fn bifurcation_flips_the_bordered_determinant() {
@@ -103,6 +103,10 @@ fn bifurcation_flips_the_bordered_determinant() {
         // good to 1 % where the two singular values are close (|Λ| → 1),
         // sharp near the bifurcation where they separate.
         let exact = r.lambda.abs().min(1.0);
-        assert!((s - exact).abs() < 0.01 * exact.max(1e-3), "σ_min {s} at Λ {}", r.lambda);
+        assert!((s.abs() - exact).abs() < 0.01 * exact.max(1e-3), "σ_min {s} at Λ {}", r.lambda);
+        // Signed by the crossing eigenvalue (Λ itself) where it is the smallest.
+        if r.lambda.abs() < 0.9 && r.lambda != 0.0 {
+            assert_eq!(s.signum(), r.lambda.signum(), "sign at Λ {}", r.lambda);
+        }
     }
 }

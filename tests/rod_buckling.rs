@@ -164,3 +164,33 @@ fn post_buckled_elastica_against_elliptic_integrals() {
     assert!(max_theta.to_degrees() > 170.0, "reached only {:.1}°", max_theta.to_degrees());
     println!("{} records, {:?}", b.records.len(), b.counts);
 }
+
+/// Beck's column: a cantilever under a tangential follower thrust (the tip
+/// force stays along the tip tangent) has no static bifurcation — it loses
+/// stability by flutter, which a static solver cannot see (physics.md §2.6;
+/// Ziegler 1968). The straight branch is followed far past the dead-load
+/// Euler load π²/4 and past Beck's flutter load 20.05 K_b/L² with
+/// detection on: no bifurcation, no sign change, the rod stays straight.
+#[test]
+fn beck_column_has_no_static_bifurcation() {
+    let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap();
+    let loads = Loads { tip_force: Some(Load::follower([0.0, 0.0, -1.0])), ..Default::default() };
+    let rod = Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(2), 8).unwrap();
+    let mut sys = rod.system().unwrap();
+    let opts = Options { target_lambda: Some(30.0), residual_tol: 1e-11, initial_step: 0.2, max_step: 1.0, detect_bifurcations: true, ..Default::default() };
+    let b = continue_newton(&mut sys, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, &opts, |x, _| rod.tip(x).to_vec(), |_| true).unwrap();
+    assert_eq!(b.stop, Stop::Target);
+    assert!(b.bifurcations.is_empty(), "found {:?}", b.bifurcations.iter().map(|b| b.lambda).collect::<Vec<_>>());
+    assert!(b.records.windows(2).all(|w| w[0].det_sign == w[1].det_sign && w[0].bordered_det_sign == w[1].bordered_det_sign));
+    for r in &b.records {
+        assert!(r.outputs[0].abs() < 1e-12 && r.outputs[1].abs() < 1e-12);
+        // Axial shortening by the thrust: (1 − Λ/EA) L.
+        assert!((r.outputs[2] - (1.0 - r.lambda / 2.6e4)).abs() < 1e-12);
+    }
+    // The same rod under a dead thrust does bifurcate (the detection works here).
+    let dead = Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() };
+    let rod = Rod::new(RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap(), 1.0, dead, Supports::Cantilever, Scheme::Gauss(2), 8).unwrap();
+    let mut sys = rod.system().unwrap();
+    let b = continue_newton(&mut sys, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, &Options { target_lambda: Some(3.0), ..opts }, |_, _| vec![], |_| true).unwrap();
+    assert_eq!(b.bifurcations.len(), 1);
+}

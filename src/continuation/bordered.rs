@@ -194,6 +194,18 @@ impl Bordered {
         (sigma, v)
     }
 
+    /// σ_min signed by the alignment of its left and right singular
+    /// vectors: near a real eigenvalue crossing zero, B v ≈ λ v, so the sign
+    /// is sign(λ) and the function changes sign at every bifurcation,
+    /// double ones included (where det B keeps its sign).
+    pub fn signed_smallest_singular_value(&mut self, counts: &mut Counts) -> f64 {
+        let (sigma, v) = self.smallest_singular_vectors(2, counts);
+        let mut w = vec![0.0; self.n + 1];
+        self.lu.pattern().mul_vec(&self.values, &v[0], &mut w);
+        let align: f64 = w.iter().zip(&v[0]).map(|(a, b)| a * b).sum();
+        if align < 0.0 { -sigma[0] } else { sigma[0] }
+    }
+
     pub fn factorisations(&self) -> usize {
         self.lu.factorisations
     }

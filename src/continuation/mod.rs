@@ -119,9 +119,10 @@ pub struct Record {
     /// sign det of the bordered tangent [[R_x, R_Λ], [tᵀW]]: flips at simple
     /// bifurcation points only (not at folds).
     pub bordered_det_sign: f64,
-    /// Smallest singular value estimate of the bordered tangent (scaled),
-    /// when requested: it dips towards zero at every bifurcation, double
-    /// ones (symmetry) included, where no determinant changes sign.
+    /// Smallest singular value of the bordered tangent, when requested,
+    /// signed by the alignment of its singular vectors: it passes through
+    /// zero at every bifurcation, double ones (symmetry) included, where no
+    /// determinant changes sign.
     pub smallest_singular_value: Option<f64>,
     /// Newton iterations (correction) for this point.
     pub newton_iterations: usize,

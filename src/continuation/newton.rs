@@ -248,7 +248,7 @@ pub(crate) fn make_record<P: Problem + ?Sized>(
     problem.residual(x, lambda, &mut r);
     counts.residuals += 1;
     let (bordered_det_sign, det_sign) = bordered.determinant_signs(scaling, tx, tl);
-    let smallest_singular_value = (opts.track_singular || opts.detect_bifurcations).then(|| bordered.smallest_singular_vectors(2, counts).0[0]);
+    let smallest_singular_value = (opts.track_singular || opts.detect_bifurcations).then(|| bordered.signed_smallest_singular_value(counts));
     Record {
         lambda,
         outputs: observe(x, lambda),
@@ -302,10 +302,13 @@ pub(crate) fn detect<P: Problem + ?Sized>(
     }
     let (r1, r2) = (&records[k - 2], &records[k - 1]);
     let h = history.len();
+    let signed = |r: &Record| r.smallest_singular_value.unwrap_or(1.0);
     let bracket = if r1.bordered_det_sign != r2.bordered_det_sign {
         Some((&history[h - 2], &history[h - 1], true))
+    } else if signed(r1) * signed(r2) < 0.0 {
+        Some((&history[h - 2], &history[h - 1], false))
     } else if k >= 3 && h >= 3 {
-        let sig = |r: &Record| r.smallest_singular_value.unwrap_or(f64::INFINITY);
+        let sig = |r: &Record| r.smallest_singular_value.map_or(f64::INFINITY, f64::abs);
         let r0 = &records[k - 3];
         (sig(r1) < sig(r0) && sig(r1) < sig(r2)).then(|| (&history[h - 3], &history[h - 1], false))
     } else {

@@ -54,6 +54,15 @@ module rodkit
     integer(c_int32_t), parameter :: RODKIT_STATUS_INFO_TRUNCATED = 1
     ! stopped early at the request of the progress callback (results so far are valid)
     integer(c_int32_t), parameter :: RODKIT_STATUS_INFO_CANCELLED = 2
+    ! the continuation stopped at its step limit before reaching its target
+    ! (the branch so far is valid)
+    integer(c_int32_t), parameter :: RODKIT_STATUS_INFO_STEP_LIMIT = 3
+    ! the continuation left the allowed parameter range before reaching its
+    ! target (the branch so far is valid)
+    integer(c_int32_t), parameter :: RODKIT_STATUS_INFO_LAMBDA_RANGE = 4
+    ! the continuation step fell below its minimum: the branch could not be
+    ! followed further (the branch so far is valid)
+    integer(c_int32_t), parameter :: RODKIT_STATUS_INFO_STEP_TOO_SMALL = 5
     ! internal error (a bug in rodkit: a panic was caught at the C boundary)
     integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_INTERNAL = -1
     ! a required pointer argument is NULL
@@ -103,6 +112,32 @@ module rodkit
     integer(c_int32_t), parameter :: RODKIT_AXIAL_CONTROL_FORCE = 1
     integer(c_int32_t), parameter :: RODKIT_TORSION_CONTROL_TWIST = 0
     integer(c_int32_t), parameter :: RODKIT_TORSION_CONTROL_TORQUE = 1
+
+    ! enum RodkitRodSupports (see rodkit.h).
+    integer(c_int32_t), parameter :: RODKIT_ROD_SUPPORTS_CANTILEVER = 1
+    integer(c_int32_t), parameter :: RODKIT_ROD_SUPPORTS_CLAMPED = 2
+    integer(c_int32_t), parameter :: RODKIT_ROD_SUPPORTS_PINNED = 3
+
+    ! enum RodkitLoadFrame (see rodkit.h).
+    integer(c_int32_t), parameter :: RODKIT_LOAD_FRAME_NONE = 0
+    integer(c_int32_t), parameter :: RODKIT_LOAD_FRAME_DEAD = 1
+    integer(c_int32_t), parameter :: RODKIT_LOAD_FRAME_FOLLOWER = 2
+
+    ! enum RodkitRodScheme (see rodkit.h).
+    integer(c_int32_t), parameter :: RODKIT_ROD_SCHEME_MIDPOINT = 1
+    integer(c_int32_t), parameter :: RODKIT_ROD_SCHEME_GAUSS = 2
+
+    ! enum RodkitContinuationMethod (see rodkit.h).
+    integer(c_int32_t), parameter :: RODKIT_CONTINUATION_METHOD_ANM = 1
+    integer(c_int32_t), parameter :: RODKIT_CONTINUATION_METHOD_NEWTON = 2
+
+    ! enum RodkitBranchStop (see rodkit.h).
+    integer(c_int32_t), parameter :: RODKIT_BRANCH_STOP_TARGET = 0
+    integer(c_int32_t), parameter :: RODKIT_BRANCH_STOP_LAMBDA_RANGE = 1
+    integer(c_int32_t), parameter :: RODKIT_BRANCH_STOP_MAX_STEPS = 2
+    integer(c_int32_t), parameter :: RODKIT_BRANCH_STOP_CANCELLED = 3
+    integer(c_int32_t), parameter :: RODKIT_BRANCH_STOP_STEP_TOO_SMALL = 4
+
 
     ! -------------------------------------------------------------------------
     ! RodkitThinTubeSpec: a thin helically reinforced tube in its stress-free
@@ -236,6 +271,128 @@ module rodkit
         integer(c_int64_t) :: done
         integer(c_int64_t) :: total
     end type rodkit_progress
+
+    ! RodkitRodSpec (see rodkit.h).
+    type, bind(c) :: rodkit_rod_spec
+        real(c_double) :: length
+        integer(c_int32_t) :: kirchhoff
+        real(c_double) :: bending1
+        real(c_double) :: bending2
+        real(c_double) :: twist
+        real(c_double) :: shear1
+        real(c_double) :: shear2
+        real(c_double) :: stretch
+        real(c_double) :: twist_stretch
+        real(c_double) :: bend_shear
+        real(c_double) :: intrinsic_u1
+        real(c_double) :: intrinsic_u2
+        real(c_double) :: intrinsic_u3
+        real(c_double) :: intrinsic_v1
+        real(c_double) :: intrinsic_v2
+        real(c_double) :: intrinsic_v3
+        integer(c_int32_t) :: supports
+        real(c_double) :: end_x
+        real(c_double) :: end_y
+        real(c_double) :: end_z
+        real(c_double) :: end_q0
+        real(c_double) :: end_q1
+        real(c_double) :: end_q2
+        real(c_double) :: end_q3
+        integer(c_int32_t) :: tip_force_frame
+        real(c_double) :: tip_force_x
+        real(c_double) :: tip_force_y
+        real(c_double) :: tip_force_z
+        integer(c_int32_t) :: tip_moment_frame
+        real(c_double) :: tip_moment_x
+        real(c_double) :: tip_moment_y
+        real(c_double) :: tip_moment_z
+        integer(c_int32_t) :: distributed_force_frame
+        real(c_double) :: distributed_force_x
+        real(c_double) :: distributed_force_y
+        real(c_double) :: distributed_force_z
+        integer(c_int32_t) :: distributed_couple_frame
+        real(c_double) :: distributed_couple_x
+        real(c_double) :: distributed_couple_y
+        real(c_double) :: distributed_couple_z
+        integer(c_int32_t) :: scheme
+        integer(c_int64_t) :: stages
+        integer(c_int64_t) :: elements
+    end type rodkit_rod_spec
+
+    ! RodkitContinuationOptions (see rodkit.h).
+    type, bind(c) :: rodkit_continuation_options
+        integer(c_int32_t) :: method
+        integer(c_int64_t) :: anm_order
+        real(c_double) :: anm_epsilon
+        real(c_double) :: target_lambda
+        real(c_double) :: lambda_min
+        real(c_double) :: lambda_max
+        integer(c_int64_t) :: max_steps
+        real(c_double) :: residual_tol
+        real(c_double) :: initial_step
+        real(c_double) :: min_step
+        real(c_double) :: max_step
+        integer(c_int32_t) :: detect_bifurcations
+        real(c_double) :: bifurcation_tol
+        integer(c_int32_t) :: increasing
+    end type rodkit_continuation_options
+
+    ! RodkitBranchProgress (see rodkit.h).
+    type, bind(c) :: rodkit_branch_progress
+        integer(c_int64_t) :: points
+        real(c_double) :: lambda
+        real(c_double) :: residual
+    end type rodkit_branch_progress
+
+    ! RodkitBranchRecord (see rodkit.h).
+    type, bind(c) :: rodkit_branch_record
+        real(c_double) :: lambda
+        real(c_double) :: residual
+        real(c_double) :: step
+        real(c_double) :: det_sign
+        real(c_double) :: bordered_det_sign
+        real(c_double) :: test_function
+        integer(c_int64_t) :: newton_iterations
+        real(c_double) :: tip_x
+        real(c_double) :: tip_y
+        real(c_double) :: tip_z
+        real(c_double) :: tip_rotation
+        real(c_double) :: base_force_x
+        real(c_double) :: base_force_y
+        real(c_double) :: base_force_z
+        real(c_double) :: base_moment_x
+        real(c_double) :: base_moment_y
+        real(c_double) :: base_moment_z
+        real(c_double) :: unfolding
+    end type rodkit_branch_record
+
+    ! RodkitBranchInfo (see rodkit.h).
+    type, bind(c) :: rodkit_branch_info
+        integer(c_int64_t) :: records
+        integer(c_int64_t) :: bifurcations
+        integer(c_int32_t) :: stop
+        integer(c_int32_t) :: phase_condition
+        integer(c_int64_t) :: state_length
+        integer(c_int64_t) :: steps
+        integer(c_int64_t) :: factorisations
+        integer(c_int64_t) :: solves
+        integer(c_int64_t) :: residuals
+        integer(c_int64_t) :: jacobians
+        integer(c_int64_t) :: series_orders
+    end type rodkit_branch_info
+
+    ! RodkitBifurcation (see rodkit.h).
+    type, bind(c) :: rodkit_bifurcation
+        real(c_double) :: lambda
+        integer(c_int64_t) :: multiplicity
+        real(c_double) :: sigma1
+        real(c_double) :: sigma2
+        real(c_double) :: sigma3
+        integer(c_int32_t) :: det_sign_change
+        real(c_double) :: tip_x
+        real(c_double) :: tip_y
+        real(c_double) :: tip_z
+    end type rodkit_bifurcation
 
     interface
 
@@ -514,6 +671,211 @@ module rodkit
             integer(c_int32_t) :: status
         end function rodkit_tube_rod_stiffness
 
+        ! ---------------------------------------------------------------------
+        ! Cosserat rods and continuation (see rodkit.h for every function).
+        ! Handles (rod, branch) are type(c_ptr). The progress callback is
+        ! c_funloc of a bind(c) function taking (type(rodkit_branch_progress),
+        ! intent(in) and type(c_ptr), value) and returning
+        ! integer(c_int32_t) (non-zero stops), or c_null_funptr. x0 of
+        ! rodkit_rod_continue: pass a state (e.g. rodkit_rod_straight_state).
+        ! ---------------------------------------------------------------------
+        function rodkit_rod_spec_default(spec) result(status) &
+                bind(c, name="rodkit_rod_spec_default")
+            import :: c_int32_t, rodkit_rod_spec
+            type(rodkit_rod_spec), intent(out) :: spec
+            integer(c_int32_t) :: status
+        end function rodkit_rod_spec_default
+
+        function rodkit_continuation_options_default(options) result(status) &
+                bind(c, name="rodkit_continuation_options_default")
+            import :: c_int32_t, rodkit_continuation_options
+            type(rodkit_continuation_options), intent(out) :: options
+            integer(c_int32_t) :: status
+        end function rodkit_continuation_options_default
+
+        function rodkit_rod_new(spec, out) result(status) &
+                bind(c, name="rodkit_rod_new")
+            import :: c_int32_t, c_ptr, rodkit_rod_spec
+            type(rodkit_rod_spec), intent(in) :: spec
+            type(c_ptr), intent(out) :: out
+            integer(c_int32_t) :: status
+        end function rodkit_rod_new
+
+        function rodkit_rod_new_general(spec, stiffness, ldk, out) result(status) &
+                bind(c, name="rodkit_rod_new_general")
+            import :: c_double, c_int32_t, c_int64_t, c_ptr, rodkit_rod_spec
+            type(rodkit_rod_spec), intent(in) :: spec
+            real(c_double), intent(in) :: stiffness(*)
+            integer(c_int64_t), value :: ldk
+            type(c_ptr), intent(out) :: out
+            integer(c_int32_t) :: status
+        end function rodkit_rod_new_general
+
+        subroutine rodkit_rod_free(rod) &
+                bind(c, name="rodkit_rod_free")
+            import :: c_ptr
+            type(c_ptr), value :: rod
+        end subroutine rodkit_rod_free
+
+        function rodkit_rod_unknowns(rod, n) result(status) &
+                bind(c, name="rodkit_rod_unknowns")
+            import :: c_int32_t, c_int64_t, c_ptr
+            type(c_ptr), value :: rod
+            integer(c_int64_t), intent(out) :: n
+            integer(c_int32_t) :: status
+        end function rodkit_rod_unknowns
+
+        function rodkit_rod_straight_state(rod, x, n) result(status) &
+                bind(c, name="rodkit_rod_straight_state")
+            import :: c_double, c_int32_t, c_int64_t, c_ptr
+            type(c_ptr), value :: rod
+            real(c_double), intent(inout) :: x(*)
+            integer(c_int64_t), value :: n
+            integer(c_int32_t) :: status
+        end function rodkit_rod_straight_state
+
+        function rodkit_rod_continue(rod, x0, n, lambda0, options, progress, user_data, out) result(status) &
+                bind(c, name="rodkit_rod_continue")
+            import :: c_double, c_funptr, c_int32_t, c_int64_t, c_ptr, rodkit_continuation_options
+            type(c_ptr), value :: rod
+            real(c_double), intent(in) :: x0(*)
+            integer(c_int64_t), value :: n
+            real(c_double), value :: lambda0
+            type(rodkit_continuation_options), intent(in) :: options
+            type(c_funptr), value :: progress
+            type(c_ptr), value :: user_data
+            type(c_ptr), intent(out) :: out
+            integer(c_int32_t) :: status
+        end function rodkit_rod_continue
+
+        function rodkit_branch_resume(rod, branch, options, progress, user_data, out) result(status) &
+                bind(c, name="rodkit_branch_resume")
+            import :: c_funptr, c_int32_t, c_ptr, rodkit_continuation_options
+            type(c_ptr), value :: rod
+            type(c_ptr), value :: branch
+            type(rodkit_continuation_options), intent(in) :: options
+            type(c_funptr), value :: progress
+            type(c_ptr), value :: user_data
+            type(c_ptr), intent(out) :: out
+            integer(c_int32_t) :: status
+        end function rodkit_branch_resume
+
+        function rodkit_branch_switch(rod, branch, index, direction, first_step, options, progress, user_data, out) result(status) &
+                bind(c, name="rodkit_branch_switch")
+            import :: c_double, c_funptr, c_int32_t, c_int64_t, c_ptr, rodkit_continuation_options
+            type(c_ptr), value :: rod
+            type(c_ptr), value :: branch
+            integer(c_int64_t), value :: index
+            integer(c_int64_t), value :: direction
+            real(c_double), value :: first_step
+            type(rodkit_continuation_options), intent(in) :: options
+            type(c_funptr), value :: progress
+            type(c_ptr), value :: user_data
+            type(c_ptr), intent(out) :: out
+            integer(c_int32_t) :: status
+        end function rodkit_branch_switch
+
+        subroutine rodkit_branch_free(branch) &
+                bind(c, name="rodkit_branch_free")
+            import :: c_ptr
+            type(c_ptr), value :: branch
+        end subroutine rodkit_branch_free
+
+        function rodkit_branch_summary(branch, info) result(status) &
+                bind(c, name="rodkit_branch_summary")
+            import :: c_int32_t, c_ptr, rodkit_branch_info
+            type(c_ptr), value :: branch
+            type(rodkit_branch_info), intent(out) :: info
+            integer(c_int32_t) :: status
+        end function rodkit_branch_summary
+
+        function rodkit_branch_records(branch, records, capacity, count) result(status) &
+                bind(c, name="rodkit_branch_records")
+            import :: c_int32_t, c_int64_t, c_ptr, rodkit_branch_record
+            type(c_ptr), value :: branch
+            type(rodkit_branch_record), intent(inout) :: records(*)
+            integer(c_int64_t), value :: capacity
+            integer(c_int64_t), intent(out) :: count
+            integer(c_int32_t) :: status
+        end function rodkit_branch_records
+
+        function rodkit_branch_bifurcations(branch, rod, out, capacity, count) result(status) &
+                bind(c, name="rodkit_branch_bifurcations")
+            import :: c_int32_t, c_int64_t, c_ptr, rodkit_bifurcation
+            type(c_ptr), value :: branch
+            type(c_ptr), value :: rod
+            type(rodkit_bifurcation), intent(inout) :: out(*)
+            integer(c_int64_t), value :: capacity
+            integer(c_int64_t), intent(out) :: count
+            integer(c_int32_t) :: status
+        end function rodkit_branch_bifurcations
+
+        function rodkit_branch_state(branch, record, x, n) result(status) &
+                bind(c, name="rodkit_branch_state")
+            import :: c_double, c_int32_t, c_int64_t, c_ptr
+            type(c_ptr), value :: branch
+            integer(c_int64_t), value :: record
+            real(c_double), intent(inout) :: x(*)
+            integer(c_int64_t), value :: n
+            integer(c_int32_t) :: status
+        end function rodkit_branch_state
+
+        function rodkit_branch_positions(branch, rod, record, xyz, ld, nodes) result(status) &
+                bind(c, name="rodkit_branch_positions")
+            import :: c_double, c_int32_t, c_int64_t, c_ptr
+            type(c_ptr), value :: branch
+            type(c_ptr), value :: rod
+            integer(c_int64_t), value :: record
+            real(c_double), intent(inout) :: xyz(*)
+            integer(c_int64_t), value :: ld
+            integer(c_int64_t), value :: nodes
+            integer(c_int32_t) :: status
+        end function rodkit_branch_positions
+
+        function rodkit_rod_residual(rod, x, n, lambda, r) result(status) &
+                bind(c, name="rodkit_rod_residual")
+            import :: c_double, c_int32_t, c_int64_t, c_ptr
+            type(c_ptr), value :: rod
+            real(c_double), intent(in) :: x(*)
+            integer(c_int64_t), value :: n
+            real(c_double), value :: lambda
+            real(c_double), intent(inout) :: r(*)
+            integer(c_int32_t) :: status
+        end function rodkit_rod_residual
+
+        function rodkit_rod_jacobian_pattern(rod, col_ptr, row_idx, capacity, nnz) result(status) &
+                bind(c, name="rodkit_rod_jacobian_pattern")
+            import :: c_int32_t, c_int64_t, c_ptr
+            type(c_ptr), value :: rod
+            integer(c_int64_t), intent(inout) :: col_ptr(*)
+            integer(c_int64_t), intent(inout) :: row_idx(*)
+            integer(c_int64_t), value :: capacity
+            integer(c_int64_t), intent(out) :: nnz
+            integer(c_int32_t) :: status
+        end function rodkit_rod_jacobian_pattern
+
+        function rodkit_rod_jacobian(rod, x, n, lambda, values, nnz, d_lambda) result(status) &
+                bind(c, name="rodkit_rod_jacobian")
+            import :: c_double, c_int32_t, c_int64_t, c_ptr
+            type(c_ptr), value :: rod
+            real(c_double), intent(in) :: x(*)
+            integer(c_int64_t), value :: n
+            real(c_double), value :: lambda
+            real(c_double), intent(inout) :: values(*)
+            integer(c_int64_t), value :: nnz
+            real(c_double), intent(inout) :: d_lambda(*)
+            integer(c_int32_t) :: status
+        end function rodkit_rod_jacobian
+
+        function rodkit_rod_rhs(rod, y, lambda, dy) result(status) &
+                bind(c, name="rodkit_rod_rhs")
+            import :: c_double, c_int32_t, c_ptr
+            type(c_ptr), value :: rod
+            real(c_double), intent(in) :: y(*)
+            real(c_double), value :: lambda
+            real(c_double), intent(inout) :: dy(*)
+            integer(c_int32_t) :: status
+        end function rodkit_rod_rhs
     end interface
 
 contains

@@ -44,6 +44,12 @@ enum RodkitStatus
   RODKIT_STATUS_INFO_TRUNCATED = 1,
   // stopped early at the request of the progress callback (results so far are valid)
   RODKIT_STATUS_INFO_CANCELLED = 2,
+  // the continuation stopped at its step limit before reaching its target (the branch so far is valid)
+  RODKIT_STATUS_INFO_STEP_LIMIT = 3,
+  // the continuation left the allowed parameter range before reaching its target (the branch so far is valid)
+  RODKIT_STATUS_INFO_LAMBDA_RANGE = 4,
+  // the continuation step fell below its minimum: the branch could not be followed further (the branch so far is valid)
+  RODKIT_STATUS_INFO_STEP_TOO_SMALL = 5,
   // internal error (a bug in rodkit: a panic was caught at the C boundary)
   RODKIT_STATUS_ERR_INTERNAL = -1,
   // a required pointer argument is NULL
@@ -182,6 +188,117 @@ typedef int32_t RodkitTorsionControl;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// Supports of a rod (`RodkitRodSpec.supports`).
+enum RodkitRodSupports
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // s = 0 clamped at the origin along e3, s = L free (tip loads apply).
+  RODKIT_ROD_SUPPORTS_CANTILEVER = 1,
+  // Both ends clamped; s = L at end_x…z with orientation end_q0…q3.
+  RODKIT_ROD_SUPPORTS_CLAMPED = 2,
+  // Ball joints; an axial dead tip force (0, 0, P) only.
+  RODKIT_ROD_SUPPORTS_PINNED = 3,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum RodkitRodSupports RodkitRodSupports;
+#else
+typedef int32_t RodkitRodSupports;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// How a load follows the rod (`*_frame` fields).
+enum RodkitLoadFrame
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // No such load.
+  RODKIT_LOAD_FRAME_NONE = 0,
+  // Fixed in space (spatial components).
+  RODKIT_LOAD_FRAME_DEAD = 1,
+  // Turns with the section (body components).
+  RODKIT_LOAD_FRAME_FOLLOWER = 2,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum RodkitLoadFrame RodkitLoadFrame;
+#else
+typedef int32_t RodkitLoadFrame;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// Discretisation (`RodkitRodSpec.scheme`).
+enum RodkitRodScheme
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // Implicit midpoint rule, order 2.
+  RODKIT_ROD_SCHEME_MIDPOINT = 1,
+  // Gauss–Legendre collocation with `stages` (2…4) stages, order 2·stages.
+  RODKIT_ROD_SCHEME_GAUSS = 2,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum RodkitRodScheme RodkitRodScheme;
+#else
+typedef int32_t RodkitRodScheme;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// Continuation engine (`RodkitContinuationOptions.method`).
+enum RodkitContinuationMethod
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // Asymptotic numerical method: series of order anm_order per step.
+  RODKIT_CONTINUATION_METHOD_ANM = 1,
+  // Newton pseudo-arc-length continuation.
+  RODKIT_CONTINUATION_METHOD_NEWTON = 2,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum RodkitContinuationMethod RodkitContinuationMethod;
+#else
+typedef int32_t RodkitContinuationMethod;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// Why a branch ended (`RodkitBranchInfo.stop`).
+enum RodkitBranchStop
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // Reached target_lambda (the last record is there).
+  RODKIT_BRANCH_STOP_TARGET = 0,
+  // Λ left [lambda_min, lambda_max].
+  RODKIT_BRANCH_STOP_LAMBDA_RANGE = 1,
+  // max_steps reached.
+  RODKIT_BRANCH_STOP_MAX_STEPS = 2,
+  // The progress callback asked to stop.
+  RODKIT_BRANCH_STOP_CANCELLED = 3,
+  // The step fell below min_step.
+  RODKIT_BRANCH_STOP_STEP_TOO_SMALL = 4,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum RodkitBranchStop RodkitBranchStop;
+#else
+typedef int32_t RodkitBranchStop;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// A branch: the records, why it stopped, where to resume, and the work done.
+typedef struct RodkitBranch RodkitBranch;
+
+// A discretised rod.
+typedef struct RodkitRod RodkitRod;
+
 // Opaque tube handle (rodkit_tube_new / rodkit_tube_free). Immutable after
 // creation: it may be moved between threads and used by several threads at
 // once.
@@ -240,6 +357,183 @@ typedef struct RodkitDnaFit {
   double thick_twist;
   double thick_turns_per_pn_per_10kbp;
 } RodkitDnaFit;
+
+// A rod: law, length, supports, loads (each multiplied by the load
+// parameter Λ), discretisation. Initialise with `rodkit_rod_spec_default`.
+// Stiffness order (u1, u2, u3, v1, v2, v3) ↔ (m1, m2, m3, n1, n2, n3):
+// bending about d1, d2, twist, shear along d1, d2, stretch.
+typedef struct RodkitRodSpec {
+  // Length L > 0.
+  double length;
+  // 1: Kirchhoff rod (inextensible, unshearable: only bending1, bending2,
+  // twist are used); 0: special Cosserat rod.
+  int32_t kirchhoff;
+  double bending1;
+  double bending2;
+  double twist;
+  double shear1;
+  double shear2;
+  double stretch;
+  // Hemitropic couplings (physics.md §2.2): twist–stretch g (u3·v3) and
+  // bend–shear c2 (u1·v1 and u2·v2). Default 0.
+  double twist_stretch;
+  double bend_shear;
+  // Intrinsic strains û (default 0) and v̂ (default (0, 0, 1)).
+  double intrinsic_u1;
+  double intrinsic_u2;
+  double intrinsic_u3;
+  double intrinsic_v1;
+  double intrinsic_v2;
+  double intrinsic_v3;
+  // RodkitRodSupports (default cantilever).
+  int32_t supports;
+  // Clamped: position and orientation (unit quaternion, scalar first) of
+  // the end s = L.
+  double end_x;
+  double end_y;
+  double end_z;
+  double end_q0;
+  double end_q1;
+  double end_q2;
+  double end_q3;
+  // Loads: RodkitLoadFrame and vector (per length for distributed loads).
+  int32_t tip_force_frame;
+  double tip_force_x;
+  double tip_force_y;
+  double tip_force_z;
+  int32_t tip_moment_frame;
+  double tip_moment_x;
+  double tip_moment_y;
+  double tip_moment_z;
+  int32_t distributed_force_frame;
+  double distributed_force_x;
+  double distributed_force_y;
+  double distributed_force_z;
+  int32_t distributed_couple_frame;
+  double distributed_couple_x;
+  double distributed_couple_y;
+  double distributed_couple_z;
+  // RodkitRodScheme (default Gauss), stages (default 4), elements N
+  // (default 8).
+  int32_t scheme;
+  int64_t stages;
+  int64_t elements;
+} RodkitRodSpec;
+
+// Continuation settings. Initialise with
+// `rodkit_continuation_options_default`. Arc length and relative
+// tolerances use the rod's scales (positions L, forces K_b/L², moments
+// K_b/L, Λ 1).
+typedef struct RodkitContinuationOptions {
+  // RodkitContinuationMethod (default ANM).
+  int32_t method;
+  // ANM series order P (2…60, default 20) and ε of the step rule
+  // (default 1e-10).
+  int64_t anm_order;
+  double anm_epsilon;
+  // Stop exactly at this Λ (NaN, the default: no target).
+  double target_lambda;
+  // Stop when Λ leaves [lambda_min, lambda_max] (default ±1e300).
+  double lambda_min;
+  double lambda_max;
+  // Step limit (default 1000).
+  int64_t max_steps;
+  // Residual tolerance of every returned point, relative to the
+  // equations' scales (default 1e-10).
+  double residual_tol;
+  // Arc-length steps: first (Newton), minimum, maximum (defaults 0.05,
+  // 1e-10, 1).
+  double initial_step;
+  double min_step;
+  double max_step;
+  // 1: detect and locate bifurcations (default 0), to bifurcation_tol in
+  // arc length (default 1e-10).
+  int32_t detect_bifurcations;
+  double bifurcation_tol;
+  // 1: leave the start towards increasing Λ (default), 0: decreasing.
+  int32_t increasing;
+} RodkitContinuationOptions;
+
+// What the branch progress callback is told after each point.
+typedef struct RodkitBranchProgress {
+  // Points so far (the start is point 1).
+  int64_t points;
+  double lambda;
+  double residual;
+} RodkitBranchProgress;
+
+// Branch progress callback: return 0 to continue, non-zero to stop
+// cleanly (the branch so far is returned with RODKIT_STATUS_INFO_CANCELLED).
+// It must not unwind into rodkit (no C++ throw, no longjmp); it may call
+// rodkit functions on other handles.
+typedef int32_t (*RodkitBranchCallback)(const struct RodkitBranchProgress *progress, void *user_data);
+
+// Summary of a branch.
+typedef struct RodkitBranchInfo {
+  int64_t records;
+  int64_t bifurcations;
+  // RodkitBranchStop.
+  int32_t stop;
+  // 1 if followed with a phase condition (states carry μ last).
+  int32_t phase_condition;
+  // Length of each state (rodkit_rod_unknowns, + 1 with a phase condition).
+  int64_t state_length;
+  // Work: steps, factorisations, linear solves, residual and Jacobian
+  // evaluations, ANM series orders.
+  int64_t steps;
+  int64_t factorisations;
+  int64_t solves;
+  int64_t residuals;
+  int64_t jacobians;
+  int64_t series_orders;
+} RodkitBranchInfo;
+
+// One point of a branch.
+typedef struct RodkitBranchRecord {
+  double lambda;
+  // Scaled residual max norm at the point.
+  double residual;
+  // Arc length of the step that reached it.
+  double step;
+  // sign det R_x (flips at folds and simple bifurcations) and sign det of
+  // the bordered tangent (flips at simple bifurcations only); 0 unknown.
+  double det_sign;
+  double bordered_det_sign;
+  // Signed smallest singular value of the bordered tangent (changes sign
+  // at every bifurcation); NaN when not tracked.
+  double test_function;
+  int64_t newton_iterations;
+  // Tip position r(L) and the angle (radians) between the tip tangent and e3.
+  double tip_x;
+  double tip_y;
+  double tip_z;
+  double tip_rotation;
+  // Spatial force and moment at s = 0 (the rod's internal force there).
+  double base_force_x;
+  double base_force_y;
+  double base_force_z;
+  double base_moment_x;
+  double base_moment_y;
+  double base_moment_z;
+  // The phase condition's unfolding parameter μ (0 without one).
+  double unfolding;
+} RodkitBranchRecord;
+
+// A located bifurcation point.
+typedef struct RodkitBifurcation {
+  double lambda;
+  // 1 simple, 2 double (rotational symmetry).
+  int64_t multiplicity;
+  // The three smallest singular values of the bordered tangent there.
+  double sigma1;
+  double sigma2;
+  double sigma3;
+  // 1 if det of the bordered tangent changed sign across it.
+  int32_t det_sign_change;
+  double tip_x;
+  double tip_y;
+  double tip_z;
+} RodkitBifurcation;
 
 // Response of a free thin tube (zero torque, zero pressure) to an axial force
 // F, per unit force.
@@ -414,6 +708,142 @@ const char *rodkit_last_error_message(void);
 // message was cut to `capacity − 1` bytes. This call leaves the message
 // unchanged unless it fails itself (NULL `buffer`, `capacity` < 1).
 int32_t rodkit_last_error_copy(char *buffer, int64_t capacity, int64_t *length);
+
+// Fill `spec` with defaults: every physical field NaN (unset), couplings
+// and intrinsic curvature 0, v̂ = (0, 0, 1), cantilever, no loads,
+// Gauss–Legendre with 4 stages on 8 elements.
+int32_t rodkit_rod_spec_default(struct RodkitRodSpec *spec);
+
+// Fill `options` with the defaults documented on its fields.
+int32_t rodkit_continuation_options_default(struct RodkitContinuationOptions *options);
+
+// Create a rod from `spec` (validated: a message names the bad field).
+// On failure `*out` is NULL.
+int32_t rodkit_rod_new(const struct RodkitRodSpec *spec, struct RodkitRod **out);
+
+// As rodkit_rod_new with a general symmetric positive-definite 6×6
+// stiffness (column-major, leading dimension `ldk` ≥ 6, order (u, v)) in
+// place of the spec's moduli (bending1…bend_shear are ignored).
+int32_t rodkit_rod_new_general(const struct RodkitRodSpec *spec,
+                               const double *stiffness,
+                               int64_t ldk,
+                               struct RodkitRod **out);
+
+// Free a rod (NULL is accepted).
+void rodkit_rod_free(struct RodkitRod *rod);
+
+// Number of unknowns n of the discrete system (the state x; Λ apart).
+int32_t rodkit_rod_unknowns(const struct RodkitRod *rod, int64_t *n);
+
+// The straight stress-free state (length n = rodkit_rod_unknowns).
+int32_t rodkit_rod_straight_state(const struct RodkitRod *rod, double *x, int64_t n);
+
+// Follow a branch from the state `x0` (length n; NULL: the straight
+// state) at `lambda0`. Returns 0 when the target was reached, a positive
+// RODKIT_STATUS_INFO_* when the branch ended otherwise (the branch is
+// returned in every non-negative case), a negative status on failure
+// (`*out` NULL). `progress` may be NULL.
+int32_t rodkit_rod_continue(const struct RodkitRod *rod,
+                            const double *x0,
+                            int64_t n,
+                            double lambda0,
+                            const struct RodkitContinuationOptions *options,
+                            RodkitBranchCallback progress,
+                            void *user_data,
+                            struct RodkitBranch **out);
+
+// Continue `branch` (of `rod`) from where it ended, with new options.
+int32_t rodkit_branch_resume(const struct RodkitRod *rod,
+                             const struct RodkitBranch *branch,
+                             const struct RodkitContinuationOptions *options,
+                             RodkitBranchCallback progress,
+                             void *user_data,
+                             struct RodkitBranch **out);
+
+// Leave `branch` at its bifurcation `index` (0-based) along null direction
+// `direction` (0-based, < multiplicity) with first arc-length step
+// `first_step`. A double point of a symmetric rod is followed with a phase
+// condition (the branch's states then carry the unfolding parameter μ
+// last; see RodkitBranchInfo.phase_condition).
+int32_t rodkit_branch_switch(const struct RodkitRod *rod,
+                             const struct RodkitBranch *branch,
+                             int64_t index,
+                             int64_t direction,
+                             double first_step,
+                             const struct RodkitContinuationOptions *options,
+                             RodkitBranchCallback progress,
+                             void *user_data,
+                             struct RodkitBranch **out);
+
+// Free a branch (NULL is accepted).
+void rodkit_branch_free(struct RodkitBranch *branch);
+
+// Summary of a branch.
+int32_t rodkit_branch_summary(const struct RodkitBranch *branch, struct RodkitBranchInfo *info);
+
+// Copy up to `capacity` records into `records`; `count` receives the
+// number of records of the branch. Fewer than that copied:
+// RODKIT_STATUS_INFO_TRUNCATED (capacity 0 with records NULL is a size query).
+int32_t rodkit_branch_records(const struct RodkitBranch *branch,
+                              struct RodkitBranchRecord *records,
+                              int64_t capacity,
+                              int64_t *count);
+
+// Copy up to `capacity` located bifurcations; `count` receives their number.
+int32_t rodkit_branch_bifurcations(const struct RodkitBranch *branch,
+                                   const struct RodkitRod *rod,
+                                   struct RodkitBifurcation *out,
+                                   int64_t capacity,
+                                   int64_t *count);
+
+// The full state x at record `record` (length RodkitBranchInfo.state_length).
+int32_t rodkit_branch_state(const struct RodkitBranch *branch,
+                            int64_t record,
+                            double *x,
+                            int64_t n);
+
+// Node positions r(s_i), i = 0…N, of record `record`: xyz[k + ld·i]
+// (ld ≥ 3), for `nodes` = N + 1 nodes (the rod's elements + 1).
+int32_t rodkit_branch_positions(const struct RodkitBranch *branch,
+                                const struct RodkitRod *rod,
+                                int64_t record,
+                                double *xyz,
+                                int64_t ld,
+                                int64_t nodes);
+
+// Residual R(x, Λ) of the discrete equations (length n each), in the
+// form SUNDIALS' KINSOL calls: a user's KINSysFn wraps it with
+// N_VGetArrayPointer. Not thread-safe on one handle (work buffers).
+int32_t rodkit_rod_residual(struct RodkitRod *rod,
+                            const double *x,
+                            int64_t n,
+                            double lambda,
+                            double *r);
+
+// The Jacobian's sparsity in compressed columns: col_ptr (n + 1 entries)
+// and row_idx (nnz entries, sorted within each column). `nnz` receives
+// the count; with capacity < nnz only the count is written
+// (RODKIT_STATUS_INFO_TRUNCATED; row_idx may then be NULL).
+int32_t rodkit_rod_jacobian_pattern(const struct RodkitRod *rod,
+                                    int64_t *col_ptr,
+                                    int64_t *row_idx,
+                                    int64_t capacity,
+                                    int64_t *nnz);
+
+// ∂R/∂x at (x, Λ) in the order of rodkit_rod_jacobian_pattern (`values`,
+// `nnz` entries) and ∂R/∂Λ (`d_lambda`, n entries; may be NULL).
+int32_t rodkit_rod_jacobian(struct RodkitRod *rod,
+                            const double *x,
+                            int64_t n,
+                            double lambda,
+                            double *values,
+                            int64_t nnz,
+                            double *d_lambda);
+
+// The rod ODE's right-hand side y' = f(y, Λ) (physics.md §2.1) for
+// y = (r, q, n_b, m_b) (13 entries each), without distributed loads'
+// dependence on s: for IDA-based shooting (IDAResFn: F = y' − f(y)).
+int32_t rodkit_rod_rhs(const struct RodkitRod *rod, const double *y, double lambda, double *dy);
 
 // Fill `spec` with its defaults: every field NaN (unset). Set all of them.
 int32_t rodkit_thin_tube_spec_default(struct RodkitThinTubeSpec *spec);

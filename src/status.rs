@@ -19,6 +19,12 @@ pub enum Status {
     InfoTruncated = 1,
     /// stopped early at the request of the progress callback (results so far are valid)
     InfoCancelled = 2,
+    /// the continuation stopped at its step limit before reaching its target (the branch so far is valid)
+    InfoStepLimit = 3,
+    /// the continuation left the allowed parameter range before reaching its target (the branch so far is valid)
+    InfoLambdaRange = 4,
+    /// the continuation step fell below its minimum: the branch could not be followed further (the branch so far is valid)
+    InfoStepTooSmall = 5,
     /// internal error (a bug in rodkit: a panic was caught at the C boundary)
     ErrInternal = -1,
     /// a required pointer argument is NULL

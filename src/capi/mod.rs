@@ -12,6 +12,7 @@
 pub mod diagnostic;
 pub mod dna;
 pub mod error;
+pub mod rod;
 pub mod tube;
 pub mod tube_scene;
 pub mod version;
@@ -127,6 +128,7 @@ mod tests {
             include_str!("diagnostic.rs"),
             include_str!("dna.rs"),
             include_str!("error.rs"),
+            include_str!("rod.rs"),
             include_str!("tube.rs"),
             include_str!("tube_scene.rs"),
             include_str!("version.rs"),

@@ -143,6 +143,11 @@ impl Rod {
         x
     }
 
+    /// y' = f(y, Λ) of the rod's ODE at one state y (13 entries).
+    pub fn rhs(&self, y: &[f64], lambda: f64) -> [f64; 13] {
+        kinematics::rhs(&self.rhs_data(), y, lambda)
+    }
+
     fn tableau(&self) -> Tableau {
         match self.scheme {
             Scheme::Midpoint => Tableau::gauss(1),

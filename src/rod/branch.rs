@@ -1,0 +1,148 @@
+//! Branches of rod equilibria: continuation from a state, resumption, and
+//! switching at a located bifurcation — the phase condition chosen for the
+//! caller when the point is double (rotational symmetry). What the C ABI
+//! and the drivers use; the generic engines do the work.
+
+use super::model::{Rod, Supports};
+use crate::continuation::anm::{continue_anm, AnmOptions};
+use crate::continuation::bifurcation::{branch_start, Bifurcation};
+use crate::continuation::newton::{continue_newton, Start};
+use crate::continuation::system::AssembledSystem;
+use crate::continuation::{Counts, Options, Problem, Record, Resume, Scaling, Stop};
+use crate::error::{self, Error, Result};
+use crate::status::Status;
+
+/// Which engine follows the branch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Method {
+    Anm(AnmOptions),
+    Newton,
+}
+
+/// A followed branch with the full state at every record.
+#[derive(Clone, Debug)]
+pub struct RodBranch {
+    pub records: Vec<Record>,
+    /// x at each record (with the unfolding parameter μ last on a branch
+    /// followed with a phase condition).
+    pub states: Vec<Vec<f64>>,
+    pub bifurcations: Vec<Bifurcation>,
+    pub stop: Stop,
+    pub counts: Counts,
+    pub resume: Resume,
+    /// The phase condition (node, azimuth) the branch was followed with.
+    pub phase: Option<(usize, f64)>,
+}
+
+impl Rod {
+    fn system_for(&self, phase: Option<(usize, f64)>) -> Result<AssembledSystem> {
+        match phase {
+            Some((node, azimuth)) => self.system_with_phase(node, azimuth),
+            None => self.system(),
+        }
+    }
+
+    fn follow(&self, start: Start, phase: Option<(usize, f64)>, opts: &Options, method: Method,
+              mut progress: impl FnMut(&Record) -> bool) -> Result<RodBranch> {
+        let mut sys = self.system_for(phase)?;
+        let mut states = Vec::new();
+        let observe = |x: &[f64], _: f64| x.to_vec();
+        let mut cb = |r: &Record| progress(r);
+        let b = match method {
+            Method::Anm(a) => continue_anm(&mut sys, start, opts, &a, observe, &mut cb)?,
+            Method::Newton => continue_newton(&mut sys, start, opts, observe, &mut cb)?,
+        };
+        let mut records = b.records;
+        for r in &mut records {
+            states.push(std::mem::take(&mut r.outputs));
+        }
+        Ok(RodBranch { records, states, bifurcations: b.bifurcations, stop: b.stop, counts: b.counts, resume: b.resume, phase })
+    }
+
+    /// A branch from the state `x0` at `lambda0` (None: the straight state),
+    /// leaving towards increasing Λ when `increasing`.
+    pub fn continue_branch(&self, x0: Option<&[f64]>, lambda0: f64, increasing: bool, opts: &Options, method: Method,
+                           progress: impl FnMut(&Record) -> bool) -> Result<RodBranch> {
+        error::finite("lambda0", lambda0)?;
+        let x = match x0 {
+            Some(x) => {
+                error::count_in_range("state length", x.len() as i64, self.unknowns() as i64, self.unknowns() as i64)?;
+                error::finite_result("x0", x)?;
+                x.to_vec()
+            }
+            None => self.straight_state(),
+        };
+        self.follow(Start::Point { x, lambda: lambda0, increasing }, None, opts, method, progress)
+    }
+
+    /// Continue `branch` from where it stopped (same phase condition).
+    pub fn resume_branch(&self, branch: &RodBranch, opts: &Options, method: Method, progress: impl FnMut(&Record) -> bool) -> Result<RodBranch> {
+        self.follow(Start::Resume(branch.resume.clone()), branch.phase, opts, method, progress)
+    }
+
+    /// Leave `branch` at its bifurcation `index` along null direction
+    /// `direction`. At a double point of a symmetric rod the new branch is
+    /// followed with a phase condition: the node of largest deflection in
+    /// that direction (the tip of a cantilever, the middle node otherwise)
+    /// keeps no displacement across the direction's azimuth.
+    pub fn switch_branch(&self, branch: &RodBranch, index: usize, direction: usize, first_step: f64, opts: &Options, method: Method,
+                         progress: impl FnMut(&Record) -> bool) -> Result<RodBranch> {
+        let bif = branch.bifurcations.get(index).ok_or_else(|| {
+            Error::new(Status::ErrOutOfRange, format!("bifurcation index {index} out of range (the branch has {})", branch.bifurcations.len()))
+        })?;
+        let (nx, nl) = bif.null_vectors.get(direction).ok_or_else(|| {
+            Error::new(Status::ErrOutOfRange, format!("direction {direction} out of range (the point has {} null directions)", bif.null_vectors.len()))
+        })?;
+        error::positive("first_step", first_step)?;
+        let (phase, bif, direction) = if branch.phase.is_none() && bif.multiplicity >= 2 {
+            let node = match self.supports {
+                Supports::Cantilever => self.elements,
+                _ => self.elements / 2,
+            };
+            if node == 0 {
+                return Err(Error::new(Status::ErrOutOfRange, "a phase condition needs at least 2 elements"));
+            }
+            let at = self.node(node);
+            let azimuth = nx[at + 1].atan2(nx[at]);
+            let mut aug = bif.clone();
+            aug.x.push(0.0);
+            aug.tangent_x.push(0.0);
+            let mut d = nx.clone();
+            d.push(0.0);
+            (Some((node, azimuth)), aug, d)
+        } else {
+            (branch.phase, bif.clone(), nx.clone())
+        };
+        let sys = self.system_for(phase)?;
+        let (sx, sl) = sys.unknown_scales();
+        let scaling = opts.scaling.clone().unwrap_or(Scaling { x: sx, lambda: sl });
+        let start = branch_start(&bif, (&direction, *nl), first_step, &scaling);
+        self.follow(Start::Resume(start), phase, opts, method, progress)
+    }
+
+    /// The angle between the tip tangent d3(L) and e3 (radians, 0…π).
+    pub fn tip_rotation(&self, x: &[f64]) -> f64 {
+        let y = self.node_state(x, self.elements);
+        let n2 = y[3] * y[3] + y[4] * y[4] + y[5] * y[5] + y[6] * y[6];
+        let d3z = (y[3] * y[3] - y[4] * y[4] - y[5] * y[5] + y[6] * y[6]) / n2;
+        d3z.clamp(-1.0, 1.0).acos()
+    }
+
+    /// Spatial force and moment at node i: R(q) n_b, R(q) m_b.
+    pub fn spatial_force_moment(&self, x: &[f64], i: usize) -> ([f64; 3], [f64; 3]) {
+        let y = self.node_state(x, i);
+        let q = [y[3], y[4], y[5], y[6]];
+        let r = super::kinematics::rotation(&q);
+        let n = super::kinematics::mat_vec(&r, &[y[7], y[8], y[9]]);
+        let m = super::kinematics::mat_vec(&r, &[y[10], y[11], y[12]]);
+        (n, m)
+    }
+
+    /// Node positions r(s_i), i = 0…N.
+    pub fn positions(&self, x: &[f64]) -> Vec<[f64; 3]> {
+        (0..=self.elements).map(|i| {
+            let y = self.node_state(x, i);
+            [y[0], y[1], y[2]]
+        }).collect()
+    }
+}

@@ -31,8 +31,8 @@ FFLAGS := -std=f2008 -O2 -g -Wall -Wextra -J$(BUILD)/fmod -I$(BUILD)/fmod
 SHARED := -L$(LIBDIR) -lrodkit -Wl,-rpath,$(LIBDIR)
 STATIC := $(LIBDIR)/librodkit.a $(STATIC_LIBS)
 
-C_DRIVERS := tube_stiffness bad_input artery dna_tube
-F_DRIVERS := tube_stiffness stretch_sweep
+C_DRIVERS := tube_stiffness bad_input artery dna_tube rod_buckling
+F_DRIVERS := tube_stiffness stretch_sweep follower_cantilever
 EXES := $(foreach d,$(C_DRIVERS),$(BUILD)/c_$(d)_shared $(BUILD)/c_$(d)_static) \
         $(BUILD)/cpp_tube_stiffness \
         $(foreach d,$(F_DRIVERS),$(BUILD)/f_$(d)_shared $(BUILD)/f_$(d)_static)
@@ -78,7 +78,7 @@ run: deps lib
 	@$(MAKE) --no-print-directory -s drivers
 	@cd $(ROOT) && for exe in c_tube_stiffness_shared c_tube_stiffness_static cpp_tube_stiffness \
 	    f_tube_stiffness_shared f_tube_stiffness_static c_bad_input_shared c_artery_shared c_dna_tube_shared \
-	    f_stretch_sweep_shared; do \
+	    f_stretch_sweep_shared c_rod_buckling_shared f_follower_cantilever_shared; do \
 	  echo "=== $$exe"; $(BUILD)/$$exe || exit 1; done
 
 # All tests in one cargo invocation: the Rust suites, the drivers (built here

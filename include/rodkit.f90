@@ -342,6 +342,7 @@ module rodkit
         integer(c_int64_t) :: points
         real(c_double) :: lambda
         real(c_double) :: residual
+        real(c_double) :: tip_rotation
     end type rodkit_branch_progress
 
     ! RodkitBranchRecord (see rodkit.h).

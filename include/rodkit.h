@@ -460,6 +460,8 @@ typedef struct RodkitBranchProgress {
   int64_t points;
   double lambda;
   double residual;
+  // Angle (radians) between the tip tangent and e3 at the point.
+  double tip_rotation;
 } RodkitBranchProgress;
 
 // Branch progress callback: return 0 to continue, non-zero to stop

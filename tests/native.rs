@@ -339,3 +339,89 @@ fn dna_driver_matches_rust_fit() {
     assert_eq!(rows, 41);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The C rod-buckling driver: its critical load equals the extensible
+/// Euler formula (independent closed form, physics.md §2.6) to 1e−9 and the
+/// Rust API's own answer for the same rod to round-off; its buckled branch
+/// reaches 170° with μ at round-off, the callback saw every point, and the
+/// CSV/VTK files are written.
+#[test]
+fn c_rod_buckling_driver() {
+    use rodkit::continuation::Options;
+    use rodkit::rod::branch::Method;
+    use rodkit::rod::model::{Rod, Supports};
+    use rodkit::rod::scheme::Scheme;
+    use rodkit::rod::{Load, Loads, RodLaw};
+    let dir = std::env::temp_dir().join(format!("rodkit-rod-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (csv, vtk) = (dir.join("b.csv"), dir.join("b.vtk"));
+    let out = run("c_rod_buckling_shared", &[csv.to_str().unwrap(), vtk.to_str().unwrap()]);
+    let got = values(&out);
+    let formula = got["extensible_euler_formula"];
+    assert!((got["critical_load"] - formula).abs() < 1e-9 * formula, "{out}");
+    assert_eq!(got["multiplicity"], 2.0);
+    // The same continuation through the Rust API.
+    let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 300.0, 1000.0).unwrap();
+    let loads = Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() };
+    let rod = Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), 16).unwrap();
+    let opts = Options { target_lambda: Some(3.0), initial_step: 0.2, max_step: 0.5, residual_tol: 1e-12, detect_bifurcations: true, bifurcation_tol: 1e-11, ..Default::default() };
+    let b = rod.continue_branch(None, 0.0, true, &opts, Method::Newton, |_| true).unwrap();
+    assert!((b.bifurcations[0].lambda - got["critical_load"]).abs() < 1e-13 * formula);
+    assert!(got["final_tip_rotation_deg"] > 170.0 && got["final_tip_rotation_deg"] < 172.0);
+    assert!(got["callback_calls"] >= got["points_to_170_deg"]);
+    let rows = std::fs::read_to_string(&csv).unwrap().lines().count() - 1;
+    assert_eq!(rows as f64, got["points_to_170_deg"]);
+    for line in std::fs::read_to_string(&csv).unwrap().lines().skip(1) {
+        let mu: f64 = line.rsplit(',').next().unwrap().parse().unwrap();
+        assert!(mu.abs() < 1e-9, "unfolding parameter {mu}");
+    }
+    let vtk_text = std::fs::read_to_string(&vtk).unwrap();
+    assert!(vtk_text.starts_with("# vtk DataFile") && vtk_text.contains("POINTS 136 double") && vtk_text.contains("LINES 8 144"));
+    assert_eq!(run("c_rod_buckling_static", &[csv.to_str().unwrap(), vtk.to_str().unwrap()]), out);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The Fortran follower-cantilever driver equals the Rust API (same
+/// continuation) to round-off at α = 1, 2, 5, 10, and is within 1e−8 of a
+/// converged solution (Gauss(4) × 32, residual 1e−12; its agreement with
+/// AUTO-07p to 1e−11 is shown by `cargo bench --bench rod`).
+#[test]
+fn fortran_follower_cantilever_driver() {
+    use rodkit::continuation::anm::AnmOptions;
+    use rodkit::continuation::Options;
+    use rodkit::rod::branch::Method;
+    use rodkit::rod::model::{Rod, Supports};
+    use rodkit::rod::scheme::Scheme;
+    use rodkit::rod::{Load, Loads, RodLaw};
+    let out = run("f_follower_cantilever_shared", &[]);
+    let got = values(&out);
+    let rod = |n| {
+        let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap();
+        let loads = Loads { tip_force: Some(Load::follower([1.0, 0.0, 0.0])), ..Default::default() };
+        Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), n).unwrap()
+    };
+    let path = |r: &Rod, tol: f64, method: Method| {
+        let mut tips = vec![];
+        let mut branch = None;
+        for a in [1.0, 2.0, 5.0, 10.0] {
+            let opts = Options { target_lambda: Some(a), residual_tol: tol, max_step: 2.0, ..Default::default() };
+            let b = match &branch {
+                None => r.continue_branch(None, 0.0, true, &opts, method, |_| true).unwrap(),
+                Some(b) => r.resume_branch(b, &opts, method, |_| true).unwrap(),
+            };
+            tips.push(r.tip(b.states.last().unwrap()));
+            branch = Some(b);
+        }
+        tips
+    };
+    let same = path(&rod(8), 1e-10, Method::Anm(AnmOptions { order: 20, epsilon: 1e-10 }));
+    let fine = path(&rod(32), 1e-12, Method::Newton);
+    for (k, a) in ["1", "2", "5", "10"].iter().enumerate() {
+        for (c, name) in ["x", "y", "z"].iter().enumerate() {
+            let v = got[&format!("tip_{name}_{a}")];
+            assert!((v - same[k][c]).abs() < 1e-13, "α = {a}: tip {name} {v} vs Rust {}", same[k][c]);
+            assert!((v - fine[k][c]).abs() < 1e-8, "α = {a}: tip {name} {v} vs converged {}", fine[k][c]);
+        }
+    }
+    assert_eq!(run("f_follower_cantilever_static", &[]), out);
+}

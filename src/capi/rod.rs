@@ -184,6 +184,8 @@ pub struct BranchProgress {
     pub points: i64,
     pub lambda: f64,
     pub residual: f64,
+    /// Angle (radians) between the tip tangent and e3 at the point.
+    pub tip_rotation: f64,
 }
 
 /// Branch progress callback: return 0 to continue, non-zero to stop
@@ -362,7 +364,9 @@ fn model_from(s: &RodSpec, general: Option<Matrix6<f64>>) -> Result<Model> {
 fn options_from(o: &ContinuationOptions) -> Result<(Options, Method, bool)> {
     let method = match o.method {
         1 => {
-            error::count_in_range("anm_order", o.anm_order, 2, 60)?;
+            if !(2..=60).contains(&o.anm_order) {
+                return Err(Error::new(Status::ErrOutOfRange, format!("argument `anm_order` must lie in [2, 60] (got {})", o.anm_order)));
+            }
             error::in_range("anm_epsilon", o.anm_epsilon, 1e-15, 1e-1)?;
             Method::Anm(AnmOptions { order: o.anm_order as usize, epsilon: o.anm_epsilon })
         }
@@ -453,12 +457,16 @@ fn wrap(model: &Model, branch: RodBranch) -> Branch {
 }
 
 /// Run `f` with a Rust progress closure forwarding to the C callback.
-unsafe fn with_progress<T>(cb: BranchCallback, user_data: *mut c_void, f: impl FnOnce(&mut dyn FnMut(&Record) -> bool) -> Result<T>) -> Result<T> {
+unsafe fn with_progress<T>(model: &Model, cb: BranchCallback, user_data: *mut c_void, f: impl FnOnce(&mut dyn FnMut(&Record) -> bool) -> Result<T>) -> Result<T> {
     let mut points = 0i64;
     let mut forward = |r: &Record| -> bool {
         points += 1;
         match cb {
-            Some(cb) => cb(&BranchProgress { points, lambda: r.lambda, residual: r.residual }, user_data) == 0,
+            Some(cb) => {
+                // The branch's records carry the state as their outputs.
+                let tip_rotation = if r.outputs.len() >= model.unknowns() { model.tip_rotation(&r.outputs) } else { f64::NAN };
+                cb(&BranchProgress { points, lambda: r.lambda, residual: r.residual, tip_rotation }, user_data) == 0
+            }
             None => true,
         }
     };
@@ -678,7 +686,7 @@ pub unsafe extern "C" fn rodkit_rod_continue(
             check_len("n", n, rod.model.unknowns() as i64)?;
             Some(in_slice("x0", x0, n)?)
         };
-        let b = with_progress(progress, user_data, |cb| rod.model.continue_branch(x0, lambda0, increasing, &opts, method, cb))?;
+        let b = with_progress(&rod.model, progress, user_data, |cb| rod.model.continue_branch(x0, lambda0, increasing, &opts, method, cb))?;
         store_branch(rod, b, out)
     })
 }
@@ -700,7 +708,7 @@ pub unsafe extern "C" fn rodkit_branch_resume(
         let rod = arg_ref("rod", rod)?;
         let from = arg_ref("branch", branch)?;
         let (opts, method, _) = options_from(arg_ref("options", options)?).map_err(|e| qualify_argument(e, "options."))?;
-        let b = with_progress(progress, user_data, |cb| rod.model.resume_branch(&from.branch, &opts, method, cb))?;
+        let b = with_progress(&rod.model, progress, user_data, |cb| rod.model.resume_branch(&from.branch, &opts, method, cb))?;
         store_branch(rod, b, out)
     })
 }
@@ -731,7 +739,7 @@ pub unsafe extern "C" fn rodkit_branch_switch(
         error::count_in_range("index", index, 0, i64::MAX)?;
         error::count_in_range("direction", direction, 0, i64::MAX)?;
         let (opts, method, _) = options_from(arg_ref("options", options)?).map_err(|e| qualify_argument(e, "options."))?;
-        let b = with_progress(progress, user_data, |cb| {
+        let b = with_progress(&rod.model, progress, user_data, |cb| {
             rod.model.switch_branch(&from.branch, index as usize, direction as usize, first_step, &opts, method, cb)
         })?;
         store_branch(rod, b, out)

@@ -76,7 +76,33 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
                 .map_err(|e| Error::new(e.status, format!("continuation start: {}", e.message)))?;
             (x, l, e_lambda.clone(), if increasing { 1.0 } else { -1.0 }, it)
         }
-        Start::Resume(r) => (r.x, r.lambda, r.tangent_x, r.tangent_lambda, 0),
+        Start::Resume(r) => {
+            if bordered.factorise_at(problem, &r.x, r.lambda, &r.tangent_x, r.tangent_lambda, &scaling, &mut counts).is_ok() {
+                (r.x, r.lambda, r.tangent_x, r.tangent_lambda, 0)
+            } else {
+                // A resume at a singular point (a bifurcation, for branch
+                // switching): the series needs a regular expansion point, so
+                // the first step is a Newton predictor–corrector step along
+                // the given direction, halved until it converges.
+                let mut ds = r.step;
+                loop {
+                    let mut x: Vec<f64> = r.x.iter().zip(&r.tangent_x).map(|(a, t)| a + ds * t).collect();
+                    let mut l = r.lambda + ds * r.tangent_lambda;
+                    let anchor = x.clone();
+                    let al = l;
+                    if let Ok((it, _)) = correct(problem, &mut bordered, &scaling, &eq, &mut x, &mut l, (&anchor, al), (&r.tangent_x, r.tangent_lambda), opts.residual_tol, false, &mut counts) {
+                        let dx: Vec<f64> = x.iter().zip(&r.x).map(|(a, b)| a - b).collect();
+                        let norm = scaling.norm(&dx, l - r.lambda);
+                        let vx = dx.iter().map(|v| v / norm).collect();
+                        break (x, l, vx, (l - r.lambda) / norm, it);
+                    }
+                    ds *= 0.5;
+                    if ds < opts.min_step {
+                        return Err(Error::new(Status::ErrNotConverged, "ANM: no regular point found along the start direction (singular start)"));
+                    }
+                }
+            }
+        }
     };
     let mut records: Vec<Record> = Vec::new();
     let mut pending_iterations = first_iterations;

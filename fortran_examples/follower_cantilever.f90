@@ -1,0 +1,110 @@
+! The follower-load cantilever from Fortran (physics.md 2.6): a Cosserat rod
+! (K_b = 1, C = 1/1.3, GA = 1e4, EA = 2.6e4, L = 1; Gauss-Legendre 4 stages,
+! 8 elements) clamped at s = 0, loaded at the tip by a force Lambda*(1, 0, 0)
+! in the body frame (perpendicular to the tip tangent), continued by the ANM
+! (order 20, eps 1e-10, residual 1e-10) from alpha = Lambda L^2/K_b = 0 to 1,
+! 2, 5 and 10, each a target reached by resuming the previous branch. A
+! progress callback counts the points. Prints "name = value" lines and a
+! table; the tip curls past 90 degrees and beyond.
+module follower_progress
+    use, intrinsic :: iso_c_binding, only: c_int32_t, c_int64_t, c_ptr, c_f_pointer
+    use rodkit, only: rodkit_branch_progress
+    implicit none
+contains
+    function count_points(progress, user_data) result(stop_now) bind(c)
+        type(rodkit_branch_progress), intent(in) :: progress
+        type(c_ptr), value :: user_data
+        integer(c_int32_t) :: stop_now
+        integer(c_int64_t), pointer :: calls
+        call c_f_pointer(user_data, calls)
+        calls = calls + 1
+        stop_now = 0
+        if (progress%residual > 1.0d-6) stop_now = 1 ! never: every point meets the tolerance
+    end function count_points
+end module follower_progress
+
+program follower_cantilever
+    use, intrinsic :: iso_c_binding
+    use rodkit
+    use follower_progress
+    implicit none
+    type(rodkit_rod_spec) :: spec
+    type(rodkit_continuation_options) :: opts
+    type(rodkit_branch_info) :: info
+    type(rodkit_branch_record), allocatable :: rec(:)
+    type(c_ptr) :: rod, branch, next
+    integer(c_int32_t) :: status
+    integer(c_int64_t) :: n, count, steps, factorisations
+    integer(c_int64_t), target :: calls
+    real(c_double), allocatable :: x0(:)
+    real(c_double), parameter :: alphas(4) = [1.0_c_double, 2.0_c_double, 5.0_c_double, 10.0_c_double]
+    real(c_double), parameter :: pi = acos(-1.0_c_double)
+    character(len=2) :: tag
+    integer :: k
+
+    status = rodkit_rod_spec_default(spec)
+    spec%length = 1.0_c_double
+    spec%bending1 = 1.0_c_double
+    spec%bending2 = 1.0_c_double
+    spec%twist = 1.0_c_double / 1.3_c_double
+    spec%shear1 = 1.0e4_c_double
+    spec%shear2 = 1.0e4_c_double
+    spec%stretch = 2.6e4_c_double
+    spec%tip_force_frame = RODKIT_LOAD_FRAME_FOLLOWER
+    spec%tip_force_x = 1.0_c_double
+    spec%scheme = RODKIT_ROD_SCHEME_GAUSS
+    spec%stages = 4
+    spec%elements = 8
+    status = rodkit_rod_new(spec, rod)
+    if (status < 0) then
+        print '(a)', 'rodkit_rod_new failed: ' // rodkit_last_error()
+        error stop 1
+    end if
+    status = rodkit_rod_unknowns(rod, n)
+    allocate(x0(n))
+    status = rodkit_rod_straight_state(rod, x0, n)
+
+    status = rodkit_continuation_options_default(opts)
+    opts%method = RODKIT_CONTINUATION_METHOD_ANM
+    opts%anm_order = 20
+    opts%anm_epsilon = 1.0e-10_c_double
+    opts%residual_tol = 1.0e-10_c_double
+    opts%max_step = 2.0_c_double
+    calls = 0
+    steps = 0
+    factorisations = 0
+    print '(a)', '# rodkit ' // RODKIT_VERSION_STRING // ': follower cantilever, ANM (P = 20, eps = 1e-10)'
+    print '(a)', '#  alpha      tip x         tip z     tip rotation(deg)  steps'
+    branch = c_null_ptr
+    do k = 1, 4
+        opts%target_lambda = alphas(k)
+        if (k == 1) then
+            status = rodkit_rod_continue(rod, x0, n, 0.0_c_double, opts, c_funloc(count_points), c_loc(calls), next)
+        else
+            status = rodkit_branch_resume(rod, branch, opts, c_funloc(count_points), c_loc(calls), next)
+            call rodkit_branch_free(branch)
+        end if
+        if (status /= RODKIT_STATUS_OK) then
+            print '(a, i0, a)', 'continuation to the target failed (status ', status, '): ' // rodkit_last_error()
+            error stop 1
+        end if
+        branch = next
+        status = rodkit_branch_summary(branch, info)
+        steps = steps + info%steps
+        factorisations = factorisations + info%factorisations
+        allocate(rec(info%records))
+        status = rodkit_branch_records(branch, rec, info%records, count)
+        write(tag, '(i0)') nint(alphas(k))
+        print '(f7.2, 2f14.9, f14.4, i7)', rec(count)%lambda, rec(count)%tip_x, rec(count)%tip_z, &
+            rec(count)%tip_rotation * 180.0_c_double / pi, info%steps
+        print '(a, es24.16)', 'tip_x_' // trim(tag) // ' = ', rec(count)%tip_x
+        print '(a, es24.16)', 'tip_y_' // trim(tag) // ' = ', rec(count)%tip_y
+        print '(a, es24.16)', 'tip_z_' // trim(tag) // ' = ', rec(count)%tip_z
+        deallocate(rec)
+    end do
+    print '(a, i0)', 'steps = ', steps
+    print '(a, i0)', 'factorisations = ', factorisations
+    print '(a, i0)', 'callback_calls = ', calls
+    call rodkit_branch_free(branch)
+    call rodkit_rod_free(rod)
+end program follower_cantilever

@@ -1,0 +1,186 @@
+//! The rod C ABI exercised from Rust: spec validation by field name, the
+//! handles' lifecycle, the double* kernels against the Rust system and
+//! finite differences, continuation statuses (target, cancel, step limit),
+//! truncating copies.
+
+use rodkit::capi::error::rodkit_last_error_message;
+use rodkit::capi::rod::*;
+use rodkit::Status;
+use std::ffi::{c_void, CStr};
+use std::ptr;
+
+fn last_error() -> String {
+    unsafe { CStr::from_ptr(rodkit_last_error_message()) }.to_string_lossy().into_owned()
+}
+
+fn spec() -> RodSpec {
+    let mut s = std::mem::MaybeUninit::<RodSpec>::uninit();
+    assert_eq!(unsafe { rodkit_rod_spec_default(s.as_mut_ptr()) }, 0);
+    let mut s = unsafe { s.assume_init() };
+    s.length = 1.0;
+    (s.bending1, s.bending2, s.twist, s.shear1, s.shear2, s.stretch) = (1.0, 1.0, 1.0 / 1.3, 1e4, 1e4, 2.6e4);
+    s.tip_moment_frame = LoadFrame::Follower as i32;
+    s.tip_moment_x = 1.0;
+    s.elements = 4;
+    s
+}
+
+fn options() -> ContinuationOptions {
+    let mut o = std::mem::MaybeUninit::<ContinuationOptions>::uninit();
+    assert_eq!(unsafe { rodkit_continuation_options_default(o.as_mut_ptr()) }, 0);
+    unsafe { o.assume_init() }
+}
+
+fn new_rod(s: &RodSpec) -> Result<*mut Rod, (i32, String)> {
+    let mut r = ptr::null_mut();
+    let st = unsafe { rodkit_rod_new(s, &mut r) };
+    if st < 0 {
+        assert!(r.is_null());
+        Err((st, last_error()))
+    } else {
+        Ok(r)
+    }
+}
+
+#[test]
+fn specs_are_validated_by_field() {
+    let mut s = spec();
+    s.length = f64::NAN;
+    let (st, msg) = new_rod(&s).unwrap_err();
+    assert_eq!(st, Status::ErrNotFinite.code());
+    assert!(msg.contains("spec.length"), "{msg}");
+    let mut s = spec();
+    s.bend_shear = 200.0; // c2² > K_b G
+    let (st, msg) = new_rod(&s).unwrap_err();
+    assert_eq!(st, Status::ErrNotPositiveDefinite.code(), "{msg}");
+    let mut s = spec();
+    s.tip_force_frame = 7;
+    let (st, msg) = new_rod(&s).unwrap_err();
+    assert_eq!(st, Status::ErrOutOfRange.code());
+    assert!(msg.contains("spec.tip_force_frame"), "{msg}");
+    let mut s = spec();
+    s.stages = 9;
+    assert!(new_rod(&s).unwrap_err().1.contains("spec.stages"));
+    let mut s = spec();
+    s.shear1 = -1.0;
+    assert_eq!(new_rod(&s).unwrap_err().0, Status::ErrNotPositive.code());
+    assert_eq!(unsafe { rodkit_rod_new(ptr::null(), ptr::null_mut()) }, Status::ErrNullPointer.code());
+    unsafe { rodkit_rod_free(ptr::null_mut()) };
+    // Options too.
+    let rod = new_rod(&spec()).unwrap();
+    let mut o = options();
+    o.anm_order = 1;
+    let mut b = ptr::null_mut();
+    let st = unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) };
+    assert_eq!(st, Status::ErrOutOfRange.code());
+    assert!(last_error().contains("options.anm_order"), "{}", last_error());
+    assert!(b.is_null());
+    unsafe { rodkit_rod_free(rod) };
+}
+
+/// The kernels equal the Rust system (same code path) and the Jacobian
+/// equals central differences of the residual kernel (reference: the
+/// definition); the ODE right-hand side of a straight rod under a moment
+/// M about d1 is q' = ½q∘(0, M/K_b, 0, 0) (reference: physics.md §2.1).
+#[test]
+fn kernels_match_rust_and_differences() {
+    let rod = new_rod(&spec()).unwrap();
+    let mut n = 0;
+    assert_eq!(unsafe { rodkit_rod_unknowns(rod, &mut n) }, 0);
+    let mut x = vec![0.0; n as usize];
+    assert_eq!(unsafe { rodkit_rod_straight_state(rod, x.as_mut_ptr(), n) }, 0);
+    for (i, v) in x.iter_mut().enumerate() {
+        *v += 1e-2 * ((i * 37 % 11) as f64 - 5.0) / 5.0;
+    }
+    let lambda = 0.7;
+    let mut r = vec![0.0; n as usize];
+    assert_eq!(unsafe { rodkit_rod_residual(rod, x.as_ptr(), n, lambda, r.as_mut_ptr()) }, 0);
+    let mut nnz = 0;
+    assert_eq!(unsafe { rodkit_rod_jacobian_pattern(rod, ptr::null_mut(), ptr::null_mut(), 0, &mut nnz) }, Status::InfoTruncated.code());
+    let mut cp = vec![0i64; n as usize + 1];
+    let mut ri = vec![0i64; nnz as usize];
+    assert_eq!(unsafe { rodkit_rod_jacobian_pattern(rod, cp.as_mut_ptr(), ri.as_mut_ptr(), nnz, &mut nnz) }, 0);
+    let mut vals = vec![0.0; nnz as usize];
+    let mut dl = vec![0.0; n as usize];
+    assert_eq!(unsafe { rodkit_rod_jacobian(rod, x.as_ptr(), n, lambda, vals.as_mut_ptr(), nnz, dl.as_mut_ptr()) }, 0);
+    let h = 1e-6;
+    let res = |x: &[f64], l: f64| {
+        let mut out = vec![0.0; n as usize];
+        assert_eq!(unsafe { rodkit_rod_residual(rod, x.as_ptr(), n, l, out.as_mut_ptr()) }, 0);
+        out
+    };
+    for j in (0..n as usize).step_by(7) {
+        let (mut xp, mut xm) = (x.clone(), x.clone());
+        xp[j] += h;
+        xm[j] -= h;
+        let (fp, fm) = (res(&xp, lambda), res(&xm, lambda));
+        let mut col = vec![0.0; n as usize];
+        for k in cp[j] as usize..cp[j + 1] as usize {
+            col[ri[k] as usize] = vals[k];
+        }
+        for i in 0..n as usize {
+            let fd = (fp[i] - fm[i]) / (2.0 * h);
+            assert!((fd - col[i]).abs() < 1e-6 * (1.0 + fd.abs()), "J[{i}, {j}] = {} vs differences {fd}", col[i]);
+        }
+    }
+    let (fp, fm) = (res(&x, lambda + h), res(&x, lambda - h));
+    for i in 0..n as usize {
+        assert!(((fp[i] - fm[i]) / (2.0 * h) - dl[i]).abs() < 1e-6);
+    }
+    // ODE right-hand side.
+    let y = [0.0, 0.0, 0.3, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.5, 0.0, 0.0];
+    let mut dy = [0.0; 13];
+    assert_eq!(unsafe { rodkit_rod_rhs(rod, y.as_ptr(), 0.0, dy.as_mut_ptr()) }, 0);
+    let want = [0.0, 0.0, 1.0, 0.0, 0.25, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    for k in 0..13 {
+        assert!((dy[k] - want[k]).abs() < 1e-15, "dy[{k}] = {}", dy[k]);
+    }
+    // Bad lengths are statuses.
+    assert_eq!(unsafe { rodkit_rod_residual(rod, x.as_ptr(), n - 1, lambda, r.as_mut_ptr()) }, Status::ErrInvalidDimension.code());
+    unsafe { rodkit_rod_free(rod) };
+}
+
+unsafe extern "C" fn stop_after_three(p: *const BranchProgress, _: *mut c_void) -> i32 {
+    ((*p).points >= 3) as i32
+}
+
+/// Statuses of a continuation: the target (0, the ring closes: tip at the
+/// origin, physics.md §2.6), a cancelling callback (INFO_CANCELLED with
+/// the points so far), the step limit (INFO_STEP_LIMIT); truncated copies.
+#[test]
+fn continuation_statuses_and_records() {
+    let rod = new_rod(&spec()).unwrap();
+    let mut o = options();
+    o.target_lambda = 2.0 * std::f64::consts::PI;
+    o.max_step = 2.0;
+    let mut b = ptr::null_mut();
+    assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) }, 0);
+    let mut info = BranchInfo::default();
+    assert_eq!(unsafe { rodkit_branch_summary(b, &mut info) }, 0);
+    assert_eq!(info.stop, BranchStop::Target as i32);
+    let mut recs = vec![BranchRecord::default(); info.records as usize];
+    let mut count = 0;
+    assert_eq!(unsafe { rodkit_branch_records(b, recs.as_mut_ptr(), 1, &mut count) }, Status::InfoTruncated.code());
+    assert_eq!(unsafe { rodkit_branch_records(b, recs.as_mut_ptr(), info.records, &mut count) }, 0);
+    let last = recs[count as usize - 1];
+    assert_eq!(last.lambda, 2.0 * std::f64::consts::PI);
+    assert!(last.tip_x.abs() < 1e-6 && last.tip_y.abs() < 1e-6 && last.tip_z.abs() < 1e-6, "{last:?}");
+    let mut xyz = vec![0.0; 3 * 5];
+    assert_eq!(unsafe { rodkit_branch_positions(b, rod, count - 1, xyz.as_mut_ptr(), 3, 5) }, 0);
+    assert_eq!([xyz[12], xyz[13], xyz[14]], [last.tip_x, last.tip_y, last.tip_z]);
+    unsafe { rodkit_branch_free(b) };
+    // Cancelled by the callback after 3 points.
+    let mut b = ptr::null_mut();
+    let st = unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, Some(stop_after_three), ptr::null_mut(), &mut b) };
+    assert_eq!(st, Status::InfoCancelled.code());
+    unsafe { rodkit_branch_summary(b, &mut info) };
+    assert_eq!((info.records, info.stop), (3, BranchStop::Cancelled as i32));
+    unsafe { rodkit_branch_free(b) };
+    // The step limit.
+    o.max_steps = 1;
+    o.method = ContinuationMethod::Newton as i32;
+    let mut b = ptr::null_mut();
+    assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) }, Status::InfoStepLimit.code());
+    unsafe { rodkit_branch_free(b) };
+    unsafe { rodkit_rod_free(rod) };
+}

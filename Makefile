@@ -34,7 +34,7 @@ STATIC := $(LIBDIR)/librodkit.a $(STATIC_LIBS)
 C_DRIVERS := tube_stiffness bad_input artery dna_tube rod_buckling
 F_DRIVERS := tube_stiffness stretch_sweep follower_cantilever
 EXES := $(foreach d,$(C_DRIVERS),$(BUILD)/c_$(d)_shared $(BUILD)/c_$(d)_static) \
-        $(BUILD)/cpp_tube_stiffness \
+        $(BUILD)/cpp_tube_stiffness $(BUILD)/c_rod_sundials_shared \
         $(foreach d,$(F_DRIVERS),$(BUILD)/f_$(d)_shared $(BUILD)/f_$(d)_static)
 LIBS := $(LIBDIR)/librodkit.so $(LIBDIR)/librodkit.a
 HEADER := $(ROOT)/include/rodkit.h
@@ -58,6 +58,13 @@ $(BUILD)/c_%_static: $(ROOT)/c_examples/%.c $(HEADER) $(LIBS)
 	@mkdir -p $(BUILD)
 	$(CC) $(CFLAGS) $< $(STATIC) -o $@
 
+# The SUNDIALS driver links Debian's SUNDIALS (libsundials-dev) too.
+SUNDIALS_LIBS := -lsundials_kinsol -lsundials_ida -lsundials_nvecserial -lsundials_sunmatrixdense \
+                 -lsundials_sunlinsoldense -lm
+$(BUILD)/c_rod_sundials_shared: $(ROOT)/c_examples/rod_sundials.c $(HEADER) $(LIBS)
+	@mkdir -p $(BUILD)
+	$(CC) $(CFLAGS) $< $(SHARED) $(SUNDIALS_LIBS) -o $@
+
 $(BUILD)/cpp_%: $(ROOT)/c_examples/%.cpp $(HEADER) $(LIBS)
 	@mkdir -p $(BUILD)
 	$(CXX) $(CXXFLAGS) $< $(SHARED) -o $@
@@ -78,7 +85,7 @@ run: deps lib
 	@$(MAKE) --no-print-directory -s drivers
 	@cd $(ROOT) && for exe in c_tube_stiffness_shared c_tube_stiffness_static cpp_tube_stiffness \
 	    f_tube_stiffness_shared f_tube_stiffness_static c_bad_input_shared c_artery_shared c_dna_tube_shared \
-	    f_stretch_sweep_shared c_rod_buckling_shared f_follower_cantilever_shared; do \
+	    f_stretch_sweep_shared c_rod_buckling_shared f_follower_cantilever_shared c_rod_sundials_shared; do \
 	  echo "=== $$exe"; $(BUILD)/$$exe || exit 1; done
 
 # All tests in one cargo invocation: the Rust suites, the drivers (built here

@@ -425,3 +425,17 @@ fn fortran_follower_cantilever_driver() {
     }
     assert_eq!(run("f_follower_cantilever_static", &[]), out);
 }
+
+/// The C driver that solves the follower cantilever at α = 5 with its own
+/// SUNDIALS code through rodkit's kernels: IDA shooting (rodkit_rod_rhs)
+/// agrees with the ANM within the collocation error (Gauss(4) × 16: ~1e−12,
+/// bounded here by 1e−9), KINSOL on rodkit_rod_residual/_jacobian with the
+/// ANM state to 1e−10.
+#[test]
+fn c_rod_sundials_driver() {
+    let got = values(&run("c_rod_sundials_shared", &[]));
+    assert!(got["tip_difference_ida_vs_anm"] < 1e-9, "{got:?}");
+    assert!(got["state_difference_kinsol_vs_anm"] < 1e-10, "{got:?}");
+    assert!(got["kinsol_discrete_iterations"] <= 5.0);
+    assert!((got["anm_tip_x"] - 0.7805435043).abs() < 1e-9, "the follower tip at α = 5 (benches/rod.rs reference 0.780543504307)");
+}

@@ -194,3 +194,22 @@ fn beck_column_has_no_static_bifurcation() {
     let b = continue_newton(&mut sys, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, &Options { target_lambda: Some(3.0), ..opts }, |_, _| vec![], |_| true).unwrap();
     assert_eq!(b.bifurcations.len(), 1);
 }
+
+/// Pinned–pinned (ball joints, physics.md §2.3) extensible rod: the first
+/// bifurcation solves P(1 + P(1/GA − 1/EA)) = π²K_b/L² (physics.md §2.6),
+/// located to 1e−8 relative on Gauss(4) × 16; double by symmetry.
+#[test]
+fn euler_load_pinned_pinned() {
+    let (ea, ga) = (1e3, 3e2);
+    let pe = PI * PI;
+    let c = 1.0 / ga - 1.0 / ea;
+    let exact = (-1.0 + (1.0 + 4.0 * c * pe).sqrt()) / (2.0 * c);
+    let law = RodLaw::isotropic(1.0, 1.0 / 1.3, ga, ea).unwrap();
+    let loads = Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() };
+    let rod = Rod::new(law, 1.0, loads, Supports::Pinned, Scheme::Gauss(4), 16).unwrap();
+    let bif = straight_branch(&rod, 12.0);
+    let err = (bif.lambda - exact).abs() / exact;
+    println!("pinned–pinned: P_cr = {}, exact {exact}, error {err:e}", bif.lambda);
+    assert!(err < 1e-8, "{err:e}");
+    assert_eq!(bif.multiplicity, 2);
+}

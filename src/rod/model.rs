@@ -38,6 +38,14 @@ pub enum Supports {
     /// of the spatial force equal to Λ times the tip force's (dead, along
     /// e3), m_b = 0.
     Pinned,
+    /// Controlled end rotation (Greenhill's problem, physics.md §2.6): s = 0
+    /// clamped; s = L kept on the axis (r_x = r_y = 0), pulled by the axial
+    /// dead force `tension` (free to slide along e3), its section turned
+    /// about e3 by φ with Λ = sin(φ/2). The cosine c = cos(φ/2) is one more
+    /// unknown (index [`Rod::end_cosine`]) with c² + Λ² = 1, which keeps the
+    /// system polynomial (cubic) for the ANM; φ = 2 atan2(Λ, c) follows the
+    /// turns through φ = π (a fold of Λ, passed by arc length).
+    Twisted { tension: f64 },
 }
 
 /// A discretised rod.
@@ -85,6 +93,12 @@ impl Rod {
                     }
                 }
             }
+            Supports::Twisted { tension } => {
+                error::finite("tension", tension)?;
+                if loads.tip_force.is_some() || loads.tip_moment.is_some() {
+                    return Err(Error::new(Status::ErrOutOfRange, "a rod with a controlled end rotation takes no tip load (set its tension)"));
+                }
+            }
             Supports::Cantilever => {}
         }
         Ok(Rod { law, length, loads, supports, scheme, elements })
@@ -99,9 +113,24 @@ impl Rod {
         13 * (1 + self.scheme.stages())
     }
 
-    /// Number of unknowns (excluding Λ).
+    /// Number of unknowns (excluding Λ): the node and stage states, and the
+    /// end rotation's cosine for [`Supports::Twisted`].
     pub fn unknowns(&self) -> usize {
-        self.block_size() * self.elements + 13
+        self.block_size() * self.elements + 13 + self.boundary_unknowns()
+    }
+
+    fn boundary_unknowns(&self) -> usize {
+        matches!(self.supports, Supports::Twisted { .. }) as usize
+    }
+
+    /// Index of c = cos(φ/2) in x for [`Supports::Twisted`].
+    pub fn end_cosine(&self) -> Option<usize> {
+        matches!(self.supports, Supports::Twisted { .. }).then(|| self.block_size() * self.elements + 13)
+    }
+
+    /// The end rotation φ = 2 atan2(Λ, c) of a [`Supports::Twisted`] rod.
+    pub fn end_rotation(&self, x: &[f64], lambda: f64) -> Option<f64> {
+        self.end_cosine().map(|i| 2.0 * lambda.atan2(x[i]))
     }
 
     /// Offset of node i's state y_i in x.
@@ -125,6 +154,9 @@ impl Rod {
     /// r = s·v̂3·e3, q = 1, n = m = 0 at nodes and stages.
     pub fn straight_state(&self) -> Vec<f64> {
         let mut x = vec![0.0; self.unknowns()];
+        if let Some(i) = self.end_cosine() {
+            x[i] = 1.0;
+        }
         let h = self.element_length();
         let stretch = self.law.intrinsic_v[2];
         let tab = self.tableau();
@@ -244,7 +276,12 @@ impl Rod {
         let mut inputs: Vec<Slot> = (0..13).map(|k| Slot::Unknown(y0 + k)).collect();
         inputs.extend((0..13).map(|k| Slot::Unknown(yl + k)));
         inputs.push(Slot::Lambda);
-        blocks.push(Block { tape: bc, inputs, rows: (0..13).map(|k| y0 + k).collect() });
+        let mut rows: Vec<usize> = (0..13).map(|k| y0 + k).collect();
+        if let Some(c) = self.end_cosine() {
+            inputs.push(Slot::Unknown(c));
+            rows.push(c);
+        }
+        blocks.push(Block { tape: bc, inputs, rows });
         if let Some((node, azimuth)) = phase {
             let (s, c) = azimuth.sin_cos();
             let tape = Arc::new(Tape::record(2, |v| vec![v[1] * c - v[0] * s]));
@@ -254,14 +291,15 @@ impl Rod {
         let n = self.unknowns() + extra;
         let ss = self.state_scales();
         // μ is a distributed couple: moment per length, K_b/L².
-        let unknowns: Vec<f64> = (0..n).map(|k| if k == mu { ss[10] / self.length } else { ss[k % 13] }).collect();
+        let cosine = self.end_cosine();
+        let unknowns: Vec<f64> = (0..n).map(|k| if k == mu { ss[10] / self.length } else if Some(k) == cosine { 1.0 } else { ss[k % 13] }).collect();
         let scale_q = 1.0 / self.length;
         let rate = |k: usize| match k {
             0..=2 => 1.0,
             3..=6 => scale_q,
             _ => ss[k] / self.length,
         };
-        let mut equations: Vec<f64> = (0..n).map(|k| if k == mu { self.length } else { h * rate(k % 13) }).collect();
+        let mut equations: Vec<f64> = (0..n).map(|k| if k == mu { self.length } else if Some(k) == cosine { 1.0 } else { h * rate(k % 13) }).collect();
         let bc_scales = self.boundary_scales();
         equations[..13].copy_from_slice(&bc_scales);
         let sys = AssembledSystem::new(n, blocks).with_scales(equations, unknowns, 1.0);
@@ -286,6 +324,13 @@ impl Rod {
                 s[7..10].copy_from_slice(&ss[0..3]);
                 s[10..13].fill(1.0);
             }
+            Supports::Twisted { .. } => {
+                s[..7].copy_from_slice(&ss[..7]);
+                s[7] = ss[0];
+                s[8] = ss[1];
+                s[9] = ss[9];
+                s[10..13].fill(1.0);
+            }
             Supports::Pinned => {
                 s[..3].copy_from_slice(&ss[..3]);
                 s[3] = ss[10];
@@ -304,13 +349,14 @@ impl Rod {
     fn boundary_tape(&self) -> Tape {
         let loads = self.loads;
         let supports = self.supports;
-        Tape::record(27, move |v| {
+        let inputs = 27 + self.boundary_unknowns();
+        Tape::record(inputs, move |v| {
             let y0 = &v[0..13];
             let yl = &v[13..26];
             let lambda = v[26];
             let mut out: Vec<Var> = Vec::with_capacity(13);
             match supports {
-                Supports::Cantilever | Supports::Clamped { .. } => {
+                Supports::Cantilever | Supports::Clamped { .. } | Supports::Twisted { .. } => {
                     out.extend_from_slice(&y0[0..3]);
                     out.push(y0[3] - 1.0);
                     out.extend_from_slice(&y0[4..7]);
@@ -353,6 +399,20 @@ impl Rod {
                     let c = [Var::constant(conj[0]), Var::constant(conj[1]), Var::constant(conj[2]), Var::constant(conj[3])];
                     let rel = kinematics::quat_mul(&c, &ql);
                     out.extend_from_slice(&rel[1..4]);
+                }
+                Supports::Twisted { tension } => {
+                    out.push(yl[0]);
+                    out.push(yl[1]);
+                    let rot = kinematics::rotation(&ql);
+                    let nz = rot[2][0] * yl[7] + rot[2][1] * yl[8] + rot[2][2] * yl[9];
+                    out.push(nz - tension);
+                    // Vector part of q̄_t ∘ q(L), q_t = (c, 0, 0, Λ).
+                    let c = v[27];
+                    let zero = Var::constant(0.0);
+                    let conj = [c, zero, zero, -lambda];
+                    let rel = kinematics::quat_mul(&conj, &ql);
+                    out.extend_from_slice(&rel[1..4]);
+                    out.push(c * c + lambda * lambda - 1.0);
                 }
                 Supports::Pinned => {
                     out.push(yl[0]);

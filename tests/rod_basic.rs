@@ -134,3 +134,31 @@ fn transverse_dead_tip_load() {
     assert!(dist(tips[0], tips[1]) < 3e-8, "extensible vs inextensible: {:e}", dist(tips[0], tips[1]));
     println!("α = 1: tip {:?}", tips[0]);
 }
+
+/// Distributed loads: a cantilever under a uniform transverse load q per
+/// length, dead or follower, at a small load: the tip deflection is the
+/// Timoshenko beam's w = q(L⁴/(8K_b) + L²/(2G)) (G the shear stiffness;
+/// reference: strength of materials) up to O(q³) (the response is odd in q),
+/// i.e. within 1e−7 relative at qL³/K_b = 1e−3; a uniform distributed couple
+/// c about d1 bends it like an end moment growing along the rod:
+/// tip rotation cL²/(2K_b).
+#[test]
+fn distributed_loads_at_small_amplitude() {
+    let (kb, g) = (2.0, 500.0);
+    let law = RodLaw::isotropic(kb, 1.5, g, 3e3).unwrap();
+    let q = 1e-3;
+    for load in [Load::dead([0.0, 1.0, 0.0]), Load::follower([0.0, 1.0, 0.0])] {
+        let loads = Loads { distributed_force: Some(load), ..Default::default() };
+        let rod = Rod::new(law.clone(), 1.0, loads, Supports::Cantilever, Scheme::Gauss(3), 6).unwrap();
+        let tip = rod.tip(&solve_at(&rod, q));
+        let w = q * (1.0 / (8.0 * kb) + 1.0 / (2.0 * g));
+        assert!((tip[1] - w).abs() < 1e-7 * w, "{load:?}: {} vs {w}", tip[1]);
+    }
+    let loads = Loads { distributed_couple: Some(Load::follower([1.0, 0.0, 0.0])), ..Default::default() };
+    let rod = Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(3), 6).unwrap();
+    let x = solve_at(&rod, q);
+    let y = rod.node_state(&x, rod.elements);
+    let rotation = 2.0 * y[4].atan2(y[3]);
+    let want = q / (2.0 * kb);
+    assert!((rotation - want).abs() < 1e-7 * want, "{rotation} vs {want}");
+}

@@ -140,6 +140,13 @@ pub struct Tape {
     degree: Vec<u32>,
     /// For each node, the sorted local inputs it depends on.
     deps: Vec<Vec<u32>>,
+    /// Sparse forward mode: node k's gradient lives at grad[start[k]..start[k+1]]
+    /// over its own dependencies; for a binary node, `scatter` holds, from
+    /// scatter_start[k], the position in node k's list of each dependency of
+    /// its first operand, then of its second.
+    start: Vec<usize>,
+    scatter_start: Vec<usize>,
+    scatter: Vec<u32>,
 }
 
 impl Tape {
@@ -167,7 +174,25 @@ impl Tape {
             degree.push(d);
             deps.push(s);
         }
-        Tape { ops, inputs, outputs: outputs.into_iter().map(|v| v.0).collect(), degree, deps }
+        let mut start = Vec::with_capacity(ops.len() + 1);
+        let mut scatter_start = Vec::with_capacity(ops.len() + 1);
+        let mut scatter = Vec::new();
+        let mut total = 0;
+        for (k, op) in ops.iter().enumerate() {
+            start.push(total);
+            total += deps[k].len();
+            scatter_start.push(scatter.len());
+            if let Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) = *op {
+                for operand in [a, b] {
+                    for d in &deps[operand as usize] {
+                        scatter.push(deps[k].binary_search(d).expect("operand dependency is a dependency") as u32);
+                    }
+                }
+            }
+        }
+        start.push(total);
+        scatter_start.push(scatter.len());
+        Tape { ops, inputs, outputs: outputs.into_iter().map(|v| v.0).collect(), degree, deps, start, scatter_start, scatter }
     }
 
     pub fn inputs(&self) -> usize {
@@ -238,65 +263,71 @@ impl Tape {
     }
 
     /// Values and the dense local Jacobian ∂out_k/∂x_j, stored row-major in
-    /// `jac` (outputs × inputs), by forward mode with all input directions at
-    /// once. `work` holds a value and a gradient per node.
+    /// `jac` (outputs × inputs), by forward mode in which each node carries
+    /// its gradient over its own dependencies only (a rod element's rotation
+    /// matrix depends on 4 of its ~80 inputs): the cost is the sum of the
+    /// nodes' dependency counts, not nodes × inputs.
     pub fn jacobian(&self, x: &[f64], work: &mut JacobianWork, out: &mut [f64], jac: &mut [f64]) {
         let n = self.inputs;
         work.val.clear();
         work.val.reserve(self.ops.len());
         work.grad.clear();
-        work.grad.resize(self.ops.len() * n, 0.0);
+        work.grad.resize(self.start[self.ops.len()], 0.0);
         for (k, op) in self.ops.iter().enumerate() {
-            let (head, tail) = work.grad.split_at_mut(k * n);
-            let g = &mut tail[..n];
-            let gv = |i: u32| &head[i as usize * n..(i as usize + 1) * n];
+            let (head, tail) = work.grad.split_at_mut(self.start[k]);
+            let g = &mut tail[..self.start[k + 1] - self.start[k]];
+            let gv = |i: u32| &head[self.start[i as usize]..self.start[i as usize + 1]];
+            let sc = &self.scatter[self.scatter_start[k]..self.scatter_start[k + 1]];
+            let val = &work.val;
             let v = match *op {
                 Op::Input(i) => {
-                    g[i as usize] = 1.0;
+                    g[0] = 1.0;
                     x[i as usize]
                 }
                 Op::Const(c) => c,
-                Op::Add(a, b) => {
-                    for ((gi, ai), bi) in g.iter_mut().zip(gv(a)).zip(gv(b)) {
-                        *gi = ai + bi;
+                Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) => {
+                    let (ga, gb) = (gv(a), gv(b));
+                    let (va, vb) = (val[a as usize], val[b as usize]);
+                    let (ca, cb, v) = match *op {
+                        Op::Add(..) => (1.0, 1.0, va + vb),
+                        Op::Sub(..) => (1.0, -1.0, va - vb),
+                        _ => (vb, va, va * vb),
+                    };
+                    let (sa, sb) = sc.split_at(ga.len());
+                    for (d, &p) in ga.iter().zip(sa) {
+                        g[p as usize] += ca * d;
                     }
-                    work.val[a as usize] + work.val[b as usize]
-                }
-                Op::Sub(a, b) => {
-                    for ((gi, ai), bi) in g.iter_mut().zip(gv(a)).zip(gv(b)) {
-                        *gi = ai - bi;
+                    for (d, &p) in gb.iter().zip(sb) {
+                        g[p as usize] += cb * d;
                     }
-                    work.val[a as usize] - work.val[b as usize]
-                }
-                Op::Mul(a, b) => {
-                    let (va, vb) = (work.val[a as usize], work.val[b as usize]);
-                    for ((gi, ai), bi) in g.iter_mut().zip(gv(a)).zip(gv(b)) {
-                        *gi = ai * vb + va * bi;
-                    }
-                    va * vb
+                    v
                 }
                 Op::Neg(a) => {
                     for (gi, ai) in g.iter_mut().zip(gv(a)) {
                         *gi = -ai;
                     }
-                    -work.val[a as usize]
+                    -val[a as usize]
                 }
                 Op::Scale(c, a) => {
                     for (gi, ai) in g.iter_mut().zip(gv(a)) {
                         *gi = c * ai;
                     }
-                    c * work.val[a as usize]
+                    c * val[a as usize]
                 }
                 Op::Shift(c, a) => {
                     g.copy_from_slice(gv(a));
-                    work.val[a as usize] + c
+                    val[a as usize] + c
                 }
             };
             work.val.push(v);
         }
+        jac[..n * self.outputs.len()].fill(0.0);
         for (k, &i) in self.outputs.iter().enumerate() {
             out[k] = work.val[i as usize];
-            jac[k * n..(k + 1) * n].copy_from_slice(&work.grad[i as usize * n..(i as usize + 1) * n]);
+            let g = &work.grad[self.start[i as usize]..self.start[i as usize + 1]];
+            for (d, &j) in g.iter().zip(&self.deps[i as usize]) {
+                jac[k * n + j as usize] = *d;
+            }
         }
     }
 }

@@ -162,3 +162,37 @@ fn distributed_loads_at_small_amplitude() {
     let want = q / (2.0 * kb);
     assert!((rotation - want).abs() < 1e-7 * want, "{rotation} vs {want}");
 }
+
+/// A uniform helix is an equilibrium of an isotropic Kirchhoff rod: constant
+/// body strains u (curvature √(u1² + u2²), twist u3) need m_b = K u and, from
+/// n_b' = −u × n_b = 0 and m_b' = −u × m_b − e3 × n_b = 0, n_b = (C − K_b)u3·u
+/// (derived here; the force lies along the helix axis R u). A cantilever
+/// loaded at the tip by exactly that follower force and moment (× Λ, Λ → 1)
+/// must take the helix: r(L) = L e3 + (1 − cos ωL)/ω û×e3 + (L − sin ωL/ω)
+/// û×(û×e3), ω = |u| (Rodrigues' formula integrated), and m_b = K u at
+/// every node.
+#[test]
+fn uniform_helix_is_an_equilibrium() {
+    let (kb, c, l) = (1.0, 0.7, 2.0);
+    let u = [0.8, 0.0, 1.5];
+    let m = [kb * u[0], kb * u[1], c * u[2]];
+    let nb = [(c - kb) * u[2] * u[0], (c - kb) * u[2] * u[1], (c - kb) * u[2] * u[2]];
+    let loads = Loads { tip_force: Some(Load::follower(nb)), tip_moment: Some(Load::follower(m)), ..Default::default() };
+    let rod = Rod::new(RodLaw::kirchhoff(kb, kb, c).unwrap(), l, loads, Supports::Cantilever, Scheme::Gauss(4), 12).unwrap();
+    let x = solve_at(&rod, 1.0);
+    let w = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt();
+    let uh = [u[0] / w, u[1] / w, u[2] / w];
+    let cross = |a: [f64; 3], b: [f64; 3]| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+    let e3 = [0.0, 0.0, 1.0];
+    let (a1, a2) = (cross(uh, e3), cross(uh, cross(uh, e3)));
+    let (c1, c2) = ((1.0 - (w * l).cos()) / w, l - (w * l).sin() / w);
+    let want = [l * e3[0] + c1 * a1[0] + c2 * a2[0], l * e3[1] + c1 * a1[1] + c2 * a2[1], l * e3[2] + c1 * a1[2] + c2 * a2[2]];
+    let tip = rod.tip(&x);
+    assert!(dist(tip, want) < 1e-9, "tip {tip:?} vs helix {want:?}");
+    for i in 0..=rod.elements {
+        let y = rod.node_state(&x, i);
+        for k in 0..3 {
+            assert!((y[10 + k] - m[k]).abs() < 1e-9 && (y[7 + k] - nb[k]).abs() < 1e-9, "node {i}: m {:?} n {:?}", &y[10..13], &y[7..10]);
+        }
+    }
+}

@@ -277,3 +277,46 @@ fn non_planar_post_buckled_branch_is_regular() {
     assert!(non_planar > 0.1, "the branch stayed planar ({non_planar})");
     assert!(b.records.last().unwrap().lambda < straight.bifurcations[0].lambda, "subcritical");
 }
+
+/// Hemitropic rod (twist–stretch g, bend–shear c2; physics.md §2.2) under an
+/// axial dead load, clamped–free. Linearising about the straight (twisted,
+/// torque-free) state with φ = θ2 − iθ1 (derived here: lateral force
+/// n = Pφ = i c2 φ' + G V, moment M = i K_b φ' + c2 V, M' = −iP(V + (1+ε)φ),
+/// ε = −CP/(CS − g²) the axial strain) gives a φ'' − 2ibφ' + kφ = 0 with
+/// a = K_b − c2²/G, b = c2P/G, k = P(1 + ε + P/G); φ(0) = 0 and M(L) = 0
+/// give the critical condition k = π²a/(4L²) − b²/a (c2 = g = 0: the
+/// extensible Euler formula). The located load agrees to 1e−8; the
+/// coupling's effect (lower than the achiral rod's) is shown.
+#[test]
+fn hemitropic_rod_buckles_earlier() {
+    let (kb, c, g_shear, s, g, c2, l) = (1.0, 2.0, 300.0, 1000.0, -20.0, 6.0, 1.0);
+    let critical = |g: f64, c2: f64| {
+        let a = kb - c2 * c2 / g_shear;
+        let f = |p: f64| {
+            let eps = -c * p / (c * s - g * g);
+            let b = c2 * p / g_shear;
+            p * (1.0 + eps + p / g_shear) - PI * PI * a / (4.0 * l * l) + b * b / a
+        };
+        let (mut lo, mut hi) = (0.1, 5.0);
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if f(lo) * f(mid) <= 0.0 { hi = mid } else { lo = mid }
+        }
+        0.5 * (lo + hi)
+    };
+    let (chiral, achiral) = (critical(g, c2), critical(0.0, 0.0));
+    let loads = Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() };
+    let law = RodLaw::hemitropic(kb, c, g_shear, s, g, c2).unwrap();
+    let rod = Rod::new(law, l, loads, Supports::Cantilever, Scheme::Gauss(4), 16).unwrap();
+    let bif = straight_branch(&rod, 3.0);
+    let err = (bif.lambda - chiral).abs() / chiral;
+    println!("hemitropic P_cr {} (linearised {chiral}), achiral {achiral}: coupling lowers it by {:.3} %", bif.lambda, 100.0 * (1.0 - chiral / achiral));
+    assert!(err < 1e-8, "hemitropic P_cr {} vs {chiral}: {err:e}", bif.lambda);
+    assert!(achiral - chiral > 0.01 * achiral, "the coupling should lower the critical load");
+    assert_eq!(bif.multiplicity, 2);
+    // The straight state before buckling twists under compression:
+    // Δu3 = −gF/(CS − g²) with F = −P.
+    let tip = rod.node_state(&bif.x, rod.elements);
+    let phi = 2.0 * tip[6].atan2(tip[3]);
+    assert!((phi - g * bif.lambda / (c * s - g * g) * l).abs() < 1e-10);
+}

@@ -117,6 +117,7 @@ module rodkit
     integer(c_int32_t), parameter :: RODKIT_ROD_SUPPORTS_CANTILEVER = 1
     integer(c_int32_t), parameter :: RODKIT_ROD_SUPPORTS_CLAMPED = 2
     integer(c_int32_t), parameter :: RODKIT_ROD_SUPPORTS_PINNED = 3
+    integer(c_int32_t), parameter :: RODKIT_ROD_SUPPORTS_TWISTED = 4
 
     ! enum RodkitLoadFrame (see rodkit.h).
     integer(c_int32_t), parameter :: RODKIT_LOAD_FRAME_NONE = 0
@@ -298,6 +299,7 @@ module rodkit
         real(c_double) :: end_q1
         real(c_double) :: end_q2
         real(c_double) :: end_q3
+        real(c_double) :: end_tension
         integer(c_int32_t) :: tip_force_frame
         real(c_double) :: tip_force_x
         real(c_double) :: tip_force_y
@@ -365,6 +367,7 @@ module rodkit
         real(c_double) :: base_moment_y
         real(c_double) :: base_moment_z
         real(c_double) :: unfolding
+        real(c_double) :: end_rotation
     end type rodkit_branch_record
 
     ! RodkitBranchInfo (see rodkit.h).

@@ -200,6 +200,10 @@ enum RodkitRodSupports
   RODKIT_ROD_SUPPORTS_CLAMPED = 2,
   // Ball joints; an axial dead tip force (0, 0, P) only.
   RODKIT_ROD_SUPPORTS_PINNED = 3,
+  // Controlled end rotation (Greenhill): s = L on the axis, free to slide
+  // under the axial dead force `end_tension`, turned about e3 by φ with
+  // Λ = sin(φ/2) (records report φ in `end_rotation`). No tip loads.
+  RODKIT_ROD_SUPPORTS_TWISTED = 4,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -396,6 +400,8 @@ typedef struct RodkitRodSpec {
   double end_q1;
   double end_q2;
   double end_q3;
+  // Twisted: the axial dead force at s = L (default 0).
+  double end_tension;
   // Loads: RodkitLoadFrame and vector (per length for distributed loads).
   int32_t tip_force_frame;
   double tip_force_x;
@@ -519,6 +525,9 @@ typedef struct RodkitBranchRecord {
   double base_moment_z;
   // The phase condition's unfolding parameter μ (0 without one).
   double unfolding;
+  // Twisted supports: the end rotation φ = 2 atan2(Λ, cos(φ/2))
+  // (radians, following the turns past π); 0 otherwise.
+  double end_rotation;
 } RodkitBranchRecord;
 
 // A located bifurcation point.

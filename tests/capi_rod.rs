@@ -184,3 +184,41 @@ fn continuation_statuses_and_records() {
     unsafe { rodkit_branch_free(b) };
     unsafe { rodkit_rod_free(rod) };
 }
+
+/// Greenhill through the C ABI (supports = TWISTED): the double point at
+/// φ_c = 2·4.4934…·K_b/C (tan x = x, see tests/rod_buckling.rs), records
+/// reporting φ in end_rotation.
+#[test]
+fn greenhill_through_the_c_abi() {
+    let mut s = spec();
+    s.kirchhoff = 1;
+    s.twist = 4.0;
+    s.tip_moment_frame = LoadFrame::None as i32;
+    s.supports = RodSupports::Twisted as i32;
+    s.elements = 16;
+    let rod = new_rod(&s).unwrap();
+    let mut o = options();
+    o.method = ContinuationMethod::Newton as i32;
+    o.target_lambda = 0.99;
+    o.initial_step = 0.2;
+    o.max_step = 0.5;
+    o.residual_tol = 1e-12;
+    o.detect_bifurcations = 1;
+    let mut b = ptr::null_mut();
+    assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) }, 0, "{}", last_error());
+    let mut bif = Bifurcation::default();
+    let mut count = 0;
+    assert_eq!(unsafe { rodkit_branch_bifurcations(b, rod, &mut bif, 1, &mut count) }, 0);
+    assert_eq!((count, bif.multiplicity), (1, 2));
+    let phi_c = 2.0 * 4.493409457909064 / 4.0;
+    assert!((2.0 * bif.lambda.asin() - phi_c).abs() < 1e-8 * phi_c, "{}", 2.0 * bif.lambda.asin());
+    let mut info = BranchInfo::default();
+    unsafe { rodkit_branch_summary(b, &mut info) };
+    let mut recs = vec![BranchRecord::default(); info.records as usize];
+    unsafe { rodkit_branch_records(b, recs.as_mut_ptr(), info.records, &mut count) };
+    for r in &recs {
+        assert!((r.end_rotation - 2.0 * r.lambda.asin()).abs() < 1e-12);
+    }
+    unsafe { rodkit_branch_free(b) };
+    unsafe { rodkit_rod_free(rod) };
+}

@@ -26,6 +26,10 @@ pub enum RodSupports {
     Clamped = 2,
     /// Ball joints; an axial dead tip force (0, 0, P) only.
     Pinned = 3,
+    /// Controlled end rotation (Greenhill): s = L on the axis, free to slide
+    /// under the axial dead force `end_tension`, turned about e3 by φ with
+    /// Λ = sin(φ/2) (records report φ in `end_rotation`). No tip loads.
+    Twisted = 4,
 }
 
 /// How a load follows the rod (`*_frame` fields).
@@ -116,6 +120,8 @@ pub struct RodSpec {
     pub end_q1: f64,
     pub end_q2: f64,
     pub end_q3: f64,
+    /// Twisted: the axial dead force at s = L (default 0).
+    pub end_tension: f64,
     /// Loads: RodkitLoadFrame and vector (per length for distributed loads).
     pub tip_force_frame: i32,
     pub tip_force_x: f64,
@@ -225,6 +231,9 @@ pub struct BranchRecord {
     pub base_moment_z: f64,
     /// The phase condition's unfolding parameter μ (0 without one).
     pub unfolding: f64,
+    /// Twisted supports: the end rotation φ = 2 atan2(Λ, cos(φ/2))
+    /// (radians, following the turns past π); 0 otherwise.
+    pub end_rotation: f64,
 }
 
 /// Summary of a branch.
@@ -341,7 +350,8 @@ fn model_from(s: &RodSpec, general: Option<Matrix6<f64>>) -> Result<Model> {
         1 => Supports::Cantilever,
         2 => Supports::Clamped { end_position: [s.end_x, s.end_y, s.end_z], end_rotation: [s.end_q0, s.end_q1, s.end_q2, s.end_q3] },
         3 => Supports::Pinned,
-        v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `supports` must be a RodkitRodSupports 1…3 (got {v})"))),
+        4 => Supports::Twisted { tension: s.end_tension },
+        v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `supports` must be a RodkitRodSupports 1…4 (got {v})"))),
     };
     let loads = Loads {
         tip_force: load("tip_force", s.tip_force_frame, s.tip_force_x, s.tip_force_y, s.tip_force_z)?,
@@ -449,6 +459,7 @@ fn wrap(model: &Model, branch: RodBranch) -> Branch {
                 base_moment_y: m[1],
                 base_moment_z: m[2],
                 unfolding: if x.len() > n { x[n] } else { 0.0 },
+                end_rotation: model.end_rotation(x, r.lambda).unwrap_or(0.0),
             }
         })
         .collect();
@@ -505,6 +516,7 @@ pub unsafe extern "C" fn rodkit_rod_spec_default(spec: *mut RodSpec) -> i32 {
             end_q1: 0.0,
             end_q2: 0.0,
             end_q3: 0.0,
+            end_tension: 0.0,
             tip_force_frame: 0,
             tip_force_x: 0.0,
             tip_force_y: 0.0,

@@ -319,6 +319,7 @@ module rodkit
         integer(c_int32_t) :: scheme
         integer(c_int64_t) :: stages
         integer(c_int64_t) :: elements
+        real(c_double) :: diameter
     end type rodkit_rod_spec
 
     ! RodkitContinuationOptions (see rodkit.h).
@@ -383,6 +384,10 @@ module rodkit
         integer(c_int64_t) :: residuals
         integer(c_int64_t) :: jacobians
         integer(c_int64_t) :: series_orders
+        integer(c_int64_t) :: contact_record
+        real(c_double) :: contact_distance
+        real(c_double) :: contact_s1
+        real(c_double) :: contact_s2
     end type rodkit_branch_info
 
     ! RodkitBifurcation (see rodkit.h).

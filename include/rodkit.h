@@ -424,6 +424,10 @@ typedef struct RodkitRodSpec {
   int32_t scheme;
   int64_t stages;
   int64_t elements;
+  // Rod diameter for self-contact detection (0, the default: none).
+  // Branches report where non-neighbouring points come closer than it
+  // (RodkitBranchInfo.contact_*): the rod has no contact model.
+  double diameter;
 } RodkitRodSpec;
 
 // Continuation settings. Initialise with
@@ -494,6 +498,13 @@ typedef struct RodkitBranchInfo {
   int64_t residuals;
   int64_t jacobians;
   int64_t series_orders;
+  // Self-contact (with a diameter): the first record where
+  // non-neighbouring points are closer than the diameter (−1: none),
+  // that distance and the pair's arc lengths.
+  int64_t contact_record;
+  double contact_distance;
+  double contact_s1;
+  double contact_s2;
 } RodkitBranchInfo;
 
 // One point of a branch.

@@ -149,7 +149,11 @@ unsafe extern "C" fn stop_after_three(p: *const BranchProgress, _: *mut c_void) 
 /// the points so far), the step limit (INFO_STEP_LIMIT); truncated copies.
 #[test]
 fn continuation_statuses_and_records() {
-    let rod = new_rod(&spec()).unwrap();
+    let mut s = spec();
+    s.diameter = -1.0;
+    assert!(new_rod(&s).unwrap_err().1.contains("spec.diameter"));
+    s.diameter = 0.05;
+    let rod = new_rod(&s).unwrap();
     let mut o = options();
     o.target_lambda = 2.0 * std::f64::consts::PI;
     o.max_step = 2.0;
@@ -158,6 +162,9 @@ fn continuation_statuses_and_records() {
     let mut info = BranchInfo::default();
     assert_eq!(unsafe { rodkit_branch_summary(b, &mut info) }, 0);
     assert_eq!(info.stop, BranchStop::Target as i32);
+    // The ring closes on itself: contact reported (tests/rod_basic.rs checks
+    // the distance against the closed-form chord).
+    assert!(info.contact_record >= 0 && info.contact_distance < 0.05, "{info:?}");
     let mut recs = vec![BranchRecord::default(); info.records as usize];
     let mut count = 0;
     assert_eq!(unsafe { rodkit_branch_records(b, recs.as_mut_ptr(), 1, &mut count) }, Status::InfoTruncated.code());

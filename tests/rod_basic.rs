@@ -196,3 +196,25 @@ fn uniform_helix_is_an_equilibrium() {
         }
     }
 }
+
+/// Self-contact detection (physics.md §2.4): rolled by an end moment the rod
+/// closes into a ring, and with a diameter d = 0.05 L the branch reports the
+/// first record where its ends come closer than d. Reference: the arc's
+/// chord |r(L) − r(0)| = (2L/m)|sin(m/2)| (closed form; the closest
+/// non-neighbouring pair near closure is the two ends).
+#[test]
+fn self_contact_is_reported() {
+    let loads = Loads { tip_moment: Some(Load::follower([1.0, 0.0, 0.0])), ..Default::default() };
+    let rod = Rod::new(law(), 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), 8).unwrap().with_diameter(0.05).unwrap();
+    let opts = Options { target_lambda: Some(2.0 * PI), residual_tol: 1e-11, initial_step: 0.05, max_step: 0.05, ..Default::default() };
+    let b = rod.continue_branch(None, 0.0, true, &opts, rodkit::rod::branch::Method::Newton, |_| true).unwrap();
+    let c = b.contact.expect("the ring closes: contact");
+    let chord = |m: f64| (2.0 / m) * (0.5 * m).sin().abs();
+    let m = b.records[c.record].lambda;
+    assert!(c.distance < 0.05 && (c.distance - chord(m)).abs() < 1e-6, "contact at m = {m}: {} vs chord {}", c.distance, chord(m));
+    assert!(chord(b.records[c.record - 1].lambda) >= 0.05, "an earlier record was already in contact");
+    assert!(c.s1 < 1e-12 && (c.s2 - 1.0).abs() < 1e-12, "pair ({}, {})", c.s1, c.s2);
+    // Without a diameter nothing is checked.
+    let plain = Rod::new(law(), 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), 8).unwrap();
+    assert!(plain.continue_branch(None, 0.0, true, &opts, rodkit::rod::branch::Method::Newton, |_| true).unwrap().contact.is_none());
+}

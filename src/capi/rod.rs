@@ -144,6 +144,10 @@ pub struct RodSpec {
     pub scheme: i32,
     pub stages: i64,
     pub elements: i64,
+    /// Rod diameter for self-contact detection (0, the default: none).
+    /// Branches report where non-neighbouring points come closer than it
+    /// (RodkitBranchInfo.contact_*): the rod has no contact model.
+    pub diameter: f64,
 }
 
 /// Continuation settings. Initialise with
@@ -256,6 +260,13 @@ pub struct BranchInfo {
     pub residuals: i64,
     pub jacobians: i64,
     pub series_orders: i64,
+    /// Self-contact (with a diameter): the first record where
+    /// non-neighbouring points are closer than the diameter (−1: none),
+    /// that distance and the pair's arc lengths.
+    pub contact_record: i64,
+    pub contact_distance: f64,
+    pub contact_s1: f64,
+    pub contact_s2: f64,
 }
 
 /// A located bifurcation point.
@@ -368,7 +379,12 @@ fn model_from(s: &RodSpec, general: Option<Matrix6<f64>>) -> Result<Model> {
         v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `scheme` must be a RodkitRodScheme 1…2 (got {v})"))),
     };
     error::count_in_range("elements", s.elements, 1, 1 << 20)?;
-    Model::new(law, s.length, loads, supports, scheme, s.elements as usize)
+    let model = Model::new(law, s.length, loads, supports, scheme, s.elements as usize)?;
+    if s.diameter == 0.0 {
+        Ok(model)
+    } else {
+        model.with_diameter(s.diameter)
+    }
 }
 
 fn options_from(o: &ContinuationOptions) -> Result<(Options, Method, bool)> {
@@ -536,6 +552,7 @@ pub unsafe extern "C" fn rodkit_rod_spec_default(spec: *mut RodSpec) -> i32 {
             scheme: RodScheme::Gauss as i32,
             stages: 4,
             elements: 8,
+            diameter: 0.0,
         };
         Ok(Status::Ok)
     })
@@ -786,6 +803,10 @@ pub unsafe extern "C" fn rodkit_branch_summary(branch: *const Branch, info: *mut
             residuals: c.residuals as i64,
             jacobians: c.jacobians as i64,
             series_orders: c.series_orders as i64,
+            contact_record: b.branch.contact.map_or(-1, |c| c.record as i64),
+            contact_distance: b.branch.contact.map_or(0.0, |c| c.distance),
+            contact_s1: b.branch.contact.map_or(0.0, |c| c.s1),
+            contact_s2: b.branch.contact.map_or(0.0, |c| c.s2),
         };
         Ok(Status::Ok)
     })

@@ -32,6 +32,20 @@ pub struct RodBranch {
     pub resume: Resume,
     /// The phase condition (node, azimuth) the branch was followed with.
     pub phase: Option<(usize, f64)>,
+    /// Self-contact (with a rod diameter): the first record where
+    /// non-neighbouring points are closer than the diameter, with that
+    /// distance and the pair's arc lengths. The rod has no contact model:
+    /// records past it pass through themselves.
+    pub contact: Option<Contact>,
+}
+
+/// Where a branch first passes through itself.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    pub record: usize,
+    pub distance: f64,
+    pub s1: f64,
+    pub s2: f64,
 }
 
 impl Rod {
@@ -56,7 +70,13 @@ impl Rod {
         for r in &mut records {
             states.push(std::mem::take(&mut r.outputs));
         }
-        Ok(RodBranch { records, states, bifurcations: b.bifurcations, stop: b.stop, counts: b.counts, resume: b.resume, phase })
+        let contact = self.diameter.and_then(|d| {
+            states.iter().enumerate().find_map(|(k, x)| {
+                let (distance, s1, s2) = self.closest_approach(x)?;
+                (distance < d).then_some(Contact { record: k, distance, s1, s2 })
+            })
+        });
+        Ok(RodBranch { records, states, bifurcations: b.bifurcations, stop: b.stop, counts: b.counts, resume: b.resume, phase, contact })
     }
 
     /// A branch from the state `x0` at `lambda0` (None: the straight state),

@@ -57,6 +57,10 @@ pub struct Rod {
     pub supports: Supports,
     pub scheme: Scheme,
     pub elements: usize,
+    /// Rod diameter for self-contact detection (physics.md §2.4: the rod has
+    /// no contact model; a branch reports where non-neighbouring points come
+    /// closer than this). None: not checked.
+    pub diameter: Option<f64>,
 }
 
 impl Rod {
@@ -101,7 +105,51 @@ impl Rod {
             }
             Supports::Cantilever => {}
         }
-        Ok(Rod { law, length, loads, supports, scheme, elements })
+        Ok(Rod { law, length, loads, supports, scheme, elements, diameter: None })
+    }
+
+    /// The same rod with a diameter for self-contact detection.
+    pub fn with_diameter(mut self, diameter: f64) -> Result<Self> {
+        error::positive("diameter", diameter)?;
+        self.diameter = Some(diameter);
+        Ok(self)
+    }
+
+    /// The closest approach of non-neighbouring points of the state x: the
+    /// smallest distance between nodes (and stages) i < j whose arc-length
+    /// separation exceeds π/2 diameters (closer points are neighbours along
+    /// the rod, not contacts), with the arc lengths of the pair. None without
+    /// a diameter or when no pair qualifies.
+    pub fn closest_approach(&self, x: &[f64]) -> Option<(f64, f64, f64)> {
+        let d = self.diameter?;
+        let h = self.element_length();
+        let tab = self.tableau();
+        let mut pts: Vec<(f64, [f64; 3])> = Vec::new();
+        for i in 0..=self.elements {
+            let y = self.node_state(x, i);
+            pts.push((i as f64 * h, [y[0], y[1], y[2]]));
+            if i < self.elements {
+                for j in 0..self.scheme.stages() {
+                    let o = self.node(i) + 13 * (1 + j);
+                    pts.push(((i as f64 + tab.c[j]) * h, [x[o], x[o + 1], x[o + 2]]));
+                }
+            }
+        }
+        let gap = 0.5 * std::f64::consts::PI * d;
+        let mut best: Option<(f64, f64, f64)> = None;
+        for a in 0..pts.len() {
+            for b in a + 1..pts.len() {
+                if pts[b].0 - pts[a].0 <= gap {
+                    continue;
+                }
+                let (p, q) = (pts[a].1, pts[b].1);
+                let dist = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt();
+                if best.is_none_or(|(bd, _, _)| dist < bd) {
+                    best = Some((dist, pts[a].0, pts[b].0));
+                }
+            }
+        }
+        best
     }
 
     /// Element length h.

@@ -299,6 +299,9 @@ module rodkit
         real(c_double) :: end_q1
         real(c_double) :: end_q2
         real(c_double) :: end_q3
+        real(c_double) :: end_dx
+        real(c_double) :: end_dy
+        real(c_double) :: end_dz
         real(c_double) :: end_tension
         integer(c_int32_t) :: tip_force_frame
         real(c_double) :: tip_force_x

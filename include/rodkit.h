@@ -196,7 +196,8 @@ enum RodkitRodSupports
  {
   // s = 0 clamped at the origin along e3, s = L free (tip loads apply).
   RODKIT_ROD_SUPPORTS_CANTILEVER = 1,
-  // Both ends clamped; s = L at end_x…z with orientation end_q0…q3.
+  // Both ends clamped; s = L at end_x…z + Λ·end_dx…dz with orientation
+  // end_q0…q3.
   RODKIT_ROD_SUPPORTS_CLAMPED = 2,
   // Ball joints; an axial dead tip force (0, 0, P) only.
   RODKIT_ROD_SUPPORTS_PINNED = 3,
@@ -400,6 +401,11 @@ typedef struct RodkitRodSpec {
   double end_q1;
   double end_q2;
   double end_q3;
+  // Clamped: the end moves by Λ·(end_dx, end_dy, end_dz) (default 0:
+  // fixed).
+  double end_dx;
+  double end_dy;
+  double end_dz;
   // Twisted: the axial dead force at s = L (default 0).
   double end_tension;
   // Loads: RodkitLoadFrame and vector (per length for distributed loads).

@@ -320,3 +320,26 @@ fn hemitropic_rod_buckles_earlier() {
     let phi = 2.0 * tip[6].atan2(tip[3]);
     assert!((phi - g * bif.lambda / (c * s - g * g) * l).abs() < 1e-10);
 }
+
+/// Clamped–clamped rod compressed by a prescribed end displacement
+/// (r(L) = (0, 0, L) − Λ·0.01L e3, displacement control): the axial force at
+/// the first bifurcation solves P(1 + P(1/GA − 1/EA)) = 4π²K_b/L²
+/// (physics.md §2.6 with the clamped–clamped Euler load; the same
+/// linearisation as the pinned case with the clamped mode).
+#[test]
+fn clamped_clamped_under_end_displacement() {
+    let (ea, ga) = (1e3, 3e2);
+    let pe = 4.0 * PI * PI;
+    let c = 1.0 / ga - 1.0 / ea;
+    let exact = (-1.0 + (1.0 + 4.0 * c * pe).sqrt()) / (2.0 * c);
+    let law = RodLaw::isotropic(1.0, 1.0 / 1.3, ga, ea).unwrap();
+    let supports = Supports::Clamped { end_position: [0.0, 0.0, 1.0], end_rotation: [1.0, 0.0, 0.0, 0.0], end_displacement: [0.0, 0.0, -0.01] };
+    let rod = Rod::new(law, 1.0, Loads::default(), supports, Scheme::Gauss(4), 16).unwrap();
+    let bif = straight_branch(&rod, 6.0);
+    let (force, _) = rod.spatial_force_moment(&bif.x, 0);
+    let p = -force[2];
+    let err = (p - exact).abs() / exact;
+    println!("clamped–clamped: P at the bifurcation {p} (Λ = {}), formula {exact}, error {err:e}", bif.lambda);
+    assert!(err < 1e-8, "{err:e}");
+    assert_eq!(bif.multiplicity, 2);
+}

@@ -22,7 +22,8 @@ use std::ffi::c_void;
 pub enum RodSupports {
     /// s = 0 clamped at the origin along e3, s = L free (tip loads apply).
     Cantilever = 1,
-    /// Both ends clamped; s = L at end_x…z with orientation end_q0…q3.
+    /// Both ends clamped; s = L at end_x…z + Λ·end_dx…dz with orientation
+    /// end_q0…q3.
     Clamped = 2,
     /// Ball joints; an axial dead tip force (0, 0, P) only.
     Pinned = 3,
@@ -120,6 +121,11 @@ pub struct RodSpec {
     pub end_q1: f64,
     pub end_q2: f64,
     pub end_q3: f64,
+    /// Clamped: the end moves by Λ·(end_dx, end_dy, end_dz) (default 0:
+    /// fixed).
+    pub end_dx: f64,
+    pub end_dy: f64,
+    pub end_dz: f64,
     /// Twisted: the axial dead force at s = L (default 0).
     pub end_tension: f64,
     /// Loads: RodkitLoadFrame and vector (per length for distributed loads).
@@ -359,7 +365,11 @@ fn model_from(s: &RodSpec, general: Option<Matrix6<f64>>) -> Result<Model> {
     };
     let supports = match s.supports {
         1 => Supports::Cantilever,
-        2 => Supports::Clamped { end_position: [s.end_x, s.end_y, s.end_z], end_rotation: [s.end_q0, s.end_q1, s.end_q2, s.end_q3] },
+        2 => Supports::Clamped {
+            end_position: [s.end_x, s.end_y, s.end_z],
+            end_rotation: [s.end_q0, s.end_q1, s.end_q2, s.end_q3],
+            end_displacement: [s.end_dx, s.end_dy, s.end_dz],
+        },
         3 => Supports::Pinned,
         4 => Supports::Twisted { tension: s.end_tension },
         v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `supports` must be a RodkitRodSupports 1…4 (got {v})"))),
@@ -532,6 +542,9 @@ pub unsafe extern "C" fn rodkit_rod_spec_default(spec: *mut RodSpec) -> i32 {
             end_q1: 0.0,
             end_q2: 0.0,
             end_q3: 0.0,
+            end_dx: 0.0,
+            end_dy: 0.0,
+            end_dz: 0.0,
             end_tension: 0.0,
             tip_force_frame: 0,
             tip_force_x: 0.0,

@@ -32,7 +32,9 @@ pub enum Supports {
     /// rotation conditions (the vector part of q̄_end ∘ q(L); the 4th would
     /// be redundant since the scheme conserves |q|). Tip loads are reactions
     /// and must be None.
-    Clamped { end_position: [f64; 3], end_rotation: [f64; 4] },
+    /// The end may be moved with the load parameter: r(L) = end_position +
+    /// Λ·end_displacement (displacement control, e.g. compression).
+    Clamped { end_position: [f64; 3], end_rotation: [f64; 4], end_displacement: [f64; 3] },
     /// Ball joints (physics.md §2.3): s = 0: r = 0, m_b1 = m_b2 = 0, no
     /// twist (q3 = 0), |q|² = 1; s = L: r_x = r_y = 0, the axial component
     /// of the spatial force equal to Λ times the tip force's (dead, along
@@ -76,8 +78,9 @@ impl Rod {
             }
         }
         match supports {
-            Supports::Clamped { end_position, end_rotation } => {
+            Supports::Clamped { end_position, end_rotation, end_displacement } => {
                 error::finite_result("end_position", &end_position)?;
+                error::finite_result("end_displacement", &end_displacement)?;
                 error::finite_result("end_rotation", &end_rotation)?;
                 let norm = end_rotation.iter().map(|v| v * v).sum::<f64>().sqrt();
                 if (norm - 1.0).abs() > 1e-12 {
@@ -439,9 +442,10 @@ impl Rod {
                     end(loads.tip_force, 7, &mut out);
                     end(loads.tip_moment, 10, &mut out);
                 }
-                Supports::Clamped { end_position, end_rotation } => {
+                Supports::Clamped { end_position, end_rotation, end_displacement } => {
                     for k in 0..3 {
-                        out.push(yl[k] - end_position[k]);
+                        let moved = if end_displacement[k] != 0.0 { lambda * end_displacement[k] + end_position[k] } else { Var::constant(end_position[k]) };
+                        out.push(yl[k] - moved);
                     }
                     let conj = [end_rotation[0], -end_rotation[1], -end_rotation[2], -end_rotation[3]];
                     let c = [Var::constant(conj[0]), Var::constant(conj[1]), Var::constant(conj[2]), Var::constant(conj[3])];

@@ -343,3 +343,55 @@ fn clamped_clamped_under_end_displacement() {
     assert!(err < 1e-8, "{err:e}");
     assert_eq!(bif.multiplicity, 2);
 }
+
+/// The hemitropic rod's buckled shapes are non-planar (the bend–shear
+/// coupling twists the buckling plane along the rod) and, the rod being
+/// rotationally symmetric, every rotation about the axis is another one:
+/// the branch is followed through `switch_branch` with the phase
+/// condition, with a regular bordered tangent (|σ_min| ≥ 1e−4 along it,
+/// against ~1e−14 at the double point), μ at the scheme's error, and
+/// a deflection whose azimuth varies along the rod. With twist–stretch
+/// coupling too (g ≠ 0) the first corrector slides onto the spurious
+/// (straight, any μ) family of the augmented system; switch_branch then
+/// refuses the branch with a status instead of returning it.
+#[test]
+fn non_planar_symmetric_branch_with_phase_condition() {
+    let with_g = RodLaw::hemitropic(1.0, 2.0, 300.0, 1000.0, -20.0, 12.0).unwrap();
+    let loads = Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() };
+    let rod = Rod::new(with_g, 1.0, loads, Supports::Cantilever, Scheme::Gauss(2), 12).unwrap();
+    let opts = Options { target_lambda: Some(3.0), residual_tol: 1e-12, initial_step: 0.2, max_step: 0.5, detect_bifurcations: true, ..Default::default() };
+    let straight_g = rod.continue_branch(None, 0.0, true, &opts, rodkit::rod::branch::Method::Newton, |_| true).unwrap();
+    let opts = Options { residual_tol: 1e-11, max_step: 0.1, max_steps: 10, ..Default::default() };
+    let e = rod.switch_branch(&straight_g, 0, 0, 0.05, &opts, rodkit::rod::branch::Method::Newton, |_| true).unwrap_err();
+    assert_eq!(e.status, rodkit::Status::ErrNotConverged, "{}", e.message);
+    let law = RodLaw::hemitropic(1.0, 2.0, 300.0, 1000.0, 0.0, 12.0).unwrap();
+    let rod = Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(2), 12).unwrap();
+    let straight = straight_branch(&rod, 3.0);
+    let branch = rodkit::rod::branch::RodBranch {
+        records: vec![],
+        states: vec![],
+        bifurcations: vec![straight],
+        stop: Stop::Target,
+        counts: Default::default(),
+        resume: rodkit::continuation::Resume { x: vec![], lambda: 0.0, tangent_x: vec![], tangent_lambda: 0.0, step: 0.0 },
+        phase: None,
+        contact: None,
+    };
+    let opts = Options { residual_tol: 1e-11, max_step: 0.1, max_steps: 20, track_singular: true, ..Default::default() };
+    let b = rod.switch_branch(&branch, 0, 0, 0.05, &opts, rodkit::rod::branch::Method::Newton, |_| true).unwrap();
+    assert!(b.phase.is_some());
+    let n = rod.unknowns();
+    let mut non_planar = 0.0f64;
+    for (r, x) in b.records.iter().zip(&b.states).skip(2) {
+        // μ is zero for the exact equations; the scheme conserves the cubic
+        // invariant J only to its order (h⁴ here), so μ ~ 1e−8.
+        assert!(x[n].abs() < 1e-6, "μ = {}", x[n]);
+        let s = r.smallest_singular_value.unwrap().abs();
+        assert!(s > 1e-4, "|σ_min| {s:e} at Λ {}", r.lambda);
+        let p = rod.positions(x);
+        let az = |i: usize| p[i][1].atan2(p[i][0]);
+        non_planar = non_planar.max((az(rod.elements / 3) - az(rod.elements)).sin().abs());
+    }
+    println!("azimuth spread {non_planar}");
+    assert!(non_planar > 0.05, "the branch stayed planar ({non_planar})");
+}

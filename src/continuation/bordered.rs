@@ -191,6 +191,14 @@ impl Bordered {
                 break;
             }
         }
+        // The Ritz values of (BᵀB)⁻¹ lose the larger singular values to
+        // round-off when the smallest are near zero (entries ~1/σ_min²):
+        // measure each converged vector directly, σ_i = ‖B v_i‖.
+        let mut w = vec![0.0; m];
+        for (s, vi) in sigma.iter_mut().zip(&v) {
+            self.lu.pattern().mul_vec(&self.values, vi, &mut w);
+            *s = dot(&w, &w).sqrt();
+        }
         (sigma, v)
     }
 

@@ -135,9 +135,28 @@ impl Rod {
         };
         let sys = self.system_for(phase)?;
         let (sx, sl) = sys.unknown_scales();
+        let mu_scale = sx.last().copied().unwrap_or(1.0);
         let scaling = opts.scaling.clone().unwrap_or(Scaling { x: sx, lambda: sl });
         let start = branch_start(&bif, (&direction, *nl), first_step, &scaling);
-        self.follow(Start::Resume(start), phase, opts, method, progress)
+        let b = self.follow(Start::Resume(start), phase, opts, method, progress)?;
+        if phase.is_some() {
+            // μ = 0 on every tilted solution, but the unfolding vanishes on
+            // the straight branch, where (straight state, any μ) also solves
+            // the augmented system: a corrector can slide onto that spurious
+            // family (seen with twist–stretch coupling). Refuse such a branch.
+            let n = self.unknowns();
+            let scale = mu_scale;
+            if let Some((k, x)) = b.states.iter().enumerate().find(|(_, x)| x[n].abs() > 1e-6 * scale) {
+                return Err(Error::new(
+                    Status::ErrNotConverged,
+                    format!(
+                        "branch switching with a phase condition left the unfolding parameter at μ = {:e} (point {k}): it followed the spurious straight family, not the buckled branch; try another first_step",
+                        x[n]
+                    ),
+                ));
+            }
+        }
+        Ok(b)
     }
 
     /// The angle between the tip tangent d3(L) and e3 (radians, 0…π).

@@ -218,3 +218,27 @@ fn self_contact_is_reported() {
     let plain = Rod::new(law(), 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), 8).unwrap();
     assert!(plain.continue_branch(None, 0.0, true, &opts, rodkit::rod::branch::Method::Newton, |_| true).unwrap().contact.is_none());
 }
+
+/// ANM orders: P = 40 works, takes no more steps than P = 20 (longer
+/// series, longer steps) and both land on the same follower-cantilever
+/// state at α = 10 as Newton continuation (reference: the Newton branch on
+/// the same discretisation, residual 1e−12).
+#[test]
+fn anm_high_order_takes_longer_steps() {
+    use rodkit::continuation::anm::AnmOptions;
+    use rodkit::rod::branch::Method;
+    let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap();
+    let loads = Loads { tip_force: Some(Load::follower([1.0, 0.0, 0.0])), ..Default::default() };
+    let rod = Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(3), 8).unwrap();
+    let run = |method: Method| {
+        let opts = Options { target_lambda: Some(10.0), residual_tol: 1e-12, max_step: 5.0, ..Default::default() };
+        let b = rod.continue_branch(None, 0.0, true, &opts, method, |_| true).unwrap();
+        (rod.tip(b.states.last().unwrap()), b.counts.steps)
+    };
+    let (reference, _) = run(Method::Newton);
+    let (t20, s20) = run(Method::Anm(AnmOptions { order: 20, epsilon: 1e-10 }));
+    let (t40, s40) = run(Method::Anm(AnmOptions { order: 40, epsilon: 1e-10 }));
+    println!("steps: P = 20 → {s20}, P = 40 → {s40}");
+    assert!(dist(t20, reference) < 1e-10 && dist(t40, reference) < 1e-10);
+    assert!(s40 <= s20, "P = 40 took {s40} steps, P = 20 {s20}");
+}

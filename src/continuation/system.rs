@@ -177,9 +177,11 @@ impl Problem for AssembledSystem {
             b.tape.jacobian(&w.local_in, &mut self.jwork, &mut w.local_out, &mut w.local_jac);
             let nin = b.inputs.len();
             for (k, &row) in b.rows.iter().enumerate() {
-                for (j, s) in b.inputs.iter().enumerate() {
+                // Only the inputs this output depends on (structural).
+                for &j in b.tape.dependencies(k) {
+                    let j = j as usize;
                     let v = w.local_jac[k * nin + j];
-                    match s {
+                    match &b.inputs[j] {
                         Slot::Unknown(_) => {
                             let p = w.positions[k * nin + j];
                             if p != usize::MAX {

@@ -189,12 +189,45 @@ fn main() {
         let _ = writeln!(csv, "{},{},{},{},{},{},{},{},{},{}", r.method, r.disc, r.unknowns, r.time.as_secs_f64(), r.error, steps, fact, jac, res, ord);
     }
     let _ = writeln!(out, "(AUTO: 'factor.' column is its Newton iteration count; each iteration factorises its collocation matrix)");
+    section_anm_knobs(&mut out, &dir);
     print!("{out}");
     fs::write(dir.join("report.txt"), &out).unwrap();
     fs::write(dir.join("follower.csv"), &csv).unwrap();
     if let Err(e) = plot(&dir.join("follower_work_precision.svg"), &rows) {
         eprintln!("plot failed: {e}");
     }
+}
+
+/// The ANM's own knobs (order P, ε) on Gauss(4) × 8: what each buys —
+/// steps, factorisations, the series' end-point residual before the
+/// correction (max over the steps), Newton correction iterations, time.
+fn section_anm_knobs(out: &mut String, dir: &Path) {
+    let r = rod(Scheme::Gauss(4), 8);
+    let _ = writeln!(out, "\nANM knobs on Gauss(4) × 8, α 0 → 10 in one run (residual tolerance 1e-10 after correction), medians of {REPS}");
+    let _ = writeln!(out, "{:>4} {:>8} {:>6} {:>8} {:>16} {:>10} {:>10}", "P", "ε", "steps", "factor.", "max series res.", "Newton it.", "time");
+    let mut csv = String::from("order,epsilon,steps,factorisations,max_series_residual,newton_iterations,time_s\n");
+    for order in [10, 20, 30, 40] {
+        for epsilon in [1e-6, 1e-8, 1e-10, 1e-12] {
+            let mut times = vec![];
+            let mut summary = None;
+            for _ in 0..REPS {
+                let t = Instant::now();
+                let mut sys = r.system().unwrap();
+                let opts = Options { target_lambda: Some(10.0), residual_tol: 1e-10, max_step: 5.0, max_steps: 5000, ..Default::default() };
+                let start = Start::Point { x: r.straight_state(), lambda: 0.0, increasing: true };
+                let b = continue_anm(&mut sys, start, &opts, &AnmOptions { order, epsilon }, |_, _| vec![], |_| true).unwrap();
+                times.push(t.elapsed());
+                let worst = b.records.iter().filter_map(|r| r.series_residual).fold(0.0, f64::max);
+                let newton: usize = b.records.iter().map(|r| r.newton_iterations).sum();
+                summary = Some((b.counts.steps, b.counts.factorisations, worst, newton));
+            }
+            let (steps, fact, worst, newton) = summary.unwrap();
+            let t = median(times);
+            let _ = writeln!(out, "{order:>4} {epsilon:>8.0e} {steps:>6} {fact:>8} {worst:>16.1e} {newton:>10} {:>8.2}ms", t.as_secs_f64() * 1e3);
+            let _ = writeln!(csv, "{order},{epsilon},{steps},{fact},{worst},{newton},{}", t.as_secs_f64());
+        }
+    }
+    let _ = fs::write(dir.join("anm_knobs.csv"), csv);
 }
 
 fn plot(path: &Path, rows: &[Row]) -> Result<(), Box<dyn std::error::Error>> {

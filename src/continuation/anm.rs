@@ -107,6 +107,7 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
     let mut records: Vec<Record> = Vec::new();
     let mut pending_iterations = first_iterations;
     let mut pending_step = 0.0;
+    let mut pending_series_residual: Option<f64> = None;
     // Series storage: X_p for p = 0..=P, each n + 1 long (Λ last).
     let mut series: Vec<Vec<f64>> = vec![vec![0.0; n + 1]; p_max + 1];
     let mut rhs = vec![0.0; n];
@@ -126,7 +127,8 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
         }
         let (x1, l1) = bordered.tangent(&scaling, &mut counts)?;
         // The record of X0 (its determinant signs need this factorisation).
-        let rec = make_record(problem, &mut bordered, &scaling, &eq, &x, lambda, &x1, l1, pending_step, pending_iterations, opts, &mut observe, &mut counts);
+        let mut rec = make_record(problem, &mut bordered, &scaling, &eq, &x, lambda, &x1, l1, pending_step, pending_iterations, opts, &mut observe, &mut counts);
+        rec.series_residual = pending_series_residual;
         let go_on = progress(&rec);
         records.push(rec);
         if opts.detect_bifurcations {
@@ -224,7 +226,9 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
         problem.residual(&xn, ln, &mut r);
         counts.residuals += 1;
         let mut iterations = 0;
-        if residual_norm(&r, &eq) > opts.residual_tol {
+        let series_residual = residual_norm(&r, &eq);
+        pending_series_residual = Some(series_residual);
+        if series_residual > opts.residual_tol {
             let anchor = xn.clone();
             let result = if stop == Some(Stop::Target) {
                 let target = ln;

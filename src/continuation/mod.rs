@@ -126,6 +126,9 @@ pub struct Record {
     pub smallest_singular_value: Option<f64>,
     /// Newton iterations (correction) for this point.
     pub newton_iterations: usize,
+    /// ANM: the scaled residual of the series' end point before the Newton
+    /// correction (what ε bought); None for Newton continuation.
+    pub series_residual: Option<f64>,
 }
 
 /// Why a continuation returned.

@@ -139,6 +139,7 @@ pub fn continue_newton<P: Problem + ?Sized>(
             bordered_det_sign: 0.0,
             smallest_singular_value: Some(0.0),
             newton_iterations: 0,
+            series_residual: None,
         }
     } else {
         make_record(problem, &mut bordered, &scaling, &eq, &x, lambda, &tx, tl, 0.0, first_iterations, opts, &mut observe, &mut counts)
@@ -258,6 +259,7 @@ pub(crate) fn make_record<P: Problem + ?Sized>(
         bordered_det_sign,
         smallest_singular_value,
         newton_iterations,
+        series_residual: None,
     }
 }
 

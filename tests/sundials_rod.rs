@@ -17,6 +17,8 @@
 
 #[path = "support/sundials.rs"]
 mod sundials;
+#[path = "support/rod_band.rs"]
+mod rod_band;
 
 use rodkit::continuation::{Options, Problem};
 use rodkit::rod::branch::Method;
@@ -185,4 +187,64 @@ fn ida_shooting_bounds_the_collocation_error_at_the_scheme_order() {
         println!("{scheme:?}: tip differences {errs:?}, rate {rate:.2}");
         assert!((rate - order).abs() < 0.3, "{scheme:?}: rate {rate} ({errs:?})");
     }
+}
+
+/// KINSOL with the band solver (the wrapper the rod benchmark times as a
+/// peer) on the rod's discrete residual: from the α = 4.75 state to α = 5,
+/// agreeing with rodkit's continuation at α = 5 to 1e−9 (scaled max norm).
+#[test]
+fn kinsol_band_solver_on_the_rod() {
+    use sundials::kinsol_solve_band;
+    let ctx = Context::new().unwrap();
+    let rod = follower(Scheme::Gauss(2), 8);
+    let states = rodkit_states(&rod, &[4.75, 5.0]);
+    let sys = rod.system().unwrap();
+    let n = sys.dim();
+    let pattern = sys.pattern().clone();
+    let (order, upper, lower) = rod_band::band_layout(&pattern);
+    assert!(upper + lower < n / 4, "not banded: {upper} + {lower} of {n}");
+    let mut position = vec![0; n];
+    for (new, &old) in order.iter().enumerate() {
+        position[old] = new;
+    }
+    let eq = sys.equation_scales();
+    let (us, _) = sys.unknown_scales();
+    let sys = std::cell::RefCell::new(sys);
+    let lambda = 5.0;
+    let residual = |u: &[f64], f: &mut [f64]| {
+        let mut r = vec![0.0; n];
+        sys.borrow_mut().residual(u, lambda, &mut r);
+        for i in 0..n {
+            f[position[i]] = r[i];
+        }
+    };
+    let mut vals = vec![0.0; pattern.nnz()];
+    let mut dl = vec![0.0; n];
+    let mut jac = |u: &[f64], m: &mut sundials::BandView| {
+        sys.borrow_mut().jacobian(u, lambda, &mut vals, &mut dl);
+        for j in 0..n {
+            for k in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
+                let i = position[pattern.row_idx[k]];
+                let inside = (j <= i + upper) && (i <= j + lower);
+                if inside {
+                    m.set(i, j, vals[k]);
+                } else {
+                    assert_eq!(vals[k], 0.0, "a non-zero outside the band at ({i}, {j})");
+                }
+            }
+        }
+    };
+    let opts = KinsolOptions {
+        func_norm_tol: 1e-12,
+        scaled_step_tol: 1e-16,
+        max_setup_calls: 1,
+        u_scale: Some(us.iter().map(|s| 1.0 / s).collect()),
+        f_scale: Some(order.iter().map(|&i| 1.0 / eq[i]).collect()),
+        ..Default::default()
+    };
+    let mut x = states[0].clone();
+    let stats = kinsol_solve_band(&ctx, &mut x, residual, &mut jac, upper, lower, &opts).expect("KINSOL band converges");
+    let d = scaled_difference(&x, &states[1], &us);
+    println!("band KINSOL: {} iterations, difference {d:e}, bandwidths {upper}/{lower} of n = {n}", stats.iterations);
+    assert!(d < 1e-9, "{d:e}");
 }

@@ -123,6 +123,17 @@ impl Drop for NVec {
 struct DenseMat(sys::SUNMatrix);
 
 impl DenseMat {
+    /// A band matrix (SUNBandMatrix) with upper and lower bandwidths; the
+    /// same owner type (SUNMatDestroy frees either kind).
+    fn band(n: usize, upper: usize, lower: usize, ctx: &Context) -> Result<Self, String> {
+        // SAFETY: plain constructor; null is checked.
+        let m = unsafe { sys::SUNBandMatrix(n as sys::sunindextype, upper as sys::sunindextype, lower as sys::sunindextype, ctx.as_raw()) };
+        if m.is_null() {
+            return Err(format!("SUNBandMatrix({n}, {upper}, {lower}) returned NULL"));
+        }
+        Ok(Self(m))
+    }
+
     fn new(n: usize, ctx: &Context) -> Result<Self, String> {
         let n = n as sys::sunindextype;
         // SAFETY: plain constructor; null is checked.
@@ -147,6 +158,15 @@ impl Drop for DenseMat {
 struct LinSol(sys::SUNLinearSolver);
 
 impl LinSol {
+    fn band(template: &NVec, mat: &DenseMat, ctx: &Context) -> Result<Self, String> {
+        // SAFETY: live vector and band matrix of matching size; null is checked.
+        let ls = unsafe { sys::SUNLinSol_Band(template.0, mat.0, ctx.as_raw()) };
+        if ls.is_null() {
+            return Err("SUNLinSol_Band returned NULL".into());
+        }
+        Ok(Self(ls))
+    }
+
     fn dense(template: &NVec, mat: &DenseMat, ctx: &Context) -> Result<Self, String> {
         // SAFETY: live vector and matrix of matching size; null is checked.
         let ls = unsafe { sys::SUNLinSol_Dense(template.0, mat.0, ctx.as_raw()) };
@@ -538,9 +558,34 @@ pub struct KinsolStats {
 /// matrix arrives zeroed).
 pub type KinJacobian<'a> = dyn FnMut(&[f64], &mut DenseColMajor<'_>) + 'a;
 
+/// Write access to a SUNDIALS band matrix (entries outside the band are
+/// rejected by a panic, caught at the callback boundary).
+pub struct BandView {
+    mat: sys::SUNMatrix,
+    upper: isize,
+    lower: isize,
+}
+
+impl BandView {
+    pub fn set(&mut self, i: usize, j: usize, v: f64) {
+        let d = i as isize - j as isize;
+        assert!(d >= -self.upper && d <= self.lower, "entry ({i}, {j}) outside the band");
+        // SAFETY: `mat` is the live band matrix KINSOL passed; column j's
+        // pointer addresses its diagonal and the band rows around it.
+        unsafe {
+            let col = sys::SUNBandMatrix_Column(self.mat, j as sys::sunindextype);
+            *col.offset(d) = v;
+        }
+    }
+}
+
+/// A KINSOL Jacobian closure for the band solver (the matrix arrives zeroed).
+pub type KinBandJacobian<'a> = dyn FnMut(&[f64], &mut BandView) + 'a;
+
 struct KinData<'a, 'j> {
     residual: &'a mut dyn FnMut(&[f64], &mut [f64]),
     jacobian: Option<&'a mut KinJacobian<'j>>,
+    band: Option<(&'a mut KinBandJacobian<'j>, isize, isize)>,
     residual_calls: u64,
     panic: Option<String>,
 }
@@ -579,6 +624,27 @@ unsafe extern "C" fn kin_jacobian(
     guarded(&mut data.panic, || jacobian(u, &mut m))
 }
 
+unsafe extern "C" fn kin_band_jacobian(
+    u: sys::N_Vector,
+    _fu: sys::N_Vector,
+    jac: sys::SUNMatrix,
+    user_data: *mut c_void,
+    _tmp1: sys::N_Vector,
+    _tmp2: sys::N_Vector,
+) -> c_int {
+    // SAFETY: as in `kin_residual`; `jac` is the band matrix we attached.
+    let data = unsafe { &mut *(user_data as *mut KinData<'_, '_>) };
+    let u = unsafe { nvec_slice(u) };
+    // SAFETY: zero the live band matrix before filling it.
+    unsafe { sys::SUNMatZero(jac) };
+    let Some((jacobian, upper, lower)) = data.band.as_mut() else {
+        return -1;
+    };
+    let mut view = BandView { mat: jac, upper: *upper, lower: *lower };
+    let jacobian = &mut **jacobian;
+    guarded(&mut data.panic, || jacobian(u, &mut view))
+}
+
 /// Solves `F(x) = 0` with KINSOL (dense direct linear solver).
 ///
 /// `x` holds the initial guess on entry; on return it holds KINSOL's last
@@ -590,8 +656,34 @@ unsafe extern "C" fn kin_jacobian(
 pub fn kinsol_solve(
     ctx: &Context,
     x: &mut [f64],
-    mut residual: impl FnMut(&[f64], &mut [f64]),
+    residual: impl FnMut(&[f64], &mut [f64]),
     jacobian: Option<&mut KinJacobian<'_>>,
+    opts: &KinsolOptions,
+) -> Result<KinsolStats, String> {
+    kinsol_solve_with(ctx, x, residual, jacobian, None, opts)
+}
+
+/// As [`kinsol_solve`] with SUNDIALS' band direct solver: `upper`/`lower`
+/// bandwidths of the Jacobian and a closure filling it.
+#[allow(dead_code)] // used by the benches and some test targets only
+pub fn kinsol_solve_band(
+    ctx: &Context,
+    x: &mut [f64],
+    residual: impl FnMut(&[f64], &mut [f64]),
+    jacobian: &mut KinBandJacobian<'_>,
+    upper: usize,
+    lower: usize,
+    opts: &KinsolOptions,
+) -> Result<KinsolStats, String> {
+    kinsol_solve_with(ctx, x, residual, None, Some((jacobian, upper, lower)), opts)
+}
+
+fn kinsol_solve_with<'a, 'j>(
+    ctx: &Context,
+    x: &mut [f64],
+    mut residual: impl FnMut(&[f64], &mut [f64]),
+    jacobian: Option<&'a mut KinJacobian<'j>>,
+    band: Option<(&'a mut KinBandJacobian<'j>, usize, usize)>,
     opts: &KinsolOptions,
 ) -> Result<KinsolStats, String> {
     let n = x.len();
@@ -615,10 +707,12 @@ pub fn kinsol_solve(
     let f_scale = scale(&opts.f_scale, "f_scale")?;
 
     let has_jacobian = jacobian.is_some();
+    let band_widths = band.as_ref().map(|(_, u, l)| (*u, *l));
     // Declared before the SUNDIALS objects so it outlives them.
     let mut data = KinData {
         residual: &mut residual,
         jacobian,
+        band: band.map(|(j, u, l)| (j, u as isize, l as isize)),
         residual_calls: 0,
         panic: None,
     };
@@ -636,8 +730,18 @@ pub fn kinsol_solve(
     let u = NVec::from_slice(x, ctx)?;
     let u_scale = NVec::from_slice(&u_scale, ctx)?;
     let f_scale = NVec::from_slice(&f_scale, ctx)?;
-    let mat = DenseMat::new(n, ctx)?;
-    let ls = LinSol::dense(&u, &mat, ctx)?;
+    let (mat, ls) = match band_widths {
+        Some((upper, lower)) => {
+            let mat = DenseMat::band(n, upper, lower, ctx)?;
+            let ls = LinSol::band(&u, &mat, ctx)?;
+            (mat, ls)
+        }
+        None => {
+            let mat = DenseMat::new(n, ctx)?;
+            let ls = LinSol::dense(&u, &mat, ctx)?;
+            (mat, ls)
+        }
+    };
     // SAFETY: plain constructor; null is checked.
     let mem = KinMem(unsafe { sys::KINCreate(ctx.as_raw()) });
     if mem.0.is_null() {
@@ -706,6 +810,13 @@ pub fn kinsol_solve(
         if has_jacobian {
             check(
                 sys::KINSetJacFn(m, Some(kin_jacobian)),
+                "KINSetJacFn",
+                kinls_flag_name,
+            )?;
+        }
+        if band_widths.is_some() {
+            check(
+                sys::KINSetJacFn(m, Some(kin_band_jacobian)),
                 "KINSetJacFn",
                 kinls_flag_name,
             )?;

@@ -15,6 +15,80 @@
 
 #[path = "support/auto07p.rs"]
 mod auto07p;
+#[cfg(feature = "sundials")]
+#[path = "../tests/support/sundials.rs"]
+#[allow(dead_code)]
+mod sundials;
+#[cfg(feature = "sundials")]
+#[path = "../tests/support/rod_band.rs"]
+mod rod_band;
+
+/// SUNDIALS as a peer (`--features sundials`): natural-parameter
+/// continuation as a user without a continuation code would do it — α
+/// stepped by 0.25 from 0 to 10 (through 1, 2, 5, 10), each KINSOL solve
+/// (exact Newton, rodkit's analytic Jacobian, band direct solver on the
+/// rows reordered to a band, scaled like rodkit's residual tolerance 1e−10)
+/// started from the previous solution. Returns the tips at the four α,
+/// (KINSOL iterations, Jacobian evaluations, residual evaluations), time.
+#[cfg(feature = "sundials")]
+fn run_kinsol(rod: &Rod, tol: f64) -> Result<(Vec<[f64; 3]>, (i64, i64, i64), Duration), String> {
+    use rodkit::continuation::Problem;
+    let t = Instant::now();
+    let ctx = sundials::Context::new()?;
+    let sys = rod.system().map_err(|e| e.message)?;
+    let n = sys.dim();
+    let pattern = sys.pattern().clone();
+    let (order, upper, lower) = rod_band::band_layout(&pattern);
+    let mut position = vec![0; n];
+    for (new, &old) in order.iter().enumerate() {
+        position[old] = new;
+    }
+    let eq = sys.equation_scales();
+    let (us, _) = sys.unknown_scales();
+    let sys = std::cell::RefCell::new(sys);
+    let opts = sundials::KinsolOptions {
+        func_norm_tol: tol,
+        scaled_step_tol: 1e-16,
+        max_setup_calls: 1,
+        u_scale: Some(us.iter().map(|s| 1.0 / s).collect()),
+        f_scale: Some(order.iter().map(|&i| 1.0 / eq[i]).collect()),
+        ..Default::default()
+    };
+    let mut x = rod.straight_state();
+    let mut tips = vec![];
+    let mut totals = (0, 0, 0);
+    let mut r = vec![0.0; n];
+    let mut vals = vec![0.0; pattern.nnz()];
+    let mut dl = vec![0.0; n];
+    for step in 1..=40 {
+        let lambda = 0.25 * step as f64;
+        let residual = |u: &[f64], f: &mut [f64]| {
+            sys.borrow_mut().residual(u, lambda, &mut r);
+            for i in 0..n {
+                f[position[i]] = r[i];
+            }
+        };
+        let mut jac = |u: &[f64], m: &mut sundials::BandView| {
+            sys.borrow_mut().jacobian(u, lambda, &mut vals, &mut dl);
+            for j in 0..n {
+                for k in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
+                    let i = position[pattern.row_idx[k]];
+                    if j <= i + upper && i <= j + lower {
+                        m.set(i, j, vals[k]);
+                    }
+                }
+            }
+        };
+        let stats = sundials::kinsol_solve_band(&ctx, &mut x, residual, &mut jac, upper, lower, &opts)?;
+        totals.0 += stats.iterations;
+        totals.1 += stats.jacobian_evals;
+        totals.2 += stats.residual_evals;
+        if ALPHAS.contains(&lambda) {
+            tips.push(rod.tip(&x));
+        }
+    }
+    Ok((tips, totals, t.elapsed()))
+}
 
 use plotters::prelude::*;
 use rodkit::continuation::anm::{continue_anm, AnmOptions};
@@ -110,6 +184,8 @@ fn main() {
     let mut times: Vec<Vec<Duration>> = vec![vec![]; configs.len() * engines.len() + auto_ntst.len()];
     let mut results: Vec<Option<(Vec<[f64; 3]>, Counts)>> = vec![None; configs.len() * engines.len()];
     let mut auto_results: Vec<Option<auto07p::AutoRun>> = vec![None; auto_ntst.len()];
+    #[allow(unused_mut)]
+    let mut kinsol_results: Vec<Option<(Vec<[f64; 3]>, (i64, i64, i64), Vec<Duration>)>> = vec![None; configs.len()];
     for _ in 0..REPS {
         for (ci, &(scheme, n)) in configs.iter().enumerate() {
             let r = rod(scheme, n);
@@ -118,6 +194,18 @@ fn main() {
                 let k = ci * engines.len() + ei;
                 times[k].push(t);
                 results[k] = Some((tips, counts));
+            }
+        }
+        #[cfg(feature = "sundials")]
+        for (ci, &(scheme, n)) in configs.iter().enumerate() {
+            match run_kinsol(&rod(scheme, n), tol) {
+                Ok((tips, counts, t)) => {
+                    let entry = kinsol_results[ci].get_or_insert((tips, counts, vec![]));
+                    entry.2.push(t);
+                }
+                Err(e) => {
+                    let _ = writeln!(out, "KINSOL {scheme:?} × {n} failed: {e}");
+                }
             }
         }
         if auto_ok {
@@ -169,6 +257,22 @@ fn main() {
             });
         }
     }
+    for (ci, &(scheme, n)) in configs.iter().enumerate() {
+        if let Some((tips, (iters, jacs, res), times)) = &kinsol_results[ci] {
+            rows.push(Row {
+                method: "SUNDIALS KINSOL band".into(),
+                disc: format!("{scheme:?} × {n}"),
+                unknowns: rod(scheme, n).unknowns(),
+                time: median(times.clone()),
+                error: err(tips, &reference),
+                counts: Some(Counts { steps: 40, factorisations: *jacs as usize, solves: *iters as usize, residuals: *res as usize, jacobians: *jacs as usize, series_orders: 0 }),
+                auto_steps: None,
+            });
+        }
+    }
+    if cfg!(not(feature = "sundials")) {
+        let _ = writeln!(out, "SUNDIALS rows need `--features sundials` (natural-parameter KINSOL continuation): skipped");
+    }
     if !auto_ok {
         let _ = writeln!(out, "AUTO-07p not installed (apt-get install auto-07p): peer rows skipped");
     }
@@ -185,10 +289,11 @@ fn main() {
             _ => ("-".into(), "-".into(), "-".into(), "-".into(), "-".into()),
         };
         let _ = writeln!(out, "{:<26} {:<16} {:>6} {:>8.2}ms {:>9.1e} {:>6} {:>7} {:>7} {:>8} {:>7} {:>8} {:>8}", r.method, r.disc, r.unknowns, r.time.as_secs_f64() * 1e3, r.error, steps, fact, jac, res, ord,
-            if r.method.starts_with("rodkit") { ratio(newton) } else { "-".into() }, ratio(auto8));
+            if r.method != "AUTO-07p" { ratio(newton) } else { "-".into() }, ratio(auto8));
         let _ = writeln!(csv, "{},{},{},{},{},{},{},{},{},{}", r.method, r.disc, r.unknowns, r.time.as_secs_f64(), r.error, steps, fact, jac, res, ord);
     }
-    let _ = writeln!(out, "(AUTO: 'factor.' column is its Newton iteration count; each iteration factorises its collocation matrix)");
+    let _ = writeln!(out, "(AUTO: 'factor.' column is its Newton iteration count; each iteration factorises its collocation matrix.");
+    let _ = writeln!(out, " KINSOL: natural-parameter continuation α += 0.25, band solver on rows reordered to a band; 'steps' = solves, 'factor.' = Jacobian evaluations)");
     section_anm_knobs(&mut out, &dir);
     print!("{out}");
     fs::write(dir.join("report.txt"), &out).unwrap();
@@ -248,6 +353,7 @@ fn plot(path: &Path, rows: &[Row]) -> Result<(), Box<dyn std::error::Error>> {
         ("rodkit ANM", RGBColor(214, 39, 40), Box::new(|r: &Row| r.method.starts_with("rodkit ANM")) as Box<dyn Fn(&Row) -> bool>),
         ("rodkit Newton", RGBColor(31, 119, 180), Box::new(|r: &Row| r.method == "rodkit Newton")),
         ("AUTO-07p", RGBColor(44, 160, 44), Box::new(|r: &Row| r.method == "AUTO-07p")),
+        ("SUNDIALS KINSOL", RGBColor(148, 103, 189), Box::new(|r: &Row| r.method.starts_with("SUNDIALS"))),
     ] {
         let p = pts(&*f);
         chart.draw_series(p.iter().map(|&q| Circle::new(q, 5, color.filled())))?.label(name).legend(move |(x, y)| Circle::new((x + 10, y), 5, color.filled()));

@@ -1,4 +1,5 @@
-//! The bordered tangent B = [[R_x, R_Λ], [vᵀW, v_Λ/s_Λ²]] of a continuation,
+//! The bordered tangent B = [[R_x, R_Λ], [vᵀW]] of a continuation (W =
+//! diag(1/(n s_i²), 1/s_Λ²), the arc-length metric of [`super::Scaling`]),
 //! its sparse LU, and what both engines do with it: tangents, Newton
 //! corrections, determinant signs, the smallest singular value.
 //!

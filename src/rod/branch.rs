@@ -8,6 +8,8 @@ use crate::continuation::anm::{continue_anm, AnmOptions};
 use crate::continuation::bifurcation::{branch_start, Bifurcation};
 use crate::continuation::newton::{continue_newton, Start};
 use crate::continuation::system::AssembledSystem;
+use crate::continuation::bordered::Bordered;
+use crate::continuation::newton::correct;
 use crate::continuation::{Counts, Options, Problem, Record, Resume, Scaling, Stop};
 use crate::error::{self, Error, Result};
 use crate::status::Status;
@@ -137,7 +139,36 @@ impl Rod {
         let (sx, sl) = sys.unknown_scales();
         let mu_scale = sx.last().copied().unwrap_or(1.0);
         let scaling = opts.scaling.clone().unwrap_or(Scaling { x: sx, lambda: sl });
-        let start = branch_start(&bif, (&direction, *nl), first_step, &scaling);
+        let mut start = branch_start(&bif, (&direction, *nl), first_step, &scaling);
+        if let Some((node, azimuth)) = phase {
+            // First point with the buckle's amplitude fixed instead of the
+            // arc length: ⟨X − X_pred, e⟩ = 0 with e the phase node's
+            // displacement along the azimuth. Straight states (amplitude 0),
+            // where the unfolding vanishes and μ would be free, are excluded.
+            let mut sys = self.system_for(phase)?;
+            let mut bordered = Bordered::new(sys.pattern())?;
+            let mut counts = Counts::default();
+            let eq = sys.equation_scales();
+            let m = start.x.len();
+            let mut e = vec![0.0; m];
+            let at = self.node(node);
+            e[at] = azimuth.cos();
+            e[at + 1] = azimuth.sin();
+            let mut x: Vec<f64> = start.x.iter().zip(&start.tangent_x).map(|(a, t)| a + first_step * t).collect();
+            let mut l = start.lambda + first_step * start.tangent_lambda;
+            let anchor = x.clone();
+            let al = l;
+            correct(&mut sys, &mut bordered, &scaling, &eq, &mut x, &mut l, (&anchor, al), (&e, 0.0), opts.residual_tol, false, &mut counts)?;
+            let dx: Vec<f64> = x.iter().zip(&start.x).map(|(a, b)| a - b).collect();
+            let norm = scaling.norm(&dx, l - start.lambda);
+            start = Resume {
+                tangent_x: dx.iter().map(|v| v / norm).collect(),
+                tangent_lambda: (l - start.lambda) / norm,
+                x,
+                lambda: l,
+                step: first_step,
+            };
+        }
         let b = self.follow(Start::Resume(start), phase, opts, method, progress)?;
         if phase.is_some() {
             // μ = 0 on every tilted solution, but the unfolding vanishes on

@@ -341,6 +341,8 @@ module rodkit
         integer(c_int32_t) :: detect_bifurcations
         real(c_double) :: bifurcation_tol
         integer(c_int32_t) :: increasing
+        type(c_ptr) :: samples
+        integer(c_int64_t) :: sample_count
     end type rodkit_continuation_options
 
     ! RodkitBranchProgress (see rodkit.h).
@@ -381,6 +383,8 @@ module rodkit
         integer(c_int32_t) :: stop
         integer(c_int32_t) :: phase_condition
         integer(c_int64_t) :: state_length
+        integer(c_int64_t) :: samples
+        integer(c_int64_t) :: missed_samples
         integer(c_int64_t) :: steps
         integer(c_int64_t) :: factorisations
         integer(c_int64_t) :: solves
@@ -810,6 +814,26 @@ module rodkit
             integer(c_int64_t), intent(out) :: count
             integer(c_int32_t) :: status
         end function rodkit_branch_records
+
+        function rodkit_branch_samples(branch, samples, capacity, count) result(status) &
+                bind(c, name="rodkit_branch_samples")
+            import :: c_int32_t, c_int64_t, c_ptr, rodkit_branch_record
+            type(c_ptr), value :: branch
+            type(rodkit_branch_record), intent(inout) :: samples(*)
+            integer(c_int64_t), value :: capacity
+            integer(c_int64_t), intent(out) :: count
+            integer(c_int32_t) :: status
+        end function rodkit_branch_samples
+
+        function rodkit_branch_sample_state(branch, sample, x, n) result(status) &
+                bind(c, name="rodkit_branch_sample_state")
+            import :: c_double, c_int32_t, c_int64_t, c_ptr
+            type(c_ptr), value :: branch
+            integer(c_int64_t), value :: sample
+            real(c_double), intent(inout) :: x(*)
+            integer(c_int64_t), value :: n
+            integer(c_int32_t) :: status
+        end function rodkit_branch_sample_state
 
         function rodkit_branch_bifurcations(branch, rod, out, capacity, count) result(status) &
                 bind(c, name="rodkit_branch_bifurcations")

@@ -468,6 +468,13 @@ typedef struct RodkitContinuationOptions {
   double bifurcation_tol;
   // 1: leave the start towards increasing Λ (default), 0: decreasing.
   int32_t increasing;
+  // Dense output: `sample_count` loads Λ (borrowed for the call; NULL
+  // with 0, the default: none) at which the branch delivers points within
+  // residual_tol besides its records (rodkit_branch_samples). The ANM
+  // evaluates its series there (any Λ inside a step), Newton continuation
+  // interpolates and corrects.
+  const double *samples;
+  int64_t sample_count;
 } RodkitContinuationOptions;
 
 // What the branch progress callback is told after each point.
@@ -496,6 +503,10 @@ typedef struct RodkitBranchInfo {
   int32_t phase_condition;
   // Length of each state (rodkit_rod_unknowns, + 1 with a phase condition).
   int64_t state_length;
+  // Points delivered at the requested sample loads, and requested loads
+  // the branch crossed where the correction failed.
+  int64_t samples;
+  int64_t missed_samples;
   // Work: steps, factorisations, linear solves, residual and Jacobian
   // evaluations, ANM series orders.
   int64_t steps;
@@ -816,6 +827,22 @@ int32_t rodkit_branch_records(const struct RodkitBranch *branch,
                               struct RodkitBranchRecord *records,
                               int64_t capacity,
                               int64_t *count);
+
+// Copy up to `capacity` of the points delivered at the requested sample
+// loads (RodkitContinuationOptions.samples), in branch order, as records
+// (step, determinant signs 0; test_function NaN: not tracked); `count`
+// receives their number. Truncation and size queries as for
+// rodkit_branch_records.
+int32_t rodkit_branch_samples(const struct RodkitBranch *branch,
+                              struct RodkitBranchRecord *samples,
+                              int64_t capacity,
+                              int64_t *count);
+
+// The full state x of sample `sample` (length RodkitBranchInfo.state_length).
+int32_t rodkit_branch_sample_state(const struct RodkitBranch *branch,
+                                   int64_t sample,
+                                   double *x,
+                                   int64_t n);
 
 // Copy up to `capacity` located bifurcations; `count` receives their number.
 int32_t rodkit_branch_bifurcations(const struct RodkitBranch *branch,

@@ -129,7 +129,7 @@ pub fn solve_with_jacobian(
         if !opts.reuse_jacobian || t < 1.0 || contraction > 0.25 {
             lu = None;
         }
-        let dx = step.iter().zip(typical.iter()).map(|(d, s)| (t * d / s).abs()).fold(0.0, f64::max);
+        let dx = step.iter().zip(typical.iter()).map(|(d, s)| (t * d / s).abs()).fold(0.0, |a: f64, b: f64| if a.is_nan() || b.is_nan() { f64::NAN } else { a.max(b) });
         if dx <= opts.step_tol && f.amax() <= opts.residual_tol {
             return Ok(NewtonReport {
                 iterations: it + 1,

@@ -3,6 +3,7 @@
 //! detected on the straight branch (σ_min; no determinant changes sign),
 //! located, and the buckled branch followed with the phase condition.
 
+use rodkit::continuation::anm::AnmOptions;
 use rodkit::continuation::bifurcation::branch_start;
 use rodkit::continuation::newton::{continue_newton, Start};
 use rodkit::continuation::{Options, Problem, Scaling, Stop};
@@ -303,7 +304,29 @@ fn non_planar_post_buckled_branch_is_regular() {
         non_planar = non_planar.max((az(rod.elements / 4) - az(rod.elements / 2)).sin().abs());
     }
     assert!(non_planar > 0.1, "the branch stayed planar ({non_planar})");
-    assert!(b.records.last().unwrap().lambda < straight.bifurcations[0].lambda, "subcritical");
+    // Λ rises with the buckle's amplitude (the first point, at arc length
+    // 0.05 along the null direction, is above the critical load): the same
+    // branch by the ANM, switched independently, gives the same states at
+    // the same loads (dense samples), and Newton's own samples agree.
+    let lc = straight.bifurcations[0].lambda;
+    let samples = vec![lc + 2e-3, lc + 5e-3, lc + 1e-2];
+    let opts = Options { samples: samples.clone(), ..opts };
+    let bn = rod.switch_branch(&straight, 0, 0, 0.05, &opts, rodkit::rod::branch::Method::Newton, |_| true).unwrap();
+    let ba = rod.switch_branch(&straight, 0, 0, 0.05, &opts, rodkit::rod::branch::Method::Anm(AnmOptions { order: 20, epsilon: 1e-8 }), |_| true).unwrap();
+    assert_eq!(bn.samples.len(), 3, "Newton samples {:?}", bn.samples.iter().map(|s| s.lambda).collect::<Vec<_>>());
+    assert_eq!(ba.samples.len(), 3, "ANM samples {:?}", ba.samples.iter().map(|s| s.lambda).collect::<Vec<_>>());
+    for k in 0..3 {
+        let (tn, ta) = (rod.tip(&bn.sample_states[k]), rod.tip(&ba.sample_states[k]));
+        let mid = |x: &[f64]| rod.positions(x)[rod.elements / 2];
+        let (mn, ma) = (mid(&bn.sample_states[k]), mid(&ba.sample_states[k]));
+        let d = (0..3).map(|i| (tn[i] - ta[i]).abs().max((mn[i] - ma[i]).abs())).fold(0.0, f64::max);
+        // Same discrete equations, both within residual 1e-11: the states
+        // agree to the conditioning times that (1e-8 here).
+        assert!(d < 1e-8, "Λ {}: Newton and ANM differ by {d:e}", samples[k]);
+        assert!(bn.samples[k].residual <= 1e-11 && ba.samples[k].residual <= 1e-11);
+        // Off the straight branch: the mid node is displaced sideways.
+        assert!(mn[0].hypot(mn[1]) > 1e-3, "sample {k} is straight");
+    }
 }
 
 /// Hemitropic rod (twist–stretch g, bend–shear c2; physics.md §2.2) under an
@@ -398,6 +421,9 @@ fn non_planar_symmetric_branch_with_phase_condition() {
         resume: rodkit::continuation::Resume { x: vec![], lambda: 0.0, tangent_x: vec![], tangent_lambda: 0.0, step: 0.0 },
         phase: None,
         contact: None,
+        samples: vec![],
+        sample_states: vec![],
+        missed_samples: vec![],
     };
     let opts = Options { residual_tol: 1e-11, max_step: 0.1, max_steps: 20, track_singular: true, ..Default::default() };
     let b = rod.switch_branch(&branch, 0, 0, 0.05, &opts, rodkit::rod::branch::Method::Newton, |_| true).unwrap();

@@ -190,6 +190,13 @@ pub struct ContinuationOptions {
     pub bifurcation_tol: f64,
     /// 1: leave the start towards increasing Λ (default), 0: decreasing.
     pub increasing: i32,
+    /// Dense output: `sample_count` loads Λ (borrowed for the call; NULL
+    /// with 0, the default: none) at which the branch delivers points within
+    /// residual_tol besides its records (rodkit_branch_samples). The ANM
+    /// evaluates its series there (any Λ inside a step), Newton continuation
+    /// interpolates and corrects.
+    pub samples: *const f64,
+    pub sample_count: i64,
 }
 
 /// What the branch progress callback is told after each point.
@@ -258,6 +265,10 @@ pub struct BranchInfo {
     pub phase_condition: i32,
     /// Length of each state (rodkit_rod_unknowns, + 1 with a phase condition).
     pub state_length: i64,
+    /// Points delivered at the requested sample loads, and requested loads
+    /// the branch crossed where the correction failed.
+    pub samples: i64,
+    pub missed_samples: i64,
     /// Work: steps, factorisations, linear solves, residual and Jacobian
     /// evaluations, ANM series orders.
     pub steps: i64,
@@ -306,7 +317,11 @@ pub struct Rod {
 pub struct Branch {
     branch: RodBranch,
     records: Vec<BranchRecord>,
+    samples: Vec<BranchRecord>,
     state_length: usize,
+    /// The rod it was computed with: a branch handed back with another rod
+    /// is refused (its states would be misread).
+    model: Model,
 }
 
 fn frame(name: &str, v: i32) -> Result<Option<Frame>> {
@@ -397,7 +412,7 @@ fn model_from(s: &RodSpec, general: Option<Matrix6<f64>>) -> Result<Model> {
     }
 }
 
-fn options_from(o: &ContinuationOptions) -> Result<(Options, Method, bool)> {
+unsafe fn options_from(o: &ContinuationOptions) -> Result<(Options, Method, bool)> {
     let method = match o.method {
         1 => {
             if !(2..=60).contains(&o.anm_order) {
@@ -433,6 +448,14 @@ fn options_from(o: &ContinuationOptions) -> Result<(Options, Method, bool)> {
         detect_bifurcations: flag("detect_bifurcations", o.detect_bifurcations)?,
         bifurcation_tol: o.bifurcation_tol,
         scaling: None,
+        samples: if o.sample_count == 0 && o.samples.is_null() {
+            Vec::new()
+        } else {
+            error::count_in_range("sample_count", o.sample_count, 0, 1 << 24)?;
+            let s = in_slice("samples", o.samples, o.sample_count)?;
+            error::finite_result("samples", s)?;
+            s.to_vec()
+        },
     };
     Ok((opts, method, flag("increasing", o.increasing)?))
 }
@@ -457,40 +480,64 @@ fn stop_code(stop: Stop) -> BranchStop {
     }
 }
 
+fn record_of(model: &Model, n: usize, lambda: f64, x: &[f64]) -> BranchRecord {
+    let tip = model.tip(x);
+    let (f, m) = model.spatial_force_moment(x, 0);
+    BranchRecord {
+        lambda,
+        tip_x: tip[0],
+        tip_y: tip[1],
+        tip_z: tip[2],
+        tip_rotation: model.tip_rotation(x),
+        base_force_x: f[0],
+        base_force_y: f[1],
+        base_force_z: f[2],
+        base_moment_x: m[0],
+        base_moment_y: m[1],
+        base_moment_z: m[2],
+        unfolding: if x.len() > n { x[n] } else { 0.0 },
+        end_rotation: model.end_rotation(x, lambda).unwrap_or(0.0),
+        ..Default::default()
+    }
+}
+
 fn wrap(model: &Model, branch: RodBranch) -> Branch {
     let n = model.unknowns();
     let records = branch
         .records
         .iter()
         .zip(&branch.states)
-        .map(|(r, x)| {
-            let tip = model.tip(x);
-            let (f, m) = model.spatial_force_moment(x, 0);
-            BranchRecord {
-                lambda: r.lambda,
-                residual: r.residual,
-                step: r.step,
-                det_sign: r.det_sign,
-                bordered_det_sign: r.bordered_det_sign,
-                test_function: r.smallest_singular_value.unwrap_or(f64::NAN),
-                newton_iterations: r.newton_iterations as i64,
-                tip_x: tip[0],
-                tip_y: tip[1],
-                tip_z: tip[2],
-                tip_rotation: model.tip_rotation(x),
-                base_force_x: f[0],
-                base_force_y: f[1],
-                base_force_z: f[2],
-                base_moment_x: m[0],
-                base_moment_y: m[1],
-                base_moment_z: m[2],
-                unfolding: if x.len() > n { x[n] } else { 0.0 },
-                end_rotation: model.end_rotation(x, r.lambda).unwrap_or(0.0),
-            }
+        .map(|(r, x)| BranchRecord {
+            residual: r.residual,
+            step: r.step,
+            det_sign: r.det_sign,
+            bordered_det_sign: r.bordered_det_sign,
+            test_function: r.smallest_singular_value.unwrap_or(f64::NAN),
+            newton_iterations: r.newton_iterations as i64,
+            ..record_of(model, n, r.lambda, x)
+        })
+        .collect();
+    let samples = branch
+        .samples
+        .iter()
+        .zip(&branch.sample_states)
+        .map(|(s, x)| BranchRecord {
+            residual: s.residual,
+            test_function: f64::NAN,
+            newton_iterations: s.newton_iterations as i64,
+            ..record_of(model, n, s.lambda, x)
         })
         .collect();
     let state_length = n + branch.phase.is_some() as usize;
-    Branch { branch, records, state_length }
+    Branch { branch, records, samples, state_length, model: model.clone() }
+}
+
+/// The branch, checked to belong to `rod`.
+fn same_rod<'a>(rod: &Rod, branch: &'a Branch) -> Result<&'a Branch> {
+    if branch.model != rod.model {
+        return Err(Error::new(Status::ErrOutOfRange, "argument `branch` was computed with another rod than `rod`"));
+    }
+    Ok(branch)
 }
 
 /// Run `f` with a Rust progress closure forwarding to the C callback.
@@ -591,6 +638,8 @@ pub unsafe extern "C" fn rodkit_continuation_options_default(options: *mut Conti
             detect_bifurcations: 0,
             bifurcation_tol: d.bifurcation_tol,
             increasing: 1,
+            samples: std::ptr::null(),
+            sample_count: 0,
         };
         Ok(Status::Ok)
     })
@@ -748,7 +797,7 @@ pub unsafe extern "C" fn rodkit_branch_resume(
             *o = std::ptr::null_mut();
         }
         let rod = arg_ref("rod", rod)?;
-        let from = arg_ref("branch", branch)?;
+        let from = same_rod(rod, arg_ref("branch", branch)?)?;
         let (opts, method, _) = options_from(arg_ref("options", options)?).map_err(|e| qualify_argument(e, "options."))?;
         let b = with_progress(&rod.model, progress, user_data, |cb| rod.model.resume_branch(&from.branch, &opts, method, cb))?;
         store_branch(rod, b, out)
@@ -777,7 +826,7 @@ pub unsafe extern "C" fn rodkit_branch_switch(
             *o = std::ptr::null_mut();
         }
         let rod = arg_ref("rod", rod)?;
-        let from = arg_ref("branch", branch)?;
+        let from = same_rod(rod, arg_ref("branch", branch)?)?;
         error::count_in_range("index", index, 0, i64::MAX)?;
         error::count_in_range("direction", direction, 0, i64::MAX)?;
         let (opts, method, _) = options_from(arg_ref("options", options)?).map_err(|e| qualify_argument(e, "options."))?;
@@ -810,6 +859,8 @@ pub unsafe extern "C" fn rodkit_branch_summary(branch: *const Branch, info: *mut
             stop: stop_code(b.branch.stop) as i32,
             phase_condition: b.branch.phase.is_some() as i32,
             state_length: b.state_length as i64,
+            samples: b.samples.len() as i64,
+            missed_samples: b.branch.missed_samples.len() as i64,
             steps: c.steps as i64,
             factorisations: c.factorisations as i64,
             solves: c.solves as i64,
@@ -846,12 +897,47 @@ pub unsafe extern "C" fn rodkit_branch_records(branch: *const Branch, records: *
     })
 }
 
+/// Copy up to `capacity` of the points delivered at the requested sample
+/// loads (RodkitContinuationOptions.samples), in branch order, as records
+/// (step, determinant signs 0; test_function NaN: not tracked); `count`
+/// receives their number. Truncation and size queries as for
+/// rodkit_branch_records.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_branch_samples(branch: *const Branch, samples: *mut BranchRecord, capacity: i64, count: *mut i64) -> i32 {
+    guard(|| {
+        let b = arg_ref("branch", branch)?;
+        error::count_in_range("capacity", capacity, 0, i64::MAX)?;
+        let total = b.samples.len();
+        *arg_mut("count", count)? = total as i64;
+        let k = total.min(capacity as usize);
+        if k > 0 {
+            if samples.is_null() {
+                return Err(null_error("samples"));
+            }
+            std::slice::from_raw_parts_mut(samples, k).copy_from_slice(&b.samples[..k]);
+        }
+        Ok(if k < total { Status::InfoTruncated } else { Status::Ok })
+    })
+}
+
+/// The full state x of sample `sample` (length RodkitBranchInfo.state_length).
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_branch_sample_state(branch: *const Branch, sample: i64, x: *mut f64, n: i64) -> i32 {
+    guard(|| {
+        let b = arg_ref("branch", branch)?;
+        error::count_in_range("sample", sample, 0, b.samples.len() as i64 - 1)?;
+        check_len("n", n, b.state_length as i64)?;
+        out_slice("x", x, n)?.copy_from_slice(&b.branch.sample_states[sample as usize]);
+        Ok(Status::Ok)
+    })
+}
+
 /// Copy up to `capacity` located bifurcations; `count` receives their number.
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_branch_bifurcations(branch: *const Branch, rod: *const Rod, out: *mut Bifurcation, capacity: i64, count: *mut i64) -> i32 {
     guard(|| {
-        let b = arg_ref("branch", branch)?;
         let rod = arg_ref("rod", rod)?;
+        let b = same_rod(rod, arg_ref("branch", branch)?)?;
         error::count_in_range("capacity", capacity, 0, i64::MAX)?;
         let total = b.branch.bifurcations.len();
         *arg_mut("count", count)? = total as i64;
@@ -898,13 +984,14 @@ pub unsafe extern "C" fn rodkit_branch_state(branch: *const Branch, record: i64,
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_branch_positions(branch: *const Branch, rod: *const Rod, record: i64, xyz: *mut f64, ld: i64, nodes: i64) -> i32 {
     guard(|| {
-        let b = arg_ref("branch", branch)?;
         let rod = arg_ref("rod", rod)?;
+        let b = same_rod(rod, arg_ref("branch", branch)?)?;
         error::count_in_range("record", record, 0, b.records.len() as i64 - 1)?;
         error::count_in_range("ld", ld, 3, i64::MAX / 64)?;
         check_len("nodes", nodes, rod.model.elements as i64 + 1)?;
         let p = rod.model.positions(&b.branch.states[record as usize]);
-        let out = out_slice("xyz", xyz, ld * (nodes - 1) + 3)?;
+        let len = ld.checked_mul(nodes - 1).and_then(|v| v.checked_add(3)).ok_or_else(|| Error::new(Status::ErrOutOfRange, format!("argument `ld` ({ld}) times the nodes overflows")))?;
+        let out = out_slice("xyz", xyz, len)?;
         for (i, r) in p.iter().enumerate() {
             out[i * ld as usize..i * ld as usize + 3].copy_from_slice(r);
         }

@@ -25,7 +25,9 @@
 use super::bordered::Bordered;
 use super::bifurcation::{Bifurcation, State};
 use super::newton::{correct, detect, make_record, residual_norm, validate, Start};
-use super::{Branch, Counts, Options, Record, Resume, Scaling, SeriesProblem, Stop};
+use super::newton::deliver_sample;
+use super::{all_roots, first_root};
+use super::{Branch, Counts, Options, Record, Resume, Sample, Scaling, SeriesProblem, Stop};
 use crate::error::{self, Error, Result};
 use crate::status::Status;
 
@@ -77,32 +79,19 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             (x, l, e_lambda.clone(), if increasing { 1.0 } else { -1.0 }, it)
         }
         Start::Resume(r) => {
-            if bordered.factorise_at(problem, &r.x, r.lambda, &r.tangent_x, r.tangent_lambda, &scaling, &mut counts).is_ok() {
-                (r.x, r.lambda, r.tangent_x, r.tangent_lambda, 0)
-            } else {
-                // A resume at a singular point (a bifurcation, for branch
-                // switching): the series needs a regular expansion point, so
-                // the first step is a Newton predictor–corrector step along
-                // the given direction, halved until it converges.
-                let mut ds = r.step;
-                loop {
-                    let mut x: Vec<f64> = r.x.iter().zip(&r.tangent_x).map(|(a, t)| a + ds * t).collect();
-                    let mut l = r.lambda + ds * r.tangent_lambda;
-                    let anchor = x.clone();
-                    let al = l;
-                    if let Ok((it, _)) = correct(problem, &mut bordered, &scaling, &eq, &mut x, &mut l, (&anchor, al), (&r.tangent_x, r.tangent_lambda), opts.residual_tol, false, &mut counts) {
-                        let dx: Vec<f64> = x.iter().zip(&r.x).map(|(a, b)| a - b).collect();
-                        let norm = scaling.norm(&dx, l - r.lambda);
-                        let vx = dx.iter().map(|v| v / norm).collect();
-                        break (x, l, vx, (l - r.lambda) / norm, it);
-                    }
-                    ds *= 0.5;
-                    if ds < opts.min_step {
-                        return Err(Error::new(Status::ErrNotConverged, "ANM: no regular point found along the start direction (singular start)"));
-                    }
-                }
+            match bordered.factorise_at(problem, &r.x, r.lambda, &r.tangent_x, r.tangent_lambda, &scaling, &mut counts) {
+                Ok(()) => (r.x, r.lambda, r.tangent_x, r.tangent_lambda, 0),
+                // Exactly singular: a resume at a bifurcation point; leave it
+                // as a switch does.
+                Err(e) if e.status == Status::ErrNotConverged => leave_singular(problem, &mut bordered, &scaling, &eq, &r, opts, &mut counts)?,
+                Err(e) => return Err(e),
             }
         }
+        // A switch at a (near-)singular point: the series needs a regular
+        // expansion point and a tangent that is not the nearly singular
+        // matrix's arbitrary null mix, so the first step is a Newton
+        // predictor–corrector step along the given direction.
+        Start::Switch(r) => leave_singular(problem, &mut bordered, &scaling, &eq, &r, opts, &mut counts)?,
     };
     let mut records: Vec<Record> = Vec::new();
     let mut pending_iterations = first_iterations;
@@ -116,6 +105,14 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
     let mut at_target = false;
     let mut bifurcations: Vec<Bifurcation> = Vec::new();
     let mut history: Vec<State> = Vec::new();
+    let mut samples: Vec<Sample> = Vec::new();
+    let mut missed: Vec<f64> = Vec::new();
+    let mut refactorised = false;
+    let mut r = vec![0.0; n];
+    if opts.target_lambda == Some(lambda) {
+        // Starting on the target: the start is the answer.
+        at_target = true;
+    }
 
     for step in 0..=opts.max_steps {
         // One factorisation at X0 with the border v.
@@ -123,7 +120,7 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             if records.is_empty() {
                 return Err(e);
             }
-            return Ok(finish(Stop::StepTooSmall, x, lambda, vx, vl, last_a, records, counts, std::mem::take(&mut bifurcations)));
+            return Ok(finish(Stop::StepTooSmall, x, lambda, vx, vl, last_a, records, counts, std::mem::take(&mut bifurcations)).with_samples(samples, missed));
         }
         let (x1, l1) = bordered.tangent(&scaling, &mut counts)?;
         // The record of X0 (its determinant signs need this factorisation).
@@ -146,13 +143,13 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             }
         }
         if at_target {
-            return Ok(finish(Stop::Target, x, lambda, x1, l1, last_a, records, counts, std::mem::take(&mut bifurcations)));
+            return Ok(finish(Stop::Target, x, lambda, x1, l1, last_a, records, counts, std::mem::take(&mut bifurcations)).with_samples(samples, missed));
         }
         if !go_on {
-            return Ok(finish(Stop::Cancelled, x, lambda, x1, l1, last_a, records, counts, std::mem::take(&mut bifurcations)));
+            return Ok(finish(Stop::Cancelled, x, lambda, x1, l1, last_a, records, counts, std::mem::take(&mut bifurcations)).with_samples(samples, missed));
         }
         if step == opts.max_steps {
-            return Ok(finish(Stop::MaxSteps, x, lambda, x1, l1, last_a, records, counts, std::mem::take(&mut bifurcations)));
+            return Ok(finish(Stop::MaxSteps, x, lambda, x1, l1, last_a, records, counts, std::mem::take(&mut bifurcations)).with_samples(samples, missed));
         }
 
         // The series.
@@ -179,19 +176,52 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             counts.series_orders += 1;
         }
         // Step length from the last term (and the one before: a series with
-        // vanishing odd or even terms would otherwise overshoot).
+        // vanishing odd or even terms would otherwise overshoot). A
+        // non-finite term (a blown-up evaluation) gives a zero step.
         let norm_of = |v: &[f64]| scaling.norm(&v[..n], v[n]);
         let radius = |p: usize| {
             let t = norm_of(&series[p]);
-            if t > 0.0 { (anm.epsilon / t).powf(1.0 / (p - 1) as f64) } else { f64::INFINITY }
+            if !t.is_finite() {
+                0.0
+            } else if t > 0.0 {
+                (anm.epsilon / t).powf(1.0 / (p - 1) as f64)
+            } else {
+                f64::INFINITY
+            }
         };
         let mut a = if p_max > 2 { radius(p_max).min(radius(p_max - 1)) } else { radius(p_max) };
         a = a.min(opts.max_step);
         if !(a >= opts.min_step) {
-            return Ok(finish(Stop::StepTooSmall, x, lambda, x1, l1, a, records, counts, std::mem::take(&mut bifurcations)));
+            return Ok(finish(Stop::StepTooSmall, x, lambda, x1, l1, a, records, counts, std::mem::take(&mut bifurcations)).with_samples(samples, missed));
+        }
+        let lam_at = |t: f64| series.iter().rev().fold(0.0, |acc, c| acc * t + c[n]);
+        // Dense output: every requested Λ the step crosses, from the series
+        // (corrected on this step's factorisation when its residual is
+        // above the tolerance).
+        if !opts.samples.is_empty() {
+            let lam0 = lambda;
+            let lam1 = lam_at(a);
+            for &target in &opts.samples {
+                if (target - lam0) * (target - lam1) > 0.0 || target == lam0 {
+                    continue;
+                }
+                for t in all_roots(|t| lam_at(t) - target, a) {
+                    let mut xs = vec![0.0; n];
+                    evaluate(&series, t, &mut xs, None);
+                    let sample = deliver_sample(problem, &mut bordered, &scaling, &eq, &mut xs, target, (&x1, l1), opts.residual_tol, &mut counts, &mut refactorised);
+                    match sample {
+                        Ok((iterations, residual)) => samples.push(Sample { lambda: target, outputs: observe(&xs, target), residual, newton_iterations: iterations }),
+                        Err(_) => missed.push(target),
+                    }
+                }
+            }
+            if refactorised {
+                // A sample needed a fresh factorisation: restore the step's.
+                bordered.factorise_at(problem, &x, lambda, &vx, vl, &scaling, &mut counts)?;
+                refactorised = false;
+            }
         }
         // A target Λ inside the step: the first root of Λ(a) − Λt on (0, a].
-        let lam_at = |t: f64| series.iter().rev().fold(0.0, |acc, c| acc * t + c[n]);
         let mut stop = None;
         if let Some(target) = opts.target_lambda {
             if let Some(at) = first_root(|t| lam_at(t) - target, a) {
@@ -199,103 +229,120 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
                 stop = Some(Stop::Target);
             }
         }
-        // Evaluate X(a) and the series' tangent there.
+        // The end point, corrected: chord on this step's factorisation
+        // (border v), or at fixed Λ for a target point. A correction that
+        // fails halves the step (a series evaluated too far out).
         let mut xn = vec![0.0; n];
         let mut tn = vec![0.0; n + 1];
-        for i in 0..=n {
-            let (mut v, mut d) = (0.0, 0.0);
-            for p in (0..=p_max).rev() {
-                v = v * a + series[p][i];
-                if p >= 1 {
-                    d = d * a + p as f64 * series[p][i];
-                }
+        let (mut ln, iterations, series_residual) = loop {
+            evaluate(&series, a, &mut xn, Some(&mut tn));
+            let mut ln = if stop == Some(Stop::Target) { opts.target_lambda.expect("a target stop has a target") } else { lam_at(a) };
+            // Λ range: stop before leaving it.
+            if stop.is_none() && !(ln >= opts.lambda_range.0 && ln <= opts.lambda_range.1) {
+                return Ok(finish(Stop::LambdaRange, x, lambda, x1, l1, a, records, counts, std::mem::take(&mut bifurcations)).with_samples(samples, missed));
             }
-            if i < n {
-                xn[i] = v;
+            problem.residual(&xn, ln, &mut r);
+            counts.residuals += 1;
+            let series_residual = residual_norm(&r, &eq);
+            if series_residual <= opts.residual_tol {
+                break (ln, 0, series_residual);
             }
-            tn[i] = d;
-        }
-        let mut ln = lam_at(a);
-        // Λ range: stop before leaving it.
-        if stop.is_none() && !(ln >= opts.lambda_range.0 && ln <= opts.lambda_range.1) {
-            return Ok(finish(Stop::LambdaRange, x, lambda, x1, l1, a, records, counts, std::mem::take(&mut bifurcations)));
-        }
-        // Correction: chord on this step's factorisation (border v), or at
-        // fixed Λ for a target point.
-        let mut r = vec![0.0; n];
-        problem.residual(&xn, ln, &mut r);
-        counts.residuals += 1;
-        let mut iterations = 0;
-        let series_residual = residual_norm(&r, &eq);
-        pending_series_residual = Some(series_residual);
-        if series_residual > opts.residual_tol {
             let anchor = xn.clone();
+            let anchor_l = ln;
             let result = if stop == Some(Stop::Target) {
-                let target = ln;
-                correct(problem, &mut bordered, &scaling, &eq, &mut xn, &mut ln, (&anchor, target), (&e_lambda, 1.0), opts.residual_tol, false, &mut counts)
+                correct(problem, &mut bordered, &scaling, &eq, &mut xn, &mut ln, (&anchor, anchor_l), (&e_lambda, 1.0), opts.residual_tol, false, &mut counts)
             } else {
-                let anchor_l = ln;
                 correct(problem, &mut bordered, &scaling, &eq, &mut xn, &mut ln, (&anchor, anchor_l), (&vx, vl), opts.residual_tol, true, &mut counts)
             };
             match result {
-                Ok((it, _)) => iterations = it,
-                Err(e) => {
-                    return Err(Error::new(Status::ErrNotConverged, format!("ANM step {step}: the end point did not correct ({})", e.message)));
+                Ok((it, _)) => break (ln, it, series_residual),
+                Err(_) => {
+                    // Back to this step's factorisation, half the step, no
+                    // target inside it any more.
+                    a *= 0.5;
+                    stop = None;
+                    if !(a >= opts.min_step) {
+                        return Ok(finish(Stop::StepTooSmall, x, lambda, x1, l1, a, records, counts, std::mem::take(&mut bifurcations)).with_samples(samples, missed));
+                    }
+                    bordered.factorise_at(problem, &x, lambda, &vx, vl, &scaling, &mut counts)?;
                 }
             }
-        }
+        };
+        pending_series_residual = Some(series_residual);
         counts.steps += 1;
         let tnorm = scaling.norm(&tn[..n], tn[n]);
         vx = tn[..n].iter().map(|v| v / tnorm).collect();
         vl = tn[n] / tnorm;
         pending_step = scaling.norm(&x.iter().zip(&xn).map(|(p, q)| q - p).collect::<Vec<_>>(), ln - lambda);
         pending_iterations = iterations;
-        x = xn;
-        lambda = ln;
-        last_a = a;
         if stop == Some(Stop::Target) {
             // Recorded at the loop's top, after its factorisation.
             at_target = true;
-            lambda = opts.target_lambda.expect("a target stop has a target");
+            ln = opts.target_lambda.expect("a target stop has a target");
         }
+        x = xn;
+        lambda = ln;
+        last_a = a;
     }
     unreachable!("the loop returns")
 }
 
-/// The first root of g on (0, b]: a scan in 64 pieces then bisection.
-fn first_root(g: impl Fn(f64) -> f64, b: f64) -> Option<f64> {
-    let pieces = 64;
-    let mut a0 = 0.0;
-    let mut g0 = g(0.0);
-    if g0 == 0.0 {
-        return None; // starting on the target: not a crossing
-    }
-    for k in 1..=pieces {
-        let a1 = b * k as f64 / pieces as f64;
-        let g1 = g(a1);
-        if g0 * g1 <= 0.0 {
-            let (mut lo, mut hi, mut glo) = (a0, a1, g0);
-            for _ in 0..100 {
-                let mid = 0.5 * (lo + hi);
-                let gm = g(mid);
-                if gm == 0.0 {
-                    return Some(mid);
-                }
-                if gm * glo < 0.0 {
-                    hi = mid;
-                } else {
-                    lo = mid;
-                    glo = gm;
-                }
+/// The first point off a singular point `r` along its direction: a Newton
+/// predictor–corrector step of length r.step (halved until it converges),
+/// with the secant as the next border.
+#[allow(clippy::too_many_arguments)]
+fn leave_singular<P: SeriesProblem + ?Sized>(
+    problem: &mut P,
+    bordered: &mut Bordered,
+    scaling: &Scaling,
+    eq: &[f64],
+    r: &Resume,
+    opts: &Options,
+    counts: &mut Counts,
+) -> Result<(Vec<f64>, f64, Vec<f64>, f64, usize)> {
+    let mut ds = r.step.min(opts.max_step);
+    loop {
+        let mut x: Vec<f64> = r.x.iter().zip(&r.tangent_x).map(|(a, t)| a + ds * t).collect();
+        let mut l = r.lambda + ds * r.tangent_lambda;
+        let anchor = x.clone();
+        let al = l;
+        if let Ok((it, _)) = correct(problem, bordered, scaling, eq, &mut x, &mut l, (&anchor, al), (&r.tangent_x, r.tangent_lambda), opts.residual_tol, false, counts) {
+            let dx: Vec<f64> = x.iter().zip(&r.x).map(|(a, b)| a - b).collect();
+            let norm = scaling.norm(&dx, l - r.lambda);
+            if norm > 0.0 && norm.is_finite() {
+                let vx = dx.iter().map(|v| v / norm).collect();
+                return Ok((x, l, vx, (l - r.lambda) / norm, it));
             }
-            return Some(0.5 * (lo + hi));
         }
-        (a0, g0) = (a1, g1);
+        ds *= 0.5;
+        if !(ds >= opts.min_step) {
+            return Err(Error::new(Status::ErrNotConverged, "ANM: no regular point found along the start direction (singular start)"));
+        }
     }
-    None
+}
+
+/// X(t) (and dX/da at t into `d`) from the stored series.
+fn evaluate(series: &[Vec<f64>], t: f64, x: &mut [f64], mut d: Option<&mut [f64]>) {
+    let n = x.len();
+    let p_max = series.len() - 1;
+    for i in 0..=n {
+        let (mut v, mut dv) = (0.0, 0.0);
+        for p in (0..=p_max).rev() {
+            v = v * t + series[p][i];
+            if p >= 1 {
+                dv = dv * t + p as f64 * series[p][i];
+            }
+        }
+        if i < n {
+            x[i] = v;
+        }
+        if let Some(d) = d.as_deref_mut() {
+            d[i] = dv;
+        }
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
 fn finish(stop: Stop, x: Vec<f64>, lambda: f64, tx: Vec<f64>, tl: f64, step: f64, records: Vec<Record>, counts: Counts, bifurcations: Vec<Bifurcation>) -> Branch {
-    Branch { records, bifurcations, stop, resume: Resume { x, lambda, tangent_x: tx, tangent_lambda: tl, step }, counts }
+    Branch { records, bifurcations, stop, resume: Resume { x, lambda, tangent_x: tx, tangent_lambda: tl, step }, counts, samples: Vec::new(), missed_samples: Vec::new() }
 }

@@ -56,6 +56,16 @@ pub trait SeriesProblem: Problem {
     fn series_order(&mut self, p: usize, xp: &[f64], lambda_p: f64, out: &mut [f64]);
 }
 
+/// max(a, b) that keeps NaN (f64::max drops it: a NaN residual would score
+/// 0 and pass every tolerance).
+pub(crate) fn nan_max(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else {
+        a.max(b)
+    }
+}
+
 /// Typical magnitudes of the unknowns and Λ: the arc-length inner product
 /// and every relative tolerance use them.
 #[derive(Clone, Debug, PartialEq)]
@@ -88,7 +98,7 @@ impl Scaling {
 
     /// max_i |x_i| / s_i (with Λ): the scaled max norm of a change.
     pub fn max_norm(&self, x: &[f64], l: f64) -> f64 {
-        x.iter().zip(&self.x).map(|(a, w)| (a / w).abs()).fold((l / self.lambda).abs(), f64::max)
+        x.iter().zip(&self.x).map(|(a, w)| (a / w).abs()).fold((l / self.lambda).abs(), nan_max)
     }
 }
 
@@ -131,6 +141,19 @@ pub struct Record {
     pub series_residual: Option<f64>,
 }
 
+/// A point of the branch delivered at a requested load ([`Options::samples`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sample {
+    pub lambda: f64,
+    /// The observer's outputs, as for records.
+    pub outputs: Vec<f64>,
+    /// Scaled residual max |R_i| / e_i (≤ the tolerance).
+    pub residual: f64,
+    /// Newton iterations its correction took (0: the series' or the
+    /// interpolant's value was already within the tolerance).
+    pub newton_iterations: usize,
+}
+
 /// Why a continuation returned.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stop {
@@ -171,6 +194,12 @@ pub struct Options {
     pub bifurcation_tol: f64,
     /// Scaling (None: the problem's own).
     pub scaling: Option<Scaling>,
+    /// Dense output: the loads Λ at which to deliver points of the branch
+    /// (every crossing, within `residual_tol`), besides the records. The
+    /// ANM evaluates its series there (any Λ inside a step) and corrects on
+    /// the step's factorisation; Newton continuation interpolates between
+    /// its points (cubic Hermite) and corrects.
+    pub samples: Vec<f64>,
 }
 
 impl Default for Options {
@@ -187,6 +216,7 @@ impl Default for Options {
             detect_bifurcations: false,
             bifurcation_tol: 1e-10,
             scaling: None,
+            samples: Vec::new(),
         }
     }
 }
@@ -212,4 +242,66 @@ pub struct Branch {
     pub stop: Stop,
     pub resume: Resume,
     pub counts: Counts,
+    /// Points at the requested loads, in branch order.
+    pub samples: Vec<Sample>,
+    /// Requested loads the branch crossed but where no point within the
+    /// tolerance was found (the correction did not converge).
+    pub missed_samples: Vec<f64>,
 }
+
+impl Branch {
+    pub(crate) fn with_samples(mut self, samples: Vec<Sample>, missed: Vec<f64>) -> Self {
+        self.samples = samples;
+        self.missed_samples = missed;
+        self
+    }
+}
+
+/// Every root of g on (0, b] (sign changes over 64 pieces, bisected): a
+/// step that passes a fold crosses a load twice.
+pub(crate) fn all_roots(g: impl Fn(f64) -> f64, b: f64) -> Vec<f64> {
+    let mut roots = Vec::new();
+    let mut lo = 0.0;
+    while let Some(t) = first_root(|s| g(lo + s), b - lo) {
+        roots.push(lo + t);
+        lo += t * (1.0 + 1e-12) + f64::EPSILON;
+        if lo >= b {
+            break;
+        }
+    }
+    roots
+}
+
+/// The first root of g on (0, b]: a scan in 64 pieces then bisection.
+pub(crate) fn first_root(g: impl Fn(f64) -> f64, b: f64) -> Option<f64> {
+    let pieces = 64;
+    let mut a0 = 0.0;
+    let mut g0 = g(0.0);
+    if g0 == 0.0 {
+        return None; // starting on the target: not a crossing
+    }
+    for k in 1..=pieces {
+        let a1 = b * k as f64 / pieces as f64;
+        let g1 = g(a1);
+        if g0 * g1 <= 0.0 {
+            let (mut lo, mut hi, mut glo) = (a0, a1, g0);
+            for _ in 0..100 {
+                let mid = 0.5 * (lo + hi);
+                let gm = g(mid);
+                if gm == 0.0 {
+                    return Some(mid);
+                }
+                if gm * glo < 0.0 {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                    glo = gm;
+                }
+            }
+            return Some(0.5 * (lo + hi));
+        }
+        (a0, g0) = (a1, g1);
+    }
+    None
+}
+

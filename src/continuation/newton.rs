@@ -6,7 +6,7 @@
 
 use super::bifurcation::{self, Bifurcation, State};
 use super::bordered::Bordered;
-use super::{Branch, Counts, Options, Problem, Record, Resume, Scaling, Stop};
+use super::{all_roots, Branch, Counts, Options, Problem, Record, Resume, Sample, Scaling, Stop};
 use crate::error::{self, Error, Result};
 use crate::status::Status;
 
@@ -18,11 +18,18 @@ pub enum Start {
     Point { x: Vec<f64>, lambda: f64, increasing: bool },
     /// Where an earlier continuation stopped.
     Resume(Resume),
+    /// Leave a (near-)singular point, a located bifurcation, along the
+    /// given direction (`tangent_*`, first step `step`): the first point is
+    /// a predictor–corrector step along it, halved until it converges. The
+    /// tangent is never recomputed at the start: next to a bifurcation the
+    /// bordered matrix is nearly singular and its "tangent" is an arbitrary
+    /// mix of the two branches' (usually the old one's).
+    Switch(Resume),
 }
 
-/// Scaled residual max |R_i| / e_i.
+/// Scaled residual max |R_i| / e_i (NaN when any R_i is NaN).
 pub(crate) fn residual_norm(r: &[f64], scales: &[f64]) -> f64 {
-    r.iter().zip(scales).map(|(a, s)| (a / s).abs()).fold(0.0, f64::max)
+    r.iter().zip(scales).map(|(a, s)| (a / s).abs()).fold(0.0, super::nan_max)
 }
 
 /// Newton on [R(x, Λ) = 0, ⟨(x, Λ) − anchor, v⟩_W = 0] in place.
@@ -83,6 +90,80 @@ pub(crate) fn correct<P: Problem + ?Sized>(
     unreachable!("the loop returns")
 }
 
+/// A point at the fixed load `target` from the prediction `xs` (in place):
+/// chord iterations on the current factorisation of `bordered` (taken
+/// near xs, with tangent t = (t_x, t_Λ) from it): B z = (−R, 0) solves the
+/// linearised equations on the hyperplane ⟨·, v⟩ = 0, and z − (z_Λ / t_Λ) t
+/// is the step with ΔΛ = 0 (R_x t_x + R_Λ t_Λ = 0). When the chord stalls
+/// or the tangent is nearly vertical (a fold), Newton at fixed Λ with fresh
+/// factorisations takes over and `refactorised` is set (the caller's
+/// factorisation is gone). Returns (iterations, final residual).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn deliver_sample<P: Problem + ?Sized>(
+    problem: &mut P,
+    bordered: &mut Bordered,
+    scaling: &Scaling,
+    equation_scales: &[f64],
+    xs: &mut [f64],
+    target: f64,
+    tangent: (&[f64], f64),
+    tol: f64,
+    counts: &mut Counts,
+    refactorised: &mut bool,
+) -> Result<(usize, f64)> {
+    let n = xs.len();
+    let prediction = xs.to_vec();
+    let mut r = vec![0.0; n];
+    let mut z = vec![0.0; n + 1];
+    let mut previous = f64::INFINITY;
+    let (tx, tl) = tangent;
+    let mut chord = 0;
+    for it in 0..=12 {
+        problem.residual(xs, target, &mut r);
+        counts.residuals += 1;
+        let res = residual_norm(&r, equation_scales);
+        if res <= tol {
+            return Ok((it, res));
+        }
+        if !res.is_finite() || res > 0.25 * previous || tl.abs() < 1e-8 {
+            break;
+        }
+        for i in 0..n {
+            z[i] = -r[i];
+        }
+        z[n] = 0.0;
+        bordered.solve(&mut z, counts);
+        let c = z[n] / tl;
+        for i in 0..n {
+            xs[i] += z[i] - c * tx[i];
+        }
+        previous = res;
+        chord = it + 1;
+    }
+    // Fresh Newton at fixed Λ from the prediction.
+    xs.copy_from_slice(&prediction);
+    *refactorised = true;
+    let mut l = target;
+    let e_lambda = vec![0.0; n];
+    let (it, res) = correct(problem, bordered, scaling, equation_scales, xs, &mut l, (&prediction, target), (&e_lambda, 1.0), tol, false, counts)?;
+    Ok((chord + it, res))
+}
+
+/// Cubic Hermite interpolation between two branch points X0, X1 with unit
+/// tangents t0, t1 over the arc length h: X(θ), θ ∈ [0, 1] (Λ last).
+fn hermite(x0: &[f64], l0: f64, t0: (&[f64], f64), x1: &[f64], l1: f64, t1: (&[f64], f64), h: f64, theta: f64, out: &mut [f64]) -> f64 {
+    // (Empty slices: the Λ part alone.)
+    let (t2, t3) = (theta * theta, theta * theta * theta);
+    let h00 = 2.0 * t3 - 3.0 * t2 + 1.0;
+    let h10 = t3 - 2.0 * t2 + theta;
+    let h01 = -2.0 * t3 + 3.0 * t2;
+    let h11 = t3 - t2;
+    for i in 0..out.len() {
+        out[i] = h00 * x0[i] + h10 * h * t0.0[i] + h01 * x1[i] + h11 * h * t1.0[i];
+    }
+    h00 * l0 + h10 * h * t0.1 + h01 * l1 + h11 * h * t1.1
+}
+
 /// Newton pseudo-arc-length continuation. `observe(x, Λ)` chooses each
 /// record's outputs; `progress(record)` returning false stops the run
 /// (Stop::Cancelled).
@@ -117,12 +198,23 @@ pub fn continue_newton<P: Problem + ?Sized>(
             (x, l, tx, tl, opts.initial_step, it)
         }
         Start::Resume(r) => {
-            // A resume at a bifurcation point (branch switching) is singular
-            // there by nature: keep the given tangent.
-            let regular = bordered.factorise_at(problem, &r.x, r.lambda, &r.tangent_x, r.tangent_lambda, &scaling, &mut counts).is_ok();
-            let (tx, tl) = if regular { bordered.tangent(&scaling, &mut counts)? } else { (r.tangent_x.clone(), r.tangent_lambda) };
-            singular_start = !regular;
-            (r.x, r.lambda, tx, tl, r.step, 0)
+            match bordered.factorise_at(problem, &r.x, r.lambda, &r.tangent_x, r.tangent_lambda, &scaling, &mut counts) {
+                Ok(()) => {
+                    let (tx, tl) = bordered.tangent(&scaling, &mut counts)?;
+                    (r.x, r.lambda, tx, tl, r.step, 0)
+                }
+                // Exactly singular (a resume at a bifurcation point): keep
+                // the given tangent, as a switch does.
+                Err(e) if e.status == Status::ErrNotConverged => {
+                    singular_start = true;
+                    (r.x, r.lambda, r.tangent_x, r.tangent_lambda, r.step, 0)
+                }
+                Err(e) => return Err(e),
+            }
+        }
+        Start::Switch(r) => {
+            singular_start = true;
+            (r.x, r.lambda, r.tangent_x, r.tangent_lambda, r.step, 0)
         }
     };
     let mut records = Vec::new();
@@ -154,12 +246,22 @@ pub fn continue_newton<P: Problem + ?Sized>(
         stop,
         resume: Resume { x, lambda, tangent_x: tx, tangent_lambda: tl, step: ds },
         counts,
+        samples: Vec::new(),
+        missed_samples: Vec::new(),
     };
+    let mut samples: Vec<Sample> = Vec::new();
+    let mut missed: Vec<f64> = Vec::new();
+    for &target in &opts.samples {
+        if target == lambda {
+            let rec = &records[0];
+            samples.push(Sample { lambda, outputs: observe(&x, lambda), residual: rec.residual, newton_iterations: 0 });
+        }
+    }
     if !go_on {
-        return Ok(finish(Stop::Cancelled, x, lambda, tx, tl, ds, records, counts, bifurcations));
+        return Ok(finish(Stop::Cancelled, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed));
     }
     if opts.target_lambda == Some(lambda) {
-        return Ok(finish(Stop::Target, x, lambda, tx, tl, ds, records, counts, bifurcations));
+        return Ok(finish(Stop::Target, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed));
     }
 
     for _ in 0..opts.max_steps {
@@ -174,7 +276,7 @@ pub fn continue_newton<P: Problem + ?Sized>(
                 Err(_) => {
                     ds *= 0.5;
                     if ds < opts.min_step {
-                        return Ok(finish(Stop::StepTooSmall, x, lambda, tx, tl, ds, records, counts, bifurcations));
+                        return Ok(finish(Stop::StepTooSmall, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed));
                     }
                 }
             }
@@ -188,22 +290,47 @@ pub fn continue_newton<P: Problem + ?Sized>(
                 let mut xt: Vec<f64> = x.iter().zip(&xn).map(|(a, b)| a + s * (b - a)).collect();
                 let mut lt = target;
                 let anchor = xt.clone();
-                correct(problem, &mut bordered, &scaling, &eq, &mut xt, &mut lt, (&anchor, target), (&e_lambda, 1.0), opts.residual_tol, false, &mut counts)?;
-                (xn, ln) = (xt, lt);
+                if correct(problem, &mut bordered, &scaling, &eq, &mut xt, &mut lt, (&anchor, target), (&e_lambda, 1.0), opts.residual_tol, false, &mut counts).is_err() {
+                    return Ok(finish(Stop::StepTooSmall, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed));
+                }
+                (xn, ln) = (xt, target);
                 stop = Some(Stop::Target);
             }
         }
         if stop.is_none() && !(ln >= opts.lambda_range.0 && ln <= opts.lambda_range.1) {
-            return Ok(finish(Stop::LambdaRange, x, lambda, tx, tl, ds, records, counts, bifurcations));
+            return Ok(finish(Stop::LambdaRange, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed));
         }
         // The tangent at the new point (one factorisation; its determinant
         // signs go into the record).
-        bordered.factorise_at(problem, &xn, ln, &tx, tl, &scaling, &mut counts)?;
-        let (txn, tln) = bordered.tangent(&scaling, &mut counts)?;
+        // An exactly singular matrix there ends the branch with its records.
+        let tangent = bordered.factorise_at(problem, &xn, ln, &tx, tl, &scaling, &mut counts).and_then(|_| bordered.tangent(&scaling, &mut counts));
+        let Ok((txn, tln)) = tangent else {
+            return Ok(finish(Stop::StepTooSmall, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed));
+        };
         let step = scaling.norm(&x.iter().zip(&xn).map(|(a, b)| b - a).collect::<Vec<_>>(), ln - lambda);
         let rec = make_record(problem, &mut bordered, &scaling, &eq, &xn, ln, &txn, tln, step, iterations, opts, &mut observe, &mut counts);
         let go_on = progress(&rec);
         records.push(rec);
+        // Dense output: requested loads crossed by the step, predicted by
+        // the cubic Hermite interpolant and corrected on the new point's
+        // factorisation (as the ANM does on its series).
+        let mut refactorised = false;
+        for &target in &opts.samples {
+            if (target - lambda) * (target - ln) > 0.0 || target == lambda {
+                continue;
+            }
+            let mut xs = vec![0.0; n];
+            for theta in all_roots(|t| hermite(&[], lambda, (&[], tl), &[], ln, (&[], tln), step, t, &mut []) - target, 1.0) {
+                hermite(&x, lambda, (&tx, tl), &xn, ln, (&txn, tln), step, theta, &mut xs);
+                match deliver_sample(problem, &mut bordered, &scaling, &eq, &mut xs, target, (&txn, tln), opts.residual_tol, &mut counts, &mut refactorised) {
+                    Ok((it, res)) => samples.push(Sample { lambda: target, outputs: observe(&xs, target), residual: res, newton_iterations: it }),
+                    Err(_) => missed.push(target),
+                }
+            }
+        }
+        if refactorised && opts.detect_bifurcations {
+            bordered.factorise_at(problem, &xn, ln, &txn, tln, &scaling, &mut counts)?;
+        }
         if opts.detect_bifurcations {
             history.push(State { x: xn.clone(), lambda: ln, tx: txn.clone(), tl: tln });
             if history.len() > 3 {
@@ -218,13 +345,13 @@ pub fn continue_newton<P: Problem + ?Sized>(
         let factor = (3.0 / iterations.max(1) as f64).sqrt().clamp(0.5, 2.0);
         ds = (ds * factor).clamp(opts.min_step, opts.max_step);
         if let Some(stop) = stop {
-            return Ok(finish(stop, x, lambda, tx, tl, ds, records, counts, bifurcations));
+            return Ok(finish(stop, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed));
         }
         if !go_on {
-            return Ok(finish(Stop::Cancelled, x, lambda, tx, tl, ds, records, counts, bifurcations));
+            return Ok(finish(Stop::Cancelled, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed));
         }
     }
-    Ok(finish(Stop::MaxSteps, x, lambda, tx, tl, ds, records, counts, bifurcations))
+    Ok(finish(Stop::MaxSteps, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed))
 }
 
 /// A record at (x, Λ) from the current factorisation (taken at that point
@@ -305,7 +432,8 @@ pub(crate) fn detect<P: Problem + ?Sized>(
     let (r1, r2) = (&records[k - 2], &records[k - 1]);
     let h = history.len();
     let signed = |r: &Record| r.smallest_singular_value.unwrap_or(1.0);
-    let bracket = if r1.bordered_det_sign != r2.bordered_det_sign {
+    // A record with sign 0 is a singular start (a switch): no bracket.
+    let bracket = if r1.bordered_det_sign != r2.bordered_det_sign && r1.bordered_det_sign != 0.0 && r2.bordered_det_sign != 0.0 {
         Some((&history[h - 2], &history[h - 1], true))
     } else if signed(r1) * signed(r2) < 0.0 {
         Some((&history[h - 2], &history[h - 1], false))
@@ -322,5 +450,7 @@ pub(crate) fn detect<P: Problem + ?Sized>(
     if found.iter().any(|b| b.lambda >= lo && b.lambda <= hi) {
         return Ok(None);
     }
-    bifurcation::locate(problem, bordered, scaling, eq, opts.residual_tol, left, right, flip, opts.bifurcation_tol, counts)
+    // A location that fails (a trial point that does not converge) loses
+    // this bifurcation, not the branch.
+    Ok(bifurcation::locate(problem, bordered, scaling, eq, opts.residual_tol, left, right, flip, opts.bifurcation_tol, counts).unwrap_or(None))
 }

@@ -10,7 +10,7 @@ use crate::continuation::newton::{continue_newton, Start};
 use crate::continuation::system::AssembledSystem;
 use crate::continuation::bordered::Bordered;
 use crate::continuation::newton::correct;
-use crate::continuation::{Counts, Options, Problem, Record, Resume, Scaling, Stop};
+use crate::continuation::{Counts, Options, Problem, Record, Resume, Sample, Scaling, Stop};
 use crate::error::{self, Error, Result};
 use crate::status::Status;
 
@@ -39,6 +39,12 @@ pub struct RodBranch {
     /// distance and the pair's arc lengths. The rod has no contact model:
     /// records past it pass through themselves.
     pub contact: Option<Contact>,
+    /// Points at the requested loads (`Options::samples`), their outputs
+    /// moved into `sample_states`.
+    pub samples: Vec<Sample>,
+    pub sample_states: Vec<Vec<f64>>,
+    /// Requested loads crossed where no point within the tolerance was found.
+    pub missed_samples: Vec<f64>,
 }
 
 /// Where a branch first passes through itself.
@@ -78,7 +84,21 @@ impl Rod {
                 (distance < d).then_some(Contact { record: k, distance, s1, s2 })
             })
         });
-        Ok(RodBranch { records, states, bifurcations: b.bifurcations, stop: b.stop, counts: b.counts, resume: b.resume, phase, contact })
+        let mut samples = b.samples;
+        let sample_states = samples.iter_mut().map(|s| std::mem::take(&mut s.outputs)).collect();
+        Ok(RodBranch {
+            records,
+            states,
+            bifurcations: b.bifurcations,
+            stop: b.stop,
+            counts: b.counts,
+            resume: b.resume,
+            phase,
+            contact,
+            samples,
+            sample_states,
+            missed_samples: b.missed_samples,
+        })
     }
 
     /// A branch from the state `x0` at `lambda0` (None: the straight state),
@@ -169,7 +189,10 @@ impl Rod {
                 step: first_step,
             };
         }
-        let b = self.follow(Start::Resume(start), phase, opts, method, progress)?;
+        // Without a phase condition the start is the (near-)singular point
+        // itself: a switch start keeps the null direction for the first step.
+        let first = if phase.is_some() { Start::Resume(start) } else { Start::Switch(start) };
+        let b = self.follow(first, phase, opts, method, progress)?;
         if phase.is_some() {
             // μ = 0 on every tilted solution, but the unfolding vanishes on
             // the straight branch, where (straight state, any μ) also solves

@@ -1,16 +1,21 @@
-//! Rod continuation benchmark (`cargo bench --bench rod`): the cubic ANM
-//! against Newton pseudo-arc-length continuation on the same discretisation
-//! in the same process, and against the peer AUTO-07p (run as a subprocess,
-//! its executable timed alone; skipped with a message when not installed).
+//! Rod continuation benchmark (`cargo bench --bench rod [--features
+//! sundials]`): the cubic ANM against Newton pseudo-arc-length continuation
+//! on the same discretisation in the same process, SUNDIALS KINSOL
+//! (natural-parameter continuation, with the feature) and the peer AUTO-07p
+//! (run as a subprocess, its executable timed alone; skipped with a message
+//! when not installed).
 //!
-//! Scene: the follower cantilever of physics.md §2.6 — K_b = 1, C = 1/1.3,
-//! GA = 1e4, EA = 2.6e4, L = 1, clamped at s = 0, tip force Λ(1, 0, 0) in
-//! the body frame (perpendicular to the tip tangent), continued from α = 0
-//! through α = 1, 2, 5 to 10 (each a target stop, resumed from the last).
-//! Error: max over those four α of |r(L) − r_ref(L)|/L with the reference
-//! from rodkit on Gauss(4) × 32 elements at residual 1e−12, itself checked
-//! against AUTO's finest run (printed). Time: median of REPS interleaved
-//! repetitions. Writes target/bench/rod/{report.txt, follower.csv,
+//! Scenes (physics.md §2.6): the cantilever K_b = 1, C = 1/1.3, GA = 1e4,
+//! EA = 2.6e4, L = 1 with a tip force Λ(1, 0, 0), follower (body frame,
+//! perpendicular to the tip tangent) or dead (transverse), α 0 → 10; and
+//! Euler buckling + post-buckling of the clamped–free rod.
+//! 1. tips at α = 1, 2, 5, 10 from one run (dense samples), error max
+//!    |r(L) − r_ref(L)|/L against Gauss(4) × 64 at residual 1e−12;
+//! 2. the branch densely (100 loads), ANM vs Newton factorisations;
+//! 3. buckling, location, switch, post-buckled branch (AUTO's euler too);
+//! 4. the ANM's knobs (P, ε).
+//! Time: median of REPS interleaved repetitions. Writes target/bench/rod/
+//! {report.txt, tips.csv, dense.csv, post_buckling.csv, anm_knobs.csv,
 //! follower_work_precision.svg}.
 
 #[path = "support/auto07p.rs"]
@@ -94,6 +99,7 @@ use plotters::prelude::*;
 use rodkit::continuation::anm::{continue_anm, AnmOptions};
 use rodkit::continuation::newton::{continue_newton, Start};
 use rodkit::continuation::{Branch, Counts, Options, Stop};
+use rodkit::rod::branch::Method;
 use rodkit::rod::model::{Rod, Supports};
 use rodkit::rod::scheme::Scheme;
 use rodkit::rod::{Load, Loads, RodLaw};
@@ -105,9 +111,21 @@ use std::time::{Duration, Instant};
 const ALPHAS: [f64; 4] = [1.0, 2.0, 5.0, 10.0];
 const REPS: usize = 5;
 
-fn rod(scheme: Scheme, n: usize) -> Rod {
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Scene {
+    /// Tip force Λ(1, 0, 0) in the body frame: perpendicular to the tip tangent.
+    Follower,
+    /// Tip force Λ(1, 0, 0) fixed in space: transverse dead load.
+    Dead,
+}
+
+fn rod(scene: Scene, scheme: Scheme, n: usize) -> Rod {
     let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap();
-    let loads = Loads { tip_force: Some(Load::follower([1.0, 0.0, 0.0])), ..Default::default() };
+    let load = match scene {
+        Scene::Follower => Load::follower([1.0, 0.0, 0.0]),
+        Scene::Dead => Load::dead([1.0, 0.0, 0.0]),
+    };
+    let loads = Loads { tip_force: Some(load), ..Default::default() };
     Rod::new(law, 1.0, loads, Supports::Cantilever, scheme, n).unwrap()
 }
 
@@ -117,31 +135,34 @@ enum Engine {
     Newton,
 }
 
-/// Tip positions at the four α, the work done, the wall time.
-fn run(rod: &Rod, engine: Engine, tol: f64) -> (Vec<[f64; 3]>, Counts, Duration) {
+impl Engine {
+    fn name(&self) -> String {
+        match self {
+            Engine::Anm { order, epsilon } => format!("rodkit ANM P={order} ε={epsilon:.0e}"),
+            Engine::Newton => "rodkit Newton".into(),
+        }
+    }
+}
+
+/// One run α 0 → 10 delivering the tip at each of `loads` (dense output:
+/// the ANM from its series, Newton from its interpolant, each corrected to
+/// `tol`); the work done, the wall time (model set-up included).
+fn run(rod: &Rod, engine: Engine, tol: f64, loads: &[f64]) -> (Vec<[f64; 3]>, Counts, Duration) {
     let t = Instant::now();
     let mut sys = rod.system().unwrap();
-    let mut start = Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true };
-    let mut tips = vec![];
-    let mut total = Counts::default();
-    for &alpha in &ALPHAS {
-        let opts = Options { target_lambda: Some(alpha), residual_tol: tol, initial_step: 0.2, max_step: 2.0, max_steps: 2000, ..Default::default() };
-        let b: Branch = match engine {
-            Engine::Anm { order, epsilon } => continue_anm(&mut sys, start.clone(), &opts, &AnmOptions { order, epsilon }, |_, _| vec![], |_| true).unwrap(),
-            Engine::Newton => continue_newton(&mut sys, start.clone(), &opts, |_, _| vec![], |_| true).unwrap(),
-        };
-        assert_eq!(b.stop, Stop::Target, "{engine:?} did not reach α = {alpha}");
-        tips.push(rod.tip(&b.resume.x));
-        let c = b.counts;
-        total.steps += c.steps;
-        total.factorisations += c.factorisations;
-        total.solves += c.solves;
-        total.residuals += c.residuals;
-        total.jacobians += c.jacobians;
-        total.series_orders += c.series_orders;
-        start = Start::Resume(b.resume);
-    }
-    (tips, total, t.elapsed())
+    let start = Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true };
+    let opts = Options { target_lambda: Some(10.0), residual_tol: tol, initial_step: 0.2, max_step: 2.0, max_steps: 2000, samples: loads.to_vec(), ..Default::default() };
+    let observe = |x: &[f64], _: f64| rod.tip(x).to_vec();
+    let b: Branch = match engine {
+        Engine::Anm { order, epsilon } => continue_anm(&mut sys, start, &opts, &AnmOptions { order, epsilon }, observe, |_| true).unwrap(),
+        Engine::Newton => continue_newton(&mut sys, start, &opts, observe, |_| true).unwrap(),
+    };
+    let elapsed = t.elapsed();
+    assert_eq!(b.stop, Stop::Target, "{engine:?} did not reach α = 10");
+    assert!(b.missed_samples.is_empty(), "{engine:?} missed samples {:?}", b.missed_samples);
+    let tips: Vec<[f64; 3]> = b.samples.iter().map(|s| [s.outputs[0], s.outputs[1], s.outputs[2]]).collect();
+    assert_eq!(tips.len(), loads.len(), "{engine:?}: samples {:?}", b.samples.iter().map(|s| s.lambda).collect::<Vec<_>>());
+    (tips, b.counts, elapsed)
 }
 
 fn err(tips: &[[f64; 3]], reference: &[[f64; 3]]) -> f64 {
@@ -157,6 +178,7 @@ fn median(mut v: Vec<Duration>) -> Duration {
 }
 
 struct Row {
+    scene: Scene,
     method: String,
     disc: String,
     unknowns: usize,
@@ -166,45 +188,70 @@ struct Row {
     auto_steps: Option<(usize, usize)>,
 }
 
+fn ms(d: Duration) -> f64 {
+    d.as_secs_f64() * 1e3
+}
+
 fn main() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench/rod");
     fs::create_dir_all(&dir).unwrap();
     let mut out = String::new();
-    let _ = writeln!(out, "rodkit {} rod continuation benchmark (follower cantilever, α 0 → 1 → 2 → 5 → 10)", env!("CARGO_PKG_VERSION"));
-    // Reference.
-    let fine = rod(Scheme::Gauss(4), 32);
-    let (reference, _, _) = run(&fine, Engine::Newton, 1e-12);
-    let _ = writeln!(out, "reference: Gauss(4) × 32, residual 1e-12: tips {reference:?}");
+    let _ = writeln!(out, "rodkit {} rod continuation benchmark (cantilever, tip force α 0 → 10; follower and dead load)", env!("CARGO_PKG_VERSION"));
+    let dense: Vec<f64> = (1..=100).map(|k| 0.1 * k as f64).collect();
+    // References: Gauss(4) × 64 at residual 1e-13, Newton, tips at every load used.
+    let mut references = vec![];
+    for scene in [Scene::Follower, Scene::Dead] {
+        let fine = rod(scene, Scheme::Gauss(4), 64);
+        let (tips, _, _) = run(&fine, Engine::Newton, 1e-12, &dense);
+        let _ = writeln!(out, "reference {scene:?}: Gauss(4) × 64, residual 1e-12: tips at α = 1, 2, 5, 10: {:?}", [tips[9], tips[19], tips[49], tips[99]]);
+        references.push((scene, tips));
+    }
+    let reference = |scene: Scene, loads: &[f64]| -> Vec<[f64; 3]> {
+        let all = &references.iter().find(|r| r.0 == scene).unwrap().1;
+        loads.iter().map(|&l| all[(l * 10.0).round() as usize - 1]).collect()
+    };
 
     let tol = 1e-10;
-    let configs: Vec<(Scheme, usize)> = vec![(Scheme::Gauss(4), 4), (Scheme::Gauss(4), 8), (Scheme::Gauss(4), 16), (Scheme::Gauss(2), 16), (Scheme::Midpoint, 64)];
+    let configs: Vec<(Scheme, usize)> = vec![
+        (Scheme::Midpoint, 16),
+        (Scheme::Gauss(2), 4),
+        (Scheme::Gauss(4), 4),
+        (Scheme::Gauss(4), 8),
+        (Scheme::Gauss(4), 16),
+        (Scheme::Gauss(4), 32),
+        (Scheme::Gauss(2), 16),
+        (Scheme::Midpoint, 64),
+    ];
     let engines = [Engine::Anm { order: 20, epsilon: 1e-10 }, Engine::Newton];
+    let scenes = [Scene::Follower, Scene::Dead];
     let auto_ntst = [4usize, 8, 16];
     let auto_ok = auto07p::available();
-    let mut times: Vec<Vec<Duration>> = vec![vec![]; configs.len() * engines.len() + auto_ntst.len()];
-    let mut results: Vec<Option<(Vec<[f64; 3]>, Counts)>> = vec![None; configs.len() * engines.len()];
+    // Section 1: tips at α = 1, 2, 5, 10.
+    let key = |si: usize, ci: usize, ei: usize| (si * configs.len() + ci) * engines.len() + ei;
+    let mut times: Vec<Vec<Duration>> = vec![vec![]; scenes.len() * configs.len() * engines.len()];
+    let mut results: Vec<Option<(Vec<[f64; 3]>, Counts)>> = vec![None; times.len()];
+    let mut auto_times: Vec<Vec<Duration>> = vec![vec![]; auto_ntst.len()];
     let mut auto_results: Vec<Option<auto07p::AutoRun>> = vec![None; auto_ntst.len()];
     #[allow(unused_mut)]
-    let mut kinsol_results: Vec<Option<(Vec<[f64; 3]>, (i64, i64, i64), Vec<Duration>)>> = vec![None; configs.len()];
+    let mut kinsol_results: Vec<Option<(Vec<[f64; 3]>, (i64, i64, i64), Vec<Duration>)>> = vec![None; scenes.len() * configs.len()];
     for _ in 0..REPS {
-        for (ci, &(scheme, n)) in configs.iter().enumerate() {
-            let r = rod(scheme, n);
-            for (ei, &engine) in engines.iter().enumerate() {
-                let (tips, counts, t) = run(&r, engine, tol);
-                let k = ci * engines.len() + ei;
-                times[k].push(t);
-                results[k] = Some((tips, counts));
-            }
-        }
-        #[cfg(feature = "sundials")]
-        for (ci, &(scheme, n)) in configs.iter().enumerate() {
-            match run_kinsol(&rod(scheme, n), tol) {
-                Ok((tips, counts, t)) => {
-                    let entry = kinsol_results[ci].get_or_insert((tips, counts, vec![]));
-                    entry.2.push(t);
+        for (si, &scene) in scenes.iter().enumerate() {
+            for (ci, &(scheme, n)) in configs.iter().enumerate() {
+                let r = rod(scene, scheme, n);
+                for (ei, &engine) in engines.iter().enumerate() {
+                    let (tips, counts, t) = run(&r, engine, tol, &ALPHAS);
+                    times[key(si, ci, ei)].push(t);
+                    results[key(si, ci, ei)] = Some((tips, counts));
                 }
-                Err(e) => {
-                    let _ = writeln!(out, "KINSOL {scheme:?} × {n} failed: {e}");
+                #[cfg(feature = "sundials")]
+                match run_kinsol(&r, tol) {
+                    Ok((tips, counts, t)) => {
+                        let entry = kinsol_results[si * configs.len() + ci].get_or_insert((tips, counts, vec![]));
+                        entry.2.push(t);
+                    }
+                    Err(e) => {
+                        let _ = writeln!(out, "KINSOL {scene:?} {scheme:?} × {n} failed: {e}");
+                    }
                 }
             }
         }
@@ -212,7 +259,7 @@ fn main() {
             for (ai, &ntst) in auto_ntst.iter().enumerate() {
                 match auto07p::follower(ntst, tol) {
                     Ok(run) => {
-                        times[configs.len() * engines.len() + ai].push(run.wall);
+                        auto_times[ai].push(run.wall);
                         auto_results[ai] = Some(run);
                     }
                     Err(e) => {
@@ -223,50 +270,40 @@ fn main() {
         }
     }
     let mut rows = vec![];
-    for (ci, &(scheme, n)) in configs.iter().enumerate() {
-        let r = rod(scheme, n);
-        for (ei, &engine) in engines.iter().enumerate() {
-            let k = ci * engines.len() + ei;
-            let (tips, counts) = results[k].clone().unwrap();
-            rows.push(Row {
-                method: match engine {
-                    Engine::Anm { order, epsilon } => format!("rodkit ANM P={order} ε={epsilon:.0e}"),
-                    Engine::Newton => "rodkit Newton".into(),
-                },
-                disc: format!("{scheme:?} × {n}"),
-                unknowns: r.unknowns(),
-                time: median(times[k].clone()),
-                error: err(&tips, &reference),
-                counts: Some(counts),
-                auto_steps: None,
-            });
+    for (si, &scene) in scenes.iter().enumerate() {
+        for (ci, &(scheme, n)) in configs.iter().enumerate() {
+            let unknowns = rod(scene, scheme, n).unknowns();
+            for (ei, &engine) in engines.iter().enumerate() {
+                let k = key(si, ci, ei);
+                let (tips, counts) = results[k].clone().unwrap();
+                rows.push(Row { scene, method: engine.name(), disc: format!("{scheme:?} × {n}"), unknowns, time: median(times[k].clone()), error: err(&tips, &reference(scene, &ALPHAS)), counts: Some(counts), auto_steps: None });
+            }
+            if let Some((tips, (iters, jacs, res), times)) = &kinsol_results[si * configs.len() + ci] {
+                rows.push(Row {
+                    scene,
+                    method: "SUNDIALS KINSOL band".into(),
+                    disc: format!("{scheme:?} × {n}"),
+                    unknowns,
+                    time: median(times.clone()),
+                    error: err(tips, &reference(scene, &ALPHAS)),
+                    counts: Some(Counts { steps: 40, factorisations: *jacs as usize, solves: *iters as usize, residuals: *res as usize, jacobians: *jacs as usize, series_orders: 0 }),
+                    auto_steps: None,
+                });
+            }
         }
     }
     for (ai, &ntst) in auto_ntst.iter().enumerate() {
         if let Some(run) = &auto_results[ai] {
             let tips: Vec<[f64; 3]> = ALPHAS.iter().map(|&a| run.at_lambda(a).map(|p| p.tip_at(a)).unwrap_or([f64::NAN; 3])).collect();
-            let k = configs.len() * engines.len() + ai;
             rows.push(Row {
+                scene: Scene::Follower,
                 method: "AUTO-07p".into(),
                 disc: format!("NTST {ntst} NCOL 4"),
                 unknowns: 13 * (4 * ntst + 1),
-                time: median(times[k].clone()),
-                error: err(&tips, &reference),
+                time: median(auto_times[ai].clone()),
+                error: err(&tips, &reference(Scene::Follower, &ALPHAS)),
                 counts: None,
                 auto_steps: Some((run.steps, run.newton_iterations)),
-            });
-        }
-    }
-    for (ci, &(scheme, n)) in configs.iter().enumerate() {
-        if let Some((tips, (iters, jacs, res), times)) = &kinsol_results[ci] {
-            rows.push(Row {
-                method: "SUNDIALS KINSOL band".into(),
-                disc: format!("{scheme:?} × {n}"),
-                unknowns: rod(scheme, n).unknowns(),
-                time: median(times.clone()),
-                error: err(tips, &reference),
-                counts: Some(Counts { steps: 40, factorisations: *jacs as usize, solves: *iters as usize, residuals: *res as usize, jacobians: *jacs as usize, series_orders: 0 }),
-                auto_steps: None,
             });
         }
     }
@@ -276,39 +313,194 @@ fn main() {
     if !auto_ok {
         let _ = writeln!(out, "AUTO-07p not installed (apt-get install auto-07p): peer rows skipped");
     }
-    let _ = writeln!(out, "\nresidual tolerance 1e-10 (scaled), medians of {REPS} interleaved runs; ratios: time / time of Newton on the same discretisation, and / AUTO NTST 8");
-    let _ = writeln!(out, "{:<26} {:<16} {:>6} {:>10} {:>9} {:>6} {:>7} {:>7} {:>8} {:>7} {:>8} {:>8}", "method", "discretisation", "n", "time", "tip err", "steps", "factor.", "Jacob.", "resid.", "orders", "/Newton", "/AUTO 8");
-    let auto8 = rows.iter().find(|r| r.method == "AUTO-07p" && r.disc.starts_with("NTST 8 ")).map(|r| r.time);
-    let mut csv = String::from("method,discretisation,unknowns,time_s,tip_error,steps,factorisations,jacobians,residuals,series_orders\n");
+    let _ = writeln!(out, "\n1. Tips at α = 1, 2, 5, 10 (one run to α = 10; rodkit delivers them as dense samples), residual tolerance 1e-10 (scaled), medians of {REPS} interleaved runs.");
+    let _ = writeln!(out, "   Ratios: time / rodkit Newton's on the same discretisation; factorisations Newton / ANM; time / AUTO's at the nearest tip error.");
+    let _ = writeln!(out, "{:<9} {:<26} {:<16} {:>6} {:>10} {:>9} {:>6} {:>7} {:>7} {:>8} {:>7} {:>8} {:>9} {:>8}", "scene", "method", "discretisation", "n", "time", "tip err", "steps", "factor.", "Jacob.", "resid.", "orders", "/Newton", "fact.N/A", "/AUTO");
+    let mut csv = String::from("scene,method,discretisation,unknowns,time_s,tip_error,steps,factorisations,jacobians,residuals,series_orders\n");
+    let autos: Vec<&Row> = rows.iter().filter(|r| r.method == "AUTO-07p").collect();
+    let nearest_auto = |e: f64| autos.iter().min_by(|a, b| (a.error.ln() - e.ln()).abs().total_cmp(&(b.error.ln() - e.ln()).abs())).map(|r| r.time);
     for r in &rows {
-        let newton = rows.iter().find(|o| o.disc == r.disc && o.method == "rodkit Newton").map(|o| o.time);
+        let newton = rows.iter().find(|o| o.scene == r.scene && o.disc == r.disc && o.method == "rodkit Newton");
+        let anm = rows.iter().find(|o| o.scene == r.scene && o.disc == r.disc && o.method.starts_with("rodkit ANM"));
         let ratio = |base: Option<Duration>| base.map_or("-".to_string(), |b| format!("{:.2}", r.time.as_secs_f64() / b.as_secs_f64()));
         let (steps, fact, jac, res, ord) = match (&r.counts, r.auto_steps) {
             (Some(c), _) => (c.steps.to_string(), c.factorisations.to_string(), c.jacobians.to_string(), c.residuals.to_string(), c.series_orders.to_string()),
             (None, Some((s, newton_it))) => (s.to_string(), format!("~{newton_it}"), "-".into(), "-".into(), "-".into()),
             _ => ("-".into(), "-".into(), "-".into(), "-".into(), "-".into()),
         };
-        let _ = writeln!(out, "{:<26} {:<16} {:>6} {:>8.2}ms {:>9.1e} {:>6} {:>7} {:>7} {:>8} {:>7} {:>8} {:>8}", r.method, r.disc, r.unknowns, r.time.as_secs_f64() * 1e3, r.error, steps, fact, jac, res, ord,
-            if r.method != "AUTO-07p" { ratio(newton) } else { "-".into() }, ratio(auto8));
-        let _ = writeln!(csv, "{},{},{},{},{},{},{},{},{},{}", r.method, r.disc, r.unknowns, r.time.as_secs_f64(), r.error, steps, fact, jac, res, ord);
+        let fact_ratio = match (r.method.starts_with("rodkit ANM"), newton.and_then(|o| o.counts), r.counts) {
+            (true, Some(nc), Some(ac)) => format!("{:.1}", nc.factorisations as f64 / ac.factorisations as f64),
+            _ => "-".into(),
+        };
+        let _ = anm;
+        let _ = writeln!(out, "{:<9} {:<26} {:<16} {:>6} {:>8.2}ms {:>9.1e} {:>6} {:>7} {:>7} {:>8} {:>7} {:>8} {:>9} {:>8}", format!("{:?}", r.scene), r.method, r.disc, r.unknowns, ms(r.time), r.error, steps, fact, jac, res, ord,
+            if r.method.starts_with("rodkit") || r.method.starts_with("SUNDIALS") { ratio(newton.map(|o| o.time)) } else { "-".into() }, fact_ratio,
+            if r.scene == Scene::Follower { ratio(nearest_auto(r.error)) } else { "-".into() });
+        let _ = writeln!(csv, "{:?},{},{},{},{},{},{},{},{},{},{}", r.scene, r.method, r.disc, r.unknowns, r.time.as_secs_f64(), r.error, steps, fact, jac, res, ord);
     }
-    let _ = writeln!(out, "(AUTO: 'factor.' column is its Newton iteration count; each iteration factorises its collocation matrix.");
+    let _ = writeln!(out, "(AUTO: follower only; 'factor.' is its Newton iteration count, each factorising its collocation matrix; tips moved to the exact α along AUTO's tangent.");
     let _ = writeln!(out, " KINSOL: natural-parameter continuation α += 0.25, band solver on rows reordered to a band; 'steps' = solves, 'factor.' = Jacobian evaluations)");
+    // Best rodkit against AUTO at the two accuracies the issue names.
+    for target in [1e-6, 1e-8] {
+        let best = rows.iter().filter(|r| r.scene == Scene::Follower && r.method.starts_with("rodkit") && r.error <= target).min_by_key(|r| r.time);
+        let auto = autos.iter().filter(|r| r.error <= target).min_by_key(|r| r.time);
+        match (best, auto) {
+            (Some(b), Some(a)) => {
+                let _ = writeln!(out, "tip error ≤ {target:.0e}: fastest rodkit {} {} {:.2} ms (error {:.1e}), fastest AUTO-07p {} {:.2} ms (error {:.1e}): AUTO / rodkit = {:.1}", b.method, b.disc, ms(b.time), b.error, a.disc, ms(a.time), a.error, a.time.as_secs_f64() / b.time.as_secs_f64());
+            }
+            _ => {
+                let _ = writeln!(out, "tip error ≤ {target:.0e}: no rodkit or no AUTO row reaches it");
+            }
+        }
+    }
+    // Cost against N (Gauss(4) rows): time per unknown.
+    for scene in scenes {
+        for engine in engines {
+            let pts: Vec<String> = rows.iter().filter(|r| r.scene == scene && r.method == engine.name() && r.disc.starts_with("Gauss(4)")).map(|r| format!("n {} {:.1} µs/unknown", r.unknowns, 1e6 * r.time.as_secs_f64() / r.unknowns as f64)).collect();
+            let _ = writeln!(out, "cost vs N, {scene:?}, {}: {}", engine.name(), pts.join("; "));
+        }
+    }
+    section_dense(&mut out, &dir, &dense, &reference);
+    section_post_buckling(&mut out, &dir, auto_ok);
     section_anm_knobs(&mut out, &dir);
     print!("{out}");
     fs::write(dir.join("report.txt"), &out).unwrap();
-    fs::write(dir.join("follower.csv"), &csv).unwrap();
+    fs::write(dir.join("tips.csv"), &csv).unwrap();
     if let Err(e) = plot(&dir.join("follower_work_precision.svg"), &rows) {
         eprintln!("plot failed: {e}");
     }
+}
+
+/// Section 2: the whole branch densely — 100 evenly spaced loads α = 0.1 …
+/// 10, each within the residual tolerance: ANM (series) against Newton
+/// (interpolant + correction), factorisations and time as ratios.
+fn section_dense(out: &mut String, dir: &Path, dense: &[f64], reference: &dyn Fn(Scene, &[f64]) -> Vec<[f64; 3]>) {
+    let _ = writeln!(out, "\n2. The branch densely: tips at 100 loads α = 0.1, 0.2, …, 10 in one run, residual 1e-10, medians of {REPS}");
+    let _ = writeln!(out, "{:<9} {:<16} {:<26} {:>9} {:>9} {:>7} {:>7} {:>8} {:>10} {:>10}", "scene", "discretisation", "method", "time", "max err", "steps", "factor.", "resid.", "fact. N/A", "time A/N");
+    let mut csv = String::from("scene,discretisation,method,time_s,max_error,steps,factorisations,residuals\n");
+    for scene in [Scene::Follower, Scene::Dead] {
+        for (scheme, n) in [(Scheme::Gauss(4), 8), (Scheme::Gauss(4), 16)] {
+            let r = rod(scene, scheme, n);
+            let engines = [Engine::Anm { order: 20, epsilon: 1e-10 }, Engine::Newton];
+            let mut times = vec![vec![]; 2];
+            let mut res = vec![None; 2];
+            for _ in 0..REPS {
+                for (k, &e) in engines.iter().enumerate() {
+                    let (tips, counts, t) = run(&r, e, 1e-10, dense);
+                    times[k].push(t);
+                    res[k] = Some((tips, counts));
+                }
+            }
+            let t: Vec<Duration> = times.into_iter().map(median).collect();
+            let reference = reference(scene, dense);
+            for (k, e) in engines.iter().enumerate() {
+                let (tips, c) = res[k].clone().unwrap();
+                let c_newton = res[1].as_ref().unwrap().1;
+                let error = err(&tips, &reference);
+                let ratio_f = if k == 0 { format!("{:.1}", c_newton.factorisations as f64 / c.factorisations as f64) } else { "-".into() };
+                let ratio_t = if k == 0 { format!("{:.2}", t[0].as_secs_f64() / t[1].as_secs_f64()) } else { "-".into() };
+                let _ = writeln!(out, "{:<9} {:<16} {:<26} {:>7.2}ms {:>9.1e} {:>7} {:>7} {:>8} {:>10} {:>10}", format!("{scene:?}"), format!("{scheme:?} × {n}"), e.name(), ms(t[k]), error, c.steps, c.factorisations, c.residuals, ratio_f, ratio_t);
+                let _ = writeln!(csv, "{scene:?},{scheme:?} × {n},{},{},{},{},{},{}", e.name(), t[k].as_secs_f64(), error, c.steps, c.factorisations, c.residuals);
+            }
+        }
+    }
+    let _ = fs::write(dir.join("dense.csv"), csv);
+}
+
+/// Section 3: Euler buckling and post-buckling of the clamped–free rod
+/// (axial dead load Λ, K_b1 = 2 K_b2 so the buckling plane is fixed, as in
+/// AUTO's euler.f90): the straight branch with detection, location of the
+/// bifurcation, the switch, and the post-buckled branch to Λ = 14 (tip
+/// rotation ≈ 169°). Error: critical load against §2.6's extensible
+/// formula, post-buckled tips at Λ = 5, 10, 14 against Gauss(4) × 64.
+fn section_post_buckling(out: &mut String, dir: &Path, auto_ok: bool) {
+    let euler_rod = |scheme: Scheme, n: usize| {
+        let (ga, ea) = (1e4, 2.6e4);
+        let k = nalgebra::Matrix6::from_diagonal(&nalgebra::Vector6::new(2.0, 1.0, 1.0 / 1.3, ga, ga, ea));
+        let law = RodLaw::general(k, nalgebra::Vector3::zeros(), nalgebra::Vector3::new(0.0, 0.0, 1.0)).unwrap();
+        let loads = Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() };
+        Rod::new(law, 1.0, loads, Supports::Cantilever, scheme, n).unwrap()
+    };
+    let loads = [5.0, 10.0, 14.0];
+    let follow = |rod: &Rod, method: Method, tol: f64| -> (f64, Vec<[f64; 3]>, Counts, Duration) {
+        let t = Instant::now();
+        let opts = Options { target_lambda: Some(3.0), residual_tol: tol, initial_step: 0.2, max_step: 1.0, detect_bifurcations: true, bifurcation_tol: 1e-10, ..Default::default() };
+        let straight = rod.continue_branch(None, 0.0, true, &opts, method, |_| true).unwrap();
+        let bif = &straight.bifurcations[0];
+        let opts = Options { target_lambda: Some(14.0), residual_tol: tol, max_step: 1.0, max_steps: 2000, samples: loads.to_vec(), ..Default::default() };
+        let b = rod.switch_branch(&straight, 0, 0, 0.05, &opts, method, |_| true).unwrap();
+        let elapsed = t.elapsed();
+        let mut c = straight.counts;
+        c.steps += b.counts.steps;
+        c.factorisations += b.counts.factorisations;
+        c.solves += b.counts.solves;
+        c.residuals += b.counts.residuals;
+        c.jacobians += b.counts.jacobians;
+        c.series_orders += b.counts.series_orders;
+        // The buckle may go either way: compare |x_tip| and z_tip.
+        let tips = b.sample_states.iter().map(|x| { let p = rod.tip(x); [p[0].hypot(p[1]), 0.0, p[2]] }).collect();
+        (bif.lambda, tips, c, elapsed)
+    };
+    let fine = euler_rod(Scheme::Gauss(4), 64);
+    let (_, reference, _, _) = follow(&fine, Method::Newton, 1e-12);
+    let pcr = auto07p::euler_critical_load(1.0, 1.0, 1e4, 2.6e4);
+    let _ = writeln!(out, "\n3. Euler buckling and post-buckling (clamped–free, axial dead load, K_b1 = 2 K_b2): straight branch with detection, location, switch, post-buckled branch to Λ = 14; medians of {REPS}");
+    let _ = writeln!(out, "{:<16} {:<26} {:>9} {:>11} {:>10} {:>7} {:>7} {:>8} {:>9}", "discretisation", "method", "time", "P_cr err", "tip err", "steps", "factor.", "resid.", "/Newton");
+    let mut csv = String::from("discretisation,method,time_s,critical_load_error,tip_error,steps,factorisations,residuals\n");
+    for (scheme, n) in [(Scheme::Gauss(4), 8), (Scheme::Gauss(4), 16)] {
+        let r = euler_rod(scheme, n);
+        let methods = [Method::Anm(AnmOptions { order: 20, epsilon: 1e-10 }), Method::Newton];
+        let mut times = vec![vec![]; 2];
+        let mut res = vec![None; 2];
+        for _ in 0..REPS {
+            for (k, &m) in methods.iter().enumerate() {
+                let (pc, tips, c, t) = follow(&r, m, 1e-10);
+                times[k].push(t);
+                res[k] = Some((pc, tips, c));
+            }
+        }
+        let t: Vec<Duration> = times.into_iter().map(median).collect();
+        for (k, m) in methods.iter().enumerate() {
+            let (pc, tips, c) = res[k].clone().unwrap();
+            let name = match m { Method::Anm(_) => "rodkit ANM P=20 ε=1e-10", Method::Newton => "rodkit Newton" };
+            let e = err(&tips, &reference);
+            let _ = writeln!(out, "{:<16} {:<26} {:>7.2}ms {:>11.1e} {:>10.1e} {:>7} {:>7} {:>8} {:>9.2}", format!("{scheme:?} × {n}"), name, ms(t[k]), (pc - pcr).abs() / pcr, e, c.steps, c.factorisations, c.residuals, t[k].as_secs_f64() / t[1].as_secs_f64());
+            let _ = writeln!(csv, "{scheme:?} × {n},{name},{},{},{},{},{},{}", t[k].as_secs_f64(), (pc - pcr).abs() / pcr, e, c.steps, c.factorisations, c.residuals);
+        }
+    }
+    if auto_ok {
+        for ntst in [8usize, 16] {
+            let mut times = vec![];
+            let mut last = None;
+            for _ in 0..REPS {
+                match auto07p::euler(ntst, 1e-10) {
+                    Ok(run) => {
+                        times.push(run.wall);
+                        last = Some(run);
+                    }
+                    Err(e) => {
+                        let _ = writeln!(out, "AUTO-07p euler NTST {ntst} failed: {e}");
+                        break;
+                    }
+                }
+            }
+            if let Some(run) = last {
+                let bp = run.branch_points()[0].lambda;
+                let end = run.end_point().map(|p| (p.lambda, p.rotation_deg)).unwrap_or((f64::NAN, f64::NAN));
+                let _ = writeln!(out, "{:<16} {:<26} {:>7.2}ms {:>11.1e} {:>10} {:>7} {:>7} {:>8} {:>9}   (AUTO: to tip rotation 170° at Λ = {:.4}; ~{} Newton iterations)",
+                    format!("NTST {ntst} NCOL 4"), "AUTO-07p", ms(median(times)), (bp - pcr).abs() / pcr, "-", run.steps, "-", "-", "-", end.0, run.newton_iterations);
+            }
+        }
+    }
+    let _ = fs::write(dir.join("post_buckling.csv"), csv);
 }
 
 /// The ANM's own knobs (order P, ε) on Gauss(4) × 8: what each buys —
 /// steps, factorisations, the series' end-point residual before the
 /// correction (max over the steps), Newton correction iterations, time.
 fn section_anm_knobs(out: &mut String, dir: &Path) {
-    let r = rod(Scheme::Gauss(4), 8);
-    let _ = writeln!(out, "\nANM knobs on Gauss(4) × 8, α 0 → 10 in one run (residual tolerance 1e-10 after correction), medians of {REPS}");
+    let r = rod(Scene::Follower, Scheme::Gauss(4), 8);
+    let _ = writeln!(out, "\n4. ANM knobs on Gauss(4) × 8, α 0 → 10 in one run (residual tolerance 1e-10 after correction), medians of {REPS}");
     let _ = writeln!(out, "{:>4} {:>8} {:>6} {:>8} {:>16} {:>10} {:>10}", "P", "ε", "steps", "factor.", "max series res.", "Newton it.", "time");
     let mut csv = String::from("order,epsilon,steps,factorisations,max_series_residual,newton_iterations,time_s\n");
     for order in [10, 20, 30, 40] {
@@ -350,10 +542,10 @@ fn plot(path: &Path, rows: &[Row]) -> Result<(), Box<dyn std::error::Error>> {
         .build_cartesian_2d((x0 / 1.5..x1 * 1.5).log_scale(), (y0 / 3.0..y1 * 3.0).log_scale())?;
     chart.configure_mesh().x_desc("time (ms)").y_desc("max tip error / L").y_label_formatter(&|v| format!("{v:.0e}")).draw()?;
     for (name, color, f) in [
-        ("rodkit ANM", RGBColor(214, 39, 40), Box::new(|r: &Row| r.method.starts_with("rodkit ANM")) as Box<dyn Fn(&Row) -> bool>),
-        ("rodkit Newton", RGBColor(31, 119, 180), Box::new(|r: &Row| r.method == "rodkit Newton")),
+        ("rodkit ANM", RGBColor(214, 39, 40), Box::new(|r: &Row| r.method.starts_with("rodkit ANM") && r.scene == Scene::Follower) as Box<dyn Fn(&Row) -> bool>),
+        ("rodkit Newton", RGBColor(31, 119, 180), Box::new(|r: &Row| r.method == "rodkit Newton" && r.scene == Scene::Follower)),
         ("AUTO-07p", RGBColor(44, 160, 44), Box::new(|r: &Row| r.method == "AUTO-07p")),
-        ("SUNDIALS KINSOL", RGBColor(148, 103, 189), Box::new(|r: &Row| r.method.starts_with("SUNDIALS"))),
+        ("SUNDIALS KINSOL", RGBColor(148, 103, 189), Box::new(|r: &Row| r.method.starts_with("SUNDIALS") && r.scene == Scene::Follower)),
     ] {
         let p = pts(&*f);
         chart.draw_series(p.iter().map(|&q| Circle::new(q, 5, color.filled())))?.label(name).legend(move |(x, y)| Circle::new((x + 10, y), 5, color.filled()));

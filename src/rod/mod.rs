@@ -68,8 +68,16 @@ impl RodLaw {
         if (stiffness - stiffness.transpose()).amax() > 1e-12 * stiffness.amax() {
             return Err(Error::new(Status::ErrOutOfRange, "rod stiffness must be symmetric"));
         }
-        if stiffness.cholesky().is_none() {
-            return Err(Error::new(Status::ErrNotPositiveDefinite, format!("rod stiffness is not positive definite: {stiffness}")));
+        // Positive definite with a condition number a double can carry:
+        // Cholesky alone accepts a singular (semi-definite) K whose rounding
+        // leaves a tiny positive pivot, e.g. g² = C·S exactly.
+        let eig = stiffness.symmetric_eigenvalues();
+        let (lo, hi) = (eig.min(), eig.max());
+        if !(lo > 1e-13 * hi) || stiffness.cholesky().is_none() {
+            return Err(Error::new(
+                Status::ErrNotPositiveDefinite,
+                format!("rod stiffness is not positive definite (eigenvalues from {lo:e} to {hi:e}; condition number above 1e13 is refused): {stiffness}"),
+            ));
         }
         Ok(RodLaw { stiffness, intrinsic_u, intrinsic_v, kirchhoff: false })
     }

@@ -229,3 +229,70 @@ fn greenhill_through_the_c_abi() {
     unsafe { rodkit_branch_free(b) };
     unsafe { rodkit_rod_free(rod) };
 }
+
+/// Dense samples through the C ABI: the pure follower end moment M = Λ·K_b/L
+/// about d1 bends the rod into an arc of curvature Λ/L (n ≡ 0: no stretch),
+/// tip closed form below; each requested load
+/// comes back as a record within the tolerance, its state retrievable. A
+/// branch handed back with another rod is refused; bad sample arrays are
+/// refused by name.
+#[test]
+fn dense_samples_and_branch_ownership() {
+    let rod = new_rod(&spec()).unwrap();
+    let mut o = options();
+    o.target_lambda = 3.0;
+    o.max_step = 2.0;
+    o.residual_tol = 1e-11;
+    let loads = [0.5, 1.0, 1.5, 2.0, 2.5, 3.0];
+    o.samples = loads.as_ptr();
+    o.sample_count = loads.len() as i64;
+    for method in [ContinuationMethod::Anm, ContinuationMethod::Newton] {
+        o.method = method as i32;
+        let mut b = ptr::null_mut();
+        assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) }, 0, "{}", last_error());
+        let mut info = BranchInfo::default();
+        assert_eq!(unsafe { rodkit_branch_summary(b, &mut info) }, 0);
+        assert_eq!((info.samples, info.missed_samples), (6, 0));
+        let mut out = vec![BranchRecord::default(); 6];
+        let mut count = 0;
+        assert_eq!(unsafe { rodkit_branch_samples(b, ptr::null_mut(), 0, &mut count) }, Status::InfoTruncated.code());
+        assert_eq!(count, 6);
+        assert_eq!(unsafe { rodkit_branch_samples(b, out.as_mut_ptr(), 6, &mut count) }, 0);
+        for (s, &l) in out.iter().zip(&loads) {
+            assert_eq!(s.lambda, l);
+            assert!(s.residual <= 1e-11);
+            // Arc of curvature κ = Λ bending about d1 = e1: the tip at
+            // (0, −(1 − cos κ)/κ, sin κ/κ) (the sign of y from d2 = e2
+            // turning towards −e3… checked by magnitude and z).
+            let (ty, tz) = ((1.0 - l.cos()) / l, l.sin() / l);
+            assert!(s.tip_x.abs() < 1e-9 && (s.tip_y.abs() - ty).abs() < 1e-9 && (s.tip_z - tz).abs() < 1e-9, "{method:?} Λ {l}: {s:?}");
+        }
+        let mut x = vec![0.0; info.state_length as usize];
+        assert_eq!(unsafe { rodkit_branch_sample_state(b, 5, x.as_mut_ptr(), info.state_length) }, 0);
+        assert!(unsafe { rodkit_branch_sample_state(b, 6, x.as_mut_ptr(), info.state_length) } < 0);
+        assert!(last_error().contains("sample"), "{}", last_error());
+        // Another rod (other stiffness) cannot resume or draw this branch.
+        let mut s2 = spec();
+        s2.stretch = 3e4;
+        let other = new_rod(&s2).unwrap();
+        let mut b2 = ptr::null_mut();
+        assert_eq!(unsafe { rodkit_branch_resume(other, b, &o, None, ptr::null_mut(), &mut b2) }, Status::ErrOutOfRange.code());
+        assert!(last_error().contains("another rod"), "{}", last_error());
+        assert!(b2.is_null());
+        let mut xyz = vec![0.0; 15];
+        assert_eq!(unsafe { rodkit_branch_positions(b, other, 0, xyz.as_mut_ptr(), 3, 5) }, Status::ErrOutOfRange.code());
+        unsafe { rodkit_rod_free(other) };
+        unsafe { rodkit_branch_free(b) };
+    }
+    // Sample arrays: NULL with a count, non-finite loads.
+    o.samples = ptr::null();
+    let mut b = ptr::null_mut();
+    assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) }, Status::ErrNullPointer.code());
+    assert!(last_error().contains("options.samples"), "{}", last_error());
+    let bad = [1.0, f64::NAN];
+    o.samples = bad.as_ptr();
+    o.sample_count = 2;
+    assert!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) } < 0);
+    assert!(last_error().contains("samples"), "{}", last_error());
+    unsafe { rodkit_rod_free(rod) };
+}

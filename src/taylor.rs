@@ -158,9 +158,19 @@ impl Tape {
             assert!(r.is_none(), "Tape::record does not nest");
             *r = Some((0..inputs).map(|i| Op::Input(i as u32)).collect());
         });
+        // A kernel that panics must not leave the thread recording (every
+        // later recording would then fail): the guard ends it on unwind.
+        struct EndRecording;
+        impl Drop for EndRecording {
+            fn drop(&mut self) {
+                RECORDING.with(|r| r.borrow_mut().take());
+            }
+        }
+        let guard = EndRecording;
         let vars: Vec<Var> = (0..inputs as u32).map(Var).collect();
         let outputs = kernel(&vars);
         let ops = RECORDING.with(|r| r.borrow_mut().take().expect("recording in progress"));
+        drop(guard);
         let mut degree: Vec<u32> = Vec::with_capacity(ops.len());
         let mut deps: Vec<Vec<u32>> = Vec::with_capacity(ops.len());
         for op in &ops {
@@ -559,5 +569,18 @@ mod tests {
         }
         // Committed orders are kept: re-reading order 1 of output 0.
         assert_eq!(tw.output(&tape, 0, 1), series[1][0]);
+    }
+
+    /// A kernel that panics while recording leaves the thread able to
+    /// record again (the guard ends the recording on unwind).
+    #[test]
+    fn a_panicking_kernel_does_not_poison_recording() {
+        let caught = std::panic::catch_unwind(|| Tape::record(3, |_| panic!("kernel bug")));
+        assert!(caught.is_err());
+        let tape = Tape::record(3, |v| kernel(v));
+        let mut work = Vec::new();
+        let mut out = [0.0; 3];
+        tape.eval(&[1.0, 2.0, 3.0], &mut work, &mut out);
+        assert_eq!(out, [1.0 * 2.0 * 3.0 + 2.0 - 1.0, 4.0 - 3.0 + 3.0, -1.0]);
     }
 }

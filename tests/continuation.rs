@@ -110,3 +110,77 @@ fn bifurcation_flips_the_bordered_determinant() {
         }
     }
 }
+
+/// Branch switching at a located (not exactly singular) pitchfork
+/// R = y(Λ − 1 − y²), y = x − Λ: the trivial branch x = Λ is followed with
+/// detection from Λ = 0, the point located near Λ = 1 (not exactly: R_x and
+/// R_Λ are ~1e−10 there, so the bordered matrix factorises and its own
+/// tangent is the old branch's), and Start::Switch leaves it along the null
+/// direction; both engines then follow y² = Λ − 1 (closed form).
+#[test]
+fn switch_at_a_located_pitchfork_follows_the_new_branch() {
+    use rodkit::continuation::bifurcation::branch_start;
+    use rodkit::continuation::Scaling;
+    fn kernel<T: Scalar>(v: &[T]) -> Vec<T> {
+        let (x, l) = (v[0], v[1]);
+        let y = x - l;
+        vec![y * (l - 1.0) - y * y * y]
+    }
+    let tape = Arc::new(Tape::record(2, |v| kernel(v)));
+    let mut sys = AssembledSystem::new(1, vec![Block { tape, inputs: vec![Slot::Unknown(0), Slot::Lambda], rows: vec![0] }]);
+    let opts = Options { target_lambda: Some(2.0), residual_tol: 1e-13, initial_step: 0.13, max_step: 0.13, detect_bifurcations: true, ..Default::default() };
+    let b = continue_newton(&mut sys, Start::Point { x: vec![0.0], lambda: 0.0, increasing: true }, &opts, |x, _| x.to_vec(), |_| true).unwrap();
+    assert_eq!(b.bifurcations.len(), 1);
+    let bif = &b.bifurcations[0];
+    assert!((bif.lambda - 1.0).abs() < 1e-9, "located at {}", bif.lambda);
+    let scaling = Scaling { x: vec![1.0], lambda: 1.0 };
+    let (nx, nl) = &bif.null_vectors[0];
+    let start = branch_start(bif, (nx, *nl), 0.05, &scaling);
+    let opts = Options { target_lambda: Some(1.5), residual_tol: 1e-13, max_step: 0.1, ..Default::default() };
+    let engines: [&dyn Fn(&mut AssembledSystem) -> rodkit::continuation::Branch; 2] = [
+        &|s| continue_newton(s, Start::Switch(start.clone()), &opts, |x, _| x.to_vec(), |_| true).unwrap(),
+        &|s| continue_anm(s, Start::Switch(start.clone()), &opts, &AnmOptions::default(), |x, _| x.to_vec(), |_| true).unwrap(),
+    ];
+    for follow in engines {
+        let nb = follow(&mut sys);
+        assert_eq!(nb.stop, Stop::Target);
+        for r in nb.records.iter().filter(|r| r.lambda > 1.0 + 1e-3) {
+            let y = r.outputs[0] - r.lambda;
+            assert!((y * y - (r.lambda - 1.0)).abs() < 1e-12, "y = {y} at Λ {} (y² = Λ − 1 expected)", r.lambda);
+        }
+        let last = nb.records.last().unwrap();
+        assert!(((last.outputs[0] - 1.5).abs() - 0.5f64.sqrt()).abs() < 1e-12, "{last:?}");
+    }
+}
+
+/// A residual that turns NaN (Λ > 0.5 here) never passes a tolerance: the
+/// branch ends with its valid records (no NaN among them).
+#[test]
+fn nan_residual_is_never_converged() {
+    use rodkit::continuation::Problem;
+    use rodkit::sparse::Pattern;
+    struct Poisoned(AssembledSystem);
+    impl Problem for Poisoned {
+        fn dim(&self) -> usize {
+            self.0.dim()
+        }
+        fn pattern(&self) -> &Pattern {
+            self.0.pattern()
+        }
+        fn residual(&mut self, x: &[f64], l: f64, r: &mut [f64]) {
+            self.0.residual(x, l, r);
+            if l > 0.5 {
+                r[0] = f64::NAN;
+            }
+        }
+        fn jacobian(&mut self, x: &[f64], l: f64, jx: &mut [f64], jl: &mut [f64]) {
+            self.0.jacobian(x, l, jx, jl);
+        }
+    }
+    let mut p = Poisoned(circle());
+    let opts = Options { max_steps: 100, residual_tol: 1e-12, initial_step: 0.05, max_step: 0.2, ..Default::default() };
+    let b = continue_newton(&mut p, Start::Point { x: vec![1.0, 0.0, 0.0], lambda: 0.0, increasing: true }, &opts, |x, _| x.to_vec(), |_| true).unwrap();
+    assert_eq!(b.stop, Stop::StepTooSmall);
+    assert!(b.records.iter().all(|r| r.residual.is_finite() && r.residual <= 1e-12 && r.lambda <= 0.5));
+    assert!(b.records.last().unwrap().lambda > 0.3, "stopped early at {}", b.records.last().unwrap().lambda);
+}

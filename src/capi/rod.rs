@@ -311,6 +311,11 @@ pub struct Bifurcation {
 pub struct Rod {
     model: Model,
     system: crate::continuation::system::AssembledSystem,
+    /// Kernel outputs are computed here, checked finite, then copied: a
+    /// failing call writes nothing, and no call allocates.
+    scratch_r: Vec<f64>,
+    scratch_values: Vec<f64>,
+    scratch_dl: Vec<f64>,
 }
 
 /// Opaque branch handle (immutable once returned).
@@ -649,7 +654,9 @@ unsafe fn store_rod(model: Model, out: *mut *mut Rod) -> Result<Status> {
     let slot = arg_mut("out", out)?;
     *slot = std::ptr::null_mut();
     let system = model.system()?;
-    *slot = Box::into_raw(Box::new(Rod { model, system }));
+    let n = model.unknowns();
+    let nnz = system.pattern().nnz();
+    *slot = Box::into_raw(Box::new(Rod { model, system, scratch_r: vec![0.0; n], scratch_values: vec![0.0; nnz], scratch_dl: vec![0.0; n] }));
     Ok(Status::Ok)
 }
 
@@ -1010,8 +1017,9 @@ pub unsafe extern "C" fn rodkit_rod_residual(rod: *mut Rod, x: *const f64, n: i6
         error::finite("lambda", lambda)?;
         let x = in_slice("x", x, n)?;
         let out = out_slice("r", r, n)?;
-        rod.system.residual(x, lambda, out);
-        error::finite_result("residual", out)?;
+        rod.system.residual(x, lambda, &mut rod.scratch_r);
+        error::finite_result("residual", &rod.scratch_r)?;
+        out.copy_from_slice(&rod.scratch_r);
         Ok(Status::Ok)
     })
 }
@@ -1059,10 +1067,13 @@ pub unsafe extern "C" fn rodkit_rod_jacobian(rod: *mut Rod, x: *const f64, n: i6
         error::finite("lambda", lambda)?;
         let x = in_slice("x", x, n)?;
         let v = out_slice("values", values, nnz)?;
-        let mut dl = vec![0.0; n as usize];
-        rod.system.jacobian(x, lambda, v, &mut dl);
-        if !d_lambda.is_null() {
-            out_slice("d_lambda", d_lambda, n)?.copy_from_slice(&dl);
+        let dl = if d_lambda.is_null() { None } else { Some(out_slice("d_lambda", d_lambda, n)?) };
+        rod.system.jacobian(x, lambda, &mut rod.scratch_values, &mut rod.scratch_dl);
+        error::finite_result("Jacobian", &rod.scratch_values)?;
+        error::finite_result("d_lambda", &rod.scratch_dl)?;
+        v.copy_from_slice(&rod.scratch_values);
+        if let Some(dl) = dl {
+            dl.copy_from_slice(&rod.scratch_dl);
         }
         Ok(Status::Ok)
     })
@@ -1078,6 +1089,7 @@ pub unsafe extern "C" fn rodkit_rod_rhs(rod: *const Rod, y: *const f64, lambda: 
         error::finite("lambda", lambda)?;
         let y = in_slice("y", y, 13)?;
         let f = rod.model.rhs(y, lambda);
+        error::finite_result("dy", &f)?;
         out_slice("dy", dy, 13)?.copy_from_slice(&f);
         Ok(Status::Ok)
     })

@@ -24,7 +24,7 @@
 
 use super::bordered::Bordered;
 use super::bifurcation::{Bifurcation, State};
-use super::newton::{correct, detect, make_record, residual_norm, validate, Start};
+use super::newton::{correct, detect, make_record, residual_norm, validate, validate_resume, Start};
 use super::newton::deliver_sample;
 use super::{all_roots, first_root};
 use super::{Branch, Counts, Options, Record, Resume, Sample, Scaling, SeriesProblem, Stop};
@@ -79,6 +79,7 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             (x, l, e_lambda.clone(), if increasing { 1.0 } else { -1.0 }, it)
         }
         Start::Resume(r) => {
+            validate_resume(&r, n)?;
             match bordered.factorise_at(problem, &r.x, r.lambda, &r.tangent_x, r.tangent_lambda, &scaling, &mut counts) {
                 Ok(()) => (r.x, r.lambda, r.tangent_x, r.tangent_lambda, 0),
                 // Exactly singular: a resume at a bifurcation point; leave it
@@ -91,7 +92,10 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
         // expansion point and a tangent that is not the nearly singular
         // matrix's arbitrary null mix, so the first step is a Newton
         // predictor–corrector step along the given direction.
-        Start::Switch(r) => leave_singular(problem, &mut bordered, &scaling, &eq, &r, opts, &mut counts)?,
+        Start::Switch(r) => {
+            validate_resume(&r, n)?;
+            leave_singular(problem, &mut bordered, &scaling, &eq, &r, opts, &mut counts)?
+        }
     };
     let mut records: Vec<Record> = Vec::new();
     let mut pending_iterations = first_iterations;
@@ -300,7 +304,7 @@ fn leave_singular<P: SeriesProblem + ?Sized>(
     opts: &Options,
     counts: &mut Counts,
 ) -> Result<(Vec<f64>, f64, Vec<f64>, f64, usize)> {
-    let mut ds = r.step.min(opts.max_step);
+    let mut ds = super::newton::resume_step(r.step, opts);
     loop {
         let mut x: Vec<f64> = r.x.iter().zip(&r.tangent_x).map(|(a, t)| a + ds * t).collect();
         let mut l = r.lambda + ds * r.tangent_lambda;

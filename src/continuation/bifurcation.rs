@@ -93,7 +93,11 @@ pub(crate) fn locate<P: Problem + ?Sized>(
     let (mut a, mut b) = (0.0, span);
     let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
     let (mut fc, mut fd) = (point(c, counts, bordered)?.2, point(d, counts, bordered)?.2);
-    while (b - a).abs() > tol {
+    // At most 120 reductions (0.618^120 ≈ 1e-25 of the span): a tolerance
+    // below the arc length's rounding would otherwise never be met.
+    let mut reductions = 0;
+    while (b - a).abs() > tol && reductions < 120 {
+        reductions += 1;
         if fc < fd {
             b = d;
             d = c;
@@ -113,7 +117,8 @@ pub(crate) fn locate<P: Problem + ?Sized>(
     let (sigma, vectors) = bordered.smallest_singular_vectors(3, counts);
     // The bracket was resolved to `tol`: a genuine zero leaves σ_min at
     // O(tol) of the end values; a mere dip (no singularity) stays at their scale.
-    let small = (100.0 * tol / span.abs()).max(1e-6) * ends;
+    // (Clamped: a bracket shorter than the tolerance would make any σ "small".)
+    let small = (100.0 * tol / span.abs()).clamp(1e-6, 1e-2) * ends;
     let multiplicity = sigma.iter().take(2).filter(|&&s| s <= small).count();
     if multiplicity == 0 {
         return Ok(None);

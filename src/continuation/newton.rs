@@ -198,23 +198,27 @@ pub fn continue_newton<P: Problem + ?Sized>(
             (x, l, tx, tl, opts.initial_step, it)
         }
         Start::Resume(r) => {
+            validate_resume(&r, n)?;
+            let step = resume_step(r.step, opts);
             match bordered.factorise_at(problem, &r.x, r.lambda, &r.tangent_x, r.tangent_lambda, &scaling, &mut counts) {
                 Ok(()) => {
                     let (tx, tl) = bordered.tangent(&scaling, &mut counts)?;
-                    (r.x, r.lambda, tx, tl, r.step, 0)
+                    (r.x, r.lambda, tx, tl, step, 0)
                 }
                 // Exactly singular (a resume at a bifurcation point): keep
                 // the given tangent, as a switch does.
                 Err(e) if e.status == Status::ErrNotConverged => {
                     singular_start = true;
-                    (r.x, r.lambda, r.tangent_x, r.tangent_lambda, r.step, 0)
+                    (r.x, r.lambda, r.tangent_x, r.tangent_lambda, step, 0)
                 }
                 Err(e) => return Err(e),
             }
         }
         Start::Switch(r) => {
+            validate_resume(&r, n)?;
             singular_start = true;
-            (r.x, r.lambda, r.tangent_x, r.tangent_lambda, r.step, 0)
+            let step = resume_step(r.step, opts);
+            (r.x, r.lambda, r.tangent_x, r.tangent_lambda, step, 0)
         }
     };
     let mut records = Vec::new();
@@ -387,6 +391,28 @@ pub(crate) fn make_record<P: Problem + ?Sized>(
         smallest_singular_value,
         newton_iterations,
         series_residual: None,
+    }
+}
+
+/// A resume or switch point: lengths and finiteness (a hand-built or
+/// deserialised Resume is user input).
+pub(crate) fn validate_resume(r: &Resume, n: usize) -> Result<()> {
+    error::count_in_range("resume point length", r.x.len() as i64, n as i64, n as i64)?;
+    error::count_in_range("resume tangent length", r.tangent_x.len() as i64, n as i64, n as i64)?;
+    error::finite_result("resume point", &r.x)?;
+    error::finite_result("resume tangent", &r.tangent_x)?;
+    error::finite("resume lambda", r.lambda)?;
+    error::finite("resume tangent_lambda", r.tangent_lambda)?;
+    Ok(())
+}
+
+/// The step a resume asks for, within the options' bounds (the initial
+/// step when it is not a positive finite number).
+pub(crate) fn resume_step(step: f64, opts: &Options) -> f64 {
+    if step.is_finite() && step > 0.0 {
+        step.clamp(opts.min_step, opts.max_step)
+    } else {
+        opts.initial_step
     }
 }
 

@@ -3,7 +3,7 @@
 //! caller when the point is double (rotational symmetry). What the C ABI
 //! and the drivers use; the generic engines do the work.
 
-use super::model::{Rod, Supports};
+use super::model::Rod;
 use crate::continuation::anm::{continue_anm, AnmOptions};
 use crate::continuation::bifurcation::{branch_start, Bifurcation};
 use crate::continuation::newton::{continue_newton, Start};
@@ -137,12 +137,17 @@ impl Rod {
         })?;
         error::positive("first_step", first_step)?;
         let (phase, bif, direction) = if branch.phase.is_none() && bif.multiplicity >= 2 {
-            let node = match self.supports {
-                Supports::Cantilever => self.elements,
-                _ => self.elements / 2,
+            // The node where the null direction's lateral displacement is
+            // largest (the tip of a cantilever, mid-span between clamps):
+            // the phase condition pins the buckle's azimuth where it is
+            // best determined.
+            let lateral = |i: usize| {
+                let at = self.node(i);
+                nx[at].hypot(nx[at + 1])
             };
-            if node == 0 {
-                return Err(Error::new(Status::ErrOutOfRange, "a phase condition needs at least 2 elements"));
+            let node = (1..=self.elements).fold(0, |best, i| if lateral(i) > lateral(best) { i } else { best });
+            if node == 0 || lateral(node) == 0.0 {
+                return Err(Error::new(Status::ErrOutOfRange, "a phase condition needs a null direction with a lateral displacement (and at least 2 elements)"));
             }
             let at = self.node(node);
             let azimuth = nx[at + 1].atan2(nx[at]);
@@ -158,7 +163,19 @@ impl Rod {
         let sys = self.system_for(phase)?;
         let (sx, sl) = sys.unknown_scales();
         let mu_scale = sx.last().copied().unwrap_or(1.0);
-        let scaling = opts.scaling.clone().unwrap_or(Scaling { x: sx, lambda: sl });
+        crate::continuation::newton::validate(&sys, &Options { scaling: None, ..opts.clone() })?;
+        // A caller's scaling is for the rod's n unknowns; with a phase
+        // condition the unfolding parameter μ gets its own scale.
+        let scaling = match &opts.scaling {
+            Some(s) if phase.is_some() && s.x.len() == self.unknowns() => {
+                let mut x = s.x.clone();
+                x.push(mu_scale);
+                Scaling { x, lambda: s.lambda }
+            }
+            Some(s) => s.clone(),
+            None => Scaling { x: sx, lambda: sl },
+        };
+        let opts = &Options { scaling: opts.scaling.as_ref().map(|_| scaling.clone()), ..opts.clone() };
         let mut start = branch_start(&bif, (&direction, *nl), first_step, &scaling);
         if let Some((node, azimuth)) = phase {
             // First point with the buckle's amplitude fixed instead of the

@@ -131,14 +131,14 @@ fn rod(scene: Scene, scheme: Scheme, n: usize) -> Rod {
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Engine {
-    Anm { order: usize, epsilon: f64 },
+    Anm { order: usize, epsilon: f64, pade: bool },
     Newton,
 }
 
 impl Engine {
     fn name(&self) -> String {
         match self {
-            Engine::Anm { order, epsilon } => format!("rodkit ANM P={order} ε={epsilon:.0e}"),
+            Engine::Anm { order, epsilon, pade } => format!("rodkit ANM{} P={order} ε={epsilon:.0e}", if *pade { " Padé" } else { "" }),
             Engine::Newton => "rodkit Newton".into(),
         }
     }
@@ -154,7 +154,7 @@ fn run(rod: &Rod, engine: Engine, tol: f64, loads: &[f64]) -> (Vec<[f64; 3]>, Co
     let opts = Options { target_lambda: Some(10.0), residual_tol: tol, initial_step: 0.2, max_step: 2.0, max_steps: 2000, samples: loads.to_vec(), ..Default::default() };
     let observe = |x: &[f64], _: f64| rod.tip(x).to_vec();
     let b: Branch = match engine {
-        Engine::Anm { order, epsilon } => continue_anm(&mut sys, start, &opts, &AnmOptions { order, epsilon }, observe, |_| true).unwrap(),
+        Engine::Anm { order, epsilon, pade } => continue_anm(&mut sys, start, &opts, &AnmOptions { order, epsilon, pade }, observe, |_| true).unwrap(),
         Engine::Newton => continue_newton(&mut sys, start, &opts, observe, |_| true).unwrap(),
     };
     let elapsed = t.elapsed();
@@ -222,7 +222,7 @@ fn main() {
         (Scheme::Gauss(2), 16),
         (Scheme::Midpoint, 64),
     ];
-    let engines = [Engine::Anm { order: 20, epsilon: 1e-10 }, Engine::Newton];
+    let engines = [Engine::Anm { order: 20, epsilon: 1e-10, pade: false }, Engine::Anm { order: 20, epsilon: 1e-10, pade: true }, Engine::Newton];
     let scenes = [Scene::Follower, Scene::Dead];
     let auto_ntst = [4usize, 8, 16];
     let auto_ok = auto07p::available();
@@ -286,7 +286,7 @@ fn main() {
                     unknowns,
                     time: median(times.clone()),
                     error: err(tips, &reference(scene, &ALPHAS)),
-                    counts: Some(Counts { steps: 40, factorisations: *jacs as usize, solves: *iters as usize, residuals: *res as usize, jacobians: *jacs as usize, series_orders: 0 }),
+                    counts: Some(Counts { steps: 40, factorisations: *jacs as usize, solves: *iters as usize, residuals: *res as usize, jacobians: *jacs as usize, ..Default::default() }),
                     auto_steps: None,
                 });
             }
@@ -381,7 +381,7 @@ fn section_dense(out: &mut String, dir: &Path, dense: &[f64], reference: &dyn Fn
     for scene in [Scene::Follower, Scene::Dead] {
         for (scheme, n) in [(Scheme::Gauss(4), 8), (Scheme::Gauss(4), 16)] {
             let r = rod(scene, scheme, n);
-            let engines = [Engine::Anm { order: 20, epsilon: 1e-10 }, Engine::Newton];
+            let engines = [Engine::Anm { order: 20, epsilon: 1e-10, pade: false }, Engine::Newton];
             let mut times = vec![vec![]; 2];
             let mut res = vec![None; 2];
             for _ in 0..REPS {
@@ -449,7 +449,7 @@ fn section_post_buckling(out: &mut String, dir: &Path, auto_ok: bool) {
     let mut csv = String::from("discretisation,method,time_s,critical_load_error,tip_error,steps,factorisations,residuals\n");
     for (scheme, n) in [(Scheme::Gauss(4), 8), (Scheme::Gauss(4), 16)] {
         let r = euler_rod(scheme, n);
-        let methods = [Method::Anm(AnmOptions { order: 20, epsilon: 1e-10 }), Method::Newton];
+        let methods = [Method::Anm(AnmOptions { order: 20, epsilon: 1e-10, pade: false }), Method::Newton];
         let mut times = vec![vec![]; 2];
         let mut res = vec![None; 2];
         for _ in 0..REPS {
@@ -495,15 +495,15 @@ fn section_post_buckling(out: &mut String, dir: &Path, auto_ok: bool) {
     let _ = fs::write(dir.join("post_buckling.csv"), csv);
 }
 
-/// The ANM's own knobs (order P, ε) on Gauss(4) × 8: what each buys —
+/// The ANM's own knobs (order P, ε, Padé) on Gauss(4) × 8: what each buys —
 /// steps, factorisations, the series' end-point residual before the
 /// correction (max over the steps), Newton correction iterations, time.
 fn section_anm_knobs(out: &mut String, dir: &Path) {
     let r = rod(Scene::Follower, Scheme::Gauss(4), 8);
     let _ = writeln!(out, "\n4. ANM knobs on Gauss(4) × 8, α 0 → 10 in one run (residual tolerance 1e-10 after correction), medians of {REPS}");
-    let _ = writeln!(out, "{:>4} {:>8} {:>6} {:>8} {:>16} {:>10} {:>10}", "P", "ε", "steps", "factor.", "max series res.", "Newton it.", "time");
-    let mut csv = String::from("order,epsilon,steps,factorisations,max_series_residual,newton_iterations,time_s\n");
-    for order in [10, 20, 30, 40] {
+    let _ = writeln!(out, "{:>5} {:>4} {:>8} {:>6} {:>8} {:>11} {:>16} {:>10} {:>10}", "Padé", "P", "ε", "steps", "factor.", "Padé steps", "max series res.", "Newton it.", "time");
+    let mut csv = String::from("pade,order,epsilon,steps,factorisations,pade_steps,max_series_residual,newton_iterations,time_s\n");
+    for (pade, order) in [(false, 10), (false, 20), (false, 30), (false, 40), (true, 10), (true, 20), (true, 30)] {
         for epsilon in [1e-6, 1e-8, 1e-10, 1e-12] {
             let mut times = vec![];
             let mut summary = None;
@@ -512,16 +512,16 @@ fn section_anm_knobs(out: &mut String, dir: &Path) {
                 let mut sys = r.system().unwrap();
                 let opts = Options { target_lambda: Some(10.0), residual_tol: 1e-10, max_step: 5.0, max_steps: 5000, ..Default::default() };
                 let start = Start::Point { x: r.straight_state(), lambda: 0.0, increasing: true };
-                let b = continue_anm(&mut sys, start, &opts, &AnmOptions { order, epsilon }, |_, _| vec![], |_| true).unwrap();
+                let b = continue_anm(&mut sys, start, &opts, &AnmOptions { order, epsilon, pade }, |_, _| vec![], |_| true).unwrap();
                 times.push(t.elapsed());
                 let worst = b.records.iter().filter_map(|r| r.series_residual).fold(0.0, f64::max);
                 let newton: usize = b.records.iter().map(|r| r.newton_iterations).sum();
-                summary = Some((b.counts.steps, b.counts.factorisations, worst, newton));
+                summary = Some((b.counts.steps, b.counts.factorisations, b.counts.pade_steps, worst, newton));
             }
-            let (steps, fact, worst, newton) = summary.unwrap();
+            let (steps, fact, pade_steps, worst, newton) = summary.unwrap();
             let t = median(times);
-            let _ = writeln!(out, "{order:>4} {epsilon:>8.0e} {steps:>6} {fact:>8} {worst:>16.1e} {newton:>10} {:>8.2}ms", t.as_secs_f64() * 1e3);
-            let _ = writeln!(csv, "{order},{epsilon},{steps},{fact},{worst},{newton},{}", t.as_secs_f64());
+            let _ = writeln!(out, "{:>5} {order:>4} {epsilon:>8.0e} {steps:>6} {fact:>8} {pade_steps:>11} {worst:>16.1e} {newton:>10} {:>8.2}ms", if pade { "yes" } else { "no" }, t.as_secs_f64() * 1e3);
+            let _ = writeln!(csv, "{pade},{order},{epsilon},{steps},{fact},{pade_steps},{worst},{newton},{}", t.as_secs_f64());
         }
     }
     let _ = fs::write(dir.join("anm_knobs.csv"), csv);

@@ -343,6 +343,7 @@ module rodkit
         integer(c_int32_t) :: increasing
         type(c_ptr) :: samples
         integer(c_int64_t) :: sample_count
+        integer(c_int32_t) :: anm_pade
     end type rodkit_continuation_options
 
     ! RodkitBranchProgress (see rodkit.h).

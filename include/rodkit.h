@@ -475,6 +475,9 @@ typedef struct RodkitContinuationOptions {
   // interpolates and corrects.
   const double *samples;
   int64_t sample_count;
+  // 1: the ANM steps on the series' Padé approximants where they reach
+  // further for the same ε (default 0: the polynomial).
+  int32_t anm_pade;
 } RodkitContinuationOptions;
 
 // What the branch progress callback is told after each point.

@@ -246,8 +246,9 @@ fn dense_samples_and_branch_ownership() {
     let loads = [0.5, 1.0, 1.5, 2.0, 2.5, 3.0];
     o.samples = loads.as_ptr();
     o.sample_count = loads.len() as i64;
-    for method in [ContinuationMethod::Anm, ContinuationMethod::Newton] {
+    for (method, pade) in [(ContinuationMethod::Anm, 0), (ContinuationMethod::Anm, 1), (ContinuationMethod::Newton, 0)] {
         o.method = method as i32;
+        o.anm_pade = pade;
         let mut b = ptr::null_mut();
         assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) }, 0, "{}", last_error());
         let mut info = BranchInfo::default();
@@ -284,9 +285,14 @@ fn dense_samples_and_branch_ownership() {
         unsafe { rodkit_rod_free(other) };
         unsafe { rodkit_branch_free(b) };
     }
+    o.method = ContinuationMethod::Anm as i32;
+    o.anm_pade = 2;
+    let mut b = ptr::null_mut();
+    assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) }, Status::ErrOutOfRange.code());
+    assert!(last_error().contains("options.anm_pade"), "{}", last_error());
+    o.anm_pade = 0;
     // Sample arrays: NULL with a count, non-finite loads.
     o.samples = ptr::null();
-    let mut b = ptr::null_mut();
     assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) }, Status::ErrNullPointer.code());
     assert!(last_error().contains("options.samples"), "{}", last_error());
     let bad = [1.0, f64::NAN];

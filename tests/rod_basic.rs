@@ -46,7 +46,7 @@ fn pure_end_moment_rolls_the_rod_into_a_ring() {
             let b = if engine == "newton" {
                 continue_newton(&mut sys, start, &opts, observe, |_| true).unwrap()
             } else {
-                continue_anm(&mut sys, start, &opts, &AnmOptions { order: 20, epsilon: 1e-10 }, observe, |_| true).unwrap()
+                continue_anm(&mut sys, start, &opts, &AnmOptions { order: 20, epsilon: 1e-10, pade: false }, observe, |_| true).unwrap()
             };
             assert_eq!(b.stop, Stop::Target, "{scheme:?} {engine}");
             for r in &b.records {
@@ -236,11 +236,21 @@ fn anm_high_order_takes_longer_steps() {
         (rod.tip(b.states.last().unwrap()), b.counts.steps)
     };
     let (reference, _) = run(Method::Newton);
-    let (t20, s20) = run(Method::Anm(AnmOptions { order: 20, epsilon: 1e-10 }));
-    let (t40, s40) = run(Method::Anm(AnmOptions { order: 40, epsilon: 1e-10 }));
+    let (t20, s20) = run(Method::Anm(AnmOptions { order: 20, epsilon: 1e-10, pade: false }));
+    let (t40, s40) = run(Method::Anm(AnmOptions { order: 40, epsilon: 1e-10, pade: false }));
     println!("steps: P = 20 → {s20}, P = 40 → {s40}");
     assert!(dist(t20, reference) < 1e-10 && dist(t40, reference) < 1e-10);
     assert!(s40 <= s20, "P = 40 took {s40} steps, P = 20 {s20}");
+    // Padé approximants of the same series reach further for the same ε
+    // (they continue the series past its radius of convergence), at the
+    // same accuracy once corrected.
+    for (order, epsilon) in [(10, 1e-8), (10, 1e-10), (15, 1e-10), (20, 1e-10)] {
+        let (tp, sp) = run(Method::Anm(AnmOptions { order, epsilon, pade: true }));
+        let (ts, ss) = run(Method::Anm(AnmOptions { order, epsilon, pade: false }));
+        println!("P = {order}, ε = {epsilon:e}: steps {ss} (series) → {sp} (Padé)");
+        assert!(dist(tp, reference) < 1e-10 && dist(ts, reference) < 1e-10);
+        assert!(sp <= ss, "Padé took {sp} steps, the series {ss}");
+    }
 }
 
 /// Follower cantilever against our own planar-rod shooting reference
@@ -343,7 +353,7 @@ fn follower_cantilever_against_planar_shooting() {
     let loads: Vec<f64> = dense.iter().map(|d| d.0).collect();
     let opts = Options { target_lambda: Some(10.0), residual_tol: 1e-12, max_step: 2.0, samples: loads.clone(), ..Default::default() };
     let mut factorisations = vec![];
-    for method in [rodkit::rod::branch::Method::Anm(rodkit::continuation::anm::AnmOptions { order: 20, epsilon: 1e-10 }), rodkit::rod::branch::Method::Newton] {
+    for method in [rodkit::rod::branch::Method::Anm(rodkit::continuation::anm::AnmOptions { order: 20, epsilon: 1e-10, pade: false }), rodkit::rod::branch::Method::Newton] {
         let b = rod.continue_branch(None, 0.0, true, &opts, method, |_| true).unwrap();
         assert!(b.missed_samples.is_empty());
         let got: Vec<f64> = b.samples.iter().map(|s| s.lambda).collect();

@@ -197,6 +197,9 @@ pub struct ContinuationOptions {
     /// interpolates and corrects.
     pub samples: *const f64,
     pub sample_count: i64,
+    /// 1: the ANM steps on the series' Padé approximants where they reach
+    /// further for the same ε (default 0: the polynomial).
+    pub anm_pade: i32,
 }
 
 /// What the branch progress callback is told after each point.
@@ -424,7 +427,12 @@ unsafe fn options_from(o: &ContinuationOptions) -> Result<(Options, Method, bool
                 return Err(Error::new(Status::ErrOutOfRange, format!("argument `anm_order` must lie in [2, 60] (got {})", o.anm_order)));
             }
             error::in_range("anm_epsilon", o.anm_epsilon, 1e-15, 1e-1)?;
-            Method::Anm(AnmOptions { order: o.anm_order as usize, epsilon: o.anm_epsilon })
+            let pade = match o.anm_pade {
+                0 => false,
+                1 => true,
+                v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `anm_pade` must be 0 or 1 (got {v})"))),
+            };
+            Method::Anm(AnmOptions { order: o.anm_order as usize, epsilon: o.anm_epsilon, pade })
         }
         2 => Method::Newton,
         v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `method` must be a RodkitContinuationMethod 1…2 (got {v})"))),
@@ -645,6 +653,7 @@ pub unsafe extern "C" fn rodkit_continuation_options_default(options: *mut Conti
             increasing: 1,
             samples: std::ptr::null(),
             sample_count: 0,
+            anm_pade: 0,
         };
         Ok(Status::Ok)
     })

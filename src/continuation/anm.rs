@@ -26,6 +26,7 @@ use super::bordered::Bordered;
 use super::bifurcation::{Bifurcation, State};
 use super::newton::{correct, detect, make_record, residual_norm, validate, validate_resume, Start};
 use super::newton::deliver_sample;
+use super::pade::{self, Curve};
 use super::{all_roots, first_root};
 use super::{Branch, Counts, Options, Record, Resume, Sample, Scaling, SeriesProblem, Stop};
 use crate::error::{self, Error, Result};
@@ -38,11 +39,15 @@ pub struct AnmOptions {
     pub order: usize,
     /// ε of the step-length rule.
     pub epsilon: f64,
+    /// Use the Padé approximants of the series (common denominator) where
+    /// they reach further than the polynomial for the same ε
+    /// ([`super::pade`]); the polynomial otherwise.
+    pub pade: bool,
 }
 
 impl Default for AnmOptions {
     fn default() -> Self {
-        AnmOptions { order: 20, epsilon: 1e-8 }
+        AnmOptions { order: 20, epsilon: 1e-8, pade: false }
     }
 }
 
@@ -58,7 +63,7 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
     mut progress: impl FnMut(&Record) -> bool,
 ) -> Result<Branch> {
     validate(problem, opts)?;
-    error::count_in_range("order", anm.order as i64, 2, 60)?;
+    error::count_in_range("order", anm.order as i64, 2, pade::MAX_ORDER as i64)?;
     error::in_range("epsilon", anm.epsilon, 1e-15, 1e-1)?;
     let n = problem.dim();
     let p_max = anm.order;
@@ -198,7 +203,22 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
         if !(a >= opts.min_step) {
             return Ok(finish(Stop::StepTooSmall, x, lambda, x1, l1, a, records, counts, std::mem::take(&mut bifurcations)).with_samples(samples, missed));
         }
-        let lam_at = |t: f64| series.iter().rev().fold(0.0, |acc, c| acc * t + c[n]);
+        // Padé: a longer step where the rational form stays within ε.
+        let mut denominator = None;
+        if anm.pade && a < opts.max_step {
+            if let Some((t, d)) = pade::step(&series, &scaling, anm.epsilon, a, (4.0 * a).min(opts.max_step)) {
+                if t > a {
+                    a = t;
+                    denominator = Some(d);
+                    counts.pade_steps += 1;
+                }
+            }
+        }
+        let curve = match &denominator {
+            Some(d) => Curve::Pade(&series, d),
+            None => Curve::Series(&series),
+        };
+        let lam_at = |t: f64| curve.lambda(t);
         // Dense output: every requested Λ the step crosses, from the series
         // (corrected on this step's factorisation when its residual is
         // above the tolerance).
@@ -211,7 +231,7 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
                 }
                 for t in all_roots(|t| lam_at(t) - target, a) {
                     let mut xs = vec![0.0; n];
-                    evaluate(&series, t, &mut xs, None);
+                    curve.evaluate(t, &mut xs, None);
                     let sample = deliver_sample(problem, &mut bordered, &scaling, &eq, &mut xs, target, (&x1, l1), opts.residual_tol, &mut counts, &mut refactorised);
                     match sample {
                         Ok((iterations, residual)) => samples.push(Sample { lambda: target, outputs: observe(&xs, target), residual, newton_iterations: iterations }),
@@ -239,7 +259,7 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
         let mut xn = vec![0.0; n];
         let mut tn = vec![0.0; n + 1];
         let (mut ln, iterations, series_residual) = loop {
-            evaluate(&series, a, &mut xn, Some(&mut tn));
+            curve.evaluate(a, &mut xn, Some(&mut tn));
             let mut ln = if stop == Some(Stop::Target) { opts.target_lambda.expect("a target stop has a target") } else { lam_at(a) };
             // Λ range: stop before leaving it.
             if stop.is_none() && !(ln >= opts.lambda_range.0 && ln <= opts.lambda_range.1) {
@@ -321,27 +341,6 @@ fn leave_singular<P: SeriesProblem + ?Sized>(
         ds *= 0.5;
         if !(ds >= opts.min_step) {
             return Err(Error::new(Status::ErrNotConverged, "ANM: no regular point found along the start direction (singular start)"));
-        }
-    }
-}
-
-/// X(t) (and dX/da at t into `d`) from the stored series.
-fn evaluate(series: &[Vec<f64>], t: f64, x: &mut [f64], mut d: Option<&mut [f64]>) {
-    let n = x.len();
-    let p_max = series.len() - 1;
-    for i in 0..=n {
-        let (mut v, mut dv) = (0.0, 0.0);
-        for p in (0..=p_max).rev() {
-            v = v * t + series[p][i];
-            if p >= 1 {
-                dv = dv * t + p as f64 * series[p][i];
-            }
-        }
-        if i < n {
-            x[i] = v;
-        }
-        if let Some(d) = d.as_deref_mut() {
-            d[i] = dv;
         }
     }
 }

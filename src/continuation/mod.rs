@@ -21,6 +21,7 @@ pub mod anm;
 pub mod bifurcation;
 pub mod bordered;
 pub mod newton;
+mod pade;
 pub mod system;
 
 use crate::sparse::Pattern;
@@ -231,6 +232,8 @@ pub struct Counts {
     pub jacobians: usize,
     /// Series orders computed (ANM).
     pub series_orders: usize,
+    /// ANM steps taken on the Padé approximant (longer than the series').
+    pub pade_steps: usize,
 }
 
 /// A branch: the records, why it stopped, where to resume, and the work done.

@@ -151,7 +151,7 @@ fn run(rod: &Rod, engine: Engine, tol: f64, loads: &[f64]) -> (Vec<[f64; 3]>, Co
     let t = Instant::now();
     let mut sys = rod.system().unwrap();
     let start = Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true };
-    let opts = Options { target_lambda: Some(10.0), residual_tol: tol, initial_step: 0.2, max_step: 2.0, max_steps: 2000, samples: loads.to_vec(), ..Default::default() };
+    let opts = Options { target_lambda: Some(10.0), residual_tol: tol, initial_step: 0.2, max_step: 10.0, max_steps: 2000, samples: loads.to_vec(), ..Default::default() };
     let observe = |x: &[f64], _: f64| rod.tip(x).to_vec();
     let b: Branch = match engine {
         Engine::Anm { order, epsilon, pade } => continue_anm(&mut sys, start, &opts, &AnmOptions { order, epsilon, pade }, observe, |_| true).unwrap(),

@@ -80,36 +80,66 @@ pub(crate) fn locate<P: Problem + ?Sized>(
         let al = l;
         correct(problem, bordered, scaling, eq, &mut x, &mut l, (&anchor, al), (&left.tx, left.tl), residual_tol, false, counts)?;
         bordered.factorise_at(problem, &x, l, &left.tx, left.tl, scaling, counts)?;
-        let (s, _) = bordered.smallest_singular_vectors(2, counts);
-        Ok((x, l, s[0]))
+        Ok((x, l, bordered.signed_smallest_singular_value(counts)))
     };
-    let ends = {
-        let (_, _, a) = point(0.0, counts, bordered)?;
-        let (_, _, b) = point(span, counts, bordered)?;
-        a.max(b)
-    };
-    // Golden-section search for the minimum of σ_min(τ) on [0, span].
-    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (sa, sb) = (point(0.0, counts, bordered)?.2, point(span, counts, bordered)?.2);
+    let ends = sa.abs().max(sb.abs());
     let (mut a, mut b) = (0.0, span);
-    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
-    let (mut fc, mut fd) = (point(c, counts, bordered)?.2, point(d, counts, bordered)?.2);
-    // At most 120 reductions (0.618^120 ≈ 1e-25 of the span): a tolerance
-    // below the arc length's rounding would otherwise never be met.
-    let mut reductions = 0;
-    while (b - a).abs() > tol && reductions < 120 {
-        reductions += 1;
-        if fc < fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - g * (b - a);
-            fc = point(c, counts, bordered)?.2;
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + g * (b - a);
-            fd = point(d, counts, bordered)?.2;
+    if sa * sb < 0.0 {
+        // A sign change of the signed σ_min (simple points): it crosses
+        // zero linearly, so regula falsi (Illinois) converges
+        // superlinearly — a handful of trial points instead of golden
+        // section's ~45 at tol 1e-10.
+        let (mut fa, mut fb) = (sa, sb);
+        let mut best = if sa.abs() < sb.abs() { 0.0 } else { span };
+        let mut best_f = sa.abs().min(sb.abs());
+        let mut last = f64::NAN;
+        for _ in 0..60 {
+            let c = b - fb * (b - a) / (fb - fa);
+            // Strictly inside the bracket (1 % margins), so it shrinks.
+            let (lo, hi) = (a.min(b), a.max(b));
+            let c = c.clamp(lo + 0.01 * (hi - lo), hi - 0.01 * (hi - lo));
+            let fc = point(c, counts, bordered)?.2;
+            if fc.abs() < best_f {
+                (best, best_f) = (c, fc.abs());
+            }
+            if fc * fb < 0.0 {
+                (a, fa) = (b, fb);
+            } else {
+                fa *= 0.5; // Illinois: the end kept twice counts half
+            }
+            (b, fb) = (c, fc);
+            let moved = (c - last).abs();
+            last = c;
+            if fc == 0.0 || (a - b).abs() <= tol || moved <= 0.5 * tol {
+                break;
+            }
+        }
+        (a, b) = (best, best);
+    } else {
+        // Golden-section search for the minimum of |σ_min|(τ) on [0, span]
+        // (a double point: σ_min touches zero without changing sign). At most
+        // 120 reductions (0.618^120 ≈ 1e-25 of the span): a tolerance below
+        // the arc length's rounding would otherwise never be met.
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
+        let (mut fc, mut fd) = (point(c, counts, bordered)?.2.abs(), point(d, counts, bordered)?.2.abs());
+        let mut reductions = 0;
+        while (b - a).abs() > tol && reductions < 120 {
+            reductions += 1;
+            if fc < fd {
+                b = d;
+                d = c;
+                fd = fc;
+                c = b - g * (b - a);
+                fc = point(c, counts, bordered)?.2.abs();
+            } else {
+                a = c;
+                c = d;
+                fc = fd;
+                d = a + g * (b - a);
+                fd = point(d, counts, bordered)?.2.abs();
+            }
         }
     }
     let tau = 0.5 * (a + b);

@@ -5,7 +5,12 @@
 ! (order 20, eps 1e-10, residual 1e-10) from alpha = Lambda L^2/K_b = 0 to 1,
 ! 2, 5 and 10, each a target reached by resuming the previous branch. A
 ! progress callback counts the points. Prints "name = value" lines and a
-! table; the tip curls past 90 degrees and beyond.
+! table; the tip curls past 90 degrees and beyond. The four shapes go to a
+! VTK polydata file for ParaView (argument 1; default
+! target/follower_cantilever.vtk). Then the same branch once more in a
+! single run with dense output: 20 loads alpha = 0.5, 1, ..., 10 delivered
+! from the ANM's series (Pade approximants on), each within the residual
+! tolerance.
 module follower_progress
     use, intrinsic :: iso_c_binding, only: c_int32_t, c_int64_t, c_ptr, c_f_pointer
     use rodkit, only: rodkit_branch_progress
@@ -40,7 +45,12 @@ program follower_cantilever
     real(c_double), parameter :: alphas(4) = [1.0_c_double, 2.0_c_double, 5.0_c_double, 10.0_c_double]
     real(c_double), parameter :: pi = acos(-1.0_c_double)
     character(len=2) :: tag
-    integer :: k
+    character(len=512) :: vtk_path
+    integer :: k, i, unit, plen
+    integer(c_int64_t), parameter :: nodes = 9
+    real(c_double) :: xyz(3, nodes), shapes(3, nodes, 4)
+    real(c_double), allocatable, target :: loads(:)
+    type(rodkit_branch_record), allocatable :: dense(:)
 
     status = rodkit_rod_spec_default(spec)
     spec%length = 1.0_c_double
@@ -100,11 +110,78 @@ program follower_cantilever
         print '(a, es24.16)', 'tip_x_' // trim(tag) // ' = ', rec(count)%tip_x
         print '(a, es24.16)', 'tip_y_' // trim(tag) // ' = ', rec(count)%tip_y
         print '(a, es24.16)', 'tip_z_' // trim(tag) // ' = ', rec(count)%tip_z
+        status = rodkit_branch_positions(branch, rod, count - 1, xyz, 3_c_int64_t, nodes)
+        if (status /= RODKIT_STATUS_OK) then
+            print '(a)', 'rodkit_branch_positions failed: ' // rodkit_last_error()
+            error stop 1
+        end if
+        shapes(:, :, k) = xyz
         deallocate(rec)
     end do
     print '(a, i0)', 'steps = ', steps
     print '(a, i0)', 'factorisations = ', factorisations
     print '(a, i0)', 'callback_calls = ', calls
+    call rodkit_branch_free(branch)
+
+    ! The shapes as VTK polydata: one polyline per alpha, alpha as point data.
+    vtk_path = 'target/follower_cantilever.vtk'
+    if (command_argument_count() >= 1) call get_command_argument(1, vtk_path, plen)
+    open(newunit=unit, file=trim(vtk_path), status='replace', action='write')
+    write(unit, '(a)') '# vtk DataFile Version 3.0'
+    write(unit, '(a)') 'rodkit follower cantilever: shapes at alpha = 1, 2, 5, 10'
+    write(unit, '(a)') 'ASCII'
+    write(unit, '(a)') 'DATASET POLYDATA'
+    write(unit, '(a, i0, a)') 'POINTS ', 4 * nodes, ' double'
+    do k = 1, 4
+        do i = 1, nodes
+            write(unit, '(3es24.16)') shapes(:, i, k)
+        end do
+    end do
+    write(unit, '(a, i0, 1x, i0)') 'LINES ', 4, 4 * (nodes + 1)
+    do k = 1, 4
+        write(unit, '(i0, *(1x, i0))') nodes, ((k - 1) * nodes + i - 1, i = 1, nodes)
+    end do
+    write(unit, '(a, i0)') 'POINT_DATA ', 4 * nodes
+    write(unit, '(a)') 'SCALARS alpha double 1'
+    write(unit, '(a)') 'LOOKUP_TABLE default'
+    do k = 1, 4
+        do i = 1, nodes
+            write(unit, '(es24.16)') alphas(k)
+        end do
+    end do
+    close(unit)
+    print '(a)', 'vtk = ' // trim(vtk_path)
+
+    ! Dense output in one run: 20 loads from the series (Pade on).
+    allocate(loads(20))
+    loads = [(0.5_c_double * i, i = 1, 20)]
+    opts%target_lambda = 10.0_c_double
+    opts%max_step = 10.0_c_double
+    opts%anm_pade = 1
+    opts%samples = c_loc(loads)
+    opts%sample_count = size(loads, kind=c_int64_t)
+    status = rodkit_rod_continue(rod, x0, n, 0.0_c_double, opts, c_null_funptr, c_null_ptr, branch)
+    if (status /= RODKIT_STATUS_OK) then
+        print '(a, i0, a)', 'dense run failed (status ', status, '): ' // rodkit_last_error()
+        error stop 1
+    end if
+    status = rodkit_branch_summary(branch, info)
+    allocate(dense(info%samples))
+    status = rodkit_branch_samples(branch, dense, info%samples, count)
+    print '(a)', '# dense output, one run (ANM P = 20, eps = 1e-10, Pade):'
+    print '(a)', '#  alpha      tip x         tip z       residual'
+    do i = 1, int(count)
+        print '(f7.2, 2f14.9, es12.2)', dense(i)%lambda, dense(i)%tip_x, dense(i)%tip_z, dense(i)%residual
+    end do
+    print '(a, i0)', 'dense_samples = ', count
+    print '(a, i0)', 'dense_missed = ', info%missed_samples
+    print '(a, i0)', 'dense_steps = ', info%steps
+    print '(a, i0)', 'dense_factorisations = ', info%factorisations
+    print '(a, es24.16)', 'dense_tip_x_5 = ', dense(10)%tip_x
+    print '(a, es24.16)', 'dense_tip_z_5 = ', dense(10)%tip_z
+    print '(a, es24.16)', 'dense_tip_x_10 = ', dense(20)%tip_x
+    print '(a, es24.16)', 'dense_tip_z_10 = ', dense(20)%tip_z
+    print '(a, es24.16)', 'dense_max_residual = ', maxval(dense(:)%residual)
     call rodkit_branch_free(branch)
     call rodkit_rod_free(rod)
 end program follower_cantilever

@@ -395,7 +395,10 @@ fn fortran_follower_cantilever_driver() {
     use rodkit::rod::model::{Rod, Supports};
     use rodkit::rod::scheme::Scheme;
     use rodkit::rod::{Load, Loads, RodLaw};
-    let out = run("f_follower_cantilever_shared", &[]);
+    let dir = std::env::temp_dir().join(format!("rodkit-follower-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let vtk = dir.join("shapes.vtk");
+    let out = run("f_follower_cantilever_shared", &[vtk.to_str().unwrap()]);
     let got = values(&out);
     let rod = |n| {
         let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap();
@@ -425,7 +428,26 @@ fn fortran_follower_cantilever_driver() {
             assert!((v - fine[k][c]).abs() < 1e-8, "α = {a}: tip {name} {v} vs converged {}", fine[k][c]);
         }
     }
-    assert_eq!(run("f_follower_cantilever_static", &[]), out);
+    // The four shapes as VTK polydata: 4 polylines of 9 nodes, the last
+    // node of each at the printed tip.
+    let text = std::fs::read_to_string(&vtk).unwrap();
+    assert!(text.starts_with("# vtk DataFile") && text.contains("POINTS 36 double") && text.contains("LINES 4 40") && text.contains("POINT_DATA 36"));
+    let points: Vec<Vec<f64>> = text.lines().skip(5).take(36).map(|l| l.split_whitespace().map(|v| v.parse().unwrap()).collect()).collect();
+    assert!((points[35][0] - got["tip_x_10"]).abs() < 1e-15 && (points[35][2] - got["tip_z_10"]).abs() < 1e-15);
+    // Dense output in one run (20 loads, Padé): every load delivered within
+    // the tolerance, the ones at α = 5 and 10 equal to the targeted points
+    // (same discrete equations, residual 1e-10 each) and to the converged tip.
+    assert_eq!((got["dense_samples"], got["dense_missed"]), (20.0, 0.0));
+    assert!(got["dense_max_residual"] <= 1e-10);
+    assert!(got["dense_factorisations"] < got["factorisations"], "one dense run costs less than four targeted ones");
+    for (a, k) in [("5", 2), ("10", 3)] {
+        for (c, name) in [(0, "x"), (2, "z")] {
+            let v = got[&format!("dense_tip_{name}_{a}")];
+            assert!((v - same[k][c]).abs() < 1e-8, "dense α = {a}: tip {name} {v} vs targeted {}", same[k][c]);
+            assert!((v - fine[k][c]).abs() < 1e-8, "dense α = {a}: tip {name} {v} vs converged {}", fine[k][c]);
+        }
+    }
+    assert_eq!(run("f_follower_cantilever_static", &[vtk.to_str().unwrap()]), out);
 }
 
 /// The C driver that solves the follower cantilever at α = 5 with its own

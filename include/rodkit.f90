@@ -344,6 +344,8 @@ module rodkit
         type(c_ptr) :: samples
         integer(c_int64_t) :: sample_count
         integer(c_int32_t) :: anm_pade
+        type(c_ptr) :: scaling
+        integer(c_int64_t) :: scaling_count
     end type rodkit_continuation_options
 
     ! RodkitBranchProgress (see rodkit.h).

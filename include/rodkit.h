@@ -478,6 +478,14 @@ typedef struct RodkitContinuationOptions {
   // 1: the ANM steps on the series' Padé approximants where they reach
   // further for the same ε (default 0: the polynomial).
   int32_t anm_pade;
+  // Scaling override (borrowed for the call; NULL, the default: the
+  // rod's own — positions L, forces K_b/L², moments K_b/L, Λ 1): the
+  // typical magnitude of each of the rodkit_rod_unknowns unknowns, then
+  // of Λ (`scaling_count` = unknowns + 1, all positive). The arc length
+  // and every relative tolerance use it; with a phase condition μ keeps
+  // its own scale.
+  const double *scaling;
+  int64_t scaling_count;
 } RodkitContinuationOptions;
 
 // What the branch progress callback is told after each point.

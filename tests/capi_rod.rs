@@ -302,3 +302,54 @@ fn dense_samples_and_branch_ownership() {
     assert!(last_error().contains("samples"), "{}", last_error());
     unsafe { rodkit_rod_free(rod) };
 }
+
+/// The scaling override: with every scale 1 (instead of the rod's own) the
+/// branch still reaches the same target point (the pure follower moment's
+/// arc, closed form as above) within the tolerance, along a different path
+/// (other step counts); bad scalings are refused by name.
+#[test]
+fn scaling_override() {
+    let rod = new_rod(&spec()).unwrap();
+    let mut n = 0;
+    assert_eq!(unsafe { rodkit_rod_unknowns(rod, &mut n) }, 0);
+    let mut o = options();
+    o.target_lambda = 3.0;
+    o.residual_tol = 1e-11;
+    o.method = ContinuationMethod::Newton as i32;
+    let tip_and_steps = |o: &ContinuationOptions| {
+        let mut b = ptr::null_mut();
+        assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, o, None, ptr::null_mut(), &mut b) }, 0, "{}", last_error());
+        let mut info = BranchInfo::default();
+        unsafe { rodkit_branch_summary(b, &mut info) };
+        let mut recs = vec![BranchRecord::default(); info.records as usize];
+        let mut count = 0;
+        unsafe { rodkit_branch_records(b, recs.as_mut_ptr(), info.records, &mut count) };
+        unsafe { rodkit_branch_free(b) };
+        let last = recs[count as usize - 1];
+        ([last.tip_x, last.tip_y, last.tip_z], info.steps)
+    };
+    let (tip_default, steps_default) = tip_and_steps(&o);
+    let ones = vec![1.0; n as usize + 1];
+    let mut big = ones.clone();
+    big[n as usize] = 100.0; // Λ "typically 100": the arc length is mostly x
+    o.scaling = big.as_ptr();
+    o.scaling_count = n + 1;
+    let (tip_big, steps_big) = tip_and_steps(&o);
+    let l: f64 = 3.0;
+    let (ty, tz) = ((1.0 - l.cos()) / l, l.sin() / l);
+    for tip in [tip_default, tip_big] {
+        assert!(tip[0].abs() < 1e-9 && (tip[1].abs() - ty).abs() < 1e-9 && (tip[2] - tz).abs() < 1e-9, "{tip:?}");
+    }
+    println!("steps: default scaling {steps_default}, Λ scale 100: {steps_big}");
+    assert_ne!(steps_default, steps_big, "the scaling changes the arc length, hence the steps");
+    o.scaling_count = n;
+    assert!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut ptr::null_mut()) } < 0);
+    assert!(last_error().contains("options.scaling_count"), "{}", last_error());
+    let mut bad = ones.clone();
+    bad[3] = 0.0;
+    o.scaling = bad.as_ptr();
+    o.scaling_count = n + 1;
+    assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut ptr::null_mut()) }, Status::ErrNotPositive.code());
+    assert!(last_error().contains("options.scaling[3]"), "{}", last_error());
+    unsafe { rodkit_rod_free(rod) };
+}

@@ -6,7 +6,7 @@
 
 use super::{arg_mut, arg_ref, guard, null_error, qualify_argument};
 use crate::continuation::anm::AnmOptions;
-use crate::continuation::{Options, Problem, Record, Stop};
+use crate::continuation::{Options, Problem, Record, Scaling, Stop};
 use crate::error::{self, Error, Result};
 use crate::rod::branch::{Method, RodBranch};
 use crate::rod::model::{Rod as Model, Supports};
@@ -200,6 +200,14 @@ pub struct ContinuationOptions {
     /// 1: the ANM steps on the series' Padé approximants where they reach
     /// further for the same ε (default 0: the polynomial).
     pub anm_pade: i32,
+    /// Scaling override (borrowed for the call; NULL, the default: the
+    /// rod's own — positions L, forces K_b/L², moments K_b/L, Λ 1): the
+    /// typical magnitude of each of the rodkit_rod_unknowns unknowns, then
+    /// of Λ (`scaling_count` = unknowns + 1, all positive). The arc length
+    /// and every relative tolerance use it; with a phase condition μ keeps
+    /// its own scale.
+    pub scaling: *const f64,
+    pub scaling_count: i64,
 }
 
 /// What the branch progress callback is told after each point.
@@ -420,7 +428,7 @@ fn model_from(s: &RodSpec, general: Option<Matrix6<f64>>) -> Result<Model> {
     }
 }
 
-unsafe fn options_from(o: &ContinuationOptions) -> Result<(Options, Method, bool)> {
+unsafe fn options_from(o: &ContinuationOptions, unknowns: usize) -> Result<(Options, Method, bool)> {
     let method = match o.method {
         1 => {
             if !(2..=60).contains(&o.anm_order) {
@@ -460,7 +468,16 @@ unsafe fn options_from(o: &ContinuationOptions) -> Result<(Options, Method, bool
         track_singular: false,
         detect_bifurcations: flag("detect_bifurcations", o.detect_bifurcations)?,
         bifurcation_tol: o.bifurcation_tol,
-        scaling: None,
+        scaling: if o.scaling.is_null() && o.scaling_count == 0 {
+            None
+        } else {
+            check_len("scaling_count", o.scaling_count, unknowns as i64 + 1)?;
+            let s = in_slice("scaling", o.scaling, o.scaling_count)?;
+            if let Some(k) = s.iter().position(|v| !(v.is_finite() && *v > 0.0)) {
+                return Err(Error::new(Status::ErrNotPositive, format!("argument `scaling[{k}]` must be positive and finite (got {:e})", s[k])));
+            }
+            Some(Scaling { x: s[..unknowns].to_vec(), lambda: s[unknowns] })
+        },
         samples: if o.sample_count == 0 && o.samples.is_null() {
             Vec::new()
         } else {
@@ -654,6 +671,8 @@ pub unsafe extern "C" fn rodkit_continuation_options_default(options: *mut Conti
             samples: std::ptr::null(),
             sample_count: 0,
             anm_pade: 0,
+            scaling: std::ptr::null(),
+            scaling_count: 0,
         };
         Ok(Status::Ok)
     })
@@ -786,7 +805,7 @@ pub unsafe extern "C" fn rodkit_rod_continue(
             *o = std::ptr::null_mut();
         }
         let rod = arg_ref("rod", rod)?;
-        let (opts, method, increasing) = options_from(arg_ref("options", options)?).map_err(|e| qualify_argument(e, "options."))?;
+        let (opts, method, increasing) = options_from(arg_ref("options", options)?, rod.model.unknowns()).map_err(|e| qualify_argument(e, "options."))?;
         let x0 = if x0.is_null() {
             None
         } else {
@@ -814,7 +833,7 @@ pub unsafe extern "C" fn rodkit_branch_resume(
         }
         let rod = arg_ref("rod", rod)?;
         let from = same_rod(rod, arg_ref("branch", branch)?)?;
-        let (opts, method, _) = options_from(arg_ref("options", options)?).map_err(|e| qualify_argument(e, "options."))?;
+        let (opts, method, _) = options_from(arg_ref("options", options)?, rod.model.unknowns()).map_err(|e| qualify_argument(e, "options."))?;
         let b = with_progress(&rod.model, progress, user_data, |cb| rod.model.resume_branch(&from.branch, &opts, method, cb))?;
         store_branch(rod, b, out)
     })
@@ -845,7 +864,7 @@ pub unsafe extern "C" fn rodkit_branch_switch(
         let from = same_rod(rod, arg_ref("branch", branch)?)?;
         error::count_in_range("index", index, 0, i64::MAX)?;
         error::count_in_range("direction", direction, 0, i64::MAX)?;
-        let (opts, method, _) = options_from(arg_ref("options", options)?).map_err(|e| qualify_argument(e, "options."))?;
+        let (opts, method, _) = options_from(arg_ref("options", options)?, rod.model.unknowns()).map_err(|e| qualify_argument(e, "options."))?;
         let b = with_progress(&rod.model, progress, user_data, |cb| {
             rod.model.switch_branch(&from.branch, index as usize, direction as usize, first_step, &opts, method, cb)
         })?;

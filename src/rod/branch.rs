@@ -64,9 +64,24 @@ impl Rod {
         }
     }
 
+    /// The options for the system followed: a caller's scaling is for the
+    /// rod's n unknowns; with a phase condition the unfolding parameter μ
+    /// is appended with its own scale.
+    fn options_for(&self, opts: &Options, sys: &AssembledSystem) -> Options {
+        match &opts.scaling {
+            Some(s) if s.x.len() + 1 == sys.dim() => {
+                let mut x = s.x.clone();
+                x.push(*sys.unknown_scales().0.last().expect("a phase system has μ"));
+                Options { scaling: Some(Scaling { x, lambda: s.lambda }), ..opts.clone() }
+            }
+            _ => opts.clone(),
+        }
+    }
+
     fn follow(&self, start: Start, phase: Option<(usize, f64)>, opts: &Options, method: Method,
               mut progress: impl FnMut(&Record) -> bool) -> Result<RodBranch> {
         let mut sys = self.system_for(phase)?;
+        let opts = &self.options_for(opts, &sys);
         let mut states = Vec::new();
         let observe = |x: &[f64], _: f64| x.to_vec();
         let mut cb = |r: &Record| progress(r);
@@ -164,18 +179,8 @@ impl Rod {
         let (sx, sl) = sys.unknown_scales();
         let mu_scale = sx.last().copied().unwrap_or(1.0);
         crate::continuation::newton::validate(&sys, &Options { scaling: None, ..opts.clone() })?;
-        // A caller's scaling is for the rod's n unknowns; with a phase
-        // condition the unfolding parameter μ gets its own scale.
-        let scaling = match &opts.scaling {
-            Some(s) if phase.is_some() && s.x.len() == self.unknowns() => {
-                let mut x = s.x.clone();
-                x.push(mu_scale);
-                Scaling { x, lambda: s.lambda }
-            }
-            Some(s) => s.clone(),
-            None => Scaling { x: sx, lambda: sl },
-        };
-        let opts = &Options { scaling: opts.scaling.as_ref().map(|_| scaling.clone()), ..opts.clone() };
+        let opts = &self.options_for(opts, &sys);
+        let scaling = opts.scaling.clone().unwrap_or(Scaling { x: sx, lambda: sl });
         let mut start = branch_start(&bif, (&direction, *nl), first_step, &scaling);
         if let Some((node, azimuth)) = phase {
             // First point with the buckle's amplitude fixed instead of the

@@ -365,6 +365,7 @@ module rodkit
         real(c_double) :: bordered_det_sign
         real(c_double) :: test_function
         integer(c_int64_t) :: newton_iterations
+        integer(c_int64_t) :: negative_pivots
         real(c_double) :: tip_x
         real(c_double) :: tip_y
         real(c_double) :: tip_z

@@ -550,6 +550,10 @@ typedef struct RodkitBranchRecord {
   // at every bifurcation); NaN when not tracked.
   double test_function;
   int64_t newton_iterations;
+  // Negative pivots of the bordered tangent's LU factors (−1 unknown):
+  // with row pivoting on a non-symmetric tangent, not an inertia — its
+  // parity changes where the determinant signs do.
+  int64_t negative_pivots;
   // Tip position r(L) and the angle (radians) between the tip tangent and e3.
   double tip_x;
   double tip_y;

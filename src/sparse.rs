@@ -249,6 +249,15 @@ impl SparseLu {
         }
         (sign, log)
     }
+
+    /// Negative diagonal entries of U (the pivots). With row pivoting the
+    /// count itself depends on the pivot order; its parity times the
+    /// permutations' parity is sign det.
+    pub fn negative_pivots(&self) -> usize {
+        assert!(self.factorised, "pivots before a successful factorisation");
+        let u = self.lu.u_factor_unsorted();
+        (0..self.pattern.n).filter(|&j| self.diagonal_of(u, j) < 0.0).count()
+    }
 }
 
 /// +1 for an even permutation, −1 for an odd one (cycle count).

@@ -108,6 +108,11 @@ fn bifurcation_flips_the_bordered_determinant() {
         if r.lambda.abs() < 0.9 && r.lambda != 0.0 {
             assert_eq!(s.signum(), r.lambda.signum(), "sign at Λ {}", r.lambda);
         }
+        // The tangent on x = 0 is [[Λ, 0], [0, 1]]: one negative pivot (Λ)
+        // below the bifurcation, none above.
+        if r.lambda != 0.0 {
+            assert_eq!(r.negative_pivots, Some(if r.lambda < 0.0 { 1 } else { 0 }), "at Λ {}", r.lambda);
+        }
     }
 }
 

@@ -245,6 +245,10 @@ pub struct BranchRecord {
     /// at every bifurcation); NaN when not tracked.
     pub test_function: f64,
     pub newton_iterations: i64,
+    /// Negative pivots of the bordered tangent's LU factors (−1 unknown):
+    /// with row pivoting on a non-symmetric tangent, not an inertia — its
+    /// parity changes where the determinant signs do.
+    pub negative_pivots: i64,
     /// Tip position r(L) and the angle (radians) between the tip tangent and e3.
     pub tip_x: f64,
     pub tip_y: f64,
@@ -544,6 +548,7 @@ fn wrap(model: &Model, branch: RodBranch) -> Branch {
             bordered_det_sign: r.bordered_det_sign,
             test_function: r.smallest_singular_value.unwrap_or(f64::NAN),
             newton_iterations: r.newton_iterations as i64,
+            negative_pivots: r.negative_pivots.map_or(-1, |v| v as i64),
             ..record_of(model, n, r.lambda, x)
         })
         .collect();
@@ -555,6 +560,7 @@ fn wrap(model: &Model, branch: RodBranch) -> Branch {
             residual: s.residual,
             test_function: f64::NAN,
             newton_iterations: s.newton_iterations as i64,
+            negative_pivots: -1,
             ..record_of(model, n, s.lambda, x)
         })
         .collect();

@@ -124,6 +124,12 @@ impl Bordered {
 
     /// (sign det B, sign det R_x) for the current factorisation and the
     /// tangent t computed from it.
+    /// Negative pivots of the factorised bordered tangent (see
+    /// [`crate::sparse::SparseLu::negative_pivots`]).
+    pub fn negative_pivots(&self) -> usize {
+        self.lu.negative_pivots()
+    }
+
     pub fn determinant_signs(&self, scaling: &Scaling, tx: &[f64], tl: f64) -> (f64, f64) {
         let (sign_b, _) = self.lu.determinant_sign_and_log();
         let vt = scaling.dot(tx, tl, &self.border_x, self.border_l);

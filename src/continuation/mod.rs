@@ -135,6 +135,13 @@ pub struct Record {
     /// zero at every bifurcation, double ones (symmetry) included, where no
     /// determinant changes sign.
     pub smallest_singular_value: Option<f64>,
+    /// Negative pivots of the bordered tangent's LU factors at the point:
+    /// the stability count codes in the thesis's tradition print. The
+    /// tangent of this first-order system is not symmetric and is factorised
+    /// with row pivoting, so the count is not an inertia; only its change of
+    /// parity (with the determinant signs above) marks a crossing. None at a
+    /// singular start.
+    pub negative_pivots: Option<usize>,
     /// Newton iterations (correction) for this point.
     pub newton_iterations: usize,
     /// ANM: the scaled residual of the series' end point before the Newton

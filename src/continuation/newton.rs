@@ -234,6 +234,7 @@ pub fn continue_newton<P: Problem + ?Sized>(
             det_sign: 0.0,
             bordered_det_sign: 0.0,
             smallest_singular_value: Some(0.0),
+            negative_pivots: None,
             newton_iterations: 0,
             series_residual: None,
         }
@@ -389,6 +390,7 @@ pub(crate) fn make_record<P: Problem + ?Sized>(
         det_sign,
         bordered_det_sign,
         smallest_singular_value,
+        negative_pivots: Some(bordered.negative_pivots()),
         newton_iterations,
         series_residual: None,
     }

@@ -381,9 +381,9 @@ fn section_dense(out: &mut String, dir: &Path, dense: &[f64], reference: &dyn Fn
     for scene in [Scene::Follower, Scene::Dead] {
         for (scheme, n) in [(Scheme::Gauss(4), 8), (Scheme::Gauss(4), 16)] {
             let r = rod(scene, scheme, n);
-            let engines = [Engine::Anm { order: 20, epsilon: 1e-10, pade: false }, Engine::Newton];
-            let mut times = vec![vec![]; 2];
-            let mut res = vec![None; 2];
+            let engines = [Engine::Anm { order: 20, epsilon: 1e-10, pade: false }, Engine::Anm { order: 20, epsilon: 1e-10, pade: true }, Engine::Newton];
+            let mut times = vec![vec![]; 3];
+            let mut res = vec![None; 3];
             for _ in 0..REPS {
                 for (k, &e) in engines.iter().enumerate() {
                     let (tips, counts, t) = run(&r, e, 1e-10, dense);
@@ -395,10 +395,10 @@ fn section_dense(out: &mut String, dir: &Path, dense: &[f64], reference: &dyn Fn
             let reference = reference(scene, dense);
             for (k, e) in engines.iter().enumerate() {
                 let (tips, c) = res[k].clone().unwrap();
-                let c_newton = res[1].as_ref().unwrap().1;
+                let c_newton = res[2].as_ref().unwrap().1;
                 let error = err(&tips, &reference);
-                let ratio_f = if k == 0 { format!("{:.1}", c_newton.factorisations as f64 / c.factorisations as f64) } else { "-".into() };
-                let ratio_t = if k == 0 { format!("{:.2}", t[0].as_secs_f64() / t[1].as_secs_f64()) } else { "-".into() };
+                let ratio_f = if k < 2 { format!("{:.1}", c_newton.factorisations as f64 / c.factorisations as f64) } else { "-".into() };
+                let ratio_t = if k < 2 { format!("{:.2}", t[k].as_secs_f64() / t[2].as_secs_f64()) } else { "-".into() };
                 let _ = writeln!(out, "{:<9} {:<16} {:<26} {:>7.2}ms {:>9.1e} {:>7} {:>7} {:>8} {:>10} {:>10}", format!("{scene:?}"), format!("{scheme:?} × {n}"), e.name(), ms(t[k]), error, c.steps, c.factorisations, c.residuals, ratio_f, ratio_t);
                 let _ = writeln!(csv, "{scene:?},{scheme:?} × {n},{},{},{},{},{},{}", e.name(), t[k].as_secs_f64(), error, c.steps, c.factorisations, c.residuals);
             }

@@ -54,7 +54,11 @@ pub(crate) fn correct<P: Problem + ?Sized>(
     let mut r = vec![0.0; n];
     let mut z = vec![0.0; n + 1];
     let mut previous = f64::INFINITY;
-    let max_iterations = 12;
+    // Chord iterations (reuse) converge linearly: more of them, each a
+    // residual and a solve, before a fresh factorisation is worth it.
+    let chord = reuse;
+    let max_iterations = if chord { 20 } else { 12 };
+    let mut last_refresh: Option<usize> = None;
     for it in 0..=max_iterations {
         problem.residual(x, *lambda, &mut r);
         counts.residuals += 1;
@@ -65,15 +69,16 @@ pub(crate) fn correct<P: Problem + ?Sized>(
         if res <= tol {
             return Ok((it, res));
         }
-        if it == max_iterations || (it >= 3 && res > 0.5 * previous) && !reuse {
+        let slow = res > 0.5 * previous;
+        if it == max_iterations || (slow && it >= 3 && (!chord || last_refresh.map(|k| k + 1) == Some(it))) {
             return Err(Error::new(Status::ErrNotConverged, format!("Newton correction: residual {res:e} after {it} iterations (tolerance {tol:e})")));
         }
-        if reuse && res > 0.25 * previous {
-            // The chord stalls: a fresh Jacobian.
-            reuse = false;
-        }
-        if !reuse {
+        // Newton: a factorisation per iteration. Chord: the caller's
+        // factorisation while the residual at least halves per iteration,
+        // a fresh one (then kept) when it does not.
+        if !chord || slow {
             bordered.factorise_at(problem, x, *lambda, v.0, v.1, scaling, counts)?;
+            last_refresh = Some(it);
         }
         for i in 0..n {
             z[i] = -r[i];
@@ -125,7 +130,7 @@ pub(crate) fn deliver_sample<P: Problem + ?Sized>(
         if res <= tol {
             return Ok((it, res));
         }
-        if !res.is_finite() || res > 0.25 * previous || tl.abs() < 1e-8 {
+        if !res.is_finite() || res > 0.5 * previous || tl.abs() < 1e-8 {
             break;
         }
         for i in 0..n {

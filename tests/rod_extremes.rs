@@ -179,6 +179,16 @@ fn start_exactly_at_a_bifurcation_point() {
     let pe = PI * PI / 4.0;
     let pcr = 2.0 * pe / (1.0 + (1.0 + 4.0 * a * pe).sqrt());
     assert!((bif.lambda - pcr).abs() < 1e-6 * pcr, "located {} vs {pcr}", bif.lambda);
+    // A long bracket ending at the target (max step 1): regula falsi on σ_min
+    // runs into the singular point itself, where the trial point's corrector
+    // cannot converge; the location keeps its best point (regression: the
+    // bifurcation was lost). Gauss(4) × 8 is within 1e-9 of the formula.
+    for method in [Method::Newton, Method::Anm(AnmOptions::default())] {
+        let opts = Options { target_lambda: Some(3.0), residual_tol: 1e-10, initial_step: 0.2, max_step: 1.0, detect_bifurcations: true, ..Default::default() };
+        let b = rod.continue_branch(None, 0.0, true, &opts, method, |_| true).unwrap();
+        assert_eq!(b.bifurcations.len(), 1, "{method:?}");
+        assert!((b.bifurcations[0].lambda - pcr).abs() < 1e-9 * pcr, "{method:?}: {} vs {pcr}", b.bifurcations[0].lambda);
+    }
     for method in [Method::Newton, Method::Anm(AnmOptions::default())] {
         for increasing in [true, false] {
             let opts = Options { max_steps: 5, max_step: 0.2, ..Default::default() };

@@ -99,7 +99,10 @@ pub(crate) fn locate<P: Problem + ?Sized>(
             // Strictly inside the bracket (1 % margins), so it shrinks.
             let (lo, hi) = (a.min(b), a.max(b));
             let c = c.clamp(lo + 0.01 * (hi - lo), hi - 0.01 * (hi - lo));
-            let fc = point(c, counts, bordered)?.2;
+            // Right at the singular point the corrector itself may fail to
+            // converge (its matrix is singular there): the best point so
+            // far is then as close as the location gets.
+            let Ok((_, _, fc)) = point(c, counts, bordered) else { break };
             if fc.abs() < best_f {
                 (best, best_f) = (c, fc.abs());
             }

@@ -47,7 +47,7 @@ pub(crate) fn correct<P: Problem + ?Sized>(
     anchor: (&[f64], f64),
     v: (&[f64], f64),
     tol: f64,
-    mut reuse: bool,
+    reuse: bool,
     counts: &mut Counts,
 ) -> Result<(usize, f64)> {
     let n = x.len();

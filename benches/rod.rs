@@ -427,7 +427,7 @@ fn section_post_buckling(out: &mut String, dir: &Path, auto_ok: bool) {
         let opts = Options { target_lambda: Some(3.0), residual_tol: tol, initial_step: 0.2, max_step: 1.0, detect_bifurcations: true, bifurcation_tol: 1e-10, ..Default::default() };
         let straight = rod.continue_branch(None, 0.0, true, &opts, method, |_| true).unwrap();
         let bif = &straight.bifurcations[0];
-        let opts = Options { target_lambda: Some(14.0), residual_tol: tol, max_step: 1.0, max_steps: 2000, samples: loads.to_vec(), ..Default::default() };
+        let opts = Options { target_lambda: Some(14.0), residual_tol: tol, max_step: 5.0, max_steps: 2000, samples: loads.to_vec(), ..Default::default() };
         let b = rod.switch_branch(&straight, 0, 0, 0.05, &opts, method, |_| true).unwrap();
         let elapsed = t.elapsed();
         let mut c = straight.counts;

@@ -7,6 +7,7 @@
 
 pub mod chebyshev;
 pub mod continuation;
+pub mod electrostatics;
 pub mod error;
 pub mod newton;
 pub mod rod;

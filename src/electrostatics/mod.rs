@@ -35,11 +35,15 @@
 //! within 0.1 %, falling at order 4.00; the OSF stiffness 1/(4κ²) from
 //! rings at κR = 20, 40; the base-pair sum converging at O(b).
 //!
+//! Writhe: [`writhe`] (Gauss double integral, rays closing an open rod;
+//! checked against Fuller's theorem to 1e-9).
+//!
 //! Still to come (issue 5): the force density (variation of E), the
-//! screening cutoff with cell lists, writhe and twist.
+//! screening cutoff with cell lists, twist from the rod's frame.
 
 pub mod discrete;
 pub mod special;
+pub mod writhe;
 
 use crate::error::{self, Error, Result};
 use crate::status::Status;

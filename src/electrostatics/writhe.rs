@@ -1,0 +1,150 @@
+//! Writhe by the Gauss double integral (physics.md §3.4):
+//!   Wr = (1/4π) ∫∫ (r'(s) × r'(t)) · (r(s) − r(t)) / |r(s) − r(t)|³ ds dt.
+//! The integrand is bounded — it tends to (1/12)|h| (r'×r'')·r''' as
+//! h = t − s → 0 — so no regularisation is needed, only panels that break
+//! at the diagonal (a kink in |h|) and at the curve's nodes; it is
+//! parametrisation-invariant, so any [`Centerline`] whose `eval` returns
+//! dr/ds for its own parameter works. An open rod is closed by straight
+//! rays along its end tangents (the clamp axes), r(0) + σ r̂'(0), σ ≤ 0,
+//! and r(L) + σ r̂'(L), σ ≥ 0; the ray integrals are mapped to finite
+//! intervals (σ = ℓu/(1 − u)), exact as the rays go to infinity.
+
+use super::{gauss_legendre, Centerline};
+use crate::error::{self, Result};
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// The Gauss integrand for points p, q with tangents tp, tq (0 at p = q).
+fn kernel(p: [f64; 3], tp: [f64; 3], q: [f64; 3], tq: [f64; 3]) -> f64 {
+    let d = sub(p, q);
+    let r2 = dot(d, d);
+    if r2 == 0.0 {
+        return 0.0;
+    }
+    dot(cross(tp, tq), d) / (r2 * r2.sqrt())
+}
+
+/// Panels of [lo, hi] broken at `breaks` and graded geometrically towards
+/// `lo` and `hi` (to width `finest`) where `grade` says.
+fn graded_panels(lo: f64, hi: f64, breaks: &[f64], grade: (bool, bool), finest: f64) -> Vec<(f64, f64)> {
+    let mut pts = vec![lo, hi];
+    pts.extend(breaks.iter().copied().filter(|&b| b > lo && b < hi));
+    let mut w = finest;
+    while w < 0.5 * (hi - lo) {
+        if grade.0 {
+            pts.push(lo + w);
+        }
+        if grade.1 {
+            pts.push(hi - w);
+        }
+        w *= 2.0;
+    }
+    pts.sort_by(f64::total_cmp);
+    pts.dedup_by(|a, b| (*a - *b).abs() <= 1e-14 * (hi - lo).abs().max(1.0));
+    pts.windows(2).map(|w| (w[0], w[1])).filter(|(a, b)| b > a).collect()
+}
+
+/// Writhe of `curve` (closed, or open and closed by rays along its end
+/// tangents), Gauss–Legendre of `order` points per panel.
+pub fn writhe(curve: &dyn Centerline, order: usize) -> Result<f64> {
+    error::count_in_range("order", order as i64, 2, 32)?;
+    let l = curve.length();
+    error::positive("length", l)?;
+    let (gx, gw) = gauss_legendre(order);
+    let nodes = curve.breakpoints();
+    let finest = 1e-6 * l;
+    let closed = curve.closed();
+    let outer = graded_panels(0.0, l, &nodes, (!closed, !closed), finest);
+    let mut total = 0.0;
+    // Curve–curve: for each s, t over the rest of the curve (periodic
+    // when closed), panels broken at t = s (graded there) and at the nodes.
+    for &(s0, s1) in &outer {
+        let hs = 0.5 * (s1 - s0);
+        for (xi, wi) in gx.iter().zip(&gw) {
+            let s = s0 + hs * (1.0 + xi);
+            let (p, tp, _) = curve.eval(s);
+            let mut inner = 0.0;
+            let ranges: Vec<(f64, f64, bool, bool)> = if closed { vec![(s, s + l, true, true)] } else { vec![(0.0, s, !false, true), (s, l, true, true)] };
+            for (t0, t1, g0, g1) in ranges {
+                let shifted: Vec<f64> = nodes.iter().flat_map(|&b| [b, b + l]).collect();
+                for (p0, p1) in graded_panels(t0, t1, &shifted, (g0, g1), finest) {
+                    let ht = 0.5 * (p1 - p0);
+                    for (xj, wj) in gx.iter().zip(&gw) {
+                        let t = p0 + ht * (1.0 + xj);
+                        let tt = if closed { t.rem_euclid(l) } else { t };
+                        let (q, tq, _) = curve.eval(tt);
+                        inner += ht * wj * kernel(p, tp, q, tq);
+                    }
+                }
+            }
+            // Curve–rays (both orders of each pair: twice).
+            if !closed {
+                inner += 2.0 * ray_integral(p, tp, &curve.eval(0.0), -1.0, l, &gx, &gw);
+                inner += 2.0 * ray_integral(p, tp, &curve.eval(l), 1.0, l, &gx, &gw);
+            }
+            total += hs * wi * inner;
+        }
+    }
+    if !closed {
+        // Ray–ray (twice), each ray against itself is straight: 0.
+        let (a, ta, _) = curve.eval(0.0);
+        let (b, tb, _) = curve.eval(l);
+        let (ua, ub) = (unit(ta), unit(tb));
+        let mut rr = 0.0;
+        for (u0, u1) in ray_panels() {
+            let hu = 0.5 * (u1 - u0);
+            for (xi, wi) in gx.iter().zip(&gw) {
+                let u = u0 + hu * (1.0 + xi);
+                let sigma = l * u / (1.0 - u);
+                let jac = l / ((1.0 - u) * (1.0 - u));
+                let p = [a[0] - sigma * ua[0], a[1] - sigma * ua[1], a[2] - sigma * ua[2]];
+                rr += hu * wi * jac * ray_integral(p, ua, &(b, tb, [0.0; 3]), 1.0, l, &gx, &gw);
+            }
+        }
+        total += 2.0 * rr;
+    }
+    let wr = total / (4.0 * std::f64::consts::PI);
+    if !wr.is_finite() {
+        return Err(error::Error::new(crate::status::Status::ErrNonFiniteResult, "writhe is not finite"));
+    }
+    Ok(wr)
+}
+
+fn unit(v: [f64; 3]) -> [f64; 3] {
+    let n = dot(v, v).sqrt();
+    [v[0] / n, v[1] / n, v[2] / n]
+}
+
+/// Panels on u ∈ [0, 1) for a ray σ = ℓu/(1 − u): graded towards both ends.
+fn ray_panels() -> Vec<(f64, f64)> {
+    graded_panels(0.0, 1.0, &[], (true, true), 1e-7)
+}
+
+/// ∫ over the ray from `end` = (r, r', _) in direction `sign`·r̂' of the
+/// Gauss integrand against (p, tp), the ray's tangent oriented with the
+/// curve (it enters at s = 0, leaves at s = L).
+fn ray_integral(p: [f64; 3], tp: [f64; 3], end: &([f64; 3], [f64; 3], [f64; 3]), sign: f64, l: f64, gx: &[f64], gw: &[f64]) -> f64 {
+    let t = unit(end.1);
+    let mut sum = 0.0;
+    for (u0, u1) in ray_panels() {
+        let hu = 0.5 * (u1 - u0);
+        for (xi, wi) in gx.iter().zip(gw) {
+            let u = u0 + hu * (1.0 + xi);
+            let sigma = l * u / (1.0 - u);
+            let jac = l / ((1.0 - u) * (1.0 - u));
+            let q = [end.0[0] + sign * sigma * t[0], end.0[1] + sign * sigma * t[1], end.0[2] + sign * sigma * t[2]];
+            sum += hu * wi * jac * kernel(p, tp, q, t);
+        }
+    }
+    sum
+}

@@ -183,13 +183,33 @@ fn panels(lo: f64, hi: f64, breaks: &[f64]) -> Vec<(f64, f64)> {
 
 /// The continuum electrostatic energy of `curve` carrying `charge`.
 pub fn energy(curve: &dyn Centerline, charge: &LineCharge, screening: &Screening, quad: &EnergyQuadrature) -> Result<Energy> {
+    energy_core(curve, charge, screening, quad, None)
+}
+
+/// Where the energy's sensitivities go: for every evaluation point s, ∂E
+/// with respect to r(s) and to r''(s) (the near zone sees the curvature).
+type Sink<'a> = Option<&'a mut dyn FnMut(f64, [f64; 3], [f64; 3])>;
+
+/// The quadrature of [`energy`]; with a sink, also the derivative of the
+/// quadrature formula itself (positions at the quadrature points and
+/// r'' at the outer points; the points' arc lengths are fixed).
+fn energy_core(curve: &dyn Centerline, charge: &LineCharge, screening: &Screening, quad: &EnergyQuadrature, mut sink: Sink<'_>) -> Result<Energy> {
     validate(curve, screening, quad)?;
     let l = curve.length();
     let closed = curve.closed();
     let delta = quad.delta;
+    let kappa = screening.kappa;
     let (gx, gw) = gauss_legendre(quad.order);
     let nodes = curve.breakpoints();
-    let phi = |d: f64| if screening.kappa == 0.0 { 1.0 / d } else { (-screening.kappa * d).exp() / d };
+    // Φ(d) and Φ'(d)/d.
+    let phi = |d: f64| -> (f64, f64) {
+        if kappa == 0.0 {
+            (1.0 / d, -1.0 / (d * d * d))
+        } else {
+            let e = (-kappa * d).exp() / d;
+            (e, -e * (kappa + 1.0 / d) / d)
+        }
+    };
     // Outer panels: nodes, and where the near zone changes shape.
     let mut outer_breaks = nodes.clone();
     if !closed {
@@ -197,8 +217,8 @@ pub fn energy(curve: &dyn Centerline, charge: &LineCharge, screening: &Screening
         // Strong screening: within δ of an end, e(s) has a boundary layer
         // of width 1/κ next to s = a (the one-sided near integral starts
         // there): panels graded at a + 2^k/κ.
-        if screening.kappa > 0.0 {
-            let mut d = 0.25 / screening.kappa;
+        if kappa > 0.0 {
+            let mut d = 0.25 / kappa;
             while screening.a + d < delta {
                 outer_breaks.extend([screening.a + d, l - screening.a - d]);
                 d *= 2.0;
@@ -206,6 +226,7 @@ pub fn energy(curve: &dyn Centerline, charge: &LineCharge, screening: &Screening
         }
     }
     let (mut near_total, mut far_total) = (0.0, 0.0);
+    let mut inner_points: Vec<(f64, f64)> = Vec::new();
     for (s0, s1) in panels(0.0, l, &outer_breaks) {
         let half = 0.5 * (s1 - s0);
         for (xi, wi) in gx.iter().zip(&gw) {
@@ -214,24 +235,24 @@ pub fn energy(curve: &dyn Centerline, charge: &LineCharge, screening: &Screening
             let (r, _, r2) = curve.eval(s);
             let lam = charge.at(s);
             let c2 = r2[0] * r2[0] + r2[1] * r2[1] + r2[2] * r2[2];
-            // Near zone: the two sides (one-sided within δ of an end).
+            // Near zone: the two sides (one-sided within δ of an end); its
+            // dependence on the curvature: ∂near/∂c².
             let (left, right) = if closed { (delta, delta) } else { (s.min(delta), (l - s).min(delta)) };
             let near = near_side(lam, -1.0, c2, left, screening) + near_side(lam, 1.0, c2, right, screening);
-            // Far zone: t with |t − s| ≥ δ (periodic distance when closed).
-            let mut far = 0.0;
-            // t ∈ [t0, t1], graded (breaks at |t − s| = 2δ, 4δ, …) from an
-            // end that lies at distance δ from s.
+            // Far zone: t with |t − s| ≥ δ (periodic distance when closed),
+            // graded (|t − s| = 2δ, 4δ, …, and δ + 2^k/κ) from the ends of
+            // a range that lie at distance δ from s.
+            inner_points.clear();
             let mut add_range = |t0: f64, t1: f64, grade_start: bool, grade_end: bool| {
                 let mut breaks: Vec<f64> = nodes.iter().flat_map(|&b| [b, b - l, b + l]).collect();
-                // |t − s| = 2δ, 4δ, …, and (strong screening) δ + 2^k/κ.
                 let mut steps = vec![];
                 let mut k = delta;
                 while k < t1 - t0 {
                     steps.push(k);
                     k = 2.0 * k + delta;
                 }
-                if screening.kappa > 0.0 {
-                    let mut k = 0.25 / screening.kappa;
+                if kappa > 0.0 {
+                    let mut k = 0.25 / kappa;
                     while k < (t1 - t0).min(delta) {
                         steps.push(k);
                         k *= 2.0;
@@ -249,12 +270,7 @@ pub fn energy(curve: &dyn Centerline, charge: &LineCharge, screening: &Screening
                     let hh = 0.5 * (p1 - p0);
                     for (xj, wj) in gx.iter().zip(&gw) {
                         let t = p0 + hh * (1.0 + xj);
-                        let tt = if closed { t.rem_euclid(l) } else { t };
-                        let (rt, _, _) = curve.eval(tt);
-                        let d = ((r[0] - rt[0]).powi(2) + (r[1] - rt[1]).powi(2) + (r[2] - rt[2]).powi(2)).sqrt();
-                        if d > 0.0 {
-                            far += hh * wj * charge.at(tt).0 * phi(d);
-                        }
+                        inner_points.push((if closed { t.rem_euclid(l) } else { t }, hh * wj));
                     }
                 }
             };
@@ -268,6 +284,37 @@ pub fn energy(curve: &dyn Centerline, charge: &LineCharge, screening: &Screening
                     add_range(s + delta, l, true, false);
                 }
             }
+            let mut far = 0.0;
+            let mut grad_s = [0.0; 3];
+            for &(t, wt) in &inner_points {
+                let (rt, _, _) = curve.eval(t);
+                let dv = [r[0] - rt[0], r[1] - rt[1], r[2] - rt[2]];
+                let d = (dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]).sqrt();
+                if d > 0.0 {
+                    let (f, g) = phi(d);
+                    let lt = charge.at(t).0;
+                    far += wt * lt * f;
+                    if let Some(sink) = sink.as_deref_mut() {
+                        // ∂/∂r(s) of w·½λ(s)·wt·λ(t)·Φ(d) is c·(r(s) − r(t)), −that for r(t).
+                        let c = w * 0.5 * lam.0 * wt * lt * g;
+                        let gv = [c * dv[0], c * dv[1], c * dv[2]];
+                        for i in 0..3 {
+                            grad_s[i] += gv[i];
+                        }
+                        sink(t, [-gv[0], -gv[1], -gv[2]], [0.0; 3]);
+                    }
+                }
+            }
+            if let Some(sink) = sink.as_deref_mut() {
+                // ∂near/∂c² per side: λ(J1 + κJ2)/24; c² = |r''|².
+                let dnear_dc2: f64 = [left, right]
+                    .iter()
+                    .filter(|&&side| side > screening.a)
+                    .map(|&side| lam.0 * (special::j(1, screening.a, side, kappa) + kappa * special::j(2, screening.a, side, kappa)) / 24.0)
+                    .sum();
+                let c = w * 0.5 * lam.0 * dnear_dc2 * 2.0;
+                sink(s, grad_s, [c * r2[0], c * r2[1], c * r2[2]]);
+            }
             near_total += w * 0.5 * lam.0 * near;
             far_total += w * 0.5 * lam.0 * far;
         }
@@ -277,6 +324,30 @@ pub fn energy(curve: &dyn Centerline, charge: &LineCharge, screening: &Screening
         return Err(Error::new(Status::ErrNonFiniteResult, "electrostatic energy is not finite"));
     }
     Ok(Energy { total, near: near_total, far: far_total })
+}
+
+/// The energy of a [`HermiteCurve`] and its gradient with respect to the
+/// node positions and node tangents (the exact derivative of the
+/// quadrature formula: minus it is the discrete electrostatic force).
+pub fn energy_gradient(curve: &HermiteCurve, charge: &LineCharge, screening: &Screening, quad: &EnergyQuadrature) -> Result<(Energy, Vec<[f64; 3]>, Vec<[f64; 3]>)> {
+    let m = curve.s.len();
+    let mut gr = vec![[0.0; 3]; m];
+    let mut gt = vec![[0.0; 3]; m];
+    let mut sink = |s: f64, d_r: [f64; 3], d_r2: [f64; 3]| {
+        let (k, h, b, b2) = curve.basis(s);
+        // r(s) = b0 r_k + b1 h t_k + b2 r_{k+1} + b3 h t_{k+1}; r'' likewise with b2/h².
+        for i in 0..3 {
+            gr[k][i] += b[0] * d_r[i] + b2[0] / (h * h) * d_r2[i];
+            gt[k][i] += h * b[1] * d_r[i] + b2[1] / h * d_r2[i];
+            gr[k + 1][i] += b[2] * d_r[i] + b2[2] / (h * h) * d_r2[i];
+            gt[k + 1][i] += h * b[3] * d_r[i] + b2[3] / h * d_r2[i];
+        }
+    };
+    let e = energy_core(curve, charge, screening, quad, Some(&mut sink))?;
+    if !gr.iter().chain(&gt).flatten().all(|v| v.is_finite()) {
+        return Err(Error::new(Status::ErrNonFiniteResult, "electrostatic energy gradient is not finite"));
+    }
+    Ok((e, gr, gt))
 }
 
 /// A C¹ centreline through nodes: cubic Hermite in arc length from node
@@ -299,6 +370,29 @@ impl HermiteCurve {
         }
         Ok(HermiteCurve { s, r, t, closed })
     }
+
+    /// The element k holding s, its length h and the local coordinate u.
+    fn locate(&self, s: f64) -> (usize, f64, f64) {
+        let s = s.clamp(0.0, *self.s.last().expect("≥ 2 nodes"));
+        let k = match self.s.binary_search_by(|v| v.total_cmp(&s)) {
+            Ok(i) => i.min(self.s.len() - 2),
+            Err(i) => (i.max(1) - 1).min(self.s.len() - 2),
+        };
+        let h = self.s[k + 1] - self.s[k];
+        (k, h, (s - self.s[k]) / h)
+    }
+
+    /// (k, h, value weights, second-derivative weights in u) of the
+    /// Hermite basis (h00, h10, h01, h11) at s.
+    fn basis(&self, s: f64) -> (usize, f64, [f64; 4], [f64; 4]) {
+        let (k, h, u) = self.locate(s);
+        (
+            k,
+            h,
+            [2.0 * u * u * u - 3.0 * u * u + 1.0, u * u * u - 2.0 * u * u + u, -2.0 * u * u * u + 3.0 * u * u, u * u * u - u * u],
+            [12.0 * u - 6.0, 6.0 * u - 4.0, -12.0 * u + 6.0, 6.0 * u - 2.0],
+        )
+    }
 }
 
 impl Centerline for HermiteCurve {
@@ -309,13 +403,7 @@ impl Centerline for HermiteCurve {
         self.closed
     }
     fn eval(&self, s: f64) -> ([f64; 3], [f64; 3], [f64; 3]) {
-        let s = s.clamp(0.0, self.length());
-        let k = match self.s.binary_search_by(|v| v.total_cmp(&s)) {
-            Ok(i) => i.min(self.s.len() - 2),
-            Err(i) => (i.max(1) - 1).min(self.s.len() - 2),
-        };
-        let h = self.s[k + 1] - self.s[k];
-        let u = (s - self.s[k]) / h;
+        let (k, h, u) = self.locate(s);
         let (h00, h10, h01, h11) = (2.0 * u * u * u - 3.0 * u * u + 1.0, u * u * u - 2.0 * u * u + u, -2.0 * u * u * u + 3.0 * u * u, u * u * u - u * u);
         let (d00, d10, d01, d11) = (6.0 * u * u - 6.0 * u, 3.0 * u * u - 4.0 * u + 1.0, -6.0 * u * u + 6.0 * u, 3.0 * u * u - 2.0 * u);
         let (e00, e10, e01, e11) = (12.0 * u - 6.0, 6.0 * u - 4.0, -12.0 * u + 6.0, 6.0 * u - 2.0);

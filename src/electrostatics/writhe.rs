@@ -99,7 +99,7 @@ pub fn writhe(curve: &dyn Centerline, order: usize) -> Result<f64> {
         // Ray–ray (twice), each ray against itself is straight: 0.
         let (a, ta, _) = curve.eval(0.0);
         let (b, tb, _) = curve.eval(l);
-        let (ua, ub) = (unit(ta), unit(tb));
+        let ua = unit(ta);
         let mut rr = 0.0;
         for (u0, u1) in ray_panels() {
             let hu = 0.5 * (u1 - u0);

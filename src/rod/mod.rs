@@ -9,6 +9,7 @@ pub mod branch;
 pub mod kinematics;
 pub mod model;
 pub mod scheme;
+pub mod topology;
 
 use crate::error::{self, Error, Result};
 use crate::status::Status;

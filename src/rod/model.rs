@@ -233,14 +233,14 @@ impl Rod {
         kinematics::rhs(&self.rhs_data(), y, lambda)
     }
 
-    fn tableau(&self) -> Tableau {
+    pub(crate) fn tableau(&self) -> Tableau {
         match self.scheme {
             Scheme::Midpoint => Tableau::gauss(1),
             Scheme::Gauss(s) => Tableau::gauss(s),
         }
     }
 
-    fn rhs_data(&self) -> RhsData {
+    pub(crate) fn rhs_data(&self) -> RhsData {
         let c = self.law.compliance();
         let mut compliance = [[0.0; 6]; 6];
         for (i, row) in compliance.iter_mut().enumerate() {

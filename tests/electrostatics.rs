@@ -283,3 +283,60 @@ fn force_is_minus_the_energy_gradient() {
         assert!(sum.iter().all(|v| v.abs() < 1e-10 * scale), "net force {sum:?}");
     }
 }
+
+/// The force density on a ring (exact circle) is radial and uniform:
+/// f·r̂ = (λ²/2R) ∫_{|h|>a} (1 + κd) e^{−κd}/d dh, d = 2R sin(|h|/2R)
+/// (from f = λ∫λ g(d)(r(s) − r(t)) dt with (r(s) − r(t))·r̂ = d²/2R),
+/// which for Coulomb is ln cot(a/4R)/R (= E_ring/(2πR²), the virial of the
+/// §3.5 ring energy). The reference for κ > 0 is that 1-D integral by
+/// composite Gauss–Legendre on a geometric grid. The near-zone truncation
+/// is O(δ²) here: halving δ divides the error by ~4.
+#[test]
+fn force_density_on_a_ring() {
+    use rodkit::electrostatics::force_density;
+    let (r, a) = (1.0, 0.02);
+    let ring = Circle { r, panel: 0.1 };
+    for kappa in [0.0, 3.0] {
+        let reference = {
+            // 2∫_a^{πR} (1 + κd) e^{−κd}/d dh / (2R), geometric panels from a.
+            let (g, w) = ([-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526], [0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538]);
+            let m = 20000;
+            let ratio = (PI * r / a).powf(1.0 / m as f64);
+            let mut sum = 0.0;
+            let mut lo = a;
+            for _ in 0..m {
+                let hi = lo * ratio;
+                for (gi, wi) in g.iter().zip(&w) {
+                    let h = 0.5 * (lo + hi) + 0.5 * (hi - lo) * gi;
+                    let d = 2.0 * r * (h / (2.0 * r)).sin();
+                    sum += 0.5 * (hi - lo) * wi * (1.0 + kappa * d) * (-kappa * d).exp() / d;
+                }
+                lo = hi;
+            }
+            sum / r
+        };
+        if kappa == 0.0 {
+            let exact = (1.0 / (a / (4.0 * r)).tan()).ln() / r;
+            assert!((reference - exact).abs() < 1e-12 * exact, "reference {reference} vs {exact}");
+        }
+        let mut errors = vec![];
+        for delta in [0.2, 0.1, 0.05] {
+            for s in [0.0, 1.0, 4.0] {
+                let f = force_density(&ring, &LineCharge::Uniform(1.0), &Screening { kappa, a }, &EnergyQuadrature { delta, order: 12 }, s).unwrap();
+                let (pos, _, _) = ring.eval(s);
+                let radial = (f[0] * pos[0] + f[1] * pos[1] + f[2] * pos[2]) / r;
+                let tangential = (f[0] * -pos[1] + f[1] * pos[0]) / r;
+                assert!(tangential.abs() < 1e-10 * radial.abs() && f[2].abs() < 1e-12, "κ {kappa} δ {delta} s {s}: {f:?}");
+                if s == 0.0 {
+                    println!("κ {kappa}, δ {delta}: f·r̂ {radial} vs {reference}: {:e}", (radial - reference) / reference);
+                    errors.push(((radial - reference) / reference).abs());
+                }
+            }
+        }
+        assert!(errors[2] < 1e-4, "{errors:?}");
+        for w in errors.windows(2) {
+            let rate = (w[0] / w[1]).log2();
+            assert!(rate > 1.8, "order {rate} ({errors:?})");
+        }
+    }
+}

@@ -38,8 +38,14 @@
 //! Writhe: [`writhe`] (Gauss double integral, rays closing an open rod;
 //! checked against Fuller's theorem to 1e-9).
 //!
-//! Still to come (issue 5): the force density (variation of E), the
-//! screening cutoff with cell lists, twist from the rod's frame.
+//! Force: [`force_density`] (the regularised f(s) of §3.1, r''·ln(δ/a) and
+//! λλ'd3·ln(δ/a) near-zone terms, one-sided at the ends; O(δ²), checked on
+//! rings against the exact virial) and [`energy_gradient`] (the exact
+//! derivative of the quadrature energy for a Hermite centreline).
+//! Twist and Lk = Tw + Wr of a rod state: `crate::rod::topology`.
+//!
+//! Still to come (issue 5): coupling into the rod's residual, the
+//! screening cutoff with cell lists, threads.
 
 pub mod discrete;
 pub mod special;
@@ -239,51 +245,7 @@ fn energy_core(curve: &dyn Centerline, charge: &LineCharge, screening: &Screenin
             // dependence on the curvature: ∂near/∂c².
             let (left, right) = if closed { (delta, delta) } else { (s.min(delta), (l - s).min(delta)) };
             let near = near_side(lam, -1.0, c2, left, screening) + near_side(lam, 1.0, c2, right, screening);
-            // Far zone: t with |t − s| ≥ δ (periodic distance when closed),
-            // graded (|t − s| = 2δ, 4δ, …, and δ + 2^k/κ) from the ends of
-            // a range that lie at distance δ from s.
-            inner_points.clear();
-            let mut add_range = |t0: f64, t1: f64, grade_start: bool, grade_end: bool| {
-                let mut breaks: Vec<f64> = nodes.iter().flat_map(|&b| [b, b - l, b + l]).collect();
-                let mut steps = vec![];
-                let mut k = delta;
-                while k < t1 - t0 {
-                    steps.push(k);
-                    k = 2.0 * k + delta;
-                }
-                if kappa > 0.0 {
-                    let mut k = 0.25 / kappa;
-                    while k < (t1 - t0).min(delta) {
-                        steps.push(k);
-                        k *= 2.0;
-                    }
-                }
-                for k in steps {
-                    if grade_start {
-                        breaks.push(t0 + k);
-                    }
-                    if grade_end {
-                        breaks.push(t1 - k);
-                    }
-                }
-                for (p0, p1) in panels(t0, t1, &breaks) {
-                    let hh = 0.5 * (p1 - p0);
-                    for (xj, wj) in gx.iter().zip(&gw) {
-                        let t = p0 + hh * (1.0 + xj);
-                        inner_points.push((if closed { t.rem_euclid(l) } else { t }, hh * wj));
-                    }
-                }
-            };
-            if closed {
-                add_range(s + delta, s + l - delta, true, true);
-            } else {
-                if s - delta > 0.0 {
-                    add_range(0.0, s - delta, false, true);
-                }
-                if s + delta < l {
-                    add_range(s + delta, l, true, false);
-                }
-            }
+            far_points(s, l, closed, &nodes, delta, kappa, &gx, &gw, &mut inner_points);
             let mut far = 0.0;
             let mut grad_s = [0.0; 3];
             for &(t, wt) in &inner_points {
@@ -324,6 +286,108 @@ fn energy_core(curve: &dyn Centerline, charge: &LineCharge, screening: &Screenin
         return Err(Error::new(Status::ErrNonFiniteResult, "electrostatic energy is not finite"));
     }
     Ok(Energy { total, near: near_total, far: far_total })
+}
+
+/// The far-zone quadrature points (t, weight) for the point s: t with
+/// |t − s| ≥ δ (periodic distance when closed), panels broken at the
+/// nodes and graded (|t − s| = 2δ, 4δ, …, and δ + 2^k/κ) from the ends of
+/// a range that lie at distance δ from s.
+#[allow(clippy::too_many_arguments)]
+fn far_points(s: f64, l: f64, closed: bool, nodes: &[f64], delta: f64, kappa: f64, gx: &[f64], gw: &[f64], out: &mut Vec<(f64, f64)>) {
+    out.clear();
+    let mut add_range = |t0: f64, t1: f64, grade_start: bool, grade_end: bool| {
+        let mut breaks: Vec<f64> = nodes.iter().flat_map(|&b| [b, b - l, b + l]).collect();
+        let mut steps = vec![];
+        let mut k = delta;
+        while k < t1 - t0 {
+            steps.push(k);
+            k = 2.0 * k + delta;
+        }
+        if kappa > 0.0 {
+            let mut k = 0.25 / kappa;
+            while k < (t1 - t0).min(delta) {
+                steps.push(k);
+                k *= 2.0;
+            }
+        }
+        for k in steps {
+            if grade_start {
+                breaks.push(t0 + k);
+            }
+            if grade_end {
+                breaks.push(t1 - k);
+            }
+        }
+        for (p0, p1) in panels(t0, t1, &breaks) {
+            let hh = 0.5 * (p1 - p0);
+            for (xj, wj) in gx.iter().zip(gw) {
+                let t = p0 + hh * (1.0 + xj);
+                out.push((if closed { t.rem_euclid(l) } else { t }, hh * wj));
+            }
+        }
+    };
+    if closed {
+        add_range(s + delta, s + l - delta, true, true);
+    } else {
+        if s - delta > 0.0 {
+            add_range(0.0, s - delta, false, true);
+        }
+        if s + delta < l {
+            add_range(s + delta, l, true, false);
+        }
+    }
+}
+
+/// The electrostatic force density at s (spatial, per unit length):
+///   f(s) = λ(s) ∫_{|t−s|>a} λ(t) g(d) (r(s) − r(t)) dt,  g = −Φ'(d)/d,
+/// minus the functional derivative of [`energy`] at fixed arc lengths.
+/// Near zone (a < |h| < δ), with r(s) − r(s+h) = −(h r' + ½h² r'' + …):
+/// per side of length ℓ, −½λ r''(J₋₁ + κJ₀) − λ' r'(J₋₁ + κJ₀) (the
+/// curvature's r''·ln(δ/a) and the varying charge's tangential term of
+/// §3.2) and, where the side is cut short by an end, the odd term
+/// ∓λ r'(e^{−κa}/a − e^{−κℓ}/ℓ), which cancels between two equal sides.
+/// Truncation: O(δ²) in the interior, O(δ) within δ of an end.
+pub fn force_density(curve: &dyn Centerline, charge: &LineCharge, screening: &Screening, quad: &EnergyQuadrature, s: f64) -> Result<[f64; 3]> {
+    validate(curve, screening, quad)?;
+    let l = curve.length();
+    error::finite("s", s)?;
+    if !(0.0..=l).contains(&s) {
+        return Err(Error::new(Status::ErrOutOfRange, format!("argument `s` ({s:e}) outside [0, {l:e}]")));
+    }
+    let closed = curve.closed();
+    let (delta, kappa, a) = (quad.delta, screening.kappa, screening.a);
+    let (gx, gw) = gauss_legendre(quad.order);
+    let (r, r1, r2) = curve.eval(s);
+    let (q, dq, _) = charge.at(s);
+    let (left, right) = if closed { (delta, delta) } else { (s.min(delta), (l - s).min(delta)) };
+    let mut f = [0.0; 3];
+    for (side, sign) in [(left, -1.0), (right, 1.0)] {
+        if side <= a {
+            continue;
+        }
+        let jj = special::j(-1, a, side, kappa) + kappa * special::j(0, a, side, kappa);
+        let odd = (-kappa * a).exp() / a - (-kappa * side).exp() / side;
+        for i in 0..3 {
+            f[i] += -0.5 * q * r2[i] * jj - dq * r1[i] * jj - sign * q * r1[i] * odd;
+        }
+    }
+    let mut pts = Vec::new();
+    far_points(s, l, closed, &curve.breakpoints(), delta, kappa, &gx, &gw, &mut pts);
+    for (t, w) in pts {
+        let (rt, _, _) = curve.eval(t);
+        let dv = [r[0] - rt[0], r[1] - rt[1], r[2] - rt[2]];
+        let d = (dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]).sqrt();
+        if d > 0.0 {
+            let g = (-kappa * d).exp() * (1.0 + kappa * d) / (d * d * d);
+            let c = w * charge.at(t).0 * g;
+            for i in 0..3 {
+                f[i] += c * dv[i];
+            }
+        }
+    }
+    let f = [q * f[0], q * f[1], q * f[2]];
+    error::finite_result("force density", &f)?;
+    Ok(f)
 }
 
 /// The energy of a [`HermiteCurve`] and its gradient with respect to the

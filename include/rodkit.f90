@@ -414,6 +414,22 @@ module rodkit
         real(c_double) :: tip_z
     end type rodkit_bifurcation
 
+    ! RodkitElectrostaticsSpec (see rodkit.h).
+    type, bind(c) :: rodkit_electrostatics_spec
+        real(c_double) :: line_charge
+        real(c_double) :: kappa
+        real(c_double) :: a
+        real(c_double) :: near_width
+        integer(c_int64_t) :: order
+    end type rodkit_electrostatics_spec
+
+    ! RodkitElectrostaticEnergy (see rodkit.h).
+    type, bind(c) :: rodkit_electrostatic_energy
+        real(c_double) :: total
+        real(c_double) :: near
+        real(c_double) :: far
+    end type rodkit_electrostatic_energy
+
     interface
 
         ! Deliberately panics inside rodkit's C-boundary guard and returns
@@ -916,6 +932,59 @@ module rodkit
             real(c_double), intent(inout) :: dy(*)
             integer(c_int32_t) :: status
         end function rodkit_rod_rhs
+        function rodkit_electrostatics_spec_default(spec) result(status) &
+                bind(c, name="rodkit_electrostatics_spec_default")
+            import :: c_int32_t, rodkit_electrostatics_spec
+            type(rodkit_electrostatics_spec), intent(out) :: spec
+            integer(c_int32_t) :: status
+        end function rodkit_electrostatics_spec_default
+
+        function rodkit_curve_electrostatic_energy(s, xyz, ldx, tangents, ldt, nodes, closed, spec, energy) result(status) &
+                bind(c, name="rodkit_curve_electrostatic_energy")
+            import :: c_double, c_int32_t, c_int64_t, rodkit_electrostatics_spec, rodkit_electrostatic_energy
+            real(c_double), intent(in) :: s(*)
+            real(c_double), intent(in) :: xyz(*)
+            integer(c_int64_t), value :: ldx
+            real(c_double), intent(in) :: tangents(*)
+            integer(c_int64_t), value :: ldt
+            integer(c_int64_t), value :: nodes
+            integer(c_int32_t), value :: closed
+            type(rodkit_electrostatics_spec), intent(in) :: spec
+            type(rodkit_electrostatic_energy), intent(out) :: energy
+            integer(c_int32_t) :: status
+        end function rodkit_curve_electrostatic_energy
+
+        function rodkit_curve_base_pair_energy(s, xyz, ldx, tangents, ldt, nodes, closed, spec, spacing, energy) result(status) &
+                bind(c, name="rodkit_curve_base_pair_energy")
+            import :: c_double, c_int32_t, c_int64_t, rodkit_electrostatics_spec
+            real(c_double), intent(in) :: s(*)
+            real(c_double), intent(in) :: xyz(*)
+            integer(c_int64_t), value :: ldx
+            real(c_double), intent(in) :: tangents(*)
+            integer(c_int64_t), value :: ldt
+            integer(c_int64_t), value :: nodes
+            integer(c_int32_t), value :: closed
+            type(rodkit_electrostatics_spec), intent(in) :: spec
+            real(c_double), value :: spacing
+            real(c_double), intent(out) :: energy
+            integer(c_int32_t) :: status
+        end function rodkit_curve_base_pair_energy
+
+        function rodkit_curve_writhe(s, xyz, ldx, tangents, ldt, nodes, closed, order, writhe_out) result(status) &
+                bind(c, name="rodkit_curve_writhe")
+            import :: c_double, c_int32_t, c_int64_t
+            real(c_double), intent(in) :: s(*)
+            real(c_double), intent(in) :: xyz(*)
+            integer(c_int64_t), value :: ldx
+            real(c_double), intent(in) :: tangents(*)
+            integer(c_int64_t), value :: ldt
+            integer(c_int64_t), value :: nodes
+            integer(c_int32_t), value :: closed
+            integer(c_int64_t), value :: order
+            real(c_double), intent(out) :: writhe_out
+            integer(c_int32_t) :: status
+        end function rodkit_curve_writhe
+
     end interface
 
 contains

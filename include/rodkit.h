@@ -363,6 +363,32 @@ typedef struct RodkitDnaFit {
   double thick_turns_per_pn_per_10kbp;
 } RodkitDnaFit;
 
+// Line charge and interaction. Call `rodkit_electrostatics_spec_default`
+// first (physical fields NaN = unset). Energies are in units of
+// 1/(4πε0εr) times the charge's units squared (k_BT·l_B per e² for a
+// charge in e per length).
+typedef struct RodkitElectrostaticsSpec {
+  // Uniform line charge density λ.
+  double line_charge;
+  // Inverse Debye length κ ≥ 0 (0: Coulomb).
+  double kappa;
+  // Excluded arc-length distance a > 0 (the rod's radius scale).
+  double a;
+  // Near-zone half-width δ (a < δ < L, < L/2 on a closed curve;
+  // the result is independent of it to O(δ⁴)).
+  double near_width;
+  // Gauss–Legendre points per panel (2…32; default 10).
+  int64_t order;
+} RodkitElectrostaticsSpec;
+
+// Energy and its split into the analytic near zone and the quadrature
+// far zone.
+typedef struct RodkitElectrostaticEnergy {
+  double total;
+  double near;
+  double far;
+} RodkitElectrostaticEnergy;
+
 // A rod: law, length, supports, loads (each multiplied by the load
 // parameter Λ), discretisation. Initialise with `rodkit_rod_spec_default`.
 // Stiffness order (u1, u2, u3, v1, v2, v3) ↔ (m1, m2, m3, n1, n2, n3):
@@ -739,6 +765,48 @@ int32_t rodkit_dna_fit_thin_wall(double stretch,
                                  double thickness,
                                  double nu12,
                                  struct RodkitDnaFit *out);
+
+// Fill `spec` with defaults: λ, κ, a, δ NaN (unset), order 10.
+int32_t rodkit_electrostatics_spec_default(struct RodkitElectrostaticsSpec *spec);
+
+// The continuum electrostatic self-energy of the curve (nodes ≥ 2;
+// `closed` 1: the last node repeats the first and the curve is periodic).
+int32_t rodkit_curve_electrostatic_energy(const double *s,
+                                          const double *xyz,
+                                          int64_t ldx,
+                                          const double *tangents,
+                                          int64_t ldt,
+                                          int64_t nodes,
+                                          int32_t closed,
+                                          const struct RodkitElectrostaticsSpec *spec,
+                                          struct RodkitElectrostaticEnergy *energy);
+
+// The discrete base-pair energy of the same curve: charges λ·b at spacing
+// b (≈ `spacing`, adjusted to divide the length) at the midpoints, all
+// pairs with |s_i − s_j| > a (the thesis's comparison, O(N²)).
+int32_t rodkit_curve_base_pair_energy(const double *s,
+                                      const double *xyz,
+                                      int64_t ldx,
+                                      const double *tangents,
+                                      int64_t ldt,
+                                      int64_t nodes,
+                                      int32_t closed,
+                                      const struct RodkitElectrostaticsSpec *spec,
+                                      double spacing,
+                                      double *energy);
+
+// The writhe of the curve (turns): the Gauss double integral, an open
+// curve closed by rays along its end tangents; `order` Gauss points per
+// panel (2…32).
+int32_t rodkit_curve_writhe(const double *s,
+                            const double *xyz,
+                            int64_t ldx,
+                            const double *tangents,
+                            int64_t ldt,
+                            int64_t nodes,
+                            int32_t closed,
+                            int64_t order,
+                            double *writhe_out);
 
 // Human-readable description of a status code (never NULL; static storage;
 // "unknown rodkit status code" for codes rodkit does not define).

@@ -463,3 +463,34 @@ fn c_rod_sundials_driver() {
     assert!(got["kinsol_discrete_iterations"] <= 5.0);
     assert!((got["anm_tip_x"] - 0.7805435043).abs() < 1e-9, "the follower tip at α = 5 (benches/rod.rs reference 0.780543504307)");
 }
+
+/// The Fortran driver for the electrostatics and writhe of a given curve:
+/// every printed number against the Rust API on the same curve (1e-12),
+/// the near-zone width not mattering (0.8 vs 0.4: 1e-4, the O(δ⁴) term),
+/// the base-pair model within 2 % of the continuum (spacing 0.05: O(b)),
+/// and the closed toroidal helix's writhe against Fuller's value
+/// (−2.9245397422, tests/writhe.rs) to the Hermite centreline's error.
+#[test]
+fn fortran_charged_curve_driver() {
+    use rodkit::electrostatics::{discrete, energy, writhe::writhe, EnergyQuadrature, HermiteCurve, LineCharge, Screening};
+    let out = run("f_charged_curve_shared", &[]);
+    let got = values(&out);
+    let (radius, pitch, length, n) = (1.0f64, 3.0f64, 20.0f64, 81usize);
+    let c = pitch / (2.0 * std::f64::consts::PI);
+    let w = (radius * radius + c * c).sqrt();
+    let s: Vec<f64> = (0..n).map(|k| length * k as f64 / (n - 1) as f64).collect();
+    let r = s.iter().map(|&v| { let th = v / w; [radius * th.cos(), radius * th.sin(), c * th] }).collect();
+    let t = s.iter().map(|&v| { let th = v / w; [-radius * th.sin() / w, radius * th.cos() / w, c / w] }).collect();
+    let helix = HermiteCurve::new(s, r, t, false).unwrap();
+    let scr = Screening { kappa: 1.0, a: 0.3 };
+    let e = energy(&helix, &LineCharge::Uniform(1.0), &scr, &EnergyQuadrature { delta: 0.8, order: 12 }).unwrap();
+    let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
+    assert!(rel(got["energy"], e.total) < 1e-12 && rel(got["energy_near"], e.near) < 1e-12 && rel(got["energy_far"], e.far) < 1e-12, "{got:?} vs {e:?}");
+    assert!(rel(got["energy_narrow_near_zone"], got["energy"]) < 1e-4);
+    let (pr, pq, ps) = discrete::base_pairs(&helix, &LineCharge::Uniform(1.0), 0.05).unwrap();
+    assert!(rel(got["base_pair_energy"], discrete::energy(&pr, &pq, &ps, &scr, None)) < 1e-12);
+    assert!(rel(got["base_pair_energy"], got["energy"]) < 0.02);
+    assert!(rel(got["helix_writhe"], writhe(&helix, 10).unwrap()) < 1e-12);
+    assert!((got["toroidal_writhe"] - (-2.9245397422)).abs() < 1e-5, "{}", got["toroidal_writhe"]);
+    assert_eq!(run("f_charged_curve_static", &[]), out);
+}

@@ -11,6 +11,7 @@
 
 pub mod diagnostic;
 pub mod dna;
+pub mod electrostatics;
 pub mod error;
 pub mod rod;
 pub mod tube;
@@ -127,6 +128,7 @@ mod tests {
         let sources = [
             include_str!("diagnostic.rs"),
             include_str!("dna.rs"),
+            include_str!("electrostatics.rs"),
             include_str!("error.rs"),
             include_str!("rod.rs"),
             include_str!("tube.rs"),

@@ -483,7 +483,7 @@ fn fortran_charged_curve_driver() {
     let t = s.iter().map(|&v| { let th = v / w; [-radius * th.sin() / w, radius * th.cos() / w, c / w] }).collect();
     let helix = HermiteCurve::new(s, r, t, false).unwrap();
     let scr = Screening { kappa: 1.0, a: 0.3 };
-    let e = energy(&helix, &LineCharge::Uniform(1.0), &scr, &EnergyQuadrature { delta: 0.8, order: 12 }).unwrap();
+    let e = energy(&helix, &LineCharge::Uniform(1.0), &scr, &EnergyQuadrature { delta: 0.8, order: 12, cutoff: None }).unwrap();
     let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
     assert!(rel(got["energy"], e.total) < 1e-12 && rel(got["energy_near"], e.near) < 1e-12 && rel(got["energy_far"], e.far) < 1e-12, "{got:?} vs {e:?}");
     assert!(rel(got["energy_narrow_near_zone"], got["energy"]) < 1e-4);

@@ -97,7 +97,7 @@ fn settings(spec: &ElectrostaticsSpec) -> Result<(LineCharge, Screening, EnergyQ
     if !(spec.near_width > spec.a) {
         return Err(Error::new(Status::ErrOutOfRange, format!("argument `near_width` ({:e}) must exceed a ({:e})", spec.near_width, spec.a)));
     }
-    Ok((LineCharge::Uniform(spec.line_charge), Screening { kappa: spec.kappa, a: spec.a }, EnergyQuadrature { delta: spec.near_width, order: spec.order as usize }))
+    Ok((LineCharge::Uniform(spec.line_charge), Screening { kappa: spec.kappa, a: spec.a }, EnergyQuadrature { delta: spec.near_width, order: spec.order as usize, cutoff: None }))
 }
 
 /// The continuum electrostatic self-energy of the curve (nodes ≥ 2;

@@ -93,6 +93,28 @@ impl CellList {
         ((p[0] / size).floor() as i64, (p[1] / size).floor() as i64, (p[2] / size).floor() as i64)
     }
 
+    /// Indices of the points within `radius` (≤ the cell size) of `p`,
+    /// ascending.
+    pub fn neighbours_within(&self, r: &[[f64; 3]], p: &[f64; 3], radius: f64, out: &mut Vec<usize>) {
+        out.clear();
+        let (cx, cy, cz) = Self::key(p, self.size);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    if let Some(list) = self.cells.get(&(cx + dx, cy + dy, cz + dz)) {
+                        for &j in list {
+                            let d2 = (p[0] - r[j][0]).powi(2) + (p[1] - r[j][1]).powi(2) + (p[2] - r[j][2]).powi(2);
+                            if d2 < radius * radius {
+                                out.push(j);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        out.sort_unstable();
+    }
+
     /// Indices j > i of points within `radius` (≤ the cell size) of point
     /// i, ascending.
     pub fn neighbours_after(&self, r: &[[f64; 3]], i: usize, radius: f64, out: &mut Vec<usize>) {

@@ -98,6 +98,11 @@ pub struct EnergyQuadrature {
     pub delta: f64,
     /// Gauss–Legendre points per panel (2…32).
     pub order: usize,
+    /// Screening cutoff r_c: far-zone pairs farther apart in space are
+    /// dropped (neighbours by cell lists, so an evaluation costs O(N));
+    /// None keeps every pair (Coulomb needs that). See
+    /// [`discrete::screening_cutoff`] for r_c from a tolerance.
+    pub cutoff: Option<f64>,
 }
 
 /// The energy and its split.
@@ -107,6 +112,9 @@ pub struct Energy {
     /// ∫ of the near-zone (analytic) part and of the far-zone part.
     pub near: f64,
     pub far: f64,
+    /// Far-zone kernel evaluations (the cost: O(N) with a cutoff, O(N²)
+    /// without).
+    pub far_evaluations: usize,
 }
 
 /// Gauss–Legendre nodes and weights on [−1, 1] (Newton on P_n).
@@ -233,6 +241,9 @@ fn energy_core(curve: &dyn Centerline, charge: &LineCharge, screening: &Screenin
     }
     let (mut near_total, mut far_total) = (0.0, 0.0);
     let mut inner_points: Vec<(f64, f64)> = Vec::new();
+    let mut scratch = Vec::new();
+    let mut evaluations = 0;
+    let far = FarZone::new(curve, delta, kappa, quad.cutoff, &gx, &gw);
     for (s0, s1) in panels(0.0, l, &outer_breaks) {
         let half = 0.5 * (s1 - s0);
         for (xi, wi) in gx.iter().zip(&gw) {
@@ -245,9 +256,10 @@ fn energy_core(curve: &dyn Centerline, charge: &LineCharge, screening: &Screenin
             // dependence on the curvature: ∂near/∂c².
             let (left, right) = if closed { (delta, delta) } else { (s.min(delta), (l - s).min(delta)) };
             let near = near_side(lam, -1.0, c2, left, screening) + near_side(lam, 1.0, c2, right, screening);
-            far_points(s, l, closed, &nodes, delta, kappa, &gx, &gw, &mut inner_points);
+            far.points_for(s, &r, &mut inner_points, &mut scratch);
             let mut far = 0.0;
             let mut grad_s = [0.0; 3];
+            evaluations += inner_points.len();
             for &(t, wt) in &inner_points {
                 let (rt, _, _) = curve.eval(t);
                 let dv = [r[0] - rt[0], r[1] - rt[1], r[2] - rt[2]];
@@ -285,55 +297,162 @@ fn energy_core(curve: &dyn Centerline, charge: &LineCharge, screening: &Screenin
     if !total.is_finite() {
         return Err(Error::new(Status::ErrNonFiniteResult, "electrostatic energy is not finite"));
     }
-    Ok(Energy { total, near: near_total, far: far_total })
+    Ok(Energy { total, near: near_total, far: far_total, far_evaluations: evaluations })
 }
 
-/// The far-zone quadrature points (t, weight) for the point s: t with
-/// |t − s| ≥ δ (periodic distance when closed), panels broken at the
-/// nodes and graded (|t − s| = 2δ, 4δ, …, and δ + 2^k/κ) from the ends of
-/// a range that lie at distance δ from s.
-#[allow(clippy::too_many_arguments)]
-fn far_points(s: f64, l: f64, closed: bool, nodes: &[f64], delta: f64, kappa: f64, gx: &[f64], gw: &[f64], out: &mut Vec<(f64, f64)>) {
-    out.clear();
-    let mut add_range = |t0: f64, t1: f64, grade_start: bool, grade_end: bool| {
-        let mut breaks: Vec<f64> = nodes.iter().flat_map(|&b| [b, b - l, b + l]).collect();
-        let mut steps = vec![];
-        let mut k = delta;
-        while k < t1 - t0 {
-            steps.push(k);
-            k = 2.0 * k + delta;
-        }
-        if kappa > 0.0 {
-            let mut k = 0.25 / kappa;
-            while k < (t1 - t0).min(delta) {
-                steps.push(k);
-                k *= 2.0;
+/// The far-zone quadrature (t, weight) for any point s: t with
+/// |t − s| ≥ δ (periodic distance when closed). Fixed global panels (the
+/// curve's node intervals, cut to at most 2δ) carry Gauss points once for
+/// all s; around s, the panels meeting |t − s| < 4δ form a window whose
+/// part beyond δ is integrated on local panels graded from |t − s| = δ
+/// (2δ, 4δ, …, and δ + 2^k/κ), where the integrand varies like 1/h. With
+/// a cutoff, global points farther than r_c in space are dropped, found by
+/// a cell list: O(1) points per s.
+struct FarZone {
+    l: f64,
+    closed: bool,
+    delta: f64,
+    kappa: f64,
+    /// Global panel edges, ascending from 0 to L.
+    edges: Vec<f64>,
+    /// Global points: (t, weight, panel index, position).
+    points: Vec<(f64, f64, usize, [f64; 3])>,
+    cutoff: Option<(f64, discrete::CellList, Vec<[f64; 3]>)>,
+    gx: Vec<f64>,
+    gw: Vec<f64>,
+}
+
+impl FarZone {
+    fn new(curve: &dyn Centerline, delta: f64, kappa: f64, cutoff: Option<f64>, gx: &[f64], gw: &[f64]) -> Self {
+        let l = curve.length();
+        let mut edges = vec![0.0];
+        let mut nodes = curve.breakpoints();
+        nodes.push(l);
+        let mut last = 0.0;
+        for &b in &nodes {
+            if b <= last {
+                continue;
             }
-        }
-        for k in steps {
-            if grade_start {
-                breaks.push(t0 + k);
+            let pieces = ((b - last) / (2.0 * delta)).ceil().max(1.0) as usize;
+            for k in 1..=pieces {
+                edges.push(last + (b - last) * k as f64 / pieces as f64);
             }
-            if grade_end {
-                breaks.push(t1 - k);
-            }
+            last = b;
         }
-        for (p0, p1) in panels(t0, t1, &breaks) {
-            let hh = 0.5 * (p1 - p0);
+        let mut points = Vec::with_capacity((edges.len() - 1) * gx.len());
+        for (p, w) in edges.windows(2).enumerate() {
+            let hh = 0.5 * (w[1] - w[0]);
             for (xj, wj) in gx.iter().zip(gw) {
-                let t = p0 + hh * (1.0 + xj);
-                out.push((if closed { t.rem_euclid(l) } else { t }, hh * wj));
+                let t = w[0] + hh * (1.0 + xj);
+                points.push((t, hh * wj, p, curve.eval(t).0));
             }
         }
-    };
-    if closed {
-        add_range(s + delta, s + l - delta, true, true);
-    } else {
-        if s - delta > 0.0 {
-            add_range(0.0, s - delta, false, true);
+        let cutoff = cutoff.map(|rc| {
+            let pos: Vec<[f64; 3]> = points.iter().map(|p| p.3).collect();
+            (rc, discrete::CellList::new(&pos, rc), pos)
+        });
+        FarZone { l, closed: curve.closed(), delta, kappa, edges, points, cutoff, gx: gx.to_vec(), gw: gw.to_vec() }
+    }
+
+    /// The far-zone points for s at position r into `out` (t, weight).
+    fn points_for(&self, s: f64, r: &[f64; 3], out: &mut Vec<(f64, f64)>, scratch: &mut Vec<usize>) {
+        out.clear();
+        let (l, delta) = (self.l, self.delta);
+        let np = self.edges.len() - 1;
+        // The window: global panels meeting |t − s| < 4δ (periodic when closed).
+        let panel_of = |t: f64| -> usize {
+            match self.edges.binary_search_by(|e| e.total_cmp(&t)) {
+                Ok(i) => i.min(np - 1),
+                Err(i) => (i.max(1) - 1).min(np - 1),
+            }
+        };
+        let reach = 4.0 * delta;
+        // The window as a (cyclic) range of panel indices, and its ends
+        // unwrapped about s.
+        let whole_ring = self.closed && 2.0 * reach + 4.0 * delta >= l;
+        let (p_lo, p_hi, w0, w1) = if self.closed {
+            let p_lo = panel_of((s - reach).rem_euclid(l));
+            let p_hi = panel_of((s + reach).rem_euclid(l));
+            let mut w0 = self.edges[p_lo];
+            if w0 > s {
+                w0 -= l;
+            }
+            let mut w1 = self.edges[p_hi + 1];
+            if w1 < s {
+                w1 += l;
+            }
+            (p_lo, p_hi, w0, w1)
+        } else {
+            let p_lo = panel_of((s - reach).max(0.0));
+            let p_hi = panel_of((s + reach).min(l));
+            (p_lo, p_hi, self.edges[p_lo], self.edges[p_hi + 1])
+        };
+        let in_window = |p: usize| -> bool {
+            if p_lo <= p_hi {
+                p >= p_lo && p <= p_hi
+            } else {
+                p >= p_lo || p <= p_hi
+            }
+        };
+        // Local graded panels on the window beyond δ.
+        let mut add_range = |t0: f64, t1: f64, grade_start: bool, grade_end: bool| {
+            if t1 <= t0 {
+                return;
+            }
+            let mut breaks: Vec<f64> = self.edges.iter().flat_map(|&b| [b, b - l, b + l]).collect();
+            let mut steps = vec![];
+            let mut k = delta;
+            while k < t1 - t0 {
+                steps.push(k);
+                k = 2.0 * k + delta;
+            }
+            if self.kappa > 0.0 {
+                let mut k = 0.25 / self.kappa;
+                while k < (t1 - t0).min(delta) {
+                    steps.push(k);
+                    k *= 2.0;
+                }
+            }
+            for k in steps {
+                if grade_start {
+                    breaks.push(t0 + k);
+                }
+                if grade_end {
+                    breaks.push(t1 - k);
+                }
+            }
+            for (p0, p1) in panels(t0, t1, &breaks) {
+                let hh = 0.5 * (p1 - p0);
+                for (xj, wj) in self.gx.iter().zip(&self.gw) {
+                    let t = p0 + hh * (1.0 + xj);
+                    out.push((if self.closed { t.rem_euclid(l) } else { t }, hh * wj));
+                }
+            }
+        };
+        if whole_ring {
+            add_range(s + delta, s + l - delta, true, true);
+            return;
         }
-        if s + delta < l {
-            add_range(s + delta, l, true, false);
+        add_range(w0, s - delta, false, true);
+        add_range(s + delta, w1, true, false);
+        // Global points outside the window (within the cutoff).
+        match &self.cutoff {
+            None => {
+                for &(t, w, p, _) in &self.points {
+                    if !in_window(p) {
+                        out.push((t, w));
+                    }
+                }
+            }
+            Some((rc, cells, pos)) => {
+                cells.neighbours_within(pos, r, *rc, scratch);
+                for &i in scratch.iter() {
+                    let (t, w, p, _) = self.points[i];
+                    if !in_window(p) {
+                        out.push((t, w));
+                    }
+                }
+            }
         }
     }
 }
@@ -372,7 +491,7 @@ pub fn force_density(curve: &dyn Centerline, charge: &LineCharge, screening: &Sc
         }
     }
     let mut pts = Vec::new();
-    far_points(s, l, closed, &curve.breakpoints(), delta, kappa, &gx, &gw, &mut pts);
+    FarZone::new(curve, delta, kappa, quad.cutoff, &gx, &gw).points_for(s, &r, &mut pts, &mut Vec::new());
     for (t, w) in pts {
         let (rt, _, _) = curve.eval(t);
         let dv = [r[0] - rt[0], r[1] - rt[1], r[2] - rt[2]];

@@ -174,15 +174,18 @@ fn validate(curve: &dyn Centerline, screening: &Screening, quad: &EnergyQuadratu
 }
 
 /// The near-zone part of ½∫λ(t)Φ dt at s, one side of length ℓ (≥ a).
-fn near_side(lambda: (f64, f64, f64), sign: f64, curvature2: f64, l: f64, s: &Screening) -> f64 {
+/// J₋₁, J₀, J₁, J₂ on [a, ℓ] (computed once for full sides ℓ = δ).
+fn near_integrals(l: f64, s: &Screening) -> [f64; 4] {
     if l <= s.a {
-        return 0.0;
+        return [0.0; 4];
     }
+    [special::j(-1, s.a, l, s.kappa), special::j(0, s.a, l, s.kappa), special::j(1, s.a, l, s.kappa), special::j(2, s.a, l, s.kappa)]
+}
+
+fn near_side(lambda: (f64, f64, f64), sign: f64, curvature2: f64, j: &[f64; 4], s: &Screening) -> f64 {
     let (q, dq, ddq) = lambda;
     let k = s.kappa;
-    let j = |n| special::j(n, s.a, l, k);
-    let j1 = j(1);
-    q * (j(-1) + curvature2 / 24.0 * j1 + k * curvature2 / 24.0 * j(2)) + sign * dq * j(0) + 0.5 * ddq * j1
+    q * (j[0] + curvature2 / 24.0 * j[2] + k * curvature2 / 24.0 * j[3]) + sign * dq * j[1] + 0.5 * ddq * j[2]
 }
 
 /// Panels of [lo, hi] broken at `breaks` (those inside).
@@ -244,6 +247,7 @@ fn energy_core(curve: &dyn Centerline, charge: &LineCharge, screening: &Screenin
     let mut scratch = Vec::new();
     let mut evaluations = 0;
     let far = FarZone::new(curve, delta, kappa, quad.cutoff, &gx, &gw);
+    let full_side = near_integrals(delta, screening);
     for (s0, s1) in panels(0.0, l, &outer_breaks) {
         let half = 0.5 * (s1 - s0);
         for (xi, wi) in gx.iter().zip(&gw) {
@@ -255,7 +259,9 @@ fn energy_core(curve: &dyn Centerline, charge: &LineCharge, screening: &Screenin
             // Near zone: the two sides (one-sided within δ of an end); its
             // dependence on the curvature: ∂near/∂c².
             let (left, right) = if closed { (delta, delta) } else { (s.min(delta), (l - s).min(delta)) };
-            let near = near_side(lam, -1.0, c2, left, screening) + near_side(lam, 1.0, c2, right, screening);
+            let side = |len: f64| if len == delta { full_side } else { near_integrals(len, screening) };
+            let (jl, jr) = (side(left), side(right));
+            let near = near_side(lam, -1.0, c2, &jl, screening) + near_side(lam, 1.0, c2, &jr, screening);
             far.points_for(s, &r, &mut inner_points, &mut scratch);
             let mut far = 0.0;
             let mut grad_s = [0.0; 3];
@@ -281,11 +287,7 @@ fn energy_core(curve: &dyn Centerline, charge: &LineCharge, screening: &Screenin
             }
             if let Some(sink) = sink.as_deref_mut() {
                 // ∂near/∂c² per side: λ(J1 + κJ2)/24; c² = |r''|².
-                let dnear_dc2: f64 = [left, right]
-                    .iter()
-                    .filter(|&&side| side > screening.a)
-                    .map(|&side| lam.0 * (special::j(1, screening.a, side, kappa) + kappa * special::j(2, screening.a, side, kappa)) / 24.0)
-                    .sum();
+                let dnear_dc2: f64 = [jl, jr].iter().map(|j| lam.0 * (j[2] + kappa * j[3]) / 24.0).sum();
                 let c = w * 0.5 * lam.0 * dnear_dc2 * 2.0;
                 sink(s, grad_s, [c * r2[0], c * r2[1], c * r2[2]]);
             }
@@ -399,7 +401,16 @@ impl FarZone {
             if t1 <= t0 {
                 return;
             }
-            let mut breaks: Vec<f64> = self.edges.iter().flat_map(|&b| [b, b - l, b + l]).collect();
+            // The global edges inside [t0, t1] (shifted by ±L when closed):
+            // found by binary search, so a point costs O(its window).
+            let mut breaks: Vec<f64> = Vec::new();
+            for shift in if self.closed { [-l, 0.0, l] } else { [0.0, 0.0, 0.0] }.iter().take(if self.closed { 3 } else { 1 }) {
+                let (lo, hi) = (t0 - shift, t1 - shift);
+                let start = self.edges.partition_point(|&e| e <= lo);
+                for &e in self.edges[start..].iter().take_while(|&&e| e < hi) {
+                    breaks.push(e + shift);
+                }
+            }
             let mut steps = vec![];
             let mut k = delta;
             while k < t1 - t0 {

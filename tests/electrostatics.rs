@@ -401,3 +401,32 @@ fn continuum_cutoff_is_accurate_and_linear() {
     assert!((1.8..2.2).contains(&cut_growth), "with the cutoff the work grows ×{cut_growth}");
     assert!(full_growth > 3.5, "without it ×{full_growth}");
 }
+
+/// "Only what the scene requires" (§5): energy_within picks the cheapest
+/// continuum settings whose estimate meets the tolerance; the estimate is
+/// checked against the true error — a DH helix against a much finer
+/// reference (δ = 0.15, order 16, no cutoff) and the Coulomb ring against
+/// the §3.5 formula: the true error is within the tolerance and below the
+/// estimate. A zero charge gets no electrostatics.
+#[test]
+fn only_what_the_scene_requires() {
+    use rodkit::electrostatics::{energy_within, ElectrostaticModel};
+    let helix = Helix { radius: 1.0, pitch: 3.0, l: 20.0, panel: 0.5 };
+    let scr = Screening { kappa: 1.0, a: 0.1 };
+    let reference = energy(&helix, &LineCharge::Uniform(1.0), &scr, &EnergyQuadrature { delta: 0.15, order: 16, cutoff: None }).unwrap().total;
+    let ring = Circle { r: 1.0, panel: 0.1 };
+    let coulomb = Screening { kappa: 0.0, a: 0.02 };
+    let ring_exact = 2.0 * PI * (1.0 / (0.02f64 / 4.0).tan()).ln();
+    for tol in [1e-3, 1e-5, 1e-7] {
+        for (name, curve, s, exact) in [("helix", &helix as &dyn Centerline, scr, reference), ("ring", &ring, coulomb, ring_exact)] {
+            let rep = energy_within(curve, &LineCharge::Uniform(1.0), &s, tol).unwrap();
+            let true_error = (rep.energy.total - exact).abs() / exact;
+            println!("{name}, tol {tol:e}: model {:?}, estimate {:e}, true error {true_error:e}", rep.model, rep.estimate);
+            assert!(true_error <= tol, "{name} tol {tol:e}: true error {true_error:e}");
+            assert!(true_error <= rep.estimate, "{name} tol {tol:e}: estimate {:e} below the true error {true_error:e}", rep.estimate);
+            assert!(matches!(rep.model, ElectrostaticModel::Continuum(_)));
+        }
+    }
+    let zero = energy_within(&helix, &LineCharge::Uniform(0.0), &scr, 1e-6).unwrap();
+    assert_eq!((zero.model, zero.energy.total), (ElectrostaticModel::None, 0.0));
+}

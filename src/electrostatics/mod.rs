@@ -614,3 +614,62 @@ impl Centerline for HermiteCurve {
         self.s[1..self.s.len() - 1].to_vec()
     }
 }
+
+/// Which electrostatic model a scene got.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ElectrostaticModel {
+    /// Zero charge: no electrostatics at all.
+    None,
+    /// The continuum with the near-zone regularisation and these settings.
+    Continuum(EnergyQuadrature),
+}
+
+/// An energy delivered to a requested tolerance, with the model used and
+/// the error estimate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnergyReport {
+    pub energy: Energy,
+    pub model: ElectrostaticModel,
+    /// Estimated relative error of `energy`: |E(fine) − E(coarse)|/|E| of
+    /// the last two resolutions (the returned value is the fine one, whose
+    /// error is normally far smaller), plus the cutoff's tail estimate.
+    pub estimate: f64,
+}
+
+/// "Only what the scene requires" (physics.md §5): the cheapest continuum
+/// settings whose estimated relative error is within `tolerance` —
+/// starting coarse (δ = 4a, 3 Gauss points, cutoff for tolerance/10) and
+/// halving δ (down to 1.5a) while adding 2 Gauss points until two
+/// successive resolutions agree; no electrostatics for a zero charge.
+pub fn energy_within(curve: &dyn Centerline, charge: &LineCharge, screening: &Screening, tolerance: f64) -> Result<EnergyReport> {
+    error::in_range("tolerance", tolerance, 1e-14, 1e-1)?;
+    if let LineCharge::Uniform(q) = charge {
+        error::finite("line charge", *q)?;
+        if *q == 0.0 {
+            let zero = Energy { total: 0.0, near: 0.0, far: 0.0, far_evaluations: 0 };
+            return Ok(EnergyReport { energy: zero, model: ElectrostaticModel::None, estimate: 0.0 });
+        }
+    }
+    let l = curve.length();
+    let max_delta = if curve.closed() { 0.5 * l } else { l };
+    let cutoff_tol = 0.1 * tolerance;
+    let cutoff = discrete::screening_cutoff(screening.kappa, screening.a, cutoff_tol, 1e6 * l.max(screening.a));
+    let cutoff_estimate = if cutoff.is_some() { cutoff_tol } else { 0.0 };
+    let mut delta = (4.0 * screening.a).min(0.45 * max_delta);
+    let mut order = 3;
+    let settings = |delta: f64, order: usize| EnergyQuadrature { delta, order, cutoff };
+    let mut coarse = energy(curve, charge, screening, &settings(delta, order))?;
+    for _ in 0..8 {
+        let (d2, o2) = ((0.5 * delta).max(1.5 * screening.a).min(delta), (order + 2).min(32));
+        let fine = energy(curve, charge, screening, &settings(d2, o2))?;
+        let estimate = (fine.total - coarse.total).abs() / fine.total.abs().max(f64::MIN_POSITIVE) + cutoff_estimate;
+        if estimate <= tolerance {
+            return Ok(EnergyReport { energy: fine, model: ElectrostaticModel::Continuum(settings(d2, o2)), estimate });
+        }
+        if d2 == delta && o2 == order {
+            break;
+        }
+        (delta, order, coarse) = (d2, o2, fine);
+    }
+    Err(Error::new(Status::ErrNotConverged, format!("electrostatic energy: no setting reached the relative tolerance {tolerance:e} (last δ {delta:e}, order {order})")))
+}

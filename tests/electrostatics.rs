@@ -430,3 +430,34 @@ fn only_what_the_scene_requires() {
     let zero = energy_within(&helix, &LineCharge::Uniform(0.0), &scr, 1e-6).unwrap();
     assert_eq!((zero.model, zero.energy.total), (ElectrostaticModel::None, 0.0));
 }
+
+/// Strand crossing detection (§3.2: electrostatics is no contact model):
+/// two straight strands crossing at right angles at distance d apart are
+/// reported when d < 2a by closest_pair_within (cell lists), with the
+/// closest pair's distance to the point spacing, and not when d > 2a;
+/// neighbours along one strand (arc gap) never count.
+#[test]
+fn strand_crossing_is_detected() {
+    let (a, spacing) = (1.0, 0.05);
+    for (sep, crossing) in [(1.5, true), (2.5, false)] {
+        // Strand 1 along x at z = 0, strand 2 along y at z = sep, joined in
+        // arc length (s continues), far apart along the chain.
+        let n = 400;
+        let mut r = vec![];
+        let mut s = vec![];
+        for k in 0..n {
+            r.push([-10.0 + spacing * k as f64, 0.0, 0.0]);
+            s.push(spacing * k as f64);
+        }
+        for k in 0..n {
+            r.push([0.0, -10.0 + spacing * k as f64, sep]);
+            s.push(100.0 + spacing * k as f64);
+        }
+        let hit = discrete::closest_pair_within(&r, &s, 2.0 * a, 3.0 * a);
+        assert_eq!(hit.is_some(), crossing, "separation {sep}: {hit:?}");
+        if let Some((d, i, j)) = hit {
+            assert!((d - sep).abs() < spacing, "distance {d} vs {sep}");
+            assert!((s[j] - s[i]).abs() > 3.0 * a);
+        }
+    }
+}

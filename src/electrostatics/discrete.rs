@@ -187,3 +187,30 @@ pub fn energy_cutoff(r: &[[f64; 3]], q: &[f64], s: &[f64], screening: &Screening
     };
     per_point.iter().fold((0.0, 0), |(e, p), &(v, k)| (e + v, p + k))
 }
+
+/// The closest pair (distance, i, j) among points closer than `radius` in
+/// space whose arc lengths differ by more than `gap` (non-neighbours along
+/// the strand), by cell lists: O(N). None when no such pair exists — a
+/// strand crossing test with radius 2a (physics.md §3.2), or self-contact
+/// with the rod's diameter.
+pub fn closest_pair_within(r: &[[f64; 3]], s: &[f64], radius: f64, gap: f64) -> Option<(f64, usize, usize)> {
+    if !(radius > 0.0 && radius.is_finite()) || r.len() < 2 {
+        return None;
+    }
+    let cells = CellList::new(r, radius);
+    let mut nb = Vec::new();
+    let mut best: Option<(f64, usize, usize)> = None;
+    for i in 0..r.len() {
+        cells.neighbours_after(r, i, radius, &mut nb);
+        for &j in &nb {
+            if (s[j] - s[i]).abs() <= gap {
+                continue;
+            }
+            let d = ((r[i][0] - r[j][0]).powi(2) + (r[i][1] - r[j][1]).powi(2) + (r[i][2] - r[j][2]).powi(2)).sqrt();
+            if best.is_none_or(|(bd, _, _)| d < bd) {
+                best = Some((d, i, j));
+            }
+        }
+    }
+    best
+}

@@ -120,11 +120,11 @@ impl Rod {
         Ok(self)
     }
 
-    /// The closest approach of non-neighbouring points of the state x: the
-    /// smallest distance between nodes (and stages) i < j whose arc-length
-    /// separation exceeds π/2 diameters (closer points are neighbours along
-    /// the rod, not contacts), with the arc lengths of the pair. None without
-    /// a diameter or when no pair qualifies.
+    /// Self-contact in the state x: the closest pair of nodes (and stages)
+    /// closer than the diameter whose arc-length separation exceeds π/2
+    /// diameters (closer points are neighbours along the rod, not
+    /// contacts), with the pair's arc lengths. None without a diameter or
+    /// when no pair is that close.
     pub fn closest_approach(&self, x: &[f64]) -> Option<(f64, f64, f64)> {
         let d = self.diameter?;
         let h = self.element_length();
@@ -140,21 +140,12 @@ impl Rod {
                 }
             }
         }
+        // Pairs closer than the diameter only (cell lists, O(N)): farther
+        // ones are no contact.
         let gap = 0.5 * std::f64::consts::PI * d;
-        let mut best: Option<(f64, f64, f64)> = None;
-        for a in 0..pts.len() {
-            for b in a + 1..pts.len() {
-                if pts[b].0 - pts[a].0 <= gap {
-                    continue;
-                }
-                let (p, q) = (pts[a].1, pts[b].1);
-                let dist = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt();
-                if best.is_none_or(|(bd, _, _)| dist < bd) {
-                    best = Some((dist, pts[a].0, pts[b].0));
-                }
-            }
-        }
-        best
+        let r: Vec<[f64; 3]> = pts.iter().map(|p| p.1).collect();
+        let s: Vec<f64> = pts.iter().map(|p| p.0).collect();
+        crate::electrostatics::discrete::closest_pair_within(&r, &s, d, gap).map(|(dist, i, j)| (dist, s[i], s[j]))
     }
 
     /// Element length h.

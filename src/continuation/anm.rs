@@ -70,6 +70,7 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
     let scaling = opts.scaling.clone().unwrap_or_else(|| { let (x, lambda) = problem.unknown_scales(); Scaling { x, lambda } });
     let eq = problem.equation_scales();
     let mut bordered = Bordered::new(problem.pattern())?;
+    bordered.set_monitor_scales(&eq, &scaling);
     let mut counts = Counts::default();
     let e_lambda = vec![0.0; n];
 

@@ -31,6 +31,13 @@ pub struct Bordered {
     border_x: Vec<f64>,
     border_l: f64,
     factorised: bool,
+    /// The singular-value monitor works on Ã = R B C (R: 1/equation scale,
+    /// √n for the border row; C: unknown and Λ scales), so that σ_min does
+    /// not depend on the units of the model: in raw units (pN, nm for DNA)
+    /// a mode of a badly scaled row can sit below every buckling mode and
+    /// hide their zero crossings. Ones until [`Bordered::set_monitor_scales`].
+    row_scale: Vec<f64>,
+    col_scale: Vec<f64>,
 }
 
 impl Bordered {
@@ -58,6 +65,8 @@ impl Bordered {
             n,
             lu: SparseLu::new(big)?,
             values,
+            row_scale: vec![1.0; n + 1],
+            col_scale: vec![1.0; n + 1],
             map,
             last_col,
             last_row,
@@ -137,6 +146,45 @@ impl Bordered {
         (sign_b, if tl == 0.0 { 0.0 } else { sign_j })
     }
 
+    /// Scale the singular-value monitor by the problem's equation scales
+    /// and the continuation's unknown scales (see the field's note).
+    pub fn set_monitor_scales(&mut self, equation_scales: &[f64], scaling: &Scaling) {
+        let n = self.n;
+        for i in 0..n {
+            let e = equation_scales[i];
+            self.row_scale[i] = if e > 0.0 && e.is_finite() { 1.0 / e } else { 1.0 };
+            let s = scaling.x[i];
+            self.col_scale[i] = if s > 0.0 && s.is_finite() { s } else { 1.0 };
+        }
+        self.row_scale[n] = (n.max(1) as f64).sqrt();
+        self.col_scale[n] = if scaling.lambda > 0.0 && scaling.lambda.is_finite() { scaling.lambda } else { 1.0 };
+    }
+
+    /// (ÃᵀÃ)⁻¹ w = C⁻¹ B⁻¹ R⁻² B⁻ᵀ C⁻¹ w, in place.
+    fn inverse_normal(&mut self, w: &mut [f64], counts: &mut Counts) {
+        for (a, c) in w.iter_mut().zip(&self.col_scale) {
+            *a /= c;
+        }
+        self.lu.solve_transpose(w);
+        for (a, r) in w.iter_mut().zip(&self.row_scale) {
+            *a /= r * r;
+        }
+        self.lu.solve(w);
+        for (a, c) in w.iter_mut().zip(&self.col_scale) {
+            *a /= c;
+        }
+        counts.solves += 2;
+    }
+
+    /// Ã v into w.
+    fn scaled_mul(&self, v: &[f64], w: &mut [f64]) {
+        let cv: Vec<f64> = v.iter().zip(&self.col_scale).map(|(a, c)| a * c).collect();
+        self.lu.pattern().mul_vec(&self.values, &cv, w);
+        for (a, r) in w.iter_mut().zip(&self.row_scale) {
+            *a *= r;
+        }
+    }
+
     /// Smallest singular value of B by inverse iteration on BᵀB (a few
     /// steps from a fixed start; an estimate, good to a few digits, which
     /// is what a bifurcation monitor needs).
@@ -148,9 +196,7 @@ impl Bordered {
             let norm = v.iter().map(|a| a * a).sum::<f64>().sqrt();
             v.iter_mut().for_each(|a| *a /= norm);
             let mut w = v.clone();
-            self.lu.solve_transpose(&mut w);
-            self.lu.solve(&mut w);
-            counts.solves += 2;
+            self.inverse_normal(&mut w, counts);
             // ‖(BᵀB)⁻¹ v‖ → 1/σ_min² for the dominant direction.
             let growth = w.iter().map(|a| a * a).sum::<f64>().sqrt();
             let next = 1.0 / growth.sqrt();
@@ -175,9 +221,7 @@ impl Bordered {
         for _ in 0..30 {
             let mut w = v.clone();
             for col in &mut w {
-                self.lu.solve_transpose(col);
-                self.lu.solve(col);
-                counts.solves += 2;
+                self.inverse_normal(col, counts);
             }
             // Rayleigh–Ritz on (BᵀB)⁻¹: G = Vᵀ W.
             let g = nalgebra::DMatrix::from_fn(k, k, |a, b| dot(&v[a], &w[b]));
@@ -203,9 +247,11 @@ impl Bordered {
         // measure each converged vector directly, σ_i = ‖B v_i‖.
         let mut w = vec![0.0; m];
         for (s, vi) in sigma.iter_mut().zip(&v) {
-            self.lu.pattern().mul_vec(&self.values, vi, &mut w);
+            self.scaled_mul(vi, &mut w);
             *s = dot(&w, &w).sqrt();
         }
+        // Back to the unknowns' own units (x = C ṽ).
+        let v = v.into_iter().map(|vi| vi.iter().zip(&self.col_scale).map(|(a, c)| a * c).collect()).collect();
         (sigma, v)
     }
 
@@ -216,8 +262,9 @@ impl Bordered {
     pub fn signed_smallest_singular_value(&mut self, counts: &mut Counts) -> f64 {
         let (sigma, v) = self.smallest_singular_vectors(2, counts);
         let mut w = vec![0.0; self.n + 1];
-        self.lu.pattern().mul_vec(&self.values, &v[0], &mut w);
-        let align: f64 = w.iter().zip(&v[0]).map(|(a, b)| a * b).sum();
+        let scaled: Vec<f64> = v[0].iter().zip(&self.col_scale).map(|(a, c)| a / c).collect();
+        self.scaled_mul(&scaled, &mut w);
+        let align: f64 = w.iter().zip(&scaled).map(|(a, b)| a * b).sum();
         if align < 0.0 { -sigma[0] } else { sigma[0] }
     }
 

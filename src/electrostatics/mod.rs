@@ -48,6 +48,8 @@
 //! screening cutoff with cell lists, threads.
 
 pub mod discrete;
+pub mod rod;
+pub mod supercoil;
 pub mod special;
 pub mod writhe;
 

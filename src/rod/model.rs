@@ -48,6 +48,11 @@ pub enum Supports {
     /// system polynomial (cubic) for the ANM; φ = 2 atan2(Λ, c) follows the
     /// turns through φ = π (a fold of Λ, passed by arc length).
     Twisted { tension: f64 },
+    /// As [`Supports::Twisted`], but the end is held on the axis at the
+    /// end-to-end distance `distance` (r(L) = distance·e3, the axial force a
+    /// reaction): the fixed-extension protocol of a supercoiling
+    /// experiment, where [`Supports::Twisted`] is the fixed-force one.
+    TwistedAtDistance { distance: f64 },
 }
 
 /// A discretised rod.
@@ -100,6 +105,15 @@ impl Rod {
                     if f.frame != Frame::Dead || f.vector[0] != 0.0 || f.vector[1] != 0.0 {
                         return Err(Error::new(Status::ErrOutOfRange, "a pinned rod takes an axial dead tip force (0, 0, P) only"));
                     }
+                }
+            }
+            Supports::TwistedAtDistance { distance } => {
+                error::positive("distance", distance)?;
+                if !(distance <= length) {
+                    return Err(Error::new(Status::ErrOutOfRange, format!("argument `distance` ({distance:e}) exceeds the length of an inextensible rod ({length:e})")));
+                }
+                if loads.tip_force.is_some() || loads.tip_moment.is_some() {
+                    return Err(Error::new(Status::ErrOutOfRange, "a rod with a controlled end rotation takes no tip load"));
                 }
             }
             Supports::Twisted { tension } => {
@@ -164,12 +178,17 @@ impl Rod {
     }
 
     fn boundary_unknowns(&self) -> usize {
-        matches!(self.supports, Supports::Twisted { .. }) as usize
+        self.twisted() as usize
+    }
+
+    /// Controlled end rotation (either axial condition).
+    pub fn twisted(&self) -> bool {
+        matches!(self.supports, Supports::Twisted { .. } | Supports::TwistedAtDistance { .. })
     }
 
     /// Index of c = cos(φ/2) in x for [`Supports::Twisted`].
     pub fn end_cosine(&self) -> Option<usize> {
-        matches!(self.supports, Supports::Twisted { .. }).then(|| self.block_size() * self.elements + 13)
+        self.twisted().then(|| self.block_size() * self.elements + 13)
     }
 
     /// The end rotation φ = 2 atan2(Λ, c) of a [`Supports::Twisted`] rod.
@@ -232,7 +251,21 @@ impl Rod {
     }
 
     pub(crate) fn rhs_data(&self) -> RhsData {
-        let c = self.law.compliance();
+        self.rhs_data_stiffened(0.0)
+    }
+
+    /// The right-hand side's data with `extra_bending` added to both bending
+    /// stiffnesses (K11, K22): the local electrostatic (OSF-like) stiffening
+    /// of a charged rod's near zone (crate::electrostatics::rod).
+    pub(crate) fn rhs_data_stiffened(&self, extra_bending: f64) -> RhsData {
+        let c = if extra_bending == 0.0 {
+            self.law.compliance()
+        } else {
+            let mut law = self.law.clone();
+            law.stiffness[(0, 0)] += extra_bending;
+            law.stiffness[(1, 1)] += extra_bending;
+            law.compliance()
+        };
         let mut compliance = [[0.0; 6]; 6];
         for (i, row) in compliance.iter_mut().enumerate() {
             for (j, v) in row.iter_mut().enumerate() {
@@ -270,7 +303,28 @@ impl Rod {
     /// state scales; equations: h × the scale of y' for element rows, the
     /// state scales for boundary rows; Λ: 1).
     pub fn system(&self) -> Result<AssembledSystem> {
-        self.build(None)
+        self.build(None, None)
+    }
+
+    /// The system with extra bending stiffness `extra[i][j]` at stage j of
+    /// element i (Gauss schemes): a charged rod's near-zone stiffening
+    /// (crate::electrostatics::rod). Elements with equal stiffening share
+    /// one recorded kernel.
+    pub(crate) fn system_stiffened(&self, extra: &[Vec<f64>]) -> Result<AssembledSystem> {
+        if extra.len() != self.elements || extra.iter().any(|e| e.len() != self.scheme.stages()) || self.scheme == Scheme::Midpoint {
+            return Err(Error::new(Status::ErrInvalidDimension, "stiffening needs a Gauss scheme and one value per stage of every element"));
+        }
+        self.build(None, Some(extra))
+    }
+
+    /// [`Rod::system_with_phase`] with the stiffening of [`Rod::system_stiffened`].
+    pub(crate) fn system_with_phase_stiffened(&self, node: usize, azimuth: f64, extra: &[Vec<f64>]) -> Result<AssembledSystem> {
+        error::count_in_range("phase node", node as i64, 1, self.elements as i64)?;
+        error::finite("azimuth", azimuth)?;
+        if extra.len() != self.elements || extra.iter().any(|e| e.len() != self.scheme.stages()) || self.scheme == Scheme::Midpoint {
+            return Err(Error::new(Status::ErrInvalidDimension, "stiffening needs a Gauss scheme and one value per stage of every element"));
+        }
+        self.build(Some((node, azimuth)), Some(extra))
     }
 
     /// The system with a phase condition for rotationally symmetric rods
@@ -285,24 +339,40 @@ impl Rod {
     pub fn system_with_phase(&self, node: usize, azimuth: f64) -> Result<AssembledSystem> {
         error::count_in_range("phase node", node as i64, 1, self.elements as i64)?;
         error::finite("azimuth", azimuth)?;
-        self.build(Some((node, azimuth)))
+        self.build(Some((node, azimuth)), None)
     }
 
-    fn build(&self, phase: Option<(usize, f64)>) -> Result<AssembledSystem> {
+    fn build(&self, phase: Option<(usize, f64)>, extra: Option<&[Vec<f64>]>) -> Result<AssembledSystem> {
         let data = self.rhs_data();
         let h = self.element_length();
         let bs = self.block_size();
         let stages = self.scheme.stages();
         let tab = self.tableau();
         let unfold = phase.is_some();
-        let extra = unfold as usize;
+        let extra_in = unfold as usize;
+        let uniform: Vec<RhsData> = vec![data.clone(); stages.max(1)];
         let element = Arc::new(match self.scheme {
-            Scheme::Midpoint => Tape::record(27 + extra, |v| midpoint_kernel(&data, h, v, unfold)),
-            Scheme::Gauss(_) => Tape::record(13 * (stages + 2) + 1 + extra, |v| gauss_kernel(&data, h, &tab, v, unfold)),
+            Scheme::Midpoint => Tape::record(27 + extra_in, |v| midpoint_kernel(&data, h, v, unfold)),
+            Scheme::Gauss(_) => Tape::record(13 * (stages + 2) + 1 + extra_in, |v| gauss_kernel(&uniform, h, &tab, v, unfold)),
         });
+        // Stiffened elements: one tape per distinct set of stage values.
+        let mut tapes: std::collections::HashMap<Vec<u64>, Arc<Tape>> = std::collections::HashMap::new();
         let mu = self.unknowns();
         let mut blocks = Vec::with_capacity(self.elements + 1);
         for i in 0..self.elements {
+            let element = match extra {
+                Some(e) if e[i].iter().any(|v| *v != 0.0) => {
+                    let key: Vec<u64> = e[i].iter().map(|v| v.to_bits()).collect();
+                    tapes
+                        .entry(key)
+                        .or_insert_with(|| {
+                            let per_stage: Vec<RhsData> = e[i].iter().map(|v| self.rhs_data_stiffened(*v)).collect();
+                            Arc::new(Tape::record(13 * (stages + 2) + 1 + extra_in, |v| gauss_kernel(&per_stage, h, &tab, v, unfold)))
+                        })
+                        .clone()
+                }
+                _ => element.clone(),
+            };
             let base = self.node(i);
             let mut inputs: Vec<Slot> = (0..bs + 13).map(|k| Slot::Unknown(base + k)).collect();
             inputs.push(Slot::Lambda);
@@ -332,7 +402,7 @@ impl Rod {
             let at = self.node(node);
             blocks.push(Block { tape, inputs: vec![Slot::Unknown(at), Slot::Unknown(at + 1)], rows: vec![mu] });
         }
-        let n = self.unknowns() + extra;
+        let n = self.unknowns() + extra_in;
         let ss = self.state_scales();
         // μ is a distributed couple: moment per length, K_b/L².
         let cosine = self.end_cosine();
@@ -368,11 +438,11 @@ impl Rod {
                 s[7..10].copy_from_slice(&ss[0..3]);
                 s[10..13].fill(1.0);
             }
-            Supports::Twisted { .. } => {
+            Supports::Twisted { .. } | Supports::TwistedAtDistance { .. } => {
                 s[..7].copy_from_slice(&ss[..7]);
                 s[7] = ss[0];
                 s[8] = ss[1];
-                s[9] = ss[9];
+                s[9] = if matches!(self.supports, Supports::Twisted { .. }) { ss[9] } else { ss[2] };
                 s[10..13].fill(1.0);
             }
             Supports::Pinned => {
@@ -400,7 +470,7 @@ impl Rod {
             let lambda = v[26];
             let mut out: Vec<Var> = Vec::with_capacity(13);
             match supports {
-                Supports::Cantilever | Supports::Clamped { .. } | Supports::Twisted { .. } => {
+                Supports::Cantilever | Supports::Clamped { .. } | Supports::Twisted { .. } | Supports::TwistedAtDistance { .. } => {
                     out.extend_from_slice(&y0[0..3]);
                     out.push(y0[3] - 1.0);
                     out.extend_from_slice(&y0[4..7]);
@@ -445,12 +515,16 @@ impl Rod {
                     let rel = kinematics::quat_mul(&c, &ql);
                     out.extend_from_slice(&rel[1..4]);
                 }
-                Supports::Twisted { tension } => {
+                Supports::Twisted { .. } | Supports::TwistedAtDistance { .. } => {
                     out.push(yl[0]);
                     out.push(yl[1]);
-                    let rot = kinematics::rotation(&ql);
-                    let nz = rot[2][0] * yl[7] + rot[2][1] * yl[8] + rot[2][2] * yl[9];
-                    out.push(nz - tension);
+                    if let Supports::Twisted { tension } = supports {
+                        let rot = kinematics::rotation(&ql);
+                        let nz = rot[2][0] * yl[7] + rot[2][1] * yl[8] + rot[2][2] * yl[9];
+                        out.push(nz - tension);
+                    } else if let Supports::TwistedAtDistance { distance } = supports {
+                        out.push(yl[2] - distance);
+                    }
                     // Vector part of q̄_t ∘ q(L), q_t = (c, 0, 0, Λ).
                     let c = v[27];
                     let zero = Var::constant(0.0);
@@ -491,13 +565,15 @@ fn midpoint_kernel<T: Scalar>(data: &RhsData, h: f64, v: &[T], unfold: bool) -> 
     (0..13).map(|k| b[k] - a[k] - f[k] * h).collect()
 }
 
-fn gauss_kernel<T: Scalar>(data: &RhsData, h: f64, tab: &Tableau, v: &[T], unfold: bool) -> Vec<T> {
+/// Gauss collocation on one element; `data[j]` is stage j's right-hand side
+/// (equal for an uncharged rod, stiffened per stage for a charged one).
+fn gauss_kernel<T: Scalar>(data: &[RhsData], h: f64, tab: &Tableau, v: &[T], unfold: bool) -> Vec<T> {
     let s = tab.c.len();
     let y0 = &v[0..13];
     let stage = |j: usize| &v[13 * (1 + j)..13 * (2 + j)];
     let y1 = &v[13 * (1 + s)..13 * (2 + s)];
     let lambda = v[13 * (2 + s)];
-    let f: Vec<[T; 13]> = (0..s).map(|j| field(data, stage(j), lambda, v, unfold)).collect();
+    let f: Vec<[T; 13]> = (0..s).map(|j| field(&data[j], stage(j), lambda, v, unfold)).collect();
     let mut out = Vec::with_capacity(13 * (s + 1));
     for i in 0..s {
         for k in 0..13 {

@@ -1,0 +1,772 @@
+//! A charged Kirchhoff rod (physics.md §3.1): the electrostatic
+//! self-energy of the rod's uniform line charge added to the collocation
+//! system of [`crate::rod`] — a term of the rod, not a second rod.
+//!
+//! One discrete energy, its exact gradient in the residual and its exact
+//! Jacobian (so Newton converges quadratically and the continuation's
+//! determinants mean what they say):
+//!
+//! * The quadrature points of both integrals of E = ½∫∫λ²Φ are the rod's
+//!   Gauss stage points s_j with weights w_j = h b_j. For a stage of
+//!   element e the near zone is the run of elements e − m … e + m
+//!   (m = [`RodCharge::near_elements`]; sides δ₋, δ₊ between mh and (m+1)h,
+//!   one-sided at the ends) and the far zone every stage of every other
+//!   element: the far double sum is Gauss–Legendre on whole elements at
+//!   least mh away (a smooth integrand) and the exclusion is symmetric.
+//! * Near zone: §3.2's expansion for a uniform charge (see the parent
+//!   module), e_near = ½λ² Σ_sides [J₋₁ + c²/24 (J₁ + κJ₂)] with
+//!   c² = u1² + u2² (a Kirchhoff rod's |r''|² = |u × e3|²): a constant plus
+//!   ½ΔK_j c². The near zone is a local bending stiffening
+//!   ΔK_j = (λ²/24) Σ_sides (J₁ + κJ₂) (→ the Odijk–Skolnick–Fixman
+//!   λ²/(4κ²) when κδ ≫ 1), added to the law at each stage
+//!   ([`Rod`]'s stiffened system) — that part stays polynomial.
+//! * Far zone: the force density at stage j, p_j = −(1/w_j)∂E_far/∂r_j =
+//!   −Σ_k w_k P'(d_jk)(r_j − r_k)/d_jk, is a distributed spatial force in
+//!   n' + p = 0, i.e. −R(q_j)ᵀp_j in the body-frame n-equation: the stage
+//!   rows get +h a_ij R(q_j)ᵀp_j and the update rows +h b_j R(q_j)ᵀp_j.
+//! * Near-zone pairs of an inextensible rod keep their distances to the
+//!   expansion's order and do no work: their tangential stress is absorbed
+//!   by n (a Lagrange multiplier). Shapes, end force and end moment are
+//!   those of the full energy; n inside the rod is the contact force less
+//!   that stress.
+//!
+//! Screening cutoff: P = λ²Φ·S with S a C² switch from r_on (the
+//! tolerance's cutoff, [`super::discrete::screening_cutoff`]) to
+//! r_off = r_on + 1/κ. Pairs within r_off + skin of a reference state are
+//! found by cell lists (a Verlet list): they fix the Jacobian's pattern
+//! (symbolic factorisation reused) while no stage has moved more than
+//! skin/2 from the reference ([`ChargedRod::displacement`]; the branch
+//! driver rebuilds past skin/4). Coulomb (κ = 0): every far pair.
+//! Optional hard core: P += k_hc (2a − d)³ for d < 2a (strands repel at
+//! contact and cannot pass).
+
+use super::discrete::{screening_cutoff, CellList};
+use super::special;
+use super::Screening;
+use crate::continuation::system::AssembledSystem;
+use crate::continuation::Problem;
+use crate::error::{self, Error, Result};
+use crate::rod::kinematics::rotation;
+use crate::rod::model::{Rod, Supports};
+use crate::rod::scheme::{Scheme, Tableau};
+use crate::sparse::Pattern;
+use crate::status::Status;
+
+/// The charge of a rod and how its interaction is evaluated.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RodCharge {
+    /// λ with λ² = the energy per length² of the pair interaction
+    /// (k_BT·l_B·ν² for ν charges per length, l_B the Bjerrum length).
+    pub line_charge: f64,
+    pub screening: Screening,
+    /// Near zone: the stage's element and this many on each side (≥ 1).
+    pub near_elements: usize,
+    /// Relative energy tolerance of the screening cutoff (None: every
+    /// pair; Coulomb always keeps every pair).
+    pub cutoff_tolerance: Option<f64>,
+    /// Verlet skin (length): the pair list holds pairs within r_off + skin.
+    pub skin: f64,
+    /// Hard-core stiffness k_hc (energy/length⁵): P += k_hc(2a − d)³ below 2a.
+    pub hard_core: Option<f64>,
+    /// Threads for the pair forces (1: none started). Results are bitwise
+    /// identical for any count (each stage's sum in a fixed order).
+    pub threads: usize,
+}
+
+impl RodCharge {
+    /// Defaults: 2 near elements, cutoff at 1e-6, skin 2a, no hard core, 1 thread.
+    pub fn new(line_charge: f64, screening: Screening) -> Self {
+        RodCharge { line_charge, screening, near_elements: 2, cutoff_tolerance: Some(1e-6), skin: 2.0 * screening.a, hard_core: None, threads: 1 }
+    }
+
+    fn validate(&self) -> Result<()> {
+        error::finite("line_charge", self.line_charge)?;
+        error::finite("kappa", self.screening.kappa)?;
+        if self.screening.kappa < 0.0 {
+            return Err(Error::new(Status::ErrOutOfRange, format!("argument `kappa` must be ≥ 0 (got {:e})", self.screening.kappa)));
+        }
+        error::positive("a", self.screening.a)?;
+        error::count_in_range("near_elements", self.near_elements as i64, 1, 64)?;
+        if let Some(t) = self.cutoff_tolerance {
+            if !(t > 0.0 && t < 1.0) {
+                return Err(Error::new(Status::ErrOutOfRange, format!("argument `cutoff_tolerance` must be in (0, 1) (got {t:e})")));
+            }
+        }
+        error::positive("skin", self.skin)?;
+        if let Some(k) = self.hard_core {
+            error::positive("hard_core", k)?;
+        }
+        error::count_in_range("threads", self.threads as i64, 1, 256)?;
+        Ok(())
+    }
+
+    /// The switch region (r_on, r_off) of the screening cutoff, None when
+    /// every pair is kept.
+    pub fn cutoff(&self, length: f64) -> Option<(f64, f64)> {
+        let kappa = self.screening.kappa;
+        let tol = self.cutoff_tolerance?;
+        let on = screening_cutoff(kappa, self.screening.a, tol, 2.0 * length)?;
+        let off = on + 1.0 / kappa;
+        (off < length).then_some((on, off))
+    }
+}
+
+/// One stage point of the rod.
+#[derive(Clone, Copy, Debug)]
+struct Point {
+    element: usize,
+    stage: usize,
+    /// Offset of the stage's state in x.
+    offset: usize,
+    s: f64,
+    w: f64,
+}
+
+/// The split of the electrostatic energy of a state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RodEnergy {
+    /// Near zone: the curvature-free constant plus ½ΣwΔK c².
+    pub near: f64,
+    /// Far pairs (with the cutoff's switch).
+    pub far: f64,
+    /// Hard-core pairs.
+    pub hard_core: f64,
+    /// The elastic energy ½Σw (K_b(u1² + u2²) + C u3²) of the uncharged law.
+    pub elastic: f64,
+}
+
+/// The charged rod as a [`Problem`]: the rod's system (stiffened near
+/// zone) plus the far-zone pair forces, for a fixed pair list. The
+/// continuation parameter is the rod's Λ, except for rods with a
+/// controlled end rotation, where it is the end rotation φ itself
+/// (radians, any number of turns): the rod's Λ = sin(φ/2) and the row
+/// c² + Λ² = 1 becomes c = cos(φ/2).
+pub struct ChargedRod {
+    rod: Rod,
+    charge: RodCharge,
+    sys: AssembledSystem,
+    n: usize,
+    pattern: Pattern,
+    rod_map: Vec<usize>,
+    rod_jx: Vec<f64>,
+    tab: Tableau,
+    h: f64,
+    points: Vec<Point>,
+    stiffening: Vec<f64>,
+    near_constant: Vec<f64>,
+    cutoff: Option<(f64, f64)>,
+    /// Pair list in CSR form: partners of stage j at adj[adj_ptr[j]..adj_ptr[j+1]].
+    adj_ptr: Vec<usize>,
+    adj: Vec<usize>,
+    /// First n-row position of element(j)'s rows in the columns r_k (3).
+    adj_pos: Vec<[usize; 3]>,
+    /// Positions of element(j)'s 3(s+1) n-rows × (r_j: 3, q_j: 4).
+    diag_pos: Vec<usize>,
+    reference: Vec<[f64; 3]>,
+    twisted_phi: Option<usize>,
+    // Scratch (no allocation per evaluation).
+    r: Vec<[f64; 3]>,
+    p: Vec<[f64; 3]>,
+    g: Vec<[f64; 9]>,
+    dsum: Vec<[f64; 9]>,
+}
+
+impl ChargedRod {
+    /// The charged rod with its pair list built at `reference` (a state of
+    /// the rod, μ appended with a phase condition), optionally with the
+    /// rod's phase condition (node, azimuth) of a symmetric buckle.
+    pub fn new(rod: &Rod, charge: &RodCharge, phase: Option<(usize, f64)>, reference: &[f64]) -> Result<Self> {
+        charge.validate()?;
+        let s = match rod.scheme {
+            Scheme::Gauss(s) => s,
+            Scheme::Midpoint => return Err(Error::new(Status::ErrOutOfRange, "a charged rod needs a Gauss scheme (its stage points carry the charge)")),
+        };
+        if !rod.law.kirchhoff {
+            return Err(Error::new(Status::ErrOutOfRange, "a charged rod must be a Kirchhoff rod (the near zone's curvature is |u × e3|)"));
+        }
+        if rod.law.stiffness[(0, 1)] != 0.0 || rod.law.intrinsic_u != nalgebra::Vector3::zeros() {
+            return Err(Error::new(Status::ErrOutOfRange, "a charged rod must be straight with uncoupled bending axes"));
+        }
+        let h = rod.element_length();
+        let tab = Tableau::gauss(s);
+        let m = charge.near_elements;
+        let ne = rod.elements;
+        let (kappa, a) = (charge.screening.kappa, charge.screening.a);
+        let l2 = charge.line_charge * charge.line_charge;
+        let mut points = Vec::with_capacity(ne * s);
+        let mut stiffening = Vec::with_capacity(ne * s);
+        let mut near_constant = Vec::with_capacity(ne * s);
+        for e in 0..ne {
+            for j in 0..s {
+                let sj = (e as f64 + tab.c[j]) * h;
+                let lo = e.saturating_sub(m) as f64 * h;
+                let hi = (e + m + 1).min(ne) as f64 * h;
+                let (mut dk, mut c0) = (0.0, 0.0);
+                for side in [sj - lo, hi - sj] {
+                    if side > a {
+                        let j1 = special::j(1, a, side, kappa);
+                        let j2 = special::j(2, a, side, kappa);
+                        dk += l2 / 24.0 * (j1 + kappa * j2);
+                        c0 += 0.5 * l2 * special::j(-1, a, side, kappa);
+                    }
+                }
+                points.push(Point { element: e, stage: j, offset: rod.node(e) + 13 * (1 + j), s: sj, w: h * tab.b[j] });
+                stiffening.push(dk);
+                near_constant.push(c0);
+            }
+        }
+        let extra: Vec<Vec<f64>> = (0..ne).map(|e| stiffening[e * s..(e + 1) * s].to_vec()).collect();
+        let sys = match phase {
+            Some((node, azimuth)) => rod.system_with_phase_stiffened(node, azimuth, &extra)?,
+            None => rod.system_stiffened(&extra)?,
+        };
+        let n = sys.dim();
+        if reference.len() != n {
+            return Err(Error::new(Status::ErrInvalidDimension, format!("reference state has {} entries, the charged rod {n}", reference.len())));
+        }
+        error::finite_result("reference", reference)?;
+        let cutoff = if l2 == 0.0 { None } else { charge.cutoff(rod.length) };
+        let reference_r: Vec<[f64; 3]> = points.iter().map(|p| [reference[p.offset], reference[p.offset + 1], reference[p.offset + 2]]).collect();
+        // Far pairs: elements more than m apart, within r_off + skin (all without a cutoff; none without charge).
+        let mut adj_ptr = vec![0];
+        let mut adj = Vec::new();
+        let far = |j: usize, k: usize| points[j].element.abs_diff(points[k].element) > m;
+        let any_pairs = l2 != 0.0 || charge.hard_core.is_some();
+        let list_radius = match (cutoff, charge.hard_core) {
+            (Some((_, off)), hc) => Some(off.max(if hc.is_some() { 2.0 * a } else { 0.0 }) + charge.skin),
+            (None, Some(_)) if l2 == 0.0 => Some(2.0 * a + charge.skin),
+            _ => None,
+        };
+        if any_pairs {
+            match list_radius {
+                Some(radius) => {
+                    let cells = CellList::new(&reference_r, radius);
+                    let mut found = Vec::new();
+                    for j in 0..points.len() {
+                        cells.neighbours_within(&reference_r, &reference_r[j], radius, &mut found);
+                        adj.extend(found.iter().copied().filter(|&k| far(j, k)));
+                        adj_ptr.push(adj.len());
+                    }
+                }
+                None => {
+                    for j in 0..points.len() {
+                        adj.extend((0..points.len()).filter(|&k| far(j, k)));
+                        adj_ptr.push(adj.len());
+                    }
+                }
+            }
+        } else {
+            adj_ptr.resize(points.len() + 1, 0);
+        }
+        // Pattern: the rod's, plus element(j)'s n-rows × (r_j, q_j) and × r_k.
+        let n_rows = |e: usize| -> Vec<usize> {
+            let mut rows: Vec<usize> = (0..s).flat_map(|i| (0..3).map(move |c| rod.node(e) + 13 + 13 * i + 7 + c)).collect();
+            rows.extend((0..3).map(|c| rod.node(e + 1) + 7 + c));
+            rows
+        };
+        let rp = sys.pattern();
+        let mut entries: Vec<(usize, usize)> = Vec::with_capacity(rp.nnz() + 27 * adj.len());
+        for col in 0..n {
+            for &row in &rp.row_idx[rp.col_ptr[col]..rp.col_ptr[col + 1]] {
+                entries.push((row, col));
+            }
+        }
+        if any_pairs {
+            for (j, pt) in points.iter().enumerate() {
+                let rows = n_rows(pt.element);
+                for &row in &rows {
+                    for c in 0..7 {
+                        entries.push((row, pt.offset + c));
+                    }
+                }
+                for &k in &adj[adj_ptr[j]..adj_ptr[j + 1]] {
+                    for &row in &rows {
+                        for c in 0..3 {
+                            entries.push((row, points[k].offset + c));
+                        }
+                    }
+                }
+            }
+        }
+        let pattern = Pattern::from_entries(n, entries);
+        let internal = |what: &str| Error::new(Status::ErrInternal, format!("charged rod pattern: {what}"));
+        let mut rod_map = Vec::with_capacity(rp.nnz());
+        for col in 0..n {
+            for &row in &rp.row_idx[rp.col_ptr[col]..rp.col_ptr[col + 1]] {
+                rod_map.push(pattern.position(row, col).ok_or_else(|| internal("rod entry missing"))?);
+            }
+        }
+        let mut diag_pos = Vec::new();
+        let mut adj_pos = Vec::with_capacity(adj.len());
+        if any_pairs {
+            for (j, pt) in points.iter().enumerate() {
+                let rows = n_rows(pt.element);
+                for &row in &rows {
+                    for c in 0..7 {
+                        diag_pos.push(pattern.position(row, pt.offset + c).ok_or_else(|| internal("diagonal entry missing"))?);
+                    }
+                }
+                for &k in &adj[adj_ptr[j]..adj_ptr[j + 1]] {
+                    let mut base = [0; 3];
+                    for c in 0..3 {
+                        let col = points[k].offset + c;
+                        base[c] = pattern.position(rows[0], col).ok_or_else(|| internal("pair entry missing"))?;
+                        // The element's n-rows are consecutive in a partner's column.
+                        for (i, &row) in rows.iter().enumerate() {
+                            if pattern.position(row, col) != Some(base[c] + i) {
+                                return Err(internal("pair rows not consecutive"));
+                            }
+                        }
+                    }
+                    adj_pos.push(base);
+                }
+            }
+        }
+        let twisted_phi = rod.twisted().then(|| rod.end_cosine().expect("twisted rods have c"));
+        let np = points.len();
+        let na = adj.len();
+        Ok(ChargedRod {
+            rod: rod.clone(),
+            charge: charge.clone(),
+            rod_jx: vec![0.0; rp.nnz()],
+            sys,
+            n,
+            pattern,
+            rod_map,
+            tab,
+            h,
+            points,
+            stiffening,
+            near_constant,
+            cutoff,
+            adj_ptr,
+            adj,
+            adj_pos,
+            diag_pos,
+            reference: reference_r,
+            twisted_phi,
+            r: vec![[0.0; 3]; np],
+            p: vec![[0.0; 3]; np],
+            g: vec![[0.0; 9]; na],
+            dsum: vec![[0.0; 9]; np],
+        })
+    }
+
+    pub fn rod(&self) -> &Rod {
+        &self.rod
+    }
+
+    pub fn charge(&self) -> &RodCharge {
+        &self.charge
+    }
+
+    /// The screening cutoff's switch region (r_on, r_off), None: every pair.
+    pub fn cutoff(&self) -> Option<(f64, f64)> {
+        self.cutoff
+    }
+
+    /// Pairs in the list (each counted once per direction).
+    pub fn pairs(&self) -> usize {
+        self.adj.len()
+    }
+
+    /// The near-zone bending stiffening ΔK at every stage point (element-major).
+    pub fn stiffening(&self) -> &[f64] {
+        &self.stiffening
+    }
+
+    /// Stage points (arc length, weight), element-major.
+    pub fn stage_points(&self) -> Vec<(f64, f64)> {
+        self.points.iter().map(|p| (p.s, p.w)).collect()
+    }
+
+    /// The largest distance a stage point of `x` has moved from the pair
+    /// list's reference: the list is exact while it is below skin/2.
+    pub fn displacement(&self, x: &[f64]) -> f64 {
+        self.points.iter().zip(&self.reference).map(|(p, r0)| {
+            let d = [x[p.offset] - r0[0], x[p.offset + 1] - r0[1], x[p.offset + 2] - r0[2]];
+            (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+        }).fold(0.0, f64::max)
+    }
+
+    /// The rod's Λ for the continuation parameter.
+    fn rod_lambda(&self, param: f64) -> (f64, f64) {
+        match self.twisted_phi {
+            Some(_) => ((0.5 * param).sin(), 0.5 * (0.5 * param).cos()),
+            None => (param, 1.0),
+        }
+    }
+
+    /// P'(d) and P''(d) of the pair potential (switched Φ and hard core).
+    fn pair(&self, d: f64) -> (f64, f64) {
+        let (kappa, a) = (self.charge.screening.kappa, self.charge.screening.a);
+        let l2 = self.charge.line_charge * self.charge.line_charge;
+        let (mut p1, mut p2) = (0.0, 0.0);
+        if l2 != 0.0 {
+            let e = (-kappa * d).exp();
+            let (f0, f1, f2) = (e / d, -e * (1.0 + kappa * d) / (d * d), e * (2.0 + 2.0 * kappa * d + kappa * kappa * d * d) / (d * d * d));
+            let (s0, s1, s2) = match self.cutoff {
+                None => (1.0, 0.0, 0.0),
+                Some((_, off)) if d >= off => (0.0, 0.0, 0.0),
+                Some((on, _)) if d <= on => (1.0, 0.0, 0.0),
+                Some((on, off)) => {
+                    let wdt = off - on;
+                    let x = (d - on) / wdt;
+                    (
+                        1.0 - x * x * x * (10.0 - 15.0 * x + 6.0 * x * x),
+                        -30.0 * x * x * (1.0 - x) * (1.0 - x) / wdt,
+                        -60.0 * x * (1.0 - x) * (1.0 - 2.0 * x) / (wdt * wdt),
+                    )
+                }
+            };
+            p1 += l2 * (f1 * s0 + f0 * s1);
+            p2 += l2 * (f2 * s0 + 2.0 * f1 * s1 + f0 * s2);
+        }
+        if let Some(k) = self.charge.hard_core {
+            if d < 2.0 * a {
+                let g = 2.0 * a - d;
+                p1 += -3.0 * k * g * g;
+                p2 += 6.0 * k * g;
+            }
+        }
+        (p1, p2)
+    }
+
+    /// Far-zone force densities p_j (and, with `jacobian`, the pair
+    /// blocks G_jk = ∂(−P'Δ/d)/∂r_k and their sums) at the positions in
+    /// self.r, threads by chunks of stages.
+    fn forces(&mut self, jacobian: bool) {
+        let np = self.points.len();
+        let threads = self.charge.threads.min(np.max(1));
+        let mut p = std::mem::take(&mut self.p);
+        let mut g = std::mem::take(&mut self.g);
+        let mut dsum = std::mem::take(&mut self.dsum);
+        let this = &*self;
+        let work = |range: std::ops::Range<usize>, p: &mut [[f64; 3]], g: &mut [[f64; 9]], dsum: &mut [[f64; 9]]| {
+            let g_base = this.adj_ptr[range.start];
+            for (jj, j) in range.enumerate() {
+                let rj = this.r[j];
+                let mut pj = [0.0; 3];
+                let mut dj = [0.0; 9];
+                for a in this.adj_ptr[j]..this.adj_ptr[j + 1] {
+                    let k = this.adj[a];
+                    let dv = [rj[0] - this.r[k][0], rj[1] - this.r[k][1], rj[2] - this.r[k][2]];
+                    let d = (dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]).sqrt();
+                    let wk = this.points[k].w;
+                    let (p1, p2) = if d > 0.0 { this.pair(d) } else { (0.0, 0.0) };
+                    let c = -wk * p1 / d.max(f64::MIN_POSITIVE);
+                    for i in 0..3 {
+                        pj[i] += c * dv[i];
+                    }
+                    if jacobian {
+                        // ∂p_j/∂r_k = w_k [P'/d I + (P'' − P'/d) ΔΔᵀ/d²] =: w_k G.
+                        let mut gk = [0.0; 9];
+                        if d > 0.0 {
+                            let (a0, a1) = (p1 / d, (p2 - p1 / d) / (d * d));
+                            for r in 0..3 {
+                                for q in 0..3 {
+                                    gk[3 * r + q] = wk * (a1 * dv[r] * dv[q] + if r == q { a0 } else { 0.0 });
+                                }
+                            }
+                        }
+                        for i in 0..9 {
+                            dj[i] -= gk[i];
+                        }
+                        g[a - g_base] = gk;
+                    }
+                }
+                p[jj] = pj;
+                if jacobian {
+                    dsum[jj] = dj;
+                }
+            }
+        };
+        if threads <= 1 || np < 64 {
+            work(0..np, &mut p, &mut g, &mut dsum);
+        } else {
+            let chunk = np.div_ceil(threads);
+            std::thread::scope(|scope| {
+                let (mut pr, mut gr, mut dr) = (&mut p[..], &mut g[..], &mut dsum[..]);
+                let mut start = 0;
+                while start < np {
+                    let end = (start + chunk).min(np);
+                    let na = this.adj_ptr[end] - this.adj_ptr[start];
+                    let (p0, p1) = pr.split_at_mut(end - start);
+                    let (g0, g1) = gr.split_at_mut(na);
+                    let (d0, d1) = dr.split_at_mut(end - start);
+                    pr = p1;
+                    gr = g1;
+                    dr = d1;
+                    let work = &work;
+                    scope.spawn(move || work(start..end, p0, g0, d0));
+                    start = end;
+                }
+            });
+        }
+        self.p = p;
+        self.g = g;
+        self.dsum = dsum;
+    }
+
+    fn gather(&mut self, x: &[f64]) {
+        for (r, p) in self.r.iter_mut().zip(&self.points) {
+            *r = [x[p.offset], x[p.offset + 1], x[p.offset + 2]];
+        }
+    }
+
+    /// Row coefficients of stage `stage`'s body force in its element's
+    /// 3(s+1) n-rows: h a_i,stage for the stage rows, h b_stage for the update.
+    fn coefficient(&self, row_block: usize, stage: usize) -> f64 {
+        let s = self.tab.b.len();
+        if row_block < s {
+            self.h * self.tab.a[row_block][stage]
+        } else {
+            self.h * self.tab.b[stage]
+        }
+    }
+
+    fn n_row(&self, element: usize, row_block: usize, c: usize) -> usize {
+        let s = self.tab.b.len();
+        if row_block < s {
+            self.rod.node(element) + 13 + 13 * row_block + 7 + c
+        } else {
+            self.rod.node(element + 1) + 7 + c
+        }
+    }
+
+    /// The rod's force and moment scales are K_b/L² and K_b/L; a charged
+    /// rod under tension T carries forces of order F = max(K_b/L², |T|, λ²)
+    /// (λ² is a force: energy per length²), 10²–10³ times more for DNA, and
+    /// residual tolerances relative to K_b/L² would sit below the rounding
+    /// of the pair sums. Forces scale by f = F L²/K_b, moments by √f (the
+    /// length √(K_b/F) replacing L).
+    fn rescale(&self, v: &mut [f64], equations: bool) {
+        let kb = self.rod.law.bending();
+        let l = self.rod.length;
+        let base = kb / (l * l);
+        let tension = match self.rod.supports {
+            Supports::Twisted { tension } => tension.abs(),
+            _ => 0.0,
+        };
+        let f = base.max(tension).max(self.charge.line_charge * self.charge.line_charge) / base;
+        if f <= 1.0 {
+            return;
+        }
+        let fm = f.sqrt();
+        let body = self.rod.node(self.rod.elements) + 13;
+        for (k, v) in v.iter_mut().enumerate() {
+            if k < 13 && equations {
+                // Boundary rows: only the axial-force condition of a
+                // tension-controlled end is a force.
+                if k == 9 && matches!(self.rod.supports, Supports::Twisted { .. }) {
+                    *v *= f;
+                }
+                continue;
+            }
+            if k >= body {
+                // c = cos(φ/2) (scale 1), or the unfolding μ (a couple per length).
+                if Some(k) != self.twisted_phi && k == self.rod.unknowns() {
+                    *v *= fm;
+                }
+                continue;
+            }
+            match k % 13 {
+                7..=9 => *v *= f,
+                10..=12 => *v *= fm,
+                _ => {}
+            }
+        }
+    }
+
+    fn has_pairs(&self) -> bool {
+        self.charge.line_charge != 0.0 || self.charge.hard_core.is_some()
+    }
+
+    /// The electrostatic (and hard-core) energy of a state and the elastic
+    /// energy of the uncharged law, by the stage quadrature.
+    pub fn energy(&mut self, x: &[f64]) -> RodEnergy {
+        self.gather(x);
+        let data = self.rod.rhs_data();
+        let (kb, c) = (self.rod.law.stiffness[(0, 0)], self.rod.law.stiffness[(2, 2)]);
+        let kb2 = self.rod.law.stiffness[(1, 1)];
+        let l2 = self.charge.line_charge * self.charge.line_charge;
+        let (mut near, mut far, mut hard, mut elastic) = (0.0, 0.0, 0.0, 0.0);
+        for (j, pt) in self.points.iter().enumerate() {
+            let y = &x[pt.offset..pt.offset + 13];
+            let (u, _) = crate::rod::kinematics::strains::<f64>(&data, &[y[10], y[11], y[12]], &[y[7], y[8], y[9]]);
+            // u of the stiffened law: m = (K + ΔK) u.
+            let dk = self.stiffening[j];
+            let u1 = u[0] * kb / (kb + dk);
+            let u2 = u[1] * kb2 / (kb2 + dk);
+            let c2 = u1 * u1 + u2 * u2;
+            near += pt.w * (self.near_constant[j] + 0.5 * dk * c2);
+            elastic += pt.w * 0.5 * (kb * u1 * u1 + kb2 * u2 * u2 + c * u[2] * u[2]);
+            for &k in &self.adj[self.adj_ptr[j]..self.adj_ptr[j + 1]] {
+                let rk = self.r[k];
+                let rj = self.r[j];
+                let d = ((rj[0] - rk[0]).powi(2) + (rj[1] - rk[1]).powi(2) + (rj[2] - rk[2]).powi(2)).sqrt();
+                let ww = 0.5 * pt.w * self.points[k].w;
+                if l2 != 0.0 {
+                    let s = match self.cutoff {
+                        None => 1.0,
+                        Some((on, _)) if d <= on => 1.0,
+                        Some((_, off)) if d >= off => 0.0,
+                        Some((on, off)) => {
+                            let t = (d - on) / (off - on);
+                            1.0 - t * t * t * (10.0 - 15.0 * t + 6.0 * t * t)
+                        }
+                    };
+                    far += ww * l2 * (-self.charge.screening.kappa * d).exp() / d * s;
+                }
+                if let Some(khc) = self.charge.hard_core {
+                    let a2 = 2.0 * self.charge.screening.a;
+                    if d < a2 {
+                        hard += ww * khc * (a2 - d).powi(3);
+                    }
+                }
+            }
+        }
+        RodEnergy { near, far, hard_core: hard, elastic }
+    }
+
+    /// The far-zone force density at every stage point of `x` (spatial).
+    pub fn force_densities(&mut self, x: &[f64]) -> Vec<[f64; 3]> {
+        self.gather(x);
+        if self.has_pairs() {
+            self.forces(false);
+        } else {
+            self.p.iter_mut().for_each(|p| *p = [0.0; 3]);
+        }
+        self.p.clone()
+    }
+}
+
+impl Problem for ChargedRod {
+    fn dim(&self) -> usize {
+        self.n
+    }
+
+    fn pattern(&self) -> &Pattern {
+        &self.pattern
+    }
+
+    fn residual(&mut self, x: &[f64], param: f64, r: &mut [f64]) {
+        let (lambda, _) = self.rod_lambda(param);
+        self.sys.residual(x, lambda, r);
+        if let Some(c) = self.twisted_phi {
+            r[c] = x[c] - (0.5 * param).cos();
+        }
+        if !self.has_pairs() {
+            return;
+        }
+        self.gather(x);
+        self.forces(false);
+        let s = self.tab.b.len();
+        for (j, pt) in self.points.iter().enumerate() {
+            let q = [x[pt.offset + 3], x[pt.offset + 4], x[pt.offset + 5], x[pt.offset + 6]];
+            let rot = rotation(&q);
+            let p = self.p[j];
+            let fb = [0, 1, 2].map(|c| rot[0][c] * p[0] + rot[1][c] * p[1] + rot[2][c] * p[2]);
+            for rb in 0..=s {
+                let coef = self.coefficient(rb, pt.stage);
+                for c in 0..3 {
+                    r[self.n_row(pt.element, rb, c)] += coef * fb[c];
+                }
+            }
+        }
+    }
+
+    fn jacobian(&mut self, x: &[f64], param: f64, jx: &mut [f64], jl: &mut [f64]) {
+        let (lambda, dlambda) = self.rod_lambda(param);
+        let mut rod_jx = std::mem::take(&mut self.rod_jx);
+        self.sys.jacobian(x, lambda, &mut rod_jx, jl);
+        jx.fill(0.0);
+        for (v, &p) in rod_jx.iter().zip(&self.rod_map) {
+            jx[p] += v;
+        }
+        self.rod_jx = rod_jx;
+        if let Some(c) = self.twisted_phi {
+            jl.iter_mut().for_each(|v| *v *= dlambda);
+            let pos = self.pattern.position(c, c).expect("diagonal");
+            // Row c was c² + Λ² − 1 (entries (c, c) only, and Λ): now c − cos(φ/2).
+            jx[pos] = 1.0;
+            jl[c] = 0.5 * (0.5 * param).sin();
+        }
+        if !self.has_pairs() {
+            return;
+        }
+        self.gather(x);
+        self.forces(true);
+        let s = self.tab.b.len();
+        for (j, pt) in self.points.iter().enumerate() {
+            let q = [x[pt.offset + 3], x[pt.offset + 4], x[pt.offset + 5], x[pt.offset + 6]];
+            let rot = rotation(&q);
+            let p = self.p[j];
+            // ∂(Rᵀp)/∂q_i, exact by central differences (R is quadratic in q).
+            let mut dq = [[0.0; 4]; 3];
+            for i in 0..4 {
+                let (mut qp, mut qm) = (q, q);
+                qp[i] += 1.0;
+                qm[i] -= 1.0;
+                let (rp, rm) = (rotation(&qp), rotation(&qm));
+                for c in 0..3 {
+                    dq[c][i] = 0.5 * ((rp[0][c] - rm[0][c]) * p[0] + (rp[1][c] - rm[1][c]) * p[1] + (rp[2][c] - rm[2][c]) * p[2]);
+                }
+            }
+            // ∂(Rᵀp)/∂r_j = Rᵀ D_j.
+            let d = self.dsum[j];
+            let rt_mul = |m: &[f64; 9]| -> [[f64; 3]; 3] {
+                let mut out = [[0.0; 3]; 3];
+                for c in 0..3 {
+                    for col in 0..3 {
+                        out[c][col] = rot[0][c] * m[col] + rot[1][c] * m[3 + col] + rot[2][c] * m[6 + col];
+                    }
+                }
+                out
+            };
+            let dr = rt_mul(&d);
+            let base = j * 3 * (s + 1) * 7;
+            for rb in 0..=s {
+                let coef = self.coefficient(rb, pt.stage);
+                for c in 0..3 {
+                    let at = base + (rb * 3 + c) * 7;
+                    for col in 0..3 {
+                        jx[self.diag_pos[at + col]] += coef * dr[c][col];
+                    }
+                    for i in 0..4 {
+                        jx[self.diag_pos[at + 3 + i]] += coef * dq[c][i];
+                    }
+                }
+            }
+            for a in self.adj_ptr[j]..self.adj_ptr[j + 1] {
+                let block = rt_mul(&self.g[a]);
+                let pos = self.adj_pos[a];
+                for rb in 0..=s {
+                    let coef = self.coefficient(rb, pt.stage);
+                    for c in 0..3 {
+                        for col in 0..3 {
+                            jx[pos[col] + rb * 3 + c] += coef * block[c][col];
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn equation_scales(&self) -> Vec<f64> {
+        let mut e = self.sys.equation_scales();
+        self.rescale(&mut e, true);
+        e
+    }
+
+    fn unknown_scales(&self) -> (Vec<f64>, f64) {
+        let (mut x, l) = self.sys.unknown_scales();
+        self.rescale(&mut x, false);
+        (x, if self.twisted_phi.is_some() { 1.0 } else { l })
+    }
+}
+
+/// Whether the supports make the end rotation the parameter.
+pub fn rotation_controlled(rod: &Rod) -> bool {
+    matches!(rod.supports, Supports::Twisted { .. } | Supports::TwistedAtDistance { .. })
+}

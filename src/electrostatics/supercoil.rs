@@ -1,0 +1,391 @@
+//! Branches of charged-rod equilibria (issue 5): Newton pseudo-arc-length
+//! continuation of [`ChargedRod`] — in the end rotation φ itself for a rod
+//! with a controlled end rotation (any number of turns) — with the pair
+//! list rebuilt whenever a stage has moved a quarter of the skin (the
+//! branch is continued from the same point and tangent on the new
+//! pattern), strand crossing detected (non-neighbouring stage points
+//! closer than 2a: the branch stops with [`ChargedBranch::crossing`]), and
+//! branch switching at a located (double) buckling point with the rod's
+//! phase condition. The observables users compare with magnetic-tweezers
+//! experiments: [`Observables`].
+
+use super::discrete::closest_pair_within;
+use super::rod::{ChargedRod, RodCharge};
+use crate::continuation::bifurcation::{branch_start, Bifurcation};
+use crate::continuation::bordered::Bordered;
+use crate::continuation::newton::{continue_newton, correct, Start};
+use crate::continuation::{Counts, Options, Problem, Record, Resume, Scaling, Stop};
+use crate::error::{self, Error, Result};
+use crate::rod::branch::Contact;
+use crate::rod::model::Rod;
+use crate::status::Status;
+
+/// A followed branch of a charged rod.
+#[derive(Clone, Debug)]
+pub struct ChargedBranch {
+    /// Records (Λ = φ for rotation-controlled rods); outputs moved to `states`.
+    pub records: Vec<Record>,
+    pub states: Vec<Vec<f64>>,
+    pub bifurcations: Vec<Bifurcation>,
+    pub stop: Stop,
+    /// Strand crossing: the first record where non-neighbouring stage
+    /// points (arc-length gap > πa) came closer than 2a; the branch stops
+    /// there (`stop` = Cancelled).
+    pub crossing: Option<Contact>,
+    pub counts: Counts,
+    pub resume: Resume,
+    pub phase: Option<(usize, f64)>,
+    /// Pair lists built (1 + rebuilds).
+    pub pair_lists: usize,
+}
+
+/// What a state shows an experimentalist.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Observables {
+    /// End rotation φ / 2π.
+    pub turns: f64,
+    /// Extension z(L).
+    pub extension: f64,
+    /// Spatial end moment about the axis (the torque applied at s = L).
+    pub torque: f64,
+    /// Spatial axial end force.
+    pub tension: f64,
+    /// Twist and writhe (turns); Tw + Wr = turns for a clamped rod.
+    pub twist: f64,
+    pub writhe: f64,
+}
+
+/// The observables of state `x` at end rotation `phi`.
+pub fn observables(rod: &Rod, x: &[f64], phi: f64) -> Result<Observables> {
+    let (n, m) = rod.spatial_force_moment(x, rod.elements);
+    Ok(Observables {
+        turns: phi / (2.0 * std::f64::consts::PI),
+        extension: rod.tip(x)[2],
+        torque: m[2],
+        tension: n[2],
+        twist: rod.twist(x),
+        writhe: rod.writhe(x, 8)?,
+    })
+}
+
+/// Stage-point positions and arc lengths of a state.
+fn stage_points(rod: &Rod, x: &[f64]) -> (Vec<[f64; 3]>, Vec<f64>) {
+    let h = rod.element_length();
+    let tab = crate::rod::scheme::Tableau::gauss(rod.scheme.stages().max(1));
+    let mut r = Vec::new();
+    let mut s = Vec::new();
+    for e in 0..rod.elements {
+        for j in 0..rod.scheme.stages() {
+            let o = rod.node(e) + 13 * (1 + j);
+            r.push([x[o], x[o + 1], x[o + 2]]);
+            s.push((e as f64 + tab.c[j]) * h);
+        }
+    }
+    (r, s)
+}
+
+/// The closest non-neighbouring pair of stage points nearer than 2a:
+/// (distance, s1, s2).
+pub fn strand_crossing(rod: &Rod, charge: &RodCharge, x: &[f64]) -> Option<(f64, f64, f64)> {
+    let a = charge.screening.a;
+    let (r, s) = stage_points(rod, x);
+    closest_pair_within(&r, &s, 2.0 * a, std::f64::consts::PI * a).map(|(d, i, j)| (d, s[i], s[j]))
+}
+
+fn start_x(start: &Start) -> &[f64] {
+    match start {
+        Start::Point { x, .. } => x,
+        Start::Resume(r) | Start::Switch(r) => &r.x,
+    }
+}
+
+/// Follow a branch of the charged rod from `start` (with the rod's phase
+/// condition when given), rebuilding the pair list as the shape moves.
+pub fn follow(rod: &Rod, charge: &RodCharge, start: Start, phase: Option<(usize, f64)>, opts: &Options,
+              mut progress: impl FnMut(&Record) -> bool) -> Result<ChargedBranch> {
+    let mut start = start;
+    let mut out = ChargedBranch {
+        records: Vec::new(),
+        states: Vec::new(),
+        bifurcations: Vec::new(),
+        stop: Stop::MaxSteps,
+        crossing: None,
+        counts: Counts::default(),
+        resume: Resume { x: Vec::new(), lambda: 0.0, tangent_x: Vec::new(), tangent_lambda: 0.0, step: 0.0 },
+        phase,
+        pair_lists: 0,
+    };
+    let quarter_skin = 0.25 * charge.skin;
+    loop {
+        let mut problem = ChargedRod::new(rod, charge, phase, start_x(&start))?;
+        out.pair_lists += 1;
+        if let Start::Resume(r) = &mut start {
+            // A point reached on the previous list: re-converge it on the
+            // new one when a pair it lacked matters (moved past skin/2).
+            let mut res = vec![0.0; r.x.len()];
+            problem.residual(&r.x, r.lambda, &mut res);
+            let eq = problem.equation_scales();
+            let scaled = res.iter().zip(&eq).map(|(v, e)| (v / e).abs()).fold(0.0, f64::max);
+            if !(scaled <= opts.residual_tol) {
+                let scaling = opts.scaling.clone().unwrap_or_else(|| Scaling::of(&problem));
+                let mut bordered = Bordered::new(problem.pattern())?;
+                let anchor = r.x.clone();
+                let mut l = r.lambda;
+                let fix = vec![0.0; r.x.len()];
+                correct(&mut problem, &mut bordered, &scaling, &eq, &mut r.x, &mut l, (&anchor, r.lambda), (&fix, 1.0), opts.residual_tol, false, &mut out.counts)?;
+                if let (Some(rec), Some(st)) = (out.records.last_mut(), out.states.last_mut()) {
+                    st.copy_from_slice(&r.x);
+                    rec.residual = opts.residual_tol;
+                }
+            }
+        }
+        let reference: Vec<[f64; 3]> = {
+            let (r, _) = stage_points(rod, start_x(&start));
+            r
+        };
+        let offsets: Vec<usize> = (0..rod.elements).flat_map(|e| (0..rod.scheme.stages()).map(move |j| rod.node(e) + 13 * (1 + j))).collect();
+        let moved = |x: &[f64]| -> f64 {
+            offsets.iter().zip(&reference).map(|(&o, r0)| ((x[o] - r0[0]).powi(2) + (x[o + 1] - r0[1]).powi(2) + (x[o + 2] - r0[2]).powi(2)).sqrt()).fold(0.0, f64::max)
+        };
+        let mut stale = false;
+        let mut crossing: Option<Contact> = None;
+        let base = out.records.len();
+        let mut seg_opts = opts.clone();
+        seg_opts.max_steps = opts.max_steps.saturating_sub(out.counts.steps).max(1);
+        let mut index = 0;
+        let resumed = base > 0;
+        let b = continue_newton(
+            &mut problem,
+            start,
+            &seg_opts,
+            |x, _| {
+                let mut o = x.to_vec();
+                o.push(moved(x));
+                o
+            },
+            |rec| {
+                let x = &rec.outputs[..rec.outputs.len() - 1];
+                let k = index;
+                index += 1;
+                if resumed && k == 0 {
+                    // The previous segment's last point, already checked.
+                    return true;
+                }
+                if let Some((distance, s1, s2)) = strand_crossing(rod, charge, x) {
+                    crossing = Some(Contact { record: base + k - resumed as usize, distance, s1, s2 });
+                    return false;
+                }
+                if *rec.outputs.last().expect("displacement") > quarter_skin {
+                    stale = true;
+                    return false;
+                }
+                progress(rec)
+            },
+        )?;
+        out.counts.steps += b.counts.steps;
+        out.counts.factorisations += b.counts.factorisations;
+        out.counts.solves += b.counts.solves;
+        out.counts.residuals += b.counts.residuals;
+        out.counts.jacobians += b.counts.jacobians;
+        for (i, mut rec) in b.records.into_iter().enumerate() {
+            if resumed && i == 0 {
+                // The resumed start point, already recorded.
+                continue;
+            }
+            let mut x = std::mem::take(&mut rec.outputs);
+            x.pop();
+            out.states.push(x);
+            out.records.push(rec);
+        }
+        out.bifurcations.extend(b.bifurcations);
+        out.resume = b.resume;
+        out.stop = b.stop;
+        if let Some(c) = crossing {
+            out.crossing = Some(c);
+            break;
+        }
+        if stale && out.counts.steps < opts.max_steps {
+            start = Start::Resume(out.resume.clone());
+            continue;
+        }
+        break;
+    }
+    Ok(out)
+}
+
+/// Leave `branch` at its bifurcation `index` along null direction
+/// `direction` (first step `first_step`): at a double point of the
+/// symmetric rod (the buckling of a twisted rod under tension) with the
+/// rod's phase condition at the node of largest lateral displacement of
+/// the null direction, the first point taken at a fixed buckle amplitude.
+pub fn switch(rod: &Rod, charge: &RodCharge, branch: &ChargedBranch, index: usize, direction: usize, first_step: f64, opts: &Options,
+              progress: impl FnMut(&Record) -> bool) -> Result<ChargedBranch> {
+    let bif = branch.bifurcations.get(index).ok_or_else(|| {
+        Error::new(Status::ErrOutOfRange, format!("bifurcation index {index} out of range (the branch has {})", branch.bifurcations.len()))
+    })?;
+    let (nx, nl) = bif.null_vectors.get(direction).ok_or_else(|| {
+        Error::new(Status::ErrOutOfRange, format!("direction {direction} out of range (the point has {} null directions)", bif.null_vectors.len()))
+    })?;
+    error::positive("first_step", first_step)?;
+    if branch.phase.is_some() || bif.multiplicity < 2 {
+        let scaling = opts.scaling.clone().unwrap_or_else(|| {
+            let p = ChargedRod::new(rod, charge, branch.phase, &bif.x).expect("validated on the branch");
+            Scaling::of(&p)
+        });
+        let start = branch_start(bif, (nx, *nl), first_step, &scaling);
+        return follow(rod, charge, Start::Switch(start), branch.phase, opts, progress);
+    }
+    let lateral = |i: usize| {
+        let at = rod.node(i);
+        nx[at].hypot(nx[at + 1])
+    };
+    let node = (1..=rod.elements).fold(0, |best, i| if lateral(i) > lateral(best) { i } else { best });
+    if node == 0 || lateral(node) == 0.0 {
+        return Err(Error::new(Status::ErrOutOfRange, "a phase condition needs a null direction with a lateral displacement"));
+    }
+    let at = rod.node(node);
+    let azimuth = nx[at + 1].atan2(nx[at]);
+    let phase = Some((node, azimuth));
+    let mut aug = bif.clone();
+    aug.x.push(0.0);
+    aug.tangent_x.push(0.0);
+    let mut d = nx.clone();
+    d.push(0.0);
+    let mut problem = ChargedRod::new(rod, charge, phase, &aug.x)?;
+    let (sx, sl) = problem.unknown_scales();
+    let scaling = Scaling { x: sx, lambda: sl };
+    let start = branch_start(&aug, (&d, *nl), first_step, &scaling);
+    // First point at a fixed amplitude along the azimuth (not the arc
+    // length): the straight family (any μ) is excluded.
+    let eq = problem.equation_scales();
+    let mut bordered = Bordered::new(problem.pattern())?;
+    let mut counts = Counts::default();
+    let m = start.x.len();
+    let mut e = vec![0.0; m];
+    e[at] = azimuth.cos();
+    e[at + 1] = azimuth.sin();
+    let mut x: Vec<f64> = start.x.iter().zip(&start.tangent_x).map(|(a, t)| a + first_step * t).collect();
+    let mut l = start.lambda + first_step * start.tangent_lambda;
+    let anchor = x.clone();
+    let al = l;
+    correct(&mut problem, &mut bordered, &scaling, &eq, &mut x, &mut l, (&anchor, al), (&e, 0.0), opts.residual_tol, false, &mut counts)?;
+    let dx: Vec<f64> = x.iter().zip(&start.x).map(|(a, b)| a - b).collect();
+    let norm = scaling.norm(&dx, l - start.lambda);
+    let resume = Resume { tangent_x: dx.iter().map(|v| v / norm).collect(), tangent_lambda: (l - start.lambda) / norm, x, lambda: l, step: first_step };
+    let mut b = follow(rod, charge, Start::Resume(resume), phase, opts, progress)?;
+    b.counts.factorisations += counts.factorisations;
+    b.counts.residuals += counts.residuals;
+    let n = rod.unknowns();
+    let mu_scale = problem.unknown_scales().0[n];
+    if let Some((k, x)) = b.states.iter().enumerate().find(|(_, x)| x[n].abs() > 1e-6 * mu_scale) {
+        return Err(Error::new(
+            Status::ErrNotConverged,
+            format!("branch switching left the unfolding parameter at μ = {:e} (point {k}): the spurious straight family; try another first_step", x[n]),
+        ));
+    }
+    Ok(b)
+}
+
+/// A DNA supercoiling scene in nm and pN (physics.md §3, issue 5): a
+/// Kirchhoff rod clamped at both ends, pulled by `tension` and turned by
+/// the end rotation, carrying the effective line charge of DNA screened by
+/// monovalent salt.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DnaScene {
+    pub base_pairs: usize,
+    /// Rise per base pair (nm): 0.34.
+    pub rise: f64,
+    /// Tension (pN).
+    pub tension: f64,
+    /// Monovalent salt concentration (mol/L).
+    pub salt: f64,
+    /// Effective charge per length ν (e/nm). Default 1/l_B, Manning's
+    /// condensation limit (G. S. Manning, J. Chem. Phys. 51, 924 (1969)):
+    /// the charge left on a line of bare spacing below l_B after counterion
+    /// condensation, independent of the salt. Poisson–Boltzmann effective
+    /// charges (Stigter's, used by Vologodskii & Cozzarelli) are larger and
+    /// salt dependent; pass one here to use it.
+    pub charge_per_length: f64,
+    /// Radius a (nm): the near zone's excluded length and the crossing distance 2a.
+    pub radius: f64,
+    /// Bending and twist persistence lengths (nm): K_b = A k_BT, C = P k_BT.
+    pub bending_persistence: f64,
+    pub twist_persistence: f64,
+    /// Temperature (K) and relative permittivity of water.
+    pub temperature: f64,
+    pub permittivity: f64,
+}
+
+impl Default for DnaScene {
+    /// 1 kbp, 1 pN, 0.1 M NaCl, ν = 1/l_B, a = 1 nm, A = 50 nm, P = 95 nm, 298.15 K, ε_r = 78.4.
+    fn default() -> Self {
+        let mut s = DnaScene {
+            base_pairs: 1000,
+            rise: 0.34,
+            tension: 1.0,
+            salt: 0.1,
+            charge_per_length: 0.0,
+            radius: 1.0,
+            bending_persistence: 50.0,
+            twist_persistence: 95.0,
+            temperature: 298.15,
+            permittivity: 78.4,
+        };
+        s.charge_per_length = 1.0 / s.bjerrum_length();
+        s
+    }
+}
+
+impl DnaScene {
+    /// k_BT in pN·nm.
+    pub fn kt(&self) -> f64 {
+        1.380_649e-23 * self.temperature * 1e21
+    }
+
+    /// l_B = e²/(4πε0 ε_r k_BT) in nm.
+    pub fn bjerrum_length(&self) -> f64 {
+        let e = 1.602_176_634e-19;
+        let eps0 = 8.854_187_812_8e-12;
+        e * e / (4.0 * std::f64::consts::PI * eps0 * self.permittivity * 1.380_649e-23 * self.temperature) * 1e9
+    }
+
+    /// κ = √(8π l_B n) for a 1:1 salt of number density n (nm⁻³).
+    pub fn kappa(&self) -> f64 {
+        let n = self.salt * 6.022_140_76e23 * 1e3 * 1e-27;
+        (8.0 * std::f64::consts::PI * self.bjerrum_length() * n).sqrt()
+    }
+
+    pub fn length(&self) -> f64 {
+        self.base_pairs as f64 * self.rise
+    }
+
+    pub fn validate(&self) -> Result<()> {
+        error::count_in_range("base_pairs", self.base_pairs as i64, 10, 1 << 24)?;
+        for (n, v) in [("rise", self.rise), ("tension", self.tension), ("radius", self.radius), ("bending_persistence", self.bending_persistence),
+                       ("twist_persistence", self.twist_persistence), ("temperature", self.temperature), ("permittivity", self.permittivity)] {
+            error::positive(n, v)?;
+        }
+        error::finite("salt", self.salt)?;
+        error::finite("charge_per_length", self.charge_per_length)?;
+        if self.salt < 0.0 || self.charge_per_length < 0.0 {
+            return Err(Error::new(Status::ErrOutOfRange, "salt and charge_per_length must be ≥ 0"));
+        }
+        Ok(())
+    }
+
+    /// The rod: Gauss(`stages`) collocation on `elements` elements, end
+    /// rotation controlled at fixed tension.
+    pub fn rod(&self, elements: usize, stages: usize) -> Result<Rod> {
+        self.validate()?;
+        let kt = self.kt();
+        let law = crate::rod::RodLaw::kirchhoff(self.bending_persistence * kt, self.bending_persistence * kt, self.twist_persistence * kt)?;
+        Rod::new(law, self.length(), crate::rod::Loads::default(), crate::rod::model::Supports::Twisted { tension: self.tension },
+                 crate::rod::scheme::Scheme::Gauss(stages), elements)
+    }
+
+    /// The charge: λ² = k_BT l_B ν² (pN), κ from the salt (0: Coulomb).
+    pub fn charge(&self) -> RodCharge {
+        let lambda = (self.kt() * self.bjerrum_length()).sqrt() * self.charge_per_length;
+        RodCharge::new(lambda, super::Screening { kappa: self.kappa(), a: self.radius })
+    }
+}

@@ -63,6 +63,7 @@ module rodkit
     ! the continuation step fell below its minimum: the branch could not be
     ! followed further (the branch so far is valid)
     integer(c_int32_t), parameter :: RODKIT_STATUS_INFO_STEP_TOO_SMALL = 5
+    integer(c_int32_t), parameter :: RODKIT_STATUS_INFO_STRAND_CROSSING = 6
     ! internal error (a bug in rodkit: a panic was caught at the C boundary)
     integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_INTERNAL = -1
     ! a required pointer argument is NULL
@@ -422,6 +423,76 @@ module rodkit
         real(c_double) :: near_width
         integer(c_int64_t) :: order
     end type rodkit_electrostatics_spec
+
+    ! RodkitEnergyWithin (see rodkit.h).
+    type, bind(c) :: rodkit_energy_within
+        real(c_double) :: total
+        real(c_double) :: near
+        real(c_double) :: far
+        integer(c_int32_t) :: model
+        real(c_double) :: near_width
+        integer(c_int64_t) :: order
+        real(c_double) :: cutoff
+        real(c_double) :: estimate
+    end type rodkit_energy_within
+
+    ! RodkitDnaSupercoilSpec (see rodkit.h).
+    type, bind(c) :: rodkit_dna_supercoil_spec
+        integer(c_int64_t) :: base_pairs
+        real(c_double) :: rise
+        real(c_double) :: tension
+        real(c_double) :: salt
+        real(c_double) :: charge_per_length
+        real(c_double) :: radius
+        real(c_double) :: bending_persistence
+        real(c_double) :: twist_persistence
+        real(c_double) :: temperature
+        real(c_double) :: permittivity
+        integer(c_int64_t) :: elements
+        integer(c_int64_t) :: stages
+        real(c_double) :: cutoff_tolerance
+        real(c_double) :: hard_core
+        integer(c_int64_t) :: threads
+        real(c_double) :: max_turns
+        integer(c_int64_t) :: max_steps
+        real(c_double) :: residual_tol
+    end type rodkit_dna_supercoil_spec
+
+    ! RodkitSupercoilInfo (see rodkit.h).
+    type, bind(c) :: rodkit_supercoil_info
+        integer(c_int64_t) :: points
+        integer(c_int64_t) :: straight_points
+        integer(c_int64_t) :: nodes
+        integer(c_int32_t) :: buckled
+        real(c_double) :: buckling_turns
+        real(c_double) :: buckling_torque
+        integer(c_int32_t) :: crossing
+        real(c_double) :: crossing_distance
+        real(c_double) :: crossing_s1
+        real(c_double) :: crossing_s2
+        integer(c_int64_t) :: steps
+        integer(c_int64_t) :: factorisations
+        integer(c_int64_t) :: residuals
+        integer(c_int64_t) :: pair_lists
+        real(c_double) :: kappa
+        real(c_double) :: bjerrum_length
+        real(c_double) :: line_charge_squared
+        real(c_double) :: cutoff_on
+        real(c_double) :: cutoff_off
+        real(c_double) :: seconds
+    end type rodkit_supercoil_info
+
+    ! RodkitSupercoilPoint (see rodkit.h).
+    type, bind(c) :: rodkit_supercoil_point
+        real(c_double) :: turns
+        real(c_double) :: extension
+        real(c_double) :: torque
+        real(c_double) :: tension
+        real(c_double) :: twist
+        real(c_double) :: writhe
+        integer(c_int32_t) :: branch
+        real(c_double) :: residual
+    end type rodkit_supercoil_point
 
     ! RodkitElectrostaticEnergy (see rodkit.h).
     type, bind(c) :: rodkit_electrostatic_energy
@@ -984,6 +1055,74 @@ module rodkit
             real(c_double), intent(out) :: writhe_out
             integer(c_int32_t) :: status
         end function rodkit_curve_writhe
+
+
+        function rodkit_curve_electrostatic_energy_within(s, xyz, ldx, tangents, ldt, nodes, closed, spec, tolerance, out) &
+                result(status) &
+                bind(c, name="rodkit_curve_electrostatic_energy_within")
+            import :: c_double, c_int32_t, c_int64_t, rodkit_electrostatics_spec, rodkit_energy_within
+            real(c_double), intent(in) :: s(*)
+            real(c_double), intent(in) :: xyz(*)
+            integer(c_int64_t), value :: ldx
+            real(c_double), intent(in) :: tangents(*)
+            integer(c_int64_t), value :: ldt
+            integer(c_int64_t), value :: nodes
+            integer(c_int32_t), value :: closed
+            type(rodkit_electrostatics_spec), intent(in) :: spec
+            real(c_double), value :: tolerance
+            type(rodkit_energy_within), intent(out) :: out
+            integer(c_int32_t) :: status
+        end function rodkit_curve_electrostatic_energy_within
+
+        function rodkit_dna_supercoil_spec_default(spec) result(status) &
+                bind(c, name="rodkit_dna_supercoil_spec_default")
+            import :: c_int32_t, rodkit_dna_supercoil_spec
+            type(rodkit_dna_supercoil_spec), intent(out) :: spec
+            integer(c_int32_t) :: status
+        end function rodkit_dna_supercoil_spec_default
+
+        function rodkit_dna_supercoil_run(spec, out) result(status) &
+                bind(c, name="rodkit_dna_supercoil_run")
+            import :: c_int32_t, c_ptr, rodkit_dna_supercoil_spec
+            type(rodkit_dna_supercoil_spec), intent(in) :: spec
+            type(c_ptr), intent(out) :: out
+            integer(c_int32_t) :: status
+        end function rodkit_dna_supercoil_run
+
+        subroutine rodkit_supercoil_free(run) &
+                bind(c, name="rodkit_supercoil_free")
+            import :: c_ptr
+            type(c_ptr), value :: run
+        end subroutine rodkit_supercoil_free
+
+        function rodkit_supercoil_summary(run, info) result(status) &
+                bind(c, name="rodkit_supercoil_summary")
+            import :: c_int32_t, c_ptr, rodkit_supercoil_info
+            type(c_ptr), value :: run
+            type(rodkit_supercoil_info), intent(out) :: info
+            integer(c_int32_t) :: status
+        end function rodkit_supercoil_summary
+
+        function rodkit_supercoil_points(run, points, capacity, count) result(status) &
+                bind(c, name="rodkit_supercoil_points")
+            import :: c_int32_t, c_int64_t, c_ptr, rodkit_supercoil_point
+            type(c_ptr), value :: run
+            type(rodkit_supercoil_point), intent(inout) :: points(*)
+            integer(c_int64_t), value :: capacity
+            integer(c_int64_t), intent(out) :: count
+            integer(c_int32_t) :: status
+        end function rodkit_supercoil_points
+
+        function rodkit_supercoil_positions(run, point, xyz, ld, nodes) result(status) &
+                bind(c, name="rodkit_supercoil_positions")
+            import :: c_double, c_int32_t, c_int64_t, c_ptr
+            type(c_ptr), value :: run
+            integer(c_int64_t), value :: point
+            real(c_double), intent(inout) :: xyz(*)
+            integer(c_int64_t), value :: ld
+            integer(c_int64_t), value :: nodes
+            integer(c_int32_t) :: status
+        end function rodkit_supercoil_positions
 
     end interface
 

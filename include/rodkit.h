@@ -50,6 +50,8 @@ enum RodkitStatus
   RODKIT_STATUS_INFO_LAMBDA_RANGE = 4,
   // the continuation step fell below its minimum: the branch could not be followed further (the branch so far is valid)
   RODKIT_STATUS_INFO_STEP_TOO_SMALL = 5,
+  // the continuation stopped where non-neighbouring parts of the rod came closer than its diameter (strands would cross; the branch up to there is valid)
+  RODKIT_STATUS_INFO_STRAND_CROSSING = 6,
   // internal error (a bug in rodkit: a panic was caught at the C boundary)
   RODKIT_STATUS_ERR_INTERNAL = -1,
   // a required pointer argument is NULL
@@ -304,6 +306,9 @@ typedef struct RodkitBranch RodkitBranch;
 // A discretised rod.
 typedef struct RodkitRod RodkitRod;
 
+// An opaque computed path.
+typedef struct RodkitSupercoil RodkitSupercoil;
+
 // Opaque tube handle (rodkit_tube_new / rodkit_tube_free). Immutable after
 // creation: it may be moved between threads and used by several threads at
 // once.
@@ -388,6 +393,22 @@ typedef struct RodkitElectrostaticEnergy {
   double near;
   double far;
 } RodkitElectrostaticEnergy;
+
+// What `rodkit_curve_electrostatic_energy_within` chose and delivered.
+typedef struct RodkitEnergyWithin {
+  double total;
+  double near;
+  double far;
+  // 0: no electrostatics (zero charge), 1: the regularised continuum.
+  int32_t model;
+  // Its settings: near-zone width δ, Gauss order, screening cutoff
+  // (NaN: every pair).
+  double near_width;
+  int64_t order;
+  double cutoff;
+  // Estimated relative error (two resolutions plus the cutoff's tail).
+  double estimate;
+} RodkitEnergyWithin;
 
 // A rod: law, length, supports, loads (each multiplied by the load
 // parameter Λ), discretisation. Initialise with `rodkit_rod_spec_default`.
@@ -615,6 +636,88 @@ typedef struct RodkitBifurcation {
   double tip_z;
 } RodkitBifurcation;
 
+// A supercoiling scene in nm, pN, mol/L. Call
+// `rodkit_dna_supercoil_spec_default` first: 1 kbp, 1 pN, 0.1 M, ν = 1/l_B
+// (Manning), a = 1 nm, A = 50 nm, P = 95 nm, 298.15 K, ε_r = 78.4; 170
+// elements of Gauss(2); cutoff tolerance 1e-4; no hard core; 1 thread; to
+// 12 turns in at most 600 steps; residual 1e-10.
+typedef struct RodkitDnaSupercoilSpec {
+  int64_t base_pairs;
+  // Rise per base pair (nm).
+  double rise;
+  // Tension (pN).
+  double tension;
+  // Monovalent salt (mol/L); 0: Coulomb.
+  double salt;
+  // Effective charge per length ν (e/nm).
+  double charge_per_length;
+  // Radius a (nm): near-zone exclusion, crossing distance 2a.
+  double radius;
+  double bending_persistence;
+  double twist_persistence;
+  double temperature;
+  double permittivity;
+  int64_t elements;
+  // Gauss–Legendre stages (1…4).
+  int64_t stages;
+  // Screening cutoff's relative energy tolerance; 0: every pair.
+  double cutoff_tolerance;
+  // Hard-core stiffness k_hc (pN/nm⁴) below 2.5a; 0: none.
+  double hard_core;
+  int64_t threads;
+  double max_turns;
+  int64_t max_steps;
+  double residual_tol;
+} RodkitDnaSupercoilSpec;
+
+// What a run did.
+typedef struct RodkitSupercoilInfo {
+  // Points of the path (straight, then buckled).
+  int64_t points;
+  // Points on the straight branch (the first ones).
+  int64_t straight_points;
+  // Nodes of the shapes (elements + 1).
+  int64_t nodes;
+  // 1 when a buckling point was located; its turns and torque (pN nm).
+  int32_t buckled;
+  double buckling_turns;
+  double buckling_torque;
+  // 1 when the buckled branch stopped at a strand crossing: distance
+  // (nm) and arc lengths of the pair.
+  int32_t crossing;
+  double crossing_distance;
+  double crossing_s1;
+  double crossing_s2;
+  // Work: continuation steps, factorisations, residuals, pair lists.
+  int64_t steps;
+  int64_t factorisations;
+  int64_t residuals;
+  int64_t pair_lists;
+  // Inverse Debye length (1/nm), Bjerrum length (nm), λ² = k_BT l_B ν² (pN).
+  double kappa;
+  double bjerrum_length;
+  double line_charge_squared;
+  // Screening cutoff switch (r_on, r_off) in nm; NaN: every pair.
+  double cutoff_on;
+  double cutoff_off;
+  double seconds;
+} RodkitSupercoilInfo;
+
+// One point of the path.
+typedef struct RodkitSupercoilPoint {
+  // End rotation (turns), extension z(L) (nm), torque M_z(L) (pN nm),
+  // axial force (pN), twist and writhe (turns; Tw + Wr = turns).
+  double turns;
+  double extension;
+  double torque;
+  double tension;
+  double twist;
+  double writhe;
+  // 0: straight branch, 1: buckled branch.
+  int32_t branch;
+  double residual;
+} RodkitSupercoilPoint;
+
 // Response of a free thin tube (zero torque, zero pressure) to an axial force
 // F, per unit force.
 typedef struct RodkitFreeTubeResponse {
@@ -808,6 +911,21 @@ int32_t rodkit_curve_writhe(const double *s,
                             int64_t order,
                             double *writhe_out);
 
+// Only what the scene requires: the energy of the curve within the
+// relative `tolerance` (1e-14…0.1) by the cheapest continuum settings
+// whose error estimate meets it, and which settings were used.
+// `spec.near_width` and `spec.order` are ignored (chosen here).
+int32_t rodkit_curve_electrostatic_energy_within(const double *s,
+                                                 const double *xyz,
+                                                 int64_t ldx,
+                                                 const double *tangents,
+                                                 int64_t ldt,
+                                                 int64_t nodes,
+                                                 int32_t closed,
+                                                 const struct RodkitElectrostaticsSpec *spec,
+                                                 double tolerance,
+                                                 struct RodkitEnergyWithin *out);
+
 // Human-readable description of a status code (never NULL; static storage;
 // "unknown rodkit status code" for codes rodkit does not define).
 const char *rodkit_status_string(int32_t code);
@@ -982,6 +1100,38 @@ int32_t rodkit_rod_jacobian(struct RodkitRod *rod,
 // y = (r, q, n_b, m_b) (13 entries each), without distributed loads'
 // dependence on s: for IDA-based shooting (IDAResFn: F = y' − f(y)).
 int32_t rodkit_rod_rhs(const struct RodkitRod *rod, const double *y, double lambda, double *dy);
+
+// Fill `spec` with the defaults above.
+int32_t rodkit_dna_supercoil_spec_default(struct RodkitDnaSupercoilSpec *spec);
+
+// Run the scene (`*out` receives a handle to free with
+// `rodkit_supercoil_free`). Returns RODKIT_STATUS_INFO_STRAND_CROSSING
+// when the buckled branch stopped at a strand crossing,
+// RODKIT_STATUS_INFO_STEP_LIMIT at the step limit, ..._INFO_STEP_TOO_SMALL
+// when it could not go on; the path so far is in the handle in each case.
+int32_t rodkit_dna_supercoil_run(const struct RodkitDnaSupercoilSpec *spec,
+                                 struct RodkitSupercoil **out);
+
+// Free a handle (NULL is ignored).
+void rodkit_supercoil_free(struct RodkitSupercoil *run);
+
+// Summary of a run.
+int32_t rodkit_supercoil_summary(const struct RodkitSupercoil *run,
+                                 struct RodkitSupercoilInfo *info);
+
+// Copy the path's points (at most `capacity`; `*count` receives the
+// number of points; RODKIT_STATUS_INFO_TRUNCATED when they did not fit).
+int32_t rodkit_supercoil_points(const struct RodkitSupercoil *run,
+                                struct RodkitSupercoilPoint *points,
+                                int64_t capacity,
+                                int64_t *count);
+
+// Node positions (nm) of point `point`: xyz[k + ld·i], i < nodes.
+int32_t rodkit_supercoil_positions(const struct RodkitSupercoil *run,
+                                   int64_t point,
+                                   double *xyz,
+                                   int64_t ld,
+                                   int64_t nodes);
 
 // Fill `spec` with its defaults: every field NaN (unset). Set all of them.
 int32_t rodkit_thin_tube_spec_default(struct RodkitThinTubeSpec *spec);

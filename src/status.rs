@@ -25,6 +25,8 @@ pub enum Status {
     InfoLambdaRange = 4,
     /// the continuation step fell below its minimum: the branch could not be followed further (the branch so far is valid)
     InfoStepTooSmall = 5,
+    /// the continuation stopped where non-neighbouring parts of the rod came closer than its diameter (strands would cross; the branch up to there is valid)
+    InfoStrandCrossing = 6,
     /// internal error (a bug in rodkit: a panic was caught at the C boundary)
     ErrInternal = -1,
     /// a required pointer argument is NULL

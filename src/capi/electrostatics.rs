@@ -179,3 +179,72 @@ pub unsafe extern "C" fn rodkit_curve_writhe(
         Ok(Status::Ok)
     })
 }
+
+/// What `rodkit_curve_electrostatic_energy_within` chose and delivered.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct EnergyWithin {
+    pub total: f64,
+    pub near: f64,
+    pub far: f64,
+    /// 0: no electrostatics (zero charge), 1: the regularised continuum.
+    pub model: i32,
+    /// Its settings: near-zone width δ, Gauss order, screening cutoff
+    /// (NaN: every pair).
+    pub near_width: f64,
+    pub order: i64,
+    pub cutoff: f64,
+    /// Estimated relative error (two resolutions plus the cutoff's tail).
+    pub estimate: f64,
+}
+
+/// Only what the scene requires: the energy of the curve within the
+/// relative `tolerance` (1e-14…0.1) by the cheapest continuum settings
+/// whose error estimate meets it, and which settings were used.
+/// `spec.near_width` and `spec.order` are ignored (chosen here).
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn rodkit_curve_electrostatic_energy_within(
+    s: *const f64,
+    xyz: *const f64,
+    ldx: i64,
+    tangents: *const f64,
+    ldt: i64,
+    nodes: i64,
+    closed: i32,
+    spec: *const ElectrostaticsSpec,
+    tolerance: f64,
+    out: *mut EnergyWithin,
+) -> i32 {
+    guard(|| {
+        let curve = curve_from(s, xyz, ldx, tangents, ldt, nodes, closed)?;
+        let spec = arg_ref("spec", spec)?;
+        let inner = || -> Result<(LineCharge, Screening)> {
+            error::finite("line_charge", spec.line_charge)?;
+            error::finite("kappa", spec.kappa)?;
+            error::positive("a", spec.a)?;
+            if spec.kappa < 0.0 {
+                return Err(Error::new(Status::ErrOutOfRange, format!("argument `kappa` must be ≥ 0 (got {:e})", spec.kappa)));
+            }
+            Ok((LineCharge::Uniform(spec.line_charge), Screening { kappa: spec.kappa, a: spec.a }))
+        };
+        let (charge, screening) = inner().map_err(|e| qualify_argument(e, "spec."))?;
+        let out = arg_mut("out", out)?;
+        let r = electrostatics::energy_within(&curve, &charge, &screening, tolerance)?;
+        let (model, q) = match r.model {
+            electrostatics::ElectrostaticModel::None => (0, None),
+            electrostatics::ElectrostaticModel::Continuum(q) => (1, Some(q)),
+        };
+        *out = EnergyWithin {
+            total: r.energy.total,
+            near: r.energy.near,
+            far: r.energy.far,
+            model,
+            near_width: q.map_or(f64::NAN, |q| q.delta),
+            order: q.map_or(0, |q| q.order as i64),
+            cutoff: q.and_then(|q| q.cutoff).unwrap_or(f64::NAN),
+            estimate: r.estimate,
+        };
+        Ok(Status::Ok)
+    })
+}

@@ -14,6 +14,7 @@ pub mod dna;
 pub mod electrostatics;
 pub mod error;
 pub mod rod;
+pub mod supercoil;
 pub mod tube;
 pub mod tube_scene;
 pub mod version;
@@ -131,6 +132,7 @@ mod tests {
             include_str!("electrostatics.rs"),
             include_str!("error.rs"),
             include_str!("rod.rs"),
+            include_str!("supercoil.rs"),
             include_str!("tube.rs"),
             include_str!("tube_scene.rs"),
             include_str!("version.rs"),

@@ -36,9 +36,9 @@
 //! found by cell lists (a Verlet list): they fix the Jacobian's pattern
 //! (symbolic factorisation reused) while no stage has moved more than
 //! skin/2 from the reference ([`ChargedRod::displacement`]; the branch
-//! driver rebuilds past skin/4). Coulomb (κ = 0): every far pair.
-//! Optional hard core: P += k_hc (2a − d)³ for d < 2a (strands repel at
-//! contact and cannot pass).
+//! driver rebuilds past skin/2 and re-converges that point). Coulomb (κ = 0): every far pair.
+//! Optional hard core: P += k_hc (2.5a − d)³ for d < 2.5a (strands repel
+//! before they touch and cannot pass).
 
 use super::discrete::{screening_cutoff, CellList};
 use super::special;
@@ -51,6 +51,11 @@ use crate::rod::model::{Rod, Supports};
 use crate::rod::scheme::{Scheme, Tableau};
 use crate::sparse::Pattern;
 use crate::status::Status;
+
+/// The hard core acts below this many radii (2.5a): it starts before the
+/// strands touch (2a), so a stiff one keeps them apart and the crossing
+/// check (distance < 2a) does not fire on its own penetration.
+pub const HARD_CORE_RANGE: f64 = 2.5;
 
 /// The charge of a rod and how its interaction is evaluated.
 #[derive(Clone, Debug, PartialEq)]
@@ -66,7 +71,7 @@ pub struct RodCharge {
     pub cutoff_tolerance: Option<f64>,
     /// Verlet skin (length): the pair list holds pairs within r_off + skin.
     pub skin: f64,
-    /// Hard-core stiffness k_hc (energy/length⁵): P += k_hc(2a − d)³ below 2a.
+    /// Hard-core stiffness k_hc (energy/length⁵): P += k_hc(2.5a − d)³ below 2.5a.
     pub hard_core: Option<f64>,
     /// Threads for the pair forces (1: none started). Results are bitwise
     /// identical for any count (each stage's sum in a fixed order).
@@ -74,9 +79,11 @@ pub struct RodCharge {
 }
 
 impl RodCharge {
-    /// Defaults: 2 near elements, cutoff at 1e-6, skin 2a, no hard core, 1 thread.
+    /// Defaults: 2 near elements, cutoff at 1e-6, skin max(2a, 4/κ), no
+    /// hard core, 1 thread.
     pub fn new(line_charge: f64, screening: Screening) -> Self {
-        RodCharge { line_charge, screening, near_elements: 2, cutoff_tolerance: Some(1e-6), skin: 2.0 * screening.a, hard_core: None, threads: 1 }
+        let skin = if screening.kappa > 0.0 { (2.0 * screening.a).max(4.0 / screening.kappa) } else { 2.0 * screening.a };
+        RodCharge { line_charge, screening, near_elements: 2, cutoff_tolerance: Some(1e-6), skin, hard_core: None, threads: 1 }
     }
 
     fn validate(&self) -> Result<()> {
@@ -163,6 +170,7 @@ pub struct ChargedRod {
     /// Positions of element(j)'s 3(s+1) n-rows × (r_j: 3, q_j: 4).
     diag_pos: Vec<usize>,
     reference: Vec<[f64; 3]>,
+    list_local: bool,
     twisted_phi: Option<usize>,
     // Scratch (no allocation per evaluation).
     r: Vec<[f64; 3]>,
@@ -233,8 +241,8 @@ impl ChargedRod {
         let far = |j: usize, k: usize| points[j].element.abs_diff(points[k].element) > m;
         let any_pairs = l2 != 0.0 || charge.hard_core.is_some();
         let list_radius = match (cutoff, charge.hard_core) {
-            (Some((_, off)), hc) => Some(off.max(if hc.is_some() { 2.0 * a } else { 0.0 }) + charge.skin),
-            (None, Some(_)) if l2 == 0.0 => Some(2.0 * a + charge.skin),
+            (Some((_, off)), hc) => Some(off.max(if hc.is_some() { HARD_CORE_RANGE * a } else { 0.0 }) + charge.skin),
+            (None, Some(_)) if l2 == 0.0 => Some(HARD_CORE_RANGE * a + charge.skin),
             _ => None,
         };
         if any_pairs {
@@ -344,6 +352,7 @@ impl ChargedRod {
             adj_pos,
             diag_pos,
             reference: reference_r,
+            list_local: any_pairs && list_radius.is_some(),
             twisted_phi,
             r: vec![[0.0; 3]; np],
             p: vec![[0.0; 3]; np],
@@ -378,6 +387,12 @@ impl ChargedRod {
     /// Stage points (arc length, weight), element-major.
     pub fn stage_points(&self) -> Vec<(f64, f64)> {
         self.points.iter().map(|p| (p.s, p.w)).collect()
+    }
+
+    /// Whether the pair list is limited by a radius (else it holds every
+    /// far pair and never needs rebuilding).
+    pub fn list_is_local(&self) -> bool {
+        self.list_local
     }
 
     /// The largest distance a stage point of `x` has moved from the pair
@@ -423,8 +438,8 @@ impl ChargedRod {
             p2 += l2 * (f2 * s0 + 2.0 * f1 * s1 + f0 * s2);
         }
         if let Some(k) = self.charge.hard_core {
-            if d < 2.0 * a {
-                let g = 2.0 * a - d;
+            if d < HARD_CORE_RANGE * a {
+                let g = HARD_CORE_RANGE * a - d;
                 p1 += -3.0 * k * g * g;
                 p2 += 6.0 * k * g;
             }
@@ -619,7 +634,7 @@ impl ChargedRod {
                     far += ww * l2 * (-self.charge.screening.kappa * d).exp() / d * s;
                 }
                 if let Some(khc) = self.charge.hard_core {
-                    let a2 = 2.0 * self.charge.screening.a;
+                    let a2 = HARD_CORE_RANGE * self.charge.screening.a;
                     if d < a2 {
                         hard += ww * khc * (a2 - d).powi(3);
                     }

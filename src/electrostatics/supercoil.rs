@@ -1,7 +1,7 @@
 //! Branches of charged-rod equilibria (issue 5): Newton pseudo-arc-length
 //! continuation of [`ChargedRod`] — in the end rotation φ itself for a rod
 //! with a controlled end rotation (any number of turns) — with the pair
-//! list rebuilt whenever a stage has moved a quarter of the skin (the
+//! list rebuilt whenever a stage has moved half the skin (the
 //! branch is continued from the same point and tangent on the new
 //! pattern), strand crossing detected (non-neighbouring stage points
 //! closer than 2a: the branch stops with [`ChargedBranch::crossing`]), and
@@ -115,7 +115,7 @@ pub fn follow(rod: &Rod, charge: &RodCharge, start: Start, phase: Option<(usize,
         phase,
         pair_lists: 0,
     };
-    let quarter_skin = 0.25 * charge.skin;
+    let half_skin = 0.5 * charge.skin;
     loop {
         let mut problem = ChargedRod::new(rod, charge, phase, start_x(&start))?;
         out.pair_lists += 1;
@@ -147,6 +147,7 @@ pub fn follow(rod: &Rod, charge: &RodCharge, start: Start, phase: Option<(usize,
         let moved = |x: &[f64]| -> f64 {
             offsets.iter().zip(&reference).map(|(&o, r0)| ((x[o] - r0[0]).powi(2) + (x[o + 1] - r0[1]).powi(2) + (x[o + 2] - r0[2]).powi(2)).sqrt()).fold(0.0, f64::max)
         };
+        let local = problem.list_is_local();
         let mut stale = false;
         let mut crossing: Option<Contact> = None;
         let base = out.records.len();
@@ -175,7 +176,7 @@ pub fn follow(rod: &Rod, charge: &RodCharge, start: Start, phase: Option<(usize,
                     crossing = Some(Contact { record: base + k - resumed as usize, distance, s1, s2 });
                     return false;
                 }
-                if *rec.outputs.last().expect("displacement") > quarter_skin {
+                if local && *rec.outputs.last().expect("displacement") > half_skin {
                     stale = true;
                     return false;
                 }
@@ -388,4 +389,138 @@ impl DnaScene {
         let lambda = (self.kt() * self.bjerrum_length()).sqrt() * self.charge_per_length;
         RodCharge::new(lambda, super::Screening { kappa: self.kappa(), a: self.radius })
     }
+}
+
+/// How the supercoiling path of a [`DnaScene`] is computed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SupercoilSettings {
+    pub elements: usize,
+    pub stages: usize,
+    /// Relative energy tolerance of the screening cutoff (None: every pair).
+    pub cutoff_tolerance: Option<f64>,
+    /// Hard-core stiffness (pN/nm⁴), None: none.
+    pub hard_core: Option<f64>,
+    pub threads: usize,
+    /// The buckled branch stops past this many turns (or when turns fall
+    /// to zero), at the step limit, or at a strand crossing.
+    pub max_turns: f64,
+    pub max_steps: usize,
+    pub residual_tol: f64,
+}
+
+impl Default for SupercoilSettings {
+    /// 170 elements of Gauss(2) (2 nm for 1 kbp), cutoff 1e-4, no hard
+    /// core, 1 thread, to 12 turns in at most 600 steps, residual 1e-10.
+    fn default() -> Self {
+        SupercoilSettings { elements: 170, stages: 2, cutoff_tolerance: Some(1e-4), hard_core: None, threads: 1, max_turns: 12.0, max_steps: 600, residual_tol: 1e-10 }
+    }
+}
+
+/// One point of the supercoiling path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PathPoint {
+    pub phi: f64,
+    pub observables: Observables,
+    /// 0: the straight branch, 1: the buckled one.
+    pub branch: usize,
+    pub residual: f64,
+}
+
+/// The supercoiling path of a scene: straight twisting up to the first
+/// buckling point (located), then the buckled branch.
+#[derive(Clone, Debug)]
+pub struct SupercoilRun {
+    pub scene: DnaScene,
+    pub rod: Rod,
+    pub charge: RodCharge,
+    pub points: Vec<PathPoint>,
+    pub states: Vec<Vec<f64>>,
+    /// The located buckling point: end rotation and torque.
+    pub buckling: Option<(f64, f64)>,
+    pub straight: ChargedBranch,
+    pub buckled: Option<ChargedBranch>,
+    pub seconds: f64,
+}
+
+/// Run a scene: the straight branch from φ = 0 in chunks of a tenth of
+/// Greenhill's estimate φ_G = 2√(K_b T) L / C until the first buckling
+/// point is located (at most 3φ_G), then the buckled branch from it (phase
+/// condition, first step 0.02) until `max_turns`, the step limit or a
+/// strand crossing.
+pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<SupercoilRun> {
+    let start = std::time::Instant::now();
+    let rod = scene.rod(settings.elements, settings.stages)?;
+    let mut charge = scene.charge();
+    charge.cutoff_tolerance = settings.cutoff_tolerance;
+    charge.hard_core = settings.hard_core;
+    charge.threads = settings.threads;
+    error::positive("max_turns", settings.max_turns)?;
+    error::count_in_range("max_steps", settings.max_steps as i64, 1, 1 << 24)?;
+    error::positive("residual_tol", settings.residual_tol)?;
+    let kb = rod.law.bending();
+    let c = rod.law.stiffness[(2, 2)];
+    let phi_g = 2.0 * (kb * scene.tension.max(kb / (rod.length * rod.length))).sqrt() * rod.length / c;
+    let chunk = 0.1 * phi_g;
+    let mut opts = Options { residual_tol: settings.residual_tol, initial_step: 0.5, max_step: 2.0, detect_bifurcations: true, max_steps: settings.max_steps, ..Default::default() };
+    let mut straight: Option<ChargedBranch> = None;
+    let mut target = chunk;
+    while target <= 3.0 * phi_g + 0.5 * chunk {
+        opts.target_lambda = Some(target);
+        let b = match &straight {
+            None => follow(&rod, &charge, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, None, &opts, |_| true)?,
+            Some(prev) => {
+                let mut next = follow(&rod, &charge, Start::Resume(prev.resume.clone()), None, &opts, |_| true)?;
+                let mut merged = prev.clone();
+                merged.records.extend(next.records.drain(1..));
+                merged.states.extend(next.states.drain(1..));
+                merged.bifurcations.extend(next.bifurcations);
+                merged.stop = next.stop;
+                merged.resume = next.resume;
+                merged.pair_lists += next.pair_lists;
+                merged.counts.steps += next.counts.steps;
+                merged.counts.factorisations += next.counts.factorisations;
+                merged.counts.solves += next.counts.solves;
+                merged.counts.residuals += next.counts.residuals;
+                merged.counts.jacobians += next.counts.jacobians;
+                merged
+            }
+        };
+        let found = !b.bifurcations.is_empty();
+        let stop = b.stop;
+        straight = Some(b);
+        if found || stop != Stop::Target {
+            break;
+        }
+        target += chunk;
+    }
+    let straight = straight.expect("at least one chunk");
+    let mut points = Vec::new();
+    let mut states = Vec::new();
+    for (r, x) in straight.records.iter().zip(&straight.states) {
+        points.push(PathPoint { phi: r.lambda, observables: observables(&rod, x, r.lambda)?, branch: 0, residual: r.residual });
+        states.push(x.clone());
+    }
+    let mut buckling = None;
+    let mut buckled = None;
+    if let Some(bif) = straight.bifurcations.first() {
+        let (_, m) = rod.spatial_force_moment(&bif.x, rod.elements);
+        buckling = Some((bif.lambda, m[2]));
+        let two_pi = 2.0 * std::f64::consts::PI;
+        let opts = Options {
+            residual_tol: settings.residual_tol,
+            initial_step: 0.3,
+            max_step: 2.0,
+            max_steps: settings.max_steps,
+            lambda_range: (0.0, two_pi * settings.max_turns),
+            ..Default::default()
+        };
+        let b = switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |_| true)?;
+        let n = rod.unknowns();
+        for (r, x) in b.records.iter().zip(&b.states) {
+            points.push(PathPoint { phi: r.lambda, observables: observables(&rod, &x[..n], r.lambda)?, branch: 1, residual: r.residual });
+            states.push(x[..n].to_vec());
+        }
+        buckled = Some(b);
+    }
+    Ok(SupercoilRun { scene: scene.clone(), rod, charge, points, states, buckling, straight, buckled, seconds: start.elapsed().as_secs_f64() })
 }

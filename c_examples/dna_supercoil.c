@@ -1,0 +1,119 @@
+/*
+ * DNA supercoiling from C (physics.md 3, issue 5): a charged Kirchhoff rod
+ * (the DNA scene: 1 kbp = 340 nm, 1 pN, Debye-Hueckel screening by
+ * monovalent salt, effective charge nu = 1/l_B (Manning), radius 1 nm,
+ * A = 50 nm, P = 95 nm) clamped at both ends, continued in the end
+ * rotation from the straight rod through its first buckling point along
+ * the buckled branch - the curves magnetic-tweezers experiments measure.
+ *
+ * Prints the extension and torque vs turns table with the twist/writhe
+ * partition (Tw + Wr = turns), the buckling point and the work, and writes
+ *   - the path as CSV (turns, extension, torque, tension, twist, writhe, branch),
+ *   - the shapes as VTK polydata (one polyline per written point) for ParaView.
+ * Usage: c_dna_supercoil [salt M] [max steps] [csv path] [vtk path] [elements] [base pairs]
+ * (defaults 0.1, 120, target/dna_supercoil.csv, target/dna_supercoil.vtk, 170, 1000).
+ */
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "rodkit.h"
+
+static int fail(int32_t st, const char *what) {
+    fprintf(stderr, "%s failed: %s (%d): %s\n", what, rodkit_status_string(st), (int)st, rodkit_last_error_message());
+    return 1;
+}
+
+int main(int argc, char **argv) {
+    RodkitDnaSupercoilSpec spec;
+    int32_t st = rodkit_dna_supercoil_spec_default(&spec);
+    if (st < 0) return fail(st, "rodkit_dna_supercoil_spec_default");
+    spec.salt = argc > 1 ? atof(argv[1]) : 0.1;
+    spec.max_steps = argc > 2 ? atoll(argv[2]) : 120;
+    const char *csv_path = argc > 3 ? argv[3] : "target/dna_supercoil.csv";
+    const char *vtk_path = argc > 4 ? argv[4] : "target/dna_supercoil.vtk";
+    if (argc > 5) spec.elements = atoll(argv[5]);
+    if (argc > 6) spec.base_pairs = atoll(argv[6]);
+
+    RodkitSupercoil *run = NULL;
+    st = rodkit_dna_supercoil_run(&spec, &run);
+    if (st < 0) return fail(st, "rodkit_dna_supercoil_run");
+    const char *stop = st == RODKIT_STATUS_INFO_STRAND_CROSSING ? "strand crossing"
+                     : st == RODKIT_STATUS_INFO_STEP_LIMIT      ? "step limit"
+                     : st == RODKIT_STATUS_INFO_STEP_TOO_SMALL  ? "step too small"
+                                                                : "turn range";
+    RodkitSupercoilInfo info;
+    if ((st = rodkit_supercoil_summary(run, &info)) < 0) return fail(st, "rodkit_supercoil_summary");
+    RodkitSupercoilPoint *pts = malloc(sizeof *pts * (size_t)info.points);
+    double *xyz = malloc(sizeof *xyz * 3 * (size_t)info.nodes);
+    if (!pts || !xyz) return 1;
+    int64_t count = 0;
+    if ((st = rodkit_supercoil_points(run, pts, info.points, &count)) < 0) return fail(st, "rodkit_supercoil_points");
+
+    printf("# DNA supercoiling: %lld bp, %.3g pN, %.3g M salt (Debye length %.4g nm), nu = %.4g e/nm, a = %.3g nm\n",
+           (long long)spec.base_pairs, spec.tension, spec.salt, 1.0 / info.kappa, spec.charge_per_length, spec.radius);
+    printf("# %lld elements of Gauss(%lld); screening cutoff %.4g..%.4g nm (tolerance %.1e)\n", (long long)spec.elements,
+           (long long)spec.stages, info.cutoff_on, info.cutoff_off, spec.cutoff_tolerance);
+    printf("bjerrum_length_nm = %.10g\nline_charge_squared_pN = %.10g\n", info.bjerrum_length, info.line_charge_squared);
+    printf("points = %lld\nstraight_points = %lld\n", (long long)info.points, (long long)info.straight_points);
+    printf("buckling_turns = %.10g\nbuckling_torque_pN_nm = %.10g\n", info.buckling_turns, info.buckling_torque);
+    printf("crossing = %d\n", (int)info.crossing);
+    if (info.crossing)
+        printf("crossing_distance_nm = %.6g\n# strands crossed at s = %.4g and %.4g nm\n", info.crossing_distance, info.crossing_s1, info.crossing_s2);
+    printf("# the buckled branch stopped at: %s\n", stop);
+    printf("steps = %lld\nfactorisations = %lld\nresiduals = %lld\npair_lists = %lld\nseconds = %.4g\n", (long long)info.steps,
+           (long long)info.factorisations, (long long)info.residuals, (long long)info.pair_lists, info.seconds);
+
+    /* The table: every point of the straight branch would repeat the line
+     * z = L, so it prints every 4th point, and the last. */
+    printf("#  branch    turns   extension(nm)  torque(pN nm)     Tw       Wr    Tw+Wr-turns\n");
+    double worst_lk = 0.0;
+    for (int64_t i = 0; i < count; ++i) {
+        double lk = pts[i].twist + pts[i].writhe - pts[i].turns;
+        if (lk < 0) lk = -lk;
+        if (lk > worst_lk) worst_lk = lk;
+        if (i % 4 == 0 || i == count - 1)
+            printf("#  %6s %8.4f %12.4f %14.5f %8.4f %8.4f %10.2e\n", pts[i].branch ? "buckled" : "straight", pts[i].turns,
+                   pts[i].extension, pts[i].torque, pts[i].twist, pts[i].writhe, pts[i].twist + pts[i].writhe - pts[i].turns);
+    }
+    printf("worst_linking_error = %.3e\n", worst_lk);
+    printf("last_turns = %.10g\nlast_extension_nm = %.10g\nlast_torque_pN_nm = %.10g\nlast_writhe = %.10g\n", pts[count - 1].turns,
+           pts[count - 1].extension, pts[count - 1].torque, pts[count - 1].writhe);
+
+    FILE *csv = fopen(csv_path, "w");
+    if (!csv) { perror(csv_path); return 1; }
+    fprintf(csv, "turns,extension_nm,torque_pN_nm,tension_pN,twist,writhe,branch\n");
+    for (int64_t i = 0; i < count; ++i)
+        fprintf(csv, "%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%d\n", pts[i].turns, pts[i].extension, pts[i].torque, pts[i].tension,
+                pts[i].twist, pts[i].writhe, (int)pts[i].branch);
+    fclose(csv);
+
+    /* Shapes: the buckling point's neighbour on the straight branch and
+     * every 10th buckled point (and the last). */
+    int64_t shapes[4096], ns = 0;
+    shapes[ns++] = info.straight_points - 1;
+    for (int64_t i = info.straight_points; i < count && ns < 4095; i += 10) shapes[ns++] = i;
+    if (shapes[ns - 1] != count - 1) shapes[ns++] = count - 1;
+    FILE *vtk = fopen(vtk_path, "w");
+    if (!vtk) { perror(vtk_path); return 1; }
+    fprintf(vtk, "# vtk DataFile Version 3.0\nrodkit DNA supercoiling shapes (nm)\nASCII\nDATASET POLYDATA\nPOINTS %lld double\n",
+            (long long)(ns * info.nodes));
+    for (int64_t k = 0; k < ns; ++k) {
+        if ((st = rodkit_supercoil_positions(run, shapes[k], xyz, 3, info.nodes)) < 0) return fail(st, "rodkit_supercoil_positions");
+        for (int64_t i = 0; i < info.nodes; ++i) fprintf(vtk, "%.9g %.9g %.9g\n", xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+    }
+    fprintf(vtk, "LINES %lld %lld\n", (long long)ns, (long long)(ns * (info.nodes + 1)));
+    for (int64_t k = 0; k < ns; ++k) {
+        fprintf(vtk, "%lld", (long long)info.nodes);
+        for (int64_t i = 0; i < info.nodes; ++i) fprintf(vtk, " %lld", (long long)(k * info.nodes + i));
+        fprintf(vtk, "\n");
+    }
+    fprintf(vtk, "CELL_DATA %lld\nSCALARS turns double 1\nLOOKUP_TABLE default\n", (long long)ns);
+    for (int64_t k = 0; k < ns; ++k) fprintf(vtk, "%.9g\n", pts[shapes[k]].turns);
+    fclose(vtk);
+    printf("# wrote %s (%lld points) and %s (%lld shapes)\n", csv_path, (long long)count, vtk_path, (long long)ns);
+
+    free(pts);
+    free(xyz);
+    rodkit_supercoil_free(run);
+    return 0;
+}

@@ -11,7 +11,7 @@
  *   - the path as CSV (turns, extension, torque, tension, twist, writhe, branch),
  *   - the shapes as VTK polydata (one polyline per written point) for ParaView.
  * Usage: c_dna_supercoil [salt M] [max steps] [csv path] [vtk path] [elements] [base pairs]
- * (defaults 0.1, 120, target/dna_supercoil.csv, target/dna_supercoil.vtk, 170, 1000).
+ * (defaults 0.1, 60, target/dna_supercoil.csv, target/dna_supercoil.vtk, 100, 1000).
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -28,10 +28,10 @@ int main(int argc, char **argv) {
     int32_t st = rodkit_dna_supercoil_spec_default(&spec);
     if (st < 0) return fail(st, "rodkit_dna_supercoil_spec_default");
     spec.salt = argc > 1 ? atof(argv[1]) : 0.1;
-    spec.max_steps = argc > 2 ? atoll(argv[2]) : 120;
+    spec.max_steps = argc > 2 ? atoll(argv[2]) : 60;
     const char *csv_path = argc > 3 ? argv[3] : "target/dna_supercoil.csv";
     const char *vtk_path = argc > 4 ? argv[4] : "target/dna_supercoil.vtk";
-    if (argc > 5) spec.elements = atoll(argv[5]);
+    spec.elements = argc > 5 ? atoll(argv[5]) : 100;
     if (argc > 6) spec.base_pairs = atoll(argv[6]);
 
     RodkitSupercoil *run = NULL;

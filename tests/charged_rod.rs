@@ -377,3 +377,13 @@ fn explore_dna_scene() {
         println!("{:8.4} turns  z {:8.3}  M {:8.3}  Tw {:8.4} Wr {:8.4}  sum-turns {:e}", o.turns, o.extension, o.torque, o.twist, o.writhe, o.twist + o.writhe - o.turns);
     }
 }
+
+#[test]
+#[ignore]
+fn explore_scene_counts() {
+    let settings = supercoil::SupercoilSettings { elements: 100, max_steps: 40, ..Default::default() };
+    let r = supercoil::run_scene(&DnaScene::default(), &settings).unwrap();
+    println!("straight {:?} records {} bifs {} lists {}", r.straight.counts, r.straight.records.len(), r.straight.bifurcations.len(), r.straight.pair_lists);
+    let b = r.buckled.as_ref().unwrap();
+    println!("buckled {:?} records {} lists {} seconds {}", b.counts, b.records.len(), b.pair_lists, r.seconds);
+}

@@ -214,11 +214,18 @@ impl Bordered {
     /// singular vectors (unit in the Euclidean norm, n + 1 long), by
     /// subspace inverse iteration on BᵀB with a Rayleigh–Ritz step.
     pub fn smallest_singular_vectors(&mut self, k: usize, counts: &mut Counts) -> (Vec<f64>, Vec<Vec<f64>>) {
+        self.smallest_singular_vectors_to(k, 1e-10, 30, counts)
+    }
+
+    /// [`Bordered::smallest_singular_vectors`] with the Ritz values'
+    /// relative tolerance and an iteration cap (a monitor needs a few
+    /// digits; null vectors of a located point need many).
+    pub fn smallest_singular_vectors_to(&mut self, k: usize, tol: f64, max_iterations: usize, counts: &mut Counts) -> (Vec<f64>, Vec<Vec<f64>>) {
         let m = self.n + 1;
         let mut v: Vec<Vec<f64>> = (0..k).map(|c| (0..m).map(|i| (((i + 1) * (c + 3) * 7919) % 1009) as f64 / 1009.0 - 0.5).collect()).collect();
         orthonormalise(&mut v);
         let mut sigma = vec![f64::INFINITY; k];
-        for _ in 0..30 {
+        for _ in 0..max_iterations {
             let mut w = v.clone();
             for col in &mut w {
                 self.inverse_normal(col, counts);
@@ -235,7 +242,7 @@ impl Bordered {
                 .map(|&i| (0..m).map(|r| (0..k).map(|c| w[c][r] * eig.eigenvectors[(c, i)]).sum()).collect())
                 .collect();
             orthonormalise(&mut rotated);
-            let converged = next.iter().zip(&sigma).all(|(a, b)| (a - b).abs() <= 1e-10 * a.max(1e-300));
+            let converged = next.iter().zip(&sigma).all(|(a, b)| (a - b).abs() <= tol * a.max(1e-300));
             sigma = next;
             v = rotated;
             if converged {
@@ -260,7 +267,8 @@ impl Bordered {
     /// is sign(λ) and the function changes sign at every bifurcation,
     /// double ones included (where det B keeps its sign).
     pub fn signed_smallest_singular_value(&mut self, counts: &mut Counts) -> f64 {
-        let (sigma, v) = self.smallest_singular_vectors(2, counts);
+        // Four digits: the monitor looks for sign changes and dips.
+        let (sigma, v) = self.smallest_singular_vectors_to(2, 1e-4, 30, counts);
         let mut w = vec![0.0; self.n + 1];
         let scaled: Vec<f64> = v[0].iter().zip(&self.col_scale).map(|(a, c)| a / c).collect();
         self.scaled_mul(&scaled, &mut w);

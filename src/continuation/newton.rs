@@ -474,7 +474,10 @@ pub(crate) fn detect<P: Problem + ?Sized>(
     } else if k >= 3 && h >= 3 {
         let sig = |r: &Record| r.smallest_singular_value.map_or(f64::INFINITY, f64::abs);
         let r0 = &records[k - 3];
-        (sig(r1) < sig(r0) && sig(r1) < sig(r2)).then(|| (&history[h - 3], &history[h - 1], false))
+        // A dip worth a location: 5 % below both neighbours (a flat σ_min,
+        // e.g. a mode far from singular, dips by rounding at every other
+        // point, and each false location costs a golden-section search).
+        (sig(r1) < 0.95 * sig(r0).min(sig(r2))).then(|| (&history[h - 3], &history[h - 1], false))
     } else {
         None
     };

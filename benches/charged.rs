@@ -10,8 +10,15 @@
 //! cheapest of a few settings meeting the tolerance here) against 2 nm
 //! panels, order 12, δ = 1.5 nm and no cutoff. Time per energy evaluation, medians of 3, as
 //! ratios in the same run. Writes target/bench/charged/{report.txt,
-//! energy.csv}. The coupled rod (time per residual and per equilibrium)
-//! is not there yet.
+//! energy.csv}.
+//!
+//! Second table, the coupled rod (src/electrostatics/rod.rs): the DNA scene
+//! (1 pN, 0.1 M, ν = 1/l_B) on 3.4 nm elements of Gauss(2), twisted
+//! straight state at φ = 2 rad: time per residual (1 and 2 threads) and per
+//! Jacobian with the cutoff (1e-4) and cell-list pair list, the residual
+//! with every far pair as the baseline, and time per equilibrium (Newton at
+//! fixed φ from a 1e-3 perturbation, the sparse LU's symbolic analysis
+//! reused); target/bench/charged/rod.csv.
 
 use rodkit::electrostatics::{discrete, energy, Centerline, EnergyQuadrature, LineCharge, Screening};
 use std::fmt::Write as _;
@@ -92,7 +99,64 @@ fn main() {
     }
     let _ = writeln!(out, "{}", scaling.join("; "));
     let _ = writeln!(out, "(the continuum and discrete energies differ by the near-field term, O(b/a); each error is against its own reference)");
+    rod_table(&mut out, &dir);
     print!("{out}");
     std::fs::write(dir.join("report.txt"), &out).unwrap();
     std::fs::write(dir.join("energy.csv"), &csv).unwrap();
+}
+
+fn rod_table(out: &mut String, dir: &std::path::Path) {
+    use rodkit::continuation::newton::{continue_newton, Start};
+    use rodkit::continuation::{Options, Problem};
+    use rodkit::electrostatics::rod::ChargedRod;
+    use rodkit::electrostatics::supercoil::{DnaScene, follow};
+    let _ = writeln!(out, "\ncoupled rod (DNA scene, h = 3.4 nm, Gauss(2), straight state at φ = 2): medians of 5");
+    let _ = writeln!(out, "{:>6} {:>7} {:>7} {:>11} {:>11} {:>11} {:>13} {:>9} {:>13}", "kbp", "n", "pairs", "residual", "2 threads", "Jacobian", "all-pairs res", "all/cut", "equilibrium");
+    let mut csv = String::from("bp,n,pairs,residual_s,residual_2threads_s,jacobian_s,all_pairs_residual_s,equilibrium_s\n");
+    let mut prev: Option<(f64, f64)> = None;
+    let mut scaling = vec![];
+    for bp in [1000usize, 3000, 10000] {
+        let scene = DnaScene { base_pairs: bp, ..Default::default() };
+        let rod = scene.rod(bp / 10, 2).unwrap();
+        let mut charge = scene.charge();
+        charge.cutoff_tolerance = Some(1e-4);
+        let opts = Options { target_lambda: Some(2.0), residual_tol: 1e-10, initial_step: 2.0, max_step: 2.0, ..Default::default() };
+        let b = follow(&rod, &charge, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, None, &opts, |_| true).unwrap();
+        let x = b.states.last().unwrap().clone();
+        let mut p = ChargedRod::new(&rod, &charge, None, &x).unwrap();
+        let n = p.dim();
+        let mut r = vec![0.0; n];
+        let (_, t_res) = time(5, || p.residual(&x, 2.0, &mut r));
+        let mut jx = vec![0.0; p.pattern().nnz()];
+        let mut jl = vec![0.0; n];
+        let (_, t_jac) = time(5, || p.jacobian(&x, 2.0, &mut jx, &mut jl));
+        let mut c2 = charge.clone();
+        c2.threads = 2;
+        let mut p2 = ChargedRod::new(&rod, &c2, None, &x).unwrap();
+        let (_, t_res2) = time(5, || p2.residual(&x, 2.0, &mut r));
+        let t_all = if bp <= 3000 {
+            let mut call = charge.clone();
+            call.cutoff_tolerance = None;
+            let mut pa = ChargedRod::new(&rod, &call, None, &x).unwrap();
+            Some(time(3, || pa.residual(&x, 2.0, &mut r)).1)
+        } else {
+            None
+        };
+        let (us, _) = p.unknown_scales();
+        let start: Vec<f64> = x.iter().zip(&us).enumerate().map(|(i, (v, s))| v + 1e-3 * s * (((i * 7919) % 97) as f64 / 48.5 - 1.0)).collect();
+        let eq_opts = Options { residual_tol: 1e-10, max_steps: 0, ..Default::default() };
+        let (_, t_eq) = time(3, || continue_newton(&mut p, Start::Point { x: start.clone(), lambda: 2.0, increasing: true }, &eq_opts, |_, _| vec![], |_| true).unwrap());
+        let ms = |d: Duration| d.as_secs_f64() * 1e3;
+        let _ = writeln!(out, "{:>6} {:>7} {:>7} {:>9.3}ms {:>9.3}ms {:>9.3}ms {:>11} {:>9} {:>11.1}ms", bp as f64 / 1000.0, n, p.pairs(), ms(t_res), ms(t_res2), ms(t_jac),
+            t_all.map_or("-".into(), |t| format!("{:.3}ms", ms(t))), t_all.map_or("-".into(), |t| format!("{:.1}", t.as_secs_f64() / t_res.as_secs_f64())), ms(t_eq));
+        let _ = writeln!(csv, "{bp},{n},{},{},{},{},{},{}", p.pairs(), t_res.as_secs_f64(), t_res2.as_secs_f64(), t_jac.as_secs_f64(), t_all.map_or(f64::NAN, |t| t.as_secs_f64()), t_eq.as_secs_f64());
+        if let Some((pbp, pt)) = prev {
+            let d = (bp as f64 / pbp).log2();
+            scaling.push(format!("{:.0} → {bp} bp: residual ×{:.2}, equilibrium ×{:.2} per doubling", pbp, (t_res.as_secs_f64() / pt).powf(1.0 / d), 0.0));
+        }
+        prev = Some((bp as f64, t_res.as_secs_f64()));
+        let _ = t_eq;
+    }
+    let _ = writeln!(out, "{}", scaling.join("; ").replace(", equilibrium ×0.00 per doubling", " per doubling"));
+    std::fs::write(dir.join("rod.csv"), &csv).unwrap();
 }

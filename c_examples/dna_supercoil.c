@@ -53,9 +53,9 @@ int main(int argc, char **argv) {
            (long long)spec.base_pairs, spec.tension, spec.salt, 1.0 / info.kappa, spec.charge_per_length, spec.radius);
     printf("# %lld elements of Gauss(%lld); screening cutoff %.4g..%.4g nm (tolerance %.1e)\n", (long long)spec.elements,
            (long long)spec.stages, info.cutoff_on, info.cutoff_off, spec.cutoff_tolerance);
-    printf("bjerrum_length_nm = %.10g\nline_charge_squared_pN = %.10g\n", info.bjerrum_length, info.line_charge_squared);
+    printf("bjerrum_length_nm = %.15g\nline_charge_squared_pN = %.15g\n", info.bjerrum_length, info.line_charge_squared);
     printf("points = %lld\nstraight_points = %lld\n", (long long)info.points, (long long)info.straight_points);
-    printf("buckling_turns = %.10g\nbuckling_torque_pN_nm = %.10g\n", info.buckling_turns, info.buckling_torque);
+    printf("buckling_turns = %.15g\nbuckling_torque_pN_nm = %.15g\n", info.buckling_turns, info.buckling_torque);
     printf("crossing = %d\n", (int)info.crossing);
     if (info.crossing)
         printf("crossing_distance_nm = %.6g\n# strands crossed at s = %.4g and %.4g nm\n", info.crossing_distance, info.crossing_s1, info.crossing_s2);
@@ -76,7 +76,7 @@ int main(int argc, char **argv) {
                    pts[i].extension, pts[i].torque, pts[i].twist, pts[i].writhe, pts[i].twist + pts[i].writhe - pts[i].turns);
     }
     printf("worst_linking_error = %.3e\n", worst_lk);
-    printf("last_turns = %.10g\nlast_extension_nm = %.10g\nlast_torque_pN_nm = %.10g\nlast_writhe = %.10g\n", pts[count - 1].turns,
+    printf("last_turns = %.15g\nlast_extension_nm = %.15g\nlast_torque_pN_nm = %.15g\nlast_writhe = %.15g\n", pts[count - 1].turns,
            pts[count - 1].extension, pts[count - 1].torque, pts[count - 1].writhe);
 
     FILE *csv = fopen(csv_path, "w");

@@ -190,10 +190,18 @@ fn bad_input_driver_passes_all_checks() {
 fn c_drivers_are_clean_under_valgrind() {
     // c_rod_buckling exercises the rod and branch handles (two branches,
     // switching, records, positions): ~30 s under valgrind.
-    for exe in ["c_tube_stiffness_shared", "c_tube_stiffness_static", "c_bad_input_shared", "c_bad_input_static", "c_artery_shared", "c_rod_buckling_shared"] {
+    // c_dna_supercoil on a tiny scene (60 bp, 8 elements, 4 steps) covers
+    // the supercoil handle, its points and positions.
+    let dir = std::env::temp_dir().join(format!("rodkit-vg-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (csv, vtk) = (dir.join("v.csv").display().to_string(), dir.join("v.vtk").display().to_string());
+    let dna_args = vec!["0.1".to_string(), "4".into(), csv, vtk, "8".into(), "60".into()];
+    for exe in ["c_tube_stiffness_shared", "c_tube_stiffness_static", "c_bad_input_shared", "c_bad_input_static", "c_artery_shared", "c_rod_buckling_shared", "c_dna_supercoil_shared"] {
+        let args: &[String] = if exe == "c_dna_supercoil_shared" { &dna_args } else { &[] };
         let out = Command::new("valgrind")
             .args(["-q", "--error-exitcode=99", "--leak-check=full", "--errors-for-leak-kinds=definite", "--show-leak-kinds=definite"])
             .arg(drivers().join(exe))
+            .args(args)
             .current_dir(ROOT)
             .env("RUST_BACKTRACE", "0")
             .output()
@@ -493,4 +501,41 @@ fn fortran_charged_curve_driver() {
     assert!(rel(got["helix_writhe"], writhe(&helix, 10).unwrap()) < 1e-12);
     assert!((got["toroidal_writhe"] - (-2.9245397422)).abs() < 1e-5, "{}", got["toroidal_writhe"]);
     assert_eq!(run("f_charged_curve_static", &[]), out);
+}
+
+/// The C DNA-supercoiling driver on a small scene (300 bp, 40 elements, 20
+/// steps): its buckling point, last point and linking check equal the Rust
+/// API's run of the same scene (same arithmetic, to 1e-12); Tw + Wr = turns
+/// along the path to 1e-4; the CSV has every point and the VTK the shapes;
+/// the static build prints the same.
+#[test]
+fn c_dna_supercoil_driver() {
+    use rodkit::electrostatics::supercoil::{run_scene, DnaScene, SupercoilSettings};
+    let dir = std::env::temp_dir().join(format!("rodkit-dna-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (csv, vtk) = (dir.join("d.csv"), dir.join("d.vtk"));
+    let args = ["0.1", "20", csv.to_str().unwrap(), vtk.to_str().unwrap(), "40", "300"];
+    let out = run("c_dna_supercoil_shared", &args);
+    let got = values(&out);
+    let scene = DnaScene { base_pairs: 300, ..Default::default() };
+    let settings = SupercoilSettings { elements: 40, max_steps: 20, ..Default::default() };
+    let r = run_scene(&scene, &settings).unwrap();
+    let two_pi = 2.0 * std::f64::consts::PI;
+    let (phi_b, m_b) = r.buckling.unwrap();
+    let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-300);
+    assert!(rel(got["buckling_turns"], phi_b / two_pi) < 1e-12, "{out}");
+    assert!(rel(got["buckling_torque_pN_nm"], m_b) < 1e-12);
+    let last = r.points.last().unwrap().observables;
+    assert_eq!(got["points"], r.points.len() as f64);
+    assert!(rel(got["last_extension_nm"], last.extension) < 1e-12 && rel(got["last_torque_pN_nm"], last.torque) < 1e-12);
+    assert!(got["worst_linking_error"] < 1e-4, "{out}");
+    assert!(got["last_extension_nm"] < 0.999 * scene.length(), "the path did not leave the straight rod: {out}");
+    let rows = std::fs::read_to_string(&csv).unwrap().lines().count() - 1;
+    assert_eq!(rows as f64, got["points"]);
+    let v = std::fs::read_to_string(&vtk).unwrap();
+    assert!(v.starts_with("# vtk DataFile") && v.contains("LINES ") && v.contains("SCALARS turns"));
+    // Timing aside, the static build prints the same.
+    let untimed = |t: &str| t.lines().filter(|l| !l.starts_with("seconds")).collect::<Vec<_>>().join("\n");
+    assert_eq!(untimed(&run("c_dna_supercoil_static", &args)), untimed(&out));
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -387,3 +387,55 @@ fn explore_scene_counts() {
     let b = r.buckled.as_ref().unwrap();
     println!("buckled {:?} records {} lists {} seconds {}", b.counts, b.records.len(), b.pair_lists, r.seconds);
 }
+
+/// Strand crossing: without charge nothing keeps the strands of the loop
+/// that forms after buckling apart; with a crossing radius a = 3 nm the
+/// buckled branch of the 300 bp rod stops with `crossing` set where
+/// non-neighbouring stage points come closer than 2a (independently
+/// re-measured here by brute force over all pairs). A stiff hard core
+/// (k_hc = 10 pN/nm⁴ below 2.5a) on the same rod keeps every pair farther
+/// than 2a over as many steps, so the branch runs on without a crossing.
+#[test]
+fn strand_crossing_stops_the_branch_and_a_hard_core_prevents_it() {
+    let scene = DnaScene { base_pairs: 300, radius: 3.0, ..Default::default() };
+    let rod = scene.rod(60, 2).unwrap();
+    let mut charge = scene.charge();
+    charge.line_charge = 0.0;
+    let run = |charge: &RodCharge| {
+        let straight = straight_branch(&rod, charge, 12.0);
+        let opts = Options { residual_tol: 1e-10, initial_step: 0.2, max_step: 1.0, max_steps: 100, ..Default::default() };
+        supercoil::switch(&rod, charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap()
+    };
+    let b = run(&charge);
+    let c = b.crossing.expect("the uncharged loop crosses itself");
+    assert_eq!(b.stop, rodkit::continuation::Stop::Cancelled);
+    assert_eq!(c.record, b.records.len() - 1);
+    // Brute force over all stage pairs with arc-length gap > πa.
+    let closest = |x: &[f64]| {
+        let pts: Vec<(f64, [f64; 3])> = (0..rod.elements).flat_map(|e| (0..2).map(move |j| (e, j))).map(|(e, j)| {
+            let o = rod.node(e) + 13 * (1 + j);
+            let s = (e as f64 + [0.5 - 3f64.sqrt() / 6.0, 0.5 + 3f64.sqrt() / 6.0][j]) * rod.element_length();
+            (s, [x[o], x[o + 1], x[o + 2]])
+        }).collect();
+        let mut best = f64::INFINITY;
+        for (i, p) in pts.iter().enumerate() {
+            for q in &pts[i + 1..] {
+                if (q.0 - p.0).abs() > std::f64::consts::PI * scene.radius {
+                    best = best.min(((p.1[0] - q.1[0]).powi(2) + (p.1[1] - q.1[1]).powi(2) + (p.1[2] - q.1[2]).powi(2)).sqrt());
+                }
+            }
+        }
+        best
+    };
+    let d = closest(&b.states[c.record]);
+    assert!((d - c.distance).abs() < 1e-12 && d < 2.0 * scene.radius, "crossing at {} (brute force {d})", c.distance);
+    assert!(closest(&b.states[c.record - 1]) >= 2.0 * scene.radius, "the previous point already crossed");
+    println!("uncharged: crossing after {} points at distance {:.3} nm (s = {:.1}, {:.1})", b.records.len(), c.distance, c.s1, c.s2);
+    charge.hard_core = Some(10.0);
+    let h = run(&charge);
+    assert!(h.crossing.is_none(), "hard core crossed: {:?}", h.crossing);
+    assert!(h.records.len() > b.records.len(), "the hard-core branch stopped early ({:?})", h.stop);
+    let dmin = h.states.iter().map(|x| closest(x)).fold(f64::INFINITY, f64::min);
+    println!("hard core: {} points, closest approach {dmin:.3} nm (2a = {})", h.records.len(), 2.0 * scene.radius);
+    assert!(dmin > 2.0 * scene.radius);
+}

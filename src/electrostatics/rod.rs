@@ -37,8 +37,9 @@
 //! (symbolic factorisation reused) while no stage has moved more than
 //! skin/2 from the reference ([`ChargedRod::displacement`]; the branch
 //! driver rebuilds past skin/2 and re-converges that point). Coulomb (κ = 0): every far pair.
-//! Optional hard core: P += k_hc (2.5a − d)³ for d < 2.5a (strands repel
-//! before they touch and cannot pass).
+//! Optional hard core: P += k_hc (2.5a − d)³ for d < 2.5a between stages
+//! farther apart along the rod than 1.25πa (strands repel before they
+//! touch and cannot pass; neighbours on one strand are not pushed apart).
 
 use super::discrete::{screening_cutoff, CellList};
 use super::special;
@@ -412,8 +413,17 @@ impl ChargedRod {
         }
     }
 
-    /// P'(d) and P''(d) of the pair potential (switched Φ and hard core).
-    fn pair(&self, d: f64) -> (f64, f64) {
+    /// Whether the hard core acts between stages j and k: only when they are
+    /// farther apart along the rod than half the circumference of a circle
+    /// of diameter 2.5a (nearer points are neighbours on one strand, as
+    /// close in space as along the rod, and must not repel).
+    fn hard_pair(&self, j: usize, k: usize) -> bool {
+        self.charge.hard_core.is_some() && (self.points[j].s - self.points[k].s).abs() > 0.5 * std::f64::consts::PI * HARD_CORE_RANGE * self.charge.screening.a
+    }
+
+    /// P'(d) and P''(d) of the pair potential (switched Φ and, for `hard`
+    /// pairs, the hard core).
+    fn pair(&self, d: f64, hard: bool) -> (f64, f64) {
         let (kappa, a) = (self.charge.screening.kappa, self.charge.screening.a);
         let l2 = self.charge.line_charge * self.charge.line_charge;
         let (mut p1, mut p2) = (0.0, 0.0);
@@ -437,7 +447,7 @@ impl ChargedRod {
             p1 += l2 * (f1 * s0 + f0 * s1);
             p2 += l2 * (f2 * s0 + 2.0 * f1 * s1 + f0 * s2);
         }
-        if let Some(k) = self.charge.hard_core {
+        if let (Some(k), true) = (self.charge.hard_core, hard) {
             if d < HARD_CORE_RANGE * a {
                 let g = HARD_CORE_RANGE * a - d;
                 p1 += -3.0 * k * g * g;
@@ -468,7 +478,7 @@ impl ChargedRod {
                     let dv = [rj[0] - this.r[k][0], rj[1] - this.r[k][1], rj[2] - this.r[k][2]];
                     let d = (dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]).sqrt();
                     let wk = this.points[k].w;
-                    let (p1, p2) = if d > 0.0 { this.pair(d) } else { (0.0, 0.0) };
+                    let (p1, p2) = if d > 0.0 { this.pair(d, this.hard_pair(j, k)) } else { (0.0, 0.0) };
                     let c = -wk * p1 / d.max(f64::MIN_POSITIVE);
                     for i in 0..3 {
                         pj[i] += c * dv[i];
@@ -633,7 +643,7 @@ impl ChargedRod {
                     };
                     far += ww * l2 * (-self.charge.screening.kappa * d).exp() / d * s;
                 }
-                if let Some(khc) = self.charge.hard_core {
+                if let (Some(khc), true) = (self.charge.hard_core, self.hard_pair(j, k)) {
                     let a2 = HARD_CORE_RANGE * self.charge.screening.a;
                     if d < a2 {
                         hard += ww * khc * (a2 - d).powi(3);

@@ -6,7 +6,7 @@ use rodkit::continuation::{Options, Problem};
 use rodkit::continuation::newton::Start;
 use rodkit::electrostatics::rod::{ChargedRod, RodCharge};
 use rodkit::electrostatics::supercoil::{self, DnaScene};
-use rodkit::electrostatics::{energy, EnergyQuadrature, HermiteCurve, LineCharge, Screening};
+use rodkit::electrostatics::{energy, EnergyQuadrature, HermiteCurve, LineCharge};
 use rodkit::electrostatics::supercoil::ChargedBranch;
 use rodkit::rod::kinematics::rotation;
 use rodkit::rod::model::Rod;
@@ -345,47 +345,6 @@ fn rod_energy_matches_the_continuum_energy() {
     println!("straight: rod {} vs exact {exact0} ({err0:e}); buckling energy: rod {d_rod} vs continuum {d_ref} ({err:e})", e0.near + e0.far);
     assert!(err0 < 1e-3, "{err0:e}");
     assert!(err < 1e-4, "{err:e}");
-}
-
-/// Explore the DNA scene (printing).
-#[test]
-#[ignore]
-fn explore_dna_scene() {
-    let scene = DnaScene::default();
-    let ne: usize = std::env::var("NE").ok().and_then(|v| v.parse().ok()).unwrap_or(170);
-    let rod = scene.rod(ne, 2).unwrap();
-    let mut charge = scene.charge();
-    if std::env::var("NOCHARGE").is_ok() { charge.line_charge = 0.0; }
-    if let Some(t) = std::env::var("TOL").ok().and_then(|v| v.parse().ok()) { charge.cutoff_tolerance = Some(t); }
-    let max_step: f64 = std::env::var("MAXSTEP").ok().and_then(|v| v.parse().ok()).unwrap_or(0.5);
-    println!("kT {} lB {} kappa {} lambda {} cutoff {:?}", scene.kt(), scene.bjerrum_length(), scene.kappa(), charge.line_charge, charge.cutoff(rod.length));
-    let x0 = rod.straight_state();
-    let opts = Options { target_lambda: Some(std::env::var("PHI1").ok().and_then(|v| v.parse().ok()).unwrap_or(40.0)), residual_tol: 1e-10, initial_step: 2.0, max_step: 4.0, detect_bifurcations: true, max_steps: 200, ..Default::default() };
-    let t = std::time::Instant::now();
-    let b = supercoil::follow(&rod, &charge, Start::Point { x: x0, lambda: 0.0, increasing: true }, None, &opts, |r| { eprintln!("straight φ {:.4} step {:.3e} res {:e} it {} σ {:?} det {}", r.lambda, r.step, r.residual, r.newton_iterations, r.smallest_singular_value, r.bordered_det_sign); true }).unwrap();
-    println!("straight: {} records, {:?}, {:?}, {:.2?}", b.records.len(), b.stop, b.counts, t.elapsed());
-    for bif in &b.bifurcations {
-        println!("bifurcation at φ = {} ({} turns), multiplicity {}", bif.lambda, bif.lambda / (2.0 * std::f64::consts::PI), bif.multiplicity);
-    }
-    let opts = Options { residual_tol: 1e-10, initial_step: 0.05, max_step, max_steps: 600, lambda_range: (0.0, 50.0), ..Default::default() };
-    let t = std::time::Instant::now();
-    let t0 = std::time::Instant::now();
-    let s = supercoil::switch(&rod, &charge, &b, 0, 0, 0.02, &opts, |r| { eprintln!("φ {:.4} res {:e} it {} step {:.3e} t {:.1?}", r.lambda, r.residual, r.newton_iterations, r.step, t0.elapsed()); true }).unwrap();
-    println!("buckled: {} records, {:?}, crossing {:?}, lists {}, {:?}, {:.2?}", s.records.len(), s.stop, s.crossing, s.pair_lists, s.counts, t.elapsed());
-    for (r, x) in s.records.iter().zip(&s.states).step_by(std::env::var("EVERY").ok().and_then(|v| v.parse().ok()).unwrap_or(5)) {
-        let o = supercoil::observables(&rod, x, r.lambda).unwrap();
-        println!("{:8.4} turns  z {:8.3}  M {:8.3}  Tw {:8.4} Wr {:8.4}  sum-turns {:e}", o.turns, o.extension, o.torque, o.twist, o.writhe, o.twist + o.writhe - o.turns);
-    }
-}
-
-#[test]
-#[ignore]
-fn explore_scene_counts() {
-    let settings = supercoil::SupercoilSettings { elements: 100, max_steps: 40, ..Default::default() };
-    let r = supercoil::run_scene(&DnaScene::default(), &settings).unwrap();
-    println!("straight {:?} records {} bifs {} lists {}", r.straight.counts, r.straight.records.len(), r.straight.bifurcations.len(), r.straight.pair_lists);
-    let b = r.buckled.as_ref().unwrap();
-    println!("buckled {:?} records {} lists {} seconds {}", b.counts, b.records.len(), b.pair_lists, r.seconds);
 }
 
 /// Strand crossing: without charge nothing keeps the strands of the loop

@@ -173,6 +173,9 @@ pub struct ChargedRod {
     reference: Vec<[f64; 3]>,
     list_local: bool,
     twisted_phi: Option<usize>,
+    /// The caller's threads (threads > 1): a pool kept for the problem's
+    /// life (a thread spawn per residual costs more than the work).
+    pool: Option<rayon::ThreadPool>,
     // Scratch (no allocation per evaluation).
     r: Vec<[f64; 3]>,
     p: Vec<[f64; 3]>,
@@ -355,6 +358,11 @@ impl ChargedRod {
             reference: reference_r,
             list_local: any_pairs && list_radius.is_some(),
             twisted_phi,
+            pool: if charge.threads > 1 {
+                Some(rayon::ThreadPoolBuilder::new().num_threads(charge.threads).build().map_err(|e| Error::new(Status::ErrInternal, format!("thread pool: {e}")))?)
+            } else {
+                None
+            },
             r: vec![[0.0; 3]; np],
             p: vec![[0.0; 3]; np],
             g: vec![[0.0; 9]; na],
@@ -506,11 +514,12 @@ impl ChargedRod {
                 }
             }
         };
-        if threads <= 1 || np < 64 {
+        if threads <= 1 || np < 64 || self.pool.is_none() {
             work(0..np, &mut p, &mut g, &mut dsum);
         } else {
             let chunk = np.div_ceil(threads);
-            std::thread::scope(|scope| {
+            let pool = this.pool.as_ref().expect("a pool when threads > 1");
+            pool.scope(|scope| {
                 let (mut pr, mut gr, mut dr) = (&mut p[..], &mut g[..], &mut dsum[..]);
                 let mut start = 0;
                 while start < np {
@@ -523,7 +532,7 @@ impl ChargedRod {
                     gr = g1;
                     dr = d1;
                     let work = &work;
-                    scope.spawn(move || work(start..end, p0, g0, d0));
+                    scope.spawn(move |_| work(start..end, p0, g0, d0));
                     start = end;
                 }
             });

@@ -44,8 +44,9 @@
 //! derivative of the quadrature energy for a Hermite centreline).
 //! Twist and Lk = Tw + Wr of a rod state: `crate::rod::topology`.
 //!
-//! Still to come (issue 5): coupling into the rod's residual, the
-//! screening cutoff with cell lists, threads.
+//! The coupling into a rod's equations: [`rod`] (the charged Kirchhoff
+//! rod as a continuation problem) and [`supercoil`] (branches, the DNA
+//! supercoiling scene).
 
 pub mod discrete;
 pub mod rod;

@@ -640,7 +640,7 @@ typedef struct RodkitBifurcation {
 // `rodkit_dna_supercoil_spec_default` first: 1 kbp, 1 pN, 0.1 M, ν = 1/l_B
 // (Manning), a = 1 nm, A = 50 nm, P = 95 nm, 298.15 K, ε_r = 78.4; 170
 // elements of Gauss(2); cutoff tolerance 1e-4; no hard core; 1 thread; to
-// 12 turns in at most 600 steps; residual 1e-10.
+// 12 turns in at most 600 steps; scaled residual 1e-8.
 typedef struct RodkitDnaSupercoilSpec {
   int64_t base_pairs;
   // Rise per base pair (nm).

@@ -8,37 +8,13 @@
 //! magnetic-tweezers experiments (extension and torque vs turns) and the
 //! twist/writhe partition, with the buckling point, the work and the time.
 
-use plotters::prelude::*;
+#[path = "support/plot.rs"]
+mod plot;
+use plot::line_plot;
+use plotters::prelude::{RGBColor, BLUE, RED};
 use rodkit::electrostatics::supercoil::{run_scene, DnaScene, SupercoilSettings};
 use std::fmt::Write as _;
 use std::path::Path;
-
-fn line_plot(path: &Path, title: &str, xlabel: &str, ylabel: &str, series: &[(String, Vec<(f64, f64)>, RGBColor)]) -> Result<(), Box<dyn std::error::Error>> {
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
-    for &(x, y) in series.iter().flat_map(|s| s.1.iter()) {
-        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
-    }
-    let pad = 0.05 * (y1 - y0).max(1e-12);
-    let root = SVGBackend::new(path, (960, 640)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 22))
-        .margin(16)
-        .x_label_area_size(56)
-        .y_label_area_size(84)
-        .build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))?;
-    chart.configure_mesh().x_desc(xlabel).y_desc(ylabel).axis_desc_style(("sans-serif", 18)).label_style(("sans-serif", 15)).draw()?;
-    for (name, pts, color) in series {
-        let color = *color;
-        chart
-            .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?
-            .label(name.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2)));
-    }
-    chart.configure_series_labels().background_style(WHITE.mix(0.9)).border_style(BLACK).label_font(("sans-serif", 15)).draw()?;
-    root.present()?;
-    Ok(())
-}
 
 fn main() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench/supercoil");

@@ -19,6 +19,9 @@
 //! and SVG plots to target/bench/tube/. Targets are reported as PASS/MISS
 //! (informational: the exit code is 0 either way).
 
+#[path = "support/plot.rs"]
+mod plot;
+use plot::line_plot;
 #[path = "../tests/support/behaviour_cases.rs"]
 mod behaviour_cases;
 
@@ -910,35 +913,6 @@ fn section_behaviour(dir: &Path, out: &mut String) {
         }
     }
     let _ = writeln!(out, "curves: target/bench/tube/behaviour_*.csv, behaviour_twist.svg, behaviour_radius.svg");
-}
-
-/// Linear-axes line plot of named series.
-fn line_plot(path: &Path, title: &str, xlabel: &str, ylabel: &str, series: &[(&str, Vec<(f64, f64)>, RGBColor)]) -> Result<(), Box<dyn std::error::Error>> {
-    let all = series.iter().flat_map(|s| s.1.iter());
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
-    for &(x, y) in all {
-        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
-    }
-    let pad = 0.05 * (y1 - y0).max(1e-12);
-    let root = SVGBackend::new(path, (960, 640)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 22))
-        .margin(16)
-        .x_label_area_size(56)
-        .y_label_area_size(84)
-        .build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))?;
-    chart.configure_mesh().x_desc(xlabel).y_desc(ylabel).axis_desc_style(("sans-serif", 18)).label_style(("sans-serif", 15)).draw()?;
-    for (name, pts, color) in series {
-        let color = *color;
-        chart
-            .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?
-            .label(name.to_string())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2)));
-    }
-    chart.configure_series_labels().background_style(WHITE.mix(0.9)).border_style(BLACK).label_font(("sans-serif", 15)).draw()?;
-    root.present()?;
-    Ok(())
 }
 
 fn main() {

@@ -18,39 +18,7 @@ use rodkit::continuation::newton::Start;
 use rodkit::continuation::{Options, Problem};
 use rodkit::electrostatics::rod::ChargedRod;
 use rodkit::electrostatics::supercoil::{self, DnaScene};
-use sundials::{kinsol_solve, Context, DenseColMajor, KinsolOptions};
-
-fn kinsol_root(ctx: &Context, p: &mut ChargedRod, phi: f64, start: &[f64]) -> Vec<f64> {
-    let n = p.dim();
-    let eq = p.equation_scales();
-    let (us, _) = p.unknown_scales();
-    let pattern = p.pattern().clone();
-    let p = std::cell::RefCell::new(p);
-    let mut x = start.to_vec();
-    let residual = |u: &[f64], f: &mut [f64]| p.borrow_mut().residual(u, phi, f);
-    let mut vals = vec![0.0; pattern.nnz()];
-    let mut dl = vec![0.0; n];
-    let mut jac = |u: &[f64], m: &mut DenseColMajor<'_>| {
-        p.borrow_mut().jacobian(u, phi, &mut vals, &mut dl);
-        m.fill(0.0);
-        for j in 0..n {
-            for k in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
-                m.set(pattern.row_idx[k], j, vals[k]);
-            }
-        }
-    };
-    let opts = KinsolOptions {
-        func_norm_tol: 1e-11,
-        scaled_step_tol: 1e-16,
-        max_setup_calls: 1,
-        u_scale: Some(us.iter().map(|s| 1.0 / s).collect()),
-        f_scale: Some(eq.iter().map(|s| 1.0 / s).collect()),
-        ..Default::default()
-    };
-    let stats = kinsol_solve(ctx, &mut x, residual, Some(&mut jac), &opts).expect("KINSOL converges");
-    assert!(stats.func_norm <= 1e-11, "KINSOL stopped at {:e}", stats.func_norm);
-    x
-}
+use sundials::{kinsol_problem_root as kinsol_root, Context};
 
 fn perturbed(x: &[f64], scales: &[f64], eps: f64) -> Vec<f64> {
     x.iter().zip(scales).enumerate().map(|(i, (v, s))| v + eps * s * (((i * 7919) % 97) as f64 / 48.5 - 1.0)).collect()

@@ -25,7 +25,7 @@ use rodkit::rod::branch::Method;
 use rodkit::rod::model::{Rod, Supports};
 use rodkit::rod::scheme::Scheme;
 use rodkit::rod::{Load, Loads, RodLaw};
-use sundials::{ida_solve, kinsol_solve, Context, DenseColMajor, IdaOptions, KinsolOptions};
+use sundials::{ida_solve, kinsol_problem_root as kinsol_root, kinsol_solve, Context, IdaOptions, KinsolOptions};
 
 fn follower(scheme: Scheme, n: usize) -> Rod {
     let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap();
@@ -47,41 +47,6 @@ fn rodkit_states(rod: &Rod, alphas: &[f64]) -> Vec<Vec<f64>> {
         branch = Some(b);
     }
     out
-}
-
-/// KINSOL on `sys` at fixed Λ from `start`; returns its root.
-fn kinsol_root<P: Problem>(ctx: &Context, sys: &mut P, lambda: f64, start: &[f64]) -> Vec<f64> {
-    let n = sys.dim();
-    let eq = sys.equation_scales();
-    let (us, _) = sys.unknown_scales();
-    let pattern = sys.pattern().clone();
-    let sys = std::cell::RefCell::new(sys);
-    let mut x = start.to_vec();
-    let residual = |u: &[f64], f: &mut [f64]| sys.borrow_mut().residual(u, lambda, f);
-    let mut vals = vec![0.0; pattern.nnz()];
-    let mut dl = vec![0.0; n];
-    let mut jac = |u: &[f64], m: &mut DenseColMajor<'_>| {
-        sys.borrow_mut().jacobian(u, lambda, &mut vals, &mut dl);
-        m.fill(0.0);
-        for j in 0..n {
-            for k in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
-                m.set(pattern.row_idx[k], j, vals[k]);
-            }
-        }
-    };
-    let opts = KinsolOptions {
-        // Scaled max norm 1e-11: the rounding floor of the stiff rods here
-        // (EA = 2.6e4 K_b/L²) is ~1e-12.
-        func_norm_tol: 1e-11,
-        scaled_step_tol: 1e-16,
-        max_setup_calls: 1,
-        u_scale: Some(us.iter().map(|s| 1.0 / s).collect()),
-        f_scale: Some(eq.iter().map(|s| 1.0 / s).collect()),
-        ..Default::default()
-    };
-    let stats = kinsol_solve(ctx, &mut x, residual, Some(&mut jac), &opts).expect("KINSOL converges");
-    assert!(stats.func_norm <= 1e-11, "KINSOL stopped at {:e}", stats.func_norm);
-    x
 }
 
 fn scaled_difference(a: &[f64], b: &[f64], scales: &[f64]) -> f64 {

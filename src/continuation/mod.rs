@@ -243,6 +243,19 @@ pub struct Counts {
     pub pade_steps: usize,
 }
 
+impl Counts {
+    /// Add another run's work (a branch continued in segments).
+    pub fn add(&mut self, other: &Counts) {
+        self.steps += other.steps;
+        self.factorisations += other.factorisations;
+        self.solves += other.solves;
+        self.residuals += other.residuals;
+        self.jacobians += other.jacobians;
+        self.series_orders += other.series_orders;
+        self.pade_steps += other.pade_steps;
+    }
+}
+
 /// A branch: the records, why it stopped, where to resume, and the work done.
 #[derive(Clone, Debug)]
 pub struct Branch {

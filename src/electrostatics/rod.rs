@@ -799,8 +799,3 @@ impl Problem for ChargedRod {
         (x, if self.twisted_phi.is_some() { 1.0 } else { l })
     }
 }
-
-/// Whether the supports make the end rotation the parameter.
-pub fn rotation_controlled(rod: &Rod) -> bool {
-    matches!(rod.supports, Supports::Twisted { .. } | Supports::TwistedAtDistance { .. })
-}

@@ -183,11 +183,7 @@ pub fn follow(rod: &Rod, charge: &RodCharge, start: Start, phase: Option<(usize,
                 progress(rec)
             },
         )?;
-        out.counts.steps += b.counts.steps;
-        out.counts.factorisations += b.counts.factorisations;
-        out.counts.solves += b.counts.solves;
-        out.counts.residuals += b.counts.residuals;
-        out.counts.jacobians += b.counts.jacobians;
+        out.counts.add(&b.counts);
         for (i, mut rec) in b.records.into_iter().enumerate() {
             if resumed && i == 0 {
                 // The resumed start point, already recorded.
@@ -236,17 +232,7 @@ pub fn switch(rod: &Rod, charge: &RodCharge, branch: &ChargedBranch, index: usiz
         let start = branch_start(bif, (nx, *nl), first_step, &scaling);
         return follow(rod, charge, Start::Switch(start), branch.phase, opts, progress);
     }
-    let lateral = |i: usize| {
-        let at = rod.node(i);
-        nx[at].hypot(nx[at + 1])
-    };
-    let node = (1..=rod.elements).fold(0, |best, i| if lateral(i) > lateral(best) { i } else { best });
-    if node == 0 || lateral(node) == 0.0 {
-        return Err(Error::new(Status::ErrOutOfRange, "a phase condition needs a null direction with a lateral displacement"));
-    }
-    let at = rod.node(node);
-    let azimuth = nx[at + 1].atan2(nx[at]);
-    let phase = Some((node, azimuth));
+    let phase = Some(rod.phase_for(nx)?);
     let mut aug = bif.clone();
     aug.x.push(0.0);
     aug.tangent_x.push(0.0);
@@ -256,34 +242,11 @@ pub fn switch(rod: &Rod, charge: &RodCharge, branch: &ChargedBranch, index: usiz
     let (sx, sl) = problem.unknown_scales();
     let scaling = Scaling { x: sx, lambda: sl };
     let start = branch_start(&aug, (&d, *nl), first_step, &scaling);
-    // First point at a fixed amplitude along the azimuth (not the arc
-    // length): the straight family (any μ) is excluded.
-    let eq = problem.equation_scales();
-    let mut bordered = Bordered::new(problem.pattern())?;
     let mut counts = Counts::default();
-    let m = start.x.len();
-    let mut e = vec![0.0; m];
-    e[at] = azimuth.cos();
-    e[at + 1] = azimuth.sin();
-    let mut x: Vec<f64> = start.x.iter().zip(&start.tangent_x).map(|(a, t)| a + first_step * t).collect();
-    let mut l = start.lambda + first_step * start.tangent_lambda;
-    let anchor = x.clone();
-    let al = l;
-    correct(&mut problem, &mut bordered, &scaling, &eq, &mut x, &mut l, (&anchor, al), (&e, 0.0), opts.residual_tol, false, &mut counts)?;
-    let dx: Vec<f64> = x.iter().zip(&start.x).map(|(a, b)| a - b).collect();
-    let norm = scaling.norm(&dx, l - start.lambda);
-    let resume = Resume { tangent_x: dx.iter().map(|v| v / norm).collect(), tangent_lambda: (l - start.lambda) / norm, x, lambda: l, step: first_step };
+    let resume = rod.amplitude_start(&mut problem, &scaling, &start, phase.expect("set above"), first_step, opts.residual_tol, &mut counts)?;
     let mut b = follow(rod, charge, Start::Resume(resume), phase, opts, progress)?;
-    b.counts.factorisations += counts.factorisations;
-    b.counts.residuals += counts.residuals;
-    let n = rod.unknowns();
-    let mu_scale = problem.unknown_scales().0[n];
-    if let Some((k, x)) = b.states.iter().enumerate().find(|(_, x)| x[n].abs() > 1e-6 * mu_scale) {
-        return Err(Error::new(
-            Status::ErrNotConverged,
-            format!("branch switching left the unfolding parameter at μ = {:e} (point {k}): the spurious straight family; try another first_step", x[n]),
-        ));
-    }
+    b.counts.add(&counts);
+    rod.check_unfolding(&b.states, problem.unknown_scales().0[rod.unknowns()])?;
     Ok(b)
 }
 
@@ -486,11 +449,7 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
                 merged.stop = next.stop;
                 merged.resume = next.resume;
                 merged.pair_lists += next.pair_lists;
-                merged.counts.steps += next.counts.steps;
-                merged.counts.factorisations += next.counts.factorisations;
-                merged.counts.solves += next.counts.solves;
-                merged.counts.residuals += next.counts.residuals;
-                merged.counts.jacobians += next.counts.jacobians;
+                merged.counts.add(&next.counts);
                 merged
             }
         };

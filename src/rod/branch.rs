@@ -152,20 +152,7 @@ impl Rod {
         })?;
         error::positive("first_step", first_step)?;
         let (phase, bif, direction) = if branch.phase.is_none() && bif.multiplicity >= 2 {
-            // The node where the null direction's lateral displacement is
-            // largest (the tip of a cantilever, mid-span between clamps):
-            // the phase condition pins the buckle's azimuth where it is
-            // best determined.
-            let lateral = |i: usize| {
-                let at = self.node(i);
-                nx[at].hypot(nx[at + 1])
-            };
-            let node = (1..=self.elements).fold(0, |best, i| if lateral(i) > lateral(best) { i } else { best });
-            if node == 0 || lateral(node) == 0.0 {
-                return Err(Error::new(Status::ErrOutOfRange, "a phase condition needs a null direction with a lateral displacement (and at least 2 elements)"));
-            }
-            let at = self.node(node);
-            let azimuth = nx[at + 1].atan2(nx[at]);
+            let (node, azimuth) = self.phase_for(nx)?;
             let mut aug = bif.clone();
             aug.x.push(0.0);
             aug.tangent_x.push(0.0);
@@ -183,56 +170,78 @@ impl Rod {
         let scaling = opts.scaling.clone().unwrap_or(Scaling { x: sx, lambda: sl });
         let mut start = branch_start(&bif, (&direction, *nl), first_step, &scaling);
         if let Some((node, azimuth)) = phase {
-            // First point with the buckle's amplitude fixed instead of the
-            // arc length: ⟨X − X_pred, e⟩ = 0 with e the phase node's
-            // displacement along the azimuth. Straight states (amplitude 0),
-            // where the unfolding vanishes and μ would be free, are excluded.
             let mut sys = self.system_for(phase)?;
-            let mut bordered = Bordered::new(sys.pattern())?;
-            let mut counts = Counts::default();
-            let eq = sys.equation_scales();
-            let m = start.x.len();
-            let mut e = vec![0.0; m];
-            let at = self.node(node);
-            e[at] = azimuth.cos();
-            e[at + 1] = azimuth.sin();
-            let mut x: Vec<f64> = start.x.iter().zip(&start.tangent_x).map(|(a, t)| a + first_step * t).collect();
-            let mut l = start.lambda + first_step * start.tangent_lambda;
-            let anchor = x.clone();
-            let al = l;
-            correct(&mut sys, &mut bordered, &scaling, &eq, &mut x, &mut l, (&anchor, al), (&e, 0.0), opts.residual_tol, false, &mut counts)?;
-            let dx: Vec<f64> = x.iter().zip(&start.x).map(|(a, b)| a - b).collect();
-            let norm = scaling.norm(&dx, l - start.lambda);
-            start = Resume {
-                tangent_x: dx.iter().map(|v| v / norm).collect(),
-                tangent_lambda: (l - start.lambda) / norm,
-                x,
-                lambda: l,
-                step: first_step,
-            };
+            start = self.amplitude_start(&mut sys, &scaling, &start, (node, azimuth), first_step, opts.residual_tol, &mut Counts::default())?;
         }
         // Without a phase condition the start is the (near-)singular point
         // itself: a switch start keeps the null direction for the first step.
         let first = if phase.is_some() { Start::Resume(start) } else { Start::Switch(start) };
         let b = self.follow(first, phase, opts, method, progress)?;
         if phase.is_some() {
-            // μ = 0 on every tilted solution, but the unfolding vanishes on
-            // the straight branch, where (straight state, any μ) also solves
-            // the augmented system: a corrector can slide onto that spurious
-            // family (seen with twist–stretch coupling). Refuse such a branch.
-            let n = self.unknowns();
-            let scale = mu_scale;
-            if let Some((k, x)) = b.states.iter().enumerate().find(|(_, x)| x[n].abs() > 1e-6 * scale) {
-                return Err(Error::new(
-                    Status::ErrNotConverged,
-                    format!(
-                        "branch switching with a phase condition left the unfolding parameter at μ = {:e} (point {k}): it followed the spurious straight family, not the buckled branch; try another first_step",
-                        x[n]
-                    ),
-                ));
-            }
+            self.check_unfolding(&b.states, mu_scale)?;
         }
         Ok(b)
+    }
+
+    /// The phase condition for leaving a double point along null direction
+    /// `nx`: the node where its lateral displacement is largest (the tip of
+    /// a cantilever, mid-span between clamps — where the buckle's azimuth
+    /// is best determined) and that azimuth.
+    pub(crate) fn phase_for(&self, nx: &[f64]) -> Result<(usize, f64)> {
+        let lateral = |i: usize| {
+            let at = self.node(i);
+            nx[at].hypot(nx[at + 1])
+        };
+        let node = (1..=self.elements).fold(0, |best, i| if lateral(i) > lateral(best) { i } else { best });
+        if node == 0 || lateral(node) == 0.0 {
+            return Err(Error::new(Status::ErrOutOfRange, "a phase condition needs a null direction with a lateral displacement (and at least 2 elements)"));
+        }
+        let at = self.node(node);
+        Ok((node, nx[at + 1].atan2(nx[at])))
+    }
+
+    /// The first point of a branch switched with a phase condition, taken at
+    /// a fixed buckle amplitude instead of the arc length: ⟨X − X_pred, e⟩ =
+    /// 0 with e the phase node's displacement along the azimuth. Straight
+    /// states (amplitude 0), where the unfolding vanishes and μ would be
+    /// free, are excluded. `problem` is the rod's system with that phase
+    /// condition (charged or not); returns the point with its secant tangent.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn amplitude_start<P: crate::continuation::Problem + ?Sized>(&self, problem: &mut P, scaling: &Scaling, start: &Resume, (node, azimuth): (usize, f64),
+                                                                          first_step: f64, residual_tol: f64, counts: &mut Counts) -> Result<Resume> {
+        let mut bordered = Bordered::new(problem.pattern())?;
+        let eq = problem.equation_scales();
+        let mut e = vec![0.0; start.x.len()];
+        let at = self.node(node);
+        e[at] = azimuth.cos();
+        e[at + 1] = azimuth.sin();
+        let mut x: Vec<f64> = start.x.iter().zip(&start.tangent_x).map(|(a, t)| a + first_step * t).collect();
+        let mut l = start.lambda + first_step * start.tangent_lambda;
+        let anchor = x.clone();
+        let al = l;
+        correct(problem, &mut bordered, scaling, &eq, &mut x, &mut l, (&anchor, al), (&e, 0.0), residual_tol, false, counts)?;
+        let dx: Vec<f64> = x.iter().zip(&start.x).map(|(a, b)| a - b).collect();
+        let norm = scaling.norm(&dx, l - start.lambda);
+        Ok(Resume { tangent_x: dx.iter().map(|v| v / norm).collect(), tangent_lambda: (l - start.lambda) / norm, x, lambda: l, step: first_step })
+    }
+
+    /// μ = 0 on every tilted solution, but the unfolding vanishes on the
+    /// straight branch, where (straight state, any μ) also solves the
+    /// augmented system: a corrector can slide onto that spurious family
+    /// (seen with twist–stretch coupling). Refuse such a branch (μ, the
+    /// entry after the rod's unknowns, beyond 1e-6 of its scale).
+    pub(crate) fn check_unfolding(&self, states: &[Vec<f64>], mu_scale: f64) -> Result<()> {
+        let n = self.unknowns();
+        if let Some((k, x)) = states.iter().enumerate().find(|(_, x)| x[n].abs() > 1e-6 * mu_scale) {
+            return Err(Error::new(
+                Status::ErrNotConverged,
+                format!(
+                    "branch switching with a phase condition left the unfolding parameter at μ = {:e} (point {k}): it followed the spurious straight family, not the buckled branch; try another first_step",
+                    x[n]
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// The angle between the tip tangent d3(L) and e3 (radians, 0…π).

@@ -1254,3 +1254,42 @@ pub fn ida_solve(
         Err(e) => Err(with_panic(e, &data.panic)),
     }
 }
+
+/// KINSOL (exact Newton: the problem's own sparse Jacobian densified every
+/// iteration; tolerances scaled by its equation and unknown scales) on a
+/// rodkit `Problem` at fixed Λ from `start`; returns its root, asserting
+/// a scaled residual ≤ 1e-11. The cross-check of tests/sundials_rod.rs and
+/// tests/sundials_charged.rs.
+pub fn kinsol_problem_root<P: rodkit::continuation::Problem + ?Sized>(ctx: &Context, sys: &mut P, lambda: f64, start: &[f64]) -> Vec<f64> {
+    let n = sys.dim();
+    let eq = sys.equation_scales();
+    let (us, _) = sys.unknown_scales();
+    let pattern = sys.pattern().clone();
+    let sys = std::cell::RefCell::new(sys);
+    let mut x = start.to_vec();
+    let residual = |u: &[f64], f: &mut [f64]| sys.borrow_mut().residual(u, lambda, f);
+    let mut vals = vec![0.0; pattern.nnz()];
+    let mut dl = vec![0.0; n];
+    let mut jac = |u: &[f64], m: &mut DenseColMajor<'_>| {
+        sys.borrow_mut().jacobian(u, lambda, &mut vals, &mut dl);
+        m.fill(0.0);
+        for j in 0..n {
+            for k in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
+                m.set(pattern.row_idx[k], j, vals[k]);
+            }
+        }
+    };
+    let opts = KinsolOptions {
+        // Scaled max norm 1e-11: the rounding floor of the stiff rods here
+        // (EA = 2.6e4 K_b/L²) is ~1e-12.
+        func_norm_tol: 1e-11,
+        scaled_step_tol: 1e-16,
+        max_setup_calls: 1,
+        u_scale: Some(us.iter().map(|s| 1.0 / s).collect()),
+        f_scale: Some(eq.iter().map(|s| 1.0 / s).collect()),
+        ..Default::default()
+    };
+    let stats = kinsol_solve(ctx, &mut x, residual, Some(&mut jac), &opts).expect("KINSOL converges");
+    assert!(stats.func_norm <= 1e-11, "KINSOL stopped at {:e}", stats.func_norm);
+    x
+}

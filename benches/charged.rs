@@ -20,6 +20,9 @@
 //! fixed φ from a 1e-3 perturbation, the sparse LU's symbolic analysis
 //! reused); target/bench/charged/rod.csv.
 
+#[path = "support/plot.rs"]
+mod plot;
+
 use rodkit::electrostatics::{discrete, energy, Centerline, EnergyQuadrature, LineCharge, Screening};
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
@@ -105,58 +108,191 @@ fn main() {
     std::fs::write(dir.join("energy.csv"), &csv).unwrap();
 }
 
+/// A rod state whose nodes and stages lie on the superhelix (only the
+/// positions matter for the pair forces).
+fn superhelix_state(rod: &rodkit::rod::model::Rod) -> Vec<f64> {
+    let curve = Superhelix { l: rod.length, panel: 8.0 };
+    let h = rod.element_length();
+    let c = [0.5 - 3f64.sqrt() / 6.0, 0.5 + 3f64.sqrt() / 6.0];
+    let mut x = rod.straight_state();
+    for e in 0..=rod.elements {
+        let mut put = |o: usize, s: f64| x[o..o + 3].copy_from_slice(&curve.eval(s).0);
+        put(rod.node(e), e as f64 * h);
+        if e < rod.elements {
+            for j in 0..2 {
+                put(rod.node(e) + 13 * (1 + j), (e as f64 + c[j]) * h);
+            }
+        }
+    }
+    x
+}
+
+/// Newton on one residual with another problem's Jacobian: the all-pairs
+/// discrete model's equilibrium, whose exact Jacobian is dense, with the
+/// Jacobian of its pairs inside the cutoff (the dropped entries are below
+/// the cutoff's tolerance, so Newton contracts by about that much per
+/// iteration instead of quadratically).
+struct Truncated<'a> {
+    full: &'a mut rodkit::electrostatics::rod::ChargedRod,
+    cut: &'a mut rodkit::electrostatics::rod::ChargedRod,
+}
+
+impl rodkit::continuation::Problem for Truncated<'_> {
+    fn dim(&self) -> usize {
+        self.cut.dim()
+    }
+    fn pattern(&self) -> &rodkit::sparse::Pattern {
+        self.cut.pattern()
+    }
+    fn residual(&mut self, x: &[f64], lambda: f64, r: &mut [f64]) {
+        self.full.residual(x, lambda, r)
+    }
+    fn jacobian(&mut self, x: &[f64], lambda: f64, jx: &mut [f64], jl: &mut [f64]) {
+        self.cut.jacobian(x, lambda, jx, jl)
+    }
+    fn equation_scales(&self) -> Vec<f64> {
+        self.cut.equation_scales()
+    }
+    fn unknown_scales(&self) -> (Vec<f64>, f64) {
+        self.cut.unknown_scales()
+    }
+}
+
+/// The largest difference of two force-density fields relative to the
+/// largest force density of the reference.
+fn force_error(f: &[[f64; 3]], reference: &[[f64; 3]]) -> f64 {
+    let scale = reference.iter().flat_map(|v| v.iter()).fold(0.0f64, |m, v| m.max(v.abs()));
+    f.iter().zip(reference).flat_map(|(a, b)| (0..3).map(move |c| (a[c] - b[c]).abs())).fold(0.0, f64::max) / scale
+}
+
 fn rod_table(out: &mut String, dir: &std::path::Path) {
     use rodkit::continuation::newton::{continue_newton, Start};
     use rodkit::continuation::{Options, Problem};
     use rodkit::electrostatics::rod::ChargedRod;
-    use rodkit::electrostatics::supercoil::{DnaScene, follow};
-    let _ = writeln!(out, "\ncoupled rod (DNA scene, h = 3.4 nm, Gauss(2), straight state at φ = 2): medians of 5");
-    let _ = writeln!(out, "{:>6} {:>7} {:>7} {:>11} {:>11} {:>11} {:>13} {:>9} {:>13}", "kbp", "n", "pairs", "residual", "2 threads", "Jacobian", "all-pairs res", "all/cut", "equilibrium");
-    let mut csv = String::from("bp,n,pairs,residual_s,residual_2threads_s,jacobian_s,all_pairs_residual_s,equilibrium_s\n");
-    let mut prev: Option<(f64, f64)> = None;
+    use rodkit::electrostatics::supercoil::{follow, DnaScene};
+    let _ = writeln!(out, "\ncoupled rod, continuum vs discrete base pairs (DNA scene: 0.1 M, ν = 1/l_B, 1 pN; h = 3.4 nm, Gauss(2); straight state at φ = 2)");
+    let _ = writeln!(out, "time per residual / Jacobian / equilibrium (Newton at φ = 2.1 from the continuum's equilibrium at φ = 2 — a continuation corrector — to a scaled residual of 1e-8, the DNA scene default), medians of 5 (equilibria 3);");
+    let _ = writeln!(out, "cutoff models at 1e-4 with cell lists; force error on a superhelix (radius 3, pitch 40 nm) against the same model with every pair: max |p − p_ref| over the
+stage force densities, relative to max |p_ref| (base pairs) or to the continuum's whole electrostatic force density (its p is the far zone only)");
+    let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>9} {:>9} {:>9} {:>8} | {:>9} {:>9} {:>9} {:>8} | {:>9} {:>9} | {:>9} {:>9} {:>9} {:>9}",
+        "kbp", "n", "model:", "residual", "Jacobian", "equilib.", "f error", "bp res", "bp Jac", "bp equil", "f error", "bp-all r", "bp-all eq", "all/cont r", "all/con eq", "cut/con r", "cut/con eq");
+    let mut csv = String::from("bp,n,model,residual_s,jacobian_s,equilibrium_s,force_error,residual_2threads_s\n");
+    let mut series: Vec<(&str, Vec<(f64, f64)>)> = vec![("continuum, cutoff", vec![]), ("base pairs, cutoff", vec![]), ("base pairs, all pairs", vec![]), ("continuum, every pair", vec![])];
     let mut scaling = vec![];
+    let mut prev: Option<(f64, f64, f64)> = None;
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
     for bp in [1000usize, 3000, 10000] {
         let scene = DnaScene { base_pairs: bp, ..Default::default() };
         let rod = scene.rod(bp / 10, 2).unwrap();
         let mut charge = scene.charge();
         charge.cutoff_tolerance = Some(1e-4);
+        let mut discrete = charge.clone();
+        discrete.base_pairs = Some(0.34);
         let opts = Options { target_lambda: Some(2.0), residual_tol: 1e-10, initial_step: 2.0, max_step: 2.0, ..Default::default() };
         let b = follow(&rod, &charge, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, None, &opts, |_| true).unwrap();
         let x = b.states.last().unwrap().clone();
-        let mut p = ChargedRod::new(&rod, &charge, None, &x).unwrap();
-        let n = p.dim();
-        let mut r = vec![0.0; n];
-        let (_, t_res) = time(5, || p.residual(&x, 2.0, &mut r));
-        let mut jx = vec![0.0; p.pattern().nnz()];
-        let mut jl = vec![0.0; n];
-        let (_, t_jac) = time(5, || p.jacobian(&x, 2.0, &mut jx, &mut jl));
-        let mut c2 = charge.clone();
-        c2.threads = 2;
-        let mut p2 = ChargedRod::new(&rod, &c2, None, &x).unwrap();
-        let (_, t_res2) = time(5, || p2.residual(&x, 2.0, &mut r));
-        let t_all = if bp <= 3000 {
-            let mut call = charge.clone();
-            call.cutoff_tolerance = None;
-            let mut pa = ChargedRod::new(&rod, &call, None, &x).unwrap();
-            Some(time(3, || pa.residual(&x, 2.0, &mut r)).1)
-        } else {
-            None
+        let xs = superhelix_state(&rod);
+        let eq_opts = Options { residual_tol: 1e-8, max_steps: 0, ..Default::default() };
+        // Times (residual, Jacobian, equilibrium) and the force error of a model.
+        let measure = |model: &rodkit::electrostatics::rod::RodCharge, every: Option<&rodkit::electrostatics::rod::RodCharge>, jac: bool| {
+            let mut p = ChargedRod::new(&rod, model, None, &x).unwrap();
+            let n = p.dim();
+            let mut r = vec![0.0; n];
+            let (_, t_res) = time(5, || p.residual(&x, 2.0, &mut r));
+            let mut jx = vec![0.0; p.pattern().nnz()];
+            let mut jl = vec![0.0; n];
+            let t_jac = jac.then(|| time(5, || p.jacobian(&x, 2.0, &mut jx, &mut jl)).1);
+            let start = x.clone();
+            let t_eq = jac.then(|| time(3, || {
+                let b = continue_newton(&mut p, Start::Point { x: start.clone(), lambda: 2.1, increasing: true }, &eq_opts, |_, _| vec![], |_| true).unwrap();
+                assert!(!b.records.is_empty(), "no equilibrium");
+            }).1);
+            let f_err = every.map(|e| {
+                let mut ps = ChargedRod::new(&rod, model, None, &xs).unwrap();
+                let mut pe = ChargedRod::new(&rod, e, None, &xs).unwrap();
+                let (fs, fe) = (ps.force_densities(&xs), pe.force_densities(&xs));
+                if model.base_pairs.is_some() {
+                    force_error(&fs, &fe)
+                } else {
+                    // The continuum's p is the far zone only (the near zone is the
+                    // bending stiffening): scale by the whole electrostatic force
+                    // density of the converged continuum (electrostatics::force_density).
+                    let curve = Superhelix { l: rod.length, panel: 2.0 };
+                    let quad = EnergyQuadrature { delta: 2.0, order: 8, cutoff: None };
+                    let total = (0..40).map(|k| rodkit::electrostatics::force_density(&curve, &LineCharge::Uniform(model.line_charge), &model.screening, &quad, rod.length * (k as f64 + 0.5) / 40.0).unwrap())
+                        .flat_map(|v| v.into_iter()).fold(0.0f64, |m, v| m.max(v.abs()));
+                    let far = fe.iter().flat_map(|v| v.iter()).fold(0.0f64, |m, v| m.max(v.abs()));
+                    force_error(&fs, &fe) * far / total
+                }
+            });
+            (n, t_res, t_jac, t_eq, f_err, p)
         };
-        let (us, _) = p.unknown_scales();
-        let start: Vec<f64> = x.iter().zip(&us).enumerate().map(|(i, (v, s))| v + 1e-3 * s * (((i * 7919) % 97) as f64 / 48.5 - 1.0)).collect();
-        let eq_opts = Options { residual_tol: 1e-10, max_steps: 0, ..Default::default() };
-        let (_, t_eq) = time(3, || continue_newton(&mut p, Start::Point { x: start.clone(), lambda: 2.0, increasing: true }, &eq_opts, |_, _| vec![], |_| true).unwrap());
-        let ms = |d: Duration| d.as_secs_f64() * 1e3;
-        let _ = writeln!(out, "{:>6} {:>7} {:>7} {:>9.3}ms {:>9.3}ms {:>9.3}ms {:>11} {:>9} {:>11.1}ms", bp as f64 / 1000.0, n, p.pairs(), ms(t_res), ms(t_res2), ms(t_jac),
-            t_all.map_or("-".into(), |t| format!("{:.3}ms", ms(t))), t_all.map_or("-".into(), |t| format!("{:.1}", t.as_secs_f64() / t_res.as_secs_f64())), ms(t_eq));
-        let _ = writeln!(csv, "{bp},{n},{},{},{},{},{},{}", p.pairs(), t_res.as_secs_f64(), t_res2.as_secs_f64(), t_jac.as_secs_f64(), t_all.map_or(f64::NAN, |t| t.as_secs_f64()), t_eq.as_secs_f64());
-        if let Some((pbp, pt)) = prev {
-            let d = (bp as f64 / pbp).log2();
-            scaling.push(format!("{:.0} → {bp} bp: residual ×{:.2}, equilibrium ×{:.2} per doubling", pbp, (t_res.as_secs_f64() / pt).powf(1.0 / d), 0.0));
+        let small = bp <= 3000;
+        let mut every = charge.clone();
+        every.cutoff_tolerance = None;
+        let mut every_bp = discrete.clone();
+        every_bp.cutoff_tolerance = None;
+        let (n, c_res, c_jac, c_eq, c_err, _) = measure(&charge, small.then_some(&every), true);
+        let mut two = charge.clone();
+        two.threads = 2;
+        let (_, c_res2, ..) = measure(&two, None, false);
+        let (_, d_res, d_jac, d_eq, d_err, mut d_p) = measure(&discrete, small.then_some(&every_bp), true);
+        // All-pairs discrete: residual; equilibrium by Newton with the cutoff model's Jacobian.
+        let (a_res, a_eq) = if small {
+            let mut pa = ChargedRod::new(&rod, &every_bp, None, &x).unwrap();
+            let mut r = vec![0.0; n];
+            let (_, a_res) = time(3, || pa.residual(&x, 2.0, &mut r));
+            let start = x.clone();
+            let mut tr = Truncated { full: &mut pa, cut: &mut d_p };
+            let (_, a_eq) = time(3, || {
+                let b = continue_newton(&mut tr, Start::Point { x: start.clone(), lambda: 2.1, increasing: true }, &eq_opts, |_, _| vec![], |_| true).unwrap();
+                assert!(!b.records.is_empty(), "no all-pairs equilibrium");
+            });
+            (Some(a_res), Some(a_eq))
+        } else {
+            (None, None)
+        };
+        let e_res = small.then(|| {
+            let mut pe = ChargedRod::new(&rod, &every, None, &x).unwrap();
+            let mut r = vec![0.0; n];
+            time(3, || pe.residual(&x, 2.0, &mut r)).1
+        });
+        let fmt_t = |t: Option<Duration>| t.map_or("-".to_string(), |t| format!("{:.2}ms", ms(t)));
+        let fmt_e = |e: Option<f64>| e.map_or("-".to_string(), |e| format!("{e:.1e}"));
+        let ratio = |a: Option<Duration>, b: Option<Duration>| match (a, b) {
+            (Some(a), Some(b)) => format!("{:.1}", a.as_secs_f64() / b.as_secs_f64()),
+            _ => "-".into(),
+        };
+        let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>9} {:>9} {:>9} {:>8} | {:>9} {:>9} {:>9} {:>8} | {:>9} {:>9} | {:>9} {:>9} {:>9} {:>9}",
+            bp as f64 / 1000.0, n, "continuum / base pairs", fmt_t(Some(c_res)), fmt_t(c_jac), fmt_t(c_eq), fmt_e(c_err), fmt_t(Some(d_res)), fmt_t(d_jac), fmt_t(d_eq), fmt_e(d_err),
+            fmt_t(a_res), fmt_t(a_eq), ratio(a_res, Some(c_res)), ratio(a_eq, c_eq), ratio(Some(d_res), Some(c_res)), ratio(d_eq, c_eq));
+        let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>9} (2 threads){}", "", "", "continuum", fmt_t(Some(c_res2)),
+            e_res.map_or(String::new(), |t| format!("; every pair: residual {} ({}× the cutoff's)", fmt_t(Some(t)), ratio(Some(t), Some(c_res)))));
+        let secs = |t: Option<Duration>| t.map_or(f64::NAN, |t| t.as_secs_f64());
+        let _ = writeln!(csv, "{bp},{n},continuum_cutoff,{},{},{},{},{}", c_res.as_secs_f64(), secs(c_jac), secs(c_eq), c_err.unwrap_or(f64::NAN), c_res2.as_secs_f64());
+        let _ = writeln!(csv, "{bp},{n},continuum_every_pair,{},,,,", secs(e_res));
+        let _ = writeln!(csv, "{bp},{n},base_pairs_cutoff,{},{},{},{},", d_res.as_secs_f64(), secs(d_jac), secs(d_eq), d_err.unwrap_or(f64::NAN));
+        let _ = writeln!(csv, "{bp},{n},base_pairs_all,{},,{},,", secs(a_res), secs(a_eq));
+        let lb = (bp as f64).log10();
+        series[0].1.push((lb, ms(c_res).log10()));
+        series[1].1.push((lb, ms(d_res).log10()));
+        if let Some(t) = a_res {
+            series[2].1.push((lb, ms(t).log10()));
         }
-        prev = Some((bp as f64, t_res.as_secs_f64()));
-        let _ = t_eq;
+        if let Some(t) = e_res {
+            series[3].1.push((lb, ms(t).log10()));
+        }
+        let (cr, ce) = (c_res.as_secs_f64(), secs(c_eq));
+        if let Some((pbp, pr, pe)) = prev {
+            let d = (bp as f64 / pbp).log2();
+            scaling.push(format!("{pbp:.0} → {bp} bp: continuum residual ×{:.2}, equilibrium ×{:.2} per doubling", (cr / pr).powf(1.0 / d), (ce / pe).powf(1.0 / d)));
+        }
+        prev = Some((bp as f64, cr, ce));
     }
-    let _ = writeln!(out, "{}", scaling.join("; ").replace(", equilibrium ×0.00 per doubling", " per doubling"));
+    let _ = writeln!(out, "{}", scaling.join("; "));
+    let _ = writeln!(out, "(the all-pairs discrete equilibrium is Newton on its residual with the cutoff model's Jacobian: the exact one is dense)");
     std::fs::write(dir.join("rod.csv"), &csv).unwrap();
+    let colours = [plotters::style::RGBColor(0, 90, 200), plotters::style::RGBColor(200, 60, 0), plotters::style::RGBColor(120, 120, 120), plotters::style::RGBColor(0, 150, 80)];
+    let plot: Vec<_> = series.into_iter().zip(colours).filter(|((_, v), _)| !v.is_empty()).map(|((name, v), c)| (name, v, c)).collect();
+    plot::line_plot(&dir.join("rod_residual.svg"), "time per residual (DNA rod, 0.1 M)", "log10 base pairs", "log10 ms", &plot).unwrap();
 }

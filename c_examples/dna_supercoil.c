@@ -10,8 +10,9 @@
  * partition (Tw + Wr = turns), the buckling point and the work, and writes
  *   - the path as CSV (turns, extension, torque, tension, twist, writhe, branch),
  *   - the shapes as VTK polydata (one polyline per written point) for ParaView.
- * Usage: c_dna_supercoil [salt M] [max steps] [csv path] [vtk path] [elements] [base pairs]
- * (defaults 0.1, 60, target/dna_supercoil.csv, target/dna_supercoil.vtk, 100, 1000).
+ * Usage: c_dna_supercoil [salt M] [max steps] [csv path] [vtk path] [elements] [base pairs] [model]
+ * (defaults 0.1, 60, target/dna_supercoil.csv, target/dna_supercoil.vtk, 100, 1000, continuum);
+ * model "discrete" uses the base-pair point charges (the thesis's comparison).
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,6 +34,7 @@ int main(int argc, char **argv) {
     const char *vtk_path = argc > 4 ? argv[4] : "target/dna_supercoil.vtk";
     spec.elements = argc > 5 ? atoll(argv[5]) : 100;
     if (argc > 6) spec.base_pairs = atoll(argv[6]);
+    if (argc > 7) spec.discrete_base_pairs = argv[7][0] == 'd';
 
     RodkitSupercoil *run = NULL;
     st = rodkit_dna_supercoil_run(&spec, &run);
@@ -53,6 +55,11 @@ int main(int argc, char **argv) {
            (long long)spec.base_pairs, spec.tension, spec.salt, 1.0 / info.kappa, spec.charge_per_length, spec.radius);
     printf("# %lld elements of Gauss(%lld); screening cutoff %.4g..%.4g nm (tolerance %.1e)\n", (long long)spec.elements,
            (long long)spec.stages, info.cutoff_on, info.cutoff_off, spec.cutoff_tolerance);
+    if (info.base_pair_charges > 0)
+        printf("# model: discrete base pairs, %lld point charges\n", (long long)info.base_pair_charges);
+    else
+        printf("# model: continuum line charge (near zone regularised)\n");
+    printf("base_pair_charges = %lld\n", (long long)info.base_pair_charges);
     printf("bjerrum_length_nm = %.15g\nline_charge_squared_pN = %.15g\n", info.bjerrum_length, info.line_charge_squared);
     printf("points = %lld\nstraight_points = %lld\n", (long long)info.points, (long long)info.straight_points);
     printf("buckling_turns = %.15g\nbuckling_torque_pN_nm = %.15g\n", info.buckling_turns, info.buckling_torque);

@@ -456,6 +456,7 @@ module rodkit
         real(c_double) :: max_turns
         integer(c_int64_t) :: max_steps
         real(c_double) :: residual_tol
+        integer(c_int32_t) :: discrete_base_pairs
     end type rodkit_dna_supercoil_spec
 
     ! RodkitSupercoilInfo (see rodkit.h).
@@ -480,6 +481,7 @@ module rodkit
         real(c_double) :: cutoff_on
         real(c_double) :: cutoff_off
         real(c_double) :: seconds
+        integer(c_int64_t) :: base_pair_charges
     end type rodkit_supercoil_info
 
     ! RodkitSupercoilPoint (see rodkit.h).

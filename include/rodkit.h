@@ -640,7 +640,7 @@ typedef struct RodkitBifurcation {
 // `rodkit_dna_supercoil_spec_default` first: 1 kbp, 1 pN, 0.1 M, ν = 1/l_B
 // (Manning), a = 1 nm, A = 50 nm, P = 95 nm, 298.15 K, ε_r = 78.4; 170
 // elements of Gauss(2); cutoff tolerance 1e-4; no hard core; 1 thread; to
-// 12 turns in at most 600 steps; scaled residual 1e-8.
+// 12 turns in at most 600 steps; scaled residual 1e-8; the continuum model.
 typedef struct RodkitDnaSupercoilSpec {
   int64_t base_pairs;
   // Rise per base pair (nm).
@@ -668,6 +668,10 @@ typedef struct RodkitDnaSupercoilSpec {
   double max_turns;
   int64_t max_steps;
   double residual_tol;
+  // 1: the discrete base-pair model (charges at `rise`, every pair
+  // farther apart along the rod than `radius`; the comparison of
+  // physics.md §3.3) instead of the continuum line charge (0).
+  int32_t discrete_base_pairs;
 } RodkitDnaSupercoilSpec;
 
 // What a run did.
@@ -701,6 +705,9 @@ typedef struct RodkitSupercoilInfo {
   double cutoff_on;
   double cutoff_off;
   double seconds;
+  // The model used: 0 the continuum line charge, else the number of
+  // point charges of the discrete base-pair model.
+  int64_t base_pair_charges;
 } RodkitSupercoilInfo;
 
 // One point of the path.

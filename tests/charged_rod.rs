@@ -2,6 +2,10 @@
 //! term in the rod's collocation residual (src/electrostatics/rod.rs) and
 //! the supercoiling branch driver (src/electrostatics/supercoil.rs).
 
+#[path = "support/charged.rs"]
+mod charged;
+
+use charged::coiled_state;
 use rodkit::continuation::{Options, Problem};
 use rodkit::continuation::newton::Start;
 use rodkit::electrostatics::rod::{ChargedRod, RodCharge};
@@ -10,50 +14,6 @@ use rodkit::electrostatics::{energy, EnergyQuadrature, HermiteCurve, LineCharge}
 use rodkit::electrostatics::supercoil::ChargedBranch;
 use rodkit::rod::kinematics::rotation;
 use rodkit::rod::model::Rod;
-
-/// A non-equilibrium state: stage and node positions on a tight coil
-/// (radius 3, rise 3.4 per turn: turns ~3.4 apart, inside the cutoff),
-/// quaternions, forces and moments pseudo-random.
-fn coiled_state(rod: &Rod, radius: f64, rise: f64) -> Vec<f64> {
-    let mut x = rod.straight_state();
-    let per_turn = (4.0 * std::f64::consts::PI * std::f64::consts::PI * radius * radius + rise * rise).sqrt();
-    let n = rod.unknowns();
-    let mut seed = 12345u64;
-    let mut rnd = || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
-    };
-    let block = 13 * (1 + rod.scheme.stages());
-    let h = rod.element_length();
-    let tab_c: Vec<f64> = match rod.scheme.stages() {
-        2 => vec![0.5 - 3f64.sqrt() / 6.0, 0.5 + 3f64.sqrt() / 6.0],
-        _ => unimplemented!(),
-    };
-    for k in 0..(n / 13) {
-        let off = 13 * k;
-        if off + 13 > n {
-            break;
-        }
-        let (e, j) = (off / block, (off % block) / 13);
-        let s = if j == 0 { e as f64 * h } else { (e as f64 + tab_c[j - 1]) * h };
-        let t = 2.0 * std::f64::consts::PI * s / per_turn;
-        x[off] = radius * t.cos();
-        x[off + 1] = radius * t.sin();
-        x[off + 2] = rise * s / per_turn;
-        let q: Vec<f64> = (0..4).map(|_| rnd() + if true { 0.0 } else { 1.0 }).collect();
-        let nq = q.iter().map(|v| v * v).sum::<f64>().sqrt();
-        for i in 0..4 {
-            x[off + 3 + i] = q[i] / nq;
-        }
-        for i in 7..13 {
-            x[off + i] = rnd();
-        }
-    }
-    if let Some(c) = rod.end_cosine() {
-        x[c] = 0.3;
-    }
-    x
-}
 
 fn small_scene() -> (Rod, RodCharge) {
     let scene = DnaScene { base_pairs: 200, salt: 0.01, ..Default::default() };
@@ -75,45 +35,8 @@ fn jacobian_matches_finite_differences() {
     let x = coiled_state(&rod, 3.0, 3.0);
     let mut p = ChargedRod::new(&rod, &charge, None, &x).unwrap();
     assert!(p.pairs() > 100, "pairs {}", p.pairs());
-    let n = p.dim();
     let phi = 7.3;
-    let pat = p.pattern().clone();
-    let mut jx = vec![0.0; pat.nnz()];
-    let mut jl = vec![0.0; n];
-    p.jacobian(&x, phi, &mut jx, &mut jl);
-    // Dense copy of J.
-    let mut dense = vec![0.0; n * n];
-    for col in 0..n {
-        for k in pat.col_ptr[col]..pat.col_ptr[col + 1] {
-            dense[pat.row_idx[k] * n + col] = jx[k];
-        }
-    }
-    let row_max: Vec<f64> = (0..n).map(|i| (0..n).map(|j| dense[i * n + j].abs()).fold(jl[i].abs(), f64::max)).collect();
-    let (us, _) = p.unknown_scales();
-    let (mut rp, mut rm) = (vec![0.0; n], vec![0.0; n]);
-    let mut worst = 0.0f64;
-    for col in 0..=n {
-        let eps = 1e-6 * if col < n { us[col] } else { 1.0 };
-        let mut xp = x.clone();
-        let mut xm = x.clone();
-        let (mut lp, mut lm) = (phi, phi);
-        if col < n {
-            xp[col] += eps;
-            xm[col] -= eps;
-        } else {
-            lp += eps;
-            lm -= eps;
-        }
-        p.residual(&xp, lp, &mut rp);
-        p.residual(&xm, lm, &mut rm);
-        for i in 0..n {
-            let fd = (rp[i] - rm[i]) / (2.0 * eps);
-            let an = if col < n { dense[i * n + col] } else { jl[i] };
-            let e = (fd - an).abs() / row_max[i].max(1e-300);
-            worst = worst.max(e);
-            assert!(e < 1e-6, "J[{i}][{col}]: analytic {an:e}, differences {fd:e}");
-        }
-    }
+    let worst = charged::jacobian_fd_error(&mut p, &x, phi);
     println!("worst relative Jacobian error {worst:e}");
 }
 

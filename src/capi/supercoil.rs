@@ -13,7 +13,7 @@ use crate::status::Status;
 /// `rodkit_dna_supercoil_spec_default` first: 1 kbp, 1 pN, 0.1 M, ν = 1/l_B
 /// (Manning), a = 1 nm, A = 50 nm, P = 95 nm, 298.15 K, ε_r = 78.4; 170
 /// elements of Gauss(2); cutoff tolerance 1e-4; no hard core; 1 thread; to
-/// 12 turns in at most 600 steps; scaled residual 1e-8.
+/// 12 turns in at most 600 steps; scaled residual 1e-8; the continuum model.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct DnaSupercoilSpec {
@@ -43,6 +43,10 @@ pub struct DnaSupercoilSpec {
     pub max_turns: f64,
     pub max_steps: i64,
     pub residual_tol: f64,
+    /// 1: the discrete base-pair model (charges at `rise`, every pair
+    /// farther apart along the rod than `radius`; the comparison of
+    /// physics.md §3.3) instead of the continuum line charge (0).
+    pub discrete_base_pairs: i32,
 }
 
 /// What a run did.
@@ -78,6 +82,9 @@ pub struct SupercoilInfo {
     pub cutoff_on: f64,
     pub cutoff_off: f64,
     pub seconds: f64,
+    /// The model used: 0 the continuum line charge, else the number of
+    /// point charges of the discrete base-pair model.
+    pub base_pair_charges: i64,
 }
 
 /// One point of the path.
@@ -127,6 +134,7 @@ pub unsafe extern "C" fn rodkit_dna_supercoil_spec_default(spec: *mut DnaSuperco
             max_turns: s.max_turns,
             max_steps: s.max_steps as i64,
             residual_tol: s.residual_tol,
+            discrete_base_pairs: 0,
         };
         Ok(Status::Ok)
     })
@@ -166,6 +174,11 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
         max_turns: s.max_turns,
         max_steps: s.max_steps as usize,
         residual_tol: s.residual_tol,
+        base_pairs: match s.discrete_base_pairs {
+            0 => false,
+            1 => true,
+            v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `discrete_base_pairs` must be 0 or 1 (got {v})"))),
+        },
     };
     Ok((scene, settings))
 }
@@ -229,6 +242,7 @@ pub unsafe extern "C" fn rodkit_supercoil_summary(run: *const Supercoil, info: *
             cutoff_on: f64::NAN,
             cutoff_off: f64::NAN,
             seconds: r.seconds,
+            base_pair_charges: r.charge.base_pairs.map_or(0, |b| ((r.rod.length / b).round() as i64).max(1)),
             ..Default::default()
         };
         if let Some((on, off)) = r.charge.cutoff(r.rod.length) {

@@ -50,6 +50,7 @@
 
 pub mod discrete;
 pub mod rod;
+mod rod_base_pairs;
 pub mod supercoil;
 pub mod special;
 pub mod writhe;

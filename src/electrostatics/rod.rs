@@ -42,6 +42,7 @@
 //! touch and cannot pass; neighbours on one strand are not pushed apart).
 
 use super::discrete::{screening_cutoff, CellList};
+use super::rod_base_pairs::BasePairSites;
 use super::special;
 use super::Screening;
 use crate::continuation::system::AssembledSystem;
@@ -77,6 +78,11 @@ pub struct RodCharge {
     /// Threads for the pair forces (1: none started). Results are bitwise
     /// identical for any count (each stage's sum in a fixed order).
     pub threads: usize,
+    /// The discrete base-pair model instead of the continuum (physics.md
+    /// §3.3): point charges λb at this spacing b (e.g. 0.34 nm), every pair
+    /// farther apart along the rod than a, with the same cutoff, skin and
+    /// cell lists ([`super::rod_base_pairs`]). Sequential; no hard core.
+    pub base_pairs: Option<f64>,
 }
 
 impl RodCharge {
@@ -84,7 +90,7 @@ impl RodCharge {
     /// hard core, 1 thread.
     pub fn new(line_charge: f64, screening: Screening) -> Self {
         let skin = if screening.kappa > 0.0 { (2.0 * screening.a).max(4.0 / screening.kappa) } else { 2.0 * screening.a };
-        RodCharge { line_charge, screening, near_elements: 2, cutoff_tolerance: Some(1e-6), skin, hard_core: None, threads: 1 }
+        RodCharge { line_charge, screening, near_elements: 2, cutoff_tolerance: Some(1e-6), skin, hard_core: None, threads: 1, base_pairs: None }
     }
 
     fn validate(&self) -> Result<()> {
@@ -105,6 +111,12 @@ impl RodCharge {
             error::positive("hard_core", k)?;
         }
         error::count_in_range("threads", self.threads as i64, 1, 256)?;
+        if let Some(b) = self.base_pairs {
+            error::positive("base_pairs", b)?;
+            if self.hard_core.is_some() {
+                return Err(Error::new(Status::ErrOutOfRange, "the base-pair model has no hard core (use the continuum model for a hard core)"));
+            }
+        }
         Ok(())
     }
 
@@ -176,6 +188,12 @@ pub struct ChargedRod {
     /// The caller's threads (threads > 1): a pool kept for the problem's
     /// life (a thread spawn per residual costs more than the work).
     pool: Option<rayon::ThreadPool>,
+    /// The discrete base-pair model (then `adj` lists, for each stage, every
+    /// stage of its element's partner elements, own element included, and
+    /// `full_pos` the positions of each block in the element's n-rows).
+    sites: Option<BasePairSites>,
+    full_pos: Vec<usize>,
+    weights: Vec<f64>,
     // Scratch (no allocation per evaluation).
     r: Vec<[f64; 3]>,
     p: Vec<[f64; 3]>,
@@ -215,7 +233,7 @@ impl ChargedRod {
                 let hi = (e + m + 1).min(ne) as f64 * h;
                 let (mut dk, mut c0) = (0.0, 0.0);
                 for side in [sj - lo, hi - sj] {
-                    if side > a {
+                    if side > a && charge.base_pairs.is_none() {
                         let j1 = special::j(1, a, side, kappa);
                         let j2 = special::j(2, a, side, kappa);
                         dk += l2 / 24.0 * (j1 + kappa * j2);
@@ -249,7 +267,14 @@ impl ChargedRod {
             (None, Some(_)) if l2 == 0.0 => Some(HARD_CORE_RANGE * a + charge.skin),
             _ => None,
         };
-        if any_pairs {
+        let stage_s: Vec<f64> = points.iter().map(|p| p.s).collect();
+        let sites = charge.base_pairs.filter(|_| l2 != 0.0).map(|b| BasePairSites::new(&stage_s, rod.length, b, a, &reference_r, list_radius));
+        if let Some(sites) = &sites {
+            for j in 0..points.len() {
+                adj.extend_from_slice(sites.partners(j));
+                adj_ptr.push(adj.len());
+            }
+        } else if any_pairs {
             match list_radius {
                 Some(radius) => {
                     let cells = CellList::new(&reference_r, radius);
@@ -310,7 +335,24 @@ impl ChargedRod {
         }
         let mut diag_pos = Vec::new();
         let mut adj_pos = Vec::with_capacity(adj.len());
-        if any_pairs {
+        let mut full_pos = Vec::new();
+        if sites.is_some() {
+            for (j, pt) in points.iter().enumerate() {
+                let rows = n_rows(pt.element);
+                for &row in &rows {
+                    for c in 0..7 {
+                        diag_pos.push(pattern.position(row, pt.offset + c).ok_or_else(|| internal("diagonal entry missing"))?);
+                    }
+                }
+                for &k in &adj[adj_ptr[j]..adj_ptr[j + 1]] {
+                    for &row in &rows {
+                        for c in 0..3 {
+                            full_pos.push(pattern.position(row, points[k].offset + c).ok_or_else(|| internal("site block entry missing"))?);
+                        }
+                    }
+                }
+            }
+        } else if any_pairs {
             for (j, pt) in points.iter().enumerate() {
                 let rows = n_rows(pt.element);
                 for &row in &rows {
@@ -337,6 +379,7 @@ impl ChargedRod {
         let twisted_phi = rod.twisted().then(|| rod.end_cosine().expect("twisted rods have c"));
         let np = points.len();
         let na = adj.len();
+        let weights = points.iter().map(|p| p.w).collect();
         Ok(ChargedRod {
             rod: rod.clone(),
             charge: charge.clone(),
@@ -363,6 +406,9 @@ impl ChargedRod {
             } else {
                 None
             },
+            weights,
+            sites,
+            full_pos,
             r: vec![[0.0; 3]; np],
             p: vec![[0.0; 3]; np],
             g: vec![[0.0; 9]; na],
@@ -407,6 +453,10 @@ impl ChargedRod {
     /// The largest distance a stage point of `x` has moved from the pair
     /// list's reference: the list is exact while it is below skin/2.
     pub fn displacement(&self, x: &[f64]) -> f64 {
+        if let Some(sites) = &self.sites {
+            let stages: Vec<[f64; 3]> = self.points.iter().map(|p| [x[p.offset], x[p.offset + 1], x[p.offset + 2]]).collect();
+            return sites.displacement(&stages);
+        }
         self.points.iter().zip(&self.reference).map(|(p, r0)| {
             let d = [x[p.offset] - r0[0], x[p.offset + 1] - r0[1], x[p.offset + 2] - r0[2]];
             (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
@@ -469,6 +519,15 @@ impl ChargedRod {
     /// blocks G_jk = ∂(−P'Δ/d)/∂r_k and their sums) at the positions in
     /// self.r, threads by chunks of stages.
     fn forces(&mut self, jacobian: bool) {
+        if let Some(mut sites) = self.sites.take() {
+            let (mut p, mut g) = (std::mem::take(&mut self.p), std::mem::take(&mut self.g));
+            let pair = |d: f64| self.pair(d, false);
+            sites.forces(&self.r, &self.weights, &pair, &mut p, jacobian.then_some(&mut g[..]));
+            self.p = p;
+            self.g = g;
+            self.sites = Some(sites);
+            return;
+        }
         let np = self.points.len();
         let threads = self.charge.threads.min(np.max(1));
         let mut p = std::mem::take(&mut self.p);
@@ -635,22 +694,16 @@ impl ChargedRod {
             let c2 = u1 * u1 + u2 * u2;
             near += pt.w * (self.near_constant[j] + 0.5 * dk * c2);
             elastic += pt.w * 0.5 * (kb * u1 * u1 + kb2 * u2 * u2 + c * u[2] * u[2]);
+            if self.sites.is_some() {
+                continue;
+            }
             for &k in &self.adj[self.adj_ptr[j]..self.adj_ptr[j + 1]] {
                 let rk = self.r[k];
                 let rj = self.r[j];
                 let d = ((rj[0] - rk[0]).powi(2) + (rj[1] - rk[1]).powi(2) + (rj[2] - rk[2]).powi(2)).sqrt();
                 let ww = 0.5 * pt.w * self.points[k].w;
                 if l2 != 0.0 {
-                    let s = match self.cutoff {
-                        None => 1.0,
-                        Some((on, _)) if d <= on => 1.0,
-                        Some((_, off)) if d >= off => 0.0,
-                        Some((on, off)) => {
-                            let t = (d - on) / (off - on);
-                            1.0 - t * t * t * (10.0 - 15.0 * t + 6.0 * t * t)
-                        }
-                    };
-                    far += ww * l2 * (-self.charge.screening.kappa * d).exp() / d * s;
+                    far += ww * self.potential(d);
                 }
                 if let (Some(khc), true) = (self.charge.hard_core, self.hard_pair(j, k)) {
                     let a2 = HARD_CORE_RANGE * self.charge.screening.a;
@@ -660,7 +713,31 @@ impl ChargedRod {
                 }
             }
         }
+        if let Some(mut sites) = self.sites.take() {
+            far = sites.energy(&self.r, &|d| self.potential(d));
+            self.sites = Some(sites);
+        }
         RodEnergy { near, far, hard_core: hard, elastic }
+    }
+
+    /// P(d) = λ²Φ(d)·S(d), the switched pair potential.
+    fn potential(&self, d: f64) -> f64 {
+        let s = match self.cutoff {
+            None => 1.0,
+            Some((on, _)) if d <= on => 1.0,
+            Some((_, off)) if d >= off => 0.0,
+            Some((on, off)) => {
+                let t = (d - on) / (off - on);
+                1.0 - t * t * t * (10.0 - 15.0 * t + 6.0 * t * t)
+            }
+        };
+        self.charge.line_charge * self.charge.line_charge * (-self.charge.screening.kappa * d).exp() / d * s
+    }
+
+    /// The base-pair model's (sites, spacing b used, directed site pairs),
+    /// None for the continuum.
+    pub fn base_pairs(&self) -> Option<(usize, f64, usize)> {
+        self.sites.as_ref().map(|s| (s.count(), s.spacing(), s.site_pairs()))
     }
 
     /// The far-zone force density at every stage point of `x` (spatial).
@@ -771,6 +848,22 @@ impl Problem for ChargedRod {
                         jx[self.diag_pos[at + 3 + i]] += coef * dq[c][i];
                     }
                 }
+            }
+            if self.sites.is_some() {
+                // Base pairs: every block has its own positions (partners include the own element).
+                let rows = 3 * (s + 1);
+                for a in self.adj_ptr[j]..self.adj_ptr[j + 1] {
+                    let block = rt_mul(&self.g[a]);
+                    for rb in 0..=s {
+                        let coef = self.coefficient(rb, pt.stage);
+                        for c in 0..3 {
+                            for col in 0..3 {
+                                jx[self.full_pos[(a * rows + rb * 3 + c) * 3 + col]] += coef * block[c][col];
+                            }
+                        }
+                    }
+                }
+                continue;
             }
             for a in self.adj_ptr[j]..self.adj_ptr[j + 1] {
                 let block = rt_mul(&self.g[a]);

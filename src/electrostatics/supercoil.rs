@@ -369,6 +369,10 @@ pub struct SupercoilSettings {
     pub max_turns: f64,
     pub max_steps: usize,
     pub residual_tol: f64,
+    /// The discrete base-pair model (charges at the scene's rise, the
+    /// thesis's comparison; [`RodCharge::base_pairs`]) instead of the
+    /// continuum line charge.
+    pub base_pairs: bool,
 }
 
 impl Default for SupercoilSettings {
@@ -379,7 +383,7 @@ impl Default for SupercoilSettings {
     /// step stays where it started: on 1 kbp at 0.1 M, 150 steps reach the
     /// fold at 3.46 turns, extension 172 nm, at 1e-8).
     fn default() -> Self {
-        SupercoilSettings { elements: 170, stages: 2, cutoff_tolerance: Some(1e-4), hard_core: None, threads: 1, max_turns: 12.0, max_steps: 600, residual_tol: 1e-8 }
+        SupercoilSettings { elements: 170, stages: 2, cutoff_tolerance: Some(1e-4), hard_core: None, threads: 1, max_turns: 12.0, max_steps: 600, residual_tol: 1e-8, base_pairs: false }
     }
 }
 
@@ -421,6 +425,7 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
     charge.cutoff_tolerance = settings.cutoff_tolerance;
     charge.hard_core = settings.hard_core;
     charge.threads = settings.threads;
+    charge.base_pairs = settings.base_pairs.then_some(scene.rise);
     error::positive("max_turns", settings.max_turns)?;
     error::count_in_range("max_steps", settings.max_steps as i64, 1, 1 << 24)?;
     error::positive("residual_tol", settings.residual_tol)?;

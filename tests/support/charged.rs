@@ -1,0 +1,96 @@
+//! Shared by the charged-rod tests: a non-equilibrium coiled state and the
+//! Jacobian-against-central-differences check.
+#![allow(dead_code)]
+
+use rodkit::continuation::Problem;
+use rodkit::rod::model::Rod;
+
+/// A non-equilibrium state: stage and node positions on a tight coil
+/// (radius 3, rise 3.4 per turn: turns ~3.4 apart, inside the cutoff),
+/// quaternions, forces and moments pseudo-random.
+pub fn coiled_state(rod: &Rod, radius: f64, rise: f64) -> Vec<f64> {
+    let mut x = rod.straight_state();
+    let per_turn = (4.0 * std::f64::consts::PI * std::f64::consts::PI * radius * radius + rise * rise).sqrt();
+    let n = rod.unknowns();
+    let mut seed = 12345u64;
+    let mut rnd = || {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+    };
+    let block = 13 * (1 + rod.scheme.stages());
+    let h = rod.element_length();
+    let tab_c: Vec<f64> = match rod.scheme.stages() {
+        2 => vec![0.5 - 3f64.sqrt() / 6.0, 0.5 + 3f64.sqrt() / 6.0],
+        _ => unimplemented!(),
+    };
+    for k in 0..(n / 13) {
+        let off = 13 * k;
+        if off + 13 > n {
+            break;
+        }
+        let (e, j) = (off / block, (off % block) / 13);
+        let s = if j == 0 { e as f64 * h } else { (e as f64 + tab_c[j - 1]) * h };
+        let t = 2.0 * std::f64::consts::PI * s / per_turn;
+        x[off] = radius * t.cos();
+        x[off + 1] = radius * t.sin();
+        x[off + 2] = rise * s / per_turn;
+        let q: Vec<f64> = (0..4).map(|_| rnd() + if true { 0.0 } else { 1.0 }).collect();
+        let nq = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+        for i in 0..4 {
+            x[off + 3 + i] = q[i] / nq;
+        }
+        for i in 7..13 {
+            x[off + i] = rnd();
+        }
+    }
+    if let Some(c) = rod.end_cosine() {
+        x[c] = 0.3;
+    }
+    x
+}
+
+/// The worst entry-wise error of the analytic Jacobian (x and the
+/// parameter column) against central differences of the residual (step
+/// 1e-6 of each unknown's scale), relative to the largest entry of its row;
+/// panics above 1e-6.
+pub fn jacobian_fd_error(p: &mut dyn Problem, x: &[f64], phi: f64) -> f64 {
+    let n = p.dim();
+    let pat = p.pattern().clone();
+    let mut jx = vec![0.0; pat.nnz()];
+    let mut jl = vec![0.0; n];
+    p.jacobian(x, phi, &mut jx, &mut jl);
+    // Dense copy of J.
+    let mut dense = vec![0.0; n * n];
+    for col in 0..n {
+        for k in pat.col_ptr[col]..pat.col_ptr[col + 1] {
+            dense[pat.row_idx[k] * n + col] = jx[k];
+        }
+    }
+    let row_max: Vec<f64> = (0..n).map(|i| (0..n).map(|j| dense[i * n + j].abs()).fold(jl[i].abs(), f64::max)).collect();
+    let (us, _) = p.unknown_scales();
+    let (mut rp, mut rm) = (vec![0.0; n], vec![0.0; n]);
+    let mut worst = 0.0f64;
+    for col in 0..=n {
+        let eps = 1e-6 * if col < n { us[col] } else { 1.0 };
+        let mut xp = x.to_vec();
+        let mut xm = x.to_vec();
+        let (mut lp, mut lm) = (phi, phi);
+        if col < n {
+            xp[col] += eps;
+            xm[col] -= eps;
+        } else {
+            lp += eps;
+            lm -= eps;
+        }
+        p.residual(&xp, lp, &mut rp);
+        p.residual(&xm, lm, &mut rm);
+        for i in 0..n {
+            let fd = (rp[i] - rm[i]) / (2.0 * eps);
+            let an = if col < n { dense[i * n + col] } else { jl[i] };
+            let e = (fd - an).abs() / row_max[i].max(1e-300);
+            worst = worst.max(e);
+            assert!(e < 1e-6, "J[{i}][{col}]: analytic {an:e}, differences {fd:e}");
+        }
+    }
+    worst
+}

@@ -45,8 +45,9 @@
 //! Twist and Lk = Tw + Wr of a rod state: `crate::rod::topology`.
 //!
 //! The coupling into a rod's equations: [`rod`] (the charged Kirchhoff
-//! rod as a continuation problem) and [`supercoil`] (branches, the DNA
-//! supercoiling scene).
+//! rod as a continuation problem; with `RodCharge::base_pairs` the
+//! discrete base-pair model on the same rod, `rod_base_pairs`) and
+//! [`supercoil`] (branches, the DNA supercoiling scene).
 
 pub mod discrete;
 pub mod rod;

@@ -19,9 +19,12 @@
 //! each with a cutoff meeting 1e-4 force error on a superhelix against its
 //! own every-pair reference: time per residual (continuum also with 2
 //! threads), per Jacobian and per equilibrium (a Newton corrector φ = 2 →
-//! 2.1), the all-pairs base-pair baseline (residual; equilibrium with the
-//! cutoff model's Jacobian) and the continuum's every-pair residual, as
-//! ratios; target/bench/charged/{rod.csv, rod_residual.svg}.
+//! 2.1) by the direct sparse Newton and by Newton–Krylov with the rod-band
+//! preconditioner (src/continuation/krylov.rs; cold and warm), the
+//! all-pairs base-pair baseline (residual; equilibria: direct with the
+//! cutoff model's Jacobian, Newton–Krylov on its own residual) and the
+//! continuum's every-pair residual, as ratios; target/bench/charged/
+//! {rod.csv, rod_residual.svg, rod_equilibrium.svg}.
 
 #[path = "support/plot.rs"]
 mod plot;
@@ -169,21 +172,26 @@ fn force_error(f: &[[f64; 3]], reference: &[[f64; 3]]) -> f64 {
 }
 
 fn rod_table(out: &mut String, dir: &std::path::Path) {
+    use rodkit::continuation::krylov::{newton_krylov, BandPreconditioner, KrylovOptions};
     use rodkit::continuation::newton::{continue_newton, Start};
     use rodkit::continuation::{Options, Problem};
-    use rodkit::electrostatics::rod::ChargedRod;
+    use rodkit::electrostatics::rod::{ChargedRod, RodCharge};
     use rodkit::electrostatics::supercoil::{follow, DnaScene};
     let _ = writeln!(out, "\ncoupled rod, continuum vs discrete base pairs (DNA scene: 0.1 M, ν = 1/l_B, 1 pN; h = 3.4 nm, Gauss(2); straight state at φ = 2)");
-    let _ = writeln!(out, "time per residual / Jacobian / equilibrium (Newton at φ = 2.1 from the continuum's equilibrium at φ = 2 — a continuation corrector — to a scaled residual of 1e-8, the DNA scene default), medians of 5 (equilibria 3);");
-    let _ = writeln!(out, "cutoffs with cell lists, continuum 3e-5 and base pairs 1e-4 (each meeting 1e-4 force error); force error on a superhelix (radius 3, pitch 40 nm) against the same model with every pair: max |p − p_ref| over the
-stage force densities, relative to max |p_ref| (base pairs) or to the continuum's whole electrostatic force density (its p is the far zone only)");
-    let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>9} {:>9} {:>9} {:>8} | {:>9} {:>9} {:>9} {:>8} | {:>9} {:>9} | {:>9} {:>9} {:>9} {:>9}",
-        "kbp", "n", "model:", "residual", "Jacobian", "equilib.", "f error", "bp res", "bp Jac", "bp equil", "f error", "bp-all r", "bp-all eq", "all/cont r", "all/con eq", "cut/con r", "cut/con eq");
-    let mut csv = String::from("bp,n,model,residual_s,jacobian_s,equilibrium_s,force_error,residual_2threads_s\n");
+    let _ = writeln!(out, "time per residual and Jacobian (medians of 5) and per equilibrium (medians of 3): Newton at φ = 2.1 from the continuum's equilibrium at φ = 2 (a continuation corrector) to a scaled residual of 1e-8, the DNA scene default,");
+    let _ = writeln!(out, "  direct = sparse Newton of the continuation engine (exact Jacobian, full LU, symbolic analysis included); NK = Newton–Krylov (GMRES, central-difference products, preconditioner: LU of the Jacobian's rod band, w = {} = one element's coupling), cold (symbolic analysis, Jacobian and band LU included) and warm (band LU kept from a previous solve, as along a continuation);", 51);
+    let _ = writeln!(out, "cutoffs with cell lists, continuum 3e-5 and base pairs 1e-4 (each meeting 1e-4 force error); force error on a superhelix (radius 3, pitch 40 nm) against the same model with every pair: max |p − p_ref| over the stage force densities, relative to max |p_ref| (base pairs) or to the continuum's whole electrostatic force density (its p is the far zone only)");
+    let _ = writeln!(out, "all-pairs base pairs: direct = Newton on its residual with the cutoff model's Jacobian (its exact one is dense); NK = its own residual's products, preconditioner from the cutoff model's Jacobian");
+    let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>10} {:>10} {:>11} {:>10} {:>10} {:>4} {:>8}", "kbp", "n", "model", "residual", "Jacobian", "eq direct", "eq NK", "NK warm", "GMRES", "f error");
+    let mut csv = String::from("bp,n,model,residual_s,jacobian_s,equilibrium_direct_s,equilibrium_nk_s,equilibrium_nk_warm_s,krylov_iterations,force_error,residual_2threads_s\n");
     let mut series: Vec<(&str, Vec<(f64, f64)>)> = vec![("continuum, cutoff", vec![]), ("base pairs, cutoff", vec![]), ("base pairs, all pairs", vec![]), ("continuum, every pair", vec![])];
+    let mut eq_series: Vec<(&str, Vec<(f64, f64)>)> = vec![("continuum, NK", vec![]), ("base pairs, NK", vec![]), ("base pairs all pairs, NK", vec![]), ("continuum, direct", vec![]), ("base pairs, direct", vec![])];
     let mut scaling = vec![];
-    let mut prev: Option<(f64, f64, f64)> = None;
+    let mut ratios = vec![];
+    let mut prev: Option<(f64, f64, f64, f64)> = None;
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    let eq_opts = Options { residual_tol: 1e-8, max_steps: 0, ..Default::default() };
+    let nk_opts = KrylovOptions { residual_tol: 1e-8, ..Default::default() };
     for bp in [1000usize, 3000, 10000] {
         let scene = DnaScene { base_pairs: bp, ..Default::default() };
         let rod = scene.rod(bp / 10, 2).unwrap();
@@ -199,21 +207,43 @@ stage force densities, relative to max |p_ref| (base pairs) or to the continuum'
         let b = follow(&rod, &charge, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, None, &opts, |_| true).unwrap();
         let x = b.states.last().unwrap().clone();
         let xs = superhelix_state(&rod);
-        let eq_opts = Options { residual_tol: 1e-8, max_steps: 0, ..Default::default() };
-        // Times (residual, Jacobian, equilibrium) and the force error of a model.
-        let measure = |model: &rodkit::electrostatics::rod::RodCharge, every: Option<&rodkit::electrostatics::rod::RodCharge>, jac: bool| {
+        // Newton–Krylov equilibria of `p` (preconditioner from `source` if
+        // given): cold (everything built in the timing) and warm.
+        let nk = |p: &mut dyn Problem, mut source: Option<&mut ChargedRod>, band: usize| {
+            // The preconditioner is built on its source's pattern.
+            let pattern = source.as_deref().map_or_else(|| p.pattern().clone(), |s| s.pattern().clone());
+            let (rep, cold) = time(3, || {
+                let mut pre = BandPreconditioner::new(&pattern, band).unwrap();
+                let mut y = x.clone();
+                newton_krylov(p, source.as_deref_mut().map(|s| s as &mut dyn Problem), &mut pre, &mut y, 2.1, &nk_opts).unwrap()
+            });
+            let mut pre = BandPreconditioner::new(&pattern, band).unwrap();
+            let mut y = x.clone();
+            newton_krylov(p, source.as_deref_mut().map(|s| s as &mut dyn Problem), &mut pre, &mut y, 2.1, &nk_opts).unwrap();
+            let (_, warm) = time(3, || {
+                let mut y = x.clone();
+                newton_krylov(p, source.as_deref_mut().map(|s| s as &mut dyn Problem), &mut pre, &mut y, 2.1, &nk_opts).unwrap()
+            });
+            (cold, warm, rep.linear_iterations)
+        };
+        // Times (residual, Jacobian, equilibria) and the force error of a model.
+        let measure = |model: &RodCharge, every: Option<&RodCharge>, full: bool| {
             let mut p = ChargedRod::new(&rod, model, None, &x).unwrap();
             let n = p.dim();
             let mut r = vec![0.0; n];
             let (_, t_res) = time(5, || p.residual(&x, 2.0, &mut r));
+            if !full {
+                return (n, t_res, None, None, None, None, p);
+            }
             let mut jx = vec![0.0; p.pattern().nnz()];
             let mut jl = vec![0.0; n];
-            let t_jac = jac.then(|| time(5, || p.jacobian(&x, 2.0, &mut jx, &mut jl)).1);
-            let start = x.clone();
-            let t_eq = jac.then(|| time(3, || {
-                let b = continue_newton(&mut p, Start::Point { x: start.clone(), lambda: 2.1, increasing: true }, &eq_opts, |_, _| vec![], |_| true).unwrap();
+            let t_jac = time(5, || p.jacobian(&x, 2.0, &mut jx, &mut jl)).1;
+            let t_eq = time(3, || {
+                let b = continue_newton(&mut p, Start::Point { x: x.clone(), lambda: 2.1, increasing: true }, &eq_opts, |_, _| vec![], |_| true).unwrap();
                 assert!(!b.records.is_empty(), "no equilibrium");
-            }).1);
+            }).1;
+            let band = p.local_band();
+            let t_nk = nk(&mut p, None, band);
             let f_err = every.map(|e| {
                 let mut ps = ChargedRod::new(&rod, model, None, &xs).unwrap();
                 let mut pe = ChargedRod::new(&rod, e, None, &xs).unwrap();
@@ -232,33 +262,32 @@ stage force densities, relative to max |p_ref| (base pairs) or to the continuum'
                     force_error(&fs, &fe) * far / total
                 }
             });
-            (n, t_res, t_jac, t_eq, f_err, p)
+            (n, t_res, Some(t_jac), Some(t_eq), Some(t_nk), f_err, p)
         };
         let small = bp <= 3000;
         let mut every = charge.clone();
         every.cutoff_tolerance = None;
         let mut every_bp = discrete.clone();
         every_bp.cutoff_tolerance = None;
-        let (n, c_res, c_jac, c_eq, c_err, _) = measure(&charge, small.then_some(&every), true);
+        let (n, c_res, c_jac, c_eq, c_nk, c_err, _) = measure(&charge, small.then_some(&every), true);
         let mut two = charge.clone();
         two.threads = 2;
         let (_, c_res2, ..) = measure(&two, None, false);
-        let (_, d_res, d_jac, d_eq, d_err, mut d_p) = measure(&discrete, small.then_some(&every_bp), true);
-        // All-pairs discrete: residual; equilibrium by Newton with the cutoff model's Jacobian.
-        let (a_res, a_eq) = if small {
+        let (_, d_res, d_jac, d_eq, d_nk, d_err, mut d_p) = measure(&discrete, small.then_some(&every_bp), true);
+        // All-pairs discrete (1 and 3 kbp).
+        let all = small.then(|| {
             let mut pa = ChargedRod::new(&rod, &every_bp, None, &x).unwrap();
             let mut r = vec![0.0; n];
             let (_, a_res) = time(3, || pa.residual(&x, 2.0, &mut r));
-            let start = x.clone();
             let mut tr = Truncated { full: &mut pa, cut: &mut d_p };
             let (_, a_eq) = time(3, || {
-                let b = continue_newton(&mut tr, Start::Point { x: start.clone(), lambda: 2.1, increasing: true }, &eq_opts, |_, _| vec![], |_| true).unwrap();
+                let b = continue_newton(&mut tr, Start::Point { x: x.clone(), lambda: 2.1, increasing: true }, &eq_opts, |_, _| vec![], |_| true).unwrap();
                 assert!(!b.records.is_empty(), "no all-pairs equilibrium");
             });
-            (Some(a_res), Some(a_eq))
-        } else {
-            (None, None)
-        };
+            let band = d_p.local_band();
+            let a_nk = nk(&mut pa, Some(&mut d_p), band);
+            (a_res, a_eq, a_nk)
+        });
         let e_res = small.then(|| {
             let mut pe = ChargedRod::new(&rod, &every, None, &x).unwrap();
             let mut r = vec![0.0; n];
@@ -266,40 +295,62 @@ stage force densities, relative to max |p_ref| (base pairs) or to the continuum'
         });
         let fmt_t = |t: Option<Duration>| t.map_or("-".to_string(), |t| format!("{:.2}ms", ms(t)));
         let fmt_e = |e: Option<f64>| e.map_or("-".to_string(), |e| format!("{e:.1e}"));
-        let ratio = |a: Option<Duration>, b: Option<Duration>| match (a, b) {
-            (Some(a), Some(b)) => format!("{:.1}", a.as_secs_f64() / b.as_secs_f64()),
-            _ => "-".into(),
+        let row = |out: &mut String, kbp: String, name: &str, res: Option<Duration>, jac: Option<Duration>, eq: Option<Duration>, nk: Option<(Duration, Duration, usize)>, err: Option<f64>| {
+            let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>10} {:>10} {:>11} {:>10} {:>10} {:>4} {:>8}", kbp, n, name, fmt_t(res), fmt_t(jac), fmt_t(eq), fmt_t(nk.map(|v| v.0)), fmt_t(nk.map(|v| v.1)),
+                nk.map_or("-".into(), |v| v.2.to_string()), fmt_e(err));
         };
-        let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>9} {:>9} {:>9} {:>8} | {:>9} {:>9} {:>9} {:>8} | {:>9} {:>9} | {:>9} {:>9} {:>9} {:>9}",
-            bp as f64 / 1000.0, n, "continuum / base pairs", fmt_t(Some(c_res)), fmt_t(c_jac), fmt_t(c_eq), fmt_e(c_err), fmt_t(Some(d_res)), fmt_t(d_jac), fmt_t(d_eq), fmt_e(d_err),
-            fmt_t(a_res), fmt_t(a_eq), ratio(a_res, Some(c_res)), ratio(a_eq, c_eq), ratio(Some(d_res), Some(c_res)), ratio(d_eq, c_eq));
-        let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>9} (2 threads){}", "", "", "continuum", fmt_t(Some(c_res2)),
-            e_res.map_or(String::new(), |t| format!("; every pair: residual {} ({}× the cutoff's)", fmt_t(Some(t)), ratio(Some(t), Some(c_res)))));
+        row(out, format!("{}", bp as f64 / 1000.0), "continuum, cutoff", Some(c_res), c_jac, c_eq, c_nk, c_err);
+        row(out, "".into(), "base pairs, cutoff", Some(d_res), d_jac, d_eq, d_nk, d_err);
+        if let Some((a_res, a_eq, a_nk)) = all {
+            row(out, "".into(), "base pairs, all pairs", Some(a_res), None, Some(a_eq), Some(a_nk), None);
+        }
+        let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>10} (2 threads){}", "", "", "continuum, cutoff", fmt_t(Some(c_res2)),
+            e_res.map_or(String::new(), |t| format!("; every pair: residual {} ({:.1}× the cutoff's)", fmt_t(Some(t)), t.as_secs_f64() / c_res.as_secs_f64())));
+        let r = |a: Duration, b: Duration| a.as_secs_f64() / b.as_secs_f64();
+        let (c_nk, d_nk) = (c_nk.unwrap(), d_nk.unwrap());
+        let mut line = format!("{:.0} kbp, faster than the cutoff base pairs: residual {:.1}×, equilibrium direct {:.1}×, NK {:.1}× (warm {:.1}×)",
+            bp as f64 / 1000.0, r(d_res, c_res), r(d_eq.unwrap(), c_eq.unwrap()), r(d_nk.0, c_nk.0), r(d_nk.1, c_nk.1));
+        if let Some((a_res, a_eq, a_nk)) = all {
+            let _ = write!(line, "; than all-pairs base pairs: residual {:.0}×, equilibrium direct {:.1}×, NK {:.0}×", r(a_res, c_res), r(a_eq, c_eq.unwrap()), r(a_nk.0, c_nk.0));
+        }
+        let _ = write!(line, "; continuum NK vs direct {:.1}× faster (warm {:.1}×)", r(c_eq.unwrap(), c_nk.0), r(c_eq.unwrap(), c_nk.1));
+        ratios.push(line);
         let secs = |t: Option<Duration>| t.map_or(f64::NAN, |t| t.as_secs_f64());
-        let _ = writeln!(csv, "{bp},{n},continuum_cutoff,{},{},{},{},{}", c_res.as_secs_f64(), secs(c_jac), secs(c_eq), c_err.unwrap_or(f64::NAN), c_res2.as_secs_f64());
-        let _ = writeln!(csv, "{bp},{n},continuum_every_pair,{},,,,", secs(e_res));
-        let _ = writeln!(csv, "{bp},{n},base_pairs_cutoff,{},{},{},{},", d_res.as_secs_f64(), secs(d_jac), secs(d_eq), d_err.unwrap_or(f64::NAN));
-        let _ = writeln!(csv, "{bp},{n},base_pairs_all,{},,{},,", secs(a_res), secs(a_eq));
+        let _ = writeln!(csv, "{bp},{n},continuum_cutoff,{},{},{},{},{},{},{},{}", c_res.as_secs_f64(), secs(c_jac), secs(c_eq), c_nk.0.as_secs_f64(), c_nk.1.as_secs_f64(), c_nk.2, c_err.unwrap_or(f64::NAN), c_res2.as_secs_f64());
+        let _ = writeln!(csv, "{bp},{n},continuum_every_pair,{},,,,,,,", secs(e_res));
+        let _ = writeln!(csv, "{bp},{n},base_pairs_cutoff,{},{},{},{},{},{},{},", d_res.as_secs_f64(), secs(d_jac), secs(d_eq), d_nk.0.as_secs_f64(), d_nk.1.as_secs_f64(), d_nk.2, d_err.unwrap_or(f64::NAN));
+        if let Some((a_res, a_eq, a_nk)) = all {
+            let _ = writeln!(csv, "{bp},{n},base_pairs_all,{},,{},{},{},{},,", a_res.as_secs_f64(), a_eq.as_secs_f64(), a_nk.0.as_secs_f64(), a_nk.1.as_secs_f64(), a_nk.2);
+        }
         let lb = (bp as f64).log10();
         series[0].1.push((lb, ms(c_res).log10()));
         series[1].1.push((lb, ms(d_res).log10()));
-        if let Some(t) = a_res {
-            series[2].1.push((lb, ms(t).log10()));
+        eq_series[0].1.push((lb, ms(c_nk.0).log10()));
+        eq_series[1].1.push((lb, ms(d_nk.0).log10()));
+        eq_series[3].1.push((lb, ms(c_eq.unwrap()).log10()));
+        eq_series[4].1.push((lb, ms(d_eq.unwrap()).log10()));
+        if let Some((a_res, _, a_nk)) = all {
+            series[2].1.push((lb, ms(a_res).log10()));
+            eq_series[2].1.push((lb, ms(a_nk.0).log10()));
         }
         if let Some(t) = e_res {
             series[3].1.push((lb, ms(t).log10()));
         }
-        let (cr, ce) = (c_res.as_secs_f64(), secs(c_eq));
-        if let Some((pbp, pr, pe)) = prev {
+        let (cr, ce, cn) = (c_res.as_secs_f64(), secs(c_eq), c_nk.0.as_secs_f64());
+        if let Some((pbp, pr, pe, pn)) = prev {
             let d = (bp as f64 / pbp).log2();
-            scaling.push(format!("{pbp:.0} → {bp} bp: continuum residual ×{:.2}, equilibrium ×{:.2} per doubling", (cr / pr).powf(1.0 / d), (ce / pe).powf(1.0 / d)));
+            scaling.push(format!("{pbp:.0} → {bp} bp: continuum residual ×{:.2}, equilibrium direct ×{:.2}, NK ×{:.2} per doubling", (cr / pr).powf(1.0 / d), (ce / pe).powf(1.0 / d), (cn / pn).powf(1.0 / d)));
         }
-        prev = Some((bp as f64, cr, ce));
+        prev = Some((bp as f64, cr, ce, cn));
+    }
+    for l in ratios {
+        let _ = writeln!(out, "{l}");
     }
     let _ = writeln!(out, "{}", scaling.join("; "));
-    let _ = writeln!(out, "(the all-pairs discrete equilibrium is Newton on its residual with the cutoff model's Jacobian: the exact one is dense)");
     std::fs::write(dir.join("rod.csv"), &csv).unwrap();
-    let colours = [plotters::style::RGBColor(0, 90, 200), plotters::style::RGBColor(200, 60, 0), plotters::style::RGBColor(120, 120, 120), plotters::style::RGBColor(0, 150, 80)];
+    let colours = [plotters::style::RGBColor(0, 90, 200), plotters::style::RGBColor(200, 60, 0), plotters::style::RGBColor(120, 120, 120), plotters::style::RGBColor(0, 150, 80), plotters::style::RGBColor(150, 0, 150)];
     let plot: Vec<_> = series.into_iter().zip(colours).filter(|((_, v), _)| !v.is_empty()).map(|((name, v), c)| (name, v, c)).collect();
     plot::line_plot(&dir.join("rod_residual.svg"), "time per residual (DNA rod, 0.1 M)", "log10 base pairs", "log10 ms", &plot).unwrap();
+    let plot: Vec<_> = eq_series.into_iter().zip(colours).filter(|((_, v), _)| !v.is_empty()).map(|((name, v), c)| (name, v, c)).collect();
+    plot::line_plot(&dir.join("rod_equilibrium.svg"), "time per equilibrium (DNA rod, 0.1 M)", "log10 base pairs", "log10 ms", &plot).unwrap();
 }

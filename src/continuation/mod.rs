@@ -11,7 +11,10 @@
 //!   P per step from one factorisation, with a Newton correction at each step
 //!   end when a residual tolerance is requested.
 //!
-//! Both work on the bordered tangent [[R_x, R_Λ], [vᵀW]] (sparse, pattern
+//! * [`krylov::newton_krylov`]: equilibria at fixed Λ by Jacobian-free
+//!   Newton–Krylov with a lagged banded-LU preconditioner.
+//!
+//! Both continuation engines work on the bordered tangent [[R_x, R_Λ], [vᵀW]] (sparse, pattern
 //! fixed, symbolic analysis once), measure arc length in the scaled inner
 //! product ⟨a, b⟩_W = (1/n)Σ a_i b_i / s_i² + a_Λ b_Λ / s_Λ² ([`Scaling`]), return
 //! the branch as [`Record`]s, stop at a target Λ, a step limit or a
@@ -20,6 +23,7 @@
 pub mod anm;
 pub mod bifurcation;
 pub mod bordered;
+pub mod krylov;
 pub mod newton;
 mod pade;
 pub mod system;

@@ -167,7 +167,7 @@ impl Rod {
         self.length / self.elements as f64
     }
 
-    fn block_size(&self) -> usize {
+    pub(crate) fn block_size(&self) -> usize {
         13 * (1 + self.scheme.stages())
     }
 

@@ -541,9 +541,9 @@ fn c_dna_supercoil_driver() {
     // The discrete base-pair model through the same driver: 300 point
     // charges, the Rust API's buckling point to 1e-12, and within 2e-3 of
     // the continuum's (the models differ by near-field terms).
-    let args_d = ["0.1", "4", csv.to_str().unwrap(), vtk.to_str().unwrap(), "40", "300", "discrete"];
+    let args_d = ["0.1", "10", csv.to_str().unwrap(), vtk.to_str().unwrap(), "40", "300", "discrete"];
     let got_d = values(&run("c_dna_supercoil_shared", &args_d));
-    let rd = run_scene(&scene, &SupercoilSettings { elements: 40, max_steps: 4, base_pairs: true, ..Default::default() }).unwrap();
+    let rd = run_scene(&scene, &SupercoilSettings { elements: 40, max_steps: 10, base_pairs: true, ..Default::default() }).unwrap();
     assert_eq!(got_d["base_pair_charges"], 300.0);
     assert!(rel(got_d["buckling_turns"], rd.buckling.unwrap().0 / two_pi) < 1e-12);
     assert!(rel(got_d["buckling_turns"], got["buckling_turns"]) < 2e-3, "discrete {} vs continuum {}", got_d["buckling_turns"], got["buckling_turns"]);

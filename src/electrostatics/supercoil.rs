@@ -437,10 +437,26 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
     // golden section on a double point costs ~4 factorisations per
     // reduction, and 1e-10 would take twice the reductions for digits the
     // curves do not show.
+    // The straight clamped rod buckles at a sequence of double points,
+    // M_n ≈ √(4K_bT + (2πnK_b/L)²) for the uncharged rod (the roots of the
+    // linearised clamped problem, K_b w'''' − iM w''' − T w'' = 0 with w =
+    // w' = 0 at both ends: 28.947, 29.686, 30.908 pN nm for the default
+    // scene, the formula 28.944, 29.683, 30.904), crowded just above
+    // Greenhill's 2√(K_bT): 0.1 turn apart at 1 kbp. A double point does
+    // not change the sign of the determinant; only a dip of σ_min shows it,
+    // and steps of 2 rad jumped over the first three (the scene reported
+    // the fourth, 4.50 turns instead of 4.01 uncharged). So: large steps up
+    // to 0.95 φ_1 of the uncharged rod (charge only stiffens the straight
+    // rod: φ_1 is a lower bound), then steps of a quarter of φ_2 − φ_1
+    // (in the scaled arc length, which is ≈ φ on the straight branch).
+    let tension = scene.tension.max(0.0);
+    let m_n = |n: f64| (4.0 * kb * tension + (2.0 * std::f64::consts::PI * n * kb / rod.length).powi(2)).sqrt();
+    let (phi_1, phi_2) = (m_n(1.0) * rod.length / c, m_n(2.0) * rod.length / c);
+    let fine_step = (0.25 * (phi_2 - phi_1)).clamp(1e-3, 2.0);
     let mut opts = Options { residual_tol: settings.residual_tol, initial_step: 0.5, max_step: 2.0, detect_bifurcations: true, bifurcation_tol: 1e-7, max_steps: settings.max_steps, ..Default::default() };
     opts.initial_step = 2.0;
     let mut straight: Option<ChargedBranch> = None;
-    let mut target = chunk;
+    let mut target = 0.95 * phi_1;
     while target <= 3.0 * phi_g + 0.5 * chunk {
         opts.target_lambda = Some(target);
         let b = match &straight {
@@ -465,6 +481,8 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
             break;
         }
         target += chunk;
+        opts.max_step = fine_step;
+        opts.initial_step = fine_step;
     }
     let straight = straight.expect("at least one chunk");
     let mut points = Vec::new();

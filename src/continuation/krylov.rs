@@ -385,6 +385,7 @@ pub fn newton_krylov<P: Problem + ?Sized>(
                 }
                 refresh(pre, &mut jacobian_source, problem, x, &mut report.counts)?;
                 refreshed = true;
+                report.linear_iterations += linear;
                 linear = 0;
             }
         }

@@ -212,18 +212,14 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
         let nk = |p: &mut dyn Problem, mut source: Option<&mut ChargedRod>, band: usize| {
             // The preconditioner is built on its source's pattern.
             let pattern = source.as_deref().map_or_else(|| p.pattern().clone(), |s| s.pattern().clone());
-            let (rep, cold) = time(3, || {
-                let mut pre = BandPreconditioner::new(&pattern, band).unwrap();
+            let mut solve = |pre: &mut BandPreconditioner| {
                 let mut y = x.clone();
-                newton_krylov(p, source.as_deref_mut().map(|s| s as &mut dyn Problem), &mut pre, &mut y, 2.1, &nk_opts).unwrap()
-            });
+                newton_krylov(p, source.as_deref_mut().map(|s| s as &mut dyn Problem), pre, &mut y, 2.1, &nk_opts).unwrap()
+            };
+            let (rep, cold) = time(3, || solve(&mut BandPreconditioner::new(&pattern, band).unwrap()));
             let mut pre = BandPreconditioner::new(&pattern, band).unwrap();
-            let mut y = x.clone();
-            newton_krylov(p, source.as_deref_mut().map(|s| s as &mut dyn Problem), &mut pre, &mut y, 2.1, &nk_opts).unwrap();
-            let (_, warm) = time(3, || {
-                let mut y = x.clone();
-                newton_krylov(p, source.as_deref_mut().map(|s| s as &mut dyn Problem), &mut pre, &mut y, 2.1, &nk_opts).unwrap()
-            });
+            solve(&mut pre);
+            let (_, warm) = time(3, || solve(&mut pre));
             (cold, warm, rep.linear_iterations)
         };
         // Times (residual, Jacobian, equilibria) and the force error of a model.

@@ -12,7 +12,6 @@ use rodkit::electrostatics::rod::{ChargedRod, RodCharge};
 use rodkit::electrostatics::supercoil::{self, ChargedBranch, DnaScene};
 use rodkit::electrostatics::Screening;
 use rodkit::rod::model::{Rod, Supports};
-use rodkit::rod::scheme::Scheme;
 use rodkit::rod::{Loads, RodLaw};
 
 fn straight(rod: &Rod, charge: &RodCharge, to: f64) -> ChargedBranch {

@@ -330,43 +330,20 @@ fn strand_crossing_stops_the_branch_and_a_hard_core_prevents_it() {
 /// bisected, are the double buckling points (Greenhill's problem with
 /// clamped ends; independent of the rod solver).
 fn clamped_buckling_torques(k: f64, t: f64, l: f64, count: usize) -> Vec<f64> {
-    type C = (f64, f64);
-    let mul = |a: C, b: C| (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0);
-    let add = |a: C, b: C| (a.0 + b.0, a.1 + b.1);
-    let neg = |a: C| (-a.0, -a.1);
-    let expi = |x: f64| (x.cos(), x.sin());
-    let det3 = |m: [[C; 3]; 3]| {
-        let t0 = mul(m[0][0], add(mul(m[1][1], m[2][2]), neg(mul(m[1][2], m[2][1]))));
-        let t1 = mul(m[0][1], add(mul(m[1][0], m[2][2]), neg(mul(m[1][2], m[2][0]))));
-        let t2 = mul(m[0][2], add(mul(m[1][0], m[2][1]), neg(mul(m[1][1], m[2][0]))));
-        add(add(t0, neg(t1)), t2)
-    };
+    use nalgebra::{Complex, Matrix4};
     let f = |m: f64| {
         let d = (m * m - 4.0 * k * t).sqrt();
         let (kp, km) = ((m + d) / (2.0 * k), (m - d) / (2.0 * k));
-        let (ep, em) = (expi(kp * l), expi(km * l));
-        let a: [[C; 4]; 4] = [
-            [(1.0, 0.0), (0.0, 0.0), (1.0, 0.0), (1.0, 0.0)],
-            [(0.0, 0.0), (1.0, 0.0), (0.0, kp), (0.0, km)],
-            [(1.0, 0.0), (l, 0.0), ep, em],
-            [(0.0, 0.0), (1.0, 0.0), mul((0.0, kp), ep), mul((0.0, km), em)],
-        ];
-        let mut det = (0.0, 0.0);
-        for j in 0..4 {
-            let mut minor = [[(0.0, 0.0); 3]; 3];
-            for i in 1..4 {
-                let mut c = 0;
-                for kk in 0..4 {
-                    if kk != j {
-                        minor[i - 1][c] = a[i][kk];
-                        c += 1;
-                    }
-                }
-            }
-            let term = mul(a[0][j], det3(minor));
-            det = if j % 2 == 0 { add(det, term) } else { add(det, neg(term)) };
-        }
-        mul(det, expi(-0.5 * (kp + km) * l)).1
+        let (i, one, zero) = (Complex::new(0.0, 1.0), Complex::new(1.0, 0.0), Complex::new(0.0, 0.0));
+        let (ep, em) = ((i * kp * l).exp(), (i * km * l).exp());
+        #[rustfmt::skip]
+        let a = Matrix4::new(
+            one, zero, one, one,
+            zero, one, i * kp, i * km,
+            one, Complex::new(l, 0.0), ep, em,
+            zero, one, i * kp * ep, i * km * em,
+        );
+        (a.determinant() * (-i * 0.5 * (kp + km) * l).exp()).im
     };
     let m0 = 2.0 * (k * t).sqrt();
     let mut roots = vec![];

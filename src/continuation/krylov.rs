@@ -23,7 +23,8 @@
 //! (unknown scales), F̃ = R / d (equation scales); convergence is the same
 //! test, max |F̃_i| ≤ tol. Buffers are allocated once per solve.
 
-use super::{Counts, Problem};
+use super::newton::residual_norm;
+use super::{Counts, Problem, Scaling};
 use crate::error::{Error, Result};
 use crate::sparse::{Pattern, SparseLu};
 use crate::status::Status;
@@ -125,10 +126,6 @@ impl BandPreconditioner {
         self.lu.fill()
     }
 
-    pub fn is_factorised(&self) -> bool {
-        self.factorised
-    }
-
     /// Evaluate `source`'s Jacobian at (x, Λ) (its pattern must be the one
     /// given to [`BandPreconditioner::new`]) and factorise its band.
     pub fn refresh<Q: Problem + ?Sized>(&mut self, source: &mut Q, x: &[f64], lambda: f64, counts: &mut Counts) -> Result<()> {
@@ -161,10 +158,6 @@ fn norm2(v: &[f64]) -> f64 {
     v.iter().map(|a| a * a).sum::<f64>().sqrt()
 }
 
-fn scaled_max(r: &[f64], d: &[f64]) -> f64 {
-    super::newton::residual_norm(r, d)
-}
-
 /// Solve R(x, Λ) = 0 at fixed Λ from `x` (overwritten with the solution)
 /// by Newton–Krylov with the lagged band preconditioner `pre`; its
 /// Jacobians come from `jacobian_source` (None: the problem itself; for a
@@ -187,7 +180,9 @@ pub fn newton_krylov<P: Problem + ?Sized>(
     crate::error::positive("Newton–Krylov residual tolerance", opts.residual_tol)?;
     crate::error::count_in_range("GMRES restart length", opts.restart as i64, 1, 10_000)?;
     let d = problem.equation_scales();
-    let s = problem.unknown_scales().0;
+    // rms of x̃ = x / s (Λ does not vary here).
+    let scaling = Scaling::of(problem);
+    let rms = |v: &[f64]| scaling.norm(v, 0.0);
     let m = opts.restart;
     let mut report = KrylovReport::default();
     let refresh = |pre: &mut BandPreconditioner, src: &mut Option<&mut dyn Problem>, problem: &mut P, x: &[f64], counts: &mut Counts| match src {
@@ -214,7 +209,7 @@ pub fn newton_krylov<P: Problem + ?Sized>(
     let mut previous_fnorm = f64::NAN;
     let mut eta = opts.eta_max;
     for it in 0..=opts.max_newton {
-        let res = scaled_max(&r, &d);
+        let res = residual_norm(&r, &d);
         report.residual = res;
         if !res.is_finite() {
             return Err(Error::new(Status::ErrNonFiniteResult, format!("Newton–Krylov: non-finite residual at iteration {it}")));
@@ -236,7 +231,7 @@ pub fn newton_krylov<P: Problem + ?Sized>(
         }
         eta = eta.max(0.25 * opts.residual_tol / fnorm).min(opts.eta_max);
         // GMRES(m) on J̃ M̃⁻¹ y = −F̃ (x̃ = x / s), the step x̃ ← M̃⁻¹ y.
-        let xnorm = (x.iter().zip(&s).map(|(a, b)| (a / b).powi(2)).sum::<f64>() / n as f64).sqrt().max(1.0);
+        let xnorm = rms(x).max(1.0);
         // J̃-products along an unscaled direction v, into `out` (scaled):
         // differences of R with a perturbation of rms opts.perturbation·
         // max(1, rms x̃) in the scaled unknowns.
@@ -245,7 +240,7 @@ pub fn newton_krylov<P: Problem + ?Sized>(
         let xs: &[f64] = x;
         let rs: &[f64] = &r;
         let product = |problem: &mut P, v: &[f64], out: &mut [f64], trial: &mut [f64], rp: &mut [f64], counts: &mut Counts| {
-            let vnorm = (v.iter().zip(&s).map(|(a, b)| (a / b).powi(2)).sum::<f64>() / n as f64).sqrt();
+            let vnorm = rms(v);
             if vnorm == 0.0 || !vnorm.is_finite() {
                 out.fill(0.0);
                 return;

@@ -433,10 +433,6 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
     let c = rod.law.stiffness[(2, 2)];
     let phi_g = 2.0 * (kb * scene.tension.max(kb / (rod.length * rod.length))).sqrt() * rod.length / c;
     let chunk = 0.25 * phi_g;
-    // The buckling point to 1e-7 in scaled arc length (φ to ~1e-7 rad):
-    // golden section on a double point costs ~4 factorisations per
-    // reduction, and 1e-10 would take twice the reductions for digits the
-    // curves do not show.
     // The straight clamped rod buckles at a sequence of double points,
     // M_n ≈ √(4K_bT + (2πnK_b/L)²) for the uncharged rod (the roots of the
     // linearised clamped problem, K_b w'''' − iM w''' − T w'' = 0 with w =
@@ -453,8 +449,11 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
     let m_n = |n: f64| (4.0 * kb * tension + (2.0 * std::f64::consts::PI * n * kb / rod.length).powi(2)).sqrt();
     let (phi_1, phi_2) = (m_n(1.0) * rod.length / c, m_n(2.0) * rod.length / c);
     let fine_step = (0.25 * (phi_2 - phi_1)).clamp(1e-3, 2.0);
-    let mut opts = Options { residual_tol: settings.residual_tol, initial_step: 0.5, max_step: 2.0, detect_bifurcations: true, bifurcation_tol: 1e-7, max_steps: settings.max_steps, ..Default::default() };
-    opts.initial_step = 2.0;
+    // The buckling point to 1e-7 in scaled arc length (φ to ~1e-7 rad):
+    // golden section on a double point costs ~4 factorisations per
+    // reduction, and 1e-10 would take twice the reductions for digits the
+    // curves do not show.
+    let mut opts = Options { residual_tol: settings.residual_tol, initial_step: 2.0, max_step: 2.0, detect_bifurcations: true, bifurcation_tol: 1e-7, max_steps: settings.max_steps, ..Default::default() };
     let mut straight: Option<ChargedBranch> = None;
     let mut target = 0.95 * phi_1;
     while target <= 3.0 * phi_g + 0.5 * chunk {

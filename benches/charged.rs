@@ -178,8 +178,8 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
     use rodkit::electrostatics::rod::{ChargedRod, RodCharge};
     use rodkit::electrostatics::supercoil::{follow, DnaScene};
     let _ = writeln!(out, "\ncoupled rod, continuum vs discrete base pairs (DNA scene: 0.1 M, ν = 1/l_B, 1 pN; h = 3.4 nm, Gauss(2); straight state at φ = 2)");
-    let _ = writeln!(out, "time per residual and Jacobian (medians of 5) and per equilibrium (medians of 3): Newton at φ = 2.1 from the continuum's equilibrium at φ = 2 (a continuation corrector) to a scaled residual of 1e-8, the DNA scene default,");
-    let _ = writeln!(out, "  direct = sparse Newton of the continuation engine (exact Jacobian, full LU, symbolic analysis included); NK = Newton–Krylov (GMRES, central-difference products, preconditioner: LU of the Jacobian's rod band, w = {} = one element's coupling), cold (symbolic analysis, Jacobian and band LU included) and warm (band LU kept from a previous solve, as along a continuation);", 51);
+    let _ = writeln!(out, "time per residual and Jacobian (medians of 5) and per equilibrium (medians of 3 direct, 5 NK, 3 NK all pairs): Newton at φ = 2.1 from the continuum's equilibrium at φ = 2 (a continuation corrector) to a scaled residual of 1e-8, the DNA scene default,");
+    let _ = writeln!(out, "  direct = sparse Newton of the continuation engine (exact Jacobian, full LU, symbolic analysis included); NK = Newton–Krylov (GMRES, central-difference products, preconditioner: LU of the Jacobian band |i − j| ≤ w, w = {} = one element's coupling for the continuum, twice that for base pairs, refreshed after > 10 GMRES iterations), cold (symbolic analysis, Jacobian and band LU included) and warm (band LU kept from a previous solve, as along a continuation);", 51);
     let _ = writeln!(out, "cutoffs with cell lists, continuum 3e-5 and base pairs 1e-4 (each meeting 1e-4 force error); force error on a superhelix (radius 3, pitch 40 nm) against the same model with every pair: max |p − p_ref| over the stage force densities, relative to max |p_ref| (base pairs) or to the continuum's whole electrostatic force density (its p is the far zone only)");
     let _ = writeln!(out, "all-pairs base pairs: direct = Newton on its residual with the cutoff model's Jacobian (its exact one is dense); NK = its own residual's products, preconditioner from the cutoff model's Jacobian");
     let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>10} {:>10} {:>11} {:>10} {:>10} {:>4} {:>8}", "kbp", "n", "model", "residual", "Jacobian", "eq direct", "eq NK", "NK warm", "GMRES", "f error");
@@ -189,6 +189,7 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
     let mut scaling = vec![];
     let mut ratios = vec![];
     let mut prev: Option<(f64, f64, f64, f64)> = None;
+    let mut fit_points: Vec<(f64, [f64; 3])> = vec![];
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
     let eq_opts = Options { residual_tol: 1e-8, max_steps: 0, ..Default::default() };
     let nk_opts = KrylovOptions { residual_tol: 1e-8, ..Default::default() };
@@ -212,14 +213,16 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
         let nk = |p: &mut dyn Problem, mut source: Option<&mut ChargedRod>, band: usize| {
             // The preconditioner is built on its source's pattern.
             let pattern = source.as_deref().map_or_else(|| p.pattern().clone(), |s| s.pattern().clone());
+            // Medians of 5 (3 for the all-pairs rod, seconds per solve).
+            let reps = if source.is_some() { 3 } else { 5 };
             let mut solve = |pre: &mut BandPreconditioner| {
                 let mut y = x.clone();
                 newton_krylov(p, source.as_deref_mut().map(|s| s as &mut dyn Problem), pre, &mut y, 2.1, &nk_opts).unwrap()
             };
-            let (rep, cold) = time(3, || solve(&mut BandPreconditioner::new(&pattern, band).unwrap()));
+            let (rep, cold) = time(reps, || solve(&mut BandPreconditioner::new(&pattern, band).unwrap()));
             let mut pre = BandPreconditioner::new(&pattern, band).unwrap();
             solve(&mut pre);
-            let (_, warm) = time(3, || solve(&mut pre));
+            let (_, warm) = time(reps, || solve(&mut pre));
             (cold, warm, rep.linear_iterations)
         };
         // Times (residual, Jacobian, equilibria) and the force error of a model.
@@ -338,6 +341,22 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
             scaling.push(format!("{pbp:.0} → {bp} bp: continuum residual ×{:.2}, equilibrium direct ×{:.2}, NK ×{:.2} per doubling", (cr / pr).powf(1.0 / d), (ce / pe).powf(1.0 / d), (cn / pn).powf(1.0 / d)));
         }
         prev = Some((bp as f64, cr, ce, cn));
+        fit_points.push((bp as f64, [cr, ce, cn]));
+    }
+    // Least-squares slope of log t against log L over all lengths: the
+    // per-doubling factor of the whole range, less sensitive than one
+    // segment to a single extra Newton iteration or a noisy run.
+    let slope = |k: usize| {
+        let pts: Vec<(f64, f64)> = fit_points.iter().map(|(l, t)| (l.log2(), t[k].log2())).collect();
+        let m = pts.len() as f64;
+        let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / m, pts.iter().map(|p| p.1).sum::<f64>() / m);
+        let num: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+        let den: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+        2f64.powf(num / den)
+    };
+    if fit_points.len() > 2 {
+        scaling.push(format!("least squares over {:.0}–{:.0} bp: continuum residual ×{:.2}, equilibrium direct ×{:.2}, NK ×{:.2} per doubling",
+            fit_points[0].0, fit_points.last().unwrap().0, slope(0), slope(1), slope(2)));
     }
     for l in ratios {
         let _ = writeln!(out, "{l}");

@@ -2,7 +2,8 @@
 //! of issue 5 (1 kbp, 1 pN, ν = 1/l_B, a = 1 nm) at 0.1 M and 0.01 M salt,
 //! continued in the end rotation from the straight rod through its first
 //! buckling point along the buckled branch (100 elements of Gauss(2),
-//! cutoff 1e-4; steps from RODKIT_SUPERCOIL_STEPS, default 120). Writes
+//! cutoff 1e-4; steps from RODKIT_SUPERCOIL_STEPS, default 120; salts
+//! from RODKIT_SUPERCOIL_SALTS, e.g. "0.1", default both). Writes
 //! target/bench/supercoil/{path_<salt>M.csv, extension.svg, torque.svg,
 //! twist_writhe.svg, report.txt}: the curves users compare with
 //! magnetic-tweezers experiments (extension and torque vs turns) and the
@@ -22,7 +23,11 @@ fn main() {
     let steps: usize = std::env::var("RODKIT_SUPERCOIL_STEPS").ok().and_then(|v| v.parse().ok()).unwrap_or(120);
     let mut report = String::new();
     let (mut ext, mut tor, mut tw) = (vec![], vec![], vec![]);
+    let salts: Vec<f64> = std::env::var("RODKIT_SUPERCOIL_SALTS").ok().map_or(vec![0.1, 0.01], |v| v.split(',').filter_map(|s| s.trim().parse().ok()).collect());
     for (salt, color, light) in [(0.1, BLUE, RGBColor(120, 160, 255)), (0.01, RED, RGBColor(255, 140, 120))] {
+        if !salts.contains(&salt) {
+            continue;
+        }
         let scene = DnaScene { salt, ..Default::default() };
         let settings = SupercoilSettings { elements: 100, max_steps: steps, ..Default::default() };
         let r = run_scene(&scene, &settings).unwrap();

@@ -66,27 +66,32 @@ pub fn writhe(curve: &dyn Centerline, order: usize) -> Result<f64> {
     let closed = curve.closed();
     let outer = graded_panels(0.0, l, &nodes, (!closed, !closed), finest);
     let mut total = 0.0;
-    // Curve–curve: for each s, t over the rest of the curve (periodic
-    // when closed), panels broken at t = s (graded there) and at the nodes.
+    // Node breaks for the inner panels (shifted by a period when closed).
+    let shifted: Vec<f64> = nodes.iter().flat_map(|&b| [b, b + l]).collect();
+    // Curve–curve: the integrand is symmetric, K(s, t) = K(t, s), so for
+    // each s only t on one side is integrated and the result doubled:
+    // t ∈ (s, L) when open, t ∈ (s, s + L/2) when closed (periodic: the
+    // pair (s, s + u), u > L/2, is the pair (t, t + L − u)). Panels break
+    // at t = s (graded there) and at the nodes. Half the kernel
+    // evaluations of integrating over every t (the writhe is evaluated at
+    // every point of a supercoiling path).
     for &(s0, s1) in &outer {
         let hs = 0.5 * (s1 - s0);
         for (xi, wi) in gx.iter().zip(&gw) {
             let s = s0 + hs * (1.0 + xi);
             let (p, tp, _) = curve.eval(s);
             let mut inner = 0.0;
-            let ranges: Vec<(f64, f64, bool, bool)> = if closed { vec![(s, s + l, true, true)] } else { vec![(0.0, s, !false, true), (s, l, true, true)] };
-            for (t0, t1, g0, g1) in ranges {
-                let shifted: Vec<f64> = nodes.iter().flat_map(|&b| [b, b + l]).collect();
-                for (p0, p1) in graded_panels(t0, t1, &shifted, (g0, g1), finest) {
-                    let ht = 0.5 * (p1 - p0);
-                    for (xj, wj) in gx.iter().zip(&gw) {
-                        let t = p0 + ht * (1.0 + xj);
-                        let tt = if closed { t.rem_euclid(l) } else { t };
-                        let (q, tq, _) = curve.eval(tt);
-                        inner += ht * wj * kernel(p, tp, q, tq);
-                    }
+            let (t0, t1, g1) = if closed { (s, s + 0.5 * l, false) } else { (s, l, true) };
+            for (p0, p1) in graded_panels(t0, t1, &shifted, (true, g1), finest) {
+                let ht = 0.5 * (p1 - p0);
+                for (xj, wj) in gx.iter().zip(&gw) {
+                    let t = p0 + ht * (1.0 + xj);
+                    let tt = if closed { t.rem_euclid(l) } else { t };
+                    let (q, tq, _) = curve.eval(tt);
+                    inner += ht * wj * kernel(p, tp, q, tq);
                 }
             }
+            inner *= 2.0;
             // Curve–rays (both orders of each pair: twice).
             if !closed {
                 inner += 2.0 * ray_integral(p, tp, &curve.eval(0.0), -1.0, l, &gx, &gw);

@@ -69,6 +69,48 @@ fn force_is_minus_the_energy_gradient() {
     println!("base pairs: force vs −gradient worst {worst:e}");
 }
 
+/// The hard core between base-pair charges (b² k_hc (2.5a − d)³ per pair
+/// of sites farther apart along the rod than 1.25πa; a = 1.6 nm so that the
+/// coiled state's strands are inside 2.5a): the Jacobian equals central
+/// differences of the residual (1e-6 of the row scale, as above), and the
+/// stage forces are −∂(E_far + E_hard)/∂r (1e-6), the hard core active.
+#[test]
+fn hard_core_between_charges_is_consistent() {
+    let (rod, mut charge) = small_scene();
+    charge.screening.a = 1.6;
+    charge.hard_core = Some(50.0);
+    let x = coiled_state(&rod, 3.0, 3.0);
+    let mut p = ChargedRod::new(&rod, &charge, None, &x).unwrap();
+    let e = p.energy(&x);
+    let mut soft = charge.clone();
+    soft.hard_core = None;
+    let e_soft = ChargedRod::new(&rod, &soft, None, &x).unwrap().energy(&x);
+    println!("hard-core energy {:e}, far {:e} (without: {:e})", e.hard_core, e.far, e_soft.far);
+    assert!(e.hard_core > 1e-3 * e.far.abs(), "the hard core is not active: {e:?}");
+    assert_eq!(e_soft.hard_core, 0.0);
+    // The electrostatic part is the model's without the hard core (the
+    // list is wider, the pairs within the cutoff the same): 1e-12.
+    assert!((e.far - e_soft.far).abs() < 1e-12 * e.far.abs(), "{} vs {}", e.far, e_soft.far);
+    let worst = charged::jacobian_fd_error(&mut p, &x, 7.3);
+    println!("base pairs + hard core: worst relative Jacobian error {worst:e}");
+    assert!(worst < 1e-6);
+    let f = p.force_densities(&x);
+    let pts = p.stage_points();
+    let offsets: Vec<usize> = (0..rod.elements).flat_map(|e| [rod.node(e) + 13, rod.node(e) + 26]).collect();
+    for (j, &o) in offsets.iter().enumerate() {
+        for c in 0..3 {
+            let eps = 1e-5;
+            let (mut xp, mut xm) = (x.clone(), x.clone());
+            xp[o + c] += eps;
+            xm[o + c] -= eps;
+            let (ep, em) = (p.energy(&xp), p.energy(&xm));
+            let grad = ((ep.far + ep.hard_core) - (em.far + em.hard_core)) / (2.0 * eps);
+            let scale = f.iter().zip(&pts).map(|(v, w)| (v[c] * w.1).abs()).fold(0.0, f64::max);
+            assert!((pts[j].1 * f[j][c] + grad).abs() < 1e-6 * scale, "stage {j}, component {c}: w p = {:e}, −∂E = {:e}", pts[j].1 * f[j][c], -grad);
+        }
+    }
+}
+
 /// On a straight rod the interpolation is exact, so the coupled model's
 /// energy is the discrete module's own sum over charges λb at (0, 0, s_k)
 /// (electrostatics::discrete::energy, independent code) to 1e-12; with the

@@ -60,8 +60,10 @@ pub(super) struct BasePairSites {
     blocks: Vec<[f64; 9]>,
 }
 
-/// P'(d), P''(d) of the (switched) pair potential, from the charged rod.
-pub(super) type PairFn<'a> = &'a dyn Fn(f64) -> (f64, f64);
+/// P'(d), P''(d) of the (switched) pair potential at distance d between
+/// sites `gap` apart along the rod (the hard core acts only between
+/// sites far apart along it), from the charged rod.
+pub(super) type PairFn<'a> = &'a dyn Fn(f64, f64) -> (f64, f64);
 
 fn sorted_union(lists: impl Iterator<Item = usize>) -> Vec<usize> {
     let mut v: Vec<usize> = lists.collect();
@@ -208,21 +210,25 @@ impl BasePairSites {
     }
 
     /// ½ Σ b² P(d) over the pair list, with `potential` = P(d) (λ² included).
-    pub(super) fn energy(&mut self, stages: &[[f64; 3]], potential: &dyn Fn(f64) -> f64) -> f64 {
+    /// (electrostatic, hard-core) energies: Σ b² P(d)/2 over directed
+    /// pairs, `potential(d, gap)` giving both parts' P.
+    pub(super) fn energy(&mut self, stages: &[[f64; 3]], potential: &dyn Fn(f64, f64) -> (f64, f64)) -> (f64, f64) {
         self.interpolate(stages);
         let b2 = self.spacing * self.spacing;
-        let mut e = 0.0;
+        let (mut e, mut h) = (0.0, 0.0);
         for k in 0..self.count() {
             let rk = self.sites[k];
             for &l in &self.pair[self.pair_ptr[k]..self.pair_ptr[k + 1]] {
                 let rl = self.sites[l];
                 let d = ((rk[0] - rl[0]).powi(2) + (rk[1] - rl[1]).powi(2) + (rk[2] - rl[2]).powi(2)).sqrt();
                 if d > 0.0 {
-                    e += 0.5 * b2 * potential(d);
+                    let (pe, ph) = potential(d, (self.site_s[k] - self.site_s[l]).abs());
+                    e += 0.5 * b2 * pe;
+                    h += 0.5 * b2 * ph;
                 }
             }
         }
-        e
+        (e, h)
     }
 
     /// Stage force densities p_j = (1/w_j) Σ_k ℓ_j(s_k) F_k at the stage
@@ -256,7 +262,7 @@ impl BasePairSites {
                     // Coincident charges (strands through each other): no direction, no force.
                     continue;
                 }
-                let (p1, p2) = pair(d);
+                let (p1, p2) = pair(d, (self.site_s[k] - self.site_s[l]).abs());
                 let c = -b * p1 / d;
                 for i in 0..3 {
                     fk[i] += c * dv[i];

@@ -7,7 +7,9 @@
  * the buckled branch - the curves magnetic-tweezers experiments measure.
  *
  * Prints the extension and torque vs turns table with the twist/writhe
- * partition (Tw + Wr = turns), the buckling point and the work, and writes
+ * partition (Tw + Wr = turns), the buckling point and the work, the last
+ * point re-solved under the other charge model (continuum <-> base pairs)
+ * by Newton-Krylov and by the direct solver, and writes
  *   - the path as CSV (turns, extension, torque, tension, twist, writhe, branch),
  *   - the shapes as VTK polydata (one polyline per written point) for ParaView.
  * Usage: c_dna_supercoil [salt M] [max steps] [csv path] [vtk path] [elements] [base pairs] [model]
@@ -85,6 +87,30 @@ int main(int argc, char **argv) {
     printf("worst_linking_error = %.3e\n", worst_lk);
     printf("last_turns = %.15g\nlast_extension_nm = %.15g\nlast_torque_pN_nm = %.15g\nlast_writhe = %.15g\n", pts[count - 1].turns,
            pts[count - 1].extension, pts[count - 1].torque, pts[count - 1].writhe);
+
+    /* The thesis's comparison on the path's last shape: the same end
+     * rotation under the other charge model (base pairs for a continuum
+     * run and vice versa), solved by Newton-Krylov and by the direct sparse
+     * Newton; the shift is how far the shape moves between the models. */
+    RodkitEquilibriumSpec es;
+    if ((st = rodkit_equilibrium_spec_default(&es)) < 0) return fail(st, "rodkit_equilibrium_spec_default");
+    es.discrete_base_pairs = !spec.discrete_base_pairs;
+    es.cutoff_tolerance = spec.cutoff_tolerance;
+    RodkitEquilibrium eq[2];
+    const int32_t solvers[2] = {RODKIT_EQUILIBRIUM_SOLVER_NEWTON_KRYLOV, RODKIT_EQUILIBRIUM_SOLVER_DIRECT};
+    for (int k = 0; k < 2; ++k) {
+        es.solver = solvers[k];
+        if ((st = rodkit_supercoil_solve_point(run, count - 1, &es, &eq[k], k == 0 ? xyz : NULL, 3, info.nodes)) < 0)
+            return fail(st, "rodkit_supercoil_solve_point");
+    }
+    printf("# last point under the %s model: Newton-Krylov %lld Newton / %lld GMRES iterations (preconditioner band %lld), direct %lld factorisations\n",
+           es.discrete_base_pairs ? "base-pair" : "continuum", (long long)eq[0].newton_iterations, (long long)eq[0].linear_iterations,
+           (long long)eq[0].preconditioner_band, (long long)eq[1].factorisations);
+    printf("seconds_newton_krylov = %.4g\nseconds_direct = %.4g\n", eq[0].seconds, eq[1].seconds);
+    printf("other_model_torque_pN_nm = %.15g\nother_model_extension_nm = %.15g\nother_model_shift_nm = %.6g\n", eq[0].torque,
+           eq[0].extension, eq[0].shift);
+    printf("direct_torque_pN_nm = %.15g\nsolver_torque_difference = %.3e\n", eq[1].torque, eq[0].torque - eq[1].torque);
+    printf("other_model_tip_z_nm = %.15g\n", xyz[3 * (info.nodes - 1) + 2]);
 
     FILE *csv = fopen(csv_path, "w");
     if (!csv) { perror(csv_path); return 1; }

@@ -139,6 +139,8 @@ module rodkit
     integer(c_int32_t), parameter :: RODKIT_BRANCH_STOP_MAX_STEPS = 2
     integer(c_int32_t), parameter :: RODKIT_BRANCH_STOP_CANCELLED = 3
     integer(c_int32_t), parameter :: RODKIT_BRANCH_STOP_STEP_TOO_SMALL = 4
+    integer(c_int32_t), parameter :: RODKIT_EQUILIBRIUM_SOLVER_DIRECT = 1
+    integer(c_int32_t), parameter :: RODKIT_EQUILIBRIUM_SOLVER_NEWTON_KRYLOV = 2
 
 
     ! -------------------------------------------------------------------------
@@ -495,6 +497,33 @@ module rodkit
         integer(c_int32_t) :: branch
         real(c_double) :: residual
     end type rodkit_supercoil_point
+
+    ! RodkitEquilibriumSpec (see rodkit.h).
+    type, bind(c) :: rodkit_equilibrium_spec
+        integer(c_int32_t) :: discrete_base_pairs
+        real(c_double) :: cutoff_tolerance
+        integer(c_int32_t) :: solver
+        real(c_double) :: residual_tol
+    end type rodkit_equilibrium_spec
+
+    ! RodkitEquilibrium (see rodkit.h).
+    type, bind(c) :: rodkit_equilibrium
+        real(c_double) :: turns
+        real(c_double) :: extension
+        real(c_double) :: torque
+        real(c_double) :: tension
+        real(c_double) :: twist
+        real(c_double) :: writhe
+        real(c_double) :: residual
+        real(c_double) :: shift
+        real(c_double) :: seconds
+        integer(c_int64_t) :: newton_iterations
+        integer(c_int64_t) :: linear_iterations
+        integer(c_int64_t) :: factorisations
+        integer(c_int64_t) :: residuals
+        integer(c_int64_t) :: pair_lists
+        integer(c_int64_t) :: preconditioner_band
+    end type rodkit_equilibrium
 
     ! RodkitElectrostaticEnergy (see rodkit.h).
     type, bind(c) :: rodkit_electrostatic_energy
@@ -1125,6 +1154,27 @@ module rodkit
             integer(c_int64_t), value :: nodes
             integer(c_int32_t) :: status
         end function rodkit_supercoil_positions
+
+        function rodkit_equilibrium_spec_default(spec) result(status) &
+                bind(c, name="rodkit_equilibrium_spec_default")
+            import :: c_int32_t, rodkit_equilibrium_spec
+            type(rodkit_equilibrium_spec), intent(out) :: spec
+            integer(c_int32_t) :: status
+        end function rodkit_equilibrium_spec_default
+
+        ! xyz must be an array here (C accepts NULL to skip the shape).
+        function rodkit_supercoil_solve_point(run, point, spec, out, xyz, ld, nodes) result(status) &
+                bind(c, name="rodkit_supercoil_solve_point")
+            import :: c_double, c_int32_t, c_int64_t, c_ptr, rodkit_equilibrium_spec, rodkit_equilibrium
+            type(c_ptr), value :: run
+            integer(c_int64_t), value :: point
+            type(rodkit_equilibrium_spec), intent(in) :: spec
+            type(rodkit_equilibrium), intent(out) :: out
+            real(c_double), intent(inout) :: xyz(*)
+            integer(c_int64_t), value :: ld
+            integer(c_int64_t), value :: nodes
+            integer(c_int32_t) :: status
+        end function rodkit_supercoil_solve_point
 
     end interface
 

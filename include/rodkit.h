@@ -300,6 +300,27 @@ typedef int32_t RodkitBranchStop;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// How `rodkit_supercoil_solve_point` solves (`RodkitEquilibriumSpec.solver`).
+enum RodkitEquilibriumSolver
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // Sparse Newton, exact Jacobian, full LU (the continuation's corrector).
+  RODKIT_EQUILIBRIUM_SOLVER_DIRECT = 1,
+  // Newton–Krylov: GMRES with difference products, preconditioned by the
+  // LU of the Jacobian's band (cheaper for one equilibrium; the only
+  // practical solver for every pair on long rods).
+  RODKIT_EQUILIBRIUM_SOLVER_NEWTON_KRYLOV = 2,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum RodkitEquilibriumSolver RodkitEquilibriumSolver;
+#else
+typedef int32_t RodkitEquilibriumSolver;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // A branch: the records, why it stopped, where to resume, and the work done.
 typedef struct RodkitBranch RodkitBranch;
 
@@ -725,6 +746,48 @@ typedef struct RodkitSupercoilPoint {
   double residual;
 } RodkitSupercoilPoint;
 
+// A point of a path re-solved under another electrostatic model or with
+// another solver (the scene, its salt, charge, radius, hard core and
+// threads stay the run's). Call `rodkit_equilibrium_spec_default` first:
+// continuum, cutoff tolerance 1e-4, Newton–Krylov, scaled residual 1e-10.
+typedef struct RodkitEquilibriumSpec {
+  // 0: the continuum line charge; 1: discrete base-pair charges at the
+  // scene's rise (the thesis's comparison).
+  int32_t discrete_base_pairs;
+  // Relative energy tolerance of the screening cutoff; 0: every pair
+  // (with Newton–Krylov, preconditioned by the 1e-4 cutoff's band).
+  double cutoff_tolerance;
+  // RODKIT_EQUILIBRIUM_SOLVER_DIRECT or ..._NEWTON_KRYLOV.
+  int32_t solver;
+  // Converged when max |R_i| / (equation scale) ≤ residual_tol.
+  double residual_tol;
+} RodkitEquilibriumSpec;
+
+// What `rodkit_supercoil_solve_point` found.
+typedef struct RodkitEquilibrium {
+  // Observables as `RodkitSupercoilPoint` (turns are the point's).
+  double turns;
+  double extension;
+  double torque;
+  double tension;
+  double twist;
+  double writhe;
+  // Final scaled residual.
+  double residual;
+  // Largest distance a node moved from the path's point (nm).
+  double shift;
+  double seconds;
+  int64_t newton_iterations;
+  // GMRES iterations (0 for the direct solver).
+  int64_t linear_iterations;
+  int64_t factorisations;
+  int64_t residuals;
+  int64_t pair_lists;
+  // Newton–Krylov's preconditioner band (half-bandwidth; the dimension
+  // when the band failed and the whole Jacobian was used); 0 for direct.
+  int64_t preconditioner_band;
+} RodkitEquilibrium;
+
 // Response of a free thin tube (zero torque, zero pressure) to an axial force
 // F, per unit force.
 typedef struct RodkitFreeTubeResponse {
@@ -1139,6 +1202,23 @@ int32_t rodkit_supercoil_positions(const struct RodkitSupercoil *run,
                                    double *xyz,
                                    int64_t ld,
                                    int64_t nodes);
+
+// Fill `spec` with the defaults above.
+int32_t rodkit_equilibrium_spec_default(struct RodkitEquilibriumSpec *spec);
+
+// Solve the equilibrium at point `point` of `run` (its end rotation, from
+// its shape) under the model of `spec`, into `out`; with `xyz` not NULL
+// also its node positions (nm) xyz[k + ld·i], i < nodes (nodes as
+// `RodkitSupercoilInfo.nodes`). Non-convergence is
+// RODKIT_STATUS_ERR_NOT_CONVERGED (nothing written). Reentrant; `run`
+// is only read.
+int32_t rodkit_supercoil_solve_point(const struct RodkitSupercoil *run,
+                                     int64_t point,
+                                     const struct RodkitEquilibriumSpec *spec,
+                                     struct RodkitEquilibrium *out,
+                                     double *xyz,
+                                     int64_t ld,
+                                     int64_t nodes);
 
 // Fill `spec` with its defaults: every field NaN (unset). Set all of them.
 int32_t rodkit_thin_tube_spec_default(struct RodkitThinTubeSpec *spec);

@@ -59,3 +59,67 @@ fn ring_energy_writhe_and_validation() {
     assert!(unsafe { rodkit_curve_writhe(s.as_ptr(), xyz.as_ptr(), 2, tan.as_ptr(), 3, n as i64, 1, 8, &mut wr) } < 0);
     assert_eq!((out.total, out.near, out.far), (before.total, before.near, before.far));
 }
+
+/// `rodkit_supercoil_solve_point` from Rust on a small run made through the
+/// C ABI (300 bp, 40 elements, 20 steps): its result equals the Rust API's
+/// `solve_point` on the same scene (same arithmetic, 1e-12), the shape is
+/// written when asked, and bad arguments are statuses naming the argument.
+#[test]
+fn supercoil_solve_point_through_the_c_abi() {
+    use rodkit::capi::supercoil::*;
+    use rodkit::electrostatics::equilibrium::{solve_point, EquilibriumSolver as Solver};
+    use rodkit::electrostatics::supercoil::{run_scene, DnaScene, SupercoilSettings};
+    let mut spec = std::mem::MaybeUninit::<DnaSupercoilSpec>::uninit();
+    assert_eq!(unsafe { rodkit_dna_supercoil_spec_default(spec.as_mut_ptr()) }, 0);
+    let mut spec = unsafe { spec.assume_init() };
+    (spec.base_pairs, spec.elements, spec.max_steps) = (300, 40, 20);
+    let mut run: *mut Supercoil = std::ptr::null_mut();
+    assert!(unsafe { rodkit_dna_supercoil_run(&spec, &mut run) } >= 0, "{}", last_error());
+    let mut info = SupercoilInfo::default();
+    assert_eq!(unsafe { rodkit_supercoil_summary(run, &mut info) }, 0);
+    let last = info.points - 1;
+    let mut es = std::mem::MaybeUninit::<EquilibriumSpec>::uninit();
+    assert_eq!(unsafe { rodkit_equilibrium_spec_default(es.as_mut_ptr()) }, 0);
+    let mut es = unsafe { es.assume_init() };
+    es.discrete_base_pairs = 1;
+    let mut out = Equilibrium::default();
+    let mut xyz = vec![0.0; 3 * info.nodes as usize];
+    assert_eq!(unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut out, xyz.as_mut_ptr(), 3, info.nodes) }, 0, "{}", last_error());
+    // The Rust API on the same scene.
+    let r = run_scene(&DnaScene { base_pairs: 300, ..Default::default() }, &SupercoilSettings { elements: 40, max_steps: 20, ..Default::default() }).unwrap();
+    let mut charge = r.charge.clone();
+    charge.base_pairs = Some(r.scene.rise);
+    let p = solve_point(&r, last as usize, &charge, Solver::NewtonKrylov, 1e-10).unwrap();
+    let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
+    assert!(rel(out.torque, p.observables.torque) < 1e-12 && rel(out.extension, p.observables.extension) < 1e-12, "{out:?} vs {p:?}");
+    assert_eq!((out.newton_iterations, out.linear_iterations), (p.newton_iterations as i64, p.linear_iterations as i64));
+    // Buckled: the whole Jacobian preconditions (src/electrostatics/equilibrium.rs).
+    assert_eq!(out.preconditioner_band as usize, r.buckled.as_ref().unwrap().states[0].len());
+    let tip = r.rod.positions(&p.state).last().copied().unwrap();
+    assert!((xyz[xyz.len() - 1] - tip[2]).abs() < 1e-12 * tip[2].abs() && (xyz[xyz.len() - 1] - out.extension).abs() < 1e-12);
+    // The direct solver agrees (7e-10 nm measured on the shape).
+    es.solver = EquilibriumSolver::Direct as i32;
+    let mut direct = Equilibrium::default();
+    assert_eq!(unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut direct, std::ptr::null_mut(), 0, 0) }, 0, "{}", last_error());
+    assert!(rel(direct.torque, out.torque) < 1e-9 && direct.linear_iterations == 0 && direct.preconditioner_band == 0);
+    // Validation by name; nothing written on failure.
+    let before = out;
+    es.solver = 7;
+    assert_eq!(unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut out, std::ptr::null_mut(), 0, 0) }, Status::ErrOutOfRange.code());
+    assert!(last_error().contains("spec.solver"), "{}", last_error());
+    es.solver = EquilibriumSolver::NewtonKrylov as i32;
+    es.residual_tol = f64::NAN;
+    assert!(unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut out, std::ptr::null_mut(), 0, 0) } < 0);
+    assert!(last_error().contains("spec.residual_tol"), "{}", last_error());
+    es.residual_tol = 1e-10;
+    es.discrete_base_pairs = 2;
+    assert_eq!(unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut out, std::ptr::null_mut(), 0, 0) }, Status::ErrOutOfRange.code());
+    es.discrete_base_pairs = 1;
+    assert_eq!(unsafe { rodkit_supercoil_solve_point(run, info.points, &es, &mut out, std::ptr::null_mut(), 0, 0) }, Status::ErrInvalidDimension.code());
+    assert!(last_error().contains("point"), "{}", last_error());
+    assert_eq!(unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut out, xyz.as_mut_ptr(), 3, info.nodes - 1) }, Status::ErrInvalidDimension.code());
+    assert_eq!(unsafe { rodkit_supercoil_solve_point(std::ptr::null(), last, &es, &mut out, std::ptr::null_mut(), 0, 0) }, Status::ErrNullPointer.code());
+    assert_eq!(unsafe { rodkit_supercoil_solve_point(run, last, std::ptr::null(), &mut out, std::ptr::null_mut(), 0, 0) }, Status::ErrNullPointer.code());
+    assert_eq!((out.torque, out.shift), (before.torque, before.shift));
+    unsafe { rodkit_supercoil_free(run) };
+}

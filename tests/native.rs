@@ -538,6 +538,19 @@ fn c_dna_supercoil_driver() {
     let untimed = |t: &str| t.lines().filter(|l| !l.starts_with("seconds")).collect::<Vec<_>>().join("\n");
     assert_eq!(untimed(&run("c_dna_supercoil_static", &args)), untimed(&out));
     assert_eq!(got["base_pair_charges"], 0.0, "the continuum is the default model");
+    // The last point re-solved with base-pair charges: the Rust API's
+    // solve_point (1e-12); Newton–Krylov and the direct solver agree; the
+    // shape moves, by far less than the radius (3.0e-2 nm measured).
+    {
+        use rodkit::electrostatics::equilibrium::{solve_point, EquilibriumSolver};
+        let mut bp = r.charge.clone();
+        bp.base_pairs = Some(scene.rise);
+        let p = solve_point(&r, r.points.len() - 1, &bp, EquilibriumSolver::NewtonKrylov, 1e-10).unwrap();
+        assert!(rel(got["other_model_torque_pN_nm"], p.observables.torque) < 1e-12, "{out}");
+        assert!(rel(got["other_model_tip_z_nm"], p.observables.extension) < 1e-12);
+        assert!(got["solver_torque_difference"].abs() < 1e-7 * p.observables.torque, "{out}");
+        assert!(got["other_model_shift_nm"] > 1e-6 && got["other_model_shift_nm"] < 0.5, "{out}");
+    }
     // The discrete base-pair model through the same driver: 300 point
     // charges, the Rust API's buckling point to 1e-12, and within 2e-3 of
     // the continuum's (the models differ by near-field terms).
@@ -547,5 +560,7 @@ fn c_dna_supercoil_driver() {
     assert_eq!(got_d["base_pair_charges"], 300.0);
     assert!(rel(got_d["buckling_turns"], rd.buckling.unwrap().0 / two_pi) < 1e-12);
     assert!(rel(got_d["buckling_turns"], got["buckling_turns"]) < 2e-3, "discrete {} vs continuum {}", got_d["buckling_turns"], got["buckling_turns"]);
+    // Its last point re-solved with the continuum: both solvers agree.
+    assert!(got_d["solver_torque_difference"].abs() < 1e-7 * got_d["other_model_torque_pN_nm"], "{got_d:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }

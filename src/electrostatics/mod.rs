@@ -50,6 +50,7 @@
 //! [`supercoil`] (branches, the DNA supercoiling scene).
 
 pub mod discrete;
+pub mod equilibrium;
 pub mod rod;
 mod rod_base_pairs;
 pub mod supercoil;

@@ -1,0 +1,168 @@
+//! One equilibrium of a supercoiling path re-solved under another
+//! electrostatic model or with another solver, at the point's end rotation
+//! and from its shape: the thesis's comparison of the continuum with the
+//! discrete base-pair charges on the *same* plectoneme (what the continuum
+//! path's shape becomes with base-pair charges, and how far it moves), and
+//! the choice between the direct sparse Newton and Newton–Krylov
+//! (issue 5, item 5: the continuation keeps the direct solver, whose
+//! determinant signs locate the buckling points; a single equilibrium is
+//! cheaper by Newton–Krylov — benches/charged.rs measures both).
+
+use super::rod::{ChargedRod, RodCharge};
+use super::supercoil::{observables, Observables, SupercoilRun};
+use crate::continuation::krylov::{newton_krylov, BandPreconditioner, KrylovOptions};
+use crate::continuation::newton::{continue_newton, Start};
+use crate::continuation::{Counts, Options, Problem};
+use crate::error::{self, Error, Result};
+use crate::status::Status;
+
+/// How a single equilibrium is solved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EquilibriumSolver {
+    /// Sparse Newton with the exact Jacobian and a full LU (the
+    /// continuation engine's corrector at fixed end rotation).
+    Direct,
+    /// Newton–Krylov: GMRES with central-difference products,
+    /// preconditioned by the LU of the Jacobian's one-element band
+    /// (of the model with a 1e-4 cutoff when the model keeps every pair,
+    /// whose own Jacobian is dense).
+    NewtonKrylov,
+}
+
+/// Cutoff tolerance of the model that supplies the preconditioner's
+/// Jacobian when the solved model keeps every pair (the benchmark's
+/// all-pairs base-pair rod converges with it in 14–15 GMRES iterations).
+pub const PRECONDITIONER_CUTOFF: f64 = 1e-4;
+
+/// A re-solved point.
+#[derive(Clone, Debug)]
+pub struct PointEquilibrium {
+    /// The rod's unknowns (as `SupercoilRun::states`).
+    pub state: Vec<f64>,
+    pub observables: Observables,
+    pub newton_iterations: usize,
+    /// GMRES iterations (0 for the direct solver).
+    pub linear_iterations: usize,
+    /// Final max |R_i| / d_i.
+    pub residual: f64,
+    pub counts: Counts,
+    /// Pair lists built (more than one when the shape moved past half the
+    /// Verlet skin and the point was re-solved on a new list).
+    pub pair_lists: usize,
+    /// Largest distance a node moved from the path's point (nm).
+    pub shift: f64,
+    /// Newton–Krylov's preconditioner: the half-bandwidth of the Jacobian
+    /// band it kept (the dimension: the whole pattern, after the band
+    /// failed); 0 for the direct solver.
+    pub preconditioner_band: usize,
+    pub seconds: f64,
+}
+
+/// Solve the equilibrium of `run`'s point `point` (index into
+/// `run.points`) under `charge` with `solver`, to max |R_i|/d_i ≤
+/// `residual_tol`. Points on the buckled branch keep its phase condition.
+/// Non-convergence is ErrNotConverged (the state is then not returned).
+pub fn solve_point(run: &SupercoilRun, point: usize, charge: &RodCharge, solver: EquilibriumSolver, residual_tol: f64) -> Result<PointEquilibrium> {
+    let clock = std::time::Instant::now();
+    error::count_in_range("point", point as i64, 0, run.points.len() as i64 - 1)?;
+    error::positive("residual_tol", residual_tol)?;
+    let rod = &run.rod;
+    let n = rod.unknowns();
+    let straight = run.straight.records.len();
+    // The full unknowns (the buckled branch's carry the phase multiplier).
+    let (mut x, phase) = if point < straight {
+        (run.states[point].clone(), None)
+    } else {
+        let b = run.buckled.as_ref().ok_or_else(|| Error::new(Status::ErrOutOfRange, "argument `point` lies beyond the straight branch of a run without a buckled one"))?;
+        (b.states[point - straight].clone(), b.phase)
+    };
+    let phi = run.points[point].phi;
+    let mut counts = Counts::default();
+    let (mut newton_iterations, mut linear_iterations) = (0, 0);
+    let mut residual;
+    let mut pair_lists = 0;
+    let mut preconditioner_band = 0;
+    let half_skin = 0.5 * charge.skin;
+    // At most a few list rebuilds: a re-solve moves the shape by the models'
+    // difference (~1e-3 nm between continuum and base pairs), far below the
+    // skin; a shape that keeps moving past it is not converging.
+    for _ in 0..4 {
+        let mut problem = ChargedRod::new(rod, charge, phase, &x)?;
+        pair_lists += 1;
+        match solver {
+            EquilibriumSolver::Direct => {
+                let opts = Options { residual_tol, max_steps: 0, ..Default::default() };
+                let b = continue_newton(&mut problem, Start::Point { x: x.clone(), lambda: phi, increasing: true }, &opts, |x, _| x.to_vec(), |_| true)?;
+                counts.add(&b.counts);
+                let rec = b.records.into_iter().next().ok_or_else(|| Error::new(Status::ErrNotConverged, format!("direct Newton did not converge at φ = {phi:.6} rad")))?;
+                x = rec.outputs;
+                residual = rec.residual;
+                newton_iterations += b.counts.factorisations;
+            }
+            EquilibriumSolver::NewtonKrylov => {
+                let opts = KrylovOptions { residual_tol, ..Default::default() };
+                // The preconditioner's Jacobian: the model's own, or with
+                // every pair kept, the 1e-4 cutoff model's (same state).
+                let mut cheap = None;
+                if charge.cutoff_tolerance.is_none() {
+                    let mut c = charge.clone();
+                    c.cutoff_tolerance = Some(PRECONDITIONER_CUTOFF);
+                    cheap = Some(ChargedRod::new(rod, &c, phase, &x)?);
+                }
+                let (pattern, local, border) = {
+                    let src = cheap.as_ref().unwrap_or(&problem);
+                    (src.pattern().clone(), src.local_band(), src.border())
+                };
+                // The preconditioner keeps the rod's band on the straight
+                // branch (the benchmark's case: 5–8 GMRES iterations, an LU
+                // 2–3× sparser than the whole one) and the whole pattern on
+                // the buckled branch, whose soft modes feel the pairs a few
+                // elements apart that the band drops: the default 1 kbp
+                // scene's buckled point re-solved with base pairs failed
+                // with the band (GMRES returned poor directions, the line
+                // search gave up after 11 Newton iterations, 0.47 s) and
+                // took 4 Newton / 44 GMRES iterations with the whole
+                // pattern (0.16 s; direct Newton 0.21 s). A failure with
+                // the band is retried with the whole pattern.
+                let bands: &[usize] = if phase.is_none() { &[local, usize::MAX] } else { &[usize::MAX] };
+                let start = x.clone();
+                let mut result = Err(Error::new(Status::ErrNotConverged, "Newton–Krylov not run"));
+                for &band in bands {
+                    let band = band.min(x.len());
+                    let mut pre = BandPreconditioner::bordered(&pattern, band, border)?;
+                    x.copy_from_slice(&start);
+                    let source = cheap.as_mut().map(|c| c as &mut dyn Problem);
+                    result = newton_krylov(&mut problem, source, &mut pre, &mut x, phi, &opts).map(|rep| (rep, band));
+                    match &result {
+                        Err(e) if e.status == Status::ErrNotConverged => continue,
+                        _ => break,
+                    }
+                }
+                let (rep, band) = result?;
+                preconditioner_band = band;
+                counts.add(&rep.counts);
+                newton_iterations += rep.newton_iterations;
+                linear_iterations += rep.linear_iterations;
+                residual = rep.residual;
+            }
+        }
+        if !problem.list_is_local() || problem.displacement(&x) <= half_skin {
+            let path = rod.positions(&run.states[point]);
+            let shift = rod.positions(&x[..n]).iter().zip(&path).map(|(a, b)| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()).fold(0.0, f64::max);
+            x.truncate(n);
+            return Ok(PointEquilibrium {
+                observables: observables(rod, &x, phi)?,
+                state: x,
+                newton_iterations,
+                linear_iterations,
+                residual,
+                counts,
+                pair_lists,
+                shift,
+                preconditioner_band,
+                seconds: clock.elapsed().as_secs_f64(),
+            });
+        }
+    }
+    Err(Error::new(Status::ErrNotConverged, format!("the shape kept moving past half the Verlet skin ({half_skin:.3} nm) over {pair_lists} pair lists")))
+}

@@ -777,6 +777,7 @@ typedef struct RodkitEquilibrium {
   // Largest distance a node moved from the path's point (nm).
   double shift;
   double seconds;
+  // Newton iterations (direct: the corrector's factorisations).
   int64_t newton_iterations;
   // GMRES iterations (0 for the direct solver).
   int64_t linear_iterations;
@@ -784,7 +785,8 @@ typedef struct RodkitEquilibrium {
   int64_t residuals;
   int64_t pair_lists;
   // Newton–Krylov's preconditioner band (half-bandwidth; the dimension
-  // when the band failed and the whole Jacobian was used); 0 for direct.
+  // when the whole Jacobian was used: always on the buckled branch, and
+  // after the band failed on the straight one); 0 for direct.
   int64_t preconditioner_band;
 } RodkitEquilibrium;
 

@@ -369,6 +369,7 @@ pub struct Equilibrium {
     /// Largest distance a node moved from the path's point (nm).
     pub shift: f64,
     pub seconds: f64,
+    /// Newton iterations (direct: the corrector's factorisations).
     pub newton_iterations: i64,
     /// GMRES iterations (0 for the direct solver).
     pub linear_iterations: i64,
@@ -376,7 +377,8 @@ pub struct Equilibrium {
     pub residuals: i64,
     pub pair_lists: i64,
     /// Newton–Krylov's preconditioner band (half-bandwidth; the dimension
-    /// when the band failed and the whole Jacobian was used); 0 for direct.
+    /// when the whole Jacobian was used: always on the buckled branch, and
+    /// after the band failed on the straight one); 0 for direct.
     pub preconditioner_band: i64,
 }
 

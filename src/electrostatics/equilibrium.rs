@@ -40,8 +40,11 @@ pub struct PointEquilibrium {
     /// The rod's unknowns (as `SupercoilRun::states`).
     pub state: Vec<f64>,
     pub observables: Observables,
+    /// Newton iterations (direct solver: the corrector's factorisations,
+    /// one per iteration, with the start's tangent).
     pub newton_iterations: usize,
-    /// GMRES iterations (0 for the direct solver).
+    /// GMRES iterations (0 for the direct solver; a failed attempt with the
+    /// band preconditioner is not counted here, its time is in `seconds`).
     pub linear_iterations: usize,
     /// Final max |R_i| / d_i.
     pub residual: f64,
@@ -84,8 +87,10 @@ pub fn solve_point(run: &SupercoilRun, point: usize, charge: &RodCharge, solver:
     let mut preconditioner_band = 0;
     let half_skin = 0.5 * charge.skin;
     // At most a few list rebuilds: a re-solve moves the shape by the models'
-    // difference (~1e-3 nm between continuum and base pairs), far below the
-    // skin; a shape that keeps moving past it is not converging.
+    // difference (0.03 nm between continuum and base pairs on the default
+    // scene's buckled points, 0.9 nm next to the buckling point), below
+    // half the skin (2 nm at 0.1 M); a shape that keeps moving past it is
+    // not converging.
     for _ in 0..4 {
         let mut problem = ChargedRod::new(rod, charge, phase, &x)?;
         pair_lists += 1;

@@ -57,10 +57,15 @@ pub struct Observables {
 
 /// Gauss points per panel of the writhe in [`observables`]: on the 1 kbp
 /// scene's buckled states (100 elements) |Tw + Wr − turns| was 2.6e-6 and
-/// 1.0e-6 with 4, 2.1e-7 and 6.7e-7 with 8 at 3.7× the time (the
-/// quadrature converges algebraically: the Hermite centreline is only C¹
-/// at the nodes); the curves need 1e-5 turns, and the writhe is evaluated
-/// at every point of a path (it took 75 % of a run at order 8).
+/// 1.0e-6 with 4, 2.1e-7 and 6.7e-7 with 8 at 3.7× the time; along the
+/// 0.1 M plectoneme it grows with the writhe to 1.1e-4 at 12 turns (Wr
+/// 10.6: 1e-5 of it). The quadrature converges only algebraically (error
+/// ~ order⁻³·⁵): the Hermite centreline is C¹ at the nodes, and where s and
+/// t straddle a node next to the diagonal the integrand is a bounded but
+/// non-smooth function of ((s − n)/(t − n)) that the panels do not grade
+/// towards (grading there, or a C² centreline from the rod's curvatures,
+/// would restore fast convergence). The writhe is evaluated at every point
+/// of a path, and at order 8 took 75 % of a run.
 pub const WRITHE_ORDER: usize = 4;
 
 /// The observables of state `x` at end rotation `phi`.

@@ -503,6 +503,34 @@ fn fortran_charged_curve_driver() {
     assert_eq!(run("f_charged_curve_static", &[]), out);
 }
 
+/// The Fortran DNA-supercoiling driver (300 bp, 40 elements, 20 steps; the
+/// bind(c) types of the supercoil handle and rodkit_supercoil_solve_point
+/// exercised at run time): its path and its last point re-solved with
+/// base pairs equal the Rust API's on the same scene (1e-12); both solvers
+/// agree (1e-9); the static build prints the same.
+#[test]
+fn fortran_dna_supercoil_driver() {
+    use rodkit::electrostatics::equilibrium::{solve_point, EquilibriumSolver};
+    use rodkit::electrostatics::supercoil::{run_scene, DnaScene, SupercoilSettings};
+    let out = run("f_dna_supercoil_shared", &[]);
+    let got = values(&out);
+    let scene = DnaScene { base_pairs: 300, ..Default::default() };
+    let r = run_scene(&scene, &SupercoilSettings { elements: 40, max_steps: 20, ..Default::default() }).unwrap();
+    let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-300);
+    assert_eq!(got["points"], r.points.len() as f64, "{out}");
+    assert!(rel(got["buckling_turns"], r.buckling.unwrap().0 / (2.0 * std::f64::consts::PI)) < 1e-12, "{out}");
+    let last = r.points.last().unwrap().observables;
+    assert!(rel(got["last_torque_pN_nm"], last.torque) < 1e-12 && rel(got["last_extension_nm"], last.extension) < 1e-12, "{out}");
+    let mut bp = r.charge.clone();
+    bp.base_pairs = Some(scene.rise);
+    let p = solve_point(&r, r.points.len() - 1, &bp, EquilibriumSolver::NewtonKrylov, 1e-10).unwrap();
+    assert!(rel(got["base_pair_torque_pN_nm"], p.observables.torque) < 1e-12 && rel(got["base_pair_shift_nm"], p.shift) < 1e-9, "{out}");
+    assert_eq!(got["gmres_iterations"], p.linear_iterations as f64);
+    assert!(rel(got["direct_torque_pN_nm"], got["base_pair_torque_pN_nm"]) < 1e-9, "{out}");
+    assert!(rel(got["direct_tip_z_nm"], got["base_pair_extension_nm"]) < 1e-9, "{out}");
+    assert_eq!(run("f_dna_supercoil_static", &[]), out);
+}
+
 /// The C DNA-supercoiling driver on a small scene (300 bp, 40 elements, 20
 /// steps): its buckling point, last point and linking check equal the Rust
 /// API's run of the same scene (same arithmetic, to 1e-12); Tw + Wr = turns

@@ -539,7 +539,7 @@ fn fortran_dna_supercoil_driver() {
 #[test]
 fn c_dna_supercoil_driver() {
     use rodkit::electrostatics::supercoil::{run_scene, DnaScene, SupercoilSettings};
-    let dir = std::env::temp_dir().join(format!("rodkit-dna-{}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!("rodkit-supercoil-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let (csv, vtk) = (dir.join("d.csv"), dir.join("d.vtk"));
     let args = ["0.1", "20", csv.to_str().unwrap(), vtk.to_str().unwrap(), "40", "300"];

@@ -60,6 +60,15 @@ fn same_model_reproduces_the_path_and_solvers_agree_on_base_pairs() {
     // The models differ (near-field terms): the shape moves, but by far less
     // than the radius (the buckling points differ by < 2e-3, tests/native.rs).
     assert!(k.shift > 1e-6 && k.shift < 0.5, "shift {:e}", k.shift);
+    // Next to the buckling point (the second buckled point), where the
+    // model change moves the soft buckled rod most: both solvers converge
+    // (the direct one damped) and agree.
+    let near = run.straight.records.len() + 1;
+    let dn = solve_point(&run, near, &bp, EquilibriumSolver::Direct, tol).unwrap();
+    let kn = solve_point(&run, near, &bp, EquilibriumSolver::NewtonKrylov, tol).unwrap();
+    let gap_near = max_distance(&run.rod.positions(&dn.state), &run.rod.positions(&kn.state));
+    println!("next to buckling: shift {:e} nm, direct {} iterations, NK {} / {} GMRES, solvers differ by {gap_near:e} nm", dn.shift, dn.newton_iterations, kn.newton_iterations, kn.linear_iterations);
+    assert!(gap_near < 1e-6, "{gap_near:e}");
     // Every pair (dense exact Jacobian; preconditioned by the 1e-4 cutoff
     // model's band): the cutoff at 1e-4 moves the shape by an order less
     // than the change of model did (measured 1.0e-3 vs 3.0e-2 nm).

@@ -140,6 +140,15 @@ pub unsafe extern "C" fn rodkit_dna_supercoil_spec_default(spec: *mut DnaSuperco
     })
 }
 
+/// A 0/1 switch of a spec.
+fn flag(name: &str, v: i32) -> Result<bool> {
+    match v {
+        0 => Ok(false),
+        1 => Ok(true),
+        v => Err(Error::new(Status::ErrOutOfRange, format!("argument `{name}` must be 0 or 1 (got {v})"))),
+    }
+}
+
 fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
     error::count_in_range("base_pairs", s.base_pairs, 10, 1 << 24)?;
     error::count_in_range("elements", s.elements, 2, 1 << 18)?;
@@ -174,11 +183,7 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
         max_turns: s.max_turns,
         max_steps: s.max_steps as usize,
         residual_tol: s.residual_tol,
-        base_pairs: match s.discrete_base_pairs {
-            0 => false,
-            1 => true,
-            v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `discrete_base_pairs` must be 0 or 1 (got {v})"))),
-        },
+        base_pairs: flag("discrete_base_pairs", s.discrete_base_pairs)?,
     };
     Ok((scene, settings))
 }
@@ -411,18 +416,12 @@ pub unsafe extern "C" fn rodkit_supercoil_solve_point(run: *const Supercoil, poi
             2 => Solver::NewtonKrylov,
             v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `spec.solver` must be RODKIT_EQUILIBRIUM_SOLVER_DIRECT (1) or _NEWTON_KRYLOV (2) (got {v})"))),
         };
-        error::finite("cutoff_tolerance", s.cutoff_tolerance).map_err(q)?;
-        if !(s.cutoff_tolerance >= 0.0 && s.cutoff_tolerance < 1.0) {
-            return Err(Error::new(Status::ErrOutOfRange, format!("argument `spec.cutoff_tolerance` must be in [0, 1) (got {:e})", s.cutoff_tolerance)));
-        }
+        // [0, 1]: 1 itself is refused by the model's own validation.
+        error::in_range("cutoff_tolerance", s.cutoff_tolerance, 0.0, 1.0).map_err(q)?;
         error::positive("residual_tol", s.residual_tol).map_err(q)?;
         let mut charge = r.charge.clone();
         charge.cutoff_tolerance = (s.cutoff_tolerance > 0.0).then_some(s.cutoff_tolerance);
-        charge.base_pairs = match s.discrete_base_pairs {
-            0 => None,
-            1 => Some(r.scene.rise),
-            v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `spec.discrete_base_pairs` must be 0 or 1 (got {v})"))),
-        };
+        charge.base_pairs = flag("discrete_base_pairs", s.discrete_base_pairs).map_err(q)?.then_some(r.scene.rise);
         let want = r.rod.elements as i64 + 1;
         if !xyz.is_null() {
             error::count_in_range("ld", ld, 3, i64::MAX / 64)?;

@@ -24,7 +24,7 @@
 //! (unknown scales), F̃ = R / d (equation scales); convergence is the same
 //! test, max |F̃_i| ≤ tol. Buffers are allocated once per solve.
 
-use super::newton::residual_norm;
+use super::newton::{backtrack, residual_norm};
 use super::{Counts, Problem, Scaling};
 use crate::error::{Error, Result};
 use crate::sparse::{Pattern, SparseLu};
@@ -407,33 +407,30 @@ pub fn newton_krylov<P: Problem + ?Sized>(
         // summing n of them, grows — and halving that step costs a Newton
         // iteration (10 kbp DNA rod: 4 iterations instead of 3). Shorter
         // steps are held to ‖F̃‖₂, along which the direction is a descent.
-        let mut t = 1.0;
-        let mut accepted = false;
-        for _ in 0..10 {
+        let mut new_fnorm = fnorm;
+        let taken = backtrack(problem, x, &step, lambda, &mut r, &mut trial, &mut rp, 10, &mut report.counts, |t, rt| {
             for i in 0..n {
-                trial[i] = x[i] + t * step[i];
+                z[i] = rt[i] / d[i];
             }
-            eval(problem, &trial, &mut rp, &mut z, &mut report.counts);
             let trial_norm = norm2(&z);
             let decrease = 1.0 - 1e-4 * t * (1.0 - eta);
-            let trial_max = residual_norm(&rp, &d);
+            let trial_max = residual_norm(rt, &d);
             let by_two_norm = trial_norm <= decrease * fnorm;
-            if trial_norm.is_finite() && (by_two_norm || (t == 1.0 && trial_max <= decrease * res)) {
-                x.copy_from_slice(&trial);
-                std::mem::swap(&mut r, &mut rp);
-                std::mem::swap(&mut f, &mut z);
+            let ok = trial_norm.is_finite() && (by_two_norm || (t == 1.0 && trial_max <= decrease * res));
+            if ok {
                 // A step accepted on the max norm measures its rate there:
                 // the 2-norm's grew, and would cap the next forcing term.
                 rate = if by_two_norm { trial_norm / fnorm } else { trial_max / res };
-                fnorm = trial_norm;
-                accepted = true;
-                break;
+                new_fnorm = trial_norm;
             }
-            t *= 0.5;
-        }
-        if !accepted {
+            ok
+        });
+        if taken.is_none() {
             return Err(Error::new(Status::ErrNotConverged, format!("Newton–Krylov: no decrease of the residual along the step at iteration {it}")));
         }
+        // z holds the accepted point's scaled residual (the last trial).
+        std::mem::swap(&mut f, &mut z);
+        fnorm = new_fnorm;
         report.newton_iterations = it + 1;
         // A preconditioner that has gone stale (many Krylov iterations) is
         // refreshed at the new point.

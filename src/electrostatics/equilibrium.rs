@@ -11,9 +11,8 @@
 use super::rod::{ChargedRod, RodCharge};
 use super::supercoil::{observables, Observables, SupercoilRun};
 use crate::continuation::krylov::{newton_krylov, BandPreconditioner, KrylovOptions};
-use crate::continuation::newton::residual_norm;
+use crate::continuation::newton::damped_newton;
 use crate::continuation::{Counts, Problem};
-use crate::sparse::SparseLu;
 use crate::error::{self, Error, Result};
 use crate::status::Status;
 
@@ -110,10 +109,6 @@ pub fn solve_point(run: &SupercoilRun, point: usize, charge: &RodCharge, solver:
                     c.cutoff_tolerance = Some(PRECONDITIONER_CUTOFF);
                     cheap = Some(ChargedRod::new(rod, &c, phase, &x)?);
                 }
-                let (pattern, local, border) = {
-                    let src = cheap.as_ref().unwrap_or(&problem);
-                    (src.pattern().clone(), src.local_band(), src.border())
-                };
                 // The preconditioner keeps the rod's band on the straight
                 // branch (the benchmark's case: 5–8 GMRES iterations, an LU
                 // 2–3× sparser than the whole one) and the whole pattern on
@@ -125,12 +120,17 @@ pub fn solve_point(run: &SupercoilRun, point: usize, charge: &RodCharge, solver:
                 // took 4 Newton / 44 GMRES iterations with the whole
                 // pattern (0.16 s; direct Newton 0.21 s). A failure with
                 // the band is retried with the whole pattern.
-                let bands: &[usize] = if phase.is_none() { &[local, usize::MAX] } else { &[usize::MAX] };
+                let whole = x.len();
+                let bands: &[usize] = if phase.is_none() { &[0, whole] } else { &[whole] };
                 let start = x.clone();
                 let mut result = Err(Error::new(Status::ErrNotConverged, "Newton–Krylov not run"));
                 for &band in bands {
-                    let band = band.min(x.len());
-                    let mut pre = BandPreconditioner::bordered(&pattern, band, border)?;
+                    // 0: the source's rod band.
+                    let (mut pre, band) = {
+                        let src = cheap.as_ref().unwrap_or(&problem);
+                        let band = if band == 0 { src.local_band() } else { band };
+                        (BandPreconditioner::bordered(src.pattern(), band, src.border())?, band)
+                    };
                     x.copy_from_slice(&start);
                     let source = cheap.as_mut().map(|c| c as &mut dyn Problem);
                     result = newton_krylov(&mut problem, source, &mut pre, &mut x, phi, &opts).map(|rep| (rep, band));
@@ -166,65 +166,4 @@ pub fn solve_point(run: &SupercoilRun, point: usize, charge: &RodCharge, solver:
         }
     }
     Err(Error::new(Status::ErrNotConverged, format!("the shape kept moving past half the Verlet skin ({half_skin:.3} nm) over {pair_lists} pair lists")))
-}
-
-/// Newton on R(x, φ) = 0 at fixed φ with the exact sparse Jacobian and a
-/// full LU (its symbolic analysis once), damped: the step is halved until
-/// the scaled max residual falls by the Armijo factor (an exact Newton step
-/// is a descent direction in any norm). Undamped — as the continuation's
-/// corrector, which has a predictor and a small step — it failed next to
-/// the buckling point of the default scene, where the change of charge
-/// model moves the shape by 0.9 nm. Returns (iterations, final residual).
-fn damped_newton(problem: &mut ChargedRod, x: &mut [f64], phi: f64, tol: f64, counts: &mut Counts) -> Result<(usize, f64)> {
-    const MAX_ITERATIONS: usize = 40;
-    let n = problem.dim();
-    let d = problem.equation_scales();
-    let mut lu = SparseLu::new(problem.pattern().clone())?;
-    let (mut jx, mut jl) = (vec![0.0; problem.pattern().nnz()], vec![0.0; n]);
-    let (mut r, mut rt, mut step, mut trial) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    problem.residual(x, phi, &mut r);
-    counts.residuals += 1;
-    let mut res = residual_norm(&r, &d);
-    for it in 0..=MAX_ITERATIONS {
-        if !res.is_finite() {
-            return Err(Error::new(Status::ErrNonFiniteResult, format!("direct Newton: non-finite residual at iteration {it}")));
-        }
-        if res <= tol {
-            return Ok((it, res));
-        }
-        if it == MAX_ITERATIONS {
-            break;
-        }
-        problem.jacobian(x, phi, &mut jx, &mut jl);
-        counts.jacobians += 1;
-        lu.factorise(&jx)?;
-        counts.factorisations += 1;
-        for i in 0..n {
-            step[i] = -r[i];
-        }
-        lu.solve(&mut step);
-        counts.solves += 1;
-        let mut t = 1.0;
-        let mut accepted = false;
-        for _ in 0..12 {
-            for i in 0..n {
-                trial[i] = x[i] + t * step[i];
-            }
-            problem.residual(&trial, phi, &mut rt);
-            counts.residuals += 1;
-            let next = residual_norm(&rt, &d);
-            if next.is_finite() && next <= (1.0 - 1e-4 * t) * res {
-                x.copy_from_slice(&trial);
-                std::mem::swap(&mut r, &mut rt);
-                res = next;
-                accepted = true;
-                break;
-            }
-            t *= 0.5;
-        }
-        if !accepted {
-            return Err(Error::new(Status::ErrNotConverged, format!("direct Newton: no decrease of the residual along the step at iteration {it} (residual {res:.2e})")));
-        }
-    }
-    Err(Error::new(Status::ErrNotConverged, format!("direct Newton: residual {res:.2e} above {tol:.1e} after {MAX_ITERATIONS} iterations")))
 }

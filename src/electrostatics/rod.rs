@@ -46,10 +46,12 @@
 //! Jacobian's band ~3.5× (0.1 M) and the full LU dominates a direct Newton
 //! equilibrium. Both are kept, each where it wins: continuation uses the
 //! exact sparse Jacobian and its LU (the bordered determinant signs and
-//! σ_min find the buckling points); single equilibria use
+//! σ_min find the buckling points); single equilibria
+//! ([`super::equilibrium::solve_point`]) offer
 //! [`crate::continuation::krylov::newton_krylov`] with the LU of the
 //! rod band ([`ChargedRod::local_band`], the far pairs dropped) as a lagged
-//! preconditioner — 5–6× faster cold, ~20× warm at 1–10 kbp.
+//! preconditioner — 5–9× faster cold, ~20× warm on straight 1–10 kbp rods —
+//! and the damped direct Newton, as fast on 1 kbp buckled shapes.
 
 use super::discrete::{screening_cutoff, CellList};
 use super::rod_base_pairs::BasePairSites;

@@ -23,8 +23,10 @@
 //! preconditioner (src/continuation/krylov.rs; cold and warm), the
 //! all-pairs base-pair baseline (residual; equilibria: direct with the
 //! cutoff model's Jacobian, Newton–Krylov on its own residual) and the
-//! continuum's every-pair residual, as ratios; target/bench/charged/
-//! {rod.csv, rod_residual.svg, rod_equilibrium.svg}.
+//! continuum's every-pair residual, as ratios, at 1, 3 and 10 kbp, and the
+//! continuum alone at 30 kbp (scaling past the cache step at 10 kbp);
+//! per-doubling factors per segment and by least squares;
+//! target/bench/charged/{rod.csv, rod_residual.svg, rod_equilibrium.svg}.
 
 #[path = "support/plot.rs"]
 mod plot;
@@ -193,9 +195,13 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
     let eq_opts = Options { residual_tol: 1e-8, max_steps: 0, ..Default::default() };
     let nk_opts = KrylovOptions { residual_tol: 1e-8, ..Default::default() };
-    for bp in [1000usize, 3000, 10000] {
+    // 30 kbp: the continuum only (the base pairs' direct equilibrium alone
+    // would take ~15 s), to see the scaling past the 3 → 10 kbp step where
+    // the Jacobian and band LU (≈ 36 MB at 10 kbp) outgrow the 32 MB L3.
+    for bp in [1000usize, 3000, 10000, 30000] {
         let scene = DnaScene { base_pairs: bp, ..Default::default() };
         let rod = scene.rod(bp / 10, 2).unwrap();
+        let with_discrete = bp <= 10_000;
         // Cutoffs meeting 1e-4 relative force error on the superhelix: the
         // continuum needs a tighter energy tolerance (3e-5: its force error
         // was 1.9e-4 at 1e-4) than the base pairs (1.4e-5 at 1e-4).
@@ -272,19 +278,20 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
         let mut two = charge.clone();
         two.threads = 2;
         let (_, c_res2, ..) = measure(&two, None, false);
-        let (_, d_res, d_jac, d_eq, d_nk, d_err, mut d_p) = measure(&discrete, small.then_some(&every_bp), true);
+        let mut d = with_discrete.then(|| measure(&discrete, small.then_some(&every_bp), true));
         // All-pairs discrete (1 and 3 kbp).
         let all = small.then(|| {
             let mut pa = ChargedRod::new(&rod, &every_bp, None, &x).unwrap();
             let mut r = vec![0.0; n];
             let (_, a_res) = time(3, || pa.residual(&x, 2.0, &mut r));
-            let mut tr = Truncated { full: &mut pa, cut: &mut d_p };
+            let d_p = &mut d.as_mut().unwrap().6;
+            let mut tr = Truncated { full: &mut pa, cut: d_p };
             let (_, a_eq) = time(3, || {
                 let b = continue_newton(&mut tr, Start::Point { x: x.clone(), lambda: 2.1, increasing: true }, &eq_opts, |_, _| vec![], |_| true).unwrap();
                 assert!(!b.records.is_empty(), "no all-pairs equilibrium");
             });
             let band = d_p.local_band();
-            let a_nk = nk(&mut pa, Some(&mut d_p), band);
+            let a_nk = nk(&mut pa, Some(d_p), band);
             (a_res, a_eq, a_nk)
         });
         let e_res = small.then(|| {
@@ -299,16 +306,22 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
                 nk.map_or("-".into(), |v| v.2.to_string()), fmt_e(err));
         };
         row(out, format!("{}", bp as f64 / 1000.0), "continuum, cutoff", Some(c_res), c_jac, c_eq, c_nk, c_err);
-        row(out, "".into(), "base pairs, cutoff", Some(d_res), d_jac, d_eq, d_nk, d_err);
+        if let Some((_, d_res, d_jac, d_eq, d_nk, d_err, _)) = &d {
+            row(out, "".into(), "base pairs, cutoff", Some(*d_res), *d_jac, *d_eq, *d_nk, *d_err);
+        }
         if let Some((a_res, a_eq, a_nk)) = all {
             row(out, "".into(), "base pairs, all pairs", Some(a_res), None, Some(a_eq), Some(a_nk), None);
         }
         let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>10} (2 threads){}", "", "", "continuum, cutoff", fmt_t(Some(c_res2)),
             e_res.map_or(String::new(), |t| format!("; every pair: residual {} ({:.1}× the cutoff's)", fmt_t(Some(t)), t.as_secs_f64() / c_res.as_secs_f64())));
         let r = |a: Duration, b: Duration| a.as_secs_f64() / b.as_secs_f64();
-        let (c_nk, d_nk) = (c_nk.unwrap(), d_nk.unwrap());
-        let mut line = format!("{:.0} kbp, faster than the cutoff base pairs: residual {:.1}×, equilibrium direct {:.1}×, NK {:.1}× (warm {:.1}×)",
-            bp as f64 / 1000.0, r(d_res, c_res), r(d_eq.unwrap(), c_eq.unwrap()), r(d_nk.0, c_nk.0), r(d_nk.1, c_nk.1));
+        let c_nk = c_nk.unwrap();
+        let mut line = format!("{:.0} kbp", bp as f64 / 1000.0);
+        if let Some((_, d_res, _, d_eq, d_nk, ..)) = &d {
+            let d_nk = d_nk.unwrap();
+            let _ = write!(line, ", faster than the cutoff base pairs: residual {:.1}×, equilibrium direct {:.1}×, NK {:.1}× (warm {:.1}×)",
+                r(*d_res, c_res), r(d_eq.unwrap(), c_eq.unwrap()), r(d_nk.0, c_nk.0), r(d_nk.1, c_nk.1));
+        }
         if let Some((a_res, a_eq, a_nk)) = all {
             let _ = write!(line, "; than all-pairs base pairs: residual {:.0}×, equilibrium direct {:.1}×, NK {:.0}×", r(a_res, c_res), r(a_eq, c_eq.unwrap()), r(a_nk.0, c_nk.0));
         }
@@ -317,17 +330,22 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
         let secs = |t: Option<Duration>| t.map_or(f64::NAN, |t| t.as_secs_f64());
         let _ = writeln!(csv, "{bp},{n},continuum_cutoff,{},{},{},{},{},{},{},{}", c_res.as_secs_f64(), secs(c_jac), secs(c_eq), c_nk.0.as_secs_f64(), c_nk.1.as_secs_f64(), c_nk.2, c_err.unwrap_or(f64::NAN), c_res2.as_secs_f64());
         let _ = writeln!(csv, "{bp},{n},continuum_every_pair,{},,,,,,,", secs(e_res));
-        let _ = writeln!(csv, "{bp},{n},base_pairs_cutoff,{},{},{},{},{},{},{},", d_res.as_secs_f64(), secs(d_jac), secs(d_eq), d_nk.0.as_secs_f64(), d_nk.1.as_secs_f64(), d_nk.2, d_err.unwrap_or(f64::NAN));
+        if let Some((_, d_res, d_jac, d_eq, d_nk, d_err, _)) = &d {
+            let d_nk = d_nk.unwrap();
+            let _ = writeln!(csv, "{bp},{n},base_pairs_cutoff,{},{},{},{},{},{},{},", d_res.as_secs_f64(), secs(*d_jac), secs(*d_eq), d_nk.0.as_secs_f64(), d_nk.1.as_secs_f64(), d_nk.2, d_err.unwrap_or(f64::NAN));
+        }
         if let Some((a_res, a_eq, a_nk)) = all {
             let _ = writeln!(csv, "{bp},{n},base_pairs_all,{},,{},{},{},{},,", a_res.as_secs_f64(), a_eq.as_secs_f64(), a_nk.0.as_secs_f64(), a_nk.1.as_secs_f64(), a_nk.2);
         }
         let lb = (bp as f64).log10();
         series[0].1.push((lb, ms(c_res).log10()));
-        series[1].1.push((lb, ms(d_res).log10()));
         eq_series[0].1.push((lb, ms(c_nk.0).log10()));
-        eq_series[1].1.push((lb, ms(d_nk.0).log10()));
         eq_series[3].1.push((lb, ms(c_eq.unwrap()).log10()));
-        eq_series[4].1.push((lb, ms(d_eq.unwrap()).log10()));
+        if let Some((_, d_res, _, d_eq, d_nk, ..)) = &d {
+            series[1].1.push((lb, ms(*d_res).log10()));
+            eq_series[1].1.push((lb, ms(d_nk.unwrap().0).log10()));
+            eq_series[4].1.push((lb, ms(d_eq.unwrap()).log10()));
+        }
         if let Some((a_res, _, a_nk)) = all {
             series[2].1.push((lb, ms(a_res).log10()));
             eq_series[2].1.push((lb, ms(a_nk.0).log10()));

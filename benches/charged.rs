@@ -185,7 +185,7 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
     let _ = writeln!(out, "cutoffs with cell lists, continuum 3e-5 and base pairs 1e-4 (each meeting 1e-4 force error); force error on a superhelix (radius 3, pitch 40 nm) against the same model with every pair: max |p − p_ref| over the stage force densities, relative to max |p_ref| (base pairs) or to the continuum's whole electrostatic force density (its p is the far zone only)");
     let _ = writeln!(out, "all-pairs base pairs: direct = Newton on its residual with the cutoff model's Jacobian (its exact one is dense); NK = its own residual's products, preconditioner from the cutoff model's Jacobian");
     let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>10} {:>10} {:>11} {:>10} {:>10} {:>4} {:>8}", "kbp", "n", "model", "residual", "Jacobian", "eq direct", "eq NK", "NK warm", "GMRES", "f error");
-    let mut csv = String::from("bp,n,model,residual_s,jacobian_s,equilibrium_direct_s,equilibrium_nk_s,equilibrium_nk_warm_s,krylov_iterations,force_error,residual_2threads_s\n");
+    let mut csv = String::from("bp,n,model,residual_s,jacobian_s,equilibrium_direct_s,equilibrium_nk_s,equilibrium_nk_warm_s,krylov_iterations,force_error,residual_2threads_s,jacobian_2threads_s\n");
     let mut series: Vec<(&str, Vec<(f64, f64)>)> = vec![("continuum, cutoff", vec![]), ("base pairs, cutoff", vec![]), ("base pairs, all pairs", vec![]), ("continuum, every pair", vec![])];
     let mut eq_series: Vec<(&str, Vec<(f64, f64)>)> = vec![("continuum, NK", vec![]), ("base pairs, NK", vec![]), ("base pairs all pairs, NK", vec![]), ("continuum, direct", vec![]), ("base pairs, direct", vec![])];
     let mut scaling = vec![];
@@ -237,12 +237,12 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
             let n = p.dim();
             let mut r = vec![0.0; n];
             let (_, t_res) = time(5, || p.residual(&x, 2.0, &mut r));
-            if !full {
-                return (n, t_res, None, None, None, None, p);
-            }
             let mut jx = vec![0.0; p.pattern().nnz()];
             let mut jl = vec![0.0; n];
             let t_jac = time(5, || p.jacobian(&x, 2.0, &mut jx, &mut jl)).1;
+            if !full {
+                return (n, t_res, Some(t_jac), None, None, None, p);
+            }
             let t_eq = time(3, || {
                 let b = continue_newton(&mut p, Start::Point { x: x.clone(), lambda: 2.1, increasing: true }, &eq_opts, |_, _| vec![], |_| true).unwrap();
                 assert!(!b.records.is_empty(), "no equilibrium");
@@ -277,8 +277,14 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
         let (n, c_res, c_jac, c_eq, c_nk, c_err, _) = measure(&charge, small.then_some(&every), true);
         let mut two = charge.clone();
         two.threads = 2;
-        let (_, c_res2, ..) = measure(&two, None, false);
+        let (_, c_res2, c_jac2, ..) = measure(&two, None, false);
         let mut d = with_discrete.then(|| measure(&discrete, small.then_some(&every_bp), true));
+        let d2 = with_discrete.then(|| {
+            let mut two = discrete.clone();
+            two.threads = 2;
+            let (_, res, jac, ..) = measure(&two, None, false);
+            (res, jac.unwrap())
+        });
         // All-pairs discrete (1 and 3 kbp).
         let all = small.then(|| {
             let mut pa = ChargedRod::new(&rod, &every_bp, None, &x).unwrap();
@@ -312,8 +318,11 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
         if let Some((a_res, a_eq, a_nk)) = all {
             row(out, "".into(), "base pairs, all pairs", Some(a_res), None, Some(a_eq), Some(a_nk), None);
         }
-        let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>10} (2 threads){}", "", "", "continuum, cutoff", fmt_t(Some(c_res2)),
+        let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>10} {:>10} (2 threads){}", "", "", "continuum, cutoff", fmt_t(Some(c_res2)), fmt_t(c_jac2),
             e_res.map_or(String::new(), |t| format!("; every pair: residual {} ({:.1}× the cutoff's)", fmt_t(Some(t)), t.as_secs_f64() / c_res.as_secs_f64())));
+        if let Some((res, jac)) = d2 {
+            let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>10} {:>10} (2 threads)", "", "", "base pairs, cutoff", fmt_t(Some(res)), fmt_t(Some(jac)));
+        }
         let r = |a: Duration, b: Duration| a.as_secs_f64() / b.as_secs_f64();
         let c_nk = c_nk.unwrap();
         let mut line = format!("{:.0} kbp", bp as f64 / 1000.0);
@@ -328,14 +337,15 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
         let _ = write!(line, "; continuum NK vs direct {:.1}× faster (warm {:.1}×)", r(c_eq.unwrap(), c_nk.0), r(c_eq.unwrap(), c_nk.1));
         ratios.push(line);
         let secs = |t: Option<Duration>| t.map_or(f64::NAN, |t| t.as_secs_f64());
-        let _ = writeln!(csv, "{bp},{n},continuum_cutoff,{},{},{},{},{},{},{},{}", c_res.as_secs_f64(), secs(c_jac), secs(c_eq), c_nk.0.as_secs_f64(), c_nk.1.as_secs_f64(), c_nk.2, c_err.unwrap_or(f64::NAN), c_res2.as_secs_f64());
-        let _ = writeln!(csv, "{bp},{n},continuum_every_pair,{},,,,,,,", secs(e_res));
+        let _ = writeln!(csv, "{bp},{n},continuum_cutoff,{},{},{},{},{},{},{},{},{}", c_res.as_secs_f64(), secs(c_jac), secs(c_eq), c_nk.0.as_secs_f64(), c_nk.1.as_secs_f64(), c_nk.2, c_err.unwrap_or(f64::NAN), c_res2.as_secs_f64(), secs(c_jac2));
+        let _ = writeln!(csv, "{bp},{n},continuum_every_pair,{},,,,,,,,", secs(e_res));
         if let Some((_, d_res, d_jac, d_eq, d_nk, d_err, _)) = &d {
             let d_nk = d_nk.unwrap();
-            let _ = writeln!(csv, "{bp},{n},base_pairs_cutoff,{},{},{},{},{},{},{},", d_res.as_secs_f64(), secs(*d_jac), secs(*d_eq), d_nk.0.as_secs_f64(), d_nk.1.as_secs_f64(), d_nk.2, d_err.unwrap_or(f64::NAN));
+            let (res2, jac2) = d2.map_or((f64::NAN, f64::NAN), |(r, j)| (r.as_secs_f64(), j.as_secs_f64()));
+            let _ = writeln!(csv, "{bp},{n},base_pairs_cutoff,{},{},{},{},{},{},{},{res2},{jac2}", d_res.as_secs_f64(), secs(*d_jac), secs(*d_eq), d_nk.0.as_secs_f64(), d_nk.1.as_secs_f64(), d_nk.2, d_err.unwrap_or(f64::NAN));
         }
         if let Some((a_res, a_eq, a_nk)) = all {
-            let _ = writeln!(csv, "{bp},{n},base_pairs_all,{},,{},{},{},{},,", a_res.as_secs_f64(), a_eq.as_secs_f64(), a_nk.0.as_secs_f64(), a_nk.1.as_secs_f64(), a_nk.2);
+            let _ = writeln!(csv, "{bp},{n},base_pairs_all,{},,{},{},{},{},,,", a_res.as_secs_f64(), a_eq.as_secs_f64(), a_nk.0.as_secs_f64(), a_nk.1.as_secs_f64(), a_nk.2);
         }
         let lb = (bp as f64).log10();
         series[0].1.push((lb, ms(c_res).log10()));

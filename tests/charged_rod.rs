@@ -78,11 +78,18 @@ fn force_is_minus_the_energy_gradient() {
     println!("force vs −gradient: worst {worst:e}");
 }
 
-/// Threads split the stages in fixed chunks and each stage sums its pairs
-/// in list order: residual and Jacobian bitwise identical for 1, 2 and 3
-/// threads.
+/// Threads split the stages (continuum; base pairs: the sites, then the
+/// stages) in fixed chunks and each stage or site sums its pairs in list
+/// order: residual and Jacobian bitwise identical for 1, 2 and 3 threads,
+/// for both charge models.
 #[test]
 fn threads_give_bitwise_identical_results() {
+    for base_pairs in [None, Some(0.34)] {
+        threads_identical(base_pairs);
+    }
+}
+
+fn threads_identical(base_pairs: Option<f64>) {
     let scene = DnaScene { base_pairs: 400, salt: 0.01, ..Default::default() };
     let rod = scene.rod(40, 2).unwrap();
     let x = coiled_state(&rod, 3.0, 3.4);
@@ -90,6 +97,7 @@ fn threads_give_bitwise_identical_results() {
     for threads in [1, 2, 3] {
         let mut charge = scene.charge();
         charge.threads = threads;
+        charge.base_pairs = base_pairs;
         let mut p = ChargedRod::new(&rod, &charge, None, &x).unwrap();
         let n = p.dim();
         let mut r = vec![0.0; n];
@@ -100,8 +108,8 @@ fn threads_give_bitwise_identical_results() {
         out.push((r, jx));
     }
     for k in 1..3 {
-        assert!(out[k].0.iter().zip(&out[0].0).all(|(a, b)| a.to_bits() == b.to_bits()), "residual differs with {} threads", k + 1);
-        assert!(out[k].1.iter().zip(&out[0].1).all(|(a, b)| a.to_bits() == b.to_bits()), "Jacobian differs with {} threads", k + 1);
+        assert!(out[k].0.iter().zip(&out[0].0).all(|(a, b)| a.to_bits() == b.to_bits()), "{base_pairs:?}: residual differs with {} threads", k + 1);
+        assert!(out[k].1.iter().zip(&out[0].1).all(|(a, b)| a.to_bits() == b.to_bits()), "{base_pairs:?}: Jacobian differs with {} threads", k + 1);
     }
 }
 

@@ -93,7 +93,7 @@ pub struct RodCharge {
     /// The discrete base-pair model instead of the continuum (physics.md
     /// §3.3): point charges λb at this spacing b (e.g. 0.34 nm), every pair
     /// farther apart along the rod than a, with the same cutoff, skin and
-    /// cell lists ([`super::rod_base_pairs`]). Sequential; the hard core
+    /// cell lists ([`super::rod_base_pairs`]; threads as the continuum's). The hard core
     /// then acts between the charges (b² k_hc(2.5a − d)³ per pair, the
     /// continuum's double integral as a sum over the sites).
     pub base_pairs: Option<f64>,
@@ -279,7 +279,7 @@ impl ChargedRod {
             _ => None,
         };
         let stage_s: Vec<f64> = points.iter().map(|p| p.s).collect();
-        let sites = charge.base_pairs.filter(|_| l2 != 0.0).map(|b| BasePairSites::new(&stage_s, rod.length, b, a, &reference_r, list_radius));
+        let sites = charge.base_pairs.filter(|_| l2 != 0.0).map(|b| BasePairSites::new(&stage_s, rod.length, b, a, &reference_r, list_radius, charge.threads));
         if let Some(sites) = &sites {
             for j in 0..points.len() {
                 adj.extend_from_slice(sites.partners(j));
@@ -571,7 +571,7 @@ impl ChargedRod {
         if let Some(mut sites) = self.sites.take() {
             let (mut p, mut g) = (std::mem::take(&mut self.p), std::mem::take(&mut self.g));
             let pair = |d: f64, gap: f64| self.pair(d, self.hard_gap(gap));
-            sites.forces(&self.r, &self.weights, &pair, &mut p, jacobian.then_some(&mut g[..]));
+            sites.forces(&self.r, &self.weights, &pair, &mut p, jacobian.then_some(&mut g[..]), self.pool.as_ref());
             self.p = p;
             self.g = g;
             self.sites = Some(sites);

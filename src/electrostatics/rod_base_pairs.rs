@@ -24,7 +24,8 @@
 //! Stage j's Jacobian blocks ∂p_j/∂r_i run over the stencils of the
 //! partners of every site whose stencil holds j (and those sites' own
 //! stencils). Without a cutoff every pair is kept (a dense Jacobian).
-//! Sequential (the caller's thread count applies to the continuum).
+//! The forces run on the caller's threads (RodCharge::threads), bitwise
+//! identical for any count; the energy (reporting only) is sequential.
 
 use super::discrete::CellList;
 
@@ -56,14 +57,15 @@ pub(super) struct BasePairSites {
     // Scratch.
     sites: Vec<[f64; 3]>,
     force: Vec<[f64; 3]>,
-    slot: Vec<usize>,
+    /// One stage-indexed scratch per thread (usize::MAX between uses).
+    slots: Vec<Vec<usize>>,
     blocks: Vec<[f64; 9]>,
 }
 
 /// P'(d), P''(d) of the (switched) pair potential at distance d between
 /// sites `gap` apart along the rod (the hard core acts only between
 /// sites far apart along it), from the charged rod.
-pub(super) type PairFn<'a> = &'a dyn Fn(f64, f64) -> (f64, f64);
+pub(super) type PairFn<'a> = &'a (dyn Fn(f64, f64) -> (f64, f64) + Sync);
 
 fn sorted_union(lists: impl Iterator<Item = usize>) -> Vec<usize> {
     let mut v: Vec<usize> = lists.collect();
@@ -76,8 +78,9 @@ impl BasePairSites {
     /// Sites of spacing ≈ `spacing` on a rod of `length` whose stage points
     /// are at arc lengths `stage_s` (ascending) and positions `stages`;
     /// pairs within `radius` of each other there (None: every pair),
-    /// excluding pairs at most `a` apart along the rod.
-    pub(super) fn new(stage_s: &[f64], length: f64, spacing: f64, a: f64, stages: &[[f64; 3]], radius: Option<f64>) -> Self {
+    /// excluding pairs at most `a` apart along the rod; scratch for
+    /// `threads` threads.
+    pub(super) fn new(stage_s: &[f64], length: f64, spacing: f64, a: f64, stages: &[[f64; 3]], radius: Option<f64>, threads: usize) -> Self {
         let ns = stage_s.len();
         let order = STENCIL.min(ns);
         let count = ((length / spacing).round() as usize).max(1);
@@ -112,7 +115,7 @@ impl BasePairSites {
             reference: Vec::new(),
             sites: vec![[0.0; 3]; count],
             force: vec![[0.0; 3]; count],
-            slot: vec![usize::MAX; ns],
+            slots: vec![vec![usize::MAX; ns]; threads.max(1)],
             blocks: Vec::new(),
         };
         this.interpolate(stages);
@@ -234,22 +237,49 @@ impl BasePairSites {
     /// Stage force densities p_j = (1/w_j) Σ_k ℓ_j(s_k) F_k at the stage
     /// positions `stages` (weights `w`), and with `out` the Jacobian blocks
     /// ∂p_j/∂r_i for every stage j and each of its [`Self::partners`] i,
-    /// stage-major.
-    pub(super) fn forces(&mut self, stages: &[[f64; 3]], w: &[f64], pair: PairFn, p: &mut [[f64; 3]], mut out: Option<&mut [[f64; 9]]>) {
+    /// stage-major. With a `pool`, both passes (sites, then stages) run in
+    /// one contiguous chunk per thread: each site's and each stage's sum is
+    /// the same sequence of operations whatever the chunking, so the results
+    /// are bitwise those of one thread.
+    pub(super) fn forces(&mut self, stages: &[[f64; 3]], w: &[f64], pair: PairFn, p: &mut [[f64; 3]], out: Option<&mut [[f64; 9]]>, pool: Option<&rayon::ThreadPool>) {
         self.interpolate(stages);
+        let jacobian = out.is_some();
+        let (mut force, mut blocks, mut slots) = (std::mem::take(&mut self.force), std::mem::take(&mut self.blocks), std::mem::take(&mut self.slots));
+        let this = &*self;
+        let threads = pool.map_or(1, |p| p.current_num_threads()).clamp(1, slots.len());
+        // Pass 1, sites: f_k and the blocks ∂f_k/∂r_i (k's own column range).
+        let count = this.count();
+        run_chunks(pool, threads, count, &mut slots, |ks, slot, parts: &mut (&mut [[f64; 3]], &mut [[f64; 9]])| {
+            this.site_forces(ks, pair, parts.0, jacobian.then_some(&mut *parts.1), slot)
+        }, |ks| (ks.len(), if jacobian { this.col_ptr[ks.end] - this.col_ptr[ks.start] } else { 0 }), (&mut force[..], &mut blocks[..]));
+        // Pass 2, stages: p_j and ∂p_j/∂r_i (j's own partner range).
+        let ns = p.len();
+        let mut empty: [[f64; 9]; 0] = [];
+        let out = out.unwrap_or(&mut empty[..]);
+        run_chunks(pool, threads, ns, &mut slots, |js, slot, parts: &mut (&mut [[f64; 3]], &mut [[f64; 9]])| {
+            this.stage_forces(js, w, &force, &blocks, parts.0, jacobian.then_some(&mut *parts.1), slot)
+        }, |js| (js.len(), if jacobian { this.partner_ptr[js.end] - this.partner_ptr[js.start] } else { 0 }), (p, out));
+        self.force = force;
+        self.blocks = blocks;
+        self.slots = slots;
+    }
+
+    /// Site forces per length f_k = −Σ_l b P'(d) Δ/d for k in `ks` (into
+    /// `force`, indexed from ks.start), and (Jacobian) the blocks ∂f_k/∂r_i
+    /// over the site's stage columns, Σ_l g_kl ℓ_i(s_l) − (Σ_l g_kl) ℓ_i(s_k),
+    /// g_kl = b [P'/d I + (P'' − P'/d) ΔΔᵀ/d²] (into `blocks`, indexed from
+    /// col_ptr[ks.start]); `slot`: all usize::MAX on entry and exit.
+    fn site_forces(&self, ks: std::ops::Range<usize>, pair: PairFn, force: &mut [[f64; 3]], mut blocks: Option<&mut [[f64; 9]]>, slot: &mut [usize]) {
         let order = self.order();
         let b = self.spacing;
-        let jacobian = out.is_some();
-        // Site forces per length f_k = −Σ_l b P'(d) Δ/d, and (Jacobian) the
-        // blocks ∂f_k/∂r_i over the site's stage columns: Σ_l g_kl ℓ_i(s_l)
-        // − (Σ_l g_kl) ℓ_i(s_k), g_kl = b [P'/d I + (P'' − P'/d) ΔΔᵀ/d²].
-        for k in 0..self.count() {
-            let (c0, c1) = (self.col_ptr[k], self.col_ptr[k + 1]);
-            if jacobian {
-                for (t, &i) in self.col[c0..c1].iter().enumerate() {
-                    self.slot[i] = c0 + t;
+        let (k0, base) = (ks.start, self.col_ptr[ks.start]);
+        for k in ks {
+            let (c0, c1) = (self.col_ptr[k] - base, self.col_ptr[k + 1] - base);
+            if let Some(blocks) = blocks.as_deref_mut() {
+                for (t, &i) in self.col[c0 + base..c1 + base].iter().enumerate() {
+                    slot[i] = c0 + t;
                 }
-                self.blocks[c0..c1].iter_mut().for_each(|v| *v = [0.0; 9]);
+                blocks[c0..c1].iter_mut().for_each(|v| *v = [0.0; 9]);
             }
             let rk = self.sites[k];
             let mut fk = [0.0; 3];
@@ -267,7 +297,7 @@ impl BasePairSites {
                 for i in 0..3 {
                     fk[i] += c * dv[i];
                 }
-                if jacobian {
+                if let Some(blocks) = blocks.as_deref_mut() {
                     let (a0, a1) = (b * p1 / d, b * (p2 - p1 / d) / (d * d));
                     let mut g = [0.0; 9];
                     for r in 0..3 {
@@ -279,37 +309,46 @@ impl BasePairSites {
                         dk[m] -= g[m];
                     }
                     for i in 0..order {
-                        let (li, at) = (self.basis[l * order + i], self.slot[self.stencil[l] + i]);
-                        let blk = &mut self.blocks[at];
+                        let (li, at) = (self.basis[l * order + i], slot[self.stencil[l] + i]);
+                        let blk = &mut blocks[at];
                         for m in 0..9 {
                             blk[m] += li * g[m];
                         }
                     }
                 }
             }
-            self.force[k] = fk;
-            if jacobian {
+            force[k - k0] = fk;
+            if let Some(blocks) = blocks.as_deref_mut() {
                 for i in 0..order {
-                    let (li, at) = (self.basis[k * order + i], self.slot[self.stencil[k] + i]);
-                    let blk = &mut self.blocks[at];
+                    let (li, at) = (self.basis[k * order + i], slot[self.stencil[k] + i]);
+                    let blk = &mut blocks[at];
                     for m in 0..9 {
                         blk[m] += li * dk[m];
                     }
                 }
-                for &i in &self.col[c0..c1] {
-                    self.slot[i] = usize::MAX;
+                for &i in &self.col[c0 + base..c1 + base] {
+                    slot[i] = usize::MAX;
                 }
             }
         }
-        // Stage j: F_j = Σ_{k holds j} b ℓ_j(s_k) f_k, p_j = F_j / w_j.
-        let mut at = 0;
-        for j in 0..p.len() {
+    }
+
+    /// Stage j in `js`: F_j = Σ_{k holds j} b ℓ_j(s_k) f_k, p_j = F_j / w_j
+    /// (into `p`, indexed from js.start), and (Jacobian) ∂p_j/∂r_i over j's
+    /// partners (into `out`, indexed from partner_ptr[js.start]), from every
+    /// site's `force` and `blocks`; `slot` as in [`Self::site_forces`].
+    #[allow(clippy::too_many_arguments)]
+    fn stage_forces(&self, js: std::ops::Range<usize>, w: &[f64], force: &[[f64; 3]], blocks: &[[f64; 9]], p: &mut [[f64; 3]], mut out: Option<&mut [[f64; 9]]>, slot: &mut [usize]) {
+        let order = self.order();
+        let b = self.spacing;
+        let (j0, base) = (js.start, self.partner_ptr[js.start]);
+        for j in js {
             let (h0, h1) = (self.holder_ptr[j], self.holder_ptr[j + 1]);
             let (q0, q1) = (self.partner_ptr[j], self.partner_ptr[j + 1]);
             if let Some(out) = out.as_deref_mut() {
                 for (t, &i) in self.partner[q0..q1].iter().enumerate() {
-                    self.slot[i] = at + t;
-                    out[at + t] = [0.0; 9];
+                    slot[i] = q0 - base + t;
+                    out[q0 - base + t] = [0.0; 9];
                 }
             }
             let mut pj = [0.0; 3];
@@ -317,24 +356,59 @@ impl BasePairSites {
             for &k in &self.holder[h0..h1] {
                 let lj = b * inv * self.basis[k * order + (j - self.stencil[k])];
                 for c in 0..3 {
-                    pj[c] += lj * self.force[k][c];
+                    pj[c] += lj * force[k][c];
                 }
                 if let Some(out) = out.as_deref_mut() {
                     for (cp, &i) in (self.col_ptr[k]..self.col_ptr[k + 1]).zip(&self.col[self.col_ptr[k]..self.col_ptr[k + 1]]) {
-                        let (src, dst) = (self.blocks[cp], &mut out[self.slot[i]]);
+                        let (src, dst) = (blocks[cp], &mut out[slot[i]]);
                         for m in 0..9 {
                             dst[m] += lj * src[m];
                         }
                     }
                 }
             }
-            p[j] = pj;
+            p[j - j0] = pj;
             if out.is_some() {
                 for &i in &self.partner[q0..q1] {
-                    self.slot[i] = usize::MAX;
+                    slot[i] = usize::MAX;
                 }
-                at += q1 - q0;
             }
         }
     }
 }
+
+/// Run `work(range, slot, parts)` over 0..n: in one call without a pool,
+/// else in `threads` contiguous chunks on the pool, each with its own slot
+/// scratch and its own disjoint parts of the two output slices (`sizes`
+/// gives a range's lengths in each).
+fn run_chunks<'a, W, S>(pool: Option<&rayon::ThreadPool>, threads: usize, n: usize, slots: &mut [Vec<usize>], work: W, sizes: S, parts: (&'a mut [[f64; 3]], &'a mut [[f64; 9]]))
+where
+    W: Fn(std::ops::Range<usize>, &mut [usize], &mut (&mut [[f64; 3]], &mut [[f64; 9]])) + Sync,
+    S: Fn(std::ops::Range<usize>) -> (usize, usize) + Sync,
+{
+    let (mut a, mut b) = parts;
+    match pool {
+        Some(pool) if threads > 1 && n >= 64 => {
+            let chunk = n.div_ceil(threads);
+            pool.scope(|scope| {
+                let mut start = 0;
+                for slot in slots.iter_mut().take(threads) {
+                    if start >= n {
+                        break;
+                    }
+                    let end = (start + chunk).min(n);
+                    let (na, nb) = sizes(start..end);
+                    let (a0, a1) = std::mem::take(&mut a).split_at_mut(na);
+                    let (b0, b1) = std::mem::take(&mut b).split_at_mut(nb);
+                    a = a1;
+                    b = b1;
+                    let work = &work;
+                    scope.spawn(move |_| work(start..end, slot, &mut (a0, b0)));
+                    start = end;
+                }
+            });
+        }
+        _ => work(0..n, &mut slots[0], &mut (a, b)),
+    }
+}
+

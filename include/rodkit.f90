@@ -119,6 +119,7 @@ module rodkit
     integer(c_int32_t), parameter :: RODKIT_ROD_SUPPORTS_CLAMPED = 2
     integer(c_int32_t), parameter :: RODKIT_ROD_SUPPORTS_PINNED = 3
     integer(c_int32_t), parameter :: RODKIT_ROD_SUPPORTS_TWISTED = 4
+    integer(c_int32_t), parameter :: RODKIT_ROD_SUPPORTS_TORQUED = 5
 
     ! enum RodkitLoadFrame (see rodkit.h).
     integer(c_int32_t), parameter :: RODKIT_LOAD_FRAME_NONE = 0

@@ -207,6 +207,10 @@ enum RodkitRodSupports
   // under the axial dead force `end_tension`, turned about e3 by φ with
   // Λ = sin(φ/2) (records report φ in `end_rotation`). No tip loads.
   RODKIT_ROD_SUPPORTS_TWISTED = 4,
+  // Controlled end moment (a torque clamp): as Twisted, but φ is free and
+  // Λ is the spatial end moment about e3 (records report φ in
+  // `end_rotation`, continuous along the branch). No tip loads.
+  RODKIT_ROD_SUPPORTS_TORQUED = 5,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -637,7 +641,9 @@ typedef struct RodkitBranchRecord {
   // The phase condition's unfolding parameter μ (0 without one).
   double unfolding;
   // Twisted supports: the end rotation φ = 2 atan2(Λ, cos(φ/2))
-  // (radians, following the turns past π); 0 otherwise.
+  // (radians, following the turns past π); torqued supports: φ, in
+  // (−2π, 2π] at the branch's first record and continuous from there
+  // (±4π unwrapped between records); 0 otherwise.
   double end_rotation;
 } RodkitBranchRecord;
 

@@ -230,6 +230,48 @@ fn greenhill_through_the_c_abi() {
     unsafe { rodkit_rod_free(rod) };
 }
 
+/// A torque clamp through the C ABI (supports = TORQUED, Λ the end moment):
+/// with a soft twist (C = 0.5) the straight branch turns the end by φ =
+/// ML/C, past two turns before the Greenhill double point at M_c =
+/// 2·4.4934…·K_b/L (independent of C); end_rotation follows the turns
+/// (unwrapped past ±2π) to 1e-9. 32 elements: the frame turns 18 rad along
+/// the rod, and on 16 Gauss(4) elements (1.1 rad each) M_c was off by 8e-8.
+#[test]
+fn torque_clamp_through_the_c_abi() {
+    let mut s = spec();
+    s.kirchhoff = 1;
+    s.twist = 0.5;
+    s.tip_moment_frame = LoadFrame::None as i32;
+    s.supports = RodSupports::Torqued as i32;
+    s.elements = 32;
+    let rod = new_rod(&s).unwrap();
+    let mut o = options();
+    o.method = ContinuationMethod::Newton as i32;
+    o.target_lambda = 10.0;
+    o.initial_step = 0.2;
+    o.max_step = 0.5;
+    o.residual_tol = 1e-12;
+    o.detect_bifurcations = 1;
+    let mut b = ptr::null_mut();
+    assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) }, 0, "{}", last_error());
+    let mut bif = Bifurcation::default();
+    let mut count = 0;
+    assert_eq!(unsafe { rodkit_branch_bifurcations(b, rod, &mut bif, 1, &mut count) }, 0);
+    assert_eq!((count, bif.multiplicity), (1, 2));
+    let m_c = 2.0 * 4.493409457909064;
+    assert!((bif.lambda - m_c).abs() < 1e-8 * m_c, "{}", bif.lambda);
+    let mut info = BranchInfo::default();
+    unsafe { rodkit_branch_summary(b, &mut info) };
+    let mut recs = vec![BranchRecord::default(); info.records as usize];
+    unsafe { rodkit_branch_records(b, recs.as_mut_ptr(), info.records, &mut count) };
+    assert!(recs.last().unwrap().end_rotation > 4.0 * std::f64::consts::PI, "{}", recs.last().unwrap().end_rotation);
+    for r in &recs {
+        assert!((r.end_rotation - r.lambda / 0.5).abs() < 1e-9 * (1.0 + r.end_rotation.abs()), "φ {} at M {}", r.end_rotation, r.lambda);
+    }
+    unsafe { rodkit_branch_free(b) };
+    unsafe { rodkit_rod_free(rod) };
+}
+
 /// Dense samples through the C ABI: the pure follower end moment M = Λ·K_b/L
 /// about d1 bends the rod into an arc of curvature Λ/L (n ≡ 0: no stretch),
 /// tip closed form below; each requested load

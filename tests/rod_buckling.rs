@@ -245,6 +245,89 @@ fn greenhill_controlled_end_rotation() {
     assert!((tip[12] - c * phi).abs() < 1e-9 * c * phi, "m3 {}", tip[12]);
 }
 
+/// Greenhill's problem under a torque clamp (Supports::Torqued: the end
+/// moment M is the parameter, φ free): the same straight branch φ = ML/C
+/// and the same double bifurcation, now at M_c = 2·4.4934…·K_b/L (the
+/// linearisation above), found to 1e-8 by Newton and by the ANM
+/// continuation; with tension T the straight branch is unchanged (φ =
+/// ML/C) and M_c grows (checked against the φ-controlled rod's buckling
+/// torque at the same T, to 1e-8).
+#[test]
+fn greenhill_controlled_end_moment() {
+    let mut x = 4.49f64;
+    for _ in 0..50 {
+        x -= (x.tan() - x) / (1.0 / x.cos().powi(2) - 1.0);
+    }
+    let (kb, c) = (1.0, 4.0);
+    let m_c = 2.0 * x * kb;
+    let law = RodLaw::kirchhoff(kb, kb, c).unwrap();
+    let rod = Rod::new(law.clone(), 1.0, Loads::default(), Supports::Torqued { tension: 0.0 }, Scheme::Gauss(4), 16).unwrap();
+    assert_eq!(rod.unknowns(), rod.straight_state().len());
+    for anm in [false, true] {
+        let bif = straight_branch_with(&rod, 10.0, anm);
+        let err = (bif.lambda - m_c).abs() / m_c;
+        let phi = rod.end_rotation(&bif.x, bif.lambda).unwrap();
+        println!("Greenhill, torque clamp (ANM {anm}): M_c = {}, linearised {m_c}, error {err:e}; φ = {phi}", bif.lambda);
+        assert!(err < 1e-8, "ANM {anm}: {err:e}");
+        assert_eq!(bif.multiplicity, 2);
+        assert!((phi - m_c / c).abs() < 1e-9 * phi, "φ {phi} against ML/C {}", m_c / c);
+    }
+    // With tension: the rotation-controlled rod's buckling torque.
+    let tension = 5.0;
+    let twisted = Rod::new(law.clone(), 1.0, Loads::default(), Supports::Twisted { tension }, Scheme::Gauss(4), 16).unwrap();
+    let b = straight_branch(&twisted, 0.999);
+    let m_twisted = twisted.node_state(&b.x, twisted.elements)[12];
+    let torqued = Rod::new(law, 1.0, Loads::default(), Supports::Torqued { tension }, Scheme::Gauss(4), 16).unwrap();
+    let bif = straight_branch(&torqued, 12.0);
+    println!("T = {tension}: M_c {} (torque clamp) vs {m_twisted} (rotation control)", bif.lambda);
+    assert!((bif.lambda - m_twisted).abs() < 1e-8 * m_twisted, "{} vs {m_twisted}", bif.lambda);
+    assert!(bif.lambda > m_c * 1.05);
+}
+
+/// The post-buckled Greenhill branch (T = 1) traced under a torque clamp
+/// and under rotation control is one curve in the (φ, M) plane: every
+/// torque-clamp point's M against the rotation-controlled branch's M at the
+/// same φ (linear interpolation between its points 0.01 apart in Λ: error
+/// ≈ h²M''/8, below 1e-4 relative here).
+#[test]
+fn torque_clamp_and_rotation_control_trace_one_buckled_curve() {
+    let law = RodLaw::kirchhoff(1.0, 1.0, 4.0).unwrap();
+    let method = rodkit::rod::branch::Method::Newton;
+    let curve = |supports: Supports, target: f64, step: f64, steps: usize| -> Vec<(f64, f64)> {
+        let rod = Rod::new(law.clone(), 1.0, Loads::default(), supports, Scheme::Gauss(2), 12).unwrap();
+        let opts = Options { target_lambda: Some(target), residual_tol: 1e-12, initial_step: 0.2, max_step: 0.5, detect_bifurcations: true, ..Default::default() };
+        let straight = rod.continue_branch(None, 0.0, true, &opts, method, |_| true).unwrap();
+        let opts = Options { residual_tol: 1e-11, initial_step: step, max_step: step, max_steps: steps, ..Default::default() };
+        let b = rod.switch_branch(&straight, 0, 0, step.min(0.05), &opts, method, |_| true).unwrap();
+        let mut phi_prev = rod.end_rotation(&straight.bifurcations[0].x, straight.bifurcations[0].lambda).unwrap();
+        b.records.iter().zip(&b.states).map(|(r, x)| {
+            let phi = rodkit::rod::model::unwrap_rotation(phi_prev, rod.end_rotation(x, r.lambda).unwrap());
+            phi_prev = phi;
+            let y = rod.node_state(x, rod.elements);
+            let q = [y[3], y[4], y[5], y[6]];
+            // Spatial moment about e3 at s = L.
+            let rot = rodkit::rod::kinematics::rotation(&q);
+            (phi, rot[2][0] * y[10] + rot[2][1] * y[11] + rot[2][2] * y[12])
+        }).collect()
+    };
+    let torque = curve(Supports::Torqued { tension: 1.0 }, 12.0, 0.1, 12);
+    let rotation = curve(Supports::Twisted { tension: 1.0 }, 0.999, 0.01, 60);
+    let (lo, hi) = (rotation.first().unwrap().0.min(rotation.last().unwrap().0), rotation.first().unwrap().0.max(rotation.last().unwrap().0));
+    let mut compared = 0;
+    for &(phi, m) in &torque {
+        if phi <= lo || phi >= hi {
+            continue;
+        }
+        let w = rotation.windows(2).find(|w| (w[0].0 - phi) * (w[1].0 - phi) <= 0.0).unwrap();
+        let t = (phi - w[0].0) / (w[1].0 - w[0].0);
+        let m_rot = w[0].1 + t * (w[1].1 - w[0].1);
+        println!("φ {phi:.5}: M torque clamp {m:.8}, rotation control {m_rot:.8}");
+        assert!((m - m_rot).abs() < 1e-4 * m.abs(), "φ {phi}: {m} vs {m_rot}");
+        compared += 1;
+    }
+    assert!(compared >= 5, "only {compared} points overlap: torque {torque:?}, rotation φ in [{lo}, {hi}]");
+}
+
 /// Greenhill's post-buckled branch of the symmetric rod (isotropic
 /// Kirchhoff, controlled end rotation, T = 0 and 1): non-planar, every
 /// rotation about the axis another solution; followed with the phase

@@ -31,6 +31,10 @@ pub enum RodSupports {
     /// under the axial dead force `end_tension`, turned about e3 by φ with
     /// Λ = sin(φ/2) (records report φ in `end_rotation`). No tip loads.
     Twisted = 4,
+    /// Controlled end moment (a torque clamp): as Twisted, but φ is free and
+    /// Λ is the spatial end moment about e3 (records report φ in
+    /// `end_rotation`, continuous along the branch). No tip loads.
+    Torqued = 5,
 }
 
 /// How a load follows the rod (`*_frame` fields).
@@ -264,7 +268,9 @@ pub struct BranchRecord {
     /// The phase condition's unfolding parameter μ (0 without one).
     pub unfolding: f64,
     /// Twisted supports: the end rotation φ = 2 atan2(Λ, cos(φ/2))
-    /// (radians, following the turns past π); 0 otherwise.
+    /// (radians, following the turns past π); torqued supports: φ, in
+    /// (−2π, 2π] at the branch's first record and continuous from there
+    /// (±4π unwrapped between records); 0 otherwise.
     pub end_rotation: f64,
 }
 
@@ -407,7 +413,8 @@ fn model_from(s: &RodSpec, general: Option<Matrix6<f64>>) -> Result<Model> {
         },
         3 => Supports::Pinned,
         4 => Supports::Twisted { tension: s.end_tension },
-        v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `supports` must be a RodkitRodSupports 1…4 (got {v})"))),
+        5 => Supports::Torqued { tension: s.end_tension },
+        v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `supports` must be a RodkitRodSupports 1…5 (got {v})"))),
     };
     let loads = Loads {
         tip_force: load("tip_force", s.tip_force_frame, s.tip_force_x, s.tip_force_y, s.tip_force_z)?,
@@ -564,6 +571,16 @@ fn wrap(model: &Model, branch: RodBranch) -> Branch {
             ..record_of(model, n, s.lambda, x)
         })
         .collect();
+    let (mut records, mut samples): (Vec<BranchRecord>, Vec<BranchRecord>) = (records, samples);
+    if model.torqued() {
+        // A torque clamp's φ from (cos φ/2, sin φ/2) is known mod 4π: turns
+        // followed by continuity along the records (and samples).
+        for list in [&mut records, &mut samples] {
+            for k in 1..list.len() {
+                list[k].end_rotation = crate::rod::model::unwrap_rotation(list[k - 1].end_rotation, list[k].end_rotation);
+            }
+        }
+    }
     let state_length = n + branch.phase.is_some() as usize;
     Branch { branch, records, samples, state_length, model: model.clone() }
 }

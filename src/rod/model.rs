@@ -53,6 +53,17 @@ pub enum Supports {
     /// reaction): the fixed-extension protocol of a supercoiling
     /// experiment, where [`Supports::Twisted`] is the fixed-force one.
     TwistedAtDistance { distance: f64 },
+    /// Controlled end moment (a torque clamp, as in magnetic torque
+    /// tweezers): as [`Supports::Twisted`] — s = 0 clamped, s = L on the
+    /// axis, pulled by the axial dead force `tension`, its section turned
+    /// about e3 only — but the angle φ is free and the spatial moment about
+    /// e3 at s = L equals Λ: the load parameter is the end torque. φ enters
+    /// through c = cos(φ/2), s = sin(φ/2), two more unknowns
+    /// ([`Rod::end_angle`]) with c² + s² = 1 (the system stays cubic);
+    /// φ = 2 atan2(s, c) is unwrapped along a path by continuity. Same
+    /// equilibria as [`Supports::Twisted`], the curve (φ, M) parametrised
+    /// by M instead of φ (its folds in M are the torque's extrema).
+    Torqued { tension: f64 },
 }
 
 /// A discretised rod.
@@ -116,7 +127,7 @@ impl Rod {
                     return Err(Error::new(Status::ErrOutOfRange, "a rod with a controlled end rotation takes no tip load"));
                 }
             }
-            Supports::Twisted { tension } => {
+            Supports::Twisted { tension } | Supports::Torqued { tension } => {
                 error::finite("tension", tension)?;
                 if loads.tip_force.is_some() || loads.tip_moment.is_some() {
                     return Err(Error::new(Status::ErrOutOfRange, "a rod with a controlled end rotation takes no tip load (set its tension)"));
@@ -172,13 +183,14 @@ impl Rod {
     }
 
     /// Number of unknowns (excluding Λ): the node and stage states, and the
-    /// end rotation's cosine for [`Supports::Twisted`].
+    /// end rotation's cosine for [`Supports::Twisted`] (its cosine and sine
+    /// for [`Supports::Torqued`]).
     pub fn unknowns(&self) -> usize {
         self.block_size() * self.elements + 13 + self.boundary_unknowns()
     }
 
     fn boundary_unknowns(&self) -> usize {
-        self.twisted() as usize
+        self.twisted() as usize + 2 * self.torqued() as usize
     }
 
     /// Controlled end rotation (either axial condition).
@@ -186,13 +198,29 @@ impl Rod {
         matches!(self.supports, Supports::Twisted { .. } | Supports::TwistedAtDistance { .. })
     }
 
+    /// Controlled end moment ([`Supports::Torqued`]).
+    pub fn torqued(&self) -> bool {
+        matches!(self.supports, Supports::Torqued { .. })
+    }
+
     /// Index of c = cos(φ/2) in x for [`Supports::Twisted`].
     pub fn end_cosine(&self) -> Option<usize> {
         self.twisted().then(|| self.block_size() * self.elements + 13)
     }
 
-    /// The end rotation φ = 2 atan2(Λ, c) of a [`Supports::Twisted`] rod.
+    /// Indices of (cos(φ/2), sin(φ/2)) in x for [`Supports::Torqued`].
+    pub fn end_angle(&self) -> Option<(usize, usize)> {
+        let at = self.block_size() * self.elements + 13;
+        self.torqued().then_some((at, at + 1))
+    }
+
+    /// The end rotation φ = 2 atan2(Λ, c) of a [`Supports::Twisted`] rod,
+    /// 2 atan2(s, c) ∈ (−2π, 2π] of a [`Supports::Torqued`] one (unwrap
+    /// along a path with [`unwrap_rotation`]).
     pub fn end_rotation(&self, x: &[f64], lambda: f64) -> Option<f64> {
+        if let Some((c, s)) = self.end_angle() {
+            return Some(2.0 * x[s].atan2(x[c]));
+        }
         self.end_cosine().map(|i| 2.0 * lambda.atan2(x[i]))
     }
 
@@ -217,7 +245,7 @@ impl Rod {
     /// r = s·v̂3·e3, q = 1, n = m = 0 at nodes and stages.
     pub fn straight_state(&self) -> Vec<f64> {
         let mut x = vec![0.0; self.unknowns()];
-        if let Some(i) = self.end_cosine() {
+        if let Some(i) = self.end_cosine().or(self.end_angle().map(|(c, _)| c)) {
             x[i] = 1.0;
         }
         let h = self.element_length();
@@ -395,6 +423,10 @@ impl Rod {
             inputs.push(Slot::Unknown(c));
             rows.push(c);
         }
+        if let Some((c, s)) = self.end_angle() {
+            inputs.extend([Slot::Unknown(c), Slot::Unknown(s)]);
+            rows.extend([c, s]);
+        }
         blocks.push(Block { tape: bc, inputs, rows });
         if let Some((node, azimuth)) = phase {
             let (s, c) = azimuth.sin_cos();
@@ -406,17 +438,26 @@ impl Rod {
         let ss = self.state_scales();
         // μ is a distributed couple: moment per length, K_b/L².
         let cosine = self.end_cosine();
-        let unknowns: Vec<f64> = (0..n).map(|k| if k == mu { ss[10] / self.length } else if Some(k) == cosine { 1.0 } else { ss[k % 13] }).collect();
+        let angle = self.end_angle();
+        let is_angle = |k: usize| Some(k) == cosine || angle.is_some_and(|(c, s)| k == c || k == s);
+        let unknowns: Vec<f64> = (0..n).map(|k| if k == mu { ss[10] / self.length } else if is_angle(k) { 1.0 } else { ss[k % 13] }).collect();
         let scale_q = 1.0 / self.length;
         let rate = |k: usize| match k {
             0..=2 => 1.0,
             3..=6 => scale_q,
             _ => ss[k] / self.length,
         };
-        let mut equations: Vec<f64> = (0..n).map(|k| if k == mu { self.length } else if Some(k) == cosine { 1.0 } else { h * rate(k % 13) }).collect();
+        let mut equations: Vec<f64> = (0..n).map(|k| if k == mu { self.length } else if is_angle(k) { 1.0 } else { h * rate(k % 13) }).collect();
         let bc_scales = self.boundary_scales();
         equations[..13].copy_from_slice(&bc_scales);
-        let sys = AssembledSystem::new(n, blocks).with_scales(equations, unknowns, 1.0);
+        // A torque clamp's moment row and its Λ (the end torque): moments.
+        let lambda_scale = if let Some((_, s)) = angle {
+            equations[s] = ss[10];
+            ss[10]
+        } else {
+            1.0
+        };
+        let sys = AssembledSystem::new(n, blocks).with_scales(equations, unknowns, lambda_scale);
         let degree = sys.degree();
         if degree > 3 {
             return Err(Error::new(Status::ErrInternal, format!("rod system has degree {degree} (> 3)")));
@@ -438,11 +479,11 @@ impl Rod {
                 s[7..10].copy_from_slice(&ss[0..3]);
                 s[10..13].fill(1.0);
             }
-            Supports::Twisted { .. } | Supports::TwistedAtDistance { .. } => {
+            Supports::Twisted { .. } | Supports::TwistedAtDistance { .. } | Supports::Torqued { .. } => {
                 s[..7].copy_from_slice(&ss[..7]);
                 s[7] = ss[0];
                 s[8] = ss[1];
-                s[9] = if matches!(self.supports, Supports::Twisted { .. }) { ss[9] } else { ss[2] };
+                s[9] = if matches!(self.supports, Supports::TwistedAtDistance { .. }) { ss[2] } else { ss[9] };
                 s[10..13].fill(1.0);
             }
             Supports::Pinned => {
@@ -470,7 +511,7 @@ impl Rod {
             let lambda = v[26];
             let mut out: Vec<Var> = Vec::with_capacity(13);
             match supports {
-                Supports::Cantilever | Supports::Clamped { .. } | Supports::Twisted { .. } | Supports::TwistedAtDistance { .. } => {
+                Supports::Cantilever | Supports::Clamped { .. } | Supports::Twisted { .. } | Supports::TwistedAtDistance { .. } | Supports::Torqued { .. } => {
                     out.extend_from_slice(&y0[0..3]);
                     out.push(y0[3] - 1.0);
                     out.extend_from_slice(&y0[4..7]);
@@ -533,6 +574,22 @@ impl Rod {
                     out.extend_from_slice(&rel[1..4]);
                     out.push(c * c + lambda * lambda - 1.0);
                 }
+                Supports::Torqued { tension } => {
+                    out.push(yl[0]);
+                    out.push(yl[1]);
+                    let rot = kinematics::rotation(&ql);
+                    let nz = rot[2][0] * yl[7] + rot[2][1] * yl[8] + rot[2][2] * yl[9];
+                    out.push(nz - tension);
+                    // Vector part of q̄_t ∘ q(L), q_t = (c, 0, 0, s).
+                    let (c, s) = (v[27], v[28]);
+                    let zero = Var::constant(0.0);
+                    let rel = kinematics::quat_mul(&[c, zero, zero, -s], &ql);
+                    out.extend_from_slice(&rel[1..4]);
+                    out.push(c * c + s * s - 1.0);
+                    // The spatial moment about e3: (R(q) m_b)_z = Λ.
+                    let mz = rot[2][0] * yl[10] + rot[2][1] * yl[11] + rot[2][2] * yl[12];
+                    out.push(mz - lambda);
+                }
                 Supports::Pinned => {
                     out.push(yl[0]);
                     out.push(yl[1]);
@@ -547,6 +604,15 @@ impl Rod {
             out
         })
     }
+}
+
+/// The end rotation φ (mod 4π, as from [`Rod::end_rotation`] of a
+/// [`Supports::Torqued`] rod) shifted by a multiple of 4π to the nearest of
+/// `previous`: turns tracked along a path whose steps turn the end by less
+/// than 2π.
+pub fn unwrap_rotation(previous: f64, phi: f64) -> f64 {
+    let period = 4.0 * std::f64::consts::PI;
+    phi + period * ((previous - phi) / period).round()
 }
 
 /// f, or f + μA with the unfolding parameter as the kernel's last input.

@@ -12,9 +12,11 @@
  * by Newton-Krylov and by the direct solver, and writes
  *   - the path as CSV (turns, extension, torque, tension, twist, writhe, branch),
  *   - the shapes as VTK polydata (one polyline per written point) for ParaView.
- * Usage: c_dna_supercoil [salt M] [max steps] [csv path] [vtk path] [elements] [base pairs] [model]
- * (defaults 0.1, 60, target/dna_supercoil.csv, target/dna_supercoil.vtk, 100, 1000, continuum);
- * model "discrete" uses the base-pair point charges (the thesis's comparison).
+ * Usage: c_dna_supercoil [salt M] [max steps] [csv path] [vtk path] [elements] [base pairs] [model] [control]
+ * (defaults 0.1, 60, target/dna_supercoil.csv, target/dna_supercoil.vtk, 100, 1000, continuum, rotation);
+ * model "discrete" uses the base-pair point charges (the thesis's comparison);
+ * control "torque" continues in the end torque (a torque clamp) instead of
+ * the end rotation: the same equilibria, the turns read from each shape.
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -37,6 +39,7 @@ int main(int argc, char **argv) {
     spec.elements = argc > 5 ? atoll(argv[5]) : 100;
     if (argc > 6) spec.base_pairs = atoll(argv[6]);
     if (argc > 7) spec.discrete_base_pairs = argv[7][0] == 'd';
+    if (argc > 8) spec.end_control = argv[8][0] == 't' ? RODKIT_END_CONTROL_TORQUE : RODKIT_END_CONTROL_ROTATION;
 
     RodkitSupercoil *run = NULL;
     st = rodkit_dna_supercoil_run(&spec, &run);
@@ -55,8 +58,9 @@ int main(int argc, char **argv) {
 
     printf("# DNA supercoiling: %lld bp, %.3g pN, %.3g M salt (Debye length %.4g nm), nu = %.4g e/nm, a = %.3g nm\n",
            (long long)spec.base_pairs, spec.tension, spec.salt, 1.0 / info.kappa, spec.charge_per_length, spec.radius);
-    printf("# %lld elements of Gauss(%lld); screening cutoff %.4g..%.4g nm (tolerance %.1e)\n", (long long)spec.elements,
-           (long long)spec.stages, info.cutoff_on, info.cutoff_off, spec.cutoff_tolerance);
+    printf("# %lld elements of Gauss(%lld); screening cutoff %.4g..%.4g nm (tolerance %.1e); continued in the end %s\n", (long long)spec.elements,
+           (long long)spec.stages, info.cutoff_on, info.cutoff_off, spec.cutoff_tolerance,
+           spec.end_control == RODKIT_END_CONTROL_TORQUE ? "torque (torque clamp)" : "rotation");
     if (info.base_pair_charges > 0)
         printf("# model: discrete base pairs, %lld point charges\n", (long long)info.base_pair_charges);
     else

@@ -142,6 +142,8 @@ module rodkit
     integer(c_int32_t), parameter :: RODKIT_BRANCH_STOP_STEP_TOO_SMALL = 4
     integer(c_int32_t), parameter :: RODKIT_EQUILIBRIUM_SOLVER_DIRECT = 1
     integer(c_int32_t), parameter :: RODKIT_EQUILIBRIUM_SOLVER_NEWTON_KRYLOV = 2
+    integer(c_int32_t), parameter :: RODKIT_END_CONTROL_ROTATION = 1
+    integer(c_int32_t), parameter :: RODKIT_END_CONTROL_TORQUE = 2
 
 
     ! -------------------------------------------------------------------------
@@ -460,6 +462,7 @@ module rodkit
         integer(c_int64_t) :: max_steps
         real(c_double) :: residual_tol
         integer(c_int32_t) :: discrete_base_pairs
+        integer(c_int32_t) :: end_control
     end type rodkit_dna_supercoil_spec
 
     ! RodkitSupercoilInfo (see rodkit.h).

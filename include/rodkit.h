@@ -325,6 +325,26 @@ typedef int32_t RodkitEquilibriumSolver;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// What a supercoiling run controls at the rod's end
+// (`RodkitDnaSupercoilSpec.end_control`).
+enum RodkitEndControl
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // The end rotation φ (magnetic tweezers' turns).
+  RODKIT_END_CONTROL_ROTATION = 1,
+  // The end torque M (a torque clamp); φ read from each state.
+  RODKIT_END_CONTROL_TORQUE = 2,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum RodkitEndControl RodkitEndControl;
+#else
+typedef int32_t RodkitEndControl;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // A branch: the records, why it stopped, where to resume, and the work done.
 typedef struct RodkitBranch RodkitBranch;
 
@@ -699,6 +719,9 @@ typedef struct RodkitDnaSupercoilSpec {
   // farther apart along the rod than `radius`; the comparison of
   // physics.md §3.3) instead of the continuum line charge (0).
   int32_t discrete_base_pairs;
+  // RodkitEndControl: the end rotation (default) or the end torque as
+  // the continuation parameter (the same equilibria; points report both).
+  int32_t end_control;
 } RodkitDnaSupercoilSpec;
 
 // What a run did.

@@ -123,3 +123,59 @@ fn supercoil_solve_point_through_the_c_abi() {
     assert_eq!((out.torque, out.shift), (before.torque, before.shift));
     unsafe { rodkit_supercoil_free(run) };
 }
+
+/// A torque clamp through the C ABI (`end_control` = TORQUE): the run equals
+/// the Rust API's under EndControl::Torque (1e-12: same arithmetic), its
+/// points report the turns read from each state, the same buckling point
+/// as rotation control (1e-6; tests/charged_rod.rs compares the paths);
+/// `rodkit_supercoil_solve_point` re-solves a torque-clamp point at its
+/// torque (same model: the same shape, 1e-6 nm, and torque); a bad
+/// `end_control` is a status naming it.
+#[test]
+fn torque_clamp_supercoil_through_the_c_abi() {
+    use rodkit::capi::supercoil::*;
+    use rodkit::electrostatics::supercoil::{run_scene, DnaScene, EndControl as Control, SupercoilSettings};
+    let mut spec = std::mem::MaybeUninit::<DnaSupercoilSpec>::uninit();
+    assert_eq!(unsafe { rodkit_dna_supercoil_spec_default(spec.as_mut_ptr()) }, 0);
+    let mut spec = unsafe { spec.assume_init() };
+    assert_eq!(spec.end_control, EndControl::Rotation as i32);
+    (spec.base_pairs, spec.elements, spec.max_steps) = (300, 40, 25);
+    let mut run: *mut Supercoil = std::ptr::null_mut();
+    spec.end_control = 3;
+    assert_eq!(unsafe { rodkit_dna_supercoil_run(&spec, &mut run) }, Status::ErrOutOfRange.code());
+    assert!(last_error().contains("end_control"), "{}", last_error());
+    assert!(run.is_null());
+    spec.end_control = EndControl::Torque as i32;
+    assert!(unsafe { rodkit_dna_supercoil_run(&spec, &mut run) } >= 0, "{}", last_error());
+    let mut info = SupercoilInfo::default();
+    assert_eq!(unsafe { rodkit_supercoil_summary(run, &mut info) }, 0);
+    let mut points = vec![SupercoilPoint::default(); info.points as usize];
+    let mut count = 0;
+    assert_eq!(unsafe { rodkit_supercoil_points(run, points.as_mut_ptr(), info.points, &mut count) }, 0);
+    let settings = SupercoilSettings { elements: 40, max_steps: 25, ..Default::default() };
+    let scene = DnaScene { base_pairs: 300, ..Default::default() };
+    let r = run_scene(&scene, &SupercoilSettings { control: Control::Torque, ..settings.clone() }).unwrap();
+    let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-300);
+    assert_eq!(points.len(), r.points.len());
+    for (c, p) in points.iter().zip(&r.points) {
+        assert!(rel(c.turns, p.observables.turns) < 1e-12 && rel(c.torque, p.observables.torque) < 1e-12, "{c:?} vs {p:?}");
+        assert!((c.turns * 2.0 * std::f64::consts::PI - p.phi).abs() < 1e-12 * p.phi.abs().max(1.0));
+    }
+    let (phi_b, m_b) = r.buckling.unwrap();
+    assert!(rel(info.buckling_turns, phi_b / (2.0 * std::f64::consts::PI)) < 1e-12 && rel(info.buckling_torque, m_b) < 1e-12);
+    let rot = run_scene(&scene, &SupercoilSettings { max_steps: 5, ..settings }).unwrap().buckling.unwrap();
+    assert!(rel(phi_b, rot.0) < 1e-6 && rel(m_b, rot.1) < 1e-6, "torque clamp {:?} vs rotation {rot:?}", (phi_b, m_b));
+    // A buckled point re-solved at its torque, same model.
+    let last = info.points - 1;
+    let mut es = std::mem::MaybeUninit::<EquilibriumSpec>::uninit();
+    assert_eq!(unsafe { rodkit_equilibrium_spec_default(es.as_mut_ptr()) }, 0);
+    let mut es = unsafe { es.assume_init() };
+    es.solver = EquilibriumSolver::Direct as i32;
+    let mut out = Equilibrium::default();
+    assert_eq!(unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut out, std::ptr::null_mut(), 0, 0) }, 0, "{}", last_error());
+    let p = points[last as usize];
+    assert_eq!(p.branch, 1);
+    println!("re-solved: shift {:e} nm, turns {} vs {}, torque {} vs {}", out.shift, out.turns, p.turns, out.torque, p.torque);
+    assert!(out.shift < 1e-6 && (out.turns - p.turns).abs() < 1e-8 && rel(out.torque, p.torque) < 1e-8, "{out:?} vs {p:?}");
+    unsafe { rodkit_supercoil_free(run) };
+}

@@ -405,3 +405,71 @@ fn dna_scene_finds_the_first_buckling_point() {
     assert!((phi0 - m0 * l / c).abs() < 1e-4 * phi0 && (phi1 - m1 * l / c).abs() < 1e-4 * phi1);
     assert!(m1 > roots[0] && m1 < roots[1], "charged {m1} not between {roots:?}");
 }
+
+/// The charged DNA scene under a torque clamp (EndControl::Torque: the end
+/// moment is the parameter) against the same scene under rotation control
+/// (an independent continuation along another parametrisation): the
+/// buckling point to 1e-6 in φ and M (both located to 1e-7 in arc length),
+/// and every torque-clamp buckled point on the rotation-controlled path from
+/// the buckling torque down to the plateau's minimum, where M decreases
+/// monotonically along it: φ(M) and the extension z(M) of that path by
+/// 4-point Lagrange interpolation in M (the path's points up to 1.7 pN nm
+/// apart; not within 0.5 pN nm of the minimum, a fold of M) within 2e-3
+/// rad and 0.1 nm. Past buckling the end turns further
+/// while the torque falls, then φ folds back with M still falling (a
+/// regular point for the clamp), down to the plateau.
+#[test]
+fn torque_clamp_follows_the_rotation_controlled_path() {
+    let scene = DnaScene { base_pairs: 300, ..Default::default() };
+    let base = supercoil::SupercoilSettings { elements: 40, max_steps: 60, max_turns: 2.2, ..Default::default() };
+    let rotation = supercoil::run_scene(&scene, &base).unwrap();
+    let torque = supercoil::run_scene(&scene, &supercoil::SupercoilSettings { control: supercoil::EndControl::Torque, max_steps: 40, ..base.clone() }).unwrap();
+    let (br, bt) = (rotation.buckling.unwrap(), torque.buckling.unwrap());
+    println!("buckling: rotation control φ {} M {}; torque clamp φ {} M {}", br.0, br.1, bt.0, bt.1);
+    assert!((br.0 - bt.0).abs() < 1e-6 * br.0 && (br.1 - bt.1).abs() < 1e-6 * br.1, "{br:?} vs {bt:?}");
+    // Every point's parameter is its φ (rotation) or its torque (clamp).
+    for p in &rotation.points {
+        assert_eq!(p.parameter, p.phi);
+    }
+    for p in &torque.points {
+        assert!((p.parameter - p.observables.torque).abs() < 1e-6 * p.parameter.abs().max(1.0), "Λ {} vs torque {}", p.parameter, p.observables.torque);
+    }
+    // The rotation-controlled buckled path while M falls: (M, φ, z).
+    let mut path: Vec<(f64, f64, f64)> = vec![];
+    for p in rotation.points.iter().filter(|p| p.branch == 1) {
+        if path.last().is_some_and(|q| p.observables.torque >= q.0) {
+            break;
+        }
+        path.push((p.observables.torque, p.phi, p.observables.extension));
+    }
+    assert!(path.len() > 20 && path.last().unwrap().0 < 0.2 * br.1, "the rotation path's falling torque: {path:?}");
+    let lagrange = |m: f64, k: usize, f: fn(&(f64, f64, f64)) -> f64| -> f64 {
+        let pts = &path[k..k + 4];
+        (0..4).map(|i| f(&pts[i]) * (0..4).filter(|&j| j != i).map(|j| (m - pts[j].0) / (pts[i].0 - pts[j].0)).product::<f64>()).sum()
+    };
+    let mut compared = 0;
+    let mut worst: (f64, f64) = (0.0, 0.0);
+    let mut previous = f64::INFINITY;
+    for p in torque.points.iter().filter(|p| p.branch == 1) {
+        let m = p.observables.torque;
+        if m >= previous {
+            break; // past the plateau's minimum
+        }
+        previous = m;
+        // The four path points around m (M falls along the path).
+        // Not next to the fold of M at the plateau's minimum, where φ(M)
+        // has a square-root singularity that no polynomial follows.
+        if m < path.last().unwrap().0 + 0.5 {
+            continue;
+        }
+        let Some(i) = path.windows(2).position(|w| w[0].0 >= m && m >= w[1].0) else { continue };
+        let k = i.saturating_sub(1).min(path.len() - 4);
+        let (phi, z) = (lagrange(m, k, |q| q.1), lagrange(m, k, |q| q.2));
+        worst = (worst.0.max((p.phi - phi).abs()), worst.1.max((p.observables.extension - z).abs()));
+        assert!((p.phi - phi).abs() < 2e-3, "M {m}: φ {} (clamp) vs {phi} (rotation control)", p.phi);
+        assert!((p.observables.extension - z).abs() < 0.1, "M {m}: extension {} vs {z}", p.observables.extension);
+        compared += 1;
+    }
+    println!("{compared} torque-clamp points on the rotation-controlled path (worst {:.1e} rad, {:.1e} nm)", worst.0, worst.1);
+    assert!(compared >= 20, "only {compared} comparable points");
+}

@@ -533,7 +533,8 @@ fn fortran_dna_supercoil_driver() {
 
 /// The C DNA-supercoiling driver on a small scene (300 bp, 40 elements, 20
 /// steps): its buckling point, last point and linking check equal the Rust
-/// API's run of the same scene (same arithmetic, to 1e-12); Tw + Wr = turns
+/// API's run of the same scene (same arithmetic, to 1e-12), also with base
+/// pairs and under a torque clamp; Tw + Wr = turns
 /// along the path to 1e-4; the CSV has every point and the VTK the shapes;
 /// the static build prints the same.
 #[test]
@@ -590,5 +591,17 @@ fn c_dna_supercoil_driver() {
     assert!(rel(got_d["buckling_turns"], got["buckling_turns"]) < 2e-3, "discrete {} vs continuum {}", got_d["buckling_turns"], got["buckling_turns"]);
     // Its last point re-solved with the continuum: both solvers agree.
     assert!(got_d["solver_torque_difference"].abs() < 1e-7 * got_d["other_model_torque_pN_nm"], "{got_d:?}");
+    // Under a torque clamp: the Rust API's torque-controlled run (1e-12),
+    // the same buckling point as rotation control (1e-6).
+    let args_t = ["0.1", "20", csv.to_str().unwrap(), vtk.to_str().unwrap(), "40", "300", "continuum", "torque"];
+    let out_t = run("c_dna_supercoil_shared", &args_t);
+    assert!(out_t.contains("continued in the end torque"), "{out_t}");
+    let got_t = values(&out_t);
+    let settings_t = SupercoilSettings { control: rodkit::electrostatics::supercoil::EndControl::Torque, ..settings };
+    let rt = run_scene(&scene, &settings_t).unwrap();
+    let last_t = rt.points.last().unwrap().observables;
+    assert_eq!(got_t["points"], rt.points.len() as f64);
+    assert!(rel(got_t["last_torque_pN_nm"], last_t.torque) < 1e-12 && rel(got_t["last_extension_nm"], last_t.extension) < 1e-12, "{out_t}");
+    assert!(rel(got_t["buckling_turns"], got["buckling_turns"]) < 1e-6 && rel(got_t["buckling_torque_pN_nm"], m_b) < 1e-6, "{out_t}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -47,6 +47,20 @@ pub struct DnaSupercoilSpec {
     /// farther apart along the rod than `radius`; the comparison of
     /// physics.md §3.3) instead of the continuum line charge (0).
     pub discrete_base_pairs: i32,
+    /// RodkitEndControl: the end rotation (default) or the end torque as
+    /// the continuation parameter (the same equilibria; points report both).
+    pub end_control: i32,
+}
+
+/// What a supercoiling run controls at the rod's end
+/// (`RodkitDnaSupercoilSpec.end_control`).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EndControl {
+    /// The end rotation φ (magnetic tweezers' turns).
+    Rotation = 1,
+    /// The end torque M (a torque clamp); φ read from each state.
+    Torque = 2,
 }
 
 /// What a run did.
@@ -135,6 +149,7 @@ pub unsafe extern "C" fn rodkit_dna_supercoil_spec_default(spec: *mut DnaSuperco
             max_steps: s.max_steps as i64,
             residual_tol: s.residual_tol,
             discrete_base_pairs: 0,
+            end_control: EndControl::Rotation as i32,
         };
         Ok(Status::Ok)
     })
@@ -184,6 +199,11 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
         max_steps: s.max_steps as usize,
         residual_tol: s.residual_tol,
         base_pairs: flag("discrete_base_pairs", s.discrete_base_pairs)?,
+        control: match s.end_control {
+            1 => crate::electrostatics::supercoil::EndControl::Rotation,
+            2 => crate::electrostatics::supercoil::EndControl::Torque,
+            v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `end_control` must be a RodkitEndControl 1…2 (got {v})"))),
+        },
     };
     Ok((scene, settings))
 }

@@ -14,6 +14,7 @@ use crate::continuation::krylov::{newton_krylov, BandPreconditioner, KrylovOptio
 use crate::continuation::newton::damped_newton;
 use crate::continuation::{Counts, Problem};
 use crate::error::{self, Error, Result};
+use crate::rod::model::unwrap_rotation;
 use crate::status::Status;
 
 /// How a single equilibrium is solved.
@@ -78,7 +79,8 @@ pub fn solve_point(run: &SupercoilRun, point: usize, charge: &RodCharge, solver:
         let b = run.buckled.as_ref().ok_or_else(|| Error::new(Status::ErrOutOfRange, "argument `point` lies beyond the straight branch of a run without a buckled one"))?;
         (b.states[point - straight].clone(), b.phase)
     };
-    let phi = run.points[point].phi;
+    // Λ of the point (φ, or the end torque of a torque clamp), and its φ.
+    let (lambda, phi_path) = (run.points[point].parameter, run.points[point].phi);
     let mut counts = Counts::default();
     let (mut newton_iterations, mut linear_iterations) = (0, 0);
     let mut residual;
@@ -95,7 +97,7 @@ pub fn solve_point(run: &SupercoilRun, point: usize, charge: &RodCharge, solver:
         pair_lists += 1;
         match solver {
             EquilibriumSolver::Direct => {
-                let (it, res) = damped_newton(&mut problem, &mut x, phi, residual_tol, &mut counts)?;
+                let (it, res) = damped_newton(&mut problem, &mut x, lambda, residual_tol, &mut counts)?;
                 newton_iterations += it;
                 residual = res;
             }
@@ -133,7 +135,7 @@ pub fn solve_point(run: &SupercoilRun, point: usize, charge: &RodCharge, solver:
                     };
                     x.copy_from_slice(&start);
                     let source = cheap.as_mut().map(|c| c as &mut dyn Problem);
-                    result = newton_krylov(&mut problem, source, &mut pre, &mut x, phi, &opts).map(|rep| (rep, band));
+                    result = newton_krylov(&mut problem, source, &mut pre, &mut x, lambda, &opts).map(|rep| (rep, band));
                     match &result {
                         Err(e) if e.status == Status::ErrNotConverged => continue,
                         _ => break,
@@ -151,6 +153,8 @@ pub fn solve_point(run: &SupercoilRun, point: usize, charge: &RodCharge, solver:
             let path = rod.positions(&run.states[point]);
             let shift = rod.positions(&x[..n]).iter().zip(&path).map(|(a, b)| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()).fold(0.0, f64::max);
             x.truncate(n);
+            // A torque clamp's re-solved end angle, followed from the path's.
+            let phi = if rod.torqued() { unwrap_rotation(phi_path, rod.end_rotation(&x, lambda).expect("torque clamp")) } else { lambda };
             return Ok(PointEquilibrium {
                 observables: observables(rod, &x, phi)?,
                 state: x,

@@ -676,6 +676,19 @@ impl ChargedRod {
         }
     }
 
+    /// (f, √f) of [`Self::rescale`] (f ≥ 1).
+    fn force_moment_factors(&self) -> (f64, f64) {
+        let kb = self.rod.law.bending();
+        let l = self.rod.length;
+        let base = kb / (l * l);
+        let tension = match self.rod.supports {
+            Supports::Twisted { tension } | Supports::Torqued { tension } => tension.abs(),
+            _ => 0.0,
+        };
+        let f = (base.max(tension).max(self.charge.line_charge * self.charge.line_charge) / base).max(1.0);
+        (f, f.sqrt())
+    }
+
     /// The rod's force and moment scales are K_b/L² and K_b/L; a charged
     /// rod under tension T carries forces of order F = max(K_b/L², |T|, λ²)
     /// (λ² is a force: energy per length²), 10²–10³ times more for DNA, and
@@ -683,31 +696,25 @@ impl ChargedRod {
     /// of the pair sums. Forces scale by f = F L²/K_b, moments by √f (the
     /// length √(K_b/F) replacing L).
     fn rescale(&self, v: &mut [f64], equations: bool) {
-        let kb = self.rod.law.bending();
-        let l = self.rod.length;
-        let base = kb / (l * l);
-        let tension = match self.rod.supports {
-            Supports::Twisted { tension } => tension.abs(),
-            _ => 0.0,
-        };
-        let f = base.max(tension).max(self.charge.line_charge * self.charge.line_charge) / base;
+        let (f, fm) = self.force_moment_factors();
         if f <= 1.0 {
             return;
         }
-        let fm = f.sqrt();
         let body = self.rod.node(self.rod.elements) + 13;
         for (k, v) in v.iter_mut().enumerate() {
             if k < 13 && equations {
                 // Boundary rows: only the axial-force condition of a
                 // tension-controlled end is a force.
-                if k == 9 && matches!(self.rod.supports, Supports::Twisted { .. }) {
+                if k == 9 && matches!(self.rod.supports, Supports::Twisted { .. } | Supports::Torqued { .. }) {
                     *v *= f;
                 }
                 continue;
             }
             if k >= body {
-                // c = cos(φ/2) (scale 1), or the unfolding μ (a couple per length).
-                if Some(k) != self.twisted_phi && k == self.rod.unknowns() {
+                // c = cos(φ/2) (scale 1), a torque clamp's (c, s) (scale 1;
+                // its moment row: equation_scales), or the unfolding μ (a
+                // couple per length).
+                if k == self.rod.unknowns() {
                     *v *= fm;
                 }
                 continue;
@@ -929,12 +936,33 @@ impl Problem for ChargedRod {
     fn equation_scales(&self) -> Vec<f64> {
         let mut e = self.sys.equation_scales();
         self.rescale(&mut e, true);
+        if let Some((_, s)) = self.rod.end_angle() {
+            // A torque clamp's moment row m_b3(L) − Λ in Λ's scale, the
+            // straight rod's torque per radian C/L (see unknown_scales):
+            // twisting the whole rod at fixed M leaves a residual in this
+            // row only, and in the moments' √f K_b/L (30× C/L for DNA) that
+            // direction was soft (σ_min 0.007 on the 1 kbp scene against
+            // 0.034) and hid the buckling points' dips of σ_min.
+            e[s] = self.rod.law.stiffness[(2, 2)] / self.rod.length;
+        }
         e
     }
 
     fn unknown_scales(&self) -> (Vec<f64>, f64) {
         let (mut x, l) = self.sys.unknown_scales();
         self.rescale(&mut x, false);
-        (x, if self.twisted_phi.is_some() { 1.0 } else { l })
+        // Λ: φ itself (rotation control); the end torque by the straight
+        // rod's torque per radian C/L, so that the scaled arc length is ≈ φ
+        // on the straight branch under either control and the same steps
+        // suit both (with the moment scale √f K_b/L the state's rotation
+        // dominated and a step turned the end 7× further); or the rod's own.
+        let lambda = if self.twisted_phi.is_some() {
+            1.0
+        } else if self.rod.torqued() {
+            self.rod.law.stiffness[(2, 2)] / self.rod.length
+        } else {
+            l
+        };
+        (x, lambda)
     }
 }

@@ -1,6 +1,7 @@
 //! Branches of charged-rod equilibria (issue 5): Newton pseudo-arc-length
 //! continuation of [`ChargedRod`] — in the end rotation φ itself for a rod
-//! with a controlled end rotation (any number of turns) — with the pair
+//! with a controlled end rotation (any number of turns), or in the end
+//! torque for a torque clamp ([`EndControl`]) — with the pair
 //! list rebuilt whenever a stage has moved half the skin (the
 //! branch is continued from the same point and tangent on the new
 //! pattern), strand crossing detected (non-neighbouring stage points
@@ -17,7 +18,7 @@ use crate::continuation::newton::{continue_newton, correct, Start};
 use crate::continuation::{Counts, Options, Problem, Record, Resume, Scaling, Stop};
 use crate::error::{self, Error, Result};
 use crate::rod::branch::Contact;
-use crate::rod::model::Rod;
+use crate::rod::model::{unwrap_rotation, Rod, Supports};
 use crate::status::Status;
 
 /// A followed branch of a charged rod.
@@ -353,11 +354,21 @@ impl DnaScene {
     /// The rod: Gauss(`stages`) collocation on `elements` elements, end
     /// rotation controlled at fixed tension.
     pub fn rod(&self, elements: usize, stages: usize) -> Result<Rod> {
+        self.rod_controlled(elements, stages, EndControl::Rotation)
+    }
+
+    /// The rod with the end rotation ([`Supports::Twisted`]: the
+    /// parameter is φ) or the end torque ([`Supports::Torqued`]: the
+    /// parameter is M, pN nm) controlled, at fixed tension.
+    pub fn rod_controlled(&self, elements: usize, stages: usize, control: EndControl) -> Result<Rod> {
         self.validate()?;
         let kt = self.kt();
         let law = crate::rod::RodLaw::kirchhoff(self.bending_persistence * kt, self.bending_persistence * kt, self.twist_persistence * kt)?;
-        Rod::new(law, self.length(), crate::rod::Loads::default(), crate::rod::model::Supports::Twisted { tension: self.tension },
-                 crate::rod::scheme::Scheme::Gauss(stages), elements)
+        let supports = match control {
+            EndControl::Rotation => Supports::Twisted { tension: self.tension },
+            EndControl::Torque => Supports::Torqued { tension: self.tension },
+        };
+        Rod::new(law, self.length(), crate::rod::Loads::default(), supports, crate::rod::scheme::Scheme::Gauss(stages), elements)
     }
 
     /// The charge: λ² = k_BT l_B ν² (pN), κ from the salt (0: Coulomb).
@@ -365,6 +376,18 @@ impl DnaScene {
         let lambda = (self.kt() * self.bjerrum_length()).sqrt() * self.charge_per_length;
         RodCharge::new(lambda, super::Screening { kappa: self.kappa(), a: self.radius })
     }
+}
+
+/// What the experiment holds at the rod's end: the turns (magnetic
+/// tweezers) or the torque (a torque clamp). The equilibria are the same;
+/// the path is parametrised by φ or by M, and under torque control the
+/// buckling transition is a fold in M (the torque overshoots, then drops to
+/// the plectoneme's plateau) that the continuation passes by arc length.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum EndControl {
+    #[default]
+    Rotation,
+    Torque,
 }
 
 /// How the supercoiling path of a [`DnaScene`] is computed.
@@ -386,6 +409,8 @@ pub struct SupercoilSettings {
     /// thesis's comparison; [`RodCharge::base_pairs`]) instead of the
     /// continuum line charge.
     pub base_pairs: bool,
+    /// End rotation (default) or end torque as the continuation parameter.
+    pub control: EndControl,
 }
 
 impl Default for SupercoilSettings {
@@ -396,14 +421,18 @@ impl Default for SupercoilSettings {
     /// step stays where it started: on 1 kbp at 0.1 M, 150 steps reach the
     /// fold at 3.46 turns, extension 172 nm, at 1e-8).
     fn default() -> Self {
-        SupercoilSettings { elements: 170, stages: 2, cutoff_tolerance: Some(1e-4), hard_core: None, threads: 1, max_turns: 12.0, max_steps: 600, residual_tol: 1e-8, base_pairs: false }
+        SupercoilSettings { elements: 170, stages: 2, cutoff_tolerance: Some(1e-4), hard_core: None, threads: 1, max_turns: 12.0, max_steps: 600, residual_tol: 1e-8, base_pairs: false, control: EndControl::Rotation }
     }
 }
 
 /// One point of the supercoiling path.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PathPoint {
+    /// End rotation (rad), followed along the path.
     pub phi: f64,
+    /// The continuation parameter Λ: φ (rotation control) or the end
+    /// torque M (pN nm, torque control).
+    pub parameter: f64,
     pub observables: Observables,
     /// 0: the straight branch, 1: the buckled one.
     pub branch: usize,
@@ -430,10 +459,14 @@ pub struct SupercoilRun {
 /// Greenhill's estimate φ_G = 2√(K_b T) L / C until the first buckling
 /// point is located (at most 3φ_G), then the buckled branch from it (phase
 /// condition, first step 0.02) until `max_turns`, the step limit or a
-/// strand crossing.
+/// strand crossing. Under torque control the same, with the targets in M =
+/// Cφ/L (the straight rod's torque: electrostatics exerts none on a
+/// straight line) and the turns read from each state, followed by
+/// continuity.
 pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<SupercoilRun> {
     let start = std::time::Instant::now();
-    let rod = scene.rod(settings.elements, settings.stages)?;
+    let rod = scene.rod_controlled(settings.elements, settings.stages, settings.control)?;
+    let torque = settings.control == EndControl::Torque;
     let mut charge = scene.charge();
     charge.cutoff_tolerance = settings.cutoff_tolerance;
     charge.hard_core = settings.hard_core;
@@ -462,6 +495,10 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
     let m_n = |n: f64| (4.0 * kb * tension + (2.0 * std::f64::consts::PI * n * kb / rod.length).powi(2)).sqrt();
     let (phi_1, phi_2) = (m_n(1.0) * rod.length / c, m_n(2.0) * rod.length / c);
     let fine_step = (0.25 * (phi_2 - phi_1)).clamp(1e-3, 2.0);
+    // The parameter per radian on the straight branch. The steps stay in
+    // scaled arc length, dominated there by the state's rotation (≈ φ)
+    // under either control (M's own scale, a moment, is ~30× Cφ/L).
+    let per_phi = if torque { c / rod.length } else { 1.0 };
     // The buckling point to 1e-7 in scaled arc length (φ to ~1e-7 rad):
     // golden section on a double point costs ~4 factorisations per
     // reduction, and 1e-10 would take twice the reductions for digits the
@@ -470,7 +507,7 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
     let mut straight: Option<ChargedBranch> = None;
     let mut target = 0.95 * phi_1;
     while target <= 3.0 * phi_g + 0.5 * chunk {
-        opts.target_lambda = Some(target);
+        opts.target_lambda = Some(per_phi * target);
         let b = match &straight {
             None => follow(&rod, &charge, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, None, &opts, |_| true)?,
             Some(prev) => {
@@ -499,28 +536,47 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
     let straight = straight.expect("at least one chunk");
     let mut points = Vec::new();
     let mut states = Vec::new();
+    // φ of a state: Λ itself, or a torque clamp's angle followed from the
+    // previous point (steps turn the end by far less than 2π).
+    let phi_of = |prev: &mut f64, x: &[f64], lambda: f64| -> f64 {
+        let phi = if torque { unwrap_rotation(*prev, rod.end_rotation(x, lambda).expect("torque clamp")) } else { lambda };
+        *prev = phi;
+        phi
+    };
+    let mut phi_prev = 0.0;
     for (r, x) in straight.records.iter().zip(&straight.states) {
-        points.push(PathPoint { phi: r.lambda, observables: observables(&rod, x, r.lambda)?, branch: 0, residual: r.residual });
+        let phi = phi_of(&mut phi_prev, x, r.lambda);
+        points.push(PathPoint { phi, parameter: r.lambda, observables: observables(&rod, x, phi)?, branch: 0, residual: r.residual });
         states.push(x.clone());
     }
     let mut buckling = None;
     let mut buckled = None;
     if let Some(bif) = straight.bifurcations.first() {
         let (_, m) = rod.spatial_force_moment(&bif.x, rod.elements);
-        buckling = Some((bif.lambda, m[2]));
+        let phi_b = phi_of(&mut phi_prev, &bif.x, bif.lambda);
+        buckling = Some((phi_b, m[2]));
         let two_pi = 2.0 * std::f64::consts::PI;
+        // Rotation control stops at the λ range; a torque clamp's turns
+        // are checked on each point (its M has no such bound: the torque
+        // falls after buckling, then stays on the plateau).
         let opts = Options {
             residual_tol: settings.residual_tol,
             initial_step: 0.3,
             max_step: 2.0,
             max_steps: settings.max_steps,
-            lambda_range: (0.0, two_pi * settings.max_turns),
+            lambda_range: if torque { (0.0, f64::MAX) } else { (0.0, two_pi * settings.max_turns) },
             ..Default::default()
         };
-        let b = switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |_| true)?;
         let n = rod.unknowns();
+        let mut phi_run = phi_b;
+        let b = switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |rec| {
+            let phi = phi_of(&mut phi_run, &rec.outputs[..n], rec.lambda);
+            !torque || (phi > 0.0 && phi < two_pi * settings.max_turns)
+        })?;
+        phi_prev = phi_b;
         for (r, x) in b.records.iter().zip(&b.states) {
-            points.push(PathPoint { phi: r.lambda, observables: observables(&rod, &x[..n], r.lambda)?, branch: 1, residual: r.residual });
+            let phi = phi_of(&mut phi_prev, &x[..n], r.lambda);
+            points.push(PathPoint { phi, parameter: r.lambda, observables: observables(&rod, &x[..n], phi)?, branch: 1, residual: r.residual });
             states.push(x[..n].to_vec());
         }
         buckled = Some(b);

@@ -70,11 +70,17 @@ impl Pattern {
 /// LU factorisation of matrices sharing one [`Pattern`].
 pub struct SparseLu {
     pattern: Pattern,
-    col_perm_fwd: Vec<usize>,
-    col_perm_inv: Vec<usize>,
-    row_perm_fwd: Vec<usize>,
-    row_perm_inv: Vec<usize>,
-    lu: SimplicialLu<usize, f64>,
+    /// The pattern's indices as u32 (faer's LU is generic over the index
+    /// type): half the memory of L + U's row indices, which are as many as
+    /// their values — the solves and factorisations of long rods stream
+    /// them from memory once they outgrow the cache.
+    col_ptr32: Vec<u32>,
+    row_idx32: Vec<u32>,
+    col_perm_fwd: Vec<u32>,
+    col_perm_inv: Vec<u32>,
+    row_perm_fwd: Vec<u32>,
+    row_perm_inv: Vec<u32>,
+    lu: SimplicialLu<u32, f64>,
     buffer: MemBuffer,
     factorised: bool,
     /// Whether the column ordering has been chosen (on the first matrix).
@@ -93,11 +99,19 @@ impl SparseLu {
     /// factorisation).
     pub fn new(pattern: Pattern) -> Result<Self> {
         let n = pattern.n;
-        let (col_perm_fwd, col_perm_inv) = ((0..n).collect(), (0..n).collect());
-        let req = lu::simplicial::factorize_simplicial_numeric_lu_scratch::<usize, f64>(n, n)
-            .or(lu::simplicial::solve_in_place_scratch::<usize, f64>(n, 1, Par::Seq));
+        // L + U of a pattern this size may hold several times its entries.
+        if pattern.nnz() >= (u32::MAX / 16) as usize {
+            return Err(Error::new(Status::ErrInvalidDimension, format!("sparse LU: {} entries is beyond the u32 indices' range", pattern.nnz())));
+        }
+        let to32 = |v: &[usize]| v.iter().map(|&i| i as u32).collect::<Vec<u32>>();
+        let (col_ptr32, row_idx32) = (to32(&pattern.col_ptr), to32(&pattern.row_idx));
+        let (col_perm_fwd, col_perm_inv) = ((0..n as u32).collect(), (0..n as u32).collect());
+        let req = lu::simplicial::factorize_simplicial_numeric_lu_scratch::<u32, f64>(n, n)
+            .or(lu::simplicial::solve_in_place_scratch::<u32, f64>(n, 1, Par::Seq));
         Ok(SparseLu {
             pattern,
+            col_ptr32,
+            row_idx32,
             col_perm_fwd,
             col_perm_inv,
             row_perm_fwd: vec![0; n],
@@ -127,7 +141,7 @@ impl SparseLu {
     /// Whether the columns are factorised in their natural order (chosen
     /// on the first matrix), not COLAMD's.
     pub fn natural_order(&self) -> bool {
-        self.col_perm_fwd.iter().enumerate().all(|(i, &j)| i == j)
+        self.col_perm_fwd.iter().enumerate().all(|(i, &j)| i == j as usize)
     }
 
     /// Numeric factorisation of the matrix with `values` in pattern order.
@@ -159,7 +173,7 @@ impl SparseLu {
 
     fn numeric(&mut self, values: &[f64]) -> Result<()> {
         let n = self.pattern.n;
-        let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.pattern.col_ptr, None, &self.pattern.row_idx);
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr32, None, &self.row_idx32);
         let a = SparseColMatRef::new(sym, values);
         let col_perm = PermRef::new_checked(&self.col_perm_fwd, &self.col_perm_inv, n);
         let stack = MemStack::new(&mut self.buffer);
@@ -179,10 +193,10 @@ impl SparseLu {
     /// ordering is already in place.
     fn choose_ordering(&mut self, values: &[f64]) -> bool {
         self.ordered = true;
-        let fill = |lu: &SimplicialLu<usize, f64>| lu.l_factor_unsorted().compute_nnz() + lu.u_factor_unsorted().compute_nnz();
+        let fill = |lu: &SimplicialLu<u32, f64>| lu.l_factor_unsorted().compute_nnz() + lu.u_factor_unsorted().compute_nnz();
         let n = self.pattern.n;
-        self.col_perm_fwd = (0..n).collect();
-        self.col_perm_inv = (0..n).collect();
+        self.col_perm_fwd = (0..n as u32).collect();
+        self.col_perm_inv = (0..n as u32).collect();
         let natural = self.numeric(values).ok().map(|_| fill(&self.lu));
         if let Some(f) = natural {
             if f <= 8 * self.pattern.nnz() {
@@ -209,19 +223,19 @@ impl SparseLu {
 
     /// COLAMD's column ordering of the pattern (None if the analysis fails:
     /// the natural order is then kept).
-    fn colamd(&self) -> Option<(Vec<usize>, Vec<usize>)> {
+    fn colamd(&self) -> Option<(Vec<u32>, Vec<u32>)> {
         let n = self.pattern.n;
-        let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.pattern.col_ptr, None, &self.pattern.row_idx);
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr32, None, &self.row_idx32);
         let params = LuSymbolicParams { supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL, ..Default::default() };
         let symbolic = lu::factorize_symbolic_lu(sym, params).ok()?;
         let (fwd, inv) = symbolic.col_perm().arrays();
         Some((fwd.to_vec(), inv.to_vec()))
     }
 
-    fn diagonal_of(&self, u: SparseColMatRef<'_, usize, f64>, j: usize) -> f64 {
+    fn diagonal_of(&self, u: SparseColMatRef<'_, u32, f64>, j: usize) -> f64 {
         let rows = u.row_idx_of_col_raw(j);
         let vals = u.val_of_col(j);
-        rows.iter().zip(vals).find(|(&i, _)| i == j).map_or(0.0, |(_, &v)| v)
+        rows.iter().zip(vals).find(|(&i, _)| i as usize == j).map_or(0.0, |(_, &v)| v)
     }
 
     /// Solve A x = b in place.
@@ -273,7 +287,7 @@ impl SparseLu {
 }
 
 /// +1 for an even permutation, −1 for an odd one (cycle count).
-fn parity(p: &[usize]) -> f64 {
+fn parity(p: &[u32]) -> f64 {
     let mut seen = vec![false; p.len()];
     let mut sign = 1.0;
     for start in 0..p.len() {
@@ -284,7 +298,7 @@ fn parity(p: &[usize]) -> f64 {
         let mut i = start;
         while !seen[i] {
             seen[i] = true;
-            i = p[i];
+            i = p[i] as usize;
             len += 1;
         }
         if len % 2 == 0 {

@@ -190,8 +190,8 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
     let mut eq_series: Vec<(&str, Vec<(f64, f64)>)> = vec![("continuum, NK", vec![]), ("base pairs, NK", vec![]), ("base pairs all pairs, NK", vec![]), ("continuum, direct", vec![]), ("base pairs, direct", vec![])];
     let mut scaling = vec![];
     let mut ratios = vec![];
-    let mut prev: Option<(f64, f64, f64, f64)> = None;
-    let mut fit_points: Vec<(f64, [f64; 3])> = vec![];
+    let mut prev: Option<(f64, f64, f64, f64, f64)> = None;
+    let mut fit_points: Vec<(f64, [f64; 4])> = vec![];
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
     let eq_opts = Options { residual_tol: 1e-8, max_steps: 0, ..Default::default() };
     let nk_opts = KrylovOptions { residual_tol: 1e-8, ..Default::default() };
@@ -276,7 +276,16 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
         every.cutoff_tolerance = None;
         let mut every_bp = discrete.clone();
         every_bp.cutoff_tolerance = None;
-        let (n, c_res, c_jac, c_eq, c_nk, c_err, _) = measure(&charge, small.then_some(&every), true);
+        let (n, c_res, c_jac, c_eq, c_nk, c_err, mut cp) = measure(&charge, small.then_some(&every), true);
+        // The preconditioner's rebuild alone (Jacobian + band LU, on memory
+        // already touched by the solves above): linear in the length, so the
+        // cold solve's excess at ≥ 10 kbp is the first touch of its memory.
+        let t_refresh = {
+            let mut pre = BandPreconditioner::new(cp.pattern(), cp.local_band()).unwrap();
+            let mut counts = rodkit::continuation::Counts::default();
+            pre.refresh(&mut cp, &x, 2.1, &mut counts).unwrap();
+            time(9, || pre.refresh(&mut cp, &x, 2.1, &mut counts).unwrap()).1
+        };
         let mut two = charge.clone();
         two.threads = 2;
         let (_, c_res2, c_jac2, ..) = measure(&two, None, false);
@@ -337,6 +346,7 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
             let _ = write!(line, "; than all-pairs base pairs: residual {:.0}×, equilibrium direct {:.1}×, NK {:.0}×", r(a_res, c_res), r(a_eq, c_eq.unwrap()), r(a_nk.0, c_nk.0));
         }
         let _ = write!(line, "; continuum NK vs direct {:.1}× faster (warm {:.1}×)", r(c_eq.unwrap(), c_nk.0), r(c_eq.unwrap(), c_nk.1));
+        let _ = write!(line, "; preconditioner refresh (Jacobian + band LU) {:.2} ms = {:.0} ns per unknown", ms(t_refresh), t_refresh.as_secs_f64() * 1e9 / n as f64);
         ratios.push(line);
         let secs = |t: Option<Duration>| t.map_or(f64::NAN, |t| t.as_secs_f64());
         let _ = writeln!(csv, "{bp},{n},continuum_cutoff,{},{},{},{},{},{},{},{},{}", c_res.as_secs_f64(), secs(c_jac), secs(c_eq), c_nk.0.as_secs_f64(), c_nk.1.as_secs_f64(), c_nk.2, c_err.unwrap_or(f64::NAN), c_res2.as_secs_f64(), secs(c_jac2));
@@ -365,13 +375,13 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
         if let Some(t) = e_res {
             series[3].1.push((lb, ms(t).log10()));
         }
-        let (cr, ce, cn) = (c_res.as_secs_f64(), secs(c_eq), c_nk.0.as_secs_f64());
-        if let Some((pbp, pr, pe, pn)) = prev {
+        let (cr, ce, cn, cw) = (c_res.as_secs_f64(), secs(c_eq), c_nk.0.as_secs_f64(), c_nk.1.as_secs_f64());
+        if let Some((pbp, pr, pe, pn, pw)) = prev {
             let d = (bp as f64 / pbp).log2();
-            scaling.push(format!("{pbp:.0} → {bp} bp: continuum residual ×{:.2}, equilibrium direct ×{:.2}, NK ×{:.2} per doubling", (cr / pr).powf(1.0 / d), (ce / pe).powf(1.0 / d), (cn / pn).powf(1.0 / d)));
+            scaling.push(format!("{pbp:.0} → {bp} bp: continuum residual ×{:.2}, equilibrium direct ×{:.2}, NK ×{:.2} (warm ×{:.2}) per doubling", (cr / pr).powf(1.0 / d), (ce / pe).powf(1.0 / d), (cn / pn).powf(1.0 / d), (cw / pw).powf(1.0 / d)));
         }
-        prev = Some((bp as f64, cr, ce, cn));
-        fit_points.push((bp as f64, [cr, ce, cn]));
+        prev = Some((bp as f64, cr, ce, cn, cw));
+        fit_points.push((bp as f64, [cr, ce, cn, cw]));
     }
     // Least-squares slope of log t against log L over all lengths: the
     // per-doubling factor of the whole range, less sensitive than one
@@ -385,8 +395,8 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
         2f64.powf(num / den)
     };
     if fit_points.len() > 2 {
-        scaling.push(format!("least squares over {:.0}–{:.0} bp: continuum residual ×{:.2}, equilibrium direct ×{:.2}, NK ×{:.2} per doubling",
-            fit_points[0].0, fit_points.last().unwrap().0, slope(0), slope(1), slope(2)));
+        scaling.push(format!("least squares over {:.0}–{:.0} bp: continuum residual ×{:.2}, equilibrium direct ×{:.2}, NK ×{:.2} (warm ×{:.2}) per doubling",
+            fit_points[0].0, fit_points.last().unwrap().0, slope(0), slope(1), slope(2), slope(3)));
     }
     for l in ratios {
         let _ = writeln!(out, "{l}");

@@ -498,7 +498,7 @@ typedef struct RodkitRodSpec {
   double end_dx;
   double end_dy;
   double end_dz;
-  // Twisted: the axial dead force at s = L (default 0).
+  // Twisted and Torqued: the axial dead force at s = L (default 0).
   double end_tension;
   // Loads: RodkitLoadFrame and vector (per length for distributed loads).
   int32_t tip_force_frame;
@@ -794,7 +794,9 @@ typedef struct RodkitEquilibriumSpec {
 
 // What `rodkit_supercoil_solve_point` found.
 typedef struct RodkitEquilibrium {
-  // Observables as `RodkitSupercoilPoint` (turns are the point's).
+  // Observables as `RodkitSupercoilPoint`, of the re-solved state (under
+  // rotation control its turns are the point's; under a torque clamp the
+  // torque is, and the turns are read from the new shape).
   double turns;
   double extension;
   double torque;
@@ -1237,7 +1239,8 @@ int32_t rodkit_supercoil_positions(const struct RodkitSupercoil *run,
 // Fill `spec` with the defaults above.
 int32_t rodkit_equilibrium_spec_default(struct RodkitEquilibriumSpec *spec);
 
-// Solve the equilibrium at point `point` of `run` (its end rotation, from
+// Solve the equilibrium at point `point` of `run` (at its end rotation
+// under rotation control, at its end torque under a torque clamp; from
 // its shape) under the model of `spec`, into `out`; with `xyz` not NULL
 // also its node positions (nm) xyz[k + ld·i], i < nodes (nodes as
 // `RodkitSupercoilInfo.nodes`). Non-convergence is

@@ -247,28 +247,68 @@ fn torque_clamp_through_the_c_abi() {
     let rod = new_rod(&s).unwrap();
     let mut o = options();
     o.method = ContinuationMethod::Newton as i32;
-    o.target_lambda = 10.0;
+    o.target_lambda = 7.0;
     o.initial_step = 0.2;
     o.max_step = 0.5;
     o.residual_tol = 1e-12;
     o.detect_bifurcations = 1;
+    // Samples turns apart (φ = 1, 8, 13): each is unwrapped from the record
+    // that starts its step, not from the previous sample (which resolves
+    // only ±2π and gave 1, −4.57, −10.13 before).
+    let loads = [0.5, 4.0, 6.5];
+    o.samples = loads.as_ptr();
+    o.sample_count = loads.len() as i64;
     let mut b = ptr::null_mut();
     assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) }, 0, "{}", last_error());
-    let mut bif = Bifurcation::default();
+    // The straight rod's twist: φ = M L / C = 2M (C = 0.5, L = 1), exact.
+    let straight = |r: &BranchRecord, what: &str| {
+        assert!((r.end_rotation - r.lambda / 0.5).abs() < 1e-9 * (1.0 + r.end_rotation.abs()), "{what}: φ {} at M {}", r.end_rotation, r.lambda);
+    };
+    let records = |b: *mut Branch| {
+        let mut info = BranchInfo::default();
+        unsafe { rodkit_branch_summary(b, &mut info) };
+        let mut recs = vec![BranchRecord::default(); info.records as usize];
+        let mut count = 0;
+        unsafe { rodkit_branch_records(b, recs.as_mut_ptr(), info.records, &mut count) };
+        recs
+    };
+    let first = records(b);
+    first.iter().for_each(|r| straight(r, "record"));
+    let mut samples = vec![BranchRecord::default(); 3];
     let mut count = 0;
-    assert_eq!(unsafe { rodkit_branch_bifurcations(b, rod, &mut bif, 1, &mut count) }, 0);
+    assert_eq!(unsafe { rodkit_branch_samples(b, samples.as_mut_ptr(), 3, &mut count) }, 0);
+    assert_eq!(count, 3);
+    samples.iter().for_each(|r| straight(r, "sample"));
+    // Resumed past 4π (φ = 14 at M = 7, its state's angle 14 − 4π): the
+    // resumed records continue the turns.
+    o.target_lambda = 10.0;
+    o.sample_count = 0;
+    let mut b2 = ptr::null_mut();
+    assert_eq!(unsafe { rodkit_branch_resume(rod, b, &o, None, ptr::null_mut(), &mut b2) }, 0, "{}", last_error());
+    let resumed = records(b2);
+    assert!(resumed.last().unwrap().end_rotation > 4.0 * std::f64::consts::PI, "{}", resumed.last().unwrap().end_rotation);
+    resumed.iter().for_each(|r| straight(r, "resumed record"));
+    // Greenhill's critical end moment for the clamped Kirchhoff rod.
+    let mut bif = Bifurcation::default();
+    assert_eq!(unsafe { rodkit_branch_bifurcations(b2, rod, &mut bif, 1, &mut count) }, 0);
     assert_eq!((count, bif.multiplicity), (1, 2));
     let m_c = 2.0 * 4.493409457909064;
     assert!((bif.lambda - m_c).abs() < 1e-8 * m_c, "{}", bif.lambda);
-    let mut info = BranchInfo::default();
-    unsafe { rodkit_branch_summary(b, &mut info) };
-    let mut recs = vec![BranchRecord::default(); info.records as usize];
-    unsafe { rodkit_branch_records(b, recs.as_mut_ptr(), info.records, &mut count) };
-    assert!(recs.last().unwrap().end_rotation > 4.0 * std::f64::consts::PI, "{}", recs.last().unwrap().end_rotation);
-    for r in &recs {
-        assert!((r.end_rotation - r.lambda / 0.5).abs() < 1e-9 * (1.0 + r.end_rotation.abs()), "φ {} at M {}", r.end_rotation, r.lambda);
+    // The buckled branch leaves at φ = 2M_c = 17.97 (its state's angle
+    // 17.97 − 4π): its first point within a first step of it.
+    o.target_lambda = 20.0;
+    o.max_steps = 3;
+    let mut b3 = ptr::null_mut();
+    let st = unsafe { rodkit_branch_switch(rod, b2, 0, 0, 0.05, &o, None, ptr::null_mut(), &mut b3) };
+    assert!(st >= 0, "{}", last_error());
+    let buckled = records(b3);
+    assert!(!buckled.is_empty());
+    for r in &buckled {
+        assert!((r.end_rotation - 2.0 * m_c).abs() < 0.5, "switched branch φ {} (from {})", r.end_rotation, 2.0 * m_c);
     }
-    unsafe { rodkit_branch_free(b) };
+    for h in [b, b2, b3] {
+        unsafe { rodkit_branch_free(h) };
+    }
     unsafe { rodkit_rod_free(rod) };
 }
 

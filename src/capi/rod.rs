@@ -9,7 +9,7 @@ use crate::continuation::anm::AnmOptions;
 use crate::continuation::{Options, Problem, Record, Scaling, Stop};
 use crate::error::{self, Error, Result};
 use crate::rod::branch::{Method, RodBranch};
-use crate::rod::model::{Rod as Model, Supports};
+use crate::rod::model::{unwrap_rotation, Rod as Model, Supports};
 use crate::rod::scheme::Scheme;
 use crate::rod::{Frame, Load, Loads, RodLaw};
 use crate::status::Status;
@@ -130,7 +130,7 @@ pub struct RodSpec {
     pub end_dx: f64,
     pub end_dy: f64,
     pub end_dz: f64,
-    /// Twisted: the axial dead force at s = L (default 0).
+    /// Twisted and Torqued: the axial dead force at s = L (default 0).
     pub end_tension: f64,
     /// Loads: RodkitLoadFrame and vector (per length for distributed loads).
     pub tip_force_frame: i32,
@@ -542,7 +542,10 @@ fn record_of(model: &Model, n: usize, lambda: f64, x: &[f64]) -> BranchRecord {
     }
 }
 
-fn wrap(model: &Model, branch: RodBranch) -> Branch {
+/// The branch for C. `previous`: the end rotation (continuous) of the
+/// point a resumed or switched branch leaves from, so that a torque
+/// clamp's φ (known mod 4π from the state) continues across branches.
+fn wrap(model: &Model, branch: RodBranch, previous: Option<f64>) -> Branch {
     let n = model.unknowns();
     let records = branch
         .records
@@ -574,10 +577,20 @@ fn wrap(model: &Model, branch: RodBranch) -> Branch {
     let (mut records, mut samples): (Vec<BranchRecord>, Vec<BranchRecord>) = (records, samples);
     if model.torqued() {
         // A torque clamp's φ from (cos φ/2, sin φ/2) is known mod 4π: turns
-        // followed by continuity along the records (and samples).
-        for list in [&mut records, &mut samples] {
-            for k in 1..list.len() {
-                list[k].end_rotation = crate::rod::model::unwrap_rotation(list[k - 1].end_rotation, list[k].end_rotation);
+        // followed by continuity along the records (a step turns the end by
+        // less than 2π), from the point the branch left if it is a resumed
+        // or switched one; each sample from the record that starts its step
+        // (samples at loads far apart may be turns apart from each other).
+        let mut last = previous;
+        for r in records.iter_mut() {
+            if let Some(p) = last {
+                r.end_rotation = unwrap_rotation(p, r.end_rotation);
+            }
+            last = Some(r.end_rotation);
+        }
+        for (rec, s) in samples.iter_mut().zip(&branch.samples) {
+            if let Some(from) = records.get(s.record) {
+                rec.end_rotation = unwrap_rotation(from.end_rotation, rec.end_rotation);
             }
         }
     }
@@ -801,10 +814,21 @@ unsafe fn out_slice<'a>(name: &str, p: *mut f64, n: i64) -> Result<&'a mut [f64]
     Ok(std::slice::from_raw_parts_mut(p, n as usize))
 }
 
-unsafe fn store_branch(rod: &Rod, b: RodBranch, out: *mut *mut Branch) -> Result<Status> {
+unsafe fn store_branch(rod: &Rod, b: RodBranch, previous: Option<f64>, out: *mut *mut Branch) -> Result<Status> {
     let status = status_of(b.stop);
-    *arg_mut("out", out)? = Box::into_raw(Box::new(wrap(&rod.model, b)));
+    *arg_mut("out", out)? = Box::into_raw(Box::new(wrap(&rod.model, b, previous)));
     Ok(status)
+}
+
+/// A torque clamp's continuous end rotation at bifurcation `index` of
+/// `from`: its φ (mod 4π) unwrapped against the record nearest to it.
+fn rotation_at_bifurcation(model: &Model, from: &Branch, index: usize) -> Option<f64> {
+    let bif = from.branch.bifurcations.get(index)?;
+    let raw = model.end_rotation(&bif.x, bif.lambda)?;
+    let n = model.unknowns().min(bif.x.len());
+    let distance = |x: &[f64]| x[..n].iter().zip(&bif.x[..n]).map(|(a, b)| (a - b) * (a - b)).sum::<f64>();
+    let nearest = from.branch.states.iter().enumerate().min_by(|a, b| distance(a.1).total_cmp(&distance(b.1)))?.0;
+    Some(unwrap_rotation(from.records.get(nearest)?.end_rotation, raw))
 }
 
 /// Follow a branch from the state `x0` (length n; NULL: the straight
@@ -836,7 +860,7 @@ pub unsafe extern "C" fn rodkit_rod_continue(
             Some(in_slice("x0", x0, n)?)
         };
         let b = with_progress(&rod.model, progress, user_data, |cb| rod.model.continue_branch(x0, lambda0, increasing, &opts, method, cb))?;
-        store_branch(rod, b, out)
+        store_branch(rod, b, None, out)
     })
 }
 
@@ -858,7 +882,8 @@ pub unsafe extern "C" fn rodkit_branch_resume(
         let from = same_rod(rod, arg_ref("branch", branch)?)?;
         let (opts, method, _) = options_from(arg_ref("options", options)?, rod.model.unknowns()).map_err(|e| qualify_argument(e, "options."))?;
         let b = with_progress(&rod.model, progress, user_data, |cb| rod.model.resume_branch(&from.branch, &opts, method, cb))?;
-        store_branch(rod, b, out)
+        let previous = rod.model.torqued().then(|| from.records.last().map(|r| r.end_rotation)).flatten();
+        store_branch(rod, b, previous, out)
     })
 }
 
@@ -891,7 +916,8 @@ pub unsafe extern "C" fn rodkit_branch_switch(
         let b = with_progress(&rod.model, progress, user_data, |cb| {
             rod.model.switch_branch(&from.branch, index as usize, direction as usize, first_step, &opts, method, cb)
         })?;
-        store_branch(rod, b, out)
+        let previous = rod.model.torqued().then(|| rotation_at_bifurcation(&rod.model, from, index as usize)).flatten();
+        store_branch(rod, b, previous, out)
     })
 }
 

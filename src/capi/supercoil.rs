@@ -382,7 +382,9 @@ pub struct EquilibriumSpec {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Equilibrium {
-    /// Observables as `RodkitSupercoilPoint` (turns are the point's).
+    /// Observables as `RodkitSupercoilPoint`, of the re-solved state (under
+    /// rotation control its turns are the point's; under a torque clamp the
+    /// torque is, and the turns are read from the new shape).
     pub turns: f64,
     pub extension: f64,
     pub torque: f64,
@@ -416,7 +418,8 @@ pub unsafe extern "C" fn rodkit_equilibrium_spec_default(spec: *mut EquilibriumS
     })
 }
 
-/// Solve the equilibrium at point `point` of `run` (its end rotation, from
+/// Solve the equilibrium at point `point` of `run` (at its end rotation
+/// under rotation control, at its end torque under a torque clamp; from
 /// its shape) under the model of `spec`, into `out`; with `xyz` not NULL
 /// also its node positions (nm) xyz[k + ld·i], i < nodes (nodes as
 /// `RodkitSupercoilInfo.nodes`). Non-convergence is

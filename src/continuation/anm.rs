@@ -235,7 +235,7 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
                     curve.evaluate(t, &mut xs, None);
                     let sample = deliver_sample(problem, &mut bordered, &scaling, &eq, &mut xs, target, (&x1, l1), opts.residual_tol, &mut counts, &mut refactorised);
                     match sample {
-                        Ok((iterations, residual)) => samples.push(Sample { lambda: target, outputs: observe(&xs, target), residual, newton_iterations: iterations }),
+                        Ok((iterations, residual)) => samples.push(Sample { lambda: target, record: records.len() - 1, outputs: observe(&xs, target), residual, newton_iterations: iterations }),
                         Err(_) => missed.push(target),
                     }
                 }

@@ -157,6 +157,11 @@ pub struct Record {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sample {
     pub lambda: f64,
+    /// Index in the branch's records of the point that starts the step
+    /// holding the sample (it lies between that record and the next): a
+    /// quantity known only modulo a period (a torque clamp's end rotation)
+    /// is followed by continuity from there.
+    pub record: usize,
     /// The observer's outputs, as for records.
     pub outputs: Vec<f64>,
     /// Scaled residual max |R_i| / e_i (≤ the tolerance).

@@ -357,7 +357,7 @@ pub fn continue_newton<P: Problem + ?Sized>(
     for &target in &opts.samples {
         if target == lambda {
             let rec = &records[0];
-            samples.push(Sample { lambda, outputs: observe(&x, lambda), residual: rec.residual, newton_iterations: 0 });
+            samples.push(Sample { lambda, record: 0, outputs: observe(&x, lambda), residual: rec.residual, newton_iterations: 0 });
         }
     }
     if !go_on {
@@ -426,7 +426,7 @@ pub fn continue_newton<P: Problem + ?Sized>(
             for theta in all_roots(|t| hermite(&[], lambda, (&[], tl), &[], ln, (&[], tln), step, t, &mut []) - target, 1.0) {
                 hermite(&x, lambda, (&tx, tl), &xn, ln, (&txn, tln), step, theta, &mut xs);
                 match deliver_sample(problem, &mut bordered, &scaling, &eq, &mut xs, target, (&txn, tln), opts.residual_tol, &mut counts, &mut refactorised) {
-                    Ok((it, res)) => samples.push(Sample { lambda: target, outputs: observe(&xs, target), residual: res, newton_iterations: it }),
+                    Ok((it, res)) => samples.push(Sample { lambda: target, record: records.len() - 2, outputs: observe(&xs, target), residual: res, newton_iterations: it }),
                     Err(_) => missed.push(target),
                 }
             }

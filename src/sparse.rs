@@ -67,21 +67,134 @@ impl Pattern {
     }
 }
 
+/// faer's LU state for one index type: the pattern's indices, the
+/// permutations, the factors and the scratch.
+struct Factors<I: faer::Index> {
+    col_ptr: Vec<I>,
+    row_idx: Vec<I>,
+    col_perm_fwd: Vec<I>,
+    col_perm_inv: Vec<I>,
+    row_perm_fwd: Vec<I>,
+    row_perm_inv: Vec<I>,
+    lu: SimplicialLu<I, f64>,
+    buffer: MemBuffer,
+}
+
+impl<I: faer::Index> Factors<I> {
+    fn new(pattern: &Pattern) -> Self {
+        let n = pattern.n;
+        let cast = |v: &[usize]| v.iter().map(|&i| I::truncate(i)).collect::<Vec<I>>();
+        let natural: Vec<I> = (0..n).map(I::truncate).collect();
+        let req = lu::simplicial::factorize_simplicial_numeric_lu_scratch::<I, f64>(n, n)
+            .or(lu::simplicial::solve_in_place_scratch::<I, f64>(n, 1, Par::Seq));
+        Factors {
+            col_ptr: cast(&pattern.col_ptr),
+            row_idx: cast(&pattern.row_idx),
+            col_perm_fwd: natural.clone(),
+            col_perm_inv: natural,
+            row_perm_fwd: vec![I::truncate(0); n],
+            row_perm_inv: vec![I::truncate(0); n],
+            lu: SimplicialLu::new(),
+            buffer: MemBuffer::new(req),
+        }
+    }
+
+    fn n(&self) -> usize {
+        self.col_ptr.len() - 1
+    }
+
+    fn numeric(&mut self, values: &[f64]) -> Result<()> {
+        let n = self.n();
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
+        let a = SparseColMatRef::new(sym, values);
+        let col_perm = PermRef::new_checked(&self.col_perm_fwd, &self.col_perm_inv, n);
+        let stack = MemStack::new(&mut self.buffer);
+        lu::simplicial::factorize_simplicial_numeric_lu(&mut self.row_perm_fwd, &mut self.row_perm_inv, &mut self.lu, a, col_perm, stack)
+            .map_err(|e| Error::new(Status::ErrNotConverged, format!("sparse LU: singular matrix ({e:?})")))
+    }
+
+    fn fill(&self) -> usize {
+        self.lu.l_factor_unsorted().compute_nnz() + self.lu.u_factor_unsorted().compute_nnz()
+    }
+
+    fn col_perm(&self) -> Vec<usize> {
+        self.col_perm_fwd.iter().map(|i| i.zx()).collect()
+    }
+
+    fn set_col_perm(&mut self, fwd: &[usize]) {
+        self.col_perm_fwd = fwd.iter().map(|&i| I::truncate(i)).collect();
+        let mut inv = vec![I::truncate(0); fwd.len()];
+        for (k, &j) in fwd.iter().enumerate() {
+            inv[j] = I::truncate(k);
+        }
+        self.col_perm_inv = inv;
+    }
+
+    /// COLAMD's column ordering of the pattern (None if the analysis fails).
+    fn colamd(&self) -> Option<Vec<usize>> {
+        let n = self.n();
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
+        let params = LuSymbolicParams { supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL, ..Default::default() };
+        let symbolic = lu::factorize_symbolic_lu(sym, params).ok()?;
+        Some(symbolic.col_perm().arrays().0.iter().map(|i| i.zx()).collect())
+    }
+
+    fn diagonal(&self, j: usize) -> f64 {
+        let u = self.lu.u_factor_unsorted();
+        let rows = u.row_idx_of_col_raw(j);
+        let vals = u.val_of_col(j);
+        rows.iter().zip(vals).find(|(i, _)| i.zx() == j).map_or(0.0, |(_, &v)| v)
+    }
+
+    fn solve_with(&mut self, b: &mut [f64], transpose: bool) {
+        let n = self.n();
+        let rhs = MatMut::from_column_major_slice_mut(b, n, 1);
+        let row_perm = PermRef::new_checked(&self.row_perm_fwd, &self.row_perm_inv, n);
+        let col_perm = PermRef::new_checked(&self.col_perm_fwd, &self.col_perm_inv, n);
+        let stack = MemStack::new(&mut self.buffer);
+        if transpose {
+            self.lu.solve_transpose_in_place_with_conj(row_perm, col_perm, Conj::No, rhs, Par::Seq, stack);
+        } else {
+            self.lu.solve_in_place_with_conj(row_perm, col_perm, Conj::No, rhs, Par::Seq, stack);
+        }
+    }
+
+    /// Parity of the row and column permutations together.
+    fn permutation_parity(&self) -> f64 {
+        parity(&self.row_perm_fwd) * parity(&self.col_perm_fwd)
+    }
+}
+
+/// The factors on 32-bit indices when L + U provably fit them, else on
+/// usize ones.
+enum Indexed {
+    Narrow(Factors<u32>),
+    Wide(Factors<usize>),
+}
+
+/// Run `$body` with `$f` bound to the factors whatever their index type.
+macro_rules! with_factors {
+    ($self:expr, $f:ident => $body:expr) => {
+        match $self {
+            Indexed::Narrow($f) => $body,
+            Indexed::Wide($f) => $body,
+        }
+    };
+}
+
 /// LU factorisation of matrices sharing one [`Pattern`].
+///
+/// The factors are kept on u32 indices (faer's LU is generic over the
+/// index type) when [`fill_bound`] proves that L + U fit them: the row
+/// indices of L + U are as many as their values, so halving them cut the
+/// factorisations and solves of long rods by ~20 % (they stream from
+/// memory once they outgrow the cache). faer narrows its positions to the
+/// index type without a check, so past 2³² entries u32 factors would be
+/// corrupt: patterns whose bound exceeds that (a dense border on a long
+/// rod, distant pairs in a plectoneme's pattern) get usize indices.
 pub struct SparseLu {
     pattern: Pattern,
-    /// The pattern's indices as u32 (faer's LU is generic over the index
-    /// type): half the memory of L + U's row indices, which are as many as
-    /// their values — the solves and factorisations of long rods stream
-    /// them from memory once they outgrow the cache.
-    col_ptr32: Vec<u32>,
-    row_idx32: Vec<u32>,
-    col_perm_fwd: Vec<u32>,
-    col_perm_inv: Vec<u32>,
-    row_perm_fwd: Vec<u32>,
-    row_perm_inv: Vec<u32>,
-    lu: SimplicialLu<u32, f64>,
-    buffer: MemBuffer,
+    factors: Indexed,
     factorised: bool,
     /// Whether the column ordering has been chosen (on the first matrix).
     ordered: bool,
@@ -91,6 +204,9 @@ pub struct SparseLu {
     pub solves: usize,
 }
 
+/// The largest L + U that the u32 factors may hold.
+const NARROW_LIMIT: u128 = u32::MAX as u128;
+
 impl SparseLu {
     /// For matrices with `pattern`. The column ordering is chosen on the
     /// first matrix (natural, or COLAMD's computed then only if the
@@ -98,41 +214,31 @@ impl SparseLu {
     /// ODEs it is never needed, and computing it cost ~40 % of one numeric
     /// factorisation).
     pub fn new(pattern: Pattern) -> Result<Self> {
-        let n = pattern.n;
-        // L + U of a pattern this size may hold several times its entries.
-        if pattern.nnz() >= (u32::MAX / 16) as usize {
-            return Err(Error::new(Status::ErrInvalidDimension, format!("sparse LU: {} entries is beyond the u32 indices' range", pattern.nnz())));
-        }
-        let to32 = |v: &[usize]| v.iter().map(|&i| i as u32).collect::<Vec<u32>>();
-        let (col_ptr32, row_idx32) = (to32(&pattern.col_ptr), to32(&pattern.row_idx));
-        let (col_perm_fwd, col_perm_inv) = ((0..n as u32).collect(), (0..n as u32).collect());
-        let req = lu::simplicial::factorize_simplicial_numeric_lu_scratch::<u32, f64>(n, n)
-            .or(lu::simplicial::solve_in_place_scratch::<u32, f64>(n, 1, Par::Seq));
-        Ok(SparseLu {
-            pattern,
-            col_ptr32,
-            row_idx32,
-            col_perm_fwd,
-            col_perm_inv,
-            row_perm_fwd: vec![0; n],
-            row_perm_inv: vec![0; n],
-            lu: SimplicialLu::new(),
-            buffer: MemBuffer::new(req),
-            factorised: false,
-            ordered: false,
-            factorisations: 0,
-            solves: 0,
-        })
+        let narrow = fill_bound(&pattern, None) < NARROW_LIMIT;
+        Self::indexed(pattern, !narrow)
+    }
+
+    /// As [`SparseLu::new`] with the index width given (tests compare the
+    /// two).
+    fn indexed(pattern: Pattern, wide: bool) -> Result<Self> {
+        let factors = if wide { Indexed::Wide(Factors::new(&pattern)) } else { Indexed::Narrow(Factors::new(&pattern)) };
+        Ok(SparseLu { pattern, factors, factorised: false, ordered: false, factorisations: 0, solves: 0 })
     }
 
     pub fn pattern(&self) -> &Pattern {
         &self.pattern
     }
 
+    /// Whether the factors are on usize indices (their L + U could exceed
+    /// the u32 range), not u32.
+    pub fn wide_indices(&self) -> bool {
+        matches!(self.factors, Indexed::Wide(_))
+    }
+
     /// Entries of L + U of the last factorisation (0 before the first).
     pub fn fill(&self) -> usize {
         if self.factorised {
-            self.lu.l_factor_unsorted().compute_nnz() + self.lu.u_factor_unsorted().compute_nnz()
+            with_factors!(&self.factors, f => f.fill())
         } else {
             0
         }
@@ -141,7 +247,7 @@ impl SparseLu {
     /// Whether the columns are factorised in their natural order (chosen
     /// on the first matrix), not COLAMD's.
     pub fn natural_order(&self) -> bool {
-        self.col_perm_fwd.iter().enumerate().all(|(i, &j)| i == j as usize)
+        with_factors!(&self.factors, f => f.col_perm()).iter().enumerate().all(|(i, &j)| i == j)
     }
 
     /// Numeric factorisation of the matrix with `values` in pattern order.
@@ -156,29 +262,18 @@ impl SparseLu {
         }
         let in_place = !self.ordered && self.choose_ordering(values);
         if !in_place {
-            self.numeric(values)?;
+            with_factors!(&mut self.factors, f => f.numeric(values))?;
         }
         self.factorisations += 1;
         // A zero or non-finite pivot is a singular matrix.
-        let u = self.lu.u_factor_unsorted();
         for j in 0..n {
-            let d = self.diagonal_of(u, j);
+            let d = with_factors!(&self.factors, f => f.diagonal(j));
             if !(d.is_finite() && d != 0.0) {
                 return Err(Error::new(Status::ErrNotConverged, format!("sparse LU: pivot {j} is {d:e} (singular matrix)")));
             }
         }
         self.factorised = true;
         Ok(())
-    }
-
-    fn numeric(&mut self, values: &[f64]) -> Result<()> {
-        let n = self.pattern.n;
-        let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr32, None, &self.row_idx32);
-        let a = SparseColMatRef::new(sym, values);
-        let col_perm = PermRef::new_checked(&self.col_perm_fwd, &self.col_perm_inv, n);
-        let stack = MemStack::new(&mut self.buffer);
-        lu::simplicial::factorize_simplicial_numeric_lu(&mut self.row_perm_fwd, &mut self.row_perm_inv, &mut self.lu, a, col_perm, stack)
-            .map_err(|e| Error::new(Status::ErrNotConverged, format!("sparse LU: singular matrix ({e:?})")))
     }
 
     /// On the first matrix: factorise with the natural order; keep it when
@@ -188,27 +283,29 @@ impl SparseLu {
     /// natural (banded) order has ~2.5–5× the matrix's entries while COLAMD
     /// can have 8× more again (rod, Gauss(4) × 32: 98 k against 771 k) —
     /// and a trial factorisation that dense costs more than the whole
-    /// continuation; COLAMD wins on general patterns.
+    /// continuation; COLAMD wins on general patterns. On u32 factors,
+    /// COLAMD's order is tried only if its fill bound fits them too.
     /// Returns whether the factorisation of `values` with the chosen
     /// ordering is already in place.
     fn choose_ordering(&mut self, values: &[f64]) -> bool {
         self.ordered = true;
-        let fill = |lu: &SimplicialLu<u32, f64>| lu.l_factor_unsorted().compute_nnz() + lu.u_factor_unsorted().compute_nnz();
         let n = self.pattern.n;
-        self.col_perm_fwd = (0..n as u32).collect();
-        self.col_perm_inv = (0..n as u32).collect();
-        let natural = self.numeric(values).ok().map(|_| fill(&self.lu));
-        if let Some(f) = natural {
-            if f <= 8 * self.pattern.nnz() {
+        let identity: Vec<usize> = (0..n).collect();
+        with_factors!(&mut self.factors, f => f.set_col_perm(&identity));
+        let natural = with_factors!(&mut self.factors, f => f.numeric(values).ok().map(|_| f.fill()));
+        if let Some(fill) = natural {
+            if fill <= 8 * self.pattern.nnz() {
                 return true;
             }
         }
-        let Some(colamd_perm) = self.colamd() else {
+        let Some(perm) = with_factors!(&self.factors, f => f.colamd()) else {
             return false;
         };
-        let natural_perm = (std::mem::take(&mut self.col_perm_fwd), std::mem::take(&mut self.col_perm_inv));
-        (self.col_perm_fwd, self.col_perm_inv) = colamd_perm;
-        let colamd = self.numeric(values).ok().map(|_| fill(&self.lu));
+        if !self.wide_indices() && fill_bound(&self.pattern, Some(&perm)) >= NARROW_LIMIT {
+            return false;
+        }
+        with_factors!(&mut self.factors, f => f.set_col_perm(&perm));
+        let colamd = with_factors!(&mut self.factors, f => f.numeric(values).ok().map(|_| f.fill()));
         let keep_colamd = match (colamd, natural) {
             (Some(c), Some(nat)) => c < nat,
             (Some(_), None) => true,
@@ -217,25 +314,8 @@ impl SparseLu {
         if keep_colamd {
             return true;
         }
-        (self.col_perm_fwd, self.col_perm_inv) = natural_perm;
+        with_factors!(&mut self.factors, f => f.set_col_perm(&identity));
         false
-    }
-
-    /// COLAMD's column ordering of the pattern (None if the analysis fails:
-    /// the natural order is then kept).
-    fn colamd(&self) -> Option<(Vec<u32>, Vec<u32>)> {
-        let n = self.pattern.n;
-        let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr32, None, &self.row_idx32);
-        let params = LuSymbolicParams { supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL, ..Default::default() };
-        let symbolic = lu::factorize_symbolic_lu(sym, params).ok()?;
-        let (fwd, inv) = symbolic.col_perm().arrays();
-        Some((fwd.to_vec(), inv.to_vec()))
-    }
-
-    fn diagonal_of(&self, u: SparseColMatRef<'_, u32, f64>, j: usize) -> f64 {
-        let rows = u.row_idx_of_col_raw(j);
-        let vals = u.val_of_col(j);
-        rows.iter().zip(vals).find(|(&i, _)| i as usize == j).map_or(0.0, |(_, &v)| v)
     }
 
     /// Solve A x = b in place.
@@ -250,26 +330,16 @@ impl SparseLu {
 
     fn solve_with(&mut self, b: &mut [f64], transpose: bool) {
         assert!(self.factorised, "solve before a successful factorisation");
-        let n = self.pattern.n;
-        let rhs = MatMut::from_column_major_slice_mut(b, n, 1);
-        let row_perm = PermRef::new_checked(&self.row_perm_fwd, &self.row_perm_inv, n);
-        let col_perm = PermRef::new_checked(&self.col_perm_fwd, &self.col_perm_inv, n);
-        let stack = MemStack::new(&mut self.buffer);
-        if transpose {
-            self.lu.solve_transpose_in_place_with_conj(row_perm, col_perm, Conj::No, rhs, Par::Seq, stack);
-        } else {
-            self.lu.solve_in_place_with_conj(row_perm, col_perm, Conj::No, rhs, Par::Seq, stack);
-        }
+        with_factors!(&mut self.factors, f => f.solve_with(b, transpose));
         self.solves += 1;
     }
 
     /// Sign of det A (±1) and log|det A| of the last factorisation.
     pub fn determinant_sign_and_log(&self) -> (f64, f64) {
         assert!(self.factorised, "determinant before a successful factorisation");
-        let u = self.lu.u_factor_unsorted();
-        let (mut sign, mut log) = (parity(&self.row_perm_fwd) * parity(&self.col_perm_fwd), 0.0);
+        let (mut sign, mut log) = (with_factors!(&self.factors, f => f.permutation_parity()), 0.0);
         for j in 0..self.pattern.n {
-            let d = self.diagonal_of(u, j);
+            let d = with_factors!(&self.factors, f => f.diagonal(j));
             sign *= d.signum();
             log += d.abs().ln();
         }
@@ -281,13 +351,46 @@ impl SparseLu {
     /// permutations' parity is sign det.
     pub fn negative_pivots(&self) -> usize {
         assert!(self.factorised, "pivots before a successful factorisation");
-        let u = self.lu.u_factor_unsorted();
-        (0..self.pattern.n).filter(|&j| self.diagonal_of(u, j) < 0.0).count()
+        (0..self.pattern.n).filter(|&j| with_factors!(&self.factors, f => f.diagonal(j)) < 0.0).count()
     }
 }
 
+/// An upper bound on the entries of L + U (diagonals counted in both) of
+/// the LU with row partial pivoting of any matrix with `pattern`, its
+/// columns taken in the order `perm` (None: natural). With m(j) the last
+/// row holding an entry in the first j + 1 columns (at least j) and c(r)
+/// the last column holding an entry in the first r + 1 rows (at least r):
+/// column j of L can only hold rows ≤ m(j) not yet pivoted, m(j) − j + 1
+/// of them; the i-th pivot row is an original row ≤ m(i), updated by
+/// earlier pivot rows, so row i of U lies in columns i..=c(m(i)). A band
+/// of half-width b gives n(3b + 2), the classical bound of banded LU with
+/// pivoting. O(nnz).
+fn fill_bound(pattern: &Pattern, perm: Option<&[usize]>) -> u128 {
+    let n = pattern.n;
+    if n == 0 {
+        return 0;
+    }
+    let mut last_row = vec![0usize; n];
+    let mut last_col_of_row = vec![0usize; n];
+    for (jp, last) in last_row.iter_mut().enumerate() {
+        let j = perm.map_or(jp, |p| p[jp]);
+        for &i in &pattern.row_idx[pattern.col_ptr[j]..pattern.col_ptr[j + 1]] {
+            *last = (*last).max(i);
+            last_col_of_row[i] = last_col_of_row[i].max(jp);
+        }
+    }
+    let (mut m, mut c) = (0usize, 0usize);
+    for (k, (r, col)) in last_row.iter_mut().zip(last_col_of_row.iter_mut()).enumerate() {
+        m = m.max(*r).max(k);
+        *r = m;
+        c = c.max(*col).max(k);
+        *col = c;
+    }
+    (0..n).map(|j| (last_row[j] - j + 1) as u128 + (last_col_of_row[last_row[j]] - j + 1) as u128).sum()
+}
+
 /// +1 for an even permutation, −1 for an odd one (cycle count).
-fn parity(p: &[u32]) -> f64 {
+fn parity<I: faer::Index>(p: &[I]) -> f64 {
     let mut seen = vec![false; p.len()];
     let mut sign = 1.0;
     for start in 0..p.len() {
@@ -298,7 +401,7 @@ fn parity(p: &[u32]) -> f64 {
         let mut i = start;
         while !seen[i] {
             seen[i] = true;
-            i = p[i] as usize;
+            i = p[i].zx();
             len += 1;
         }
         if len % 2 == 0 {
@@ -389,5 +492,88 @@ mod tests {
             pattern.mul_vec(&values, &x, &mut y);
             assert!(y.iter().zip(&b).all(|(a, b)| (a - b).abs() < 1e-12));
         }
+    }
+
+    fn random_values(pattern: &Pattern, seed: &mut u64) -> Vec<f64> {
+        (0..pattern.nnz())
+            .map(|_| {
+                *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                ((*seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+            })
+            .collect()
+    }
+
+    /// The fill bound against the fill faer's LU actually produces (the
+    /// reference), with pivoting (random values), in the natural and in
+    /// COLAMD's orders: a block band with random far entries and a dense
+    /// border, an arrowhead, a plain band (bound ≤ n(3b + 2), the banded
+    /// LU's). A bound below the true fill would let u32 factors overflow.
+    #[test]
+    fn fill_bound_bounds_the_fill() {
+        let n = 200;
+        let mut seed = 99u64;
+        let mut far = Vec::new();
+        for k in 0..300 {
+            let (i, j) = ((k * 37 + 11) % n, (k * 53 + 7) % n);
+            far.push((i, j));
+        }
+        let band = |b: usize| Pattern::from_entries(n, (0..n).flat_map(move |i| (i.saturating_sub(b)..(i + b + 1).min(n)).map(move |j| (i, j))));
+        let mixed = Pattern::from_entries(n, (0..n).flat_map(|i| (i.saturating_sub(4)..(i + 5).min(n)).map(move |j| (i, j))).chain(far.iter().copied()).chain((0..n).flat_map(|i| [(n - 1, i), (i, n - 1)])));
+        let arrow = Pattern::from_entries(n, (0..n).flat_map(|i| [(i, i), (0, i), (i, 0)]));
+        for (name, pattern) in [("band 5", band(5)), ("mixed", mixed), ("arrow", arrow)] {
+            let mut lu = SparseLu::new(pattern.clone()).unwrap();
+            let values = random_values(&pattern, &mut seed);
+            let mut f = Factors::<usize>::new(&pattern);
+            f.numeric(&values).unwrap();
+            let natural = f.fill() as u128;
+            let bound = fill_bound(&pattern, None);
+            assert!(natural <= bound, "{name}: natural fill {natural} above the bound {bound}");
+            if let Some(perm) = f.colamd() {
+                f.set_col_perm(&perm);
+                f.numeric(&values).unwrap();
+                let (fill, bound) = (f.fill() as u128, fill_bound(&pattern, Some(&perm)));
+                assert!(fill <= bound, "{name}: COLAMD fill {fill} above the bound {bound}");
+            }
+            lu.factorise(&values).unwrap();
+            assert!(!lu.wide_indices());
+        }
+        let b = 5;
+        assert!(fill_bound(&band(b), None) <= (n * (3 * b + 2)) as u128);
+    }
+
+    /// u32 and usize factors are the same computation: bitwise equal
+    /// solves, determinant and fill (the reference is the other width).
+    #[test]
+    fn narrow_and_wide_indices_agree() {
+        let n = 150;
+        let pattern = Pattern::from_entries(n, (0..n).flat_map(|i| (i.saturating_sub(3)..(i + 4).min(n)).map(move |j| (i, j))).chain((0..n).flat_map(|i| [(n - 1, i), (i, n - 1)])));
+        let values = random_values(&pattern, &mut 7u64);
+        let (mut narrow, mut wide) = (SparseLu::indexed(pattern.clone(), false).unwrap(), SparseLu::indexed(pattern.clone(), true).unwrap());
+        assert!(!narrow.wide_indices() && wide.wide_indices());
+        narrow.factorise(&values).unwrap();
+        wide.factorise(&values).unwrap();
+        assert_eq!(narrow.fill(), wide.fill());
+        assert_eq!(narrow.determinant_sign_and_log(), wide.determinant_sign_and_log());
+        let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).cos()).collect();
+        let (mut x1, mut x2) = (b.clone(), b.clone());
+        narrow.solve(&mut x1);
+        wide.solve(&mut x2);
+        assert_eq!(x1, x2);
+        narrow.solve_transpose(&mut x1);
+        wide.solve_transpose(&mut x2);
+        assert_eq!(x1, x2);
+    }
+
+    /// The width chosen from the bound: a 70 000-unknown arrowhead could
+    /// fill n(n + 1) ≈ 4.9e9 > 2³² entries in its natural order → usize;
+    /// a band of the same size stays on u32.
+    #[test]
+    fn wide_indices_when_the_fill_could_pass_u32() {
+        let n = 70_000;
+        let arrow = Pattern::from_entries(n, (0..n).flat_map(|i| [(i, i), (0, i), (i, 0)]));
+        assert_eq!(fill_bound(&arrow, None), (n as u128) * (n as u128 + 1));
+        assert!(SparseLu::new(arrow).unwrap().wide_indices());
+        let band = Pattern::from_entries(n, (0..n).flat_map(|i| (i.saturating_sub(3)..(i + 4).min(n)).map(move |j| (i, j))));
+        assert!(!SparseLu::new(band).unwrap().wide_indices());
     }
 }

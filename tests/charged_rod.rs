@@ -427,12 +427,18 @@ fn torque_clamp_follows_the_rotation_controlled_path() {
     let (br, bt) = (rotation.buckling.unwrap(), torque.buckling.unwrap());
     println!("buckling: rotation control φ {} M {}; torque clamp φ {} M {}", br.0, br.1, bt.0, bt.1);
     assert!((br.0 - bt.0).abs() < 1e-6 * br.0 && (br.1 - bt.1).abs() < 1e-6 * br.1, "{br:?} vs {bt:?}");
-    // Every point's parameter is its φ (rotation) or its torque (clamp).
-    for p in &rotation.points {
-        assert_eq!(p.parameter, p.phi);
-    }
+    // A clamp point's parameter is the torque its shape exerts (the end
+    // moment computed from the state), and under either control the turns
+    // (φ from the end rotation; under the clamp read from the state and
+    // followed by continuity) are the linking number Tw + Wr of the shape
+    // (twist from the strains, writhe by the Gauss integral: independent;
+    // 1e-4 = the writhe quadrature's accuracy at these shapes).
     for p in &torque.points {
         assert!((p.parameter - p.observables.torque).abs() < 1e-6 * p.parameter.abs().max(1.0), "Λ {} vs torque {}", p.parameter, p.observables.torque);
+    }
+    for p in rotation.points.iter().chain(&torque.points) {
+        let lk = p.observables.twist + p.observables.writhe;
+        assert!((lk - p.phi / (2.0 * std::f64::consts::PI)).abs() < 1e-4, "Tw + Wr {lk} vs turns {}", p.phi / (2.0 * std::f64::consts::PI));
     }
     // The rotation-controlled buckled path while M falls: (M, φ, z).
     let mut path: Vec<(f64, f64, f64)> = vec![];

@@ -943,7 +943,7 @@ impl Problem for ChargedRod {
             // row only, and in the moments' √f K_b/L (30× C/L for DNA) that
             // direction was soft (σ_min 0.007 on the 1 kbp scene against
             // 0.034) and hid the buckling points' dips of σ_min.
-            e[s] = self.rod.law.stiffness[(2, 2)] / self.rod.length;
+            e[s] = self.rod.torque_per_radian();
         }
         e
     }
@@ -959,7 +959,7 @@ impl Problem for ChargedRod {
         let lambda = if self.twisted_phi.is_some() {
             1.0
         } else if self.rod.torqued() {
-            self.rod.law.stiffness[(2, 2)] / self.rod.length
+            self.rod.torque_per_radian()
         } else {
             l
         };

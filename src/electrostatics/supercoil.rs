@@ -498,7 +498,7 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
     // The parameter per radian on the straight branch. The steps stay in
     // scaled arc length, dominated there by the state's rotation (≈ φ)
     // under either control (M's own scale, a moment, is ~30× Cφ/L).
-    let per_phi = if torque { c / rod.length } else { 1.0 };
+    let per_phi = if torque { rod.torque_per_radian() } else { 1.0 };
     // The buckling point to 1e-7 in scaled arc length (φ to ~1e-7 rad):
     // golden section on a double point costs ~4 factorisations per
     // reduction, and 1e-10 would take twice the reductions for digits the

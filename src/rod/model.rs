@@ -203,6 +203,12 @@ impl Rod {
         matches!(self.supports, Supports::Torqued { .. })
     }
 
+    /// The straight rod's end torque per radian of end rotation, C/L: the
+    /// scale that makes a torque clamp's parameter comparable with φ.
+    pub fn torque_per_radian(&self) -> f64 {
+        self.law.stiffness[(2, 2)] / self.length
+    }
+
     /// Index of c = cos(φ/2) in x for [`Supports::Twisted`].
     pub fn end_cosine(&self) -> Option<usize> {
         self.twisted().then(|| self.block_size() * self.elements + 13)

@@ -192,25 +192,33 @@ fn continuation_statuses_and_records() {
     unsafe { rodkit_rod_free(rod) };
 }
 
+/// A Kirchhoff rod (unit K_b and length) with its end rotation or end
+/// moment controlled, twist stiffness `twist`, and Newton options to
+/// `target` with bifurcation detection (residual 1e-12).
+fn end_controlled(supports: RodSupports, twist: f64, elements: i64, target: f64) -> (*mut Rod, ContinuationOptions) {
+    let mut s = spec();
+    s.kirchhoff = 1;
+    s.twist = twist;
+    s.tip_moment_frame = LoadFrame::None as i32;
+    s.supports = supports as i32;
+    s.elements = elements;
+    let rod = new_rod(&s).unwrap();
+    let mut o = options();
+    o.method = ContinuationMethod::Newton as i32;
+    o.target_lambda = target;
+    o.initial_step = 0.2;
+    o.max_step = 0.5;
+    o.residual_tol = 1e-12;
+    o.detect_bifurcations = 1;
+    (rod, o)
+}
+
 /// Greenhill through the C ABI (supports = TWISTED): the double point at
 /// φ_c = 2·4.4934…·K_b/C (tan x = x, see tests/rod_buckling.rs), records
 /// reporting φ in end_rotation.
 #[test]
 fn greenhill_through_the_c_abi() {
-    let mut s = spec();
-    s.kirchhoff = 1;
-    s.twist = 4.0;
-    s.tip_moment_frame = LoadFrame::None as i32;
-    s.supports = RodSupports::Twisted as i32;
-    s.elements = 16;
-    let rod = new_rod(&s).unwrap();
-    let mut o = options();
-    o.method = ContinuationMethod::Newton as i32;
-    o.target_lambda = 0.99;
-    o.initial_step = 0.2;
-    o.max_step = 0.5;
-    o.residual_tol = 1e-12;
-    o.detect_bifurcations = 1;
+    let (rod, o) = end_controlled(RodSupports::Twisted, 4.0, 16, 0.99);
     let mut b = ptr::null_mut();
     assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) }, 0, "{}", last_error());
     let mut bif = Bifurcation::default();
@@ -238,20 +246,7 @@ fn greenhill_through_the_c_abi() {
 /// the rod, and on 16 Gauss(4) elements (1.1 rad each) M_c was off by 8e-8.
 #[test]
 fn torque_clamp_through_the_c_abi() {
-    let mut s = spec();
-    s.kirchhoff = 1;
-    s.twist = 0.5;
-    s.tip_moment_frame = LoadFrame::None as i32;
-    s.supports = RodSupports::Torqued as i32;
-    s.elements = 32;
-    let rod = new_rod(&s).unwrap();
-    let mut o = options();
-    o.method = ContinuationMethod::Newton as i32;
-    o.target_lambda = 7.0;
-    o.initial_step = 0.2;
-    o.max_step = 0.5;
-    o.residual_tol = 1e-12;
-    o.detect_bifurcations = 1;
+    let (rod, mut o) = end_controlled(RodSupports::Torqued, 0.5, 32, 7.0);
     // Samples turns apart (φ = 1, 8, 13): each is unwrapped from the record
     // that starts its step, not from the previous sample (which resolves
     // only ±2π and gave 1, −4.57, −10.13 before).

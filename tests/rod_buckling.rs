@@ -37,6 +37,16 @@ fn axial_load() -> Loads {
 }
 
 /// Run the straight branch of `rod` with detection; return the bifurcation.
+/// The first positive root of tan x = x (Greenhill's linearised
+/// clamped–clamped problem), by Newton from 4.49.
+fn tan_root() -> f64 {
+    let mut x = 4.49f64;
+    for _ in 0..50 {
+        x -= (x.tan() - x) / (1.0 / x.cos().powi(2) - 1.0);
+    }
+    x
+}
+
 fn straight_branch(rod: &Rod, lambda_max: f64) -> rodkit::continuation::bifurcation::Bifurcation {
     straight_branch_with(rod, lambda_max, false)
 }
@@ -225,11 +235,7 @@ fn euler_load_pinned_pinned() {
 /// The double bifurcation (symmetric) is found at that φ to 1e−8.
 #[test]
 fn greenhill_controlled_end_rotation() {
-    // tan x = x, first positive root, by Newton from 4.49.
-    let mut x = 4.49f64;
-    for _ in 0..50 {
-        x -= (x.tan() - x) / (1.0 / x.cos().powi(2) - 1.0);
-    }
+    let x = tan_root();
     let (kb, c) = (1.0, 4.0);
     let phi_c = 2.0 * x * kb / c;
     let law = RodLaw::kirchhoff(kb, kb, c).unwrap();
@@ -254,10 +260,7 @@ fn greenhill_controlled_end_rotation() {
 /// torque at the same T, to 1e-8).
 #[test]
 fn greenhill_controlled_end_moment() {
-    let mut x = 4.49f64;
-    for _ in 0..50 {
-        x -= (x.tan() - x) / (1.0 / x.cos().powi(2) - 1.0);
-    }
+    let x = tan_root();
     let (kb, c) = (1.0, 4.0);
     let m_c = 2.0 * x * kb;
     let law = RodLaw::kirchhoff(kb, kb, c).unwrap();

@@ -547,7 +547,7 @@ fn record_of(model: &Model, n: usize, lambda: f64, x: &[f64]) -> BranchRecord {
 /// clamp's φ (known mod 4π from the state) continues across branches.
 fn wrap(model: &Model, branch: RodBranch, previous: Option<f64>) -> Branch {
     let n = model.unknowns();
-    let records = branch
+    let mut records: Vec<BranchRecord> = branch
         .records
         .iter()
         .zip(&branch.states)
@@ -562,7 +562,7 @@ fn wrap(model: &Model, branch: RodBranch, previous: Option<f64>) -> Branch {
             ..record_of(model, n, r.lambda, x)
         })
         .collect();
-    let samples = branch
+    let mut samples: Vec<BranchRecord> = branch
         .samples
         .iter()
         .zip(&branch.sample_states)
@@ -574,7 +574,6 @@ fn wrap(model: &Model, branch: RodBranch, previous: Option<f64>) -> Branch {
             ..record_of(model, n, s.lambda, x)
         })
         .collect();
-    let (mut records, mut samples): (Vec<BranchRecord>, Vec<BranchRecord>) = (records, samples);
     if model.torqued() {
         // A torque clamp's φ from (cos φ/2, sin φ/2) is known mod 4π: turns
         // followed by continuity along the records (a step turns the end by

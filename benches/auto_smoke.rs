@@ -57,8 +57,12 @@ fn main() {
         return;
     }
     ntsts.sort();
-    println!("AUTO-07p peer: NCOL = 4, EPSL = EPSU = {tol:e}, EPSS = {:e}, IAD = {}, DSMAX = {}, reps = {reps}",
-        opt.epss.unwrap_or(10.0 * tol), opt.iad, opt.dsmax);
+    println!(
+        "AUTO-07p peer: NCOL = 4, EPSL = EPSU = {tol:e}, EPSS = {:e}, IAD = {}, DSMAX = {}, reps = {reps}",
+        opt.epss.unwrap_or(10.0 * tol),
+        opt.iad,
+        opt.dsmax
+    );
 
     // 1. Follower cantilever.
     let alphas = [1.0, 2.0, 5.0, 10.0];
@@ -85,8 +89,10 @@ fn main() {
         }
     }
     println!("\nFollower cantilever (n_b(L) = (α, 0, 0), K_b = L = 1, GA = 1e4, EA = 2.6e4): tip r(L)");
-    println!("{:>5} {:>5} {:>7} {:>10} | {:>34} {:>34} {:>34} {:>34}", "NTST", "steps", "Newton", "time ms",
-        "α=1 (x, z, θ°)", "α=2", "α=5", "α=10");
+    println!(
+        "{:>5} {:>5} {:>7} {:>10} | {:>34} {:>34} {:>34} {:>34}",
+        "NTST", "steps", "Newton", "time ms", "α=1 (x, z, θ°)", "α=2", "α=5", "α=10"
+    );
     for (n, r, t) in &rows {
         let mut s = format!("{n:>5} {:>5} {:>7} {:>10.3} |", r.steps, r.newton_iterations, ms(*t));
         for &a in &alphas {
@@ -127,7 +133,10 @@ fn main() {
     }
     if let Some((nref, rref, _)) = rows.last() {
         println!("\nSelf-convergence: max-norm |r(L) − r_ref(L)| with r_ref from NTST = {nref}; ΔΛ = max |Λ_UZ − α| before the tangent correction");
-        println!("{:>5} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}", "NTST", "α=1", "α=2", "α=5", "α=10", "ΔΛ", "time ms");
+        println!(
+            "{:>5} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}",
+            "NTST", "α=1", "α=2", "α=5", "α=10", "ΔΛ", "time ms"
+        );
         for (n, r, t) in &rows {
             let mut s = format!("{n:>5}");
             let mut dl: f64 = 0.0;
@@ -149,13 +158,32 @@ fn main() {
     // 2. Euler buckling.
     println!("\nEuler buckling (clamped–free, dead axial load; K_b1 = 2, K_b2 = K_b = 1 fixes the plane)");
     let pcr = auto07p::euler_critical_load(1.0, 1.0, 1e4, 2.6e4);
-    println!("reference P_cr = {pcr:.12} (P(1 + P(1/GA − 1/EA)) = π²/4; inextensible π²/4 = {:.12})", std::f64::consts::PI.powi(2) / 4.0);
+    println!(
+        "reference P_cr = {pcr:.12} (P(1 + P(1/GA − 1/EA)) = π²/4; inextensible π²/4 = {:.12})",
+        std::f64::consts::PI.powi(2) / 4.0
+    );
     // End of the post-buckled branch (θ = 170°): IVP from the tip + secant on P, RK4 with 2000 and
     // 4000 steps agreeing to 4e−12 (benches/auto/euler_ref.py): (P, x_tip, z_tip).
     const END_REF: (f64, f64, f64) = (14.691919500598, 0.519800200812, -0.472417468332);
-    println!("end of the post-buckled branch at θ = 170°: reference P = {}, r(L) = ({}, 0, {})", END_REF.0, END_REF.1, END_REF.2);
-    println!("{:>5} {:>16} {:>10} {:>6} {:>12} {:>12} {:>12} {:>9} {:>10} {:>10} {:>12} {:>12}", "NTST", "P_cr AUTO", "rel err",
-        "steps", "Λ(170°)", "x_tip", "z_tip", "θ°", "ΔΛ(170°)", "Δr(170°)", "t run1 ms", "t total ms");
+    println!(
+        "end of the post-buckled branch at θ = 170°: reference P = {}, r(L) = ({}, 0, {})",
+        END_REF.0, END_REF.1, END_REF.2
+    );
+    println!(
+        "{:>5} {:>16} {:>10} {:>6} {:>12} {:>12} {:>12} {:>9} {:>10} {:>10} {:>12} {:>12}",
+        "NTST",
+        "P_cr AUTO",
+        "rel err",
+        "steps",
+        "Λ(170°)",
+        "x_tip",
+        "z_tip",
+        "θ°",
+        "ΔΛ(170°)",
+        "Δr(170°)",
+        "t run1 ms",
+        "t total ms"
+    );
     for &n in &ntsts {
         let mut t1s = Vec::new();
         let mut ts = Vec::new();
@@ -179,8 +207,19 @@ fn main() {
         let bp = r.branch_points()[0].clone();
         let end = r.end_point().unwrap();
         let dr = (end.tip[0] - END_REF.1).abs().max(end.tip[1].abs()).max((end.tip[2] - END_REF.2).abs());
-        println!("{n:>5} {:>16.12} {:>10.2e} {:>6} {:>12.8} {:>12.8} {:>12.8} {:>9.4} {:>10.2e} {:>10.2e} {:>12.3} {:>12.3}",
-            bp.lambda, (bp.lambda - pcr) / pcr, r.steps, end.lambda, end.tip[0], end.tip[2], end.rotation_deg,
-            (end.lambda - END_REF.0).abs(), dr, ms(median(t1s)), ms(median(ts)));
+        println!(
+            "{n:>5} {:>16.12} {:>10.2e} {:>6} {:>12.8} {:>12.8} {:>12.8} {:>9.4} {:>10.2e} {:>10.2e} {:>12.3} {:>12.3}",
+            bp.lambda,
+            (bp.lambda - pcr) / pcr,
+            r.steps,
+            end.lambda,
+            end.tip[0],
+            end.tip[2],
+            end.rotation_deg,
+            (end.lambda - END_REF.0).abs(),
+            dr,
+            ms(median(t1s)),
+            ms(median(ts))
+        );
     }
 }

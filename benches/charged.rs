@@ -53,7 +53,11 @@ impl Centerline for Superhelix {
         let w = (rho * rho + c * c).sqrt();
         let th = s / w;
         let (sn, cs) = th.sin_cos();
-        ([rho * cs, rho * sn, c * th], [-rho * sn / w, rho * cs / w, c / w], [-rho * cs / (w * w), -rho * sn / (w * w), 0.0])
+        (
+            [rho * cs, rho * sn, c * th],
+            [-rho * sn / w, rho * cs / w, c / w],
+            [-rho * cs / (w * w), -rho * sn / (w * w), 0.0],
+        )
     }
     fn breakpoints(&self) -> Vec<f64> {
         let n = (self.l / self.panel).ceil() as usize;
@@ -86,7 +90,11 @@ fn main() {
     let q = LineCharge::Uniform(1.0);
     let mut out = String::new();
     let _ = writeln!(out, "rodkit {} electrostatics: continuum vs discrete base pairs (κ = {:.4}/nm, a = 1 nm, r_c = {rc:.3} nm for 1e-4)", env!("CARGO_PKG_VERSION"), scr.kappa);
-    let _ = writeln!(out, "{:>6} {:>12} {:>10} {:>12} {:>10} {:>12} {:>10} {:>11} {:>11}", "kbp", "all pairs", "", "cutoff", "error", "continuum", "error", "all/cont", "cut/cont");
+    let _ = writeln!(
+        out,
+        "{:>6} {:>12} {:>10} {:>12} {:>10} {:>12} {:>10} {:>11} {:>11}",
+        "kbp", "all pairs", "", "cutoff", "error", "continuum", "error", "all/cont", "cut/cont"
+    );
     let mut csv = String::from("bp,all_pairs_s,cutoff_s,cutoff_error,continuum_s,continuum_error\n");
     let mut prev: Option<(f64, Duration)> = None;
     let mut scaling = vec![];
@@ -96,15 +104,39 @@ fn main() {
         let (r, qs, s) = discrete::base_pairs(&curve, &q, 0.34).unwrap();
         let (all, t_all) = time(3, || discrete::energy(&r, &qs, &s, &scr, None));
         let ((cut, _), t_cut) = time(3, || discrete::energy_cutoff(&r, &qs, &s, &scr, rc, None, 1));
-        let reference = energy(&fine, &q, &scr, &EnergyQuadrature { delta: 1.5, order: 12, cutoff: None }).unwrap().total;
-        let (cont, t_cont) = time(3, || energy(&curve, &q, &scr, &EnergyQuadrature { delta: 4.0, order: 3, cutoff: Some(rc) }).unwrap().total);
+        let reference =
+            energy(&fine, &q, &scr, &EnergyQuadrature { delta: 1.5, order: 12, cutoff: None }).unwrap().total;
+        let (cont, t_cont) = time(3, || {
+            energy(&curve, &q, &scr, &EnergyQuadrature { delta: 4.0, order: 3, cutoff: Some(rc) }).unwrap().total
+        });
         let (e_cut, e_cont) = ((all - cut).abs() / all, (reference - cont).abs() / reference);
-        let _ = writeln!(out, "{:>6} {:>10.2}ms {:>10} {:>10.2}ms {:>10.1e} {:>10.2}ms {:>10.1e} {:>11.1} {:>11.2}", bp as f64 / 1000.0, t_all.as_secs_f64() * 1e3, "", t_cut.as_secs_f64() * 1e3, e_cut, t_cont.as_secs_f64() * 1e3, e_cont,
-            t_all.as_secs_f64() / t_cont.as_secs_f64(), t_cut.as_secs_f64() / t_cont.as_secs_f64());
-        let _ = writeln!(csv, "{bp},{},{},{e_cut},{},{e_cont}", t_all.as_secs_f64(), t_cut.as_secs_f64(), t_cont.as_secs_f64());
+        let _ = writeln!(
+            out,
+            "{:>6} {:>10.2}ms {:>10} {:>10.2}ms {:>10.1e} {:>10.2}ms {:>10.1e} {:>11.1} {:>11.2}",
+            bp as f64 / 1000.0,
+            t_all.as_secs_f64() * 1e3,
+            "",
+            t_cut.as_secs_f64() * 1e3,
+            e_cut,
+            t_cont.as_secs_f64() * 1e3,
+            e_cont,
+            t_all.as_secs_f64() / t_cont.as_secs_f64(),
+            t_cut.as_secs_f64() / t_cont.as_secs_f64()
+        );
+        let _ = writeln!(
+            csv,
+            "{bp},{},{},{e_cut},{},{e_cont}",
+            t_all.as_secs_f64(),
+            t_cut.as_secs_f64(),
+            t_cont.as_secs_f64()
+        );
         if let Some((pbp, pt)) = prev {
             let doublings = (bp as f64 / pbp).log2();
-            scaling.push(format!("{:.0} → {bp} bp: continuum ×{:.2} per doubling", pbp, (t_cont.as_secs_f64() / pt.as_secs_f64()).powf(1.0 / doublings)));
+            scaling.push(format!(
+                "{:.0} → {bp} bp: continuum ×{:.2} per doubling",
+                pbp,
+                (t_cont.as_secs_f64() / pt.as_secs_f64()).powf(1.0 / doublings)
+            ));
         }
         prev = Some((bp as f64, t_cont));
     }
@@ -184,10 +216,25 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
     let _ = writeln!(out, "  direct = sparse Newton of the continuation engine (exact Jacobian, full LU, symbolic analysis included); NK = Newton–Krylov (GMRES, central-difference products, preconditioner: LU of the Jacobian band |i − j| ≤ w, w = {} = one element's coupling for the continuum, twice that for base pairs, refreshed after > 10 GMRES iterations), cold (symbolic analysis, Jacobian and band LU included) and warm (band LU kept from a previous solve, as along a continuation);", 51);
     let _ = writeln!(out, "cutoffs with cell lists, continuum 3e-5 and base pairs 1e-4 (each meeting 1e-4 force error); force error on a superhelix (radius 3, pitch 40 nm) against the same model with every pair: max |p − p_ref| over the stage force densities, relative to max |p_ref| (base pairs) or to the continuum's whole electrostatic force density (its p is the far zone only)");
     let _ = writeln!(out, "all-pairs base pairs: direct = Newton on its residual with the cutoff model's Jacobian (its exact one is dense); NK = its own residual's products, preconditioner from the cutoff model's Jacobian");
-    let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>10} {:>10} {:>11} {:>10} {:>10} {:>4} {:>8}", "kbp", "n", "model", "residual", "Jacobian", "eq direct", "eq NK", "NK warm", "GMRES", "f error");
+    let _ = writeln!(
+        out,
+        "{:>4} {:>6} {:>22} {:>10} {:>10} {:>11} {:>10} {:>10} {:>4} {:>8}",
+        "kbp", "n", "model", "residual", "Jacobian", "eq direct", "eq NK", "NK warm", "GMRES", "f error"
+    );
     let mut csv = String::from("bp,n,model,residual_s,jacobian_s,equilibrium_direct_s,equilibrium_nk_s,equilibrium_nk_warm_s,krylov_iterations,force_error,residual_2threads_s,jacobian_2threads_s\n");
-    let mut series: Vec<(&str, Vec<(f64, f64)>)> = vec![("continuum, cutoff", vec![]), ("base pairs, cutoff", vec![]), ("base pairs, all pairs", vec![]), ("continuum, every pair", vec![])];
-    let mut eq_series: Vec<(&str, Vec<(f64, f64)>)> = vec![("continuum, NK", vec![]), ("base pairs, NK", vec![]), ("base pairs all pairs, NK", vec![]), ("continuum, direct", vec![]), ("base pairs, direct", vec![])];
+    let mut series: Vec<(&str, Vec<(f64, f64)>)> = vec![
+        ("continuum, cutoff", vec![]),
+        ("base pairs, cutoff", vec![]),
+        ("base pairs, all pairs", vec![]),
+        ("continuum, every pair", vec![]),
+    ];
+    let mut eq_series: Vec<(&str, Vec<(f64, f64)>)> = vec![
+        ("continuum, NK", vec![]),
+        ("base pairs, NK", vec![]),
+        ("base pairs all pairs, NK", vec![]),
+        ("continuum, direct", vec![]),
+        ("base pairs, direct", vec![]),
+    ];
     let mut scaling = vec![];
     let mut ratios = vec![];
     let mut prev: Option<(f64, f64, f64, f64, f64)> = None;
@@ -210,8 +257,22 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
         let mut discrete = charge.clone();
         discrete.cutoff_tolerance = Some(1e-4);
         discrete.base_pairs = Some(0.34);
-        let opts = Options { target_lambda: Some(2.0), residual_tol: 1e-10, initial_step: 2.0, max_step: 2.0, ..Default::default() };
-        let b = follow(&rod, &charge, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, None, &opts, |_| true).unwrap();
+        let opts = Options {
+            target_lambda: Some(2.0),
+            residual_tol: 1e-10,
+            initial_step: 2.0,
+            max_step: 2.0,
+            ..Default::default()
+        };
+        let b = follow(
+            &rod,
+            &charge,
+            Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
+            None,
+            &opts,
+            |_| true,
+        )
+        .unwrap();
         let x = b.states.last().unwrap().clone();
         let xs = superhelix_state(&rod);
         // Newton–Krylov equilibria of `p` (preconditioner from `source` if
@@ -225,7 +286,8 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
             let reps = if source.is_some() { 3 } else { 9 };
             let mut solve = |pre: &mut BandPreconditioner| {
                 let mut y = x.clone();
-                newton_krylov(p, source.as_deref_mut().map(|s| s as &mut dyn Problem), pre, &mut y, 2.1, &nk_opts).unwrap()
+                newton_krylov(p, source.as_deref_mut().map(|s| s as &mut dyn Problem), pre, &mut y, 2.1, &nk_opts)
+                    .unwrap()
             };
             let (rep, cold) = time(reps, || solve(&mut BandPreconditioner::new(&pattern, band).unwrap()));
             let mut pre = BandPreconditioner::new(&pattern, band).unwrap();
@@ -246,9 +308,17 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
                 return (n, t_res, Some(t_jac), None, None, None, p);
             }
             let t_eq = time(3, || {
-                let b = continue_newton(&mut p, Start::Point { x: x.clone(), lambda: 2.1, increasing: true }, &eq_opts, |_, _| vec![], |_| true).unwrap();
+                let b = continue_newton(
+                    &mut p,
+                    Start::Point { x: x.clone(), lambda: 2.1, increasing: true },
+                    &eq_opts,
+                    |_, _| vec![],
+                    |_| true,
+                )
+                .unwrap();
                 assert!(!b.records.is_empty(), "no equilibrium");
-            }).1;
+            })
+            .1;
             let band = p.local_band();
             let t_nk = nk(&mut p, None, band);
             let f_err = every.map(|e| {
@@ -263,8 +333,19 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
                     // density of the converged continuum (electrostatics::force_density).
                     let curve = Superhelix { l: rod.length, panel: 2.0 };
                     let quad = EnergyQuadrature { delta: 2.0, order: 8, cutoff: None };
-                    let total = (0..40).map(|k| rodkit::electrostatics::force_density(&curve, &LineCharge::Uniform(model.line_charge), &model.screening, &quad, rod.length * (k as f64 + 0.5) / 40.0).unwrap())
-                        .flat_map(|v| v.into_iter()).fold(0.0f64, |m, v| m.max(v.abs()));
+                    let total = (0..40)
+                        .map(|k| {
+                            rodkit::electrostatics::force_density(
+                                &curve,
+                                &LineCharge::Uniform(model.line_charge),
+                                &model.screening,
+                                &quad,
+                                rod.length * (k as f64 + 0.5) / 40.0,
+                            )
+                            .unwrap()
+                        })
+                        .flat_map(|v| v.into_iter())
+                        .fold(0.0f64, |m, v| m.max(v.abs()));
                     let far = fe.iter().flat_map(|v| v.iter()).fold(0.0f64, |m, v| m.max(v.abs()));
                     force_error(&fs, &fe) * far / total
                 }
@@ -304,7 +385,14 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
             let d_p = &mut d.as_mut().unwrap().6;
             let mut tr = Truncated { full: &mut pa, cut: d_p };
             let (_, a_eq) = time(3, || {
-                let b = continue_newton(&mut tr, Start::Point { x: x.clone(), lambda: 2.1, increasing: true }, &eq_opts, |_, _| vec![], |_| true).unwrap();
+                let b = continue_newton(
+                    &mut tr,
+                    Start::Point { x: x.clone(), lambda: 2.1, increasing: true },
+                    &eq_opts,
+                    |_, _| vec![],
+                    |_| true,
+                )
+                .unwrap();
                 assert!(!b.records.is_empty(), "no all-pairs equilibrium");
             });
             let band = d_p.local_band();
@@ -318,9 +406,28 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
         });
         let fmt_t = |t: Option<Duration>| t.map_or("-".to_string(), |t| format!("{:.2}ms", ms(t)));
         let fmt_e = |e: Option<f64>| e.map_or("-".to_string(), |e| format!("{e:.1e}"));
-        let row = |out: &mut String, kbp: String, name: &str, res: Option<Duration>, jac: Option<Duration>, eq: Option<Duration>, nk: Option<(Duration, Duration, usize)>, err: Option<f64>| {
-            let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>10} {:>10} {:>11} {:>10} {:>10} {:>4} {:>8}", kbp, n, name, fmt_t(res), fmt_t(jac), fmt_t(eq), fmt_t(nk.map(|v| v.0)), fmt_t(nk.map(|v| v.1)),
-                nk.map_or("-".into(), |v| v.2.to_string()), fmt_e(err));
+        let row = |out: &mut String,
+                   kbp: String,
+                   name: &str,
+                   res: Option<Duration>,
+                   jac: Option<Duration>,
+                   eq: Option<Duration>,
+                   nk: Option<(Duration, Duration, usize)>,
+                   err: Option<f64>| {
+            let _ = writeln!(
+                out,
+                "{:>4} {:>6} {:>22} {:>10} {:>10} {:>11} {:>10} {:>10} {:>4} {:>8}",
+                kbp,
+                n,
+                name,
+                fmt_t(res),
+                fmt_t(jac),
+                fmt_t(eq),
+                fmt_t(nk.map(|v| v.0)),
+                fmt_t(nk.map(|v| v.1)),
+                nk.map_or("-".into(), |v| v.2.to_string()),
+                fmt_e(err)
+            );
         };
         row(out, format!("{}", bp as f64 / 1000.0), "continuum, cutoff", Some(c_res), c_jac, c_eq, c_nk, c_err);
         if let Some((_, d_res, d_jac, d_eq, d_nk, d_err, _)) = &d {
@@ -329,10 +436,30 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
         if let Some((a_res, a_eq, a_nk)) = all {
             row(out, "".into(), "base pairs, all pairs", Some(a_res), None, Some(a_eq), Some(a_nk), None);
         }
-        let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>10} {:>10} (2 threads){}", "", "", "continuum, cutoff", fmt_t(Some(c_res2)), fmt_t(c_jac2),
-            e_res.map_or(String::new(), |t| format!("; every pair: residual {} ({:.1}× the cutoff's)", fmt_t(Some(t)), t.as_secs_f64() / c_res.as_secs_f64())));
+        let _ = writeln!(
+            out,
+            "{:>4} {:>6} {:>22} {:>10} {:>10} (2 threads){}",
+            "",
+            "",
+            "continuum, cutoff",
+            fmt_t(Some(c_res2)),
+            fmt_t(c_jac2),
+            e_res.map_or(String::new(), |t| format!(
+                "; every pair: residual {} ({:.1}× the cutoff's)",
+                fmt_t(Some(t)),
+                t.as_secs_f64() / c_res.as_secs_f64()
+            ))
+        );
         if let Some((res, jac)) = d2 {
-            let _ = writeln!(out, "{:>4} {:>6} {:>22} {:>10} {:>10} (2 threads)", "", "", "base pairs, cutoff", fmt_t(Some(res)), fmt_t(Some(jac)));
+            let _ = writeln!(
+                out,
+                "{:>4} {:>6} {:>22} {:>10} {:>10} (2 threads)",
+                "",
+                "",
+                "base pairs, cutoff",
+                fmt_t(Some(res)),
+                fmt_t(Some(jac))
+            );
         }
         let r = |a: Duration, b: Duration| a.as_secs_f64() / b.as_secs_f64();
         let c_nk = c_nk.unwrap();
@@ -343,21 +470,67 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
                 r(*d_res, c_res), r(d_eq.unwrap(), c_eq.unwrap()), r(d_nk.0, c_nk.0), r(d_nk.1, c_nk.1));
         }
         if let Some((a_res, a_eq, a_nk)) = all {
-            let _ = write!(line, "; than all-pairs base pairs: residual {:.0}×, equilibrium direct {:.1}×, NK {:.0}×", r(a_res, c_res), r(a_eq, c_eq.unwrap()), r(a_nk.0, c_nk.0));
+            let _ = write!(
+                line,
+                "; than all-pairs base pairs: residual {:.0}×, equilibrium direct {:.1}×, NK {:.0}×",
+                r(a_res, c_res),
+                r(a_eq, c_eq.unwrap()),
+                r(a_nk.0, c_nk.0)
+            );
         }
-        let _ = write!(line, "; continuum NK vs direct {:.1}× faster (warm {:.1}×)", r(c_eq.unwrap(), c_nk.0), r(c_eq.unwrap(), c_nk.1));
-        let _ = write!(line, "; preconditioner refresh (Jacobian + band LU) {:.2} ms = {:.0} ns per unknown", ms(t_refresh), t_refresh.as_secs_f64() * 1e9 / n as f64);
+        let _ = write!(
+            line,
+            "; continuum NK vs direct {:.1}× faster (warm {:.1}×)",
+            r(c_eq.unwrap(), c_nk.0),
+            r(c_eq.unwrap(), c_nk.1)
+        );
+        let _ = write!(
+            line,
+            "; preconditioner refresh (Jacobian + band LU) {:.2} ms = {:.0} ns per unknown",
+            ms(t_refresh),
+            t_refresh.as_secs_f64() * 1e9 / n as f64
+        );
         ratios.push(line);
         let secs = |t: Option<Duration>| t.map_or(f64::NAN, |t| t.as_secs_f64());
-        let _ = writeln!(csv, "{bp},{n},continuum_cutoff,{},{},{},{},{},{},{},{},{}", c_res.as_secs_f64(), secs(c_jac), secs(c_eq), c_nk.0.as_secs_f64(), c_nk.1.as_secs_f64(), c_nk.2, c_err.unwrap_or(f64::NAN), c_res2.as_secs_f64(), secs(c_jac2));
+        let _ = writeln!(
+            csv,
+            "{bp},{n},continuum_cutoff,{},{},{},{},{},{},{},{},{}",
+            c_res.as_secs_f64(),
+            secs(c_jac),
+            secs(c_eq),
+            c_nk.0.as_secs_f64(),
+            c_nk.1.as_secs_f64(),
+            c_nk.2,
+            c_err.unwrap_or(f64::NAN),
+            c_res2.as_secs_f64(),
+            secs(c_jac2)
+        );
         let _ = writeln!(csv, "{bp},{n},continuum_every_pair,{},,,,,,,,", secs(e_res));
         if let Some((_, d_res, d_jac, d_eq, d_nk, d_err, _)) = &d {
             let d_nk = d_nk.unwrap();
             let (res2, jac2) = d2.map_or((f64::NAN, f64::NAN), |(r, j)| (r.as_secs_f64(), j.as_secs_f64()));
-            let _ = writeln!(csv, "{bp},{n},base_pairs_cutoff,{},{},{},{},{},{},{},{res2},{jac2}", d_res.as_secs_f64(), secs(*d_jac), secs(*d_eq), d_nk.0.as_secs_f64(), d_nk.1.as_secs_f64(), d_nk.2, d_err.unwrap_or(f64::NAN));
+            let _ = writeln!(
+                csv,
+                "{bp},{n},base_pairs_cutoff,{},{},{},{},{},{},{},{res2},{jac2}",
+                d_res.as_secs_f64(),
+                secs(*d_jac),
+                secs(*d_eq),
+                d_nk.0.as_secs_f64(),
+                d_nk.1.as_secs_f64(),
+                d_nk.2,
+                d_err.unwrap_or(f64::NAN)
+            );
         }
         if let Some((a_res, a_eq, a_nk)) = all {
-            let _ = writeln!(csv, "{bp},{n},base_pairs_all,{},,{},{},{},{},,,", a_res.as_secs_f64(), a_eq.as_secs_f64(), a_nk.0.as_secs_f64(), a_nk.1.as_secs_f64(), a_nk.2);
+            let _ = writeln!(
+                csv,
+                "{bp},{n},base_pairs_all,{},,{},{},{},{},,,",
+                a_res.as_secs_f64(),
+                a_eq.as_secs_f64(),
+                a_nk.0.as_secs_f64(),
+                a_nk.1.as_secs_f64(),
+                a_nk.2
+            );
         }
         let lb = (bp as f64).log10();
         series[0].1.push((lb, ms(c_res).log10()));
@@ -403,9 +576,39 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
     }
     let _ = writeln!(out, "{}", scaling.join("; "));
     std::fs::write(dir.join("rod.csv"), &csv).unwrap();
-    let colours = [plotters::style::RGBColor(0, 90, 200), plotters::style::RGBColor(200, 60, 0), plotters::style::RGBColor(120, 120, 120), plotters::style::RGBColor(0, 150, 80), plotters::style::RGBColor(150, 0, 150)];
-    let plot: Vec<_> = series.into_iter().zip(colours).filter(|((_, v), _)| !v.is_empty()).map(|((name, v), c)| (name, v, c)).collect();
-    plot::line_plot(&dir.join("rod_residual.svg"), "time per residual (DNA rod, 0.1 M)", "log10 base pairs", "log10 ms", &plot).unwrap();
-    let plot: Vec<_> = eq_series.into_iter().zip(colours).filter(|((_, v), _)| !v.is_empty()).map(|((name, v), c)| (name, v, c)).collect();
-    plot::line_plot(&dir.join("rod_equilibrium.svg"), "time per equilibrium (DNA rod, 0.1 M)", "log10 base pairs", "log10 ms", &plot).unwrap();
+    let colours = [
+        plotters::style::RGBColor(0, 90, 200),
+        plotters::style::RGBColor(200, 60, 0),
+        plotters::style::RGBColor(120, 120, 120),
+        plotters::style::RGBColor(0, 150, 80),
+        plotters::style::RGBColor(150, 0, 150),
+    ];
+    let plot: Vec<_> = series
+        .into_iter()
+        .zip(colours)
+        .filter(|((_, v), _)| !v.is_empty())
+        .map(|((name, v), c)| (name, v, c))
+        .collect();
+    plot::line_plot(
+        &dir.join("rod_residual.svg"),
+        "time per residual (DNA rod, 0.1 M)",
+        "log10 base pairs",
+        "log10 ms",
+        &plot,
+    )
+    .unwrap();
+    let plot: Vec<_> = eq_series
+        .into_iter()
+        .zip(colours)
+        .filter(|((_, v), _)| !v.is_empty())
+        .map(|((name, v), c)| (name, v, c))
+        .collect();
+    plot::line_plot(
+        &dir.join("rod_equilibrium.svg"),
+        "time per equilibrium (DNA rod, 0.1 M)",
+        "log10 base pairs",
+        "log10 ms",
+        &plot,
+    )
+    .unwrap();
 }

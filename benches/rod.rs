@@ -21,12 +21,12 @@
 #[path = "support/auto07p.rs"]
 mod auto07p;
 #[cfg(feature = "sundials")]
+#[path = "../tests/support/rod_band.rs"]
+mod rod_band;
+#[cfg(feature = "sundials")]
 #[path = "../tests/support/sundials.rs"]
 #[allow(dead_code)]
 mod sundials;
-#[cfg(feature = "sundials")]
-#[path = "../tests/support/rod_band.rs"]
-mod rod_band;
 
 /// SUNDIALS as a peer (`--features sundials`): natural-parameter
 /// continuation as a user without a continuation code would do it — α
@@ -138,7 +138,9 @@ enum Engine {
 impl Engine {
     fn name(&self) -> String {
         match self {
-            Engine::Anm { order, epsilon, pade } => format!("rodkit ANM{} P={order} ε={epsilon:.0e}", if *pade { " Padé" } else { "" }),
+            Engine::Anm { order, epsilon, pade } => {
+                format!("rodkit ANM{} P={order} ε={epsilon:.0e}", if *pade { " Padé" } else { "" })
+            }
             Engine::Newton => "rodkit Newton".into(),
         }
     }
@@ -151,17 +153,32 @@ fn run(rod: &Rod, engine: Engine, tol: f64, loads: &[f64]) -> (Vec<[f64; 3]>, Co
     let t = Instant::now();
     let mut sys = rod.system().unwrap();
     let start = Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true };
-    let opts = Options { target_lambda: Some(10.0), residual_tol: tol, initial_step: 0.2, max_step: 10.0, max_steps: 2000, samples: loads.to_vec(), ..Default::default() };
+    let opts = Options {
+        target_lambda: Some(10.0),
+        residual_tol: tol,
+        initial_step: 0.2,
+        max_step: 10.0,
+        max_steps: 2000,
+        samples: loads.to_vec(),
+        ..Default::default()
+    };
     let observe = |x: &[f64], _: f64| rod.tip(x).to_vec();
     let b: Branch = match engine {
-        Engine::Anm { order, epsilon, pade } => continue_anm(&mut sys, start, &opts, &AnmOptions { order, epsilon, pade }, observe, |_| true).unwrap(),
+        Engine::Anm { order, epsilon, pade } => {
+            continue_anm(&mut sys, start, &opts, &AnmOptions { order, epsilon, pade }, observe, |_| true).unwrap()
+        }
         Engine::Newton => continue_newton(&mut sys, start, &opts, observe, |_| true).unwrap(),
     };
     let elapsed = t.elapsed();
     assert_eq!(b.stop, Stop::Target, "{engine:?} did not reach α = 10");
     assert!(b.missed_samples.is_empty(), "{engine:?} missed samples {:?}", b.missed_samples);
     let tips: Vec<[f64; 3]> = b.samples.iter().map(|s| [s.outputs[0], s.outputs[1], s.outputs[2]]).collect();
-    assert_eq!(tips.len(), loads.len(), "{engine:?}: samples {:?}", b.samples.iter().map(|s| s.lambda).collect::<Vec<_>>());
+    assert_eq!(
+        tips.len(),
+        loads.len(),
+        "{engine:?}: samples {:?}",
+        b.samples.iter().map(|s| s.lambda).collect::<Vec<_>>()
+    );
     (tips, b.counts, elapsed)
 }
 
@@ -196,14 +213,22 @@ fn main() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench/rod");
     fs::create_dir_all(&dir).unwrap();
     let mut out = String::new();
-    let _ = writeln!(out, "rodkit {} rod continuation benchmark (cantilever, tip force α 0 → 10; follower and dead load)", env!("CARGO_PKG_VERSION"));
+    let _ = writeln!(
+        out,
+        "rodkit {} rod continuation benchmark (cantilever, tip force α 0 → 10; follower and dead load)",
+        env!("CARGO_PKG_VERSION")
+    );
     let dense: Vec<f64> = (1..=100).map(|k| 0.1 * k as f64).collect();
     // References: Gauss(4) × 64 at residual 1e-13, Newton, tips at every load used.
     let mut references = vec![];
     for scene in [Scene::Follower, Scene::Dead] {
         let fine = rod(scene, Scheme::Gauss(4), 64);
         let (tips, _, _) = run(&fine, Engine::Newton, 1e-12, &dense);
-        let _ = writeln!(out, "reference {scene:?}: Gauss(4) × 64, residual 1e-12: tips at α = 1, 2, 5, 10: {:?}", [tips[9], tips[19], tips[49], tips[99]]);
+        let _ = writeln!(
+            out,
+            "reference {scene:?}: Gauss(4) × 64, residual 1e-12: tips at α = 1, 2, 5, 10: {:?}",
+            [tips[9], tips[19], tips[49], tips[99]]
+        );
         references.push((scene, tips));
     }
     let reference = |scene: Scene, loads: &[f64]| -> Vec<[f64; 3]> {
@@ -222,7 +247,11 @@ fn main() {
         (Scheme::Gauss(2), 16),
         (Scheme::Midpoint, 64),
     ];
-    let engines = [Engine::Anm { order: 20, epsilon: 1e-10, pade: false }, Engine::Anm { order: 20, epsilon: 1e-10, pade: true }, Engine::Newton];
+    let engines = [
+        Engine::Anm { order: 20, epsilon: 1e-10, pade: false },
+        Engine::Anm { order: 20, epsilon: 1e-10, pade: true },
+        Engine::Newton,
+    ];
     let scenes = [Scene::Follower, Scene::Dead];
     let auto_ntst = [4usize, 8, 16];
     let auto_ok = auto07p::available();
@@ -233,7 +262,8 @@ fn main() {
     let mut auto_times: Vec<Vec<Duration>> = vec![vec![]; auto_ntst.len()];
     let mut auto_results: Vec<Option<auto07p::AutoRun>> = vec![None; auto_ntst.len()];
     #[allow(unused_mut)]
-    let mut kinsol_results: Vec<Option<(Vec<[f64; 3]>, (i64, i64, i64), Vec<Duration>)>> = vec![None; scenes.len() * configs.len()];
+    let mut kinsol_results: Vec<Option<(Vec<[f64; 3]>, (i64, i64, i64), Vec<Duration>)>> =
+        vec![None; scenes.len() * configs.len()];
     for _ in 0..REPS {
         for (si, &scene) in scenes.iter().enumerate() {
             for (ci, &(scheme, n)) in configs.iter().enumerate() {
@@ -276,7 +306,16 @@ fn main() {
             for (ei, &engine) in engines.iter().enumerate() {
                 let k = key(si, ci, ei);
                 let (tips, counts) = results[k].clone().unwrap();
-                rows.push(Row { scene, method: engine.name(), disc: format!("{scheme:?} × {n}"), unknowns, time: median(times[k].clone()), error: err(&tips, &reference(scene, &ALPHAS)), counts: Some(counts), auto_steps: None });
+                rows.push(Row {
+                    scene,
+                    method: engine.name(),
+                    disc: format!("{scheme:?} × {n}"),
+                    unknowns,
+                    time: median(times[k].clone()),
+                    error: err(&tips, &reference(scene, &ALPHAS)),
+                    counts: Some(counts),
+                    auto_steps: None,
+                });
             }
             if let Some((tips, (iters, jacs, res), times)) = &kinsol_results[si * configs.len() + ci] {
                 rows.push(Row {
@@ -286,7 +325,14 @@ fn main() {
                     unknowns,
                     time: median(times.clone()),
                     error: err(tips, &reference(scene, &ALPHAS)),
-                    counts: Some(Counts { steps: 40, factorisations: *jacs as usize, solves: *iters as usize, residuals: *res as usize, jacobians: *jacs as usize, ..Default::default() }),
+                    counts: Some(Counts {
+                        steps: 40,
+                        factorisations: *jacs as usize,
+                        solves: *iters as usize,
+                        residuals: *res as usize,
+                        jacobians: *jacs as usize,
+                        ..Default::default()
+                    }),
                     auto_steps: None,
                 });
             }
@@ -294,7 +340,8 @@ fn main() {
     }
     for (ai, &ntst) in auto_ntst.iter().enumerate() {
         if let Some(run) = &auto_results[ai] {
-            let tips: Vec<[f64; 3]> = ALPHAS.iter().map(|&a| run.at_lambda(a).map(|p| p.tip_at(a)).unwrap_or([f64::NAN; 3])).collect();
+            let tips: Vec<[f64; 3]> =
+                ALPHAS.iter().map(|&a| run.at_lambda(a).map(|p| p.tip_at(a)).unwrap_or([f64::NAN; 3])).collect();
             rows.push(Row {
                 scene: Scene::Follower,
                 method: "AUTO-07p".into(),
@@ -308,24 +355,57 @@ fn main() {
         }
     }
     if cfg!(not(feature = "sundials")) {
-        let _ = writeln!(out, "SUNDIALS rows need `--features sundials` (natural-parameter KINSOL continuation): skipped");
+        let _ =
+            writeln!(out, "SUNDIALS rows need `--features sundials` (natural-parameter KINSOL continuation): skipped");
     }
     if !auto_ok {
         let _ = writeln!(out, "AUTO-07p not installed (apt-get install auto-07p): peer rows skipped");
     }
     let _ = writeln!(out, "\n1. Tips at α = 1, 2, 5, 10 (one run to α = 10; rodkit delivers them as dense samples), residual tolerance 1e-10 (scaled), medians of {REPS} interleaved runs.");
     let _ = writeln!(out, "   Ratios: time / rodkit Newton's on the same discretisation; factorisations Newton / ANM; time / AUTO's at the nearest tip error.");
-    let _ = writeln!(out, "{:<9} {:<26} {:<16} {:>6} {:>10} {:>9} {:>6} {:>7} {:>7} {:>8} {:>7} {:>8} {:>9} {:>8}", "scene", "method", "discretisation", "n", "time", "tip err", "steps", "factor.", "Jacob.", "resid.", "orders", "/Newton", "fact.N/A", "/AUTO");
+    let _ = writeln!(
+        out,
+        "{:<9} {:<26} {:<16} {:>6} {:>10} {:>9} {:>6} {:>7} {:>7} {:>8} {:>7} {:>8} {:>9} {:>8}",
+        "scene",
+        "method",
+        "discretisation",
+        "n",
+        "time",
+        "tip err",
+        "steps",
+        "factor.",
+        "Jacob.",
+        "resid.",
+        "orders",
+        "/Newton",
+        "fact.N/A",
+        "/AUTO"
+    );
     let mut csv = String::from("scene,method,discretisation,unknowns,time_s,tip_error,steps,factorisations,jacobians,residuals,series_orders\n");
     let autos: Vec<&Row> = rows.iter().filter(|r| r.method == "AUTO-07p").collect();
-    let nearest_auto = |e: f64| autos.iter().min_by(|a, b| (a.error.ln() - e.ln()).abs().total_cmp(&(b.error.ln() - e.ln()).abs())).map(|r| r.time);
+    let nearest_auto = |e: f64| {
+        autos
+            .iter()
+            .min_by(|a, b| (a.error.ln() - e.ln()).abs().total_cmp(&(b.error.ln() - e.ln()).abs()))
+            .map(|r| r.time)
+    };
     for r in &rows {
         let newton = rows.iter().find(|o| o.scene == r.scene && o.disc == r.disc && o.method == "rodkit Newton");
         let anm = rows.iter().find(|o| o.scene == r.scene && o.disc == r.disc && o.method.starts_with("rodkit ANM"));
-        let ratio = |base: Option<Duration>| base.map_or("-".to_string(), |b| format!("{:.2}", r.time.as_secs_f64() / b.as_secs_f64()));
+        let ratio = |base: Option<Duration>| {
+            base.map_or("-".to_string(), |b| format!("{:.2}", r.time.as_secs_f64() / b.as_secs_f64()))
+        };
         let (steps, fact, jac, res, ord) = match (&r.counts, r.auto_steps) {
-            (Some(c), _) => (c.steps.to_string(), c.factorisations.to_string(), c.jacobians.to_string(), c.residuals.to_string(), c.series_orders.to_string()),
-            (None, Some((s, newton_it))) => (s.to_string(), format!("~{newton_it}"), "-".into(), "-".into(), "-".into()),
+            (Some(c), _) => (
+                c.steps.to_string(),
+                c.factorisations.to_string(),
+                c.jacobians.to_string(),
+                c.residuals.to_string(),
+                c.series_orders.to_string(),
+            ),
+            (None, Some((s, newton_it))) => {
+                (s.to_string(), format!("~{newton_it}"), "-".into(), "-".into(), "-".into())
+            }
             _ => ("-".into(), "-".into(), "-".into(), "-".into(), "-".into()),
         };
         let fact_ratio = match (r.method.starts_with("rodkit ANM"), newton.and_then(|o| o.counts), r.counts) {
@@ -333,16 +413,52 @@ fn main() {
             _ => "-".into(),
         };
         let _ = anm;
-        let _ = writeln!(out, "{:<9} {:<26} {:<16} {:>6} {:>8.2}ms {:>9.1e} {:>6} {:>7} {:>7} {:>8} {:>7} {:>8} {:>9} {:>8}", format!("{:?}", r.scene), r.method, r.disc, r.unknowns, ms(r.time), r.error, steps, fact, jac, res, ord,
-            if r.method.starts_with("rodkit") || r.method.starts_with("SUNDIALS") { ratio(newton.map(|o| o.time)) } else { "-".into() }, fact_ratio,
-            if r.scene == Scene::Follower { ratio(nearest_auto(r.error)) } else { "-".into() });
-        let _ = writeln!(csv, "{:?},{},{},{},{},{},{},{},{},{},{}", r.scene, r.method, r.disc, r.unknowns, r.time.as_secs_f64(), r.error, steps, fact, jac, res, ord);
+        let _ = writeln!(
+            out,
+            "{:<9} {:<26} {:<16} {:>6} {:>8.2}ms {:>9.1e} {:>6} {:>7} {:>7} {:>8} {:>7} {:>8} {:>9} {:>8}",
+            format!("{:?}", r.scene),
+            r.method,
+            r.disc,
+            r.unknowns,
+            ms(r.time),
+            r.error,
+            steps,
+            fact,
+            jac,
+            res,
+            ord,
+            if r.method.starts_with("rodkit") || r.method.starts_with("SUNDIALS") {
+                ratio(newton.map(|o| o.time))
+            } else {
+                "-".into()
+            },
+            fact_ratio,
+            if r.scene == Scene::Follower { ratio(nearest_auto(r.error)) } else { "-".into() }
+        );
+        let _ = writeln!(
+            csv,
+            "{:?},{},{},{},{},{},{},{},{},{},{}",
+            r.scene,
+            r.method,
+            r.disc,
+            r.unknowns,
+            r.time.as_secs_f64(),
+            r.error,
+            steps,
+            fact,
+            jac,
+            res,
+            ord
+        );
     }
     let _ = writeln!(out, "(AUTO: follower only; 'factor.' is its Newton iteration count, each factorising its collocation matrix; tips moved to the exact α along AUTO's tangent.");
     let _ = writeln!(out, " KINSOL: natural-parameter continuation α += 0.25, band solver on rows reordered to a band; 'steps' = solves, 'factor.' = Jacobian evaluations)");
     // Best rodkit against AUTO at the two accuracies the issue names.
     for target in [1e-6, 1e-8] {
-        let best = rows.iter().filter(|r| r.scene == Scene::Follower && r.method.starts_with("rodkit") && r.error <= target).min_by_key(|r| r.time);
+        let best = rows
+            .iter()
+            .filter(|r| r.scene == Scene::Follower && r.method.starts_with("rodkit") && r.error <= target)
+            .min_by_key(|r| r.time);
         let auto = autos.iter().filter(|r| r.error <= target).min_by_key(|r| r.time);
         match (best, auto) {
             (Some(b), Some(a)) => {
@@ -356,7 +472,11 @@ fn main() {
     // Cost against N (Gauss(4) rows): time per unknown.
     for scene in scenes {
         for engine in engines {
-            let pts: Vec<String> = rows.iter().filter(|r| r.scene == scene && r.method == engine.name() && r.disc.starts_with("Gauss(4)")).map(|r| format!("n {} {:.1} µs/unknown", r.unknowns, 1e6 * r.time.as_secs_f64() / r.unknowns as f64)).collect();
+            let pts: Vec<String> = rows
+                .iter()
+                .filter(|r| r.scene == scene && r.method == engine.name() && r.disc.starts_with("Gauss(4)"))
+                .map(|r| format!("n {} {:.1} µs/unknown", r.unknowns, 1e6 * r.time.as_secs_f64() / r.unknowns as f64))
+                .collect();
             let _ = writeln!(out, "cost vs N, {scene:?}, {}: {}", engine.name(), pts.join("; "));
         }
     }
@@ -375,13 +495,24 @@ fn main() {
 /// 10, each within the residual tolerance: ANM (series) against Newton
 /// (interpolant + correction), factorisations and time as ratios.
 fn section_dense(out: &mut String, dir: &Path, dense: &[f64], reference: &dyn Fn(Scene, &[f64]) -> Vec<[f64; 3]>) {
-    let _ = writeln!(out, "\n2. The branch densely: tips at 100 loads α = 0.1, 0.2, …, 10 in one run, residual 1e-10, medians of {REPS}");
-    let _ = writeln!(out, "{:<9} {:<16} {:<26} {:>9} {:>9} {:>7} {:>7} {:>8} {:>10} {:>10}", "scene", "discretisation", "method", "time", "max err", "steps", "factor.", "resid.", "fact. N/A", "time A/N");
+    let _ = writeln!(
+        out,
+        "\n2. The branch densely: tips at 100 loads α = 0.1, 0.2, …, 10 in one run, residual 1e-10, medians of {REPS}"
+    );
+    let _ = writeln!(
+        out,
+        "{:<9} {:<16} {:<26} {:>9} {:>9} {:>7} {:>7} {:>8} {:>10} {:>10}",
+        "scene", "discretisation", "method", "time", "max err", "steps", "factor.", "resid.", "fact. N/A", "time A/N"
+    );
     let mut csv = String::from("scene,discretisation,method,time_s,max_error,steps,factorisations,residuals\n");
     for scene in [Scene::Follower, Scene::Dead] {
         for (scheme, n) in [(Scheme::Gauss(4), 8), (Scheme::Gauss(4), 16)] {
             let r = rod(scene, scheme, n);
-            let engines = [Engine::Anm { order: 20, epsilon: 1e-10, pade: false }, Engine::Anm { order: 20, epsilon: 1e-10, pade: true }, Engine::Newton];
+            let engines = [
+                Engine::Anm { order: 20, epsilon: 1e-10, pade: false },
+                Engine::Anm { order: 20, epsilon: 1e-10, pade: true },
+                Engine::Newton,
+            ];
             let mut times = vec![vec![]; 3];
             let mut res = vec![None; 3];
             for _ in 0..REPS {
@@ -397,10 +528,37 @@ fn section_dense(out: &mut String, dir: &Path, dense: &[f64], reference: &dyn Fn
                 let (tips, c) = res[k].clone().unwrap();
                 let c_newton = res[2].as_ref().unwrap().1;
                 let error = err(&tips, &reference);
-                let ratio_f = if k < 2 { format!("{:.1}", c_newton.factorisations as f64 / c.factorisations as f64) } else { "-".into() };
-                let ratio_t = if k < 2 { format!("{:.2}", t[k].as_secs_f64() / t[2].as_secs_f64()) } else { "-".into() };
-                let _ = writeln!(out, "{:<9} {:<16} {:<26} {:>7.2}ms {:>9.1e} {:>7} {:>7} {:>8} {:>10} {:>10}", format!("{scene:?}"), format!("{scheme:?} × {n}"), e.name(), ms(t[k]), error, c.steps, c.factorisations, c.residuals, ratio_f, ratio_t);
-                let _ = writeln!(csv, "{scene:?},{scheme:?} × {n},{},{},{},{},{},{}", e.name(), t[k].as_secs_f64(), error, c.steps, c.factorisations, c.residuals);
+                let ratio_f = if k < 2 {
+                    format!("{:.1}", c_newton.factorisations as f64 / c.factorisations as f64)
+                } else {
+                    "-".into()
+                };
+                let ratio_t =
+                    if k < 2 { format!("{:.2}", t[k].as_secs_f64() / t[2].as_secs_f64()) } else { "-".into() };
+                let _ = writeln!(
+                    out,
+                    "{:<9} {:<16} {:<26} {:>7.2}ms {:>9.1e} {:>7} {:>7} {:>8} {:>10} {:>10}",
+                    format!("{scene:?}"),
+                    format!("{scheme:?} × {n}"),
+                    e.name(),
+                    ms(t[k]),
+                    error,
+                    c.steps,
+                    c.factorisations,
+                    c.residuals,
+                    ratio_f,
+                    ratio_t
+                );
+                let _ = writeln!(
+                    csv,
+                    "{scene:?},{scheme:?} × {n},{},{},{},{},{},{}",
+                    e.name(),
+                    t[k].as_secs_f64(),
+                    error,
+                    c.steps,
+                    c.factorisations,
+                    c.residuals
+                );
             }
         }
     }
@@ -424,10 +582,25 @@ fn section_post_buckling(out: &mut String, dir: &Path, auto_ok: bool) {
     let loads = [5.0, 10.0, 14.0];
     let follow = |rod: &Rod, method: Method, tol: f64| -> (f64, Vec<[f64; 3]>, Counts, Duration) {
         let t = Instant::now();
-        let opts = Options { target_lambda: Some(3.0), residual_tol: tol, initial_step: 0.2, max_step: 1.0, detect_bifurcations: true, bifurcation_tol: 1e-10, ..Default::default() };
+        let opts = Options {
+            target_lambda: Some(3.0),
+            residual_tol: tol,
+            initial_step: 0.2,
+            max_step: 1.0,
+            detect_bifurcations: true,
+            bifurcation_tol: 1e-10,
+            ..Default::default()
+        };
         let straight = rod.continue_branch(None, 0.0, true, &opts, method, |_| true).unwrap();
         let bif = &straight.bifurcations[0];
-        let opts = Options { target_lambda: Some(14.0), residual_tol: tol, max_step: 5.0, max_steps: 2000, samples: loads.to_vec(), ..Default::default() };
+        let opts = Options {
+            target_lambda: Some(14.0),
+            residual_tol: tol,
+            max_step: 5.0,
+            max_steps: 2000,
+            samples: loads.to_vec(),
+            ..Default::default()
+        };
         let b = rod.switch_branch(&straight, 0, 0, 0.05, &opts, method, |_| true).unwrap();
         let elapsed = t.elapsed();
         let mut c = straight.counts;
@@ -438,15 +611,27 @@ fn section_post_buckling(out: &mut String, dir: &Path, auto_ok: bool) {
         c.jacobians += b.counts.jacobians;
         c.series_orders += b.counts.series_orders;
         // The buckle may go either way: compare |x_tip| and z_tip.
-        let tips = b.sample_states.iter().map(|x| { let p = rod.tip(x); [p[0].hypot(p[1]), 0.0, p[2]] }).collect();
+        let tips = b
+            .sample_states
+            .iter()
+            .map(|x| {
+                let p = rod.tip(x);
+                [p[0].hypot(p[1]), 0.0, p[2]]
+            })
+            .collect();
         (bif.lambda, tips, c, elapsed)
     };
     let fine = euler_rod(Scheme::Gauss(4), 64);
     let (_, reference, _, _) = follow(&fine, Method::Newton, 1e-12);
     let pcr = auto07p::euler_critical_load(1.0, 1.0, 1e4, 2.6e4);
     let _ = writeln!(out, "\n3. Euler buckling and post-buckling (clamped–free, axial dead load, K_b1 = 2 K_b2): straight branch with detection, location, switch, post-buckled branch to Λ = 14; medians of {REPS}");
-    let _ = writeln!(out, "{:<16} {:<26} {:>9} {:>11} {:>10} {:>7} {:>7} {:>8} {:>9}", "discretisation", "method", "time", "P_cr err", "tip err", "steps", "factor.", "resid.", "/Newton");
-    let mut csv = String::from("discretisation,method,time_s,critical_load_error,tip_error,steps,factorisations,residuals\n");
+    let _ = writeln!(
+        out,
+        "{:<16} {:<26} {:>9} {:>11} {:>10} {:>7} {:>7} {:>8} {:>9}",
+        "discretisation", "method", "time", "P_cr err", "tip err", "steps", "factor.", "resid.", "/Newton"
+    );
+    let mut csv =
+        String::from("discretisation,method,time_s,critical_load_error,tip_error,steps,factorisations,residuals\n");
     for (scheme, n) in [(Scheme::Gauss(4), 8), (Scheme::Gauss(4), 16)] {
         let r = euler_rod(scheme, n);
         let methods = [Method::Anm(AnmOptions { order: 20, epsilon: 1e-10, pade: false }), Method::Newton];
@@ -462,10 +647,34 @@ fn section_post_buckling(out: &mut String, dir: &Path, auto_ok: bool) {
         let t: Vec<Duration> = times.into_iter().map(median).collect();
         for (k, m) in methods.iter().enumerate() {
             let (pc, tips, c) = res[k].clone().unwrap();
-            let name = match m { Method::Anm(_) => "rodkit ANM P=20 ε=1e-10", Method::Newton => "rodkit Newton" };
+            let name = match m {
+                Method::Anm(_) => "rodkit ANM P=20 ε=1e-10",
+                Method::Newton => "rodkit Newton",
+            };
             let e = err(&tips, &reference);
-            let _ = writeln!(out, "{:<16} {:<26} {:>7.2}ms {:>11.1e} {:>10.1e} {:>7} {:>7} {:>8} {:>9.2}", format!("{scheme:?} × {n}"), name, ms(t[k]), (pc - pcr).abs() / pcr, e, c.steps, c.factorisations, c.residuals, t[k].as_secs_f64() / t[1].as_secs_f64());
-            let _ = writeln!(csv, "{scheme:?} × {n},{name},{},{},{},{},{},{}", t[k].as_secs_f64(), (pc - pcr).abs() / pcr, e, c.steps, c.factorisations, c.residuals);
+            let _ = writeln!(
+                out,
+                "{:<16} {:<26} {:>7.2}ms {:>11.1e} {:>10.1e} {:>7} {:>7} {:>8} {:>9.2}",
+                format!("{scheme:?} × {n}"),
+                name,
+                ms(t[k]),
+                (pc - pcr).abs() / pcr,
+                e,
+                c.steps,
+                c.factorisations,
+                c.residuals,
+                t[k].as_secs_f64() / t[1].as_secs_f64()
+            );
+            let _ = writeln!(
+                csv,
+                "{scheme:?} × {n},{name},{},{},{},{},{},{}",
+                t[k].as_secs_f64(),
+                (pc - pcr).abs() / pcr,
+                e,
+                c.steps,
+                c.factorisations,
+                c.residuals
+            );
         }
     }
     if auto_ok {
@@ -501,8 +710,14 @@ fn section_post_buckling(out: &mut String, dir: &Path, auto_ok: bool) {
 fn section_anm_knobs(out: &mut String, dir: &Path) {
     let r = rod(Scene::Follower, Scheme::Gauss(4), 8);
     let _ = writeln!(out, "\n4. ANM knobs on Gauss(4) × 8, α 0 → 10 in one run (residual tolerance 1e-10 after correction), medians of {REPS}");
-    let _ = writeln!(out, "{:>5} {:>4} {:>8} {:>6} {:>8} {:>11} {:>16} {:>10} {:>10}", "Padé", "P", "ε", "steps", "factor.", "Padé steps", "max series res.", "Newton it.", "time");
-    let mut csv = String::from("pade,order,epsilon,steps,factorisations,pade_steps,max_series_residual,newton_iterations,time_s\n");
+    let _ = writeln!(
+        out,
+        "{:>5} {:>4} {:>8} {:>6} {:>8} {:>11} {:>16} {:>10} {:>10}",
+        "Padé", "P", "ε", "steps", "factor.", "Padé steps", "max series res.", "Newton it.", "time"
+    );
+    let mut csv = String::from(
+        "pade,order,epsilon,steps,factorisations,pade_steps,max_series_residual,newton_iterations,time_s\n",
+    );
     for (pade, order) in [(false, 10), (false, 20), (false, 30), (false, 40), (true, 10), (true, 20), (true, 30)] {
         for epsilon in [1e-6, 1e-8, 1e-10, 1e-12] {
             let mut times = vec![];
@@ -510,9 +725,17 @@ fn section_anm_knobs(out: &mut String, dir: &Path) {
             for _ in 0..REPS {
                 let t = Instant::now();
                 let mut sys = r.system().unwrap();
-                let opts = Options { target_lambda: Some(10.0), residual_tol: 1e-10, max_step: 5.0, max_steps: 5000, ..Default::default() };
+                let opts = Options {
+                    target_lambda: Some(10.0),
+                    residual_tol: 1e-10,
+                    max_step: 5.0,
+                    max_steps: 5000,
+                    ..Default::default()
+                };
                 let start = Start::Point { x: r.straight_state(), lambda: 0.0, increasing: true };
-                let b = continue_anm(&mut sys, start, &opts, &AnmOptions { order, epsilon, pade }, |_, _| vec![], |_| true).unwrap();
+                let b =
+                    continue_anm(&mut sys, start, &opts, &AnmOptions { order, epsilon, pade }, |_, _| vec![], |_| true)
+                        .unwrap();
                 times.push(t.elapsed());
                 let worst = b.records.iter().filter_map(|r| r.series_residual).fold(0.0, f64::max);
                 let newton: usize = b.records.iter().map(|r| r.newton_iterations).sum();
@@ -521,7 +744,11 @@ fn section_anm_knobs(out: &mut String, dir: &Path) {
             let (steps, fact, pade_steps, worst, newton) = summary.unwrap();
             let t = median(times);
             let _ = writeln!(out, "{:>5} {order:>4} {epsilon:>8.0e} {steps:>6} {fact:>8} {pade_steps:>11} {worst:>16.1e} {newton:>10} {:>8.2}ms", if pade { "yes" } else { "no" }, t.as_secs_f64() * 1e3);
-            let _ = writeln!(csv, "{pade},{order},{epsilon},{steps},{fact},{pade_steps},{worst},{newton},{}", t.as_secs_f64());
+            let _ = writeln!(
+                csv,
+                "{pade},{order},{epsilon},{steps},{fact},{pade_steps},{worst},{newton},{}",
+                t.as_secs_f64()
+            );
         }
     }
     let _ = fs::write(dir.join("anm_knobs.csv"), csv);
@@ -530,7 +757,9 @@ fn section_anm_knobs(out: &mut String, dir: &Path) {
 fn plot(path: &Path, rows: &[Row]) -> Result<(), Box<dyn std::error::Error>> {
     let root = SVGBackend::new(path, (960, 640)).into_drawing_area();
     root.fill(&WHITE)?;
-    let pts = |f: &dyn Fn(&Row) -> bool| -> Vec<(f64, f64)> { rows.iter().filter(|r| f(r)).map(|r| (r.time.as_secs_f64() * 1e3, r.error.max(1e-14))).collect() };
+    let pts = |f: &dyn Fn(&Row) -> bool| -> Vec<(f64, f64)> {
+        rows.iter().filter(|r| f(r)).map(|r| (r.time.as_secs_f64() * 1e3, r.error.max(1e-14))).collect()
+    };
     let all: Vec<(f64, f64)> = pts(&|_| true);
     let (x0, x1) = all.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.0), b.max(p.0)));
     let (y0, y1) = all.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.1), b.max(p.1)));
@@ -540,15 +769,36 @@ fn plot(path: &Path, rows: &[Row]) -> Result<(), Box<dyn std::error::Error>> {
         .x_label_area_size(56)
         .y_label_area_size(84)
         .build_cartesian_2d((x0 / 1.5..x1 * 1.5).log_scale(), (y0 / 3.0..y1 * 3.0).log_scale())?;
-    chart.configure_mesh().x_desc("time (ms)").y_desc("max tip error / L").y_label_formatter(&|v| format!("{v:.0e}")).draw()?;
+    chart
+        .configure_mesh()
+        .x_desc("time (ms)")
+        .y_desc("max tip error / L")
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .draw()?;
     for (name, color, f) in [
-        ("rodkit ANM", RGBColor(214, 39, 40), Box::new(|r: &Row| r.method.starts_with("rodkit ANM") && r.scene == Scene::Follower) as Box<dyn Fn(&Row) -> bool>),
-        ("rodkit Newton", RGBColor(31, 119, 180), Box::new(|r: &Row| r.method == "rodkit Newton" && r.scene == Scene::Follower)),
+        (
+            "rodkit ANM",
+            RGBColor(214, 39, 40),
+            Box::new(|r: &Row| r.method.starts_with("rodkit ANM") && r.scene == Scene::Follower)
+                as Box<dyn Fn(&Row) -> bool>,
+        ),
+        (
+            "rodkit Newton",
+            RGBColor(31, 119, 180),
+            Box::new(|r: &Row| r.method == "rodkit Newton" && r.scene == Scene::Follower),
+        ),
         ("AUTO-07p", RGBColor(44, 160, 44), Box::new(|r: &Row| r.method == "AUTO-07p")),
-        ("SUNDIALS KINSOL", RGBColor(148, 103, 189), Box::new(|r: &Row| r.method.starts_with("SUNDIALS") && r.scene == Scene::Follower)),
+        (
+            "SUNDIALS KINSOL",
+            RGBColor(148, 103, 189),
+            Box::new(|r: &Row| r.method.starts_with("SUNDIALS") && r.scene == Scene::Follower),
+        ),
     ] {
         let p = pts(&*f);
-        chart.draw_series(p.iter().map(|&q| Circle::new(q, 5, color.filled())))?.label(name).legend(move |(x, y)| Circle::new((x + 10, y), 5, color.filled()));
+        chart
+            .draw_series(p.iter().map(|&q| Circle::new(q, 5, color.filled())))?
+            .label(name)
+            .legend(move |(x, y)| Circle::new((x + 10, y), 5, color.filled()));
     }
     chart.configure_series_labels().background_style(WHITE.mix(0.9)).border_style(BLACK).draw()?;
     root.present()?;

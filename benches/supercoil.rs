@@ -23,7 +23,9 @@ fn main() {
     let steps: usize = std::env::var("RODKIT_SUPERCOIL_STEPS").ok().and_then(|v| v.parse().ok()).unwrap_or(120);
     let mut report = String::new();
     let (mut ext, mut tor, mut tw) = (vec![], vec![], vec![]);
-    let salts: Vec<f64> = std::env::var("RODKIT_SUPERCOIL_SALTS").ok().map_or(vec![0.1, 0.01], |v| v.split(',').filter_map(|s| s.trim().parse().ok()).collect());
+    let salts: Vec<f64> = std::env::var("RODKIT_SUPERCOIL_SALTS")
+        .ok()
+        .map_or(vec![0.1, 0.01], |v| v.split(',').filter_map(|s| s.trim().parse().ok()).collect());
     for (salt, color, light) in [(0.1, BLUE, RGBColor(120, 160, 255)), (0.01, RED, RGBColor(255, 140, 120))] {
         if !salts.contains(&salt) {
             continue;
@@ -34,7 +36,11 @@ fn main() {
         let two_pi = 2.0 * std::f64::consts::PI;
         let steps_done: usize = r.straight.counts.steps + r.buckled.as_ref().map_or(0, |b| b.counts.steps);
         let facts: usize = r.straight.counts.factorisations + r.buckled.as_ref().map_or(0, |b| b.counts.factorisations);
-        let worst_lk = r.points.iter().map(|p| (p.observables.twist + p.observables.writhe - p.observables.turns).abs()).fold(0.0, f64::max);
+        let worst_lk = r
+            .points
+            .iter()
+            .map(|p| (p.observables.twist + p.observables.writhe - p.observables.turns).abs())
+            .fold(0.0, f64::max);
         let last = r.points.last().unwrap().observables;
         let _ = writeln!(report, "{salt} M: Debye length {:.3} nm, λ² = {:.4} pN, cutoff {:?}; buckling at {:.4} turns, torque {:.3} pN nm; {} points, {} steps, {} factorisations, {:.1} s; last point {:.4} turns, z {:.2} nm, M {:.3} pN nm, Wr {:.4}; crossing {:?}; worst |Tw + Wr − turns| {:.1e}",
             1.0 / scene.kappa(), r.charge.line_charge.powi(2), r.charge.cutoff(r.rod.length), r.buckling.map_or(f64::NAN, |b| b.0 / two_pi), r.buckling.map_or(f64::NAN, |b| b.1),
@@ -42,15 +48,36 @@ fn main() {
         let mut csv = String::from("turns,extension_nm,torque_pN_nm,tension_pN,twist,writhe,branch\n");
         for p in &r.points {
             let o = p.observables;
-            let _ = writeln!(csv, "{},{},{},{},{},{},{}", o.turns, o.extension, o.torque, o.tension, o.twist, o.writhe, p.branch);
+            let _ = writeln!(
+                csv,
+                "{},{},{},{},{},{},{}",
+                o.turns, o.extension, o.torque, o.tension, o.twist, o.writhe, p.branch
+            );
         }
         std::fs::write(dir.join(format!("path_{salt}M.csv")), csv).unwrap();
-        ext.push((format!("{salt} M"), r.points.iter().map(|p| (p.observables.turns, p.observables.extension)).collect(), color));
-        tor.push((format!("{salt} M"), r.points.iter().map(|p| (p.observables.turns, p.observables.torque)).collect(), color));
-        tw.push((format!("Tw, {salt} M"), r.points.iter().map(|p| (p.observables.turns, p.observables.twist)).collect(), color));
-        tw.push((format!("Wr, {salt} M"), r.points.iter().map(|p| (p.observables.turns, p.observables.writhe)).collect(), light));
+        ext.push((
+            format!("{salt} M"),
+            r.points.iter().map(|p| (p.observables.turns, p.observables.extension)).collect(),
+            color,
+        ));
+        tor.push((
+            format!("{salt} M"),
+            r.points.iter().map(|p| (p.observables.turns, p.observables.torque)).collect(),
+            color,
+        ));
+        tw.push((
+            format!("Tw, {salt} M"),
+            r.points.iter().map(|p| (p.observables.turns, p.observables.twist)).collect(),
+            color,
+        ));
+        tw.push((
+            format!("Wr, {salt} M"),
+            r.points.iter().map(|p| (p.observables.turns, p.observables.writhe)).collect(),
+            light,
+        ));
     }
-    line_plot(&dir.join("extension.svg"), "1 kbp DNA at 1 pN: extension vs turns", "turns", "extension (nm)", &ext).unwrap();
+    line_plot(&dir.join("extension.svg"), "1 kbp DNA at 1 pN: extension vs turns", "turns", "extension (nm)", &ext)
+        .unwrap();
     line_plot(&dir.join("torque.svg"), "1 kbp DNA at 1 pN: torque vs turns", "turns", "torque (pN nm)", &tor).unwrap();
     line_plot(&dir.join("twist_writhe.svg"), "twist and writhe vs turns", "turns", "turns", &tw).unwrap();
     print!("{report}");

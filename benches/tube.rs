@@ -107,7 +107,8 @@ fn bench(fs: &mut [&mut dyn FnMut(u64)], reps: usize, batch: Option<u64>) -> Vec
             batch.unwrap_or(b)
         })
         .collect();
-    let mut out: Vec<Timing> = batches.iter().map(|&b| Timing { samples: Vec::with_capacity(reps), batch: b }).collect();
+    let mut out: Vec<Timing> =
+        batches.iter().map(|&b| Timing { samples: Vec::with_capacity(reps), batch: b }).collect();
     for _ in 0..reps {
         for (f, t) in fs.iter_mut().zip(out.iter_mut()) {
             let start = Instant::now();
@@ -152,7 +153,11 @@ impl Table {
     fn render(&self) -> String {
         let w: Vec<usize> = (0..self.header.len())
             .map(|j| {
-                std::iter::once(&self.header[j]).chain(self.rows.iter().map(|r| &r[j])).map(|s| s.chars().count()).max().unwrap()
+                std::iter::once(&self.header[j])
+                    .chain(self.rows.iter().map(|r| &r[j]))
+                    .map(|s| s.chars().count())
+                    .max()
+                    .unwrap()
             })
             .collect();
         let line = |cells: &[String]| {
@@ -191,14 +196,20 @@ fn write_csv(dir: &Path, name: &str, header: &str, rows: &[String]) {
 fn cpu_model() -> String {
     fs::read_to_string("/proc/cpuinfo")
         .ok()
-        .and_then(|s| s.lines().find(|l| l.starts_with("model name")).map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string()))
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
+        })
         .unwrap_or_else(|| "unknown".into())
 }
 
 fn cpu_mhz() -> String {
     fs::read_to_string("/proc/cpuinfo")
         .ok()
-        .and_then(|s| s.lines().find(|l| l.starts_with("cpu MHz")).map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string()))
+        .and_then(|s| {
+            s.lines().find(|l| l.starts_with("cpu MHz")).map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
+        })
         .unwrap_or_else(|| "?".into())
 }
 
@@ -212,7 +223,9 @@ fn virtualised() -> &'static str {
 }
 
 fn load_average() -> String {
-    fs::read_to_string("/proc/loadavg").map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" ")).unwrap_or_default()
+    fs::read_to_string("/proc/loadavg")
+        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .unwrap_or_default()
 }
 
 /// UTC date and time from the system clock (civil-from-days, no dependency).
@@ -359,12 +372,20 @@ fn loglog(
     for (y, label) in hlines {
         let y = *y;
         chart.draw_series(DashedLineSeries::new(vec![(x0, y), (x1, y)], 6, 4, guide.stroke_width(1)))?;
-        chart.draw_series(std::iter::once(Text::new(label.to_string(), (x0 * 1.15, y * 1.6), ("sans-serif", 14).into_font().color(&guide))))?;
+        chart.draw_series(std::iter::once(Text::new(
+            label.to_string(),
+            (x0 * 1.15, y * 1.6),
+            ("sans-serif", 14).into_font().color(&guide),
+        )))?;
     }
     for (x, label) in vlines {
         let x = *x;
         chart.draw_series(DashedLineSeries::new(vec![(x, y0), (x, y1)], 6, 4, guide.stroke_width(1)))?;
-        chart.draw_series(std::iter::once(Text::new(label.to_string(), (x * 1.1, y0 * 1.6), ("sans-serif", 14).into_font().color(&guide))))?;
+        chart.draw_series(std::iter::once(Text::new(
+            label.to_string(),
+            (x * 1.1, y0 * 1.6),
+            ("sans-serif", 14).into_font().color(&guide),
+        )))?;
     }
     for s in series {
         let pts: Vec<(f64, f64)> = s.points.iter().cloned().filter(|(x, y)| *x > 0.0 && *y > 0.0).collect();
@@ -457,7 +478,13 @@ fn section_thin(dir: &Path, report: &mut String) -> ThinResult {
         let mut k = [0.0f64; 9];
         let mut acc = 0i32;
         for _ in 0..b {
-            acc |= unsafe { rodkit_thin_tube_coupling_stiffness(black_box(&spec as *const _), black_box(k.as_mut_ptr()), black_box(3)) };
+            acc |= unsafe {
+                rodkit_thin_tube_coupling_stiffness(
+                    black_box(&spec as *const _),
+                    black_box(k.as_mut_ptr()),
+                    black_box(3),
+                )
+            };
             black_box(&mut k);
         }
         assert_eq!(acc, 0);
@@ -468,9 +495,14 @@ fn section_thin(dir: &Path, report: &mut String) -> ThinResult {
     let diffs: Vec<f64> = capi.samples.iter().zip(&rust_spec.samples).map(|(c, r)| c - r).collect();
     let overhead = median(&diffs);
 
-    let mut tab = Table::new(&["variant", "median/call", "min", "max", "±spread", "calls", "× Rust K", "× Rust spec→K"]);
+    let mut tab =
+        Table::new(&["variant", "median/call", "min", "max", "±spread", "calls", "× Rust K", "× Rust spec→K"]);
     let mut csv = Vec::new();
-    for (name, tm) in [("Rust: tube.coupling_stiffness()", &rust_k), ("Rust: spec → validate → K", &rust_spec), ("C ABI: rodkit_thin_tube_coupling_stiffness", &capi)] {
+    for (name, tm) in [
+        ("Rust: tube.coupling_stiffness()", &rust_k),
+        ("Rust: spec → validate → K", &rust_spec),
+        ("C ABI: rodkit_thin_tube_coupling_stiffness", &capi),
+    ] {
         tab.row(vec![
             name.into(),
             fmt_time(tm.median()),
@@ -481,10 +513,19 @@ fn section_thin(dir: &Path, report: &mut String) -> ThinResult {
             format!("{:.3}", tm.median() / rust_k.median()),
             format!("{:.3}", tm.median() / rust_spec.median()),
         ]);
-        csv.push(format!("{name},{:e},{:e},{:e},{}", tm.median(), tm.min(), tm.max(), tm.samples.len() as u64 * tm.batch));
+        csv.push(format!(
+            "{name},{:e},{:e},{:e},{}",
+            tm.median(),
+            tm.min(),
+            tm.max(),
+            tm.samples.len() as u64 * tm.batch
+        ));
     }
     write_csv(dir, "thin_k.csv", "variant,median_s,min_s,max_s,calls", &csv);
-    let _ = writeln!(report, "\n== 1. Thin-tube K per call (R = 1, t = 0.05, τ0 = {TAU0}; 1 rotation Q̄(α), 1 Cholesky 3×3, 0 LU) ==");
+    let _ = writeln!(
+        report,
+        "\n== 1. Thin-tube K per call (R = 1, t = 0.05, τ0 = {TAU0}; 1 rotation Q̄(α), 1 Cholesky 3×3, 0 LU) =="
+    );
     let _ = writeln!(report, "{}", tab.render());
     let _ = writeln!(
         report,
@@ -509,7 +550,10 @@ struct WpResult {
 }
 
 fn section_work_precision(dir: &Path, report: &mut String, thin_time: f64) -> Vec<WpResult> {
-    let tubes = [("thick A=0.6 B=1.4 (t/R=0.8)", thick(0.6, 1.4)), ("thin-ish A=0.975 B=1.025 (t/R=0.05)", thick(0.975, 1.025))];
+    let tubes = [
+        ("thick A=0.6 B=1.4 (t/R=0.8)", thick(0.6, 1.4)),
+        ("thin-ish A=0.975 B=1.025 (t/R=0.05)", thick(0.975, 1.025)),
+    ];
     let mut results = Vec::new();
     let mut csv = Vec::new();
     for (name, tube) in tubes {
@@ -521,7 +565,8 @@ fn section_work_precision(dir: &Path, report: &mut String, thin_time: f64) -> Ve
         // interleaved run, so drift on the shared machine hits them alike.
         let ns: Vec<usize> = (4..=64).collect();
         let tols: Vec<f64> = (4..=12).map(|e| 10f64.powi(-e)).collect();
-        let errs: Vec<f64> = ns.iter().map(|&n| rel_err(&tube.coupling_stiffness_at(n).unwrap().k, &reference)).collect();
+        let errs: Vec<f64> =
+            ns.iter().map(|&n| rel_err(&tube.coupling_stiffness_at(n).unwrap().k, &reference)).collect();
         let ests: Vec<_> = tols.iter().map(|&tol| tube.coupling_stiffness(tol).unwrap()).collect();
         let tube_ref = &tube;
         let mut fs: Vec<Box<dyn FnMut(u64) + '_>> = Vec::new();
@@ -547,7 +592,13 @@ fn section_work_precision(dir: &Path, report: &mut String, thin_time: f64) -> Ve
         for (&n, &err) in ns.iter().zip(&errs) {
             let tm = timings.next().unwrap();
             let (lus, evals) = grid_cost(n);
-            csv.push(format!("{name},fixed,{n},,{:e},{:e},{:e},{n},,{:e},{lus},{evals}", tm.median(), tm.min(), tm.max(), err));
+            csv.push(format!(
+                "{name},fixed,{n},,{:e},{:e},{:e},{n},,{:e},{lus},{evals}",
+                tm.median(),
+                tm.min(),
+                tm.max(),
+                err
+            ));
             fixed.push((n, tm, err));
         }
         let mut adaptive = Vec::new();
@@ -589,13 +640,30 @@ fn section_work_precision(dir: &Path, report: &mut String, thin_time: f64) -> Ve
                 ]);
             }
         }
-        let _ = writeln!(report, "fixed grid, coupling_stiffness_at(n) (n = 4..16 and every 8th; all n in the CSV):\n{}", tab.render());
-        let mut tab = Table::new(&["rel_tol", "intervals", "LUs", "ℂ̄ evals", "time/call", "±spread", "× thin K", "estimate", "true error", "est ≥ true", "× cheapest fixed n meeting rel_tol"]);
+        let _ = writeln!(
+            report,
+            "fixed grid, coupling_stiffness_at(n) (n = 4..16 and every 8th; all n in the CSV):\n{}",
+            tab.render()
+        );
+        let mut tab = Table::new(&[
+            "rel_tol",
+            "intervals",
+            "LUs",
+            "ℂ̄ evals",
+            "time/call",
+            "±spread",
+            "× thin K",
+            "estimate",
+            "true error",
+            "est ≥ true",
+            "× cheapest fixed n meeting rel_tol",
+        ]);
         for (tol, tm, n, est, err) in &adaptive {
             let (lus, evals, _) = adaptive_cost(*n);
             // The price of not knowing the answer: the cheapest grid whose
             // true error meets rel_tol (undecidable below the reference's round-off).
-            let cheapest = fixed.iter().filter(|(_, _, e)| e <= tol).map(|(_, t, _)| t.median()).fold(f64::INFINITY, f64::min);
+            let cheapest =
+                fixed.iter().filter(|(_, _, e)| e <= tol).map(|(_, t, _)| t.median()).fold(f64::INFINITY, f64::min);
             tab.row(vec![
                 format!("{tol:.0e}"),
                 n.to_string(),
@@ -606,11 +674,26 @@ fn section_work_precision(dir: &Path, report: &mut String, thin_time: f64) -> Ve
                 format!("{:.0}", tm.median() / thin_time),
                 fmt_err(*est),
                 mark(*err),
-                if *err < ref_self { "n/a*" } else if est >= err { "yes" } else { "NO" }.into(),
-                if cheapest.is_finite() && *tol >= ref_self { format!("{:.1}", tm.median() / cheapest) } else { "–".into() },
+                if *err < ref_self {
+                    "n/a*"
+                } else if est >= err {
+                    "yes"
+                } else {
+                    "NO"
+                }
+                .into(),
+                if cheapest.is_finite() && *tol >= ref_self {
+                    format!("{:.1}", tm.median() / cheapest)
+                } else {
+                    "–".into()
+                },
             ]);
         }
-        let _ = writeln!(report, "adaptive, coupling_stiffness(rel_tol) (LUs / ℂ̄ evals derived from the algorithm):\n{}", tab.render());
+        let _ = writeln!(
+            report,
+            "adaptive, coupling_stiffness(rel_tol) (LUs / ℂ̄ evals derived from the algorithm):\n{}",
+            tab.render()
+        );
         results.push(WpResult { name, fixed, adaptive, ref_self });
     }
     write_csv(
@@ -667,7 +750,21 @@ fn section_thin_vs_thick(dir: &Path, report: &mut String) {
     let names = ["K_εε", "K_εψ", "K_εθ", "K_ψψ", "K_ψθ", "K_θθ"];
     let thick_tol = 1e-10;
     let mut tab = Table::new(&[
-        "t/R", "K_εε", "K_εψ", "K_εθ", "K_ψψ", "K_ψθ", "K_θθ", "max normed", "thin", "thick 1e-10", "n", "× thin", "thick@thin err", "n", "× thin",
+        "t/R",
+        "K_εε",
+        "K_εψ",
+        "K_εθ",
+        "K_ψψ",
+        "K_ψθ",
+        "K_θθ",
+        "max normed",
+        "thin",
+        "thick 1e-10",
+        "n",
+        "× thin",
+        "thick@thin err",
+        "n",
+        "× thin",
     ]);
     let mut csv = Vec::new();
     let mut err_series: Vec<Vec<(f64, f64)>> = vec![Vec::new(); 6];
@@ -693,7 +790,8 @@ fn section_thin_vs_thick(dir: &Path, report: &mut String) {
         // nε·B/t is above it).
         let converged = tube.coupling_stiffness_at(96).unwrap().k;
         let k_thin = thin_in_inner_variables(&thin.coupling_stiffness().unwrap().k, a, r);
-        let per_entry: Vec<f64> = entries.iter().map(|&(i, j)| ((k_thin[(i, j)] - converged[(i, j)]) / converged[(i, j)]).abs()).collect();
+        let per_entry: Vec<f64> =
+            entries.iter().map(|&(i, j)| ((k_thin[(i, j)] - converged[(i, j)]) / converged[(i, j)]).abs()).collect();
         let normed = entries
             .iter()
             .map(|&(i, j)| (k_thin[(i, j)] - converged[(i, j)]).abs() / (converged[(i, i)] * converged[(j, j)]).sqrt())
@@ -778,9 +876,23 @@ fn section_thin_vs_thick(dir: &Path, report: &mut String) {
     let mut series: Vec<Series> = err_series
         .into_iter()
         .zip(names.iter().zip(colors))
-        .map(|(points, (name, color))| Series { label: format!("|ΔK|/|K| {name}"), points, color, line: true, marker: true, dashed: false })
+        .map(|(points, (name, color))| Series {
+            label: format!("|ΔK|/|K| {name}"),
+            points,
+            color,
+            line: true,
+            marker: true,
+            dashed: false,
+        })
         .collect();
-    series.push(Series { label: "max |ΔK_ij|/√(K_ii K_jj)".into(), points: normed_series, color: BLACK.into(), line: true, marker: false, dashed: true });
+    series.push(Series {
+        label: "max |ΔK_ij|/√(K_ii K_jj)".into(),
+        points: normed_series,
+        color: BLACK.into(),
+        line: true,
+        marker: false,
+        dashed: true,
+    });
     series.push(Series {
         label: "guide: error = t/R".into(),
         points: vec![(1e-3, 1e-3), (0.8, 0.8)],
@@ -804,7 +916,6 @@ fn section_thin_vs_thick(dir: &Path, report: &mut String) {
 
 // ------------------------------------------------------------------ main --
 
-
 // ------------------------------------------------------------ section 4 --
 
 struct FiniteResult {
@@ -824,25 +935,57 @@ fn section_finite(dir: &Path, report: &mut String) -> FiniteResult {
     let svk = SaintVenantKirchhoff::new(helical_material(), 1.7, false);
     let loading = Loading::torsion_free_stretch(1.2);
     let _ = writeln!(report, "\n== 4. Finite strain: torsion-free stretch λ = 1.2 of a helical SVK tube (τ0 = 1.7) ==");
-    let _ = writeln!(report, "true error = max(|Δψ|·B, |Δb|/B, |Δa|/B) against the thick solve on a fixed 64-interval grid");
-    let _ = writeln!(report, "{:>10} {:>9} {:>8} {:>10} {:>9} {:>10} {:>11} {:>9}", "tube", "model", "rel_tol", "intervals", "Newton", "time", "estimate", "true err");
+    let _ = writeln!(
+        report,
+        "true error = max(|Δψ|·B, |Δb|/B, |Δa|/B) against the thick solve on a fixed 64-interval grid"
+    );
+    let _ = writeln!(
+        report,
+        "{:>10} {:>9} {:>8} {:>10} {:>9} {:>10} {:>11} {:>9}",
+        "tube", "model", "rel_tol", "intervals", "Newton", "time", "estimate", "true err"
+    );
     let mut rows = vec![];
     let mut out = FiniteResult { state_1e10: f64::NAN, state_1e10_err: f64::NAN, sweep_100: f64::NAN };
     for (name, a, b) in [("thick", 0.6, 1.4), ("t/R=0.05", 0.975, 1.025)] {
         let tube = FiniteTube::new(a, b, &svk).unwrap();
         let reference = tube.solve(&loading, &SolveOptions { rel_tol: 1e-12, intervals: Some(64) }).unwrap();
         let err = |s: &TubeState| {
-            ((s.twist - reference.twist) * b).abs()
+            ((s.twist - reference.twist) * b)
+                .abs()
                 .max((s.deformed_outer_radius - reference.deformed_outer_radius).abs() / b)
                 .max((s.deformed_inner_radius - reference.deformed_inner_radius).abs() / b)
         };
         for tol in [1e-4, 1e-6, 1e-8, 1e-10] {
             let opts = SolveOptions { rel_tol: tol, intervals: None };
             let state = tube.solve(&loading, &opts).unwrap();
-            let t = &bench(&mut [&mut |n: u64| for _ in 0..n { std::hint::black_box(tube.solve(&loading, &opts).unwrap()); }], 7, None)[0];
+            let t = &bench(
+                &mut [&mut |n: u64| {
+                    for _ in 0..n {
+                        std::hint::black_box(tube.solve(&loading, &opts).unwrap());
+                    }
+                }],
+                7,
+                None,
+            )[0];
             let e = err(&state);
-            let _ = writeln!(report, "{name:>10} {:>9} {tol:>8.0e} {:>10} {:>9} {:>10} {:>11.1e} {:>9.1e}", "thick", state.intervals, state.newton_iterations, fmt_time(t.median()), state.error_estimate, e);
-            rows.push(format!("{name},thick,{tol:e},{},{},{:e},{:e},{:e}", state.intervals, state.newton_iterations, t.median(), state.error_estimate, e));
+            let _ = writeln!(
+                report,
+                "{name:>10} {:>9} {tol:>8.0e} {:>10} {:>9} {:>10} {:>11.1e} {:>9.1e}",
+                "thick",
+                state.intervals,
+                state.newton_iterations,
+                fmt_time(t.median()),
+                state.error_estimate,
+                e
+            );
+            rows.push(format!(
+                "{name},thick,{tol:e},{},{},{:e},{:e},{:e}",
+                state.intervals,
+                state.newton_iterations,
+                t.median(),
+                state.error_estimate,
+                e
+            ));
             if name == "thick" && tol == 1e-10 {
                 out.state_1e10 = t.median();
                 out.state_1e10_err = e;
@@ -850,17 +993,54 @@ fn section_finite(dir: &Path, report: &mut String) -> FiniteResult {
         }
         let membrane = MembraneTube::new(0.5 * (a + b), b - a, &svk).unwrap();
         let ms = membrane.solve(&loading).unwrap();
-        let tm = &bench(&mut [&mut |n: u64| for _ in 0..n { std::hint::black_box(membrane.solve(&loading).unwrap()); }], 7, None)[0];
+        let tm = &bench(
+            &mut [&mut |n: u64| {
+                for _ in 0..n {
+                    std::hint::black_box(membrane.solve(&loading).unwrap());
+                }
+            }],
+            7,
+            None,
+        )[0];
         let e = err(&ms);
-        let _ = writeln!(report, "{name:>10} {:>9} {:>8} {:>10} {:>9} {:>10} {:>11.1e} {:>9.1e}", "membrane", "-", "-", ms.newton_iterations, fmt_time(tm.median()), ms.error_estimate, e);
-        rows.push(format!("{name},membrane,,0,{},{:e},{:e},{:e}", ms.newton_iterations, tm.median(), ms.error_estimate, e));
+        let _ = writeln!(
+            report,
+            "{name:>10} {:>9} {:>8} {:>10} {:>9} {:>10} {:>11.1e} {:>9.1e}",
+            "membrane",
+            "-",
+            "-",
+            ms.newton_iterations,
+            fmt_time(tm.median()),
+            ms.error_estimate,
+            e
+        );
+        rows.push(format!(
+            "{name},membrane,,0,{},{:e},{:e},{:e}",
+            ms.newton_iterations,
+            tm.median(),
+            ms.error_estimate,
+            e
+        ));
     }
     let tube = FiniteTube::new(0.6, 1.4, &svk).unwrap();
     let loadings: Vec<Loading> = (0..100).map(|i| Loading::torsion_free_stretch(1.0 + 0.003 * i as f64)).collect();
     let opts = SolveOptions { rel_tol: 1e-10, intervals: None };
-    let t = &bench(&mut [&mut |n: u64| for _ in 0..n { std::hint::black_box(tube.sweep(&loadings, &opts, |_, _| true).unwrap()); }], 7, None)[0];
+    let t = &bench(
+        &mut [&mut |n: u64| {
+            for _ in 0..n {
+                std::hint::black_box(tube.sweep(&loadings, &opts, |_, _| true).unwrap());
+            }
+        }],
+        7,
+        None,
+    )[0];
     out.sweep_100 = t.median();
-    let _ = writeln!(report, "100-point torsion-free stretch sweep (λ 1 → 1.297, thick, rel_tol 1e-10): {} ({} per state)", fmt_time(t.median()), fmt_time(t.median() / 100.0));
+    let _ = writeln!(
+        report,
+        "100-point torsion-free stretch sweep (λ 1 → 1.297, thick, rel_tol 1e-10): {} ({} per state)",
+        fmt_time(t.median()),
+        fmt_time(t.median() / 100.0)
+    );
     rows.push(format!("thick,sweep100,1e-10,,,{:e},,", t.median()));
     write_csv(dir, "finite.csv", "tube,model,rel_tol,intervals,newton,time_s,estimate,true_error", &rows);
     out
@@ -873,15 +1053,23 @@ fn section_behaviour(dir: &Path, out: &mut String) {
     use rodkit::tube::finite::Loading;
     use rodkit::tube::scene::TubeScene;
     let _ = writeln!(out, "\n== 5. Finite-strain behaviours (curves; torsion-free stretching, rel_tol 1e-9) ==");
-    let colors = [RGBColor(31, 119, 180), RGBColor(214, 39, 40), RGBColor(44, 160, 44), RGBColor(148, 103, 189), RGBColor(255, 127, 14)];
+    let colors = [
+        RGBColor(31, 119, 180),
+        RGBColor(214, 39, 40),
+        RGBColor(44, 160, 44),
+        RGBColor(148, 103, 189),
+        RGBColor(255, 127, 14),
+    ];
     let mut twist = vec![];
     let mut radius = vec![];
     for (k, case) in behaviour_cases::cases().iter().enumerate() {
         let dip = k >= 3;
         let lam_max: f64 = if dip { 1.4 } else { 1.2 };
-        let lams: Vec<f64> = (0..=((lam_max - 1.0) / 0.0025).round() as usize).map(|i| 1.0 + 0.0025 * i as f64).collect();
+        let lams: Vec<f64> =
+            (0..=((lam_max - 1.0) / 0.0025).round() as usize).map(|i| 1.0 + 0.0025 * i as f64).collect();
         let loadings: Vec<Loading> = lams.iter().map(|&l| Loading::torsion_free_stretch(l)).collect();
-        let scene = TubeScene::new(case.inner, case.outer, case.law.clone(), case.model, 1e-9, None).expect("case scene");
+        let scene =
+            TubeScene::new(case.inner, case.outer, case.law.clone(), case.model, 1e-9, None).expect("case scene");
         let t = Instant::now();
         let states = match scene.sweep(&loadings, |_, _| true) {
             Ok((s, _)) => s.states,
@@ -891,18 +1079,40 @@ fn section_behaviour(dir: &Path, out: &mut String) {
             }
         };
         let secs = t.elapsed().as_secs_f64();
-        let mut csv = format!("# {} A={} B={} model={:?}\n# law: {:?}\nstretch,twist,outer_radius,inner_radius,applied_force\n", case.name, case.inner, case.outer, case.model, case.law);
+        let mut csv = format!(
+            "# {} A={} B={} model={:?}\n# law: {:?}\nstretch,twist,outer_radius,inner_radius,applied_force\n",
+            case.name, case.inner, case.outer, case.model, case.law
+        );
         for s in &states {
-            let _ = writeln!(csv, "{},{},{},{},{}", s.stretch, s.twist, s.deformed_outer_radius, s.deformed_inner_radius, s.applied_force);
+            let _ = writeln!(
+                csv,
+                "{},{},{},{},{}",
+                s.stretch, s.twist, s.deformed_outer_radius, s.deformed_inner_radius, s.applied_force
+            );
         }
         let _ = fs::write(dir.join(format!("behaviour_{}.csv", case.name)), csv);
-        let (key, scale, offset) = if dip { ("min b at λ", 1.0 / case.outer, 1.0) } else { ("ψ turns at λ", case.outer, 0.0) };
-        let y: Vec<f64> = states.iter().map(|s| if dip { s.deformed_outer_radius * scale - offset } else { s.twist * scale }).collect();
+        let (key, scale, offset) =
+            if dip { ("min b at λ", 1.0 / case.outer, 1.0) } else { ("ψ turns at λ", case.outer, 0.0) };
+        let y: Vec<f64> = states
+            .iter()
+            .map(|s| if dip { s.deformed_outer_radius * scale - offset } else { s.twist * scale })
+            .collect();
         let sense = if dip { -1.0 } else { y[1].signum() };
         let i = (0..y.len()).max_by(|&a, &b| (sense * y[a]).total_cmp(&(sense * y[b]))).unwrap();
-        let _ = writeln!(out, "{:<30} {key} {:.4} ({} states in {:.0} ms)", case.name, states[i].stretch, states.len(), secs * 1e3);
+        let _ = writeln!(
+            out,
+            "{:<30} {key} {:.4} ({} states in {:.0} ms)",
+            case.name,
+            states[i].stretch,
+            states.len(),
+            secs * 1e3
+        );
         let pts: Vec<(f64, f64)> = states.iter().map(|s| s.stretch).zip(y).collect();
-        if dip { radius.push((case.name, pts, colors[k])) } else { twist.push((case.name, pts, colors[k])) }
+        if dip {
+            radius.push((case.name, pts, colors[k]))
+        } else {
+            twist.push((case.name, pts, colors[k]))
+        }
     }
     for (file, title, ylabel, series) in [
         ("behaviour_twist.svg", "Torsion-free stretching: overwinding, then unwinding", "twist ψB", &twist),
@@ -958,8 +1168,13 @@ fn main() {
     let _ = writeln!(rest, "{}  ABI overhead ≤ 50 ns: {:.1} ns", pass(thin.overhead <= 50e-9), thin.overhead * 1e9);
     for r in &wp {
         let (_, tm, n, est, err) = r.adaptive.iter().find(|a| a.0 == 1e-10).unwrap();
-        let best = r.fixed.iter().filter(|f| f.2 <= 1e-10).min_by(|a, b| a.1.median().partial_cmp(&b.1.median()).unwrap());
-        let best = best.map(|(n, t, e)| format!("cheapest fixed grid with true error ≤ 1e-10: n = {n}, {} ({e:.1e})", fmt_time(t.median()))).unwrap_or("no fixed n ≤ 64 reaches 1e-10".into());
+        let best =
+            r.fixed.iter().filter(|f| f.2 <= 1e-10).min_by(|a, b| a.1.median().partial_cmp(&b.1.median()).unwrap());
+        let best = best
+            .map(|(n, t, e)| {
+                format!("cheapest fixed grid with true error ≤ 1e-10: n = {n}, {} ({e:.1e})", fmt_time(t.median()))
+            })
+            .unwrap_or("no fixed n ≤ 64 reaches 1e-10".into());
         let _ = writeln!(
             rest,
             "{}  thick K to 1e-10 < 200 µs, {}: coupling_stiffness(1e-10) {} at {n} intervals (estimate {est:.1e}, true {err:.1e}); {best}",
@@ -975,7 +1190,12 @@ fn main() {
         fmt_time(finite.state_1e10),
         finite.state_1e10_err
     );
-    let _ = writeln!(rest, "{}  100-point stretch sweep < 50 ms: {}", pass(finite.sweep_100 < 50e-3), fmt_time(finite.sweep_100));
+    let _ = writeln!(
+        rest,
+        "{}  100-point stretch sweep < 50 ms: {}",
+        pass(finite.sweep_100 < 50e-3),
+        fmt_time(finite.sweep_100)
+    );
     let _ = writeln!(rest, "\nCSV and SVG in {}; bench wall time {:.1} s", dir.display(), wall.elapsed().as_secs_f64());
     print!("{rest}");
     report.push_str(&rest);

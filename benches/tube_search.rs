@@ -98,7 +98,11 @@ impl Params {
     }
 
     fn model(&self) -> TubeModel {
-        if self.membrane() { TubeModel::Membrane } else { TubeModel::Thick }
+        if self.membrane() {
+            TubeModel::Membrane
+        } else {
+            TubeModel::Thick
+        }
     }
 
     /// An intrinsic twist rate for relative measures: τ0, or for fixed-angle
@@ -198,7 +202,8 @@ impl Params {
                 let mut r2 = ChaCha8Rng::seed_from_u64(rng.random());
                 for f in fams.iter_mut() {
                     if let FibreAngle::Fixed(b) = f.0 {
-                        let nb = (b.abs() + step * 3f64.to_radians() * normal(&mut r2)).clamp(0.2f64.to_radians(), 89.5f64.to_radians());
+                        let nb = (b.abs() + step * 3f64.to_radians() * normal(&mut r2))
+                            .clamp(0.2f64.to_radians(), 89.5f64.to_radians());
                         f.0 = FibreAngle::Fixed(nb * b.signum());
                     }
                     f.1 *= (step * 0.4 * normal(&mut r2)).exp();
@@ -231,8 +236,8 @@ fn random_orthotropic(rng: &mut ChaCha8Rng, near_incompressible: bool) -> [f64; 
             // ν12 + ν13 = 1, ν12·E2/E1 + ν23 = 1, ν13·E3/E1 + ν23·E3/E2 = 1,
             // then scaled towards 0 by f ∈ (0.5, 0.999).
             let (x, y) = (e2, e3); // E1 = 1
-            // From the first two: ν13 = 1 − ν12, ν23 = 1 − ν12 x; third:
-            // (1 − ν12) y + (1 − ν12 x) y / x = 1 → ν12 = (y + y/x − 1)/(2y).
+                                   // From the first two: ν13 = 1 − ν12, ν23 = 1 − ν12 x; third:
+                                   // (1 − ν12) y + (1 − ν12 x) y / x = 1 → ν12 = (y + y/x − 1)/(2y).
             let n12 = (y + y / x - 1.0) / (2.0 * y);
             let f = 1.0 - log_uniform(rng, 0.001, 0.5);
             (f * n12, f * (1.0 - n12), f * (1.0 - n12 * x))
@@ -250,7 +255,11 @@ fn random_orthotropic(rng: &mut ChaCha8Rng, near_incompressible: bool) -> [f64; 
 }
 
 fn random_matrix(rng: &mut ChaCha8Rng) -> Option<f64> {
-    if rng.random_bool(0.4) { None } else { Some(log_uniform(rng, 0.3, 300.0)) }
+    if rng.random_bool(0.4) {
+        None
+    } else {
+        Some(log_uniform(rng, 0.3, 300.0))
+    }
 }
 
 fn random_k(rng: &mut ChaCha8Rng) -> (f64, f64) {
@@ -268,12 +277,26 @@ fn sample(class: &str, index: usize) -> Params {
     match class {
         "svk_membrane" | "svk_membrane_inc" => {
             let c = random_orthotropic(rng, false);
-            Params::Svk { inner: 0.95, outer: 1.05, tau0: rng.random_range(0.1..4.0), c, incompressible: class.ends_with("inc"), membrane: true }
+            Params::Svk {
+                inner: 0.95,
+                outer: 1.05,
+                tau0: rng.random_range(0.1..4.0),
+                c,
+                incompressible: class.ends_with("inc"),
+                membrane: true,
+            }
         }
         "svk_thick" | "svk_thick_inc" | "svk_thick_nearinc" => {
             let c = random_orthotropic(rng, class == "svk_thick_nearinc");
             let inner = log_uniform(rng, 0.02, 0.7);
-            Params::Svk { inner, outer: 1.0, tau0: rng.random_range(0.5..6.0), c, incompressible: class == "svk_thick_inc", membrane: false }
+            Params::Svk {
+                inner,
+                outer: 1.0,
+                tau0: rng.random_range(0.5..6.0),
+                c,
+                incompressible: class == "svk_thick_inc",
+                membrane: false,
+            }
         }
         "hgo_fixed" | "hgo_membrane" => {
             let lame = random_matrix(rng);
@@ -283,7 +306,14 @@ fn sample(class: &str, index: usize) -> Params {
             let (k11, k21) = random_k(rng);
             let membrane = class == "hgo_membrane";
             let (inner, outer) = if membrane { (0.95, 1.05) } else { (rng.random_range(0.3..0.95), 1.0) };
-            Params::Hgo { inner, outer, tau0: 0.0, lame, fams: vec![(FibreAngle::Fixed(b0), k10, k20), (FibreAngle::Fixed(-b1), k11, k21)], membrane }
+            Params::Hgo {
+                inner,
+                outer,
+                tau0: 0.0,
+                lame,
+                fams: vec![(FibreAngle::Fixed(b0), k10, k20), (FibreAngle::Fixed(-b1), k11, k21)],
+                membrane,
+            }
         }
         "hgo_helix" | "hgo_one" => {
             let lame = random_matrix(rng);
@@ -321,11 +351,30 @@ impl Pt {
         let (hoop_min, radial_min) = if p.radius.len() == 1 {
             (p.radius[0] / p.reference_radius[0], (s.deformed_outer_radius - s.deformed_inner_radius) / (outer - inner))
         } else {
-            let hoop = p.radius.iter().zip(&p.reference_radius).filter(|(_, rr)| **rr > 0.0).map(|(r, rr)| r / rr).fold(f64::INFINITY, f64::min);
-            let radial = p.radius.windows(2).zip(p.reference_radius.windows(2)).map(|(r, rr)| (r[1] - r[0]) / (rr[1] - rr[0])).fold(f64::INFINITY, f64::min);
+            let hoop = p
+                .radius
+                .iter()
+                .zip(&p.reference_radius)
+                .filter(|(_, rr)| **rr > 0.0)
+                .map(|(r, rr)| r / rr)
+                .fold(f64::INFINITY, f64::min);
+            let radial = p
+                .radius
+                .windows(2)
+                .zip(p.reference_radius.windows(2))
+                .map(|(r, rr)| (r[1] - r[0]) / (rr[1] - rr[0]))
+                .fold(f64::INFINITY, f64::min);
             (hoop, radial)
         };
-        Pt { lam: s.stretch, psi: s.twist, a: s.deformed_inner_radius, b: s.deformed_outer_radius, force: s.applied_force, hoop_min, radial_min }
+        Pt {
+            lam: s.stretch,
+            psi: s.twist,
+            a: s.deformed_inner_radius,
+            b: s.deformed_outer_radius,
+            force: s.applied_force,
+            hoop_min,
+            radial_min,
+        }
     }
 }
 
@@ -434,7 +483,11 @@ fn turns(lam: &[f64], y: &[f64], noise: f64) -> Vec<Turn> {
         }
         let end = if k + 1 < ext.len() { ext[k + 1].0 + 1 } else { n };
         let tail = &y[i..end];
-        let next = if kind > 0.0 { tail.iter().cloned().fold(f64::INFINITY, f64::min) } else { tail.iter().cloned().fold(f64::NEG_INFINITY, f64::max) };
+        let next = if kind > 0.0 {
+            tail.iter().cloned().fold(f64::INFINITY, f64::min)
+        } else {
+            tail.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+        };
         out.push(Turn { idx: i, lam: l, value: v, kind, prominence: (v - next).abs() });
     }
     out
@@ -500,7 +553,8 @@ struct Outcome {
 fn analyse(c: &Curve, inner: f64, outer: f64) -> Outcome {
     let lam: Vec<f64> = c.pts.iter().map(|p| p.lam).collect();
     let psi: Vec<f64> = c.pts.iter().map(|p| p.psi).collect();
-    let mut o = Outcome { solved_to: lam.last().copied().unwrap_or(f64::NAN), error: c.error.clone(), ..Default::default() };
+    let mut o =
+        Outcome { solved_to: lam.last().copied().unwrap_or(f64::NAN), error: c.error.clone(), ..Default::default() };
     if c.pts.len() < 3 {
         return o;
     }
@@ -547,7 +601,8 @@ fn analyse(c: &Curve, inner: f64, outer: f64) -> Outcome {
         if let Some(&t) = ts.first() {
             if t.kind < 0.0 && o.starts[k] < 0.0 && t.prominence > 1e-6 * r0[k] && r0[k] > 0.0 {
                 let rmin = t.value;
-                o.dips[k] = Some(Dip { turn: t, depth: (r0[k] - rmin) / r0[k], rise: (y.last().unwrap() - rmin) / r0[k] });
+                o.dips[k] =
+                    Some(Dip { turn: t, depth: (r0[k] - rmin) / r0[k], rise: (y.last().unwrap() - rmin) / r0[k] });
             }
         }
     }
@@ -555,13 +610,18 @@ fn analyse(c: &Curve, inner: f64, outer: f64) -> Outcome {
     o.radial_min = c.pts.iter().map(|p| p.radial_min).fold(f64::INFINITY, f64::min);
     o.min_df = c.pts.windows(2).map(|w| w[1].force - w[0].force).fold(f64::INFINITY, f64::min);
     if o.psi_start != 0.0 {
-        let sl: Vec<(f64, f64)> = c.pts.windows(2).map(|w| (w[1].lam, o.psi_start * (w[1].psi - w[0].psi) / (w[1].lam - w[0].lam))).collect();
+        let sl: Vec<(f64, f64)> =
+            c.pts.windows(2).map(|w| (w[1].lam, o.psi_start * (w[1].psi - w[0].psi) / (w[1].lam - w[0].lam))).collect();
         let s0 = sl[0].1;
         if s0 > 0.0 {
             o.slope_ratio = sl.iter().filter(|p| p.0 <= 1.1 + 1e-9).map(|p| p.1 / s0).fold(f64::INFINITY, f64::min);
         }
     }
-    o.max_jump = c.pts.windows(2).map(|w| ((w[1].psi - w[0].psi) * outer).abs().max((w[1].b - w[0].b).abs() / outer)).fold(0.0, f64::max);
+    o.max_jump = c
+        .pts
+        .windows(2)
+        .map(|w| ((w[1].psi - w[0].psi) * outer).abs().max((w[1].b - w[0].b).abs() / outer))
+        .fold(0.0, f64::max);
     o
 }
 
@@ -625,7 +685,13 @@ struct Check {
 
 fn torsional_stiffness(scene: &TubeScene, lam: f64, psi: f64, outer: f64) -> Option<(f64, f64)> {
     let at = |p: f64| {
-        let l = Loading { axial: Axial::Stretch(lam), torsion: Torsion::Twist(p), inner_pressure: 0.0, outer_pressure: 0.0, ends: Ends::Open };
+        let l = Loading {
+            axial: Axial::Stretch(lam),
+            torsion: Torsion::Twist(p),
+            inner_pressure: 0.0,
+            outer_pressure: 0.0,
+            ends: Ends::Open,
+        };
         scene.solve(&l).ok().map(|(s, _)| s.torque)
     };
     let h = 1e-4 / outer;
@@ -641,7 +707,11 @@ fn confirm(p: &Params, coarse: &Outcome) -> Check {
     let mut fine = Outcome::default();
     let mut fine_curve = Curve::default();
     let configs: Vec<(String, Option<usize>, f64, bool)> = if p.membrane() {
-        vec![("membrane".into(), None, 1e-7, false), ("thick-same-wall n=24".into(), Some(24), 1e-7, true), ("thick-same-wall adaptive".into(), None, 1e-7, true)]
+        vec![
+            ("membrane".into(), None, 1e-7, false),
+            ("thick-same-wall n=24".into(), Some(24), 1e-7, true),
+            ("thick-same-wall adaptive".into(), None, 1e-7, true),
+        ]
     } else if p.is_fibre() {
         // More grids: the stability check misfires near fibre activation on
         // some grids (see probe [1]), so agreement is judged on the others.
@@ -654,7 +724,11 @@ fn confirm(p: &Params, coarse: &Outcome) -> Check {
             ("adaptive 1e-7".into(), None, 1e-7, false),
         ]
     } else {
-        vec![("n=24".into(), Some(24), 1e-7, false), ("n=48".into(), Some(48), 1e-7, false), ("adaptive 1e-7".into(), None, 1e-7, false)]
+        vec![
+            ("n=24".into(), Some(24), 1e-7, false),
+            ("n=48".into(), Some(48), 1e-7, false),
+            ("adaptive 1e-7".into(), None, 1e-7, false),
+        ]
     };
     for (k, (label, iv, tol, as_thick)) in configs.into_iter().enumerate() {
         let c = if as_thick {
@@ -674,7 +748,13 @@ fn confirm(p: &Params, coarse: &Outcome) -> Check {
             let c2 = trace(p, None, tol, &short);
             o = analyse(&c2, a, b);
         }
-        runs.push((label, o.reversal.as_ref().map(|r| r.turn.lam), o.dips[1].as_ref().map(|d| d.turn.lam), o.solved_to, o.error.clone()));
+        runs.push((
+            label,
+            o.reversal.as_ref().map(|r| r.turn.lam),
+            o.dips[1].as_ref().map(|d| d.turn.lam),
+            o.solved_to,
+            o.error.clone(),
+        ));
         if k == 0 {
             fine = o;
             fine_curve = c;
@@ -720,7 +800,15 @@ fn confirmed(ch: &Check, twist: bool, coarse_jump: f64) -> bool {
 // ---------------------------------------------------------------- output --
 
 fn print_reversal(r: &Reversal, p: &Params, outer: f64, indent: &str) {
-    let reference = if p.is_fibre() { if r.sense > 0.0 { 0 } else { 1 } } else { 0 };
+    let reference = if p.is_fibre() {
+        if r.sense > 0.0 {
+            0
+        } else {
+            1
+        }
+    } else {
+        0
+    };
     let tau = p.reference_twist(reference);
     println!(
         "{indent}ψ overwind→unwind (reference: {}): turn at λ = {:.4} (wall stretches there: min hoop {:.3}, min radial {:.3}); overwinding ψ_peak = {:.4e} rad/length, ψ_peak·B = {:.4e} rad = {:.4} deg, ψ_peak/τ_ref = {:.3e} (τ_ref = {:.4}); back through 0 at λ = {}; s·ψ at end = {:.4e} (= {:.1} × peak); rapidity {:.2}",
@@ -778,7 +866,12 @@ fn print_case(tag: &str, p: &Params, o: &Outcome, check: Option<&Check>) {
             );
         }
         let fmt = |v: Option<(f64, f64)>| v.map_or("failed".into(), |(k, t)| format!("{k:.4e} (T at ψ: {t:.1e})"));
-        println!("      dT/dψ at fixed λ: at the turn {}, at the end {}; max jump {:.2e}", fmt(ch.dtdpsi_turn), fmt(ch.dtdpsi_end), ch.fine.max_jump);
+        println!(
+            "      dT/dψ at fixed λ: at the turn {}, at the end {}; max jump {:.2e}",
+            fmt(ch.dtdpsi_turn),
+            fmt(ch.dtdpsi_end),
+            ch.fine.max_jump
+        );
         if let Some(r) = &ch.fine.reversal {
             print_reversal(r, p, outer, "      fine: ");
         }
@@ -838,7 +931,13 @@ fn coarse(p: &Params, lams: &[f64]) -> Outcome {
 
 /// Hill climbing from `start` on `score` (coarse sweeps, then the winner
 /// confirmed by the caller).
-fn climb(start: &Params, score: &dyn Fn(&Outcome, f64) -> f64, lams: &[f64], iters: usize, rng_seed: u64) -> (Params, Outcome, f64) {
+fn climb(
+    start: &Params,
+    score: &dyn Fn(&Outcome, f64) -> f64,
+    lams: &[f64],
+    iters: usize,
+    rng_seed: u64,
+) -> (Params, Outcome, f64) {
     let mut rng = ChaCha8Rng::seed_from_u64(rng_seed);
     let (_, outer) = start.radii();
     let mut best = start.clone();
@@ -871,7 +970,8 @@ fn climb(start: &Params, score: &dyn Fn(&Outcome, f64) -> f64, lams: &[f64], ite
 fn main() {
     let scale: f64 = std::env::var("TUBE_SEARCH_SCALE").ok().and_then(|v| v.parse().ok()).unwrap_or(1.0);
     let only = std::env::var("TUBE_SEARCH_ONLY").ok();
-    let csv_dir = std::env::var("TUBE_SEARCH_CSV").unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/target/tube_search").to_string());
+    let csv_dir = std::env::var("TUBE_SEARCH_CSV")
+        .unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/target/tube_search").to_string());
     let _ = std::fs::create_dir_all(&csv_dir);
     let lams = stretch_grid(1.5, 0.005, 0.01);
     let classes: [(&'static str, usize); 9] = [
@@ -911,7 +1011,15 @@ fn main() {
     }
 }
 
-fn report_class(class: &str, found: &[Found], secs: f64, csv_dir: &str, lams: &[f64], scale: f64, seeds: &mut Vec<(String, Params)>) -> String {
+fn report_class(
+    class: &str,
+    found: &[Found],
+    secs: f64,
+    csv_dir: &str,
+    lams: &[f64],
+    scale: f64,
+    seeds: &mut Vec<(String, Params)>,
+) -> String {
     let n = found.len();
     let complete = found.iter().filter(|f| f.outcome.error.is_none()).count();
     let empty = found.iter().filter(|f| f.outcome.psi_turns.is_empty() && f.outcome.solved_to.is_nan()).count();
@@ -922,7 +1030,8 @@ fn report_class(class: &str, found: &[Found], secs: f64, csv_dir: &str, lams: &[
         }
     }
     let is_fibre = found.first().is_some_and(|f| f.params.is_fibre());
-    let rev: Vec<&Found> = found.iter().filter(|f| f.outcome.reversal.as_ref().is_some_and(|r| is_fibre || r.sense > 0.0)).collect();
+    let rev: Vec<&Found> =
+        found.iter().filter(|f| f.outcome.reversal.as_ref().is_some_and(|r| is_fibre || r.sense > 0.0)).collect();
     let uo = found.iter().filter(|f| f.outcome.reversal.as_ref().is_some_and(|r| r.sense < 0.0)).count();
     let dips: Vec<usize> = (0..3).map(|k| found.iter().filter(|f| f.outcome.dips[k].is_some()).count()).collect();
     println!("\n=== class {class}: {n} samples, {secs:.1} s; swept to λ = 1.5: {complete}; no state at all: {empty}");
@@ -940,7 +1049,14 @@ fn report_class(class: &str, found: &[Found], secs: f64, csv_dir: &str, lams: &[
     // the largest overwinding, and the largest dips.
     let mut picks: Vec<(usize, &'static str)> = vec![];
     let mut add = |list: &mut Vec<&Found>, key: &dyn Fn(&Found) -> f64, m: usize, why: &'static str| {
-        let k = |f: &Found| { let v = key(f); if v.is_nan() { f64::NEG_INFINITY } else { v } };
+        let k = |f: &Found| {
+            let v = key(f);
+            if v.is_nan() {
+                f64::NEG_INFINITY
+            } else {
+                v
+            }
+        };
         list.sort_by(|a, b| k(b).total_cmp(&k(a)));
         for f in list.iter().take(m) {
             if !picks.iter().any(|p| p.0 == f.index) {
@@ -996,7 +1112,8 @@ fn report_class(class: &str, found: &[Found], secs: f64, csv_dir: &str, lams: &[
         Some((i, _)) => starts.push((format!("confirmed #{i}"), found[i].params.clone())),
         None => {
             let best = found.iter().max_by(|a, b| {
-                let (sa, sb) = (climb_score(&a.outcome, outer_of(a), is_fibre), climb_score(&b.outcome, outer_of(b), is_fibre));
+                let (sa, sb) =
+                    (climb_score(&a.outcome, outer_of(a), is_fibre), climb_score(&b.outcome, outer_of(b), is_fibre));
                 let nz = |v: f64| if v.is_nan() { f64::NEG_INFINITY } else { v };
                 nz(sa).total_cmp(&nz(sb))
             });
@@ -1006,7 +1123,9 @@ fn report_class(class: &str, found: &[Found], secs: f64, csv_dir: &str, lams: &[
         }
     }
     if class == "svk_thick" || class == "svk_thick_nearinc" {
-        if let Some(Params::Svk { inner, outer, tau0, c, .. }) = seeds.iter().find(|s| s.0 == "svk_thick_inc").map(|s| s.1.clone()) {
+        if let Some(Params::Svk { inner, outer, tau0, c, .. }) =
+            seeds.iter().find(|s| s.0 == "svk_thick_inc").map(|s| s.1.clone())
+        {
             let (x, y) = (c[1] / c[0], c[2] / c[0]);
             let n12 = (y + y / x - 1.0) / (2.0 * y);
             for f in [0.97, 0.9, 0.8, 0.6, 0.3] {
@@ -1016,7 +1135,10 @@ fn report_class(class: &str, found: &[Found], secs: f64, csv_dir: &str, lams: &[
                 cc[5] = f * (1.0 - n12 * x);
                 let p = Params::Svk { inner, outer, tau0, c: cc, incompressible: false, membrane: false };
                 if p.law().is_some() {
-                    starts.push((format!("best svk_thick_inc case made compressible (ν = {f} × incompressible limit)"), p));
+                    starts.push((
+                        format!("best svk_thick_inc case made compressible (ν = {f} × incompressible limit)"),
+                        p,
+                    ));
                     break;
                 }
             }
@@ -1035,7 +1157,12 @@ fn report_class(class: &str, found: &[Found], secs: f64, csv_dir: &str, lams: &[
             let sc = dna_score(&ch.fine, p.radii().1);
             if best_climb.as_ref().is_none_or(|b| sc > b.0) {
                 best_climb = Some((sc, p.clone()));
-                climbed = format!("; DNA-like search: turn λ = {:.4}, ψ_peak·B = {:.3e} rad, undone at λ = {}", r.turn.lam, r.peak * p.radii().1, r.lam_zero.map_or("—".into(), |l| format!("{l:.4}")));
+                climbed = format!(
+                    "; DNA-like search: turn λ = {:.4}, ψ_peak·B = {:.3e} rad, undone at λ = {}",
+                    r.turn.lam,
+                    r.peak * p.radii().1,
+                    r.lam_zero.map_or("—".into(), |l| format!("{l:.4}"))
+                );
             }
         }
     }
@@ -1051,7 +1178,10 @@ fn report_class(class: &str, found: &[Found], secs: f64, csv_dir: &str, lams: &[
         let f = &found[i];
         let (p, o, s) = climb(&f.params, &|o, _| dip_score(o), lams, iters, seed(class, i) ^ 2);
         let ch = confirm(&p, &o);
-        println!("  -- deflate→inflate local search from #{i} ({iters} steps): score {s0:.3} → {s:.3}; confirmed {}", confirmed(&ch, false, o.max_jump));
+        println!(
+            "  -- deflate→inflate local search from #{i} ({iters} steps): score {s0:.3} → {s:.3}; confirmed {}",
+            confirmed(&ch, false, o.max_jump)
+        );
         print_case(&format!("{class} climbed from #{i}"), &p, &o, Some(&ch));
         print_curve(&ch.fine_curve, 8);
     }
@@ -1060,9 +1190,22 @@ fn report_class(class: &str, found: &[Found], secs: f64, csv_dir: &str, lams: &[
     for f in found {
         let o = &f.outcome;
         let rv = o.reversal.as_ref().map_or(",,,,,,".to_string(), |r| {
-            format!("{},{},{},{},{},{},{}", r.sense, r.turn.lam, r.peak, r.peak * f.params.radii().1, r.lam_zero.map_or(String::new(), |l| l.to_string()), r.end, r.rapidity)
+            format!(
+                "{},{},{},{},{},{},{}",
+                r.sense,
+                r.turn.lam,
+                r.peak,
+                r.peak * f.params.radii().1,
+                r.lam_zero.map_or(String::new(), |l| l.to_string()),
+                r.end,
+                r.rapidity
+            )
         });
-        let dp: Vec<String> = o.dips.iter().map(|d| d.as_ref().map_or(",,".to_string(), |d| format!("{},{},{}", d.turn.lam, d.depth, d.rise))).collect();
+        let dp: Vec<String> = o
+            .dips
+            .iter()
+            .map(|d| d.as_ref().map_or(",,".to_string(), |d| format!("{},{},{}", d.turn.lam, d.depth, d.rise)))
+            .collect();
         let _ = writeln!(
             s,
             "{class},{},{},\"{}\",{},{rv},{},{},{},\"{}\"",
@@ -1090,7 +1233,9 @@ fn report_class(class: &str, found: &[Found], secs: f64, csv_dir: &str, lams: &[
 /// Hessian of W in the local modes (a, b, λ, γ) by the second differences
 /// FiniteTube::check_stability uses (h = 1e-4), and its eigenvalues.
 fn fd_hessian(m: &dyn WallMaterial, radius: f64, x0: [f64; 4], h: f64) -> nalgebra::Matrix4<f64> {
-    let w = |x: &[f64; 4]| m.energy(radius, &WallStrain { radial: x[0], hoop: x[1], axial: x[2], shear: x[3] }.right_cauchy_green());
+    let w = |x: &[f64; 4]| {
+        m.energy(radius, &WallStrain { radial: x[0], hoop: x[1], axial: x[2], shear: x[3] }.right_cauchy_green())
+    };
     nalgebra::Matrix4::from_fn(|k, l| {
         let at = |dk: f64, dl: f64| {
             let mut x = x0;
@@ -1110,7 +1255,11 @@ fn probes(seeds: &[(String, Params)]) {
     println!("  [1] {}", p.describe());
     for iv in [16usize, 24, 32, 48] {
         let c = trace(&p, Some(iv), 1e-7, &[1.0, 1.0025, 1.005, 1.01, 1.02]);
-        println!("      n = {iv}: reached λ = {:.4}; stop: {}", c.pts.last().map_or(f64::NAN, |q| q.lam), c.error.as_deref().map_or("none".to_string(), |e| e[..e.len().min(200)].to_string()));
+        println!(
+            "      n = {iv}: reached λ = {:.4}; stop: {}",
+            c.pts.last().map_or(f64::NAN, |q| q.lam),
+            c.error.as_deref().map_or("none".to_string(), |e| e[..e.len().min(200)].to_string())
+        );
     }
     if let Some(WallLaw::FibreReinforced(law)) = p.law() {
         // The state named in the n = 48 message, and a scan of the FD Hessian
@@ -1124,10 +1273,19 @@ fn probes(seeds: &[(String, Params)]) {
             println!("      FD Hessian (h = {h:e}) at R = {r:.4}, (a, b, λ, γ) = {x0:?}: eigenvalues {:.3e} {:.3e} {:.3e} {:.3e}", e[0], e[1], e[2], e[3]);
         }
         for (k, f) in law.families.iter().enumerate() {
-            let beta = match f.angle { FibreAngle::Helix { hand } => hand * (law.intrinsic_twist * r).atan(), FibreAngle::Fixed(b) => b };
+            let beta = match f.angle {
+                FibreAngle::Helix { hand } => hand * (law.intrinsic_twist * r).atan(),
+                FibreAngle::Fixed(b) => b,
+            };
             let (sn, cs) = beta.sin_cos();
             let i4 = (sn * x0[1] + cs * x0[3]).powi(2) + (cs * x0[2]).powi(2);
-            println!("      family #{k}: β(R) = {:.3} deg, I4 − 1 = {:.3e} at that state (k1 = {}, k2 = {})", beta.to_degrees(), i4 - 1.0, f.k1, f.k2);
+            println!(
+                "      family #{k}: β(R) = {:.3} deg, I4 − 1 = {:.3e} at that state (k1 = {}, k2 = {})",
+                beta.to_degrees(),
+                i4 - 1.0,
+                f.k1,
+                f.k2
+            );
         }
         // Scan: move the shear so that family #1's I4 − 1 runs through 0.
         println!("      scan of the smallest FD-Hessian eigenvalue (h = 1e-4) as the shear γ moves the state through fibre activation:");
@@ -1136,19 +1294,37 @@ fn probes(seeds: &[(String, Params)]) {
             let x = [x0[0], x0[1], x0[2], g];
             let ev = fd_hessian(&law, r, x, 1e-4).symmetric_eigenvalues();
             let min = ev.iter().copied().fold(f64::INFINITY, f64::min);
-            let i4s: Vec<String> = law.families.iter().map(|f| {
-                let beta = match f.angle { FibreAngle::Helix { hand } => hand * (law.intrinsic_twist * r).atan(), FibreAngle::Fixed(b) => b };
-                let (sn, cs) = beta.sin_cos();
-                format!("{:+.2e}", (sn * x[1] + cs * x[3]).powi(2) + (cs * x[2]).powi(2) - 1.0)
-            }).collect();
-            let nh = fd_hessian(&law.matrix, r, x, 1e-4).symmetric_eigenvalues().iter().copied().fold(f64::INFINITY, f64::min);
-            println!("        γ = {g:+.4}: I4 − 1 = [{}], min eigenvalue {min:+.3e} (matrix alone {nh:+.3e})", i4s.join(", "));
+            let i4s: Vec<String> = law
+                .families
+                .iter()
+                .map(|f| {
+                    let beta = match f.angle {
+                        FibreAngle::Helix { hand } => hand * (law.intrinsic_twist * r).atan(),
+                        FibreAngle::Fixed(b) => b,
+                    };
+                    let (sn, cs) = beta.sin_cos();
+                    format!("{:+.2e}", (sn * x[1] + cs * x[3]).powi(2) + (cs * x[2]).powi(2) - 1.0)
+                })
+                .collect();
+            let nh = fd_hessian(&law.matrix, r, x, 1e-4)
+                .symmetric_eigenvalues()
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min);
+            println!(
+                "        γ = {g:+.4}: I4 − 1 = [{}], min eigenvalue {min:+.3e} (matrix alone {nh:+.3e})",
+                i4s.join(", ")
+            );
         }
     }
     // 2. Independent check of an incompressible SVK membrane reversal: minimise
     // W(a = 1/(bλ), b, λ, γ = bRψ) over (b, ψ) at each λ (Newton on
     // central differences of the energy alone; no solver code).
-    let mem = seeds.iter().find(|s| s.0 == "svk_membrane_inc").map(|s| s.1.clone()).unwrap_or_else(|| sample("svk_membrane_inc", 9));
+    let mem = seeds
+        .iter()
+        .find(|s| s.0 == "svk_membrane_inc")
+        .map(|s| s.1.clone())
+        .unwrap_or_else(|| sample("svk_membrane_inc", 9));
     if let (Some(WallLaw::SaintVenantKirchhoff(law)), Params::Svk { inner, outer, .. }) = (mem.law(), &mem) {
         let rm = 0.5 * (inner + outer);
         println!("  [2] energy minimisation check of: {}", mem.describe());
@@ -1156,7 +1332,10 @@ fn probes(seeds: &[(String, Params)]) {
         let solver = trace(&mem, None, 1e-7, &lams);
         let f = |lam: f64, y: [f64; 2]| {
             let b = y[0];
-            law.energy(rm, &WallStrain { radial: 1.0 / (b * lam), hoop: b, axial: lam, shear: b * rm * y[1] }.right_cauchy_green())
+            law.energy(
+                rm,
+                &WallStrain { radial: 1.0 / (b * lam), hoop: b, axial: lam, shear: b * rm * y[1] }.right_cauchy_green(),
+            )
         };
         let grad = |lam: f64, y: [f64; 2]| {
             let h = 1e-6;
@@ -1205,5 +1384,7 @@ fn probes(seeds: &[(String, Params)]) {
     }
     // 3. No stability check for incompressible laws or the membrane.
     println!("  [3] note: FiniteTube::check_stability returns Ok for incompressible laws, and MembraneTube has no stability check;");
-    println!("      the membrane solves every point from rest, so a sweep can jump between branches (see 'max jump' above).");
+    println!(
+        "      the membrane solves every point from rest, so a sweep can jump between branches (see 'max jump' above)."
+    );
 }

@@ -165,7 +165,11 @@ impl PiecewiseGrid {
         for w in ends.windows(2) {
             let share = (n as f64 * (coord(w[1]) - coord(w[0])) / total).round() as usize;
             let ni = share.max(min_piece).max(2);
-            let grid = if logarithmic { ChebyshevGrid::logarithmic(ni, w[0], w[1]) } else { ChebyshevGrid::new(ni, w[0], w[1]) };
+            let grid = if logarithmic {
+                ChebyshevGrid::logarithmic(ni, w[0], w[1])
+            } else {
+                ChebyshevGrid::new(ni, w[0], w[1])
+            };
             pieces.push(Piece { start, grid, logarithmic });
             start += ni + 1;
         }

@@ -35,10 +35,7 @@ pub fn finite(name: &str, value: f64) -> Result<f64> {
     if value.is_finite() {
         Ok(value)
     } else {
-        Err(Error::new(
-            Status::ErrNotFinite,
-            format!("argument `{name}` must be finite (got {value})"),
-        ))
+        Err(Error::new(Status::ErrNotFinite, format!("argument `{name}` must be finite (got {value})")))
     }
 }
 
@@ -48,10 +45,7 @@ pub fn positive(name: &str, value: f64) -> Result<f64> {
     if value > 0.0 {
         Ok(value)
     } else {
-        Err(Error::new(
-            Status::ErrNotPositive,
-            format!("argument `{name}` must be positive (got {value:e})"),
-        ))
+        Err(Error::new(Status::ErrNotPositive, format!("argument `{name}` must be positive (got {value:e})")))
     }
 }
 

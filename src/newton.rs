@@ -85,7 +85,10 @@ pub fn solve_with_jacobian(
                     trial[k] = x[k] - h;
                     evals += 1;
                     if !residual(&trial, &mut ft) {
-                        return Err(Error::new(Status::ErrNotConverged, "Newton: cannot difference at the domain edge"));
+                        return Err(Error::new(
+                            Status::ErrNotConverged,
+                            "Newton: cannot difference at the domain edge",
+                        ));
                     }
                     jac.column_mut(k).copy_from(&((&f - &ft) / h));
                 } else {
@@ -129,7 +132,13 @@ pub fn solve_with_jacobian(
         if !opts.reuse_jacobian || t < 1.0 || contraction > 0.25 {
             lu = None;
         }
-        let dx = step.iter().zip(typical.iter()).map(|(d, s)| (t * d / s).abs()).fold(0.0, |a: f64, b: f64| if a.is_nan() || b.is_nan() { f64::NAN } else { a.max(b) });
+        let dx = step.iter().zip(typical.iter()).map(|(d, s)| (t * d / s).abs()).fold(0.0, |a: f64, b: f64| {
+            if a.is_nan() || b.is_nan() {
+                f64::NAN
+            } else {
+                a.max(b)
+            }
+        });
         if dx <= opts.step_tol && f.amax() <= opts.residual_tol {
             return Ok(NewtonReport {
                 iterations: it + 1,

@@ -109,8 +109,15 @@ impl<I: faer::Index> Factors<I> {
         let a = SparseColMatRef::new(sym, values);
         let col_perm = PermRef::new_checked(&self.col_perm_fwd, &self.col_perm_inv, n);
         let stack = MemStack::new(&mut self.buffer);
-        lu::simplicial::factorize_simplicial_numeric_lu(&mut self.row_perm_fwd, &mut self.row_perm_inv, &mut self.lu, a, col_perm, stack)
-            .map_err(|e| Error::new(Status::ErrNotConverged, format!("sparse LU: singular matrix ({e:?})")))
+        lu::simplicial::factorize_simplicial_numeric_lu(
+            &mut self.row_perm_fwd,
+            &mut self.row_perm_inv,
+            &mut self.lu,
+            a,
+            col_perm,
+            stack,
+        )
+        .map_err(|e| Error::new(Status::ErrNotConverged, format!("sparse LU: singular matrix ({e:?})")))
     }
 
     fn fill(&self) -> usize {
@@ -134,7 +141,10 @@ impl<I: faer::Index> Factors<I> {
     fn colamd(&self) -> Option<Vec<usize>> {
         let n = self.n();
         let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
-        let params = LuSymbolicParams { supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL, ..Default::default() };
+        let params = LuSymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
+            ..Default::default()
+        };
         let symbolic = lu::factorize_symbolic_lu(sym, params).ok()?;
         Some(symbolic.col_perm().arrays().0.iter().map(|i| i.zx()).collect())
     }
@@ -221,7 +231,8 @@ impl SparseLu {
     /// As [`SparseLu::new`] with the index width given (tests compare the
     /// two).
     fn indexed(pattern: Pattern, wide: bool) -> Result<Self> {
-        let factors = if wide { Indexed::Wide(Factors::new(&pattern)) } else { Indexed::Narrow(Factors::new(&pattern)) };
+        let factors =
+            if wide { Indexed::Wide(Factors::new(&pattern)) } else { Indexed::Narrow(Factors::new(&pattern)) };
         Ok(SparseLu { pattern, factors, factorised: false, ordered: false, factorisations: 0, solves: 0 })
     }
 
@@ -269,7 +280,10 @@ impl SparseLu {
         for j in 0..n {
             let d = with_factors!(&self.factors, f => f.diagonal(j));
             if !(d.is_finite() && d != 0.0) {
-                return Err(Error::new(Status::ErrNotConverged, format!("sparse LU: pivot {j} is {d:e} (singular matrix)")));
+                return Err(Error::new(
+                    Status::ErrNotConverged,
+                    format!("sparse LU: pivot {j} is {d:e} (singular matrix)"),
+                ));
             }
         }
         self.factorised = true;
@@ -546,11 +560,15 @@ mod tests {
     fn ordering_is_chosen_by_fill() {
         let n = 300;
         let arrow = Pattern::from_entries(n, (0..n).flat_map(|i| [(i, i), (0, i), (i, 0)]));
-        let band = Pattern::from_entries(n, (0..n).flat_map(|i| (i.saturating_sub(3)..(i + 4).min(n)).map(move |j| (i, j))));
+        let band =
+            Pattern::from_entries(n, (0..n).flat_map(|i| (i.saturating_sub(3)..(i + 4).min(n)).map(move |j| (i, j))));
         for (pattern, natural) in [(arrow, false), (band, true)] {
             let mut lu = SparseLu::new(pattern.clone()).unwrap();
             // Diagonally dominant values: no pivoting needed.
-            let values: Vec<f64> = (0..n).flat_map(|j| (pattern.col_ptr[j]..pattern.col_ptr[j + 1]).map(move |k| (j, k))).map(|(j, k)| if pattern.row_idx[k] == j { 10.0 * n as f64 } else { 1.0 }).collect();
+            let values: Vec<f64> = (0..n)
+                .flat_map(|j| (pattern.col_ptr[j]..pattern.col_ptr[j + 1]).map(move |k| (j, k)))
+                .map(|(j, k)| if pattern.row_idx[k] == j { 10.0 * n as f64 } else { 1.0 })
+                .collect();
             lu.factorise(&values).unwrap();
             assert_eq!(lu.natural_order(), natural);
             // Without fill blow-up: L + U within a few times A's entries
@@ -588,8 +606,19 @@ mod tests {
             let (i, j) = ((k * 37 + 11) % n, (k * 53 + 7) % n);
             far.push((i, j));
         }
-        let band = |b: usize| Pattern::from_entries(n, (0..n).flat_map(move |i| (i.saturating_sub(b)..(i + b + 1).min(n)).map(move |j| (i, j))));
-        let mixed = Pattern::from_entries(n, (0..n).flat_map(|i| (i.saturating_sub(4)..(i + 5).min(n)).map(move |j| (i, j))).chain(far.iter().copied()).chain((0..n).flat_map(|i| [(n - 1, i), (i, n - 1)])));
+        let band = |b: usize| {
+            Pattern::from_entries(
+                n,
+                (0..n).flat_map(move |i| (i.saturating_sub(b)..(i + b + 1).min(n)).map(move |j| (i, j))),
+            )
+        };
+        let mixed = Pattern::from_entries(
+            n,
+            (0..n)
+                .flat_map(|i| (i.saturating_sub(4)..(i + 5).min(n)).map(move |j| (i, j)))
+                .chain(far.iter().copied())
+                .chain((0..n).flat_map(|i| [(n - 1, i), (i, n - 1)])),
+        );
         let arrow = Pattern::from_entries(n, (0..n).flat_map(|i| [(i, i), (0, i), (i, 0)]));
         for (name, pattern) in [("band 5", band(5)), ("mixed", mixed), ("arrow", arrow)] {
             let mut lu = SparseLu::new(pattern.clone()).unwrap();
@@ -620,9 +649,15 @@ mod tests {
     #[test]
     fn narrow_and_wide_indices_agree() {
         let n = 150;
-        let pattern = Pattern::from_entries(n, (0..n).flat_map(|i| (i.saturating_sub(3)..(i + 4).min(n)).map(move |j| (i, j))).chain((0..n).flat_map(|i| [(n - 1, i), (i, n - 1)])));
+        let pattern = Pattern::from_entries(
+            n,
+            (0..n)
+                .flat_map(|i| (i.saturating_sub(3)..(i + 4).min(n)).map(move |j| (i, j)))
+                .chain((0..n).flat_map(|i| [(n - 1, i), (i, n - 1)])),
+        );
         let values = random_values(&pattern, &mut 7u64);
-        let (mut narrow, mut wide) = (SparseLu::indexed(pattern.clone(), false).unwrap(), SparseLu::indexed(pattern.clone(), true).unwrap());
+        let (mut narrow, mut wide) =
+            (SparseLu::indexed(pattern.clone(), false).unwrap(), SparseLu::indexed(pattern.clone(), true).unwrap());
         assert!(!narrow.wide_indices() && wide.wide_indices());
         narrow.factorise(&values).unwrap();
         wide.factorise(&values).unwrap();
@@ -647,13 +682,19 @@ mod tests {
         let arrow = Pattern::from_entries(n, (0..n).flat_map(|i| [(i, i), (0, i), (i, 0)]));
         assert_eq!(fill_bound(&arrow, None), (n as u128) * (n as u128 + 1));
         assert!(SparseLu::new(arrow).unwrap().wide_indices());
-        let band = Pattern::from_entries(n, (0..n).flat_map(|i| (i.saturating_sub(3)..(i + 4).min(n)).map(move |j| (i, j))));
+        let band =
+            Pattern::from_entries(n, (0..n).flat_map(|i| (i.saturating_sub(3)..(i + 4).min(n)).map(move |j| (i, j))));
         assert!(!SparseLu::new(band).unwrap().wide_indices());
         // A clamped–clamped rod's band with its corner blocks (the 30 kbp
         // DNA rod's preconditioner: n = 117 014, half-width 51): the running
         // profile spans the matrix (bound ≈ n² > 2³²), George–Ng's does not.
         let (n, b) = (117_014, 51);
-        let corner = Pattern::from_entries(n, (0..n).flat_map(|i| (i.saturating_sub(b)..(i + b + 1).min(n)).map(move |j| (i, j))).chain((0..b).flat_map(|i| (n - b..n).flat_map(move |j| [(i, j), (j, i)]))));
+        let corner = Pattern::from_entries(
+            n,
+            (0..n)
+                .flat_map(|i| (i.saturating_sub(b)..(i + b + 1).min(n)).map(move |j| (i, j)))
+                .chain((0..b).flat_map(|i| (n - b..n).flat_map(move |j| [(i, j), (j, i)]))),
+        );
         assert!(profile_bound(&corner, None) > NARROW_LIMIT);
         let gn = george_ng_bound(&corner, None).unwrap();
         assert!(gn < NARROW_LIMIT / 10, "{gn}");

@@ -30,8 +30,14 @@ use std::ops::{Add, Mul, Neg, Sub};
 /// Arithmetic a kernel may use. Implemented for `f64` (direct evaluation)
 /// and [`Var`] (recording).
 pub trait Scalar:
-    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Neg<Output = Self> + Add<f64, Output = Self>
-    + Sub<f64, Output = Self> + Mul<f64, Output = Self>
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Neg<Output = Self>
+    + Add<f64, Output = Self>
+    + Sub<f64, Output = Self>
+    + Mul<f64, Output = Self>
 {
     fn constant(c: f64) -> Self;
 }
@@ -177,7 +183,9 @@ impl Tape {
             let (d, s) = match *op {
                 Op::Input(i) => (1, vec![i]),
                 Op::Const(_) => (0, vec![]),
-                Op::Add(a, b) | Op::Sub(a, b) => (degree[a as usize].max(degree[b as usize]), merge(&deps[a as usize], &deps[b as usize])),
+                Op::Add(a, b) | Op::Sub(a, b) => {
+                    (degree[a as usize].max(degree[b as usize]), merge(&deps[a as usize], &deps[b as usize]))
+                }
                 Op::Mul(a, b) => (degree[a as usize] + degree[b as usize], merge(&deps[a as usize], &deps[b as usize])),
                 Op::Neg(a) | Op::Scale(_, a) | Op::Shift(_, a) => (degree[a as usize], deps[a as usize].clone()),
             };
@@ -202,7 +210,16 @@ impl Tape {
         }
         start.push(total);
         scatter_start.push(scatter.len());
-        Tape { ops, inputs, outputs: outputs.into_iter().map(|v| v.0).collect(), degree, deps, start, scatter_start, scatter }
+        Tape {
+            ops,
+            inputs,
+            outputs: outputs.into_iter().map(|v| v.0).collect(),
+            degree,
+            deps,
+            start,
+            scatter_start,
+            scatter,
+        }
     }
 
     pub fn inputs(&self) -> usize {

@@ -3,10 +3,10 @@
 //! References: the Rust API (the C functions must return exactly its
 //! numbers) and the c-api.md conventions.
 
+use rodkit::capi::diagnostic::rodkit_diagnostic_panic;
 use rodkit::capi::error::{rodkit_last_error_copy, rodkit_last_error_message, rodkit_status_string};
 use rodkit::capi::tube::*;
 use rodkit::capi::version::{rodkit_library_abi_version, rodkit_version};
-use rodkit::capi::diagnostic::rodkit_diagnostic_panic;
 use rodkit::tube::{OrthotropicSurface, ThinTube};
 use rodkit::Status;
 use std::ffi::CStr;
@@ -93,7 +93,8 @@ fn last_error_copy_truncates_with_information_status() {
 #[test]
 fn bad_inputs_get_statuses_naming_the_argument() {
     let mut k = [0.0; 9];
-    let call = |spec: &ThinTubeSpec, k: &mut [f64; 9]| unsafe { rodkit_thin_tube_coupling_stiffness(spec, k.as_mut_ptr(), 3) };
+    let call =
+        |spec: &ThinTubeSpec, k: &mut [f64; 9]| unsafe { rodkit_thin_tube_coupling_stiffness(spec, k.as_mut_ptr(), 3) };
 
     let st = unsafe { rodkit_thin_tube_coupling_stiffness(ptr::null(), k.as_mut_ptr(), 3) };
     assert_eq!((st, last_error().contains("`spec`")), (Status::ErrNullPointer.code(), true));
@@ -163,7 +164,10 @@ fn c_results_equal_rust_results_in_documented_layout() {
     let mut r = FreeTubeResponse { dstrain_dforce: 0.0, dtwist_dforce: 0.0, dhoop_dforce: 0.0, winding: 9 };
     assert_eq!(unsafe { rodkit_thin_tube_free_response(&spec, &mut r) }, 0);
     let rr = c.free_response().unwrap();
-    assert_eq!((r.dstrain_dforce, r.dtwist_dforce, r.dhoop_dforce, r.winding), (rr.dstrain_dforce, rr.dtwist_dforce, rr.dhoop_dforce, rr.winding as i32));
+    assert_eq!(
+        (r.dstrain_dforce, r.dtwist_dforce, r.dhoop_dforce, r.winding),
+        (rr.dstrain_dforce, rr.dtwist_dforce, rr.dhoop_dforce, rr.winding as i32)
+    );
 }
 
 /// The error channel is per thread: a failure on one thread does not leak
@@ -178,7 +182,10 @@ fn error_channel_is_thread_local() {
                 for _ in 0..200 {
                     if i % 2 == 0 {
                         spec.e2 = -1.0;
-                        assert_eq!(unsafe { rodkit_thin_tube_coupling_stiffness(&spec, k.as_mut_ptr(), 3) }, Status::ErrNotPositive.code());
+                        assert_eq!(
+                            unsafe { rodkit_thin_tube_coupling_stiffness(&spec, k.as_mut_ptr(), 3) },
+                            Status::ErrNotPositive.code()
+                        );
                         assert!(last_error().contains("`spec.e2`"));
                     } else {
                         assert_eq!(unsafe { rodkit_thin_tube_coupling_stiffness(&spec, k.as_mut_ptr(), 3) }, 0);

@@ -5,8 +5,8 @@
 use rodkit::capi::electrostatics::*;
 use rodkit::capi::error::rodkit_last_error_message;
 use rodkit::Status;
-use std::ffi::CStr;
 use std::f64::consts::PI;
+use std::ffi::CStr;
 
 fn last_error() -> String {
     unsafe { CStr::from_ptr(rodkit_last_error_message()) }.to_string_lossy().into_owned()
@@ -24,37 +24,137 @@ fn ring_energy_writhe_and_validation() {
     let mut spec = unsafe { spec.assume_init() };
     let mut out = ElectrostaticEnergy::default();
     // Unset fields are refused by name.
-    assert_eq!(unsafe { rodkit_curve_electrostatic_energy(s.as_ptr(), xyz.as_ptr(), 3, tan.as_ptr(), 3, n as i64, 1, &spec, &mut out) }, Status::ErrNotFinite.code());
+    assert_eq!(
+        unsafe {
+            rodkit_curve_electrostatic_energy(
+                s.as_ptr(),
+                xyz.as_ptr(),
+                3,
+                tan.as_ptr(),
+                3,
+                n as i64,
+                1,
+                &spec,
+                &mut out,
+            )
+        },
+        Status::ErrNotFinite.code()
+    );
     assert!(last_error().contains("spec.line_charge"), "{}", last_error());
     (spec.line_charge, spec.kappa, spec.a, spec.near_width) = (1.0, 0.0, 0.02, 0.1);
-    assert_eq!(unsafe { rodkit_curve_electrostatic_energy(s.as_ptr(), xyz.as_ptr(), 3, tan.as_ptr(), 3, n as i64, 1, &spec, &mut out) }, 0, "{}", last_error());
+    assert_eq!(
+        unsafe {
+            rodkit_curve_electrostatic_energy(
+                s.as_ptr(),
+                xyz.as_ptr(),
+                3,
+                tan.as_ptr(),
+                3,
+                n as i64,
+                1,
+                &spec,
+                &mut out,
+            )
+        },
+        0,
+        "{}",
+        last_error()
+    );
     // §3.5 Coulomb ring 2πR ln cot(a/4R), less the dropped near-zone term
     // 2πR·7δ⁴/(23040R⁴) (tests/electrostatics.rs), Hermite nodes adding O(h⁴).
-    let exact = 2.0 * PI * (1.0 / (0.02f64 / 4.0).tan()).ln() - 2.0 * PI * 7.0 * (0.1f64.powi(4) - 0.02f64.powi(4)) / 23040.0;
+    let exact =
+        2.0 * PI * (1.0 / (0.02f64 / 4.0).tan()).ln() - 2.0 * PI * 7.0 * (0.1f64.powi(4) - 0.02f64.powi(4)) / 23040.0;
     assert!((out.total - exact).abs() < 1e-6 * exact, "{} vs {exact}", out.total);
     assert!((out.near + out.far - out.total).abs() < 1e-12 * out.total);
     let mut wr = f64::NAN;
-    assert_eq!(unsafe { rodkit_curve_writhe(s.as_ptr(), xyz.as_ptr(), 3, tan.as_ptr(), 3, n as i64, 1, 8, &mut wr) }, 0);
+    assert_eq!(
+        unsafe { rodkit_curve_writhe(s.as_ptr(), xyz.as_ptr(), 3, tan.as_ptr(), 3, n as i64, 1, 8, &mut wr) },
+        0
+    );
     assert!(wr.abs() < 1e-12, "{wr}");
     let mut e_bp = f64::NAN;
-    assert_eq!(unsafe { rodkit_curve_base_pair_energy(s.as_ptr(), xyz.as_ptr(), 3, tan.as_ptr(), 3, n as i64, 1, &spec, 0.002, &mut e_bp) }, 0);
+    assert_eq!(
+        unsafe {
+            rodkit_curve_base_pair_energy(
+                s.as_ptr(),
+                xyz.as_ptr(),
+                3,
+                tan.as_ptr(),
+                3,
+                n as i64,
+                1,
+                &spec,
+                0.002,
+                &mut e_bp,
+            )
+        },
+        0
+    );
     // The base-pair sum differs from the continuum at O(b/a) (5 % at b = a/2).
     assert!((e_bp - out.total).abs() < 0.02 * out.total, "{e_bp} vs {}", out.total);
     // Validation: near zone inside the excluded distance, NULL, closed flag,
     // too few nodes, a zero tangent, a short leading dimension; nothing written.
     let before = out;
     spec.near_width = 0.01;
-    assert_eq!(unsafe { rodkit_curve_electrostatic_energy(s.as_ptr(), xyz.as_ptr(), 3, tan.as_ptr(), 3, n as i64, 1, &spec, &mut out) }, Status::ErrOutOfRange.code());
+    assert_eq!(
+        unsafe {
+            rodkit_curve_electrostatic_energy(
+                s.as_ptr(),
+                xyz.as_ptr(),
+                3,
+                tan.as_ptr(),
+                3,
+                n as i64,
+                1,
+                &spec,
+                &mut out,
+            )
+        },
+        Status::ErrOutOfRange.code()
+    );
     assert!(last_error().contains("spec.near_width"), "{}", last_error());
     spec.near_width = 0.1;
-    assert_eq!(unsafe { rodkit_curve_electrostatic_energy(std::ptr::null(), xyz.as_ptr(), 3, tan.as_ptr(), 3, n as i64, 1, &spec, &mut out) }, Status::ErrNullPointer.code());
-    assert_eq!(unsafe { rodkit_curve_electrostatic_energy(s.as_ptr(), xyz.as_ptr(), 3, tan.as_ptr(), 3, n as i64, 2, &spec, &mut out) }, Status::ErrOutOfRange.code());
+    assert_eq!(
+        unsafe {
+            rodkit_curve_electrostatic_energy(
+                std::ptr::null(),
+                xyz.as_ptr(),
+                3,
+                tan.as_ptr(),
+                3,
+                n as i64,
+                1,
+                &spec,
+                &mut out,
+            )
+        },
+        Status::ErrNullPointer.code()
+    );
+    assert_eq!(
+        unsafe {
+            rodkit_curve_electrostatic_energy(
+                s.as_ptr(),
+                xyz.as_ptr(),
+                3,
+                tan.as_ptr(),
+                3,
+                n as i64,
+                2,
+                &spec,
+                &mut out,
+            )
+        },
+        Status::ErrOutOfRange.code()
+    );
     assert!(last_error().contains("closed"));
     assert!(unsafe { rodkit_curve_writhe(s.as_ptr(), xyz.as_ptr(), 3, tan.as_ptr(), 3, 1, 1, 8, &mut wr) } < 0);
     assert!(last_error().contains("nodes"));
     let mut bad = tan.clone();
     bad[3..6].fill(0.0);
-    assert_eq!(unsafe { rodkit_curve_writhe(s.as_ptr(), xyz.as_ptr(), 3, bad.as_ptr(), 3, n as i64, 1, 8, &mut wr) }, Status::ErrOutOfRange.code());
+    assert_eq!(
+        unsafe { rodkit_curve_writhe(s.as_ptr(), xyz.as_ptr(), 3, bad.as_ptr(), 3, n as i64, 1, 8, &mut wr) },
+        Status::ErrOutOfRange.code()
+    );
     assert!(last_error().contains("tangents"));
     assert!(unsafe { rodkit_curve_writhe(s.as_ptr(), xyz.as_ptr(), 2, tan.as_ptr(), 3, n as i64, 1, 8, &mut wr) } < 0);
     assert_eq!((out.total, out.near, out.far), (before.total, before.near, before.far));
@@ -84,28 +184,54 @@ fn supercoil_solve_point_through_the_c_abi() {
     es.discrete_base_pairs = 1;
     let mut out = Equilibrium::default();
     let mut xyz = vec![0.0; 3 * info.nodes as usize];
-    assert_eq!(unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut out, xyz.as_mut_ptr(), 3, info.nodes) }, 0, "{}", last_error());
+    assert_eq!(
+        unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut out, xyz.as_mut_ptr(), 3, info.nodes) },
+        0,
+        "{}",
+        last_error()
+    );
     // The Rust API on the same scene.
-    let r = run_scene(&DnaScene { base_pairs: 300, ..Default::default() }, &SupercoilSettings { elements: 40, max_steps: 20, ..Default::default() }).unwrap();
+    let r = run_scene(
+        &DnaScene { base_pairs: 300, ..Default::default() },
+        &SupercoilSettings { elements: 40, max_steps: 20, ..Default::default() },
+    )
+    .unwrap();
     let mut charge = r.charge.clone();
     charge.base_pairs = Some(r.scene.rise);
     let p = solve_point(&r, last as usize, &charge, Solver::NewtonKrylov, 1e-10).unwrap();
     let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
-    assert!(rel(out.torque, p.observables.torque) < 1e-12 && rel(out.extension, p.observables.extension) < 1e-12, "{out:?} vs {p:?}");
-    assert_eq!((out.newton_iterations, out.linear_iterations), (p.newton_iterations as i64, p.linear_iterations as i64));
+    assert!(
+        rel(out.torque, p.observables.torque) < 1e-12 && rel(out.extension, p.observables.extension) < 1e-12,
+        "{out:?} vs {p:?}"
+    );
+    assert_eq!(
+        (out.newton_iterations, out.linear_iterations),
+        (p.newton_iterations as i64, p.linear_iterations as i64)
+    );
     // Buckled: the whole Jacobian preconditions (src/electrostatics/equilibrium.rs).
     assert_eq!(out.preconditioner_band as usize, r.buckled.as_ref().unwrap().states[0].len());
     let tip = r.rod.positions(&p.state).last().copied().unwrap();
-    assert!((xyz[xyz.len() - 1] - tip[2]).abs() < 1e-12 * tip[2].abs() && (xyz[xyz.len() - 1] - out.extension).abs() < 1e-12);
+    assert!(
+        (xyz[xyz.len() - 1] - tip[2]).abs() < 1e-12 * tip[2].abs()
+            && (xyz[xyz.len() - 1] - out.extension).abs() < 1e-12
+    );
     // The direct solver agrees (7e-10 nm measured on the shape).
     es.solver = EquilibriumSolver::Direct as i32;
     let mut direct = Equilibrium::default();
-    assert_eq!(unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut direct, std::ptr::null_mut(), 0, 0) }, 0, "{}", last_error());
+    assert_eq!(
+        unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut direct, std::ptr::null_mut(), 0, 0) },
+        0,
+        "{}",
+        last_error()
+    );
     assert!(rel(direct.torque, out.torque) < 1e-9 && direct.linear_iterations == 0 && direct.preconditioner_band == 0);
     // Validation by name; nothing written on failure.
     let before = out;
     es.solver = 7;
-    assert_eq!(unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut out, std::ptr::null_mut(), 0, 0) }, Status::ErrOutOfRange.code());
+    assert_eq!(
+        unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut out, std::ptr::null_mut(), 0, 0) },
+        Status::ErrOutOfRange.code()
+    );
     assert!(last_error().contains("spec.solver"), "{}", last_error());
     es.solver = EquilibriumSolver::NewtonKrylov as i32;
     es.residual_tol = f64::NAN;
@@ -113,13 +239,28 @@ fn supercoil_solve_point_through_the_c_abi() {
     assert!(last_error().contains("spec.residual_tol"), "{}", last_error());
     es.residual_tol = 1e-10;
     es.discrete_base_pairs = 2;
-    assert_eq!(unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut out, std::ptr::null_mut(), 0, 0) }, Status::ErrOutOfRange.code());
+    assert_eq!(
+        unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut out, std::ptr::null_mut(), 0, 0) },
+        Status::ErrOutOfRange.code()
+    );
     es.discrete_base_pairs = 1;
-    assert_eq!(unsafe { rodkit_supercoil_solve_point(run, info.points, &es, &mut out, std::ptr::null_mut(), 0, 0) }, Status::ErrInvalidDimension.code());
+    assert_eq!(
+        unsafe { rodkit_supercoil_solve_point(run, info.points, &es, &mut out, std::ptr::null_mut(), 0, 0) },
+        Status::ErrInvalidDimension.code()
+    );
     assert!(last_error().contains("point"), "{}", last_error());
-    assert_eq!(unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut out, xyz.as_mut_ptr(), 3, info.nodes - 1) }, Status::ErrInvalidDimension.code());
-    assert_eq!(unsafe { rodkit_supercoil_solve_point(std::ptr::null(), last, &es, &mut out, std::ptr::null_mut(), 0, 0) }, Status::ErrNullPointer.code());
-    assert_eq!(unsafe { rodkit_supercoil_solve_point(run, last, std::ptr::null(), &mut out, std::ptr::null_mut(), 0, 0) }, Status::ErrNullPointer.code());
+    assert_eq!(
+        unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut out, xyz.as_mut_ptr(), 3, info.nodes - 1) },
+        Status::ErrInvalidDimension.code()
+    );
+    assert_eq!(
+        unsafe { rodkit_supercoil_solve_point(std::ptr::null(), last, &es, &mut out, std::ptr::null_mut(), 0, 0) },
+        Status::ErrNullPointer.code()
+    );
+    assert_eq!(
+        unsafe { rodkit_supercoil_solve_point(run, last, std::ptr::null(), &mut out, std::ptr::null_mut(), 0, 0) },
+        Status::ErrNullPointer.code()
+    );
     assert_eq!((out.torque, out.shift), (before.torque, before.shift));
     unsafe { rodkit_supercoil_free(run) };
 }
@@ -158,13 +299,19 @@ fn torque_clamp_supercoil_through_the_c_abi() {
     let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-300);
     assert_eq!(points.len(), r.points.len());
     for (c, p) in points.iter().zip(&r.points) {
-        assert!(rel(c.turns, p.observables.turns) < 1e-12 && rel(c.torque, p.observables.torque) < 1e-12, "{c:?} vs {p:?}");
+        assert!(
+            rel(c.turns, p.observables.turns) < 1e-12 && rel(c.torque, p.observables.torque) < 1e-12,
+            "{c:?} vs {p:?}"
+        );
         // The torque clamp's turns (read from the end rotation, followed by
         // continuity) are the shape's linking number (writhe quadrature 1e-4).
         assert!((c.twist + c.writhe - c.turns).abs() < 1e-4, "Tw + Wr {} vs turns {}", c.twist + c.writhe, c.turns);
     }
     let (phi_b, m_b) = r.buckling.unwrap();
-    assert!(rel(info.buckling_turns, phi_b / (2.0 * std::f64::consts::PI)) < 1e-12 && rel(info.buckling_torque, m_b) < 1e-12);
+    assert!(
+        rel(info.buckling_turns, phi_b / (2.0 * std::f64::consts::PI)) < 1e-12
+            && rel(info.buckling_torque, m_b) < 1e-12
+    );
     let rot = run_scene(&scene, &SupercoilSettings { max_steps: 5, ..settings }).unwrap().buckling.unwrap();
     assert!(rel(phi_b, rot.0) < 1e-6 && rel(m_b, rot.1) < 1e-6, "torque clamp {:?} vs rotation {rot:?}", (phi_b, m_b));
     // A buckled point re-solved at its torque, same model.
@@ -174,10 +321,21 @@ fn torque_clamp_supercoil_through_the_c_abi() {
     let mut es = unsafe { es.assume_init() };
     es.solver = EquilibriumSolver::Direct as i32;
     let mut out = Equilibrium::default();
-    assert_eq!(unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut out, std::ptr::null_mut(), 0, 0) }, 0, "{}", last_error());
+    assert_eq!(
+        unsafe { rodkit_supercoil_solve_point(run, last, &es, &mut out, std::ptr::null_mut(), 0, 0) },
+        0,
+        "{}",
+        last_error()
+    );
     let p = points[last as usize];
     assert_eq!(p.branch, 1);
-    println!("re-solved: shift {:e} nm, turns {} vs {}, torque {} vs {}", out.shift, out.turns, p.turns, out.torque, p.torque);
-    assert!(out.shift < 1e-6 && (out.turns - p.turns).abs() < 1e-8 && rel(out.torque, p.torque) < 1e-8, "{out:?} vs {p:?}");
+    println!(
+        "re-solved: shift {:e} nm, turns {} vs {}, torque {} vs {}",
+        out.shift, out.turns, p.turns, out.torque, p.torque
+    );
+    assert!(
+        out.shift < 1e-6 && (out.turns - p.turns).abs() < 1e-8 && rel(out.torque, p.torque) < 1e-8,
+        "{out:?} vs {p:?}"
+    );
     unsafe { rodkit_supercoil_free(run) };
 }

@@ -96,7 +96,10 @@ fn kernels_match_rust_and_differences() {
     let mut r = vec![0.0; n as usize];
     assert_eq!(unsafe { rodkit_rod_residual(rod, x.as_ptr(), n, lambda, r.as_mut_ptr()) }, 0);
     let mut nnz = 0;
-    assert_eq!(unsafe { rodkit_rod_jacobian_pattern(rod, ptr::null_mut(), ptr::null_mut(), 0, &mut nnz) }, Status::InfoTruncated.code());
+    assert_eq!(
+        unsafe { rodkit_rod_jacobian_pattern(rod, ptr::null_mut(), ptr::null_mut(), 0, &mut nnz) },
+        Status::InfoTruncated.code()
+    );
     let mut cp = vec![0i64; n as usize + 1];
     let mut ri = vec![0i64; nnz as usize];
     assert_eq!(unsafe { rodkit_rod_jacobian_pattern(rod, cp.as_mut_ptr(), ri.as_mut_ptr(), nnz, &mut nnz) }, 0);
@@ -136,7 +139,10 @@ fn kernels_match_rust_and_differences() {
         assert!((dy[k] - want[k]).abs() < 1e-15, "dy[{k}] = {}", dy[k]);
     }
     // Bad lengths are statuses.
-    assert_eq!(unsafe { rodkit_rod_residual(rod, x.as_ptr(), n - 1, lambda, r.as_mut_ptr()) }, Status::ErrInvalidDimension.code());
+    assert_eq!(
+        unsafe { rodkit_rod_residual(rod, x.as_ptr(), n - 1, lambda, r.as_mut_ptr()) },
+        Status::ErrInvalidDimension.code()
+    );
     unsafe { rodkit_rod_free(rod) };
 }
 
@@ -178,7 +184,8 @@ fn continuation_statuses_and_records() {
     unsafe { rodkit_branch_free(b) };
     // Cancelled by the callback after 3 points.
     let mut b = ptr::null_mut();
-    let st = unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, Some(stop_after_three), ptr::null_mut(), &mut b) };
+    let st =
+        unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, Some(stop_after_three), ptr::null_mut(), &mut b) };
     assert_eq!(st, Status::InfoCancelled.code());
     unsafe { rodkit_branch_summary(b, &mut info) };
     assert_eq!((info.records, info.stop), (3, BranchStop::Cancelled as i32));
@@ -187,7 +194,10 @@ fn continuation_statuses_and_records() {
     o.max_steps = 1;
     o.method = ContinuationMethod::Newton as i32;
     let mut b = ptr::null_mut();
-    assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) }, Status::InfoStepLimit.code());
+    assert_eq!(
+        unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) },
+        Status::InfoStepLimit.code()
+    );
     unsafe { rodkit_branch_free(b) };
     unsafe { rodkit_rod_free(rod) };
 }
@@ -220,7 +230,12 @@ fn end_controlled(supports: RodSupports, twist: f64, elements: i64, target: f64)
 fn greenhill_through_the_c_abi() {
     let (rod, o) = end_controlled(RodSupports::Twisted, 4.0, 16, 0.99);
     let mut b = ptr::null_mut();
-    assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) }, 0, "{}", last_error());
+    assert_eq!(
+        unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) },
+        0,
+        "{}",
+        last_error()
+    );
     let mut bif = Bifurcation::default();
     let mut count = 0;
     assert_eq!(unsafe { rodkit_branch_bifurcations(b, rod, &mut bif, 1, &mut count) }, 0);
@@ -254,10 +269,20 @@ fn torque_clamp_through_the_c_abi() {
     o.samples = loads.as_ptr();
     o.sample_count = loads.len() as i64;
     let mut b = ptr::null_mut();
-    assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) }, 0, "{}", last_error());
+    assert_eq!(
+        unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) },
+        0,
+        "{}",
+        last_error()
+    );
     // The straight rod's twist: φ = M L / C = 2M (C = 0.5, L = 1), exact.
     let straight = |r: &BranchRecord, what: &str| {
-        assert!((r.end_rotation - r.lambda / 0.5).abs() < 1e-9 * (1.0 + r.end_rotation.abs()), "{what}: φ {} at M {}", r.end_rotation, r.lambda);
+        assert!(
+            (r.end_rotation - r.lambda / 0.5).abs() < 1e-9 * (1.0 + r.end_rotation.abs()),
+            "{what}: φ {} at M {}",
+            r.end_rotation,
+            r.lambda
+        );
     };
     let records = |b: *mut Branch| {
         let mut info = BranchInfo::default();
@@ -281,7 +306,11 @@ fn torque_clamp_through_the_c_abi() {
     let mut b2 = ptr::null_mut();
     assert_eq!(unsafe { rodkit_branch_resume(rod, b, &o, None, ptr::null_mut(), &mut b2) }, 0, "{}", last_error());
     let resumed = records(b2);
-    assert!(resumed.last().unwrap().end_rotation > 4.0 * std::f64::consts::PI, "{}", resumed.last().unwrap().end_rotation);
+    assert!(
+        resumed.last().unwrap().end_rotation > 4.0 * std::f64::consts::PI,
+        "{}",
+        resumed.last().unwrap().end_rotation
+    );
     resumed.iter().for_each(|r| straight(r, "resumed record"));
     // Greenhill's critical end moment for the clamped Kirchhoff rod.
     let mut bif = Bifurcation::default();
@@ -323,11 +352,17 @@ fn dense_samples_and_branch_ownership() {
     let loads = [0.5, 1.0, 1.5, 2.0, 2.5, 3.0];
     o.samples = loads.as_ptr();
     o.sample_count = loads.len() as i64;
-    for (method, pade) in [(ContinuationMethod::Anm, 0), (ContinuationMethod::Anm, 1), (ContinuationMethod::Newton, 0)] {
+    for (method, pade) in [(ContinuationMethod::Anm, 0), (ContinuationMethod::Anm, 1), (ContinuationMethod::Newton, 0)]
+    {
         o.method = method as i32;
         o.anm_pade = pade;
         let mut b = ptr::null_mut();
-        assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) }, 0, "{}", last_error());
+        assert_eq!(
+            unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) },
+            0,
+            "{}",
+            last_error()
+        );
         let mut info = BranchInfo::default();
         assert_eq!(unsafe { rodkit_branch_summary(b, &mut info) }, 0);
         assert_eq!((info.samples, info.missed_samples), (6, 0));
@@ -343,7 +378,10 @@ fn dense_samples_and_branch_ownership() {
             // (0, −(1 − cos κ)/κ, sin κ/κ) (the sign of y from d2 = e2
             // turning towards −e3… checked by magnitude and z).
             let (ty, tz) = ((1.0 - l.cos()) / l, l.sin() / l);
-            assert!(s.tip_x.abs() < 1e-9 && (s.tip_y.abs() - ty).abs() < 1e-9 && (s.tip_z - tz).abs() < 1e-9, "{method:?} Λ {l}: {s:?}");
+            assert!(
+                s.tip_x.abs() < 1e-9 && (s.tip_y.abs() - ty).abs() < 1e-9 && (s.tip_z - tz).abs() < 1e-9,
+                "{method:?} Λ {l}: {s:?}"
+            );
         }
         let mut x = vec![0.0; info.state_length as usize];
         assert_eq!(unsafe { rodkit_branch_sample_state(b, 5, x.as_mut_ptr(), info.state_length) }, 0);
@@ -354,23 +392,35 @@ fn dense_samples_and_branch_ownership() {
         s2.stretch = 3e4;
         let other = new_rod(&s2).unwrap();
         let mut b2 = ptr::null_mut();
-        assert_eq!(unsafe { rodkit_branch_resume(other, b, &o, None, ptr::null_mut(), &mut b2) }, Status::ErrOutOfRange.code());
+        assert_eq!(
+            unsafe { rodkit_branch_resume(other, b, &o, None, ptr::null_mut(), &mut b2) },
+            Status::ErrOutOfRange.code()
+        );
         assert!(last_error().contains("another rod"), "{}", last_error());
         assert!(b2.is_null());
         let mut xyz = vec![0.0; 15];
-        assert_eq!(unsafe { rodkit_branch_positions(b, other, 0, xyz.as_mut_ptr(), 3, 5) }, Status::ErrOutOfRange.code());
+        assert_eq!(
+            unsafe { rodkit_branch_positions(b, other, 0, xyz.as_mut_ptr(), 3, 5) },
+            Status::ErrOutOfRange.code()
+        );
         unsafe { rodkit_rod_free(other) };
         unsafe { rodkit_branch_free(b) };
     }
     o.method = ContinuationMethod::Anm as i32;
     o.anm_pade = 2;
     let mut b = ptr::null_mut();
-    assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) }, Status::ErrOutOfRange.code());
+    assert_eq!(
+        unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) },
+        Status::ErrOutOfRange.code()
+    );
     assert!(last_error().contains("options.anm_pade"), "{}", last_error());
     o.anm_pade = 0;
     // Sample arrays: NULL with a count, non-finite loads.
     o.samples = ptr::null();
-    assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) }, Status::ErrNullPointer.code());
+    assert_eq!(
+        unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) },
+        Status::ErrNullPointer.code()
+    );
     assert!(last_error().contains("options.samples"), "{}", last_error());
     let bad = [1.0, f64::NAN];
     o.samples = bad.as_ptr();
@@ -395,7 +445,12 @@ fn scaling_override() {
     o.method = ContinuationMethod::Newton as i32;
     let tip_and_steps = |o: &ContinuationOptions| {
         let mut b = ptr::null_mut();
-        assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, o, None, ptr::null_mut(), &mut b) }, 0, "{}", last_error());
+        assert_eq!(
+            unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, o, None, ptr::null_mut(), &mut b) },
+            0,
+            "{}",
+            last_error()
+        );
         let mut info = BranchInfo::default();
         unsafe { rodkit_branch_summary(b, &mut info) };
         let mut recs = vec![BranchRecord::default(); info.records as usize];
@@ -420,13 +475,18 @@ fn scaling_override() {
     println!("steps: default scaling {steps_default}, Λ scale 100: {steps_big}");
     assert_ne!(steps_default, steps_big, "the scaling changes the arc length, hence the steps");
     o.scaling_count = n;
-    assert!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut ptr::null_mut()) } < 0);
+    assert!(
+        unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut ptr::null_mut()) } < 0
+    );
     assert!(last_error().contains("options.scaling_count"), "{}", last_error());
     let mut bad = ones.clone();
     bad[3] = 0.0;
     o.scaling = bad.as_ptr();
     o.scaling_count = n + 1;
-    assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut ptr::null_mut()) }, Status::ErrNotPositive.code());
+    assert_eq!(
+        unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut ptr::null_mut()) },
+        Status::ErrNotPositive.code()
+    );
     assert!(last_error().contains("options.scaling[3]"), "{}", last_error());
     unsafe { rodkit_rod_free(rod) };
 }

@@ -32,7 +32,15 @@ fn svk_spec() -> TubeSpec {
 
 fn rust_scene() -> TubeScene {
     let o = Orthotropic::new(10.0, 2.0, 1.5, 0.35, 0.3, 0.4, 1.2, 0.8, 0.6).unwrap();
-    TubeScene::new(0.6, 1.4, WallLaw::SaintVenantKirchhoff(SaintVenantKirchhoff::new(o, 1.7, false)), TubeModel::Auto, 1e-10, None).unwrap()
+    TubeScene::new(
+        0.6,
+        1.4,
+        WallLaw::SaintVenantKirchhoff(SaintVenantKirchhoff::new(o, 1.7, false)),
+        TubeModel::Auto,
+        1e-10,
+        None,
+    )
+    .unwrap()
 }
 
 fn new_tube(spec: &TubeSpec) -> Result<*mut Tube, (i32, String)> {
@@ -91,7 +99,10 @@ fn solve_profile_and_linear_results_equal_the_rust_scene() {
     let mut st = TubeState::default();
     assert_eq!(unsafe { rodkit_tube_solve(tube, &l, &mut st) }, 0);
     let (rust, model) = rust_scene().solve(&Loading::torsion_free_stretch(1.2)).unwrap();
-    assert_eq!((st.twist, st.deformed_inner_radius, st.applied_force), (rust.twist, rust.deformed_inner_radius, rust.applied_force));
+    assert_eq!(
+        (st.twist, st.deformed_inner_radius, st.applied_force),
+        (rust.twist, rust.deformed_inner_radius, rust.applied_force)
+    );
     assert_eq!(st.model, model as i32);
     assert_eq!(st.model, TubeModel::Thick as i32, "a thick wall at 1e-10 needs the wall ODE");
 
@@ -102,12 +113,38 @@ fn solve_profile_and_linear_results_equal_the_rust_scene() {
     let n = count as usize;
     let mut cols = vec![vec![0.0; n]; 6];
     let [a, b, c, d, e, f] = &mut cols[..] else { unreachable!() };
-    let st2 = unsafe { rodkit_tube_profile(tube, &l, n as i64, a.as_mut_ptr(), b.as_mut_ptr(), c.as_mut_ptr(), d.as_mut_ptr(), e.as_mut_ptr(), f.as_mut_ptr(), &mut count) };
+    let st2 = unsafe {
+        rodkit_tube_profile(
+            tube,
+            &l,
+            n as i64,
+            a.as_mut_ptr(),
+            b.as_mut_ptr(),
+            c.as_mut_ptr(),
+            d.as_mut_ptr(),
+            e.as_mut_ptr(),
+            f.as_mut_ptr(),
+            &mut count,
+        )
+    };
     assert_eq!(st2, 0);
     assert_eq!(b, &rust.profile.radius);
     assert_eq!(c, &rust.profile.sigma_rr);
     assert_eq!(f, &rust.profile.sigma_tz);
-    let short = unsafe { rodkit_tube_profile(tube, &l, 3, a.as_mut_ptr(), b.as_mut_ptr(), c.as_mut_ptr(), d.as_mut_ptr(), e.as_mut_ptr(), f.as_mut_ptr(), &mut count) };
+    let short = unsafe {
+        rodkit_tube_profile(
+            tube,
+            &l,
+            3,
+            a.as_mut_ptr(),
+            b.as_mut_ptr(),
+            c.as_mut_ptr(),
+            d.as_mut_ptr(),
+            e.as_mut_ptr(),
+            f.as_mut_ptr(),
+            &mut count,
+        )
+    };
     assert_eq!(short, Status::ErrInvalidDimension.code());
 
     let mut k = [0.0; 9];
@@ -137,14 +174,24 @@ fn sweep_reports_progress_and_cancels_cleanly() {
     let mut calls: Vec<(i64, i64)> = vec![];
     let mut done = -1i64;
     let st = unsafe {
-        rodkit_tube_sweep(tube, loadings.as_ptr(), 10, states.as_mut_ptr(), Some(stop_after_three), &mut calls as *mut _ as *mut c_void, &mut done)
+        rodkit_tube_sweep(
+            tube,
+            loadings.as_ptr(),
+            10,
+            states.as_mut_ptr(),
+            Some(stop_after_three),
+            &mut calls as *mut _ as *mut c_void,
+            &mut done,
+        )
     };
     assert_eq!(st, Status::InfoCancelled.code());
     assert_eq!(done, 3);
     assert_eq!(calls, vec![(1, 10), (2, 10), (3, 10)]);
     assert!(states[2].stretch == 1.04 && states[3].stretch == 0.0);
     // Without a callback: all states, equal to single solves on the sweep's grid.
-    let st = unsafe { rodkit_tube_sweep(tube, loadings.as_ptr(), 10, states.as_mut_ptr(), None, ptr::null_mut(), &mut done) };
+    let st = unsafe {
+        rodkit_tube_sweep(tube, loadings.as_ptr(), 10, states.as_mut_ptr(), None, ptr::null_mut(), &mut done)
+    };
     assert_eq!((st, done), (0, 10));
     let mut single = TubeState::default();
     assert_eq!(unsafe { rodkit_tube_solve(tube, &loadings[9], &mut single) }, 0);
@@ -152,7 +199,8 @@ fn sweep_reports_progress_and_cancels_cleanly() {
     // Mixed kinds: a clear status naming the problem.
     let mut mixed = loadings.clone();
     mixed[4].torsion_control = TorsionControl::Twist as i32;
-    let st = unsafe { rodkit_tube_sweep(tube, mixed.as_ptr(), 10, states.as_mut_ptr(), None, ptr::null_mut(), &mut done) };
+    let st =
+        unsafe { rodkit_tube_sweep(tube, mixed.as_ptr(), 10, states.as_mut_ptr(), None, ptr::null_mut(), &mut done) };
     assert_eq!(st, Status::ErrOutOfRange.code());
     assert!(last_error().contains("kinds"), "{}", last_error());
     unsafe { rodkit_tube_free(tube) };

@@ -9,9 +9,9 @@ mod charged;
 use charged::coiled_state;
 use rodkit::continuation::newton::Start;
 use rodkit::continuation::Options;
+use rodkit::electrostatics::discrete;
 use rodkit::electrostatics::rod::{ChargedRod, RodCharge};
 use rodkit::electrostatics::supercoil::{self, DnaScene};
-use rodkit::electrostatics::discrete;
 use rodkit::rod::model::Rod;
 
 /// 200 bp at 0.01 M on 20 elements (3.4 nm), base pairs at 0.34 nm, a
@@ -132,7 +132,10 @@ fn straight_rod_energy_is_the_discrete_sum() {
     let r: Vec<[f64; 3]> = s.iter().map(|&v| [0.0, 0.0, v]).collect();
     let q = vec![charge.line_charge * b; n];
     let reference = discrete::energy(&r, &q, &s, &charge.screening, None);
-    println!("straight 300 bp: rod {all:.12e}, discrete {reference:.12e}, cutoff {cut:.12e} ({:e})", (cut - all).abs() / all);
+    println!(
+        "straight 300 bp: rod {all:.12e}, discrete {reference:.12e}, cutoff {cut:.12e} ({:e})",
+        (cut - all).abs() / all
+    );
     assert!((all - reference).abs() < 1e-12 * reference, "{all} vs {reference}");
     assert!((cut - all).abs() < 1e-4 * all, "cutoff {cut} vs {all}");
 }
@@ -149,8 +152,24 @@ fn buckling_point_converges_to_the_continuum() {
     let scene = DnaScene { base_pairs: 300, ..Default::default() };
     let rod = scene.rod(60, 2).unwrap();
     let first = |charge: &RodCharge| {
-        let opts = Options { target_lambda: Some(12.0), residual_tol: 1e-11, initial_step: 0.5, max_step: 1.0, detect_bifurcations: true, max_steps: 200, ..Default::default() };
-        let b = supercoil::follow(&rod, charge, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, None, &opts, |_| true).unwrap();
+        let opts = Options {
+            target_lambda: Some(12.0),
+            residual_tol: 1e-11,
+            initial_step: 0.5,
+            max_step: 1.0,
+            detect_bifurcations: true,
+            max_steps: 200,
+            ..Default::default()
+        };
+        let b = supercoil::follow(
+            &rod,
+            charge,
+            Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
+            None,
+            &opts,
+            |_| true,
+        )
+        .unwrap();
         b.bifurcations.first().expect("a buckling point").lambda
     };
     let continuum = first(&scene.charge());
@@ -166,4 +185,3 @@ fn buckling_point_converges_to_the_continuum() {
     assert!(gaps[1] < gaps[0] && gaps[2] < gaps[1], "gaps do not fall: {gaps:?}");
     assert!(gaps[2] < 0.5 * gaps[0] && gaps[2] < 1e-4, "gap at 0.113 nm: {}", gaps[2]);
 }
-

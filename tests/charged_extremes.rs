@@ -15,8 +15,25 @@ use rodkit::rod::model::{Rod, Supports};
 use rodkit::rod::{Loads, RodLaw};
 
 fn straight(rod: &Rod, charge: &RodCharge, to: f64) -> ChargedBranch {
-    let opts = Options { target_lambda: Some(to), residual_tol: 1e-11, initial_step: 1.0, max_step: 2.0, detect_bifurcations: true, bifurcation_tol: 1e-9, max_steps: 100, ..Default::default() };
-    supercoil::follow(rod, charge, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, None, &opts, |_| true).unwrap()
+    let opts = Options {
+        target_lambda: Some(to),
+        residual_tol: 1e-11,
+        initial_step: 1.0,
+        max_step: 2.0,
+        detect_bifurcations: true,
+        bifurcation_tol: 1e-9,
+        max_steps: 100,
+        ..Default::default()
+    };
+    supercoil::follow(
+        rod,
+        charge,
+        Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
+        None,
+        &opts,
+        |_| true,
+    )
+    .unwrap()
 }
 
 /// The first buckling φ of the uncharged rod (zero charge: the rod's own
@@ -30,12 +47,25 @@ fn uncharged_buckling(rod: &Rod) -> f64 {
 fn stiffened(rod: &Rod, scene: &DnaScene, dk: f64) -> Rod {
     let kt = scene.kt();
     let (kb, c) = (scene.bending_persistence * kt + dk, scene.twist_persistence * kt);
-    Rod::new(RodLaw::kirchhoff(kb, kb, c).unwrap(), rod.length, Loads::default(), Supports::Twisted { tension: scene.tension }, rod.scheme, rod.elements).unwrap()
+    Rod::new(
+        RodLaw::kirchhoff(kb, kb, c).unwrap(),
+        rod.length,
+        Loads::default(),
+        Supports::Twisted { tension: scene.tension },
+        rod.scheme,
+        rod.elements,
+    )
+    .unwrap()
 }
 
 fn finite(b: &ChargedBranch) {
     for (r, x) in b.records.iter().zip(&b.states) {
-        assert!(r.lambda.is_finite() && r.residual.is_finite() && r.residual <= 1e-11, "record at φ {} residual {}", r.lambda, r.residual);
+        assert!(
+            r.lambda.is_finite() && r.residual.is_finite() && r.residual <= 1e-11,
+            "record at φ {} residual {}",
+            r.lambda,
+            r.residual
+        );
         assert!(x.iter().all(|v| v.is_finite()));
     }
 }
@@ -121,8 +151,12 @@ fn strong_charge_is_an_osf_stiffening() {
     let (k, a) = (3.0f64, 0.3f64);
     let osf = 400.0 / 12.0 * (-k * a).exp() * (a * a + 3.0 * a / k + 3.0 / (k * k));
     assert!(dk < osf && (dk - osf).abs() < 1e-3 * osf, "ΔK {dk} vs {osf}");
-    let (phi, phi_osf, phi0) = (b.bifurcations[0].lambda, uncharged_buckling(&stiffened(&rod, &scene, dk)), uncharged_buckling(&rod));
-    println!("strong charge: ΔK {dk} (K_b {}), φ_c {phi}, stiffened uncharged {phi_osf}, bare {phi0}", scene.bending_persistence * scene.kt());
+    let (phi, phi_osf, phi0) =
+        (b.bifurcations[0].lambda, uncharged_buckling(&stiffened(&rod, &scene, dk)), uncharged_buckling(&rod));
+    println!(
+        "strong charge: ΔK {dk} (K_b {}), φ_c {phi}, stiffened uncharged {phi_osf}, bare {phi0}",
+        scene.bending_persistence * scene.kt()
+    );
     assert!((phi - phi_osf).abs() < 2e-3 * phi_osf, "{phi} vs {phi_osf}");
     assert!(phi - phi0 > 10.0 * (phi - phi_osf).abs());
 }
@@ -166,8 +200,23 @@ fn long_rod() {
     let rod = scene.rod(1000, 2).unwrap();
     let mut charge = scene.charge();
     charge.cutoff_tolerance = Some(1e-3);
-    let opts = Options { target_lambda: Some(8.0 * std::f64::consts::PI), residual_tol: 1e-10, initial_step: 2.0, max_step: 4.0, max_steps: 200, ..Default::default() };
-    let b = supercoil::follow(&rod, &charge, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, None, &opts, |_| true).unwrap();
+    let opts = Options {
+        target_lambda: Some(8.0 * std::f64::consts::PI),
+        residual_tol: 1e-10,
+        initial_step: 2.0,
+        max_step: 4.0,
+        max_steps: 200,
+        ..Default::default()
+    };
+    let b = supercoil::follow(
+        &rod,
+        &charge,
+        Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
+        None,
+        &opts,
+        |_| true,
+    )
+    .unwrap();
     assert_eq!(b.stop, rodkit::continuation::Stop::Target);
     let (r, x) = (b.records.last().unwrap(), b.states.last().unwrap());
     let c = rod.law.stiffness[(2, 2)];

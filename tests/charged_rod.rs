@@ -6,12 +6,12 @@
 mod charged;
 
 use charged::coiled_state;
-use rodkit::continuation::{Options, Problem};
 use rodkit::continuation::newton::Start;
+use rodkit::continuation::{Options, Problem};
 use rodkit::electrostatics::rod::{ChargedRod, RodCharge};
+use rodkit::electrostatics::supercoil::ChargedBranch;
 use rodkit::electrostatics::supercoil::{self, DnaScene};
 use rodkit::electrostatics::{energy, EnergyQuadrature, HermiteCurve, LineCharge};
-use rodkit::electrostatics::supercoil::ChargedBranch;
 use rodkit::rod::kinematics::rotation;
 use rodkit::rod::model::Rod;
 
@@ -54,11 +54,20 @@ fn force_is_minus_the_energy_gradient() {
     let offsets: Vec<usize> = (0..rod.elements).flat_map(|e| [rod.node(e) + 13, rod.node(e) + 26]).collect();
     // Pair distances span the switch and the hard core.
     let r: Vec<[f64; 3]> = offsets.iter().map(|&o| [x[o], x[o + 1], x[o + 2]]).collect();
-    let dist = |i: usize, j: usize| ((r[i][0] - r[j][0]).powi(2) + (r[i][1] - r[j][1]).powi(2) + (r[i][2] - r[j][2]).powi(2)).sqrt();
+    let dist = |i: usize, j: usize| {
+        ((r[i][0] - r[j][0]).powi(2) + (r[i][1] - r[j][1]).powi(2) + (r[i][2] - r[j][2]).powi(2)).sqrt()
+    };
     let n = r.len();
-    let far_pairs: Vec<f64> = (0..n).flat_map(|i| (0..n).map(move |j| (i, j))).filter(|&(i, j)| i / 2 + 2 < j / 2).map(|(i, j)| dist(i, j)).collect();
+    let far_pairs: Vec<f64> = (0..n)
+        .flat_map(|i| (0..n).map(move |j| (i, j)))
+        .filter(|&(i, j)| i / 2 + 2 < j / 2)
+        .map(|(i, j)| dist(i, j))
+        .collect();
     assert!(far_pairs.iter().any(|&d| d > on && d < off), "no pair in the switch ({on}, {off})");
-    assert!(far_pairs.iter().any(|&d| d < rodkit::electrostatics::rod::HARD_CORE_RANGE * charge.screening.a), "no pair in the hard core");
+    assert!(
+        far_pairs.iter().any(|&d| d < rodkit::electrostatics::rod::HARD_CORE_RANGE * charge.screening.a),
+        "no pair in the hard core"
+    );
     let mut worst = 0.0f64;
     for (j, &o) in offsets.iter().enumerate() {
         for c in 0..3 {
@@ -108,8 +117,16 @@ fn threads_identical(base_pairs: Option<f64>) {
         out.push((r, jx));
     }
     for k in 1..3 {
-        assert!(out[k].0.iter().zip(&out[0].0).all(|(a, b)| a.to_bits() == b.to_bits()), "{base_pairs:?}: residual differs with {} threads", k + 1);
-        assert!(out[k].1.iter().zip(&out[0].1).all(|(a, b)| a.to_bits() == b.to_bits()), "{base_pairs:?}: Jacobian differs with {} threads", k + 1);
+        assert!(
+            out[k].0.iter().zip(&out[0].0).all(|(a, b)| a.to_bits() == b.to_bits()),
+            "{base_pairs:?}: residual differs with {} threads",
+            k + 1
+        );
+        assert!(
+            out[k].1.iter().zip(&out[0].1).all(|(a, b)| a.to_bits() == b.to_bits()),
+            "{base_pairs:?}: Jacobian differs with {} threads",
+            k + 1
+        );
     }
 }
 
@@ -122,8 +139,24 @@ fn scene_300() -> (DnaScene, Rod, RodCharge) {
 }
 
 fn straight_branch(rod: &Rod, charge: &RodCharge, to: f64) -> ChargedBranch {
-    let opts = Options { target_lambda: Some(to), residual_tol: 1e-11, initial_step: 0.5, max_step: 1.0, detect_bifurcations: true, max_steps: 200, ..Default::default() };
-    supercoil::follow(rod, charge, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, None, &opts, |_| true).unwrap()
+    let opts = Options {
+        target_lambda: Some(to),
+        residual_tol: 1e-11,
+        initial_step: 0.5,
+        max_step: 1.0,
+        detect_bifurcations: true,
+        max_steps: 200,
+        ..Default::default()
+    };
+    supercoil::follow(
+        rod,
+        charge,
+        Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
+        None,
+        &opts,
+        |_| true,
+    )
+    .unwrap()
 }
 
 /// Zero charge is the uncharged rod: the same residual (the rod's system at
@@ -149,10 +182,21 @@ fn zero_charge_is_the_uncharged_rod() {
     }
     assert_eq!(r1[c], x[c] - (0.5 * phi).cos());
     let charged = straight_branch(&rod, &charge, 40.0);
-    let opts = Options { target_lambda: Some(0.999), residual_tol: 1e-11, initial_step: 0.1, max_step: 0.2, detect_bifurcations: true, max_steps: 400, ..Default::default() };
+    let opts = Options {
+        target_lambda: Some(0.999),
+        residual_tol: 1e-11,
+        initial_step: 0.1,
+        max_step: 0.2,
+        detect_bifurcations: true,
+        max_steps: 400,
+        ..Default::default()
+    };
     let plain = rod.continue_branch(None, 0.0, true, &opts, rodkit::rod::branch::Method::Newton, |_| true).unwrap();
     // φ = 2 atan2(Λ, c) is known modulo 4π (Λ = sin(φ/2) passed its fold at φ = π).
-    let phi_plain = rod.end_rotation(&plain.bifurcations[0].x, plain.bifurcations[0].lambda).unwrap().rem_euclid(4.0 * std::f64::consts::PI);
+    let phi_plain = rod
+        .end_rotation(&plain.bifurcations[0].x, plain.bifurcations[0].lambda)
+        .unwrap()
+        .rem_euclid(4.0 * std::f64::consts::PI);
     let phi_charged = charged.bifurcations[0].lambda;
     println!("buckling: uncharged solver φ = {phi_plain}, charged solver with λ = 0: {phi_charged}");
     assert!((phi_plain - phi_charged).abs() < 1e-8 * phi_plain, "{phi_plain} vs {phi_charged}");
@@ -164,7 +208,8 @@ fn buckled_300() -> &'static (ChargedBranch, ChargedBranch) {
     B.get_or_init(|| {
         let (_, rod, charge) = scene_300();
         let straight = straight_branch(&rod, &charge, 12.0);
-        let opts = Options { residual_tol: 1e-11, initial_step: 0.05, max_step: 0.5, max_steps: 40, ..Default::default() };
+        let opts =
+            Options { residual_tol: 1e-11, initial_step: 0.05, max_step: 0.5, max_steps: 40, ..Default::default() };
         let b = supercoil::switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap();
         (straight, b)
     })
@@ -174,7 +219,14 @@ fn buckled_300() -> &'static (ChargedBranch, ChargedBranch) {
 fn gibbs_at(rod: &Rod, charge: &RodCharge, phase: Option<(usize, f64)>, x: &[f64], phi: f64, tension: f64) -> f64 {
     let mut p = ChargedRod::new(rod, charge, phase, x).unwrap();
     let opts = Options { residual_tol: 1e-12, max_steps: 0, ..Default::default() };
-    let b = rodkit::continuation::newton::continue_newton(&mut p, Start::Point { x: x.to_vec(), lambda: phi, increasing: true }, &opts, |x, _| x.to_vec(), |_| true).unwrap();
+    let b = rodkit::continuation::newton::continue_newton(
+        &mut p,
+        Start::Point { x: x.to_vec(), lambda: phi, increasing: true },
+        &opts,
+        |x, _| x.to_vec(),
+        |_| true,
+    )
+    .unwrap();
     let y = &b.records[0].outputs;
     let e = p.energy(y);
     e.elastic + e.near + e.far + e.hard_core - tension * rod.tip(y)[2]
@@ -193,7 +245,9 @@ fn end_torque_is_the_derivative_of_the_energy() {
     for k in [5, 20, b.records.len() - 1] {
         let (x, phi) = (&b.states[k], b.records[k].lambda);
         let eps = 1e-4;
-        let dg = (gibbs_at(&rod, &charge, b.phase, x, phi + eps, scene.tension) - gibbs_at(&rod, &charge, b.phase, x, phi - eps, scene.tension)) / (2.0 * eps);
+        let dg = (gibbs_at(&rod, &charge, b.phase, x, phi + eps, scene.tension)
+            - gibbs_at(&rod, &charge, b.phase, x, phi - eps, scene.tension))
+            / (2.0 * eps);
         let o = supercoil::observables(&rod, x, phi).unwrap();
         let err = (dg - o.torque).abs() / o.torque.abs();
         println!("φ {phi:.5}: torque {:.8} pN nm, dG/dφ {dg:.8}, relative {err:e}", o.torque);
@@ -209,7 +263,9 @@ fn linking_number_is_the_end_rotation() {
     let (_, rod, _) = scene_300();
     let (straight, b) = buckled_300();
     let mut worst = 0.0f64;
-    for (r, x) in straight.records.iter().zip(&straight.states).step_by(3).chain(b.records.iter().zip(&b.states).step_by(4)) {
+    for (r, x) in
+        straight.records.iter().zip(&straight.states).step_by(3).chain(b.records.iter().zip(&b.states).step_by(4))
+    {
         let o = supercoil::observables(&rod, x, r.lambda).unwrap();
         let e = (o.twist + o.writhe - o.turns).abs();
         worst = worst.max(e);
@@ -243,7 +299,14 @@ fn continuum_energy(rod: &Rod, charge: &RodCharge, x: &[f64]) -> f64 {
         }
     }
     let curve = HermiteCurve::new(s, r, t, false).unwrap();
-    energy(&curve, &LineCharge::Uniform(charge.line_charge), &charge.screening, &EnergyQuadrature { delta: 2.0, order: 8, cutoff: None }).unwrap().total
+    energy(
+        &curve,
+        &LineCharge::Uniform(charge.line_charge),
+        &charge.screening,
+        &EnergyQuadrature { delta: 2.0, order: 8, cutoff: None },
+    )
+    .unwrap()
+    .total
 }
 
 /// The rod's discrete electrostatic energy (stage quadrature, near zone by
@@ -268,12 +331,16 @@ fn rod_energy_matches_the_continuum_energy() {
     let e0 = p0.energy(x0);
     let (kappa, a, l) = (charge.screening.kappa, charge.screening.a, rod.length);
     let e1 = rodkit::electrostatics::special::e1;
-    let exact0 = charge.line_charge.powi(2) * (l * (e1(kappa * a) - e1(kappa * l)) - ((-kappa * a).exp() - (-kappa * l).exp()) / kappa);
+    let exact0 = charge.line_charge.powi(2)
+        * (l * (e1(kappa * a) - e1(kappa * l)) - ((-kappa * a).exp() - (-kappa * l).exp()) / kappa);
     let err0 = (e0.near + e0.far - exact0).abs() / exact0;
     let (c1, c0) = (continuum_energy(&rod, &charge, x), continuum_energy(&rod, &charge, x0));
     let (d_rod, d_ref) = (e.near + e.far - e0.near - e0.far, c1 - c0);
     let err = (d_rod - d_ref).abs() / c0.abs();
-    println!("straight: rod {} vs exact {exact0} ({err0:e}); buckling energy: rod {d_rod} vs continuum {d_ref} ({err:e})", e0.near + e0.far);
+    println!(
+        "straight: rod {} vs exact {exact0} ({err0:e}); buckling energy: rod {d_rod} vs continuum {d_ref} ({err:e})",
+        e0.near + e0.far
+    );
     assert!(err0 < 1e-3, "{err0:e}");
     assert!(err < 1e-4, "{err:e}");
 }
@@ -293,7 +360,8 @@ fn strand_crossing_stops_the_branch_and_a_hard_core_prevents_it() {
     charge.line_charge = 0.0;
     let run = |charge: &RodCharge| {
         let straight = straight_branch(&rod, charge, 12.0);
-        let opts = Options { residual_tol: 1e-10, initial_step: 0.2, max_step: 1.0, max_steps: 100, ..Default::default() };
+        let opts =
+            Options { residual_tol: 1e-10, initial_step: 0.2, max_step: 1.0, max_steps: 100, ..Default::default() };
         supercoil::switch(&rod, charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap()
     };
     let b = run(&charge);
@@ -302,16 +370,21 @@ fn strand_crossing_stops_the_branch_and_a_hard_core_prevents_it() {
     assert_eq!(c.record, b.records.len() - 1);
     // Brute force over all stage pairs with arc-length gap > πa.
     let closest = |x: &[f64]| {
-        let pts: Vec<(f64, [f64; 3])> = (0..rod.elements).flat_map(|e| (0..2).map(move |j| (e, j))).map(|(e, j)| {
-            let o = rod.node(e) + 13 * (1 + j);
-            let s = (e as f64 + [0.5 - 3f64.sqrt() / 6.0, 0.5 + 3f64.sqrt() / 6.0][j]) * rod.element_length();
-            (s, [x[o], x[o + 1], x[o + 2]])
-        }).collect();
+        let pts: Vec<(f64, [f64; 3])> = (0..rod.elements)
+            .flat_map(|e| (0..2).map(move |j| (e, j)))
+            .map(|(e, j)| {
+                let o = rod.node(e) + 13 * (1 + j);
+                let s = (e as f64 + [0.5 - 3f64.sqrt() / 6.0, 0.5 + 3f64.sqrt() / 6.0][j]) * rod.element_length();
+                (s, [x[o], x[o + 1], x[o + 2]])
+            })
+            .collect();
         let mut best = f64::INFINITY;
         for (i, p) in pts.iter().enumerate() {
             for q in &pts[i + 1..] {
                 if (q.0 - p.0).abs() > std::f64::consts::PI * scene.radius {
-                    best = best.min(((p.1[0] - q.1[0]).powi(2) + (p.1[1] - q.1[1]).powi(2) + (p.1[2] - q.1[2]).powi(2)).sqrt());
+                    best = best.min(
+                        ((p.1[0] - q.1[0]).powi(2) + (p.1[1] - q.1[1]).powi(2) + (p.1[2] - q.1[2]).powi(2)).sqrt(),
+                    );
                 }
             }
         }
@@ -320,7 +393,13 @@ fn strand_crossing_stops_the_branch_and_a_hard_core_prevents_it() {
     let d = closest(&b.states[c.record]);
     assert!((d - c.distance).abs() < 1e-12 && d < 2.0 * scene.radius, "crossing at {} (brute force {d})", c.distance);
     assert!(closest(&b.states[c.record - 1]) >= 2.0 * scene.radius, "the previous point already crossed");
-    println!("uncharged: crossing after {} points at distance {:.3} nm (s = {:.1}, {:.1})", b.records.len(), c.distance, c.s1, c.s2);
+    println!(
+        "uncharged: crossing after {} points at distance {:.3} nm (s = {:.1}, {:.1})",
+        b.records.len(),
+        c.distance,
+        c.s1,
+        c.s2
+    );
     charge.hard_core = Some(10.0);
     let h = run(&charge);
     assert!(h.crossing.is_none(), "hard core crossed: {:?}", h.crossing);
@@ -423,7 +502,11 @@ fn torque_clamp_follows_the_rotation_controlled_path() {
     let scene = DnaScene { base_pairs: 300, ..Default::default() };
     let base = supercoil::SupercoilSettings { elements: 40, max_steps: 60, max_turns: 2.2, ..Default::default() };
     let rotation = supercoil::run_scene(&scene, &base).unwrap();
-    let torque = supercoil::run_scene(&scene, &supercoil::SupercoilSettings { control: supercoil::EndControl::Torque, max_steps: 40, ..base.clone() }).unwrap();
+    let torque = supercoil::run_scene(
+        &scene,
+        &supercoil::SupercoilSettings { control: supercoil::EndControl::Torque, max_steps: 40, ..base.clone() },
+    )
+    .unwrap();
     let (br, bt) = (rotation.buckling.unwrap(), torque.buckling.unwrap());
     println!("buckling: rotation control φ {} M {}; torque clamp φ {} M {}", br.0, br.1, bt.0, bt.1);
     assert!((br.0 - bt.0).abs() < 1e-6 * br.0 && (br.1 - bt.1).abs() < 1e-6 * br.1, "{br:?} vs {bt:?}");
@@ -434,11 +517,20 @@ fn torque_clamp_follows_the_rotation_controlled_path() {
     // (twist from the strains, writhe by the Gauss integral: independent;
     // 1e-4 = the writhe quadrature's accuracy at these shapes).
     for p in &torque.points {
-        assert!((p.parameter - p.observables.torque).abs() < 1e-6 * p.parameter.abs().max(1.0), "Λ {} vs torque {}", p.parameter, p.observables.torque);
+        assert!(
+            (p.parameter - p.observables.torque).abs() < 1e-6 * p.parameter.abs().max(1.0),
+            "Λ {} vs torque {}",
+            p.parameter,
+            p.observables.torque
+        );
     }
     for p in rotation.points.iter().chain(&torque.points) {
         let lk = p.observables.twist + p.observables.writhe;
-        assert!((lk - p.phi / (2.0 * std::f64::consts::PI)).abs() < 1e-4, "Tw + Wr {lk} vs turns {}", p.phi / (2.0 * std::f64::consts::PI));
+        assert!(
+            (lk - p.phi / (2.0 * std::f64::consts::PI)).abs() < 1e-4,
+            "Tw + Wr {lk} vs turns {}",
+            p.phi / (2.0 * std::f64::consts::PI)
+        );
     }
     // The rotation-controlled buckled path while M falls: (M, φ, z).
     let mut path: Vec<(f64, f64, f64)> = vec![];
@@ -451,7 +543,11 @@ fn torque_clamp_follows_the_rotation_controlled_path() {
     assert!(path.len() > 20 && path.last().unwrap().0 < 0.2 * br.1, "the rotation path's falling torque: {path:?}");
     let lagrange = |m: f64, k: usize, f: fn(&(f64, f64, f64)) -> f64| -> f64 {
         let pts = &path[k..k + 4];
-        (0..4).map(|i| f(&pts[i]) * (0..4).filter(|&j| j != i).map(|j| (m - pts[j].0) / (pts[i].0 - pts[j].0)).product::<f64>()).sum()
+        (0..4)
+            .map(|i| {
+                f(&pts[i]) * (0..4).filter(|&j| j != i).map(|j| (m - pts[j].0) / (pts[i].0 - pts[j].0)).product::<f64>()
+            })
+            .sum()
     };
     let mut compared = 0;
     let mut worst: (f64, f64) = (0.0, 0.0);
@@ -476,6 +572,9 @@ fn torque_clamp_follows_the_rotation_controlled_path() {
         assert!((p.observables.extension - z).abs() < 0.1, "M {m}: extension {} vs {z}", p.observables.extension);
         compared += 1;
     }
-    println!("{compared} torque-clamp points on the rotation-controlled path (worst {:.1e} rad, {:.1e} nm)", worst.0, worst.1);
+    println!(
+        "{compared} torque-clamp points on the rotation-controlled path (worst {:.1e} rad, {:.1e} nm)",
+        worst.0, worst.1
+    );
     assert!(compared >= 20, "only {compared} comparable points");
 }

@@ -17,7 +17,11 @@ fn circle() -> AssembledSystem {
         vec![x1 * x1 + l * l - 1.0, x2 - x1 * l, x3 - x1 * x2 * l]
     }
     let tape = Arc::new(Tape::record(4, |v| kernel(v)));
-    let block = Block { tape, inputs: vec![Slot::Unknown(0), Slot::Unknown(1), Slot::Unknown(2), Slot::Lambda], rows: vec![0, 1, 2] };
+    let block = Block {
+        tape,
+        inputs: vec![Slot::Unknown(0), Slot::Unknown(1), Slot::Unknown(2), Slot::Lambda],
+        rows: vec![0, 1, 2],
+    };
     AssembledSystem::new(3, vec![block])
 }
 
@@ -27,18 +31,38 @@ fn on_circle(x: &[f64], l: f64) -> f64 {
 
 #[test]
 fn both_engines_pass_the_fold_and_flag_it() {
-    let opts = Options { max_steps: 400, residual_tol: 1e-12, initial_step: 0.05, max_step: 0.2, lambda_range: (-0.5, 2.0), ..Default::default() };
+    let opts = Options {
+        max_steps: 400,
+        residual_tol: 1e-12,
+        initial_step: 0.05,
+        max_step: 0.2,
+        lambda_range: (-0.5, 2.0),
+        ..Default::default()
+    };
     let start = || Start::Point { x: vec![1.0, 0.0, 0.0], lambda: 0.0, increasing: true };
     let mut sys = circle();
     assert_eq!(sys.degree(), 3);
     let newton = continue_newton(&mut sys, start(), &opts, |x, _| x.to_vec(), |_| true).unwrap();
     let mut sys = circle();
-    let anm = continue_anm(&mut sys, start(), &opts, &AnmOptions { order: 20, epsilon: 1e-10, pade: false }, |x, _| x.to_vec(), |_| true).unwrap();
+    let anm = continue_anm(
+        &mut sys,
+        start(),
+        &opts,
+        &AnmOptions { order: 20, epsilon: 1e-10, pade: false },
+        |x, _| x.to_vec(),
+        |_| true,
+    )
+    .unwrap();
     for (name, b) in [("newton", &newton), ("anm", &anm)] {
         assert_eq!(b.stop, Stop::LambdaRange, "{name}");
         // Past the fold: x1 < 0 and Λ back below 0.
         let last = b.records.last().unwrap();
-        assert!(last.outputs[0] < -0.5 && last.lambda < 0.0, "{name}: ended at x1 {} Λ {}", last.outputs[0], last.lambda);
+        assert!(
+            last.outputs[0] < -0.5 && last.lambda < 0.0,
+            "{name}: ended at x1 {} Λ {}",
+            last.outputs[0],
+            last.lambda
+        );
         for r in &b.records {
             assert!(on_circle(&r.outputs, r.lambda) < 1e-11, "{name}: off the branch at Λ {}", r.lambda);
             assert!(r.residual <= 1e-12);
@@ -58,7 +82,13 @@ fn both_engines_pass_the_fold_and_flag_it() {
 
 #[test]
 fn target_lambda_is_hit_exactly_and_resume_continues() {
-    let opts = Options { target_lambda: Some(0.6), residual_tol: 1e-12, initial_step: 0.05, max_step: 0.3, ..Default::default() };
+    let opts = Options {
+        target_lambda: Some(0.6),
+        residual_tol: 1e-12,
+        initial_step: 0.05,
+        max_step: 0.3,
+        ..Default::default()
+    };
     for engine in ["newton", "anm"] {
         let mut sys = circle();
         let start = Start::Point { x: vec![1.0, 0.0, 0.0], lambda: 0.0, increasing: true };
@@ -74,7 +104,8 @@ fn target_lambda_is_hit_exactly_and_resume_continues() {
         // Resume towards Λ = 0.9 on the same branch.
         let opts2 = Options { target_lambda: Some(0.9), ..opts.clone() };
         let mut sys = circle();
-        let b2 = continue_newton(&mut sys, Start::Resume(b.resume.clone()), &opts2, |x, _| x.to_vec(), |_| true).unwrap();
+        let b2 =
+            continue_newton(&mut sys, Start::Resume(b.resume.clone()), &opts2, |x, _| x.to_vec(), |_| true).unwrap();
         assert_eq!(b2.stop, Stop::Target);
         assert!((b2.records.last().unwrap().outputs[0] - (1.0f64 - 0.81).sqrt()).abs() < 1e-12);
     }
@@ -91,10 +122,30 @@ fn bifurcation_flips_the_bordered_determinant() {
         vec![x * l - x * x * x]
     }
     let tape = Arc::new(Tape::record(2, |v| kernel(v)));
-    let mut sys = AssembledSystem::new(1, vec![Block { tape, inputs: vec![Slot::Unknown(0), Slot::Lambda], rows: vec![0] }]);
-    let opts = Options { target_lambda: Some(1.0), residual_tol: 1e-13, initial_step: 0.1, max_step: 0.1, track_singular: true, ..Default::default() };
-    let b = continue_newton(&mut sys, Start::Point { x: vec![0.0], lambda: -1.0, increasing: true }, &opts, |x, _| x.to_vec(), |_| true).unwrap();
-    let flips: Vec<f64> = b.records.windows(2).filter(|w| w[0].bordered_det_sign != w[1].bordered_det_sign).map(|w| 0.5 * (w[0].lambda + w[1].lambda)).collect();
+    let mut sys =
+        AssembledSystem::new(1, vec![Block { tape, inputs: vec![Slot::Unknown(0), Slot::Lambda], rows: vec![0] }]);
+    let opts = Options {
+        target_lambda: Some(1.0),
+        residual_tol: 1e-13,
+        initial_step: 0.1,
+        max_step: 0.1,
+        track_singular: true,
+        ..Default::default()
+    };
+    let b = continue_newton(
+        &mut sys,
+        Start::Point { x: vec![0.0], lambda: -1.0, increasing: true },
+        &opts,
+        |x, _| x.to_vec(),
+        |_| true,
+    )
+    .unwrap();
+    let flips: Vec<f64> = b
+        .records
+        .windows(2)
+        .filter(|w| w[0].bordered_det_sign != w[1].bordered_det_sign)
+        .map(|w| 0.5 * (w[0].lambda + w[1].lambda))
+        .collect();
     assert_eq!(flips.len(), 1);
     assert!(flips[0].abs() < 0.06, "flip near Λ = {}", flips[0]);
     for r in &b.records {
@@ -132,9 +183,24 @@ fn switch_at_a_located_pitchfork_follows_the_new_branch() {
         vec![y * (l - 1.0) - y * y * y]
     }
     let tape = Arc::new(Tape::record(2, |v| kernel(v)));
-    let mut sys = AssembledSystem::new(1, vec![Block { tape, inputs: vec![Slot::Unknown(0), Slot::Lambda], rows: vec![0] }]);
-    let opts = Options { target_lambda: Some(2.0), residual_tol: 1e-13, initial_step: 0.13, max_step: 0.13, detect_bifurcations: true, ..Default::default() };
-    let b = continue_newton(&mut sys, Start::Point { x: vec![0.0], lambda: 0.0, increasing: true }, &opts, |x, _| x.to_vec(), |_| true).unwrap();
+    let mut sys =
+        AssembledSystem::new(1, vec![Block { tape, inputs: vec![Slot::Unknown(0), Slot::Lambda], rows: vec![0] }]);
+    let opts = Options {
+        target_lambda: Some(2.0),
+        residual_tol: 1e-13,
+        initial_step: 0.13,
+        max_step: 0.13,
+        detect_bifurcations: true,
+        ..Default::default()
+    };
+    let b = continue_newton(
+        &mut sys,
+        Start::Point { x: vec![0.0], lambda: 0.0, increasing: true },
+        &opts,
+        |x, _| x.to_vec(),
+        |_| true,
+    )
+    .unwrap();
     assert_eq!(b.bifurcations.len(), 1);
     let bif = &b.bifurcations[0];
     assert!((bif.lambda - 1.0).abs() < 1e-9, "located at {}", bif.lambda);
@@ -142,10 +208,11 @@ fn switch_at_a_located_pitchfork_follows_the_new_branch() {
     let (nx, nl) = &bif.null_vectors[0];
     let start = branch_start(bif, (nx, *nl), 0.05, &scaling);
     let opts = Options { target_lambda: Some(1.5), residual_tol: 1e-13, max_step: 0.1, ..Default::default() };
-    let engines: [&dyn Fn(&mut AssembledSystem) -> rodkit::continuation::Branch; 2] = [
-        &|s| continue_newton(s, Start::Switch(start.clone()), &opts, |x, _| x.to_vec(), |_| true).unwrap(),
-        &|s| continue_anm(s, Start::Switch(start.clone()), &opts, &AnmOptions::default(), |x, _| x.to_vec(), |_| true).unwrap(),
-    ];
+    let engines: [&dyn Fn(&mut AssembledSystem) -> rodkit::continuation::Branch; 2] =
+        [&|s| continue_newton(s, Start::Switch(start.clone()), &opts, |x, _| x.to_vec(), |_| true).unwrap(), &|s| {
+            continue_anm(s, Start::Switch(start.clone()), &opts, &AnmOptions::default(), |x, _| x.to_vec(), |_| true)
+                .unwrap()
+        }];
     for follow in engines {
         let nb = follow(&mut sys);
         assert_eq!(nb.stop, Stop::Target);
@@ -184,7 +251,14 @@ fn nan_residual_is_never_converged() {
     }
     let mut p = Poisoned(circle());
     let opts = Options { max_steps: 100, residual_tol: 1e-12, initial_step: 0.05, max_step: 0.2, ..Default::default() };
-    let b = continue_newton(&mut p, Start::Point { x: vec![1.0, 0.0, 0.0], lambda: 0.0, increasing: true }, &opts, |x, _| x.to_vec(), |_| true).unwrap();
+    let b = continue_newton(
+        &mut p,
+        Start::Point { x: vec![1.0, 0.0, 0.0], lambda: 0.0, increasing: true },
+        &opts,
+        |x, _| x.to_vec(),
+        |_| true,
+    )
+    .unwrap();
     assert_eq!(b.stop, Stop::StepTooSmall);
     assert!(b.records.iter().all(|r| r.residual.is_finite() && r.residual <= 1e-12 && r.lambda <= 0.5));
     assert!(b.records.last().unwrap().lambda > 0.3, "stopped early at {}", b.records.last().unwrap().lambda);

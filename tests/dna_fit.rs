@@ -128,7 +128,10 @@ fn dna_fit_at_t_over_r_0_4() {
     let t = 0.4;
     let nus = [-0.5, -1.0 / 3.0, -0.3, -0.1, 0.0, 0.2, 0.3, 0.4, 0.5, 1.0, 1.5, 2.0];
     println!("DNA thin-wall fit, R = {R} nm, alpha = 60 deg, S = 1100 pN, C = 440 pN nm^2, g = -90 pN nm");
-    println!("{:>5} {:>7} {:>10} {:>10} {:>10} {:>8} {:>14} {:>14}", "t", "nu12", "E1", "E2", "G12", "E2/E1", "turns/pN/10kbp", "deg/pN/bp");
+    println!(
+        "{:>5} {:>7} {:>10} {:>10} {:>10} {:>8} {:>14} {:>14}",
+        "t", "nu12", "E1", "E2", "G12", "E2/E1", "turns/pN/10kbp", "deg/pN/bp"
+    );
     for (tt, nu, res) in fit_family(targets, R, ALPHA, &[t], &nus) {
         assert_eq!(tt, t);
         match res {
@@ -136,7 +139,12 @@ fn dna_fit_at_t_over_r_0_4() {
                 let m = fit.material;
                 println!(
                     "{tt:5.2} {nu:7.3} {:10.3} {:10.3} {:10.3} {:8.4} {:14.6} {:14.6}",
-                    m.e1, m.e2, m.g12, m.e2 / m.e1, fit.twist_rate.turns_per_pn_per_10kbp, fit.twist_rate.degrees_per_pn_per_bp
+                    m.e1,
+                    m.e2,
+                    m.g12,
+                    m.e2 / m.e1,
+                    fit.twist_rate.turns_per_pn_per_10kbp,
+                    fit.twist_rate.degrees_per_pn_per_bp
                 );
                 assert!((-0.16..1.6).contains(&nu), "nu12 = {nu}: unexpected physical fit {m:?}");
                 assert!(fit.intrinsic_twist > 0.0);
@@ -172,7 +180,11 @@ fn dna_fit_at_t_over_r_0_4() {
     let bisect = |mut bad: f64, mut good: f64| {
         for _ in 0..50 {
             let mid = 0.5 * (bad + good);
-            if ok(mid) { good = mid } else { bad = mid }
+            if ok(mid) {
+                good = mid
+            } else {
+                bad = mid
+            }
         }
         good
     };
@@ -190,7 +202,11 @@ fn mirror_image_fits() {
     let dna = DnaTargets::literature();
     let right = fit_thin_wall(dna, R, ALPHA, 0.4, 0.3).unwrap();
     let mirror = fit_thin_wall(DnaTargets { coupling: 90.0, ..dna }, R, -ALPHA, 0.4, 0.3).unwrap();
-    for (x, y) in [(right.material.e1, mirror.material.e1), (right.material.e2, mirror.material.e2), (right.material.g12, mirror.material.g12)] {
+    for (x, y) in [
+        (right.material.e1, mirror.material.e1),
+        (right.material.e2, mirror.material.e2),
+        (right.material.g12, mirror.material.g12),
+    ] {
         assert!(rel(x, y) < 1e-12, "{:?} vs {:?}", right.material, mirror.material);
     }
     assert!(mirror.overwinds && mirror.response.dtwist_dforce < 0.0);
@@ -210,7 +226,10 @@ fn invalid_arguments_give_clear_statuses() {
     // g² ≥ SC: no stable rod, let alone a wall.
     let e = DnaTargets::new(1100.0, 440.0, 700.0).unwrap_err();
     assert_eq!(e.status, Status::ErrNotPositiveDefinite);
-    assert_eq!(status(fit_thin_wall(DnaTargets { coupling: 700.0, ..dna }, R, ALPHA, 0.4, 0.3)), Status::ErrNotPositiveDefinite);
+    assert_eq!(
+        status(fit_thin_wall(DnaTargets { coupling: 700.0, ..dna }, R, ALPHA, 0.4, 0.3)),
+        Status::ErrNotPositiveDefinite
+    );
     // Pitch → angle: tan α = 2πR/p; 3.4 nm and 3.6 nm at R = 1 nm.
     assert!((helix_angle_from_pitch(1.0, 3.4).to_degrees() - 61.58).abs() < 0.01);
     assert!((helix_angle_from_pitch(1.0, 3.6).to_degrees() - 60.19).abs() < 0.01);
@@ -228,11 +247,20 @@ fn isotropic_wall_thick_comparison_matches_lame() {
     let g = e / (2.0 * (1.0 + nu));
     let targets = DnaTargets::new(2.0 * PI * R * t * e, 2.0 * PI * R.powi(3) * t * g, 0.0).unwrap();
     let fit = fit_thin_wall(targets, R, ALPHA, t, nu).unwrap();
-    assert!(rel(fit.material.e1, e) < 1e-10 && rel(fit.material.e2, e) < 1e-10 && rel(fit.material.g12, g) < 1e-10, "{:?}", fit.material);
+    assert!(
+        rel(fit.material.e1, e) < 1e-10 && rel(fit.material.e2, e) < 1e-10 && rel(fit.material.g12, g) < 1e-10,
+        "{:?}",
+        fit.material
+    );
     assert_eq!(fit.response.winding, Winding::Neither);
     let cmp = thick_comparison(&fit, OutOfPlane::default_for(&fit.material)).unwrap();
     let iso = rodkit::tube::Orthotropic::isotropic(e, nu).unwrap();
-    for (a, b) in [(cmp.material.e3, iso.e3), (cmp.material.nu23, iso.nu23), (cmp.material.g23, iso.g23), (cmp.material.g13, iso.g13)] {
+    for (a, b) in [
+        (cmp.material.e3, iso.e3),
+        (cmp.material.nu23, iso.nu23),
+        (cmp.material.g23, iso.g23),
+        (cmp.material.g13, iso.g13),
+    ] {
         assert!(rel(a, b) < 1e-12, "{:?}", cmp.material);
     }
     println!("isotropic thick vs thin at t/R = 0.4: {:?}", cmp.relative_difference);

@@ -79,7 +79,11 @@ impl Centerline for Helix {
         let th = s / w;
         let (sn, cs) = th.sin_cos();
         let rho = self.radius;
-        ([rho * cs, rho * sn, c * th], [-rho * sn / w, rho * cs / w, c / w], [-rho * cs / (w * w), -rho * sn / (w * w), 0.0])
+        (
+            [rho * cs, rho * sn, c * th],
+            [-rho * sn / w, rho * cs / w, c / w],
+            [-rho * cs / (w * w), -rho * sn / (w * w), 0.0],
+        )
     }
     fn breakpoints(&self) -> Vec<f64> {
         breaks(self.l, self.panel)
@@ -90,7 +94,10 @@ impl Centerline for Helix {
 /// fraction: E1(x) = ∫_0^1 e^{−x/u}/u du (u = x/t), composite Gauss–Legendre
 /// with 4 points on 4000 panels (the integrand is smooth and vanishes at 0).
 fn e1_reference(x: f64) -> f64 {
-    let (g, w) = ([-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526], [0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538]);
+    let (g, w) = (
+        [-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526],
+        [0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538],
+    );
     let m = 4000;
     let mut s = 0.0;
     for k in 0..m {
@@ -118,7 +125,13 @@ fn straight_segment_energies_are_exact() {
             l * (e1_reference(kappa * a) - e1_reference(kappa * l)) - ((-kappa * a).exp() - (-kappa * l).exp()) / kappa
         };
         for delta in [0.15, 0.5, 2.0] {
-            let e = energy(&seg, &LineCharge::Uniform(1.0), &Screening { kappa, a }, &EnergyQuadrature { delta, order: 12, cutoff: None }).unwrap();
+            let e = energy(
+                &seg,
+                &LineCharge::Uniform(1.0),
+                &Screening { kappa, a },
+                &EnergyQuadrature { delta, order: 12, cutoff: None },
+            )
+            .unwrap();
             println!("κ {kappa}, δ {delta}: {} vs exact {exact} (near {}, far {})", e.total, e.near, e.far);
             assert!((e.total - exact).abs() < 1e-10 * exact.abs(), "κ {kappa} δ {delta}: {} vs {exact}", e.total);
         }
@@ -136,12 +149,21 @@ fn coulomb_ring_and_delta_independence_at_order_four() {
     let exact = 2.0 * PI * r * (1.0 / (a / (4.0 * r)).tan()).ln();
     let mut errors = vec![];
     for delta in [0.05, 0.1, 0.2, 0.4] {
-        let e = energy(&ring, &LineCharge::Uniform(1.0), &Screening { kappa: 0.0, a }, &EnergyQuadrature { delta, order: 12, cutoff: None }).unwrap();
+        let e = energy(
+            &ring,
+            &LineCharge::Uniform(1.0),
+            &Screening { kappa: 0.0, a },
+            &EnergyQuadrature { delta, order: 12, cutoff: None },
+        )
+        .unwrap();
         let err = e.total - exact;
         let predicted = 2.0 * PI * r * 7.0 * (delta.powi(4) - a.powi(4)) / (23040.0 * r.powi(4));
         println!("δ {delta}: E {} exact {exact} error {err:e} predicted {predicted:e}", e.total);
         // The dropped term is positive (1/d ≥ its truncation): E < exact.
-        assert!((err + predicted).abs() < 0.05 * predicted + 1e-11, "δ {delta}: error {err:e}, predicted −{predicted:e}");
+        assert!(
+            (err + predicted).abs() < 0.05 * predicted + 1e-11,
+            "δ {delta}: error {err:e}, predicted −{predicted:e}"
+        );
         errors.push(err.abs());
     }
     for w in errors.windows(2) {
@@ -161,13 +183,22 @@ fn electrostatic_bending_stiffness_from_rings() {
     for a in [0.01, 0.03] {
         for r in [20.0, 40.0] {
             let ring = Circle { r, panel: 0.5 };
-            let e = energy(&ring, &LineCharge::Uniform(1.0), &Screening { kappa, a }, &EnergyQuadrature { delta: 0.2, order: 10, cutoff: None }).unwrap();
+            let e = energy(
+                &ring,
+                &LineCharge::Uniform(1.0),
+                &Screening { kappa, a },
+                &EnergyQuadrature { delta: 0.2, order: 10, cutoff: None },
+            )
+            .unwrap();
             let per_length = e.total / (2.0 * PI * r);
             let excess = per_length - e1_reference(kappa * a);
             let k_el = 2.0 * r * r * excess;
             let expected = 1.0 / (4.0 * kappa * kappa);
             println!("a {a}, R {r}: K_el {k_el} vs {expected}");
-            assert!((k_el - expected).abs() < 3.0 / (kappa * r).powi(2) * expected, "a {a} R {r}: {k_el} vs {expected}");
+            assert!(
+                (k_el - expected).abs() < 3.0 / (kappa * r).powi(2) * expected,
+                "a {a} R {r}: {k_el} vs {expected}"
+            );
         }
     }
 }
@@ -180,10 +211,15 @@ fn electrostatic_bending_stiffness_from_rings() {
 fn discrete_model_converges_to_the_continuum() {
     let helix = Helix { radius: 1.0, pitch: 3.0, l: 20.0, panel: 0.5 };
     let ring = Circle { r: 2.0, panel: 0.25 };
-    let cases: [(&dyn Centerline, Screening, Option<f64>); 2] =
-        [(&helix, Screening { kappa: 1.0, a: 0.3 }, None), (&ring, Screening { kappa: 0.0, a: 0.3 }, Some(ring.length()))];
+    let cases: [(&dyn Centerline, Screening, Option<f64>); 2] = [
+        (&helix, Screening { kappa: 1.0, a: 0.3 }, None),
+        (&ring, Screening { kappa: 0.0, a: 0.3 }, Some(ring.length())),
+    ];
     for (curve, scr, period) in cases {
-        let cont = energy(curve, &LineCharge::Uniform(1.0), &scr, &EnergyQuadrature { delta: 0.4, order: 12, cutoff: None }).unwrap().total;
+        let cont =
+            energy(curve, &LineCharge::Uniform(1.0), &scr, &EnergyQuadrature { delta: 0.4, order: 12, cutoff: None })
+                .unwrap()
+                .total;
         // The continuum's own error: the near-zone truncation at δ = 0.4
         // (measured ~1e-5 relative here), below the discrete differences.
         let mut diffs = vec![];
@@ -232,14 +268,29 @@ fn hermite_centreline_converges_to_the_exact_geometry() {
 fn extremes_and_validation() {
     let seg = Segment { l: 5.0, panel: 0.5 };
     let q = LineCharge::Uniform(1.0);
-    let bad = |s: Screening, d: f64| energy(&seg, &q, &s, &EnergyQuadrature { delta: d, order: 8, cutoff: None }).unwrap_err().message;
+    let bad = |s: Screening, d: f64| {
+        energy(&seg, &q, &s, &EnergyQuadrature { delta: d, order: 8, cutoff: None }).unwrap_err().message
+    };
     assert!(bad(Screening { kappa: -1.0, a: 0.1 }, 0.5).contains("kappa"));
     assert!(bad(Screening { kappa: 1.0, a: 0.0 }, 0.5).contains("`a`"));
     assert!(bad(Screening { kappa: 1.0, a: 0.1 }, 0.05).contains("delta"));
-    let coulomb = energy(&seg, &q, &Screening { kappa: 0.0, a: 0.1 }, &EnergyQuadrature { delta: 0.5, order: 10, cutoff: None }).unwrap().total;
-    let tiny = energy(&seg, &q, &Screening { kappa: 1e-9, a: 0.1 }, &EnergyQuadrature { delta: 0.5, order: 10, cutoff: None }).unwrap().total;
+    let coulomb =
+        energy(&seg, &q, &Screening { kappa: 0.0, a: 0.1 }, &EnergyQuadrature { delta: 0.5, order: 10, cutoff: None })
+            .unwrap()
+            .total;
+    let tiny =
+        energy(&seg, &q, &Screening { kappa: 1e-9, a: 0.1 }, &EnergyQuadrature { delta: 0.5, order: 10, cutoff: None })
+            .unwrap()
+            .total;
     assert!((tiny - coulomb).abs() < 1e-7 * coulomb, "{tiny} vs {coulomb}");
-    let strong = energy(&seg, &q, &Screening { kappa: 500.0, a: 0.1 }, &EnergyQuadrature { delta: 0.5, order: 10, cutoff: None }).unwrap().total;
+    let strong = energy(
+        &seg,
+        &q,
+        &Screening { kappa: 500.0, a: 0.1 },
+        &EnergyQuadrature { delta: 0.5, order: 10, cutoff: None },
+    )
+    .unwrap()
+    .total;
     let exact = 5.0 * e1_reference(50.0) - (-50.0f64).exp() / 500.0;
     assert!(strong > 0.0 && (strong - exact).abs() < 1e-8 * exact, "{strong} vs {exact}");
 }
@@ -263,7 +314,16 @@ fn force_is_minus_the_energy_gradient() {
         let curve = HermiteCurve::new(s.clone(), r.clone(), t.clone(), false).unwrap();
         let (_, gr, gt) = energy_gradient(&curve, &LineCharge::Uniform(1.0), &scr, &quad).unwrap();
         let scale = gr.iter().chain(&gt).flatten().fold(0.0f64, |m, v| m.max(v.abs()));
-        let e_at = |r: &[[f64; 3]], t: &[[f64; 3]]| energy(&HermiteCurve::new(s.clone(), r.to_vec(), t.to_vec(), false).unwrap(), &LineCharge::Uniform(1.0), &scr, &quad).unwrap().total;
+        let e_at = |r: &[[f64; 3]], t: &[[f64; 3]]| {
+            energy(
+                &HermiteCurve::new(s.clone(), r.to_vec(), t.to_vec(), false).unwrap(),
+                &LineCharge::Uniform(1.0),
+                &scr,
+                &quad,
+            )
+            .unwrap()
+            .total
+        };
         let h = 1e-6;
         for node in [0, 5, 12] {
             for i in 0..3 {
@@ -271,12 +331,20 @@ fn force_is_minus_the_energy_gradient() {
                 rp[node][i] += h;
                 rm[node][i] -= h;
                 let fd = (e_at(&rp, &t) - e_at(&rm, &t)) / (2.0 * h);
-                assert!((fd - gr[node][i]).abs() < 1e-6 * scale, "κ {kappa} node {node} r[{i}]: {} vs fd {fd}", gr[node][i]);
+                assert!(
+                    (fd - gr[node][i]).abs() < 1e-6 * scale,
+                    "κ {kappa} node {node} r[{i}]: {} vs fd {fd}",
+                    gr[node][i]
+                );
                 let (mut tp, mut tm) = (t.clone(), t.clone());
                 tp[node][i] += h;
                 tm[node][i] -= h;
                 let fd = (e_at(&r, &tp) - e_at(&r, &tm)) / (2.0 * h);
-                assert!((fd - gt[node][i]).abs() < 1e-6 * scale, "κ {kappa} node {node} t[{i}]: {} vs fd {fd}", gt[node][i]);
+                assert!(
+                    (fd - gt[node][i]).abs() < 1e-6 * scale,
+                    "κ {kappa} node {node} t[{i}]: {} vs fd {fd}",
+                    gt[node][i]
+                );
             }
         }
         let sum: Vec<f64> = (0..3).map(|i| gr.iter().map(|g| g[i]).sum::<f64>()).collect();
@@ -299,7 +367,10 @@ fn force_density_on_a_ring() {
     for kappa in [0.0, 3.0] {
         let reference = {
             // 2∫_a^{πR} (1 + κd) e^{−κd}/d dh / (2R), geometric panels from a.
-            let (g, w) = ([-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526], [0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538]);
+            let (g, w) = (
+                [-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526],
+                [0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538],
+            );
             let m = 20000;
             let ratio = (PI * r / a).powf(1.0 / m as f64);
             let mut sum = 0.0;
@@ -322,13 +393,26 @@ fn force_density_on_a_ring() {
         let mut errors = vec![];
         for delta in [0.2, 0.1, 0.05] {
             for s in [0.0, 1.0, 4.0] {
-                let f = force_density(&ring, &LineCharge::Uniform(1.0), &Screening { kappa, a }, &EnergyQuadrature { delta, order: 12, cutoff: None }, s).unwrap();
+                let f = force_density(
+                    &ring,
+                    &LineCharge::Uniform(1.0),
+                    &Screening { kappa, a },
+                    &EnergyQuadrature { delta, order: 12, cutoff: None },
+                    s,
+                )
+                .unwrap();
                 let (pos, _, _) = ring.eval(s);
                 let radial = (f[0] * pos[0] + f[1] * pos[1] + f[2] * pos[2]) / r;
                 let tangential = (f[0] * -pos[1] + f[1] * pos[0]) / r;
-                assert!(tangential.abs() < 1e-10 * radial.abs() && f[2].abs() < 1e-12, "κ {kappa} δ {delta} s {s}: {f:?}");
+                assert!(
+                    tangential.abs() < 1e-10 * radial.abs() && f[2].abs() < 1e-12,
+                    "κ {kappa} δ {delta} s {s}: {f:?}"
+                );
                 if s == 0.0 {
-                    println!("κ {kappa}, δ {delta}: f·r̂ {radial} vs {reference}: {:e}", (radial - reference) / reference);
+                    println!(
+                        "κ {kappa}, δ {delta}: f·r̂ {radial} vs {reference}: {:e}",
+                        (radial - reference) / reference
+                    );
                     errors.push(((radial - reference) / reference).abs());
                 }
             }
@@ -390,10 +474,21 @@ fn continuum_cutoff_is_accurate_and_linear() {
     let mut work = vec![];
     for bp in [1000usize, 2000] {
         let helix = Helix { radius: 3.0, pitch: 40.0, l: 0.34 * bp as f64, panel: 2.0 };
-        let full = energy(&helix, &LineCharge::Uniform(1.0), &scr, &EnergyQuadrature { delta: 2.0, order: 8, cutoff: None }).unwrap();
-        let cut = energy(&helix, &LineCharge::Uniform(1.0), &scr, &EnergyQuadrature { delta: 2.0, order: 8, cutoff: Some(rc) }).unwrap();
+        let full =
+            energy(&helix, &LineCharge::Uniform(1.0), &scr, &EnergyQuadrature { delta: 2.0, order: 8, cutoff: None })
+                .unwrap();
+        let cut = energy(
+            &helix,
+            &LineCharge::Uniform(1.0),
+            &scr,
+            &EnergyQuadrature { delta: 2.0, order: 8, cutoff: Some(rc) },
+        )
+        .unwrap();
         let err = (full.total - cut.total) / full.total;
-        println!("{bp} bp: full {} ({} evaluations), cutoff {} ({}), relative error {err:e}", full.total, full.far_evaluations, cut.total, cut.far_evaluations);
+        println!(
+            "{bp} bp: full {} ({} evaluations), cutoff {} ({}), relative error {err:e}",
+            full.total, full.far_evaluations, cut.total, cut.far_evaluations
+        );
         assert!(err >= 0.0 && err <= tol, "{err:e}");
         work.push((full.far_evaluations as f64, cut.far_evaluations as f64));
     }
@@ -413,17 +508,29 @@ fn only_what_the_scene_requires() {
     use rodkit::electrostatics::{energy_within, ElectrostaticModel};
     let helix = Helix { radius: 1.0, pitch: 3.0, l: 20.0, panel: 0.5 };
     let scr = Screening { kappa: 1.0, a: 0.1 };
-    let reference = energy(&helix, &LineCharge::Uniform(1.0), &scr, &EnergyQuadrature { delta: 0.15, order: 16, cutoff: None }).unwrap().total;
+    let reference =
+        energy(&helix, &LineCharge::Uniform(1.0), &scr, &EnergyQuadrature { delta: 0.15, order: 16, cutoff: None })
+            .unwrap()
+            .total;
     let ring = Circle { r: 1.0, panel: 0.1 };
     let coulomb = Screening { kappa: 0.0, a: 0.02 };
     let ring_exact = 2.0 * PI * (1.0 / (0.02f64 / 4.0).tan()).ln();
     for tol in [1e-3, 1e-5, 1e-7] {
-        for (name, curve, s, exact) in [("helix", &helix as &dyn Centerline, scr, reference), ("ring", &ring, coulomb, ring_exact)] {
+        for (name, curve, s, exact) in
+            [("helix", &helix as &dyn Centerline, scr, reference), ("ring", &ring, coulomb, ring_exact)]
+        {
             let rep = energy_within(curve, &LineCharge::Uniform(1.0), &s, tol).unwrap();
             let true_error = (rep.energy.total - exact).abs() / exact;
-            println!("{name}, tol {tol:e}: model {:?}, estimate {:e}, true error {true_error:e}", rep.model, rep.estimate);
+            println!(
+                "{name}, tol {tol:e}: model {:?}, estimate {:e}, true error {true_error:e}",
+                rep.model, rep.estimate
+            );
             assert!(true_error <= tol, "{name} tol {tol:e}: true error {true_error:e}");
-            assert!(true_error <= rep.estimate, "{name} tol {tol:e}: estimate {:e} below the true error {true_error:e}", rep.estimate);
+            assert!(
+                true_error <= rep.estimate,
+                "{name} tol {tol:e}: estimate {:e} below the true error {true_error:e}",
+                rep.estimate
+            );
             assert!(matches!(rep.model, ElectrostaticModel::Continuum(_)));
         }
     }

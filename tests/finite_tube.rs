@@ -36,20 +36,25 @@ fn linearisation_at_rest_equals_linear_stiffness() {
             (ea, (p.wall_force - m.wall_force) / (2.0 * h), (p.torque - m.torque) / (2.0 * h))
         };
         // Stretch at ψ = 0, p = 0.
-        let (ea, df, dt) = d(load(Axial::Stretch(1.0 + h), Torsion::Twist(0.0), 0.0), load(Axial::Stretch(1.0 - h), Torsion::Twist(0.0), 0.0));
+        let (ea, df, dt) = d(
+            load(Axial::Stretch(1.0 + h), Torsion::Twist(0.0), 0.0),
+            load(Axial::Stretch(1.0 - h), Torsion::Twist(0.0), 0.0),
+        );
         let ea_lin = -k[(2, 0)] / k[(2, 2)];
         let tol = 1e-7;
         assert!((ea - ea_lin).abs() < tol, "{incompressible}: dε_A/dε {ea} vs {ea_lin}");
         assert!((df - (k[(0, 0)] + k[(0, 2)] * ea_lin)).abs() < tol * k.amax(), "dF/dε {df}");
         assert!((dt - (k[(1, 0)] + k[(1, 2)] * ea_lin)).abs() < tol * k.amax(), "dT/dε {dt}");
         // Twist at λ = 1, p = 0.
-        let (ea, df, dt) = d(load(Axial::Stretch(1.0), Torsion::Twist(h), 0.0), load(Axial::Stretch(1.0), Torsion::Twist(-h), 0.0));
+        let (ea, df, dt) =
+            d(load(Axial::Stretch(1.0), Torsion::Twist(h), 0.0), load(Axial::Stretch(1.0), Torsion::Twist(-h), 0.0));
         let ea_lin = -k[(2, 1)] / k[(2, 2)];
         assert!((ea - ea_lin).abs() < tol, "dε_A/dψ {ea} vs {ea_lin}");
         assert!((df - (k[(0, 1)] + k[(0, 2)] * ea_lin)).abs() < tol * k.amax(), "dF/dψ {df}");
         assert!((dt - (k[(1, 1)] + k[(1, 2)] * ea_lin)).abs() < tol * k.amax(), "dT/dψ {dt}");
         // Inner pressure at λ = 1, ψ = 0: 2πA²p = K33 ε_A.
-        let (ea, df, dt) = d(load(Axial::Stretch(1.0), Torsion::Twist(0.0), h), load(Axial::Stretch(1.0), Torsion::Twist(0.0), -h));
+        let (ea, df, dt) =
+            d(load(Axial::Stretch(1.0), Torsion::Twist(0.0), h), load(Axial::Stretch(1.0), Torsion::Twist(0.0), -h));
         let ea_lin = 2.0 * PI * a * a / k[(2, 2)];
         assert!((ea - ea_lin).abs() < tol * ea_lin.abs(), "dε_A/dp {ea} vs {ea_lin}");
         assert!((df - k[(0, 2)] * ea_lin).abs() < tol * k.amax() * ea_lin.abs(), "dF/dp {df}");
@@ -99,7 +104,8 @@ fn solid_cylinder_is_the_limit_of_a_thin_hole() {
         .iter()
         .map(|&a| {
             let h = FiniteTube::new(a, 1.0, &nh).unwrap().solve(&loading, &SolveOptions::default()).unwrap();
-            (h.wall_force - solid.wall_force).abs() / solid.wall_force.abs() + (h.torque - solid.torque).abs() / solid.torque.abs()
+            (h.wall_force - solid.wall_force).abs() / solid.wall_force.abs()
+                + (h.torque - solid.torque).abs() / solid.torque.abs()
         })
         .collect();
     for w in diffs.windows(2) {
@@ -113,7 +119,13 @@ fn solid_cylinder_is_the_limit_of_a_thin_hole() {
 /// (§1.3), the difference falling like μ/λ_L.
 #[test]
 fn compressible_neo_hookean_tends_to_incompressible() {
-    let loading = Loading { axial: Axial::Stretch(1.5), torsion: Torsion::Twist(0.6), inner_pressure: 0.2, outer_pressure: 0.0, ends: Ends::Closed };
+    let loading = Loading {
+        axial: Axial::Stretch(1.5),
+        torsion: Torsion::Twist(0.6),
+        inner_pressure: 0.2,
+        outer_pressure: 0.0,
+        ends: Ends::Closed,
+    };
     let inc = NeoHookean { shear_modulus: 1.0, lame_lambda: 0.0, incompressible: true };
     let reference = FiniteTube::new(0.5, 1.0, &inc).unwrap().solve(&loading, &SolveOptions::default()).unwrap();
     let mut last = f64::INFINITY;
@@ -167,13 +179,21 @@ fn sweep_matches_independent_solves_and_cancels() {
     let n = sweep.states[0].intervals;
     for (l, s) in loadings.iter().zip(&sweep.states).step_by(5) {
         let direct = tube.solve(l, &SolveOptions { rel_tol: 1e-10, intervals: Some(n) }).unwrap();
-        assert!((direct.twist - s.twist).abs() < 1e-11 && (direct.deformed_outer_radius - s.deformed_outer_radius).abs() < 1e-11);
+        assert!(
+            (direct.twist - s.twist).abs() < 1e-11
+                && (direct.deformed_outer_radius - s.deformed_outer_radius).abs() < 1e-11
+        );
         assert!(s.torque.abs() < 1e-10, "torque-free: T = {}", s.torque);
     }
     // The helical wall twists monotonically under torque-free stretching here.
     assert!(sweep.states.windows(2).all(|w| (w[1].twist - w[0].twist) * (sweep.states[20].twist) > 0.0));
     let mut seen = 0;
-    let cut = tube.sweep(&loadings, &SolveOptions::default(), |i, _| { seen = i; i < 2 }).unwrap();
+    let cut = tube
+        .sweep(&loadings, &SolveOptions::default(), |i, _| {
+            seen = i;
+            i < 2
+        })
+        .unwrap();
     assert!(cut.cancelled && cut.states.len() == 3 && seen == 2);
     let mixed = [Loading::torsion_free_stretch(1.1), Loading::inflation(0.1, Axial::Force(0.0), Ends::Closed)];
     assert_eq!(tube.sweep(&mixed, &SolveOptions::default(), |_, _| true).unwrap_err().status, Status::ErrOutOfRange);
@@ -206,8 +226,10 @@ fn inflation_sweeps_with_and_without_axial_restraint() {
     let nh = NeoHookean { shear_modulus: 1.0, lame_lambda: 10.0, incompressible: false };
     let tube = FiniteTube::new(0.8, 1.0, &nh).unwrap();
     let pressures: Vec<f64> = (0..=8).map(|i| 0.02 * i as f64).collect();
-    let free: Vec<Loading> = pressures.iter().map(|&p| Loading::inflation(p, Axial::Force(0.0), Ends::Closed)).collect();
-    let held: Vec<Loading> = pressures.iter().map(|&p| Loading::inflation(p, Axial::Stretch(1.0), Ends::Closed)).collect();
+    let free: Vec<Loading> =
+        pressures.iter().map(|&p| Loading::inflation(p, Axial::Force(0.0), Ends::Closed)).collect();
+    let held: Vec<Loading> =
+        pressures.iter().map(|&p| Loading::inflation(p, Axial::Stretch(1.0), Ends::Closed)).collect();
     let free = tube.sweep(&free, &SolveOptions::default(), |_, _| true).unwrap().states;
     let held = tube.sweep(&held, &SolveOptions::default(), |_, _| true).unwrap().states;
     for (f, h) in free.iter().zip(&held).skip(1) {
@@ -244,20 +266,30 @@ fn fibre_switch_inside_the_wall_is_resolved() {
         for tol in [1e-6, 1e-9, 1e-12] {
             let s = tube.solve(&loading, &SolveOptions { rel_tol: tol, intervals: None }).unwrap();
             assert!(!s.switch_radii.is_empty(), "incompressible {incompressible}: no switch found");
-            assert!(s.intervals <= 80, "incompressible {incompressible}, tol {tol:e}: {} intervals (not spectral)", s.intervals);
+            assert!(
+                s.intervals <= 80,
+                "incompressible {incompressible}, tol {tol:e}: {} intervals (not spectral)",
+                s.intervals
+            );
             // Every switch radius is a zero of some family's I4 − 1.
             let p = &s.profile;
             for &rs in &s.switch_radii {
                 let j = p.reference_radius.iter().position(|&x| x == rs).expect("switch radius is a node");
-                let strain = WallStrain { radial: 1.0, hoop: p.radius[j] / rs, axial: s.stretch, shear: p.radius[j] * s.twist };
+                let strain =
+                    WallStrain { radial: 1.0, hoop: p.radius[j] / rs, axial: s.stretch, shear: p.radius[j] * s.twist };
                 let c = strain.right_cauchy_green();
                 let g = (0..2).map(|k| material.switch_value(k, rs, &c).abs()).fold(f64::INFINITY, f64::min);
                 assert!(g < 1e-9, "I4 − 1 = {g:e} at the switch radius {rs}");
             }
-            let err = ((s.twist - reference.twist) * 1.0).abs()
+            let err = ((s.twist - reference.twist) * 1.0)
+                .abs()
                 .max((s.deformed_outer_radius - reference.deformed_outer_radius).abs())
                 .max((s.wall_force - reference.wall_force).abs() / (0.3 * PI));
-            assert!(err <= (10.0 * s.error_estimate).max(1e-12), "incompressible {incompressible}, tol {tol:e}: error {err:e}, estimate {:e}", s.error_estimate);
+            assert!(
+                err <= (10.0 * s.error_estimate).max(1e-12),
+                "incompressible {incompressible}, tol {tol:e}: error {err:e}, estimate {:e}",
+                s.error_estimate
+            );
             assert!(err <= 10.0 * tol, "incompressible {incompressible}, tol {tol:e}: error {err:e}");
         }
     }
@@ -316,7 +348,12 @@ fn finite_error_estimate_tracks_true_error() {
                 .max((s.deformed_outer_radius - reference.deformed_outer_radius).abs() / b)
                 .max((s.deformed_inner_radius - reference.deformed_inner_radius).abs() / b);
             assert!(s.error_estimate <= tol, "inc {incompressible} tol {tol:e}: estimate {:e}", s.error_estimate);
-            assert!(err <= tol && err <= 10.0 * s.error_estimate.max(1e-14), "inc {incompressible} tol {tol:e}: true {err:e}, estimate {:e}, n {}", s.error_estimate, s.intervals);
+            assert!(
+                err <= tol && err <= 10.0 * s.error_estimate.max(1e-14),
+                "inc {incompressible} tol {tol:e}: true {err:e}, estimate {:e}, n {}",
+                s.error_estimate,
+                s.intervals
+            );
         }
     }
 }

@@ -303,13 +303,7 @@ fn matching(toks: &[Tok], open: usize) -> Option<usize> {
 }
 
 fn parse_ctype(toks: &[Tok]) -> CType {
-    let mut ty = CType {
-        base: String::new(),
-        ptr: 0,
-        is_const: false,
-        array: None,
-        funptr: false,
-    };
+    let mut ty = CType { base: String::new(), ptr: 0, is_const: false, array: None, funptr: false };
     let mut words = Vec::new();
     for t in toks {
         match t {
@@ -317,10 +311,8 @@ fn parse_ctype(toks: &[Tok]) -> CType {
             Tok::Ident(w) if w == "const" && ty.ptr == 0 => ty.is_const = true,
             Tok::Ident(w) if w == "const" => {}
             Tok::Ident(w)
-                if [
-                    "struct", "enum", "union", "volatile", "restrict", "extern", "static", "inline",
-                ]
-                .contains(&w.as_str()) => {}
+                if ["struct", "enum", "union", "volatile", "restrict", "extern", "static", "inline"]
+                    .contains(&w.as_str()) => {}
             Tok::Ident(w) => words.push(w.clone()),
             Tok::Punct('*') => ty.ptr += 1,
             _ => {}
@@ -340,10 +332,7 @@ fn parse_c_declarator(toks: &[Tok], what: &str, unsupported: &mut Vec<String>) -
                 let mut ty = parse_ctype(&toks[..p]);
                 ty.funptr = true;
                 ty.ptr = 0;
-                return Some(CParam {
-                    name: name.to_string(),
-                    ty,
-                });
+                return Some(CParam { name: name.to_string(), ty });
             }
         }
         unsupported.push(format!("{what}: cannot parse `{}`", tokens_text(toks)));
@@ -385,17 +374,13 @@ fn parse_header(src: &str) -> CHeader {
             let directive = directive.trim_start();
             if let Some(rest) = directive.strip_prefix("define") {
                 let rest = rest.trim_start();
-                let name_len = rest
-                    .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-                    .unwrap_or(rest.len());
+                let name_len = rest.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(rest.len());
                 let (name, value) = rest.split_at(name_len);
                 if !name.starts_with("RODKIT_") {
                     continue;
                 }
                 if value.starts_with('(') {
-                    h.unsupported.push(format!(
-                        "function-like macro `{name}` has no Fortran equivalent"
-                    ));
+                    h.unsupported.push(format!("function-like macro `{name}` has no Fortran equivalent"));
                     continue;
                 }
                 let value = value.trim();
@@ -407,8 +392,7 @@ fn parse_header(src: &str) -> CHeader {
                 } else if let Some(s) = parse_c_string_literal(value) {
                     h.defines.push((name.to_string(), CDefine::Str(s)));
                 } else {
-                    h.unsupported
-                        .push(format!("#define {name} {value}: cannot evaluate"));
+                    h.unsupported.push(format!("#define {name} {value}: cannot evaluate"));
                 }
             }
             code.push('\n');
@@ -452,43 +436,27 @@ fn parse_header(src: &str) -> CHeader {
         i += 1;
     }
     if !cur.is_empty() {
-        h.unsupported
-            .push(format!("unterminated declaration `{}`", tokens_text(&cur)));
+        h.unsupported.push(format!("unterminated declaration `{}`", tokens_text(&cur)));
     }
 
     for d in decls {
         if d.is_empty() {
             continue;
         }
-        let (typedef, body) = if d[0].ident() == Some("typedef") {
-            (true, &d[1..])
-        } else {
-            (false, &d[..])
-        };
+        let (typedef, body) = if d[0].ident() == Some("typedef") { (true, &d[1..]) } else { (false, &d[..]) };
         let has_brace = body.iter().any(|t| t.is('{'));
         let kw = body.first().and_then(Tok::ident).unwrap_or("");
         if has_brace && (kw == "struct" || kw == "union") {
             let open = body.iter().position(|t| t.is('{')).unwrap();
             let close = matching(body, open).unwrap_or(body.len() - 1);
-            let tag = body[1..open]
-                .iter()
-                .filter_map(Tok::ident)
-                .next_back()
-                .map(String::from);
-            let alias = body[close + 1..]
-                .iter()
-                .filter_map(Tok::ident)
-                .next_back()
-                .map(String::from);
+            let tag = body[1..open].iter().filter_map(Tok::ident).next_back().map(String::from);
+            let alias = body[close + 1..].iter().filter_map(Tok::ident).next_back().map(String::from);
             let Some(name) = tag.clone().or(alias.clone()) else {
-                h.unsupported
-                    .push(format!("anonymous struct `{}`", tokens_text(&d)));
+                h.unsupported.push(format!("anonymous struct `{}`", tokens_text(&d)));
                 continue;
             };
             if kw == "union" {
-                h.unsupported.push(format!(
-                    "union {name} has no Fortran interoperable equivalent"
-                ));
+                h.unsupported.push(format!("union {name} has no Fortran interoperable equivalent"));
                 continue;
             }
             let mut fields = Vec::new();
@@ -497,13 +465,10 @@ fn parse_header(src: &str) -> CHeader {
                     continue;
                 }
                 if f.iter().any(|t| t.is(':')) {
-                    h.unsupported
-                        .push(format!("bit field in struct {name}: `{}`", tokens_text(f)));
+                    h.unsupported.push(format!("bit field in struct {name}: `{}`", tokens_text(f)));
                     continue;
                 }
-                if let Some(p) =
-                    parse_c_declarator(f, &format!("struct {name}"), &mut h.unsupported)
-                {
+                if let Some(p) = parse_c_declarator(f, &format!("struct {name}"), &mut h.unsupported) {
                     fields.push(p);
                 }
             }
@@ -511,13 +476,7 @@ fn parse_header(src: &str) -> CHeader {
                 if *a != name {
                     h.aliases.insert(
                         a.clone(),
-                        CType {
-                            base: name.clone(),
-                            ptr: 0,
-                            is_const: false,
-                            array: None,
-                            funptr: false,
-                        },
+                        CType { base: name.clone(), ptr: 0, is_const: false, array: None, funptr: false },
                     );
                 }
             }
@@ -527,17 +486,10 @@ fn parse_header(src: &str) -> CHeader {
             let close = matching(body, open).unwrap_or(body.len() - 1);
             let tag = body.get(1).and_then(Tok::ident).map(String::from);
             let colon = body[..open].iter().position(|t| t.is(':'));
-            let underlying = colon
-                .map(|c| parse_ctype(&body[c + 1..open]).base)
-                .unwrap_or_else(|| "int".into());
-            let alias = body[close + 1..]
-                .iter()
-                .filter_map(Tok::ident)
-                .next_back()
-                .map(String::from);
+            let underlying = colon.map(|c| parse_ctype(&body[c + 1..open]).base).unwrap_or_else(|| "int".into());
+            let alias = body[close + 1..].iter().filter_map(Tok::ident).next_back().map(String::from);
             let Some(name) = tag.or(alias) else {
-                h.unsupported
-                    .push(format!("anonymous enum `{}`", tokens_text(&d)));
+                h.unsupported.push(format!("anonymous enum `{}`", tokens_text(&d)));
                 continue;
             };
             let mut variants = Vec::new();
@@ -547,22 +499,19 @@ fn parse_header(src: &str) -> CHeader {
                     continue;
                 }
                 let Some(vname) = v[0].ident() else {
-                    h.unsupported
-                        .push(format!("enum {name}: cannot parse `{}`", tokens_text(v)));
+                    h.unsupported.push(format!("enum {name}: cannot parse `{}`", tokens_text(v)));
                     continue;
                 };
                 let value = if v.len() > 1 {
                     if !v[1].is('=') {
-                        h.unsupported
-                            .push(format!("enum {name}: cannot parse `{}`", tokens_text(v)));
+                        h.unsupported.push(format!("enum {name}: cannot parse `{}`", tokens_text(v)));
                         continue;
                     }
                     let expr: String = v[2..].iter().map(Tok::text).collect();
                     match parse_c_int(&expr) {
                         Some(x) => x,
                         None => {
-                            h.unsupported
-                                .push(format!("enum {name}: cannot evaluate `{vname} = {expr}`"));
+                            h.unsupported.push(format!("enum {name}: cannot evaluate `{vname} = {expr}`"));
                             continue;
                         }
                     }
@@ -572,11 +521,7 @@ fn parse_header(src: &str) -> CHeader {
                 next = value + 1;
                 variants.push((vname.to_string(), value));
             }
-            h.enums.push(CEnum {
-                name,
-                underlying,
-                variants,
-            });
+            h.enums.push(CEnum { name, underlying, variants });
         } else if typedef {
             if body.iter().any(|t| t.is('(')) {
                 let p = body.iter().position(|t| t.is('(')).unwrap();
@@ -613,22 +558,18 @@ fn parse_header(src: &str) -> CHeader {
             let name = match p.checked_sub(1).and_then(|q| body[q].ident()) {
                 Some(n) if p >= 2 => n.to_string(),
                 _ => {
-                    h.unsupported
-                        .push(format!("declaration `{}`", tokens_text(&d)));
+                    h.unsupported.push(format!("declaration `{}`", tokens_text(&d)));
                     continue;
                 }
             };
             if close + 1 != body.len() {
-                h.unsupported.push(format!(
-                    "{name}: unexpected `{}` after the argument list",
-                    tokens_text(&body[close + 1..])
-                ));
+                h.unsupported
+                    .push(format!("{name}: unexpected `{}` after the argument list", tokens_text(&body[close + 1..])));
             }
             let ret = parse_ctype(&body[..p - 1]);
             let inner = &body[p + 1..close];
             let mut params = Vec::new();
-            let is_void =
-                inner.is_empty() || (inner.len() == 1 && inner[0].ident() == Some("void"));
+            let is_void = inner.is_empty() || (inner.len() == 1 && inner[0].ident() == Some("void"));
             if !is_void {
                 for a in split_top(inner, ',') {
                     let Some(mut param) = parse_c_declarator(a, &name, &mut h.unsupported) else {
@@ -644,8 +585,7 @@ fn parse_header(src: &str) -> CHeader {
         } else if kw == "struct" && body.len() == 2 {
             // forward declaration of an opaque type
         } else {
-            h.unsupported
-                .push(format!("top-level declaration `{}`", tokens_text(&d)));
+            h.unsupported.push(format!("top-level declaration `{}`", tokens_text(&d)));
         }
     }
     h
@@ -703,19 +643,9 @@ impl CHeader {
             }
             if let Some(a) = self.aliases.get(&t.base) {
                 let ptr = t.ptr + a.ptr;
-                let is_const = if t.ptr == 0 {
-                    t.is_const || a.is_const
-                } else {
-                    t.is_const
-                };
+                let is_const = if t.ptr == 0 { t.is_const || a.is_const } else { t.is_const };
                 let array = t.array.clone();
-                t = CType {
-                    base: a.base.clone(),
-                    ptr,
-                    is_const,
-                    array,
-                    funptr: a.funptr,
-                };
+                t = CType { base: a.base.clone(), ptr, is_const, array, funptr: a.funptr };
                 continue;
             }
             break;
@@ -745,11 +675,10 @@ impl CHeader {
     }
 
     fn int_define_names(&self) -> impl Iterator<Item = &str> {
-        self.defines.iter().map(|(n, _)| n.as_str()).chain(
-            self.enums
-                .iter()
-                .flat_map(|e| e.variants.iter().map(|(n, _)| n.as_str())),
-        )
+        self.defines
+            .iter()
+            .map(|(n, _)| n.as_str())
+            .chain(self.enums.iter().flat_map(|e| e.variants.iter().map(|(n, _)| n.as_str())))
     }
 }
 
@@ -762,10 +691,7 @@ fn snake_case(name: &str) -> String {
         if ch.is_ascii_uppercase() && i > 0 {
             let prev = c[i - 1];
             let next_lower = c.get(i + 1).is_some_and(|n| n.is_ascii_lowercase());
-            if prev.is_ascii_lowercase()
-                || prev.is_ascii_digit()
-                || (prev.is_ascii_uppercase() && next_lower)
-            {
+            if prev.is_ascii_lowercase() || prev.is_ascii_digit() || (prev.is_ascii_uppercase() && next_lower) {
                 out.push('_');
             }
         }
@@ -844,11 +770,7 @@ fn fortran_statements(src: &str) -> Vec<Stmt> {
             if !pending.ends_with(' ') && q.is_none() {
                 pending.push(' ');
             }
-            pending.push_str(if quote.is_some() {
-                &body
-            } else {
-                body.trim_start()
-            });
+            pending.push_str(if quote.is_some() { &body } else { body.trim_start() });
         }
         quote = if continued { q } else { None };
         if continued {
@@ -858,11 +780,7 @@ fn fortran_statements(src: &str) -> Vec<Stmt> {
             let orig = part.trim().to_string();
             if !orig.is_empty() {
                 let lc = orig.to_ascii_lowercase();
-                out.push(Stmt {
-                    line: pending_line,
-                    orig,
-                    lc,
-                });
+                out.push(Stmt { line: pending_line, orig, lc });
             }
         }
         pending.clear();
@@ -1000,10 +918,7 @@ struct FType {
 fn normalize_typespec(spec: &str) -> FType {
     let s = strip_spaces(&spec.to_ascii_lowercase());
     if s == "doubleprecision" {
-        return FType {
-            name: "double precision".into(),
-            char_len: None,
-        };
+        return FType { name: "double precision".into(), char_len: None };
     }
     let (kw, inner) = match s.find('(') {
         Some(p) if s.ends_with(')') => (&s[..p], Some(&s[p + 1..s.len() - 1])),
@@ -1027,22 +942,13 @@ fn normalize_typespec(spec: &str) -> FType {
                 }
             }
             let kind = kind.unwrap_or_else(|| "default".into());
-            FType {
-                name: format!("character({kind})"),
-                char_len: Some(len.unwrap_or_else(|| "1".into())),
-            }
+            FType { name: format!("character({kind})"), char_len: Some(len.unwrap_or_else(|| "1".into())) }
         }
         (kw, Some(inner)) => {
             let inner = inner.strip_prefix("kind=").unwrap_or(inner);
-            FType {
-                name: format!("{kw}({inner})"),
-                char_len: None,
-            }
+            FType { name: format!("{kw}({inner})"), char_len: None }
         }
-        (kw, None) => FType {
-            name: kw.to_string(),
-            char_len: None,
-        },
+        (kw, None) => FType { name: kw.to_string(), char_len: None },
     }
 }
 
@@ -1063,15 +969,8 @@ impl FDecl {
     }
 }
 
-const TYPE_KEYWORDS: [&str; 7] = [
-    "integer",
-    "real",
-    "logical",
-    "character",
-    "complex",
-    "double precision",
-    "doubleprecision",
-];
+const TYPE_KEYWORDS: [&str; 7] =
+    ["integer", "real", "logical", "character", "complex", "double precision", "doubleprecision"];
 
 /// A type declaration statement → its entities, or None if the statement is
 /// not one (a derived-type definition `type, bind(c) :: x` is not).
@@ -1079,16 +978,10 @@ fn parse_declaration(st: &Stmt) -> Option<Vec<(String, FDecl)>> {
     let lc = st.lc.as_str();
     let starts_kw = TYPE_KEYWORDS.iter().any(|k| {
         lc.starts_with(k)
-            && lc[k.len()..]
-                .chars()
-                .next()
-                .is_some_and(|c| c == '(' || c == ',' || c == ':' || c == ' ' || c == '*')
+            && lc[k.len()..].chars().next().is_some_and(|c| c == '(' || c == ',' || c == ':' || c == ' ' || c == '*')
     });
     let starts_type = (lc.starts_with("type") || lc.starts_with("class")) && {
-        let rest = lc
-            .trim_start_matches("type")
-            .trim_start_matches("class")
-            .trim_start();
+        let rest = lc.trim_start_matches("type").trim_start_matches("class").trim_start();
         rest.starts_with('(')
     };
     if !starts_kw && !starts_type {
@@ -1127,10 +1020,7 @@ fn parse_declaration(st: &Stmt) -> Option<Vec<(String, FDecl)>> {
         let a = strip_spaces(&a);
         if let Some(i) = a.strip_prefix("intent(").and_then(|r| r.strip_suffix(')')) {
             intent = Some(i.to_string());
-        } else if let Some(d) = a
-            .strip_prefix("dimension(")
-            .and_then(|r| r.strip_suffix(')'))
-        {
+        } else if let Some(d) = a.strip_prefix("dimension(").and_then(|r| r.strip_suffix(')')) {
             attr_dims = Some(d.to_string());
         } else {
             attrs.insert(a);
@@ -1140,9 +1030,7 @@ fn parse_declaration(st: &Stmt) -> Option<Vec<(String, FDecl)>> {
     let lc_entities = split_commas(right);
     let orig_entities = split_commas(orig_right);
     for (e, eo) in lc_entities.iter().zip(orig_entities.iter()) {
-        let name_len = e
-            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-            .unwrap_or(e.len());
+        let name_len = e.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(e.len());
         let name = e[..name_len].to_string();
         if name.is_empty() {
             continue;
@@ -1154,23 +1042,13 @@ fn parse_declaration(st: &Stmt) -> Option<Vec<(String, FDecl)>> {
             dims = Some(strip_spaces(&rest[1..close]));
             rest = rest[close + 1..].trim_start();
         }
-        let init = rest
-            .strip_prefix('=')
-            .filter(|r| !r.starts_with('>'))
-            .map(|_| {
-                let p = eo.find('=').unwrap();
-                eo[p + 1..].trim().to_string()
-            });
+        let init = rest.strip_prefix('=').filter(|r| !r.starts_with('>')).map(|_| {
+            let p = eo.find('=').unwrap();
+            eo[p + 1..].trim().to_string()
+        });
         out.push((
             name,
-            FDecl {
-                ty: ty.clone(),
-                attrs: attrs.clone(),
-                intent: intent.clone(),
-                dims,
-                init,
-                line: st.line,
-            },
+            FDecl { ty: ty.clone(), attrs: attrs.clone(), intent: intent.clone(), dims, init, line: st.line },
         ));
     }
     Some(out)
@@ -1254,16 +1132,11 @@ fn parse_proc_header(st: &Stmt) -> Option<Result<FProc, String>> {
     if prefix.starts_with("end") || prefix.contains("::") || prefix.contains('=') {
         return None;
     }
-    let kw_len = if is_function {
-        "function".len()
-    } else {
-        "subroutine".len()
-    };
+    let kw_len = if is_function { "function".len() } else { "subroutine".len() };
     let after = &lc[pos + kw_len..];
     let name_start = pos + kw_len + (after.len() - after.trim_start().len());
-    let name_len = lc[name_start..]
-        .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-        .unwrap_or(lc.len() - name_start);
+    let name_len =
+        lc[name_start..].find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(lc.len() - name_start);
     let name = lc[name_start..name_start + name_len].to_string();
     if name.is_empty() {
         return Some(Err(format!("line {}: cannot parse `{}`", st.line, st.orig)));
@@ -1274,15 +1147,9 @@ fn parse_proc_header(st: &Stmt) -> Option<Result<FProc, String>> {
     if trimmed.starts_with('(') {
         let open = rest_at + (lc[rest_at..].len() - trimmed.len());
         let Some(close) = close_paren(lc, open) else {
-            return Some(Err(format!(
-                "line {}: unbalanced parentheses in `{}`",
-                st.line, st.orig
-            )));
+            return Some(Err(format!("line {}: unbalanced parentheses in `{}`", st.line, st.orig)));
         };
-        dummies = split_commas(&lc[open + 1..close])
-            .into_iter()
-            .filter(|d| !d.is_empty())
-            .collect();
+        dummies = split_commas(&lc[open + 1..close]).into_iter().filter(|d| !d.is_empty()).collect();
         rest_at = close + 1;
     }
     let suffix_lc = &lc[rest_at..];
@@ -1295,8 +1162,7 @@ fn parse_proc_header(st: &Stmt) -> Option<Result<FProc, String>> {
         let items = split_commas(inner_orig);
         let label = items.iter().find_map(|it| {
             let (k, v) = it.split_once('=')?;
-            (k.trim().eq_ignore_ascii_case("name"))
-                .then(|| v.trim().trim_matches(['"', '\'']).trim().to_string())
+            (k.trim().eq_ignore_ascii_case("name")).then(|| v.trim().trim_matches(['"', '\'']).trim().to_string())
         });
         binding = Some(label.unwrap_or_else(|| name.clone()));
     }
@@ -1310,24 +1176,10 @@ fn parse_proc_header(st: &Stmt) -> Option<Result<FProc, String>> {
         let words: String = prefix.to_string();
         let cleaned = ["pure", "elemental", "recursive", "impure", "module"]
             .iter()
-            .fold(words, |w, k| {
-                w.split_whitespace()
-                    .filter(|x| x != k)
-                    .collect::<Vec<_>>()
-                    .join(" ")
-            });
+            .fold(words, |w, k| w.split_whitespace().filter(|x| x != k).collect::<Vec<_>>().join(" "));
         (!cleaned.is_empty()).then(|| normalize_typespec(&cleaned))
     };
-    Some(Ok(FProc {
-        name,
-        line: st.line,
-        is_function,
-        binding,
-        dummies,
-        result,
-        prefix_type,
-        decls: BTreeMap::new(),
-    }))
+    Some(Ok(FProc { name, line: st.line, is_function, binding, dummies, result, prefix_type, decls: BTreeMap::new() }))
 }
 
 fn is_end(lc: &str, what: &str) -> bool {
@@ -1345,14 +1197,7 @@ fn parse_module(src: &str) -> FModule {
         let lc = st.lc.as_str();
         let nospace = strip_spaces(lc);
         if let Some(p) = proc.as_mut() {
-            if is_end(
-                lc,
-                if p.is_function {
-                    "function"
-                } else {
-                    "subroutine"
-                },
-            ) {
+            if is_end(lc, if p.is_function { "function" } else { "subroutine" }) {
                 let p = proc.take().unwrap();
                 if !abstract_interface {
                     m.procs.push(p);
@@ -1360,10 +1205,7 @@ fn parse_module(src: &str) -> FModule {
             } else if let Some(entities) = parse_declaration(&st) {
                 for (n, d) in entities {
                     if p.decls.insert(n.clone(), d).is_some() {
-                        m.problems.push(format!(
-                            "line {}: `{n}` declared twice in {}",
-                            st.line, p.name
-                        ));
+                        m.problems.push(format!("line {}: `{n}` declared twice in {}", st.line, p.name));
                     }
                 }
             }
@@ -1374,14 +1216,8 @@ fn parse_module(src: &str) -> FModule {
                 m.types.push(tdef.take().unwrap());
             } else if let Some(entities) = parse_declaration(&st) {
                 t.components.extend(entities);
-            } else if nospace != "sequence"
-                && !nospace.starts_with("private")
-                && nospace != "contains"
-            {
-                m.problems.push(format!(
-                    "line {}: unexpected `{}` in type {}",
-                    st.line, st.orig, t.name
-                ));
+            } else if nospace != "sequence" && !nospace.starts_with("private") && nospace != "contains" {
+                m.problems.push(format!("line {}: unexpected `{}` in type {}", st.line, st.orig, t.name));
             }
             continue;
         }
@@ -1399,9 +1235,7 @@ fn parse_module(src: &str) -> FModule {
             abstract_interface = true;
             continue;
         }
-        if lc.starts_with("interface")
-            && (lc.len() == 9 || !lc.as_bytes()[9].is_ascii_alphanumeric())
-        {
+        if lc.starts_with("interface") && (lc.len() == 9 || !lc.as_bytes()[9].is_ascii_alphanumeric()) {
             in_interface = true;
             abstract_interface = false;
             continue;
@@ -1415,12 +1249,8 @@ fn parse_module(src: &str) -> FModule {
                 Some(Ok(p)) => proc = Some(p),
                 Some(Err(e)) => m.problems.push(e),
                 None => {
-                    if !nospace.starts_with("moduleprocedure") && !nospace.starts_with("procedure")
-                    {
-                        m.problems.push(format!(
-                            "line {}: unexpected `{}` in an interface block",
-                            st.line, st.orig
-                        ));
+                    if !nospace.starts_with("moduleprocedure") && !nospace.starts_with("procedure") {
+                        m.problems.push(format!("line {}: unexpected `{}` in an interface block", st.line, st.orig));
                     }
                 }
             }
@@ -1439,12 +1269,7 @@ fn parse_module(src: &str) -> FModule {
                 None => (String::new(), lc[4..].trim().to_string()),
             };
             let bind_c = attrs.split(',').any(|a| a == "bind(c)");
-            tdef = Some(FTypeDef {
-                name,
-                line: st.line,
-                bind_c,
-                components: Vec::new(),
-            });
+            tdef = Some(FTypeDef { name, line: st.line, bind_c, components: Vec::new() });
             continue;
         }
         if let Some(entities) = parse_declaration(&st) {
@@ -1456,8 +1281,7 @@ fn parse_module(src: &str) -> FModule {
         }
     }
     if proc.is_some() || tdef.is_some() || in_interface {
-        m.problems
-            .push("unterminated interface, procedure or type definition".into());
+        m.problems.push("unterminated interface, procedure or type definition".into());
     }
     m
 }
@@ -1511,9 +1335,7 @@ fn describe(d: &FDecl) -> String {
 fn pointer_compatible_dims(dims: &Option<String>) -> bool {
     match dims {
         None => true,
-        Some(d) => d
-            .split(',')
-            .all(|x| !(x.starts_with(':') || x.ends_with(':'))),
+        Some(d) => d.split(',').all(|x| !(x.starts_with(':') || x.ends_with(':'))),
     }
 }
 
@@ -1524,9 +1346,7 @@ fn check_argument(h: &CHeader, c: &CType, d: &FDecl) -> Result<(), String> {
     let scalar = d.dims.is_none();
     for bad in ["pointer", "allocatable", "optional"] {
         if d.has(bad) {
-            return Err(format!(
-                "`{bad}` dummies are not C pointers in Fortran 2008"
-            ));
+            return Err(format!("`{bad}` dummies are not C pointers in Fortran 2008"));
         }
     }
     let is_cptr_value = d.ty.name == "type(c_ptr)" && value && scalar;
@@ -1537,15 +1357,10 @@ fn check_argument(h: &CHeader, c: &CType, d: &FDecl) -> Result<(), String> {
             CKind::Struct(s) => format!("type({})", snake_case(&s)),
             CKind::Char => "character(c_char)".into(),
             CKind::Unsupported(why) => return Err(why),
-            CKind::Void | CKind::Opaque(_) => {
-                return Err(format!("`{}` cannot be passed by value", c.display()))
-            }
+            CKind::Void | CKind::Opaque(_) => return Err(format!("`{}` cannot be passed by value", c.display())),
         };
         if d.ty.name != want || !value || !scalar {
-            return Err(format!(
-                "C `{}` must be `{want}, value` (scalar)",
-                c.display()
-            ));
+            return Err(format!("C `{}` must be `{want}, value` (scalar)", c.display()));
         }
         return Ok(());
     }
@@ -1576,9 +1391,7 @@ fn check_argument(h: &CHeader, c: &CType, d: &FDecl) -> Result<(), String> {
         return Err(format!("C `{}` must be {alternatives}", c.display()));
     }
     if !pointer_compatible_dims(&d.dims) {
-        return Err(
-            "assumed-shape arrays `(:)` are not C pointers in Fortran 2008: use `(*)`".into(),
-        );
+        return Err("assumed-shape arrays `(:)` are not C pointers in Fortran 2008: use `(*)`".into());
     }
     if want == "character(c_char)" {
         if scalar {
@@ -1593,17 +1406,12 @@ fn check_argument(h: &CHeader, c: &CType, d: &FDecl) -> Result<(), String> {
     }
     match (c.is_const, d.intent.as_deref()) {
         (true, Some("in")) => {}
-        (true, _) => {
-            return Err(format!(
-                "C `{}` is read-only: declare it `intent(in)`",
-                c.display()
-            ))
-        }
+        (true, _) => return Err(format!("C `{}` is read-only: declare it `intent(in)`", c.display())),
         (false, Some("in")) => {
             return Err(format!(
-            "C `{}` is written by rodkit: `intent(in)` would let the compiler assume it unchanged",
-            c.display()
-        ))
+                "C `{}` is written by rodkit: `intent(in)` would let the compiler assume it unchanged",
+                c.display()
+            ))
         }
         (false, _) => {}
     }
@@ -1620,20 +1428,11 @@ fn check_result(h: &CHeader, c: &CType, ty: &FType) -> Result<(), String> {
             CKind::Struct(s) => format!("type({})", snake_case(&s)),
             CKind::FunPtr => "type(c_funptr)".into(),
             CKind::Unsupported(why) => return Err(why),
-            _ => {
-                return Err(format!(
-                    "C return type `{}` has no Fortran function result",
-                    c.display()
-                ))
-            }
+            _ => return Err(format!("C return type `{}` has no Fortran function result", c.display())),
         }
     };
     if ty.name != want {
-        return Err(format!(
-            "C returns `{}`: the function result must be `{want}`, not `{}`",
-            c.display(),
-            ty.name
-        ));
+        return Err(format!("C returns `{}`: the function result must be `{want}`, not `{}`", c.display(), ty.name));
     }
     Ok(())
 }
@@ -1649,12 +1448,7 @@ fn check_field(h: &CHeader, c: &CType, d: &FDecl) -> Result<(), String> {
             CKind::Char => "character(c_char)".into(),
             CKind::FunPtr => "type(c_funptr)".into(),
             CKind::Unsupported(why) => return Err(why),
-            _ => {
-                return Err(format!(
-                    "C field type `{}` has no Fortran equivalent",
-                    c.display()
-                ))
-            }
+            _ => return Err(format!("C field type `{}` has no Fortran equivalent", c.display())),
         }
     };
     if d.ty.name != want {
@@ -1668,21 +1462,12 @@ fn check_field(h: &CHeader, c: &CType, d: &FDecl) -> Result<(), String> {
         h.defines
             .iter()
             .find(|(name, _)| *name == n)
-            .and_then(|(_, v)| {
-                if let CDefine::Int(x) = v {
-                    Some(x.to_string())
-                } else {
-                    None
-                }
-            })
+            .and_then(|(_, v)| if let CDefine::Int(x) = v { Some(x.to_string()) } else { None })
             .unwrap_or(n)
     });
     let got_dims = d.dims.as_ref().map(|x| x.to_ascii_lowercase());
     if want_dims.as_ref().map(|x| x.to_ascii_lowercase()) != got_dims {
-        return Err(format!(
-            "C array length {:?}, Fortran dimension {:?}",
-            c.array, d.dims
-        ));
+        return Err(format!("C array length {:?}, Fortran dimension {:?}", c.array, d.dims));
     }
     Ok(())
 }
@@ -1693,18 +1478,13 @@ fn compare(header_src: &str, module_src: &str) -> Vec<String> {
     let m = parse_module(module_src);
     let mut errors: Vec<String> = Vec::new();
     for u in &h.unsupported {
-        errors.push(format!(
-            "rodkit.h: {u} (extend tests/fortran_interface.rs if this is intended)"
-        ));
+        errors.push(format!("rodkit.h: {u} (extend tests/fortran_interface.rs if this is intended)"));
     }
     for p in &m.problems {
         errors.push(format!("rodkit.f90: {p}"));
     }
     if m.name.as_deref() != Some("rodkit") {
-        errors.push(format!(
-            "rodkit.f90: expected `module rodkit`, found {:?}",
-            m.name
-        ));
+        errors.push(format!("rodkit.f90: expected `module rodkit`, found {:?}", m.name));
     }
     if h.functions.is_empty() || m.procs.is_empty() {
         errors.push(format!(
@@ -1726,16 +1506,10 @@ fn compare(header_src: &str, module_src: &str) -> Vec<String> {
     let mut by_label: BTreeMap<String, &FProc> = BTreeMap::new();
     for p in &m.procs {
         match &p.binding {
-            None => errors.push(format!(
-                "rodkit.f90 line {}: interface `{}` has no bind(c)",
-                p.line, p.name
-            )),
+            None => errors.push(format!("rodkit.f90 line {}: interface `{}` has no bind(c)", p.line, p.name)),
             Some(label) => {
                 if by_label.insert(label.clone(), p).is_some() {
-                    errors.push(format!(
-                        "rodkit.f90 line {}: two interfaces bind `{label}`",
-                        p.line
-                    ));
+                    errors.push(format!("rodkit.f90 line {}: two interfaces bind `{label}`", p.line));
                 }
             }
         }
@@ -1751,10 +1525,7 @@ fn compare(header_src: &str, module_src: &str) -> Vec<String> {
     }
     for f in &h.functions {
         let Some(p) = by_label.get(&f.name) else {
-            errors.push(format!(
-                "{}: no Fortran interface with bind(c, name=\"{}\") in rodkit.f90",
-                f.name, f.name
-            ));
+            errors.push(format!("{}: no Fortran interface with bind(c, name=\"{}\") in rodkit.f90", f.name, f.name));
             continue;
         };
         let lname = f.name.to_ascii_lowercase();
@@ -1764,11 +1535,7 @@ fn compare(header_src: &str, module_src: &str) -> Vec<String> {
                 f.name, p.name, lname
             ));
         }
-        let c_args: Vec<String> = f
-            .params
-            .iter()
-            .map(|a| a.name.to_ascii_lowercase())
-            .collect();
+        let c_args: Vec<String> = f.params.iter().map(|a| a.name.to_ascii_lowercase()).collect();
         if c_args != p.dummies {
             errors.push(format!(
                 "{}: arguments differ: C ({}) vs Fortran ({})",
@@ -1782,10 +1549,7 @@ fn compare(header_src: &str, module_src: &str) -> Vec<String> {
                 continue;
             };
             let Some(decl) = p.decls.get(dname) else {
-                errors.push(format!(
-                    "{}: dummy argument `{dname}` is not declared in the interface",
-                    f.name
-                ));
+                errors.push(format!("{}: dummy argument `{dname}` is not declared in the interface", f.name));
                 continue;
             };
             if *dname != a.name.to_ascii_lowercase() {
@@ -1805,29 +1569,15 @@ fn compare(header_src: &str, module_src: &str) -> Vec<String> {
         let is_void = ret.ptr == 0 && ret.base == "void";
         if is_void {
             if p.is_function {
-                errors.push(format!(
-                    "{}: C returns void: the interface must be a subroutine",
-                    f.name
-                ));
+                errors.push(format!("{}: C returns void: the interface must be a subroutine", f.name));
             }
         } else if !p.is_function {
-            errors.push(format!(
-                "{}: C returns `{}`: the interface must be a function",
-                f.name,
-                ret.display()
-            ));
+            errors.push(format!("{}: C returns `{}`: the interface must be a function", f.name, ret.display()));
         } else {
             let result_name = p.result.clone().unwrap_or_else(|| p.name.clone());
-            let ty = p
-                .decls
-                .get(&result_name)
-                .map(|d| d.ty.clone())
-                .or_else(|| p.prefix_type.clone());
+            let ty = p.decls.get(&result_name).map(|d| d.ty.clone()).or_else(|| p.prefix_type.clone());
             match ty {
-                None => errors.push(format!(
-                    "{}: the function result `{result_name}` has no declared type",
-                    f.name
-                )),
+                None => errors.push(format!("{}: the function result `{result_name}` has no declared type", f.name)),
                 Some(ty) => {
                     if let Err(e) = check_result(&h, &f.ret, &ty) {
                         errors.push(format!("{}: {e}", f.name));
@@ -1838,35 +1588,21 @@ fn compare(header_src: &str, module_src: &str) -> Vec<String> {
     }
 
     // ---- structs ----
-    let c_structs: BTreeMap<String, &CStruct> =
-        h.structs.iter().map(|s| (snake_case(&s.name), s)).collect();
+    let c_structs: BTreeMap<String, &CStruct> = h.structs.iter().map(|s| (snake_case(&s.name), s)).collect();
     for t in &m.types {
         if t.bind_c && !c_structs.contains_key(&t.name) {
-            errors.push(format!(
-                "rodkit.f90 line {}: bind(c) type `{}` matches no struct of rodkit.h",
-                t.line, t.name
-            ));
+            errors.push(format!("rodkit.f90 line {}: bind(c) type `{}` matches no struct of rodkit.h", t.line, t.name));
         }
     }
     for (snake, s) in &c_structs {
         let Some(t) = m.types.iter().find(|t| t.name == *snake) else {
-            errors.push(format!(
-                "struct {}: no derived type `{snake}` in rodkit.f90",
-                s.name
-            ));
+            errors.push(format!("struct {}: no derived type `{snake}` in rodkit.f90", s.name));
             continue;
         };
         if !t.bind_c {
-            errors.push(format!(
-                "struct {}: type `{snake}` must be declared `type, bind(c) :: {snake}`",
-                s.name
-            ));
+            errors.push(format!("struct {}: type `{snake}` must be declared `type, bind(c) :: {snake}`", s.name));
         }
-        let c_fields: Vec<String> = s
-            .fields
-            .iter()
-            .map(|f| f.name.to_ascii_lowercase())
-            .collect();
+        let c_fields: Vec<String> = s.fields.iter().map(|f| f.name.to_ascii_lowercase()).collect();
         let f_fields: Vec<String> = t.components.iter().map(|(n, _)| n.clone()).collect();
         if c_fields != f_fields {
             errors.push(format!(
@@ -1891,8 +1627,7 @@ fn compare(header_src: &str, module_src: &str) -> Vec<String> {
     }
 
     // ---- constants ----
-    let params: BTreeMap<String, &FDecl> =
-        m.parameters.iter().map(|(n, d)| (n.clone(), d)).collect();
+    let params: BTreeMap<String, &FDecl> = m.parameters.iter().map(|(n, d)| (n.clone(), d)).collect();
     let mut expected: Vec<(String, CDefine, String)> = Vec::new(); // name, value, fortran type
     for (name, v) in &h.defines {
         let ty = match v {
@@ -1920,10 +1655,7 @@ fn compare(header_src: &str, module_src: &str) -> Vec<String> {
     if expected.is_empty() {
         errors.push("rodkit.h: parsed no enumerators and no RODKIT_ macros".into());
     }
-    let expected_names: BTreeSet<String> = expected
-        .iter()
-        .map(|(n, _, _)| n.to_ascii_lowercase())
-        .collect();
+    let expected_names: BTreeSet<String> = expected.iter().map(|(n, _, _)| n.to_ascii_lowercase()).collect();
     for (name, value, ty) in &expected {
         let Some(d) = params.get(&name.to_ascii_lowercase()) else {
             errors.push(format!("{name}: no parameter `{name}` in rodkit.f90"));
@@ -1940,29 +1672,19 @@ fn compare(header_src: &str, module_src: &str) -> Vec<String> {
                 }
                 match parse_fortran_int(&init) {
                     Some(x) if x == *v => {}
-                    Some(x) => errors.push(format!(
-                        "{name}: C value {v}, Fortran value {x} (line {})",
-                        d.line
-                    )),
-                    None => errors.push(format!(
-                        "{name}: cannot evaluate the Fortran value `{init}` (line {})",
-                        d.line
-                    )),
+                    Some(x) => errors.push(format!("{name}: C value {v}, Fortran value {x} (line {})", d.line)),
+                    None => {
+                        errors.push(format!("{name}: cannot evaluate the Fortran value `{init}` (line {})", d.line))
+                    }
                 }
             }
             CDefine::Str(s) => {
                 if !d.ty.name.starts_with("character") {
-                    errors.push(format!(
-                        "{name}: a C string: must be a character parameter (line {})",
-                        d.line
-                    ));
+                    errors.push(format!("{name}: a C string: must be a character parameter (line {})", d.line));
                 }
                 match parse_fortran_string(&init) {
                     Some(x) if x == *s => {}
-                    other => errors.push(format!(
-                        "{name}: C value {s:?}, Fortran value {other:?} (line {})",
-                        d.line
-                    )),
+                    other => errors.push(format!("{name}: C value {s:?}, Fortran value {other:?} (line {})", d.line)),
                 }
             }
         }
@@ -2000,20 +1722,10 @@ fn fortran_module_matches_header() {
     // And the comparison really covered the header.
     let h = parse_header(&header);
     let m = parse_module(&module);
-    assert!(
-        h.functions.len() >= 10,
-        "parsed only {} C functions",
-        h.functions.len()
-    );
+    assert!(h.functions.len() >= 10, "parsed only {} C functions", h.functions.len());
     assert_eq!(m.procs.len(), h.functions.len());
-    assert!(h
-        .structs
-        .iter()
-        .any(|s| s.name == "RodkitThinTubeSpec" && s.fields.len() == 7));
-    assert!(h
-        .enums
-        .iter()
-        .any(|e| e.name == "RodkitStatus" && e.variants.contains(&("RODKIT_STATUS_OK".into(), 0))));
+    assert!(h.structs.iter().any(|s| s.name == "RodkitThinTubeSpec" && s.fields.len() == 7));
+    assert!(h.enums.iter().any(|e| e.name == "RodkitStatus" && e.variants.contains(&("RODKIT_STATUS_OK".into(), 0))));
     assert!(h.defines.iter().any(|(n, _)| n == "RODKIT_ABI_VERSION"));
 }
 
@@ -2024,14 +1736,7 @@ fn fortran_module_compiles_cleanly() {
     let dir = std::env::temp_dir().join(format!("rodkit-fortran-interface-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let out = Command::new("gfortran")
-        .args([
-            "-std=f2008",
-            "-Wall",
-            "-Wextra",
-            "-Werror",
-            "-fsyntax-only",
-            "-J",
-        ])
+        .args(["-std=f2008", "-Wall", "-Wextra", "-Werror", "-fsyntax-only", "-J"])
         .arg(&dir)
         .arg(Path::new(MODULE_PATH))
         .current_dir(&dir)
@@ -2048,10 +1753,7 @@ fn fortran_module_compiles_cleanly() {
 /// Apply a textual change, insisting that the pattern exists (otherwise the
 /// self-check would test nothing).
 fn mutate(text: &str, from: &str, to: &str) -> String {
-    assert!(
-        text.contains(from),
-        "self-check pattern not found (update the self-check): {from:?}"
-    );
+    assert!(text.contains(from), "self-check pattern not found (update the self-check): {from:?}");
     text.replacen(from, to, 1)
 }
 
@@ -2079,20 +1781,12 @@ fn checker_catches_drift_in_the_module() {
         ),
         (
             "arguments swapped",
-            mutate(
-                &f,
-                "rodkit_thin_tube_stretch_twist(spec, s, lds)",
-                "rodkit_thin_tube_stretch_twist(s, spec, lds)",
-            ),
+            mutate(&f, "rodkit_thin_tube_stretch_twist(spec, s, lds)", "rodkit_thin_tube_stretch_twist(s, spec, lds)"),
             "rodkit_thin_tube_stretch_twist: arguments differ",
         ),
         (
             "wrong enumerator value",
-            mutate(
-                &f,
-                "RODKIT_STATUS_ERR_NOT_FINITE = -3",
-                "RODKIT_STATUS_ERR_NOT_FINITE = -33",
-            ),
+            mutate(&f, "RODKIT_STATUS_ERR_NOT_FINITE = -3", "RODKIT_STATUS_ERR_NOT_FINITE = -33"),
             "C value -3, Fortran value -33",
         ),
         (
@@ -2107,58 +1801,34 @@ fn checker_catches_drift_in_the_module() {
         ),
         (
             "value attribute dropped",
-            mutate(
-                &f,
-                "integer(c_int64_t), value :: capacity",
-                "integer(c_int64_t) :: capacity",
-            ),
+            mutate(&f, "integer(c_int64_t), value :: capacity", "integer(c_int64_t) :: capacity"),
             "argument `capacity`",
         ),
         (
             "wrong integer kind",
-            mutate(
-                &f,
-                "integer(c_int64_t), value :: ldk",
-                "integer(c_int32_t), value :: ldk",
-            ),
+            mutate(&f, "integer(c_int64_t), value :: ldk", "integer(c_int32_t), value :: ldk"),
             "argument `ldk`",
         ),
         (
             "intent(in) on an output array",
-            mutate(
-                &f,
-                "real(c_double), intent(inout) :: k(*)",
-                "real(c_double), intent(in) :: k(*)",
-            ),
+            mutate(&f, "real(c_double), intent(inout) :: k(*)", "real(c_double), intent(in) :: k(*)"),
             "argument `k`",
         ),
         (
             "assumed shape instead of assumed size",
-            mutate(
-                &f,
-                "real(c_double), intent(inout) :: s(*)",
-                "real(c_double), intent(inout) :: s(:)",
-            ),
+            mutate(&f, "real(c_double), intent(inout) :: s(*)", "real(c_double), intent(inout) :: s(:)"),
             "argument `s`",
         ),
         (
             "struct fields swapped",
-            mutate(
-                &f,
-                "        real(c_double) :: e1\n",
-                "        real(c_double) :: e2_tmp\n",
-            )
-            .replacen("real(c_double) :: e2\n", "real(c_double) :: e1\n", 1)
-            .replacen("e2_tmp", "e2", 1),
+            mutate(&f, "        real(c_double) :: e1\n", "        real(c_double) :: e2_tmp\n")
+                .replacen("real(c_double) :: e2\n", "real(c_double) :: e1\n", 1)
+                .replacen("e2_tmp", "e2", 1),
             "struct RodkitThinTubeSpec: fields differ",
         ),
         (
             "struct field type",
-            mutate(
-                &f,
-                "integer(c_int32_t) :: winding",
-                "real(c_double) :: winding",
-            ),
+            mutate(&f, "integer(c_int32_t) :: winding", "real(c_double) :: winding"),
             "field `winding`",
         ),
         (
@@ -2178,12 +1848,8 @@ fn checker_catches_drift_in_the_module() {
         (
             "interface removed",
             {
-                let a = f
-                    .find("        function rodkit_version(")
-                    .expect("self-check: rodkit_version interface");
-                let b = f
-                    .find("end function rodkit_version")
-                    .expect("self-check: end of rodkit_version")
+                let a = f.find("        function rodkit_version(").expect("self-check: rodkit_version interface");
+                let b = f.find("end function rodkit_version").expect("self-check: end of rodkit_version")
                     + "end function rodkit_version".len();
                 format!("{}{}", &f[..a], &f[b..])
             },
@@ -2191,20 +1857,12 @@ fn checker_catches_drift_in_the_module() {
         ),
         (
             "unneeded rename",
-            mutate(
-                &f,
-                "function rodkit_thin_tube_free_response(spec",
-                "function rodkit_tube_free_response(spec",
-            ),
+            mutate(&f, "function rodkit_thin_tube_free_response(spec", "function rodkit_tube_free_response(spec"),
             "must be `rodkit_thin_tube_free_response`",
         ),
         (
             "bind(c) dropped from a type",
-            mutate(
-                &f,
-                "type, bind(c) :: rodkit_free_tube_response",
-                "type :: rodkit_free_tube_response",
-            ),
+            mutate(&f, "type, bind(c) :: rodkit_free_tube_response", "type :: rodkit_free_tube_response"),
             "struct RodkitFreeTubeResponse: type `rodkit_free_tube_response` must be declared",
         ),
     ];
@@ -2345,19 +2003,10 @@ END MODULE RODKIT
 #[test]
 fn checker_handles_awkward_formatting() {
     let errors = compare(FIXTURE_H, FIXTURE_F90);
-    assert!(
-        errors.is_empty(),
-        "the fixture pair should agree:\n{errors:#?}"
-    );
+    assert!(errors.is_empty(), "the fixture pair should agree:\n{errors:#?}");
     let h = parse_header(FIXTURE_H);
     assert_eq!(h.functions.len(), 4);
-    assert_eq!(
-        h.enums[0].variants,
-        vec![
-            ("RODKIT_MODE_A".to_string(), 3),
-            ("RODKIT_MODE_B".to_string(), 4)
-        ]
-    );
+    assert_eq!(h.enums[0].variants, vec![("RODKIT_MODE_A".to_string(), 3), ("RODKIT_MODE_B".to_string(), 4)]);
     assert_eq!(parse_module(FIXTURE_F90).procs.len(), 4);
 
     let cases = [
@@ -2373,36 +2022,20 @@ fn checker_handles_awkward_formatting() {
         ),
         (
             "callback as c_ptr",
-            mutate(
-                FIXTURE_F90,
-                "type(c_funptr), value :: progress",
-                "type(c_ptr), value :: progress",
-            ),
+            mutate(FIXTURE_F90, "type(c_funptr), value :: progress", "type(c_ptr), value :: progress"),
             "argument `progress`",
         ),
         (
             "handle out-parameter intent(in)",
-            mutate(
-                FIXTURE_F90,
-                "TYPE(C_PTR), INTENT(OUT) :: OUT",
-                "TYPE(C_PTR), INTENT(IN) :: OUT",
-            ),
+            mutate(FIXTURE_F90, "TYPE(C_PTR), INTENT(OUT) :: OUT", "TYPE(C_PTR), INTENT(IN) :: OUT"),
             "argument `out`",
         ),
         (
             "array field length",
-            mutate(
-                FIXTURE_F90,
-                "DIMENSION(3) :: VALUES",
-                "DIMENSION(4) :: VALUES",
-            ),
+            mutate(FIXTURE_F90, "DIMENSION(3) :: VALUES", "DIMENSION(4) :: VALUES"),
             "field `values`",
         ),
-        (
-            "string constant",
-            mutate(FIXTURE_F90, "'ro!d'", "'rod'"),
-            "RODKIT_NAME",
-        ),
+        ("string constant", mutate(FIXTURE_F90, "'ro!d'", "'rod'"), "RODKIT_NAME"),
         (
             "subroutine for a function",
             mutate(
@@ -2423,11 +2056,7 @@ fn checker_handles_awkward_formatting() {
         ),
         (
             "stale parameter",
-            mutate(
-                FIXTURE_F90,
-                "rodkit_mode_b = 4",
-                "rodkit_mode_b = 4, rodkit_mode_c = 5",
-            ),
+            mutate(FIXTURE_F90, "rodkit_mode_b = 4", "rodkit_mode_b = 4, rodkit_mode_c = 5"),
             "`rodkit_mode_c` matches no enumerator",
         ),
     ];

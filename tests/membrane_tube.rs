@@ -14,7 +14,13 @@ fn helical() -> Orthotropic {
 }
 
 fn pull(force: f64) -> Loading {
-    Loading { axial: Axial::Force(force), torsion: Torsion::Torque(0.0), inner_pressure: 0.0, outer_pressure: 0.0, ends: Ends::Open }
+    Loading {
+        axial: Axial::Force(force),
+        torsion: Torsion::Torque(0.0),
+        inner_pressure: 0.0,
+        outer_pressure: 0.0,
+        ends: Ends::Open,
+    }
 }
 
 /// d(ψ, ε_θ, ε)/dF of the free membrane at rest equals the thin linear
@@ -24,13 +30,16 @@ fn linearisation_equals_thin_linear_theory() {
     let (r, t, tau0) = (1.0, 0.05, 1.7);
     let svk = SaintVenantKirchhoff::new(helical(), tau0, false);
     let tube = MembraneTube::new(r, t, &svk).unwrap();
-    let lin = ThinTube::new(r, t, tau0, helical().surface()).unwrap().coupling_stiffness().unwrap().free_response().unwrap();
+    let lin =
+        ThinTube::new(r, t, tau0, helical().surface()).unwrap().coupling_stiffness().unwrap().free_response().unwrap();
     let h = 1e-6;
     let (p, m) = (tube.solve(&pull(h)).unwrap(), tube.solve(&pull(-h)).unwrap());
     let dpsi = (p.twist - m.twist) / (2.0 * h);
     let deps = (p.stretch - m.stretch) / (2.0 * h);
     let dhoop = (p.profile.radius[0] - m.profile.radius[0]) / r / (2.0 * h);
-    for (got, want, what) in [(dpsi, lin.dtwist_dforce, "dψ/dF"), (deps, lin.dstrain_dforce, "dε/dF"), (dhoop, lin.dhoop_dforce, "dε_θ/dF")] {
+    for (got, want, what) in
+        [(dpsi, lin.dtwist_dforce, "dψ/dF"), (deps, lin.dstrain_dforce, "dε/dF"), (dhoop, lin.dhoop_dforce, "dε_θ/dF")]
+    {
         assert!((got - want).abs() < 1e-6 * lin.dstrain_dforce.abs(), "{what}: {got} vs {want}");
     }
 }
@@ -48,7 +57,13 @@ fn neo_hookean_membrane_inflation_is_exact() {
         let a: f64 = 1.0 / (b * lambda);
         let p = mu * (b * b - a * a) * a * t / (b * r - 0.5 * a * t);
         let s = tube
-            .solve(&Loading { axial: Axial::Stretch(lambda), torsion: Torsion::Twist(0.0), inner_pressure: p, outer_pressure: 0.0, ends: Ends::Closed })
+            .solve(&Loading {
+                axial: Axial::Stretch(lambda),
+                torsion: Torsion::Twist(0.0),
+                inner_pressure: p,
+                outer_pressure: 0.0,
+                ends: Ends::Closed,
+            })
             .unwrap();
         assert!((s.profile.radius[0] / r - b).abs() < 1e-12, "b {b}: got {}", s.profile.radius[0] / r);
         // Axial: σ_zz = μ(λ² − a²), plus nothing else: F_wall = 2π r (a t) σ_zz.
@@ -76,9 +91,16 @@ fn membrane_converges_to_thick_wall_and_estimate_bounds_error() {
                 ends: Ends::Closed,
             };
             let thin = MembraneTube::new(r, t, &svk).unwrap().solve(&loading).unwrap();
-            let thick = FiniteTube::new(r - t / 2.0, r + t / 2.0, &svk).unwrap().solve(&loading, &SolveOptions::default()).unwrap();
+            let thick = FiniteTube::new(r - t / 2.0, r + t / 2.0, &svk)
+                .unwrap()
+                .solve(&loading, &SolveOptions::default())
+                .unwrap();
             let diff = ((thin.twist - thick.twist) * r).abs().max(
-                (thin.deformed_inner_radius + thin.deformed_outer_radius - thick.deformed_inner_radius - thick.deformed_outer_radius).abs() / (2.0 * r),
+                (thin.deformed_inner_radius + thin.deformed_outer_radius
+                    - thick.deformed_inner_radius
+                    - thick.deformed_outer_radius)
+                    .abs()
+                    / (2.0 * r),
             );
             let case = format!("τ0 {tau0}, λ {lambda}, hoop stress {hoop_stress}, t {t}");
             assert!(thin.error_estimate >= diff, "{case}: estimate {:e} < true {diff:e}", thin.error_estimate);

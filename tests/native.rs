@@ -12,7 +12,11 @@ use std::sync::OnceLock;
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
 fn profile() -> &'static str {
-    if cfg!(debug_assertions) { "debug" } else { "release" }
+    if cfg!(debug_assertions) {
+        "debug"
+    } else {
+        "release"
+    }
 }
 
 fn build_dir() -> PathBuf {
@@ -196,10 +200,24 @@ fn c_drivers_are_clean_under_valgrind() {
     std::fs::create_dir_all(&dir).unwrap();
     let (csv, vtk) = (dir.join("v.csv").display().to_string(), dir.join("v.vtk").display().to_string());
     let dna_args = vec!["0.1".to_string(), "4".into(), csv, vtk, "8".into(), "60".into()];
-    for exe in ["c_tube_stiffness_shared", "c_tube_stiffness_static", "c_bad_input_shared", "c_bad_input_static", "c_artery_shared", "c_rod_buckling_shared", "c_dna_supercoil_shared"] {
+    for exe in [
+        "c_tube_stiffness_shared",
+        "c_tube_stiffness_static",
+        "c_bad_input_shared",
+        "c_bad_input_static",
+        "c_artery_shared",
+        "c_rod_buckling_shared",
+        "c_dna_supercoil_shared",
+    ] {
         let args: &[String] = if exe == "c_dna_supercoil_shared" { &dna_args } else { &[] };
         let out = Command::new("valgrind")
-            .args(["-q", "--error-exitcode=99", "--leak-check=full", "--errors-for-leak-kinds=definite", "--show-leak-kinds=definite"])
+            .args([
+                "-q",
+                "--error-exitcode=99",
+                "--leak-check=full",
+                "--errors-for-leak-kinds=definite",
+                "--show-leak-kinds=definite",
+            ])
             .arg(drivers().join(exe))
             .args(args)
             .current_dir(ROOT)
@@ -271,11 +289,18 @@ fn artery_driver_matches_rust_sweep() {
     });
     let scene = TubeScene::new(0.71, 0.71 + 0.26, law, TubeModel::Thick, 1e-10, None).unwrap();
     let loadings: Vec<Loading> = (0..31)
-        .map(|i| Loading { axial: Axial::Stretch(1.0 + 0.01 * i as f64), torsion: Torsion::Torque(0.0), inner_pressure: 13.33, outer_pressure: 0.0, ends: Ends::Closed })
+        .map(|i| Loading {
+            axial: Axial::Stretch(1.0 + 0.01 * i as f64),
+            torsion: Torsion::Torque(0.0),
+            inner_pressure: 13.33,
+            outer_pressure: 0.0,
+            ends: Ends::Closed,
+        })
         .collect();
     let (sweep, _) = scene.sweep(&loadings, |_, _| true).unwrap();
     let text = std::fs::read_to_string(&csv).unwrap();
-    let rows: Vec<Vec<f64>> = text.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+    let rows: Vec<Vec<f64>> =
+        text.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
     assert_eq!(rows.len(), 31);
     for (row, s) in rows.iter().zip(&sweep.states) {
         assert_eq!(row[0], s.stretch);
@@ -301,11 +326,21 @@ fn fortran_stretch_sweep_matches_rust() {
     let got = values(&out);
     let o = Orthotropic::new(467.2, 516.2, 516.2, 0.3, 0.3, 0.3, 139.8, 139.8, 516.2 / 2.6).unwrap();
     let tau0 = (std::f64::consts::PI / 3.0).tan();
-    let scene = TubeScene::new(0.8, 1.2, WallLaw::SaintVenantKirchhoff(SaintVenantKirchhoff::new(o, tau0, false)), TubeModel::Thick, 1e-10, None).unwrap();
+    let scene = TubeScene::new(
+        0.8,
+        1.2,
+        WallLaw::SaintVenantKirchhoff(SaintVenantKirchhoff::new(o, tau0, false)),
+        TubeModel::Thick,
+        1e-10,
+        None,
+    )
+    .unwrap();
     let loadings: Vec<Loading> = (0..26).map(|i| Loading::torsion_free_stretch(1.0 + 0.002 * i as f64)).collect();
     let (sweep, _) = scene.sweep(&loadings, |_, _| true).unwrap();
     let last = sweep.states.last().unwrap();
-    for (k, want) in [("twist", last.twist), ("applied_force", last.applied_force), ("outer_radius", last.deformed_outer_radius)] {
+    for (k, want) in
+        [("twist", last.twist), ("applied_force", last.applied_force), ("outer_radius", last.deformed_outer_radius)]
+    {
         assert!((got[k] - want).abs() <= 4.0 * f64::EPSILON * want.abs(), "{k}: {} vs {want}", got[k]);
     }
     assert!(got["twist"] > 0.0, "the DNA-like wall overwinds (τ0 > 0)");
@@ -341,7 +376,11 @@ fn dna_driver_matches_rust_fit() {
     assert_eq!(got["overwinds"], 1.0);
     // The rod law's stretch–twist block is the thick law (reference: the
     // thick comparison above, computed by the DNA module at its own grid).
-    for (k, want) in [("rod_stretch", thick.thick.stretch), ("rod_twist", thick.thick.twist), ("rod_twist_stretch", thick.thick.coupling)] {
+    for (k, want) in [
+        ("rod_stretch", thick.thick.stretch),
+        ("rod_twist", thick.thick.twist),
+        ("rod_twist_stretch", thick.thick.coupling),
+    ] {
         assert!((got[k] - want).abs() <= 1e-8 * want.abs(), "{k}: {} vs {want}", got[k]);
     }
     assert!(got["rod_error_estimate"] <= 1e-10);
@@ -374,7 +413,15 @@ fn c_rod_buckling_driver() {
     let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 300.0, 1000.0).unwrap();
     let loads = Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() };
     let rod = Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), 16).unwrap();
-    let opts = Options { target_lambda: Some(3.0), initial_step: 0.2, max_step: 0.5, residual_tol: 1e-12, detect_bifurcations: true, bifurcation_tol: 1e-11, ..Default::default() };
+    let opts = Options {
+        target_lambda: Some(3.0),
+        initial_step: 0.2,
+        max_step: 0.5,
+        residual_tol: 1e-12,
+        detect_bifurcations: true,
+        bifurcation_tol: 1e-11,
+        ..Default::default()
+    };
     let b = rod.continue_branch(None, 0.0, true, &opts, Method::Newton, |_| true).unwrap();
     assert!((b.bifurcations[0].lambda - got["critical_load"]).abs() < 1e-13 * formula);
     assert!(got["final_tip_rotation_deg"] > 170.0 && got["final_tip_rotation_deg"] < 172.0);
@@ -386,7 +433,11 @@ fn c_rod_buckling_driver() {
         assert!(mu.abs() < 1e-9, "unfolding parameter {mu}");
     }
     let vtk_text = std::fs::read_to_string(&vtk).unwrap();
-    assert!(vtk_text.starts_with("# vtk DataFile") && vtk_text.contains("POINTS 136 double") && vtk_text.contains("LINES 8 144"));
+    assert!(
+        vtk_text.starts_with("# vtk DataFile")
+            && vtk_text.contains("POINTS 136 double")
+            && vtk_text.contains("LINES 8 144")
+    );
     assert_eq!(run("c_rod_buckling_static", &[csv.to_str().unwrap(), vtk.to_str().unwrap()]), out);
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -439,8 +490,14 @@ fn fortran_follower_cantilever_driver() {
     // The four shapes as VTK polydata: 4 polylines of 9 nodes, the last
     // node of each at the printed tip.
     let text = std::fs::read_to_string(&vtk).unwrap();
-    assert!(text.starts_with("# vtk DataFile") && text.contains("POINTS 36 double") && text.contains("LINES 4 40") && text.contains("POINT_DATA 36"));
-    let points: Vec<Vec<f64>> = text.lines().skip(5).take(36).map(|l| l.split_whitespace().map(|v| v.parse().unwrap()).collect()).collect();
+    assert!(
+        text.starts_with("# vtk DataFile")
+            && text.contains("POINTS 36 double")
+            && text.contains("LINES 4 40")
+            && text.contains("POINT_DATA 36")
+    );
+    let points: Vec<Vec<f64>> =
+        text.lines().skip(5).take(36).map(|l| l.split_whitespace().map(|v| v.parse().unwrap()).collect()).collect();
     assert!((points[35][0] - got["tip_x_10"]).abs() < 1e-15 && (points[35][2] - got["tip_z_10"]).abs() < 1e-15);
     // Dense output in one run (20 loads, Padé): every load delivered within
     // the tolerance, the ones at α = 5 and 10 equal to the targeted points
@@ -469,7 +526,10 @@ fn c_rod_sundials_driver() {
     assert!(got["tip_difference_ida_vs_anm"] < 1e-9, "{got:?}");
     assert!(got["state_difference_kinsol_vs_anm"] < 1e-10, "{got:?}");
     assert!(got["kinsol_discrete_iterations"] <= 5.0);
-    assert!((got["anm_tip_x"] - 0.7805435043).abs() < 1e-9, "the follower tip at α = 5 (benches/rod.rs reference 0.780543504307)");
+    assert!(
+        (got["anm_tip_x"] - 0.7805435043).abs() < 1e-9,
+        "the follower tip at α = 5 (benches/rod.rs reference 0.780543504307)"
+    );
 }
 
 /// The Fortran driver for the electrostatics and writhe of a given curve:
@@ -480,20 +540,40 @@ fn c_rod_sundials_driver() {
 /// (−2.9245397422, tests/writhe.rs) to the Hermite centreline's error.
 #[test]
 fn fortran_charged_curve_driver() {
-    use rodkit::electrostatics::{discrete, energy, writhe::writhe, EnergyQuadrature, HermiteCurve, LineCharge, Screening};
+    use rodkit::electrostatics::{
+        discrete, energy, writhe::writhe, EnergyQuadrature, HermiteCurve, LineCharge, Screening,
+    };
     let out = run("f_charged_curve_shared", &[]);
     let got = values(&out);
     let (radius, pitch, length, n) = (1.0f64, 3.0f64, 20.0f64, 81usize);
     let c = pitch / (2.0 * std::f64::consts::PI);
     let w = (radius * radius + c * c).sqrt();
     let s: Vec<f64> = (0..n).map(|k| length * k as f64 / (n - 1) as f64).collect();
-    let r = s.iter().map(|&v| { let th = v / w; [radius * th.cos(), radius * th.sin(), c * th] }).collect();
-    let t = s.iter().map(|&v| { let th = v / w; [-radius * th.sin() / w, radius * th.cos() / w, c / w] }).collect();
+    let r = s
+        .iter()
+        .map(|&v| {
+            let th = v / w;
+            [radius * th.cos(), radius * th.sin(), c * th]
+        })
+        .collect();
+    let t = s
+        .iter()
+        .map(|&v| {
+            let th = v / w;
+            [-radius * th.sin() / w, radius * th.cos() / w, c / w]
+        })
+        .collect();
     let helix = HermiteCurve::new(s, r, t, false).unwrap();
     let scr = Screening { kappa: 1.0, a: 0.3 };
-    let e = energy(&helix, &LineCharge::Uniform(1.0), &scr, &EnergyQuadrature { delta: 0.8, order: 12, cutoff: None }).unwrap();
+    let e = energy(&helix, &LineCharge::Uniform(1.0), &scr, &EnergyQuadrature { delta: 0.8, order: 12, cutoff: None })
+        .unwrap();
     let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
-    assert!(rel(got["energy"], e.total) < 1e-12 && rel(got["energy_near"], e.near) < 1e-12 && rel(got["energy_far"], e.far) < 1e-12, "{got:?} vs {e:?}");
+    assert!(
+        rel(got["energy"], e.total) < 1e-12
+            && rel(got["energy_near"], e.near) < 1e-12
+            && rel(got["energy_far"], e.far) < 1e-12,
+        "{got:?} vs {e:?}"
+    );
     assert!(rel(got["energy_narrow_near_zone"], got["energy"]) < 1e-4);
     let (pr, pq, ps) = discrete::base_pairs(&helix, &LineCharge::Uniform(1.0), 0.05).unwrap();
     assert!(rel(got["base_pair_energy"], discrete::energy(&pr, &pq, &ps, &scr, None)) < 1e-12);
@@ -520,11 +600,18 @@ fn fortran_dna_supercoil_driver() {
     assert_eq!(got["points"], r.points.len() as f64, "{out}");
     assert!(rel(got["buckling_turns"], r.buckling.unwrap().0 / (2.0 * std::f64::consts::PI)) < 1e-12, "{out}");
     let last = r.points.last().unwrap().observables;
-    assert!(rel(got["last_torque_pN_nm"], last.torque) < 1e-12 && rel(got["last_extension_nm"], last.extension) < 1e-12, "{out}");
+    assert!(
+        rel(got["last_torque_pN_nm"], last.torque) < 1e-12 && rel(got["last_extension_nm"], last.extension) < 1e-12,
+        "{out}"
+    );
     let mut bp = r.charge.clone();
     bp.base_pairs = Some(scene.rise);
     let p = solve_point(&r, r.points.len() - 1, &bp, EquilibriumSolver::NewtonKrylov, 1e-10).unwrap();
-    assert!(rel(got["base_pair_torque_pN_nm"], p.observables.torque) < 1e-12 && rel(got["base_pair_shift_nm"], p.shift) < 1e-9, "{out}");
+    assert!(
+        rel(got["base_pair_torque_pN_nm"], p.observables.torque) < 1e-12
+            && rel(got["base_pair_shift_nm"], p.shift) < 1e-9,
+        "{out}"
+    );
     assert_eq!(got["gmres_iterations"], p.linear_iterations as f64);
     assert!(rel(got["direct_torque_pN_nm"], got["base_pair_torque_pN_nm"]) < 1e-9, "{out}");
     assert!(rel(got["direct_tip_z_nm"], got["base_pair_extension_nm"]) < 1e-9, "{out}");
@@ -556,7 +643,9 @@ fn c_dna_supercoil_driver() {
     assert!(rel(got["buckling_torque_pN_nm"], m_b) < 1e-12);
     let last = r.points.last().unwrap().observables;
     assert_eq!(got["points"], r.points.len() as f64);
-    assert!(rel(got["last_extension_nm"], last.extension) < 1e-12 && rel(got["last_torque_pN_nm"], last.torque) < 1e-12);
+    assert!(
+        rel(got["last_extension_nm"], last.extension) < 1e-12 && rel(got["last_torque_pN_nm"], last.torque) < 1e-12
+    );
     assert!(got["worst_linking_error"] < 1e-4, "{out}");
     assert!(got["last_extension_nm"] < 0.999 * scene.length(), "the path did not leave the straight rod: {out}");
     let rows = std::fs::read_to_string(&csv).unwrap().lines().count() - 1;
@@ -585,10 +674,17 @@ fn c_dna_supercoil_driver() {
     // the continuum's (the models differ by near-field terms).
     let args_d = ["0.1", "10", csv.to_str().unwrap(), vtk.to_str().unwrap(), "40", "300", "discrete"];
     let got_d = values(&run("c_dna_supercoil_shared", &args_d));
-    let rd = run_scene(&scene, &SupercoilSettings { elements: 40, max_steps: 10, base_pairs: true, ..Default::default() }).unwrap();
+    let rd =
+        run_scene(&scene, &SupercoilSettings { elements: 40, max_steps: 10, base_pairs: true, ..Default::default() })
+            .unwrap();
     assert_eq!(got_d["base_pair_charges"], 300.0);
     assert!(rel(got_d["buckling_turns"], rd.buckling.unwrap().0 / two_pi) < 1e-12);
-    assert!(rel(got_d["buckling_turns"], got["buckling_turns"]) < 2e-3, "discrete {} vs continuum {}", got_d["buckling_turns"], got["buckling_turns"]);
+    assert!(
+        rel(got_d["buckling_turns"], got["buckling_turns"]) < 2e-3,
+        "discrete {} vs continuum {}",
+        got_d["buckling_turns"],
+        got["buckling_turns"]
+    );
     // Its last point re-solved with the continuum: both solvers agree.
     assert!(got_d["solver_torque_difference"].abs() < 1e-7 * got_d["other_model_torque_pN_nm"], "{got_d:?}");
     // Under a torque clamp: the Rust API's torque-controlled run (1e-12),
@@ -601,7 +697,14 @@ fn c_dna_supercoil_driver() {
     let rt = run_scene(&scene, &settings_t).unwrap();
     let last_t = rt.points.last().unwrap().observables;
     assert_eq!(got_t["points"], rt.points.len() as f64);
-    assert!(rel(got_t["last_torque_pN_nm"], last_t.torque) < 1e-12 && rel(got_t["last_extension_nm"], last_t.extension) < 1e-12, "{out_t}");
-    assert!(rel(got_t["buckling_turns"], got["buckling_turns"]) < 1e-6 && rel(got_t["buckling_torque_pN_nm"], m_b) < 1e-6, "{out_t}");
+    assert!(
+        rel(got_t["last_torque_pN_nm"], last_t.torque) < 1e-12
+            && rel(got_t["last_extension_nm"], last_t.extension) < 1e-12,
+        "{out_t}"
+    );
+    assert!(
+        rel(got_t["buckling_turns"], got["buckling_turns"]) < 1e-6 && rel(got_t["buckling_torque_pN_nm"], m_b) < 1e-6,
+        "{out_t}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -32,7 +32,13 @@ fn exact(n: usize) -> Vec<f64> {
 impl Periodic {
     fn new(n: usize) -> Self {
         let entries = (0..n).flat_map(|i| [(i, i), (i, (i + 1) % n), (i, (i + n - 1) % n)]);
-        let mut p = Periodic { pattern: Pattern::from_entries(n, entries), mu: 2.0, gamma: 5.0, b: vec![0.0; n], poison: false };
+        let mut p = Periodic {
+            pattern: Pattern::from_entries(n, entries),
+            mu: 2.0,
+            gamma: 5.0,
+            b: vec![0.0; n],
+            poison: false,
+        };
         let mut r = vec![0.0; n];
         p.residual(&exact(n), 0.0, &mut r);
         p.b = r;
@@ -52,7 +58,8 @@ impl Problem for Periodic {
         let h2 = (1.0 / n as f64).powi(2);
         let mean = u.iter().sum::<f64>() / n as f64;
         for i in 0..n {
-            r[i] = (u[(i + n - 1) % n] - 2.0 * u[i] + u[(i + 1) % n]) / h2 - self.mu * u[i].exp() + self.gamma * mean - self.b[i];
+            r[i] = (u[(i + n - 1) % n] - 2.0 * u[i] + u[(i + 1) % n]) / h2 - self.mu * u[i].exp() + self.gamma * mean
+                - self.b[i];
         }
         if self.poison {
             r[n / 2] = f64::NAN;
@@ -150,7 +157,15 @@ fn a_full_step_that_spreads_the_residual_is_not_halved() {
     let mut p = Spread { pattern: Pattern::from_entries(n, entries), a: 0.1, c: 5.0 };
     let mut pre = BandPreconditioner::new(p.pattern(), n).unwrap();
     let mut x = vec![0.0; n];
-    let rep = newton_krylov(&mut p, None, &mut pre, &mut x, 0.0, &KrylovOptions { residual_tol: 1e-12, ..Default::default() }).unwrap();
+    let rep = newton_krylov(
+        &mut p,
+        None,
+        &mut pre,
+        &mut x,
+        0.0,
+        &KrylovOptions { residual_tol: 1e-12, ..Default::default() },
+    )
+    .unwrap();
     println!("spread: {rep:?}");
     assert!((x[0] - 0.1).abs() < 1e-12 && x[1..].iter().all(|v| (v + 0.05).abs() < 1e-12), "x0 {} x1 {}", x[0], x[1]);
     // Newton's 2 iterations (the preconditioner, J(0) = I kept from the
@@ -168,7 +183,15 @@ fn failures_are_statuses() {
     let mut p = Periodic::new(n);
     let mut pre = BandPreconditioner::new(p.pattern(), 1).unwrap();
     let mut u = vec![0.0; n];
-    let e = newton_krylov(&mut p, None, &mut pre, &mut u, 0.0, &KrylovOptions { max_newton: 1, residual_tol: 1e-12, ..Default::default() }).unwrap_err();
+    let e = newton_krylov(
+        &mut p,
+        None,
+        &mut pre,
+        &mut u,
+        0.0,
+        &KrylovOptions { max_newton: 1, residual_tol: 1e-12, ..Default::default() },
+    )
+    .unwrap_err();
     assert_eq!(e.status, Status::ErrNotConverged, "{}", e.message);
     assert!(u.iter().all(|v| v.is_finite()));
     p.poison = true;
@@ -187,18 +210,47 @@ fn charged_rod_equilibrium_matches_direct_newton() {
     let scene = DnaScene { base_pairs: 600, ..Default::default() };
     let rod = scene.rod(60, 2).unwrap();
     let charge = scene.charge();
-    let opts = Options { target_lambda: Some(2.0), residual_tol: 1e-10, initial_step: 2.0, max_step: 2.0, ..Default::default() };
-    let b = follow(&rod, &charge, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, None, &opts, |_| true).unwrap();
+    let opts = Options {
+        target_lambda: Some(2.0),
+        residual_tol: 1e-10,
+        initial_step: 2.0,
+        max_step: 2.0,
+        ..Default::default()
+    };
+    let b = follow(
+        &rod,
+        &charge,
+        Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
+        None,
+        &opts,
+        |_| true,
+    )
+    .unwrap();
     let x0 = b.states.last().unwrap().clone();
     let mut discrete = charge.clone();
     discrete.base_pairs = Some(0.34);
     for (name, model) in [("continuum", &charge), ("base pairs", &discrete)] {
         let mut p = ChargedRod::new(&rod, model, None, &x0).unwrap();
         let eq = Options { residual_tol: 1e-10, max_steps: 0, ..Default::default() };
-        let direct = continue_newton(&mut p, Start::Point { x: x0.clone(), lambda: 2.1, increasing: true }, &eq, |_, _| vec![], |_| true).unwrap();
+        let direct = continue_newton(
+            &mut p,
+            Start::Point { x: x0.clone(), lambda: 2.1, increasing: true },
+            &eq,
+            |_, _| vec![],
+            |_| true,
+        )
+        .unwrap();
         let mut pre = BandPreconditioner::new(p.pattern(), p.local_band()).unwrap();
         let mut x = x0.clone();
-        let rep = newton_krylov(&mut p, None, &mut pre, &mut x, 2.1, &KrylovOptions { residual_tol: 1e-10, ..Default::default() }).unwrap();
+        let rep = newton_krylov(
+            &mut p,
+            None,
+            &mut pre,
+            &mut x,
+            2.1,
+            &KrylovOptions { residual_tol: 1e-10, ..Default::default() },
+        )
+        .unwrap();
         let s = p.unknown_scales().0;
         let diff = x.iter().zip(&direct.resume.x).zip(&s).map(|((a, b), s)| ((a - b) / s).abs()).fold(0.0, f64::max);
         let (kept, all) = pre.kept();
@@ -232,8 +284,22 @@ fn all_pairs_base_pairs_with_the_cutoff_models_preconditioner() {
     cut.cutoff_tolerance = Some(1e-4);
     let mut all = cut.clone();
     all.cutoff_tolerance = None;
-    let opts = Options { target_lambda: Some(2.0), residual_tol: 1e-10, initial_step: 2.0, max_step: 2.0, ..Default::default() };
-    let b = follow(&rod, &cut, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, None, &opts, |_| true).unwrap();
+    let opts = Options {
+        target_lambda: Some(2.0),
+        residual_tol: 1e-10,
+        initial_step: 2.0,
+        max_step: 2.0,
+        ..Default::default()
+    };
+    let b = follow(
+        &rod,
+        &cut,
+        Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
+        None,
+        &opts,
+        |_| true,
+    )
+    .unwrap();
     let x0 = b.states.last().unwrap().clone();
     let mut pc = ChargedRod::new(&rod, &cut, None, &x0).unwrap();
     let mut pa = ChargedRod::new(&rod, &all, None, &x0).unwrap();

@@ -20,7 +20,10 @@ fn small_run() -> SupercoilRun {
 }
 
 fn max_distance(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
-    a.iter().zip(b).map(|(p, q)| ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()).fold(0.0, f64::max)
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt())
+        .fold(0.0, f64::max)
 }
 
 #[test]
@@ -32,11 +35,17 @@ fn same_model_reproduces_the_path_and_solvers_agree_on_base_pairs() {
     // continuation) moves by at most ~1e-6 nm when tightened to 1e-10.
     for solver in [EquilibriumSolver::Direct, EquilibriumSolver::NewtonKrylov] {
         let p = solve_point(&run, last, &run.charge, solver, tol).unwrap();
-        println!("same model, {solver:?}: shift {:e} nm, {} Newton, {} GMRES, residual {:e}", p.shift, p.newton_iterations, p.linear_iterations, p.residual);
+        println!(
+            "same model, {solver:?}: shift {:e} nm, {} Newton, {} GMRES, residual {:e}",
+            p.shift, p.newton_iterations, p.linear_iterations, p.residual
+        );
         assert!(p.residual <= tol);
         assert!(p.shift < 1e-5, "{solver:?}: shift {:e}", p.shift);
         let (a, b) = (p.observables, run.points[last].observables);
-        assert!((a.torque - b.torque).abs() < 1e-5 * b.torque.abs() && (a.extension - b.extension).abs() < 1e-5, "{a:?} vs {b:?}");
+        assert!(
+            (a.torque - b.torque).abs() < 1e-5 * b.torque.abs() && (a.extension - b.extension).abs() < 1e-5,
+            "{a:?} vs {b:?}"
+        );
     }
     // A straight-branch point (no phase condition).
     // The preconditioner keeps the rod band there (one element's coupling,
@@ -67,7 +76,10 @@ fn same_model_reproduces_the_path_and_solvers_agree_on_base_pairs() {
     let dn = solve_point(&run, near, &bp, EquilibriumSolver::Direct, tol).unwrap();
     let kn = solve_point(&run, near, &bp, EquilibriumSolver::NewtonKrylov, tol).unwrap();
     let gap_near = max_distance(&run.rod.positions(&dn.state), &run.rod.positions(&kn.state));
-    println!("next to buckling: shift {:e} nm, direct {} iterations, NK {} / {} GMRES, solvers differ by {gap_near:e} nm", dn.shift, dn.newton_iterations, kn.newton_iterations, kn.linear_iterations);
+    println!(
+        "next to buckling: shift {:e} nm, direct {} iterations, NK {} / {} GMRES, solvers differ by {gap_near:e} nm",
+        dn.shift, dn.newton_iterations, kn.newton_iterations, kn.linear_iterations
+    );
     assert!(gap_near < 1e-6, "{gap_near:e}");
     // Every pair (dense exact Jacobian; preconditioned by the 1e-4 cutoff
     // model's band): the cutoff at 1e-4 moves the shape by an order less
@@ -76,7 +88,10 @@ fn same_model_reproduces_the_path_and_solvers_agree_on_base_pairs() {
     all.cutoff_tolerance = None;
     let a = solve_point(&run, last, &all, EquilibriumSolver::NewtonKrylov, tol).unwrap();
     let gap_all = max_distance(&run.rod.positions(&a.state), &rk);
-    println!("all pairs: {} Newton {} GMRES, differs from cutoff by {gap_all:e} nm", a.newton_iterations, a.linear_iterations);
+    println!(
+        "all pairs: {} Newton {} GMRES, differs from cutoff by {gap_all:e} nm",
+        a.newton_iterations, a.linear_iterations
+    );
     assert!(a.residual <= tol && gap_all < 0.1 * k.shift, "all pairs vs cutoff {gap_all:e} (shift {:e})", k.shift);
 }
 

@@ -23,8 +23,21 @@ fn arc_tip(m: f64) -> [f64; 3] {
 
 fn solve_at(rod: &Rod, lambda: f64) -> Vec<f64> {
     let mut sys = rod.system().unwrap();
-    let opts = Options { target_lambda: Some(lambda), residual_tol: 1e-12, initial_step: 0.5, max_step: 2.0, ..Default::default() };
-    let b = continue_newton(&mut sys, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, &opts, |x, _| x.to_vec(), |_| true).unwrap();
+    let opts = Options {
+        target_lambda: Some(lambda),
+        residual_tol: 1e-12,
+        initial_step: 0.5,
+        max_step: 2.0,
+        ..Default::default()
+    };
+    let b = continue_newton(
+        &mut sys,
+        Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
+        &opts,
+        |x, _| x.to_vec(),
+        |_| true,
+    )
+    .unwrap();
     assert_eq!(b.stop, Stop::Target);
     b.records.last().unwrap().outputs.clone()
 }
@@ -40,13 +53,27 @@ fn pure_end_moment_rolls_the_rod_into_a_ring() {
         let rod = Rod::new(law(), 1.0, loads, Supports::Cantilever, scheme, n).unwrap();
         for engine in ["newton", "anm"] {
             let mut sys = rod.system().unwrap();
-            let opts = Options { target_lambda: Some(2.0 * PI), residual_tol: 1e-11, initial_step: 0.3, max_step: 2.0, ..Default::default() };
+            let opts = Options {
+                target_lambda: Some(2.0 * PI),
+                residual_tol: 1e-11,
+                initial_step: 0.3,
+                max_step: 2.0,
+                ..Default::default()
+            };
             let start = Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true };
             let observe = |x: &[f64], _: f64| x.to_vec();
             let b = if engine == "newton" {
                 continue_newton(&mut sys, start, &opts, observe, |_| true).unwrap()
             } else {
-                continue_anm(&mut sys, start, &opts, &AnmOptions { order: 20, epsilon: 1e-10, pade: false }, observe, |_| true).unwrap()
+                continue_anm(
+                    &mut sys,
+                    start,
+                    &opts,
+                    &AnmOptions { order: 20, epsilon: 1e-10, pade: false },
+                    observe,
+                    |_| true,
+                )
+                .unwrap()
             };
             assert_eq!(b.stop, Stop::Target, "{scheme:?} {engine}");
             for r in &b.records {
@@ -73,7 +100,12 @@ fn pure_end_moment_rolls_the_rod_into_a_ring() {
 #[test]
 fn schemes_converge_at_their_order() {
     let loads = Loads { tip_moment: Some(Load::follower([1.0, 0.0, 0.0])), ..Default::default() };
-    for (scheme, ns) in [(Scheme::Midpoint, [8, 16, 32]), (Scheme::Gauss(2), [2, 4, 8]), (Scheme::Gauss(3), [2, 3, 4]), (Scheme::Gauss(4), [1, 2, 3])] {
+    for (scheme, ns) in [
+        (Scheme::Midpoint, [8, 16, 32]),
+        (Scheme::Gauss(2), [2, 4, 8]),
+        (Scheme::Gauss(3), [2, 3, 4]),
+        (Scheme::Gauss(4), [1, 2, 3]),
+    ] {
         let errs: Vec<f64> = ns
             .iter()
             .map(|&n| {
@@ -177,22 +209,31 @@ fn uniform_helix_is_an_equilibrium() {
     let u = [0.8, 0.0, 1.5];
     let m = [kb * u[0], kb * u[1], c * u[2]];
     let nb = [(c - kb) * u[2] * u[0], (c - kb) * u[2] * u[1], (c - kb) * u[2] * u[2]];
-    let loads = Loads { tip_force: Some(Load::follower(nb)), tip_moment: Some(Load::follower(m)), ..Default::default() };
-    let rod = Rod::new(RodLaw::kirchhoff(kb, kb, c).unwrap(), l, loads, Supports::Cantilever, Scheme::Gauss(4), 12).unwrap();
+    let loads =
+        Loads { tip_force: Some(Load::follower(nb)), tip_moment: Some(Load::follower(m)), ..Default::default() };
+    let rod =
+        Rod::new(RodLaw::kirchhoff(kb, kb, c).unwrap(), l, loads, Supports::Cantilever, Scheme::Gauss(4), 12).unwrap();
     let x = solve_at(&rod, 1.0);
     let w = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt();
     let uh = [u[0] / w, u[1] / w, u[2] / w];
-    let cross = |a: [f64; 3], b: [f64; 3]| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+    let cross =
+        |a: [f64; 3], b: [f64; 3]| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
     let e3 = [0.0, 0.0, 1.0];
     let (a1, a2) = (cross(uh, e3), cross(uh, cross(uh, e3)));
     let (c1, c2) = ((1.0 - (w * l).cos()) / w, l - (w * l).sin() / w);
-    let want = [l * e3[0] + c1 * a1[0] + c2 * a2[0], l * e3[1] + c1 * a1[1] + c2 * a2[1], l * e3[2] + c1 * a1[2] + c2 * a2[2]];
+    let want =
+        [l * e3[0] + c1 * a1[0] + c2 * a2[0], l * e3[1] + c1 * a1[1] + c2 * a2[1], l * e3[2] + c1 * a1[2] + c2 * a2[2]];
     let tip = rod.tip(&x);
     assert!(dist(tip, want) < 1e-9, "tip {tip:?} vs helix {want:?}");
     for i in 0..=rod.elements {
         let y = rod.node_state(&x, i);
         for k in 0..3 {
-            assert!((y[10 + k] - m[k]).abs() < 1e-9 && (y[7 + k] - nb[k]).abs() < 1e-9, "node {i}: m {:?} n {:?}", &y[10..13], &y[7..10]);
+            assert!(
+                (y[10 + k] - m[k]).abs() < 1e-9 && (y[7 + k] - nb[k]).abs() < 1e-9,
+                "node {i}: m {:?} n {:?}",
+                &y[10..13],
+                &y[7..10]
+            );
         }
     }
 }
@@ -205,18 +246,34 @@ fn uniform_helix_is_an_equilibrium() {
 #[test]
 fn self_contact_is_reported() {
     let loads = Loads { tip_moment: Some(Load::follower([1.0, 0.0, 0.0])), ..Default::default() };
-    let rod = Rod::new(law(), 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), 8).unwrap().with_diameter(0.05).unwrap();
-    let opts = Options { target_lambda: Some(2.0 * PI), residual_tol: 1e-11, initial_step: 0.05, max_step: 0.05, ..Default::default() };
+    let rod =
+        Rod::new(law(), 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), 8).unwrap().with_diameter(0.05).unwrap();
+    let opts = Options {
+        target_lambda: Some(2.0 * PI),
+        residual_tol: 1e-11,
+        initial_step: 0.05,
+        max_step: 0.05,
+        ..Default::default()
+    };
     let b = rod.continue_branch(None, 0.0, true, &opts, rodkit::rod::branch::Method::Newton, |_| true).unwrap();
     let c = b.contact.expect("the ring closes: contact");
     let chord = |m: f64| (2.0 / m) * (0.5 * m).sin().abs();
     let m = b.records[c.record].lambda;
-    assert!(c.distance < 0.05 && (c.distance - chord(m)).abs() < 1e-6, "contact at m = {m}: {} vs chord {}", c.distance, chord(m));
+    assert!(
+        c.distance < 0.05 && (c.distance - chord(m)).abs() < 1e-6,
+        "contact at m = {m}: {} vs chord {}",
+        c.distance,
+        chord(m)
+    );
     assert!(chord(b.records[c.record - 1].lambda) >= 0.05, "an earlier record was already in contact");
     assert!(c.s1 < 1e-12 && (c.s2 - 1.0).abs() < 1e-12, "pair ({}, {})", c.s1, c.s2);
     // Without a diameter nothing is checked.
     let plain = Rod::new(law(), 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), 8).unwrap();
-    assert!(plain.continue_branch(None, 0.0, true, &opts, rodkit::rod::branch::Method::Newton, |_| true).unwrap().contact.is_none());
+    assert!(plain
+        .continue_branch(None, 0.0, true, &opts, rodkit::rod::branch::Method::Newton, |_| true)
+        .unwrap()
+        .contact
+        .is_none());
 }
 
 /// ANM orders: P = 40 works, takes no more steps than P = 20 (longer
@@ -278,7 +335,8 @@ fn follower_cantilever_against_planar_shooting() {
         let steps = 20000;
         let h = 1.0 / steps as f64;
         let mut y = [0.0, 0.0, 0.0, m0];
-        let add = |a: [f64; 4], b: [f64; 4], t: f64| [a[0] + t * b[0], a[1] + t * b[1], a[2] + t * b[2], a[3] + t * b[3]];
+        let add =
+            |a: [f64; 4], b: [f64; 4], t: f64| [a[0] + t * b[0], a[1] + t * b[1], a[2] + t * b[2], a[3] + t * b[3]];
         for _ in 0..steps {
             let k1 = f(y);
             let k2 = f(add(y, k1, 0.5 * h));
@@ -341,7 +399,10 @@ fn follower_cantilever_against_planar_shooting() {
         let x = b.states.last().unwrap();
         let tip = rod.tip(x);
         let e = dist(tip, tip_ref);
-        println!("α = {alpha}: rodkit {tip:?}, shooting {tip_ref:?}, tip rotation {:.2}°, difference {e:e}", theta_l.to_degrees());
+        println!(
+            "α = {alpha}: rodkit {tip:?}, shooting {tip_ref:?}, tip rotation {:.2}°, difference {e:e}",
+            theta_l.to_degrees()
+        );
         assert!(e < 1e-9, "α = {alpha}: {e:e}");
         assert!((rod.tip_rotation(x) - theta_l).abs() < 1e-9);
         branch = Some(b);
@@ -351,9 +412,22 @@ fn follower_cantilever_against_planar_shooting() {
     // Hermite interpolant), each corrected to the tolerance and within 1e−9
     // of the shooting reference.
     let loads: Vec<f64> = dense.iter().map(|d| d.0).collect();
-    let opts = Options { target_lambda: Some(10.0), residual_tol: 1e-12, max_step: 2.0, samples: loads.clone(), ..Default::default() };
+    let opts = Options {
+        target_lambda: Some(10.0),
+        residual_tol: 1e-12,
+        max_step: 2.0,
+        samples: loads.clone(),
+        ..Default::default()
+    };
     let mut factorisations = vec![];
-    for method in [rodkit::rod::branch::Method::Anm(rodkit::continuation::anm::AnmOptions { order: 20, epsilon: 1e-10, pade: false }), rodkit::rod::branch::Method::Newton] {
+    for method in [
+        rodkit::rod::branch::Method::Anm(rodkit::continuation::anm::AnmOptions {
+            order: 20,
+            epsilon: 1e-10,
+            pade: false,
+        }),
+        rodkit::rod::branch::Method::Newton,
+    ] {
         let b = rod.continue_branch(None, 0.0, true, &opts, method, |_| true).unwrap();
         assert!(b.missed_samples.is_empty());
         let got: Vec<f64> = b.samples.iter().map(|s| s.lambda).collect();
@@ -363,10 +437,20 @@ fn follower_cantilever_against_planar_shooting() {
             assert!(s.residual <= 1e-12);
             worst = worst.max(dist(rod.tip(x), *tip_ref));
         }
-        println!("{method:?}: {} records, {} samples, worst tip error {worst:e}, {:?}", b.records.len(), b.samples.len(), b.counts);
+        println!(
+            "{method:?}: {} records, {} samples, worst tip error {worst:e}, {:?}",
+            b.records.len(),
+            b.samples.len(),
+            b.counts
+        );
         assert!(worst < 1e-9, "{method:?}: dense tip error {worst:e}");
         factorisations.push(b.counts.factorisations);
     }
     // The series is the ANM's advantage: 40 loads cost it few factorisations.
-    assert!(factorisations[0] * 4 < factorisations[1], "factorisations ANM {} vs Newton {}", factorisations[0], factorisations[1]);
+    assert!(
+        factorisations[0] * 4 < factorisations[1],
+        "factorisations ANM {} vs Newton {}",
+        factorisations[0],
+        factorisations[1]
+    );
 }

@@ -64,7 +64,8 @@ fn straight_branch_with(rod: &Rod, lambda_max: f64, anm: bool) -> rodkit::contin
     };
     let start = Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true };
     let b = if anm {
-        rodkit::continuation::anm::continue_anm(&mut sys, start, &opts, &Default::default(), |_, _| vec![], |_| true).unwrap()
+        rodkit::continuation::anm::continue_anm(&mut sys, start, &opts, &Default::default(), |_, _| vec![], |_| true)
+            .unwrap()
     } else {
         continue_newton(&mut sys, start, &opts, |_, _| vec![], |_| true).unwrap()
     };
@@ -72,7 +73,12 @@ fn straight_branch_with(rod: &Rod, lambda_max: f64, anm: bool) -> rodkit::contin
     // The straight branch is symmetric: no determinant changes sign at the
     // double point; σ_min found it.
     assert!(b.records.windows(2).all(|w| w[0].bordered_det_sign == w[1].bordered_det_sign));
-    assert_eq!(b.bifurcations.len(), 1, "bifurcations: {:?}", b.bifurcations.iter().map(|b| b.lambda).collect::<Vec<_>>());
+    assert_eq!(
+        b.bifurcations.len(),
+        1,
+        "bifurcations: {:?}",
+        b.bifurcations.iter().map(|b| b.lambda).collect::<Vec<_>>()
+    );
     b.bifurcations[0].clone()
 }
 
@@ -105,7 +111,12 @@ fn euler_load_of_the_extensible_cantilever() {
     assert!(fine < 1e-8, "Gauss(4), 16 elements: {fine:e}");
     // The ANM finds the same point.
     let by_anm = straight_branch_with(&rod, 3.0, true);
-    assert!((by_anm.lambda - exact).abs() < 1e-8 * exact && by_anm.multiplicity == 2, "ANM: {} ({:?})", by_anm.lambda, by_anm.singular_values);
+    assert!(
+        (by_anm.lambda - exact).abs() < 1e-8 * exact && by_anm.multiplicity == 2,
+        "ANM: {} ({:?})",
+        by_anm.lambda,
+        by_anm.singular_values
+    );
     // The extensible load is 0.6 % below Euler's.
     assert!((1.0 - exact / pe - 0.006).abs() < 0.001);
 }
@@ -137,11 +148,22 @@ fn post_buckled_elastica_against_elliptic_integrals() {
     let scaling = Scaling { x: sx, lambda: sl };
     let aug_bif = rodkit::continuation::bifurcation::Bifurcation {
         x: x_aug,
-        tangent_x: { let mut t = bif.tangent_x.clone(); t.push(0.0); t },
+        tangent_x: {
+            let mut t = bif.tangent_x.clone();
+            t.push(0.0);
+            t
+        },
         ..bif.clone()
     };
     let start = branch_start(&aug_bif, (&t_aug, *nl), 0.05, &scaling);
-    let opts = Options { residual_tol: 1e-11, initial_step: 0.05, max_step: 0.2, max_steps: 400, lambda_range: (0.0, 40.0), ..Default::default() };
+    let opts = Options {
+        residual_tol: 1e-11,
+        initial_step: 0.05,
+        max_step: 0.2,
+        max_steps: 400,
+        lambda_range: (0.0, 40.0),
+        ..Default::default()
+    };
     let observe = |x: &[f64], _: f64| x.to_vec();
     let mut max_theta: f64 = 0.0;
     let b = continue_newton(&mut aug, Start::Resume(start), &opts, observe, |r| {
@@ -168,7 +190,12 @@ fn post_buckled_elastica_against_elliptic_integrals() {
         let (axial, lateral) = (2.0 * ee / kk - 1.0, 2.0 * k / kk);
         let defl = (y[0] * y[0] + y[1] * y[1]).sqrt();
         assert!((r.lambda - p).abs() < 1e-8 * p, "θ0 = {:.1}°: P {} vs {p}", theta.to_degrees(), r.lambda);
-        assert!((y[2] - axial).abs() < 1e-8 && (defl - lateral).abs() < 1e-8, "θ0 = {:.1}°: tip ({defl}, {}) vs ({lateral}, {axial})", theta.to_degrees(), y[2]);
+        assert!(
+            (y[2] - axial).abs() < 1e-8 && (defl - lateral).abs() < 1e-8,
+            "θ0 = {:.1}°: tip ({defl}, {}) vs ({lateral}, {axial})",
+            theta.to_degrees(),
+            y[2]
+        );
         // The buckled shape stays in the chosen plane.
         assert!((-azimuth.sin() * y[0] + azimuth.cos() * y[1]).abs() < 1e-10);
     }
@@ -188,11 +215,28 @@ fn beck_column_has_no_static_bifurcation() {
     let loads = Loads { tip_force: Some(Load::follower([0.0, 0.0, -1.0])), ..Default::default() };
     let rod = Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(2), 8).unwrap();
     let mut sys = rod.system().unwrap();
-    let opts = Options { target_lambda: Some(30.0), residual_tol: 1e-11, initial_step: 0.2, max_step: 1.0, detect_bifurcations: true, ..Default::default() };
-    let b = continue_newton(&mut sys, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, &opts, |x, _| rod.tip(x).to_vec(), |_| true).unwrap();
+    let opts = Options {
+        target_lambda: Some(30.0),
+        residual_tol: 1e-11,
+        initial_step: 0.2,
+        max_step: 1.0,
+        detect_bifurcations: true,
+        ..Default::default()
+    };
+    let b = continue_newton(
+        &mut sys,
+        Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
+        &opts,
+        |x, _| rod.tip(x).to_vec(),
+        |_| true,
+    )
+    .unwrap();
     assert_eq!(b.stop, Stop::Target);
     assert!(b.bifurcations.is_empty(), "found {:?}", b.bifurcations.iter().map(|b| b.lambda).collect::<Vec<_>>());
-    assert!(b.records.windows(2).all(|w| w[0].det_sign == w[1].det_sign && w[0].bordered_det_sign == w[1].bordered_det_sign));
+    assert!(b
+        .records
+        .windows(2)
+        .all(|w| w[0].det_sign == w[1].det_sign && w[0].bordered_det_sign == w[1].bordered_det_sign));
     for r in &b.records {
         assert!(r.outputs[0].abs() < 1e-12 && r.outputs[1].abs() < 1e-12);
         // Axial shortening by the thrust: (1 − Λ/EA) L.
@@ -200,9 +244,24 @@ fn beck_column_has_no_static_bifurcation() {
     }
     // The same rod under a dead thrust does bifurcate (the detection works here).
     let dead = Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() };
-    let rod = Rod::new(RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap(), 1.0, dead, Supports::Cantilever, Scheme::Gauss(2), 8).unwrap();
+    let rod = Rod::new(
+        RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap(),
+        1.0,
+        dead,
+        Supports::Cantilever,
+        Scheme::Gauss(2),
+        8,
+    )
+    .unwrap();
     let mut sys = rod.system().unwrap();
-    let b = continue_newton(&mut sys, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, &Options { target_lambda: Some(3.0), ..opts }, |_, _| vec![], |_| true).unwrap();
+    let b = continue_newton(
+        &mut sys,
+        Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
+        &Options { target_lambda: Some(3.0), ..opts },
+        |_, _| vec![],
+        |_| true,
+    )
+    .unwrap();
     assert_eq!(b.bifurcations.len(), 1);
 }
 
@@ -264,20 +323,25 @@ fn greenhill_controlled_end_moment() {
     let (kb, c) = (1.0, 4.0);
     let m_c = 2.0 * x * kb;
     let law = RodLaw::kirchhoff(kb, kb, c).unwrap();
-    let rod = Rod::new(law.clone(), 1.0, Loads::default(), Supports::Torqued { tension: 0.0 }, Scheme::Gauss(4), 16).unwrap();
+    let rod =
+        Rod::new(law.clone(), 1.0, Loads::default(), Supports::Torqued { tension: 0.0 }, Scheme::Gauss(4), 16).unwrap();
     assert_eq!(rod.unknowns(), rod.straight_state().len());
     for anm in [false, true] {
         let bif = straight_branch_with(&rod, 10.0, anm);
         let err = (bif.lambda - m_c).abs() / m_c;
         let phi = rod.end_rotation(&bif.x, bif.lambda).unwrap();
-        println!("Greenhill, torque clamp (ANM {anm}): M_c = {}, linearised {m_c}, error {err:e}; φ = {phi}", bif.lambda);
+        println!(
+            "Greenhill, torque clamp (ANM {anm}): M_c = {}, linearised {m_c}, error {err:e}; φ = {phi}",
+            bif.lambda
+        );
         assert!(err < 1e-8, "ANM {anm}: {err:e}");
         assert_eq!(bif.multiplicity, 2);
         assert!((phi - m_c / c).abs() < 1e-9 * phi, "φ {phi} against ML/C {}", m_c / c);
     }
     // With tension: the rotation-controlled rod's buckling torque.
     let tension = 5.0;
-    let twisted = Rod::new(law.clone(), 1.0, Loads::default(), Supports::Twisted { tension }, Scheme::Gauss(4), 16).unwrap();
+    let twisted =
+        Rod::new(law.clone(), 1.0, Loads::default(), Supports::Twisted { tension }, Scheme::Gauss(4), 16).unwrap();
     let b = straight_branch(&twisted, 0.999);
     let m_twisted = twisted.node_state(&b.x, twisted.elements)[12];
     let torqued = Rod::new(law, 1.0, Loads::default(), Supports::Torqued { tension }, Scheme::Gauss(4), 16).unwrap();
@@ -298,24 +362,39 @@ fn torque_clamp_and_rotation_control_trace_one_buckled_curve() {
     let method = rodkit::rod::branch::Method::Newton;
     let curve = |supports: Supports, target: f64, step: f64, steps: usize| -> Vec<(f64, f64)> {
         let rod = Rod::new(law.clone(), 1.0, Loads::default(), supports, Scheme::Gauss(2), 12).unwrap();
-        let opts = Options { target_lambda: Some(target), residual_tol: 1e-12, initial_step: 0.2, max_step: 0.5, detect_bifurcations: true, ..Default::default() };
+        let opts = Options {
+            target_lambda: Some(target),
+            residual_tol: 1e-12,
+            initial_step: 0.2,
+            max_step: 0.5,
+            detect_bifurcations: true,
+            ..Default::default()
+        };
         let straight = rod.continue_branch(None, 0.0, true, &opts, method, |_| true).unwrap();
-        let opts = Options { residual_tol: 1e-11, initial_step: step, max_step: step, max_steps: steps, ..Default::default() };
+        let opts =
+            Options { residual_tol: 1e-11, initial_step: step, max_step: step, max_steps: steps, ..Default::default() };
         let b = rod.switch_branch(&straight, 0, 0, step.min(0.05), &opts, method, |_| true).unwrap();
         let mut phi_prev = rod.end_rotation(&straight.bifurcations[0].x, straight.bifurcations[0].lambda).unwrap();
-        b.records.iter().zip(&b.states).map(|(r, x)| {
-            let phi = rodkit::rod::model::unwrap_rotation(phi_prev, rod.end_rotation(x, r.lambda).unwrap());
-            phi_prev = phi;
-            let y = rod.node_state(x, rod.elements);
-            let q = [y[3], y[4], y[5], y[6]];
-            // Spatial moment about e3 at s = L.
-            let rot = rodkit::rod::kinematics::rotation(&q);
-            (phi, rot[2][0] * y[10] + rot[2][1] * y[11] + rot[2][2] * y[12])
-        }).collect()
+        b.records
+            .iter()
+            .zip(&b.states)
+            .map(|(r, x)| {
+                let phi = rodkit::rod::model::unwrap_rotation(phi_prev, rod.end_rotation(x, r.lambda).unwrap());
+                phi_prev = phi;
+                let y = rod.node_state(x, rod.elements);
+                let q = [y[3], y[4], y[5], y[6]];
+                // Spatial moment about e3 at s = L.
+                let rot = rodkit::rod::kinematics::rotation(&q);
+                (phi, rot[2][0] * y[10] + rot[2][1] * y[11] + rot[2][2] * y[12])
+            })
+            .collect()
     };
     let torque = curve(Supports::Torqued { tension: 1.0 }, 12.0, 0.1, 12);
     let rotation = curve(Supports::Twisted { tension: 1.0 }, 0.999, 0.01, 60);
-    let (lo, hi) = (rotation.first().unwrap().0.min(rotation.last().unwrap().0), rotation.first().unwrap().0.max(rotation.last().unwrap().0));
+    let (lo, hi) = (
+        rotation.first().unwrap().0.min(rotation.last().unwrap().0),
+        rotation.first().unwrap().0.max(rotation.last().unwrap().0),
+    );
     let mut compared = 0;
     for &(phi, m) in &torque {
         if phi <= lo || phi >= hi {
@@ -341,10 +420,19 @@ fn greenhill_symmetric_post_buckled_branch() {
     for tension in [0.0, 1.0] {
         let law = RodLaw::kirchhoff(1.0, 1.0, 4.0).unwrap();
         let rod = Rod::new(law, 1.0, Loads::default(), Supports::Twisted { tension }, Scheme::Gauss(2), 12).unwrap();
-        let opts = Options { target_lambda: Some(0.99), residual_tol: 1e-12, initial_step: 0.2, max_step: 0.5, detect_bifurcations: true, ..Default::default() };
-        let straight = rod.continue_branch(None, 0.0, true, &opts, rodkit::rod::branch::Method::Newton, |_| true).unwrap();
+        let opts = Options {
+            target_lambda: Some(0.99),
+            residual_tol: 1e-12,
+            initial_step: 0.2,
+            max_step: 0.5,
+            detect_bifurcations: true,
+            ..Default::default()
+        };
+        let straight =
+            rod.continue_branch(None, 0.0, true, &opts, rodkit::rod::branch::Method::Newton, |_| true).unwrap();
         let bif_lambda = straight.bifurcations[0].lambda;
-        let opts = Options { residual_tol: 1e-11, max_step: 0.1, max_steps: 10, track_singular: true, ..Default::default() };
+        let opts =
+            Options { residual_tol: 1e-11, max_step: 0.1, max_steps: 10, track_singular: true, ..Default::default() };
         let b = rod.switch_branch(&straight, 0, 0, 0.05, &opts, rodkit::rod::branch::Method::Newton, |_| true).unwrap();
         assert!(b.phase.is_some());
         let n = rod.unknowns();
@@ -370,13 +458,21 @@ fn greenhill_symmetric_post_buckled_branch() {
 fn non_planar_post_buckled_branch_is_regular() {
     let law = RodLaw::kirchhoff(1.0, 1.3, 4.0).unwrap();
     let rod = Rod::new(law, 1.0, Loads::default(), Supports::Twisted { tension: 1.0 }, Scheme::Gauss(2), 12).unwrap();
-    let opts = Options { target_lambda: Some(0.99), residual_tol: 1e-12, initial_step: 0.2, max_step: 0.5, detect_bifurcations: true, ..Default::default() };
+    let opts = Options {
+        target_lambda: Some(0.99),
+        residual_tol: 1e-12,
+        initial_step: 0.2,
+        max_step: 0.5,
+        detect_bifurcations: true,
+        ..Default::default()
+    };
     let straight = rod.continue_branch(None, 0.0, true, &opts, rodkit::rod::branch::Method::Newton, |_| true).unwrap();
     // Two simple points (one per bending axis) below Λ = 0.99; the first:
     assert!(!straight.bifurcations.is_empty());
     assert_eq!(straight.bifurcations[0].multiplicity, 1);
     assert!(straight.bifurcations[0].det_sign_change);
-    let opts = Options { residual_tol: 1e-11, max_step: 0.1, max_steps: 12, track_singular: true, ..Default::default() };
+    let opts =
+        Options { residual_tol: 1e-11, max_step: 0.1, max_steps: 12, track_singular: true, ..Default::default() };
     let b = rod.switch_branch(&straight, 0, 0, 0.05, &opts, rodkit::rod::branch::Method::Newton, |_| true).unwrap();
     assert!(b.phase.is_none());
     let mut non_planar = 0.0f64;
@@ -398,7 +494,17 @@ fn non_planar_post_buckled_branch_is_regular() {
     let samples = vec![lc + 2e-3, lc + 5e-3, lc + 1e-2];
     let opts = Options { samples: samples.clone(), ..opts };
     let bn = rod.switch_branch(&straight, 0, 0, 0.05, &opts, rodkit::rod::branch::Method::Newton, |_| true).unwrap();
-    let ba = rod.switch_branch(&straight, 0, 0, 0.05, &opts, rodkit::rod::branch::Method::Anm(AnmOptions { order: 20, epsilon: 1e-8, pade: false }), |_| true).unwrap();
+    let ba = rod
+        .switch_branch(
+            &straight,
+            0,
+            0,
+            0.05,
+            &opts,
+            rodkit::rod::branch::Method::Anm(AnmOptions { order: 20, epsilon: 1e-8, pade: false }),
+            |_| true,
+        )
+        .unwrap();
     assert_eq!(bn.samples.len(), 3, "Newton samples {:?}", bn.samples.iter().map(|s| s.lambda).collect::<Vec<_>>());
     assert_eq!(ba.samples.len(), 3, "ANM samples {:?}", ba.samples.iter().map(|s| s.lambda).collect::<Vec<_>>());
     for k in 0..3 {
@@ -437,7 +543,11 @@ fn hemitropic_rod_buckles_earlier() {
         let (mut lo, mut hi) = (0.1, 5.0);
         for _ in 0..200 {
             let mid = 0.5 * (lo + hi);
-            if f(lo) * f(mid) <= 0.0 { hi = mid } else { lo = mid }
+            if f(lo) * f(mid) <= 0.0 {
+                hi = mid
+            } else {
+                lo = mid
+            }
         }
         0.5 * (lo + hi)
     };
@@ -447,7 +557,11 @@ fn hemitropic_rod_buckles_earlier() {
     let rod = Rod::new(law, l, loads, Supports::Cantilever, Scheme::Gauss(4), 16).unwrap();
     let bif = straight_branch(&rod, 3.0);
     let err = (bif.lambda - chiral).abs() / chiral;
-    println!("hemitropic P_cr {} (linearised {chiral}), achiral {achiral}: coupling lowers it by {:.3} %", bif.lambda, 100.0 * (1.0 - chiral / achiral));
+    println!(
+        "hemitropic P_cr {} (linearised {chiral}), achiral {achiral}: coupling lowers it by {:.3} %",
+        bif.lambda,
+        100.0 * (1.0 - chiral / achiral)
+    );
     assert!(err < 1e-8, "hemitropic P_cr {} vs {chiral}: {err:e}", bif.lambda);
     assert!(achiral - chiral > 0.01 * achiral, "the coupling should lower the critical load");
     assert_eq!(bif.multiplicity, 2);
@@ -470,7 +584,11 @@ fn clamped_clamped_under_end_displacement() {
     let c = 1.0 / ga - 1.0 / ea;
     let exact = (-1.0 + (1.0 + 4.0 * c * pe).sqrt()) / (2.0 * c);
     let law = RodLaw::isotropic(1.0, 1.0 / 1.3, ga, ea).unwrap();
-    let supports = Supports::Clamped { end_position: [0.0, 0.0, 1.0], end_rotation: [1.0, 0.0, 0.0, 0.0], end_displacement: [0.0, 0.0, -0.01] };
+    let supports = Supports::Clamped {
+        end_position: [0.0, 0.0, 1.0],
+        end_rotation: [1.0, 0.0, 0.0, 0.0],
+        end_displacement: [0.0, 0.0, -0.01],
+    };
     let rod = Rod::new(law, 1.0, Loads::default(), supports, Scheme::Gauss(4), 16).unwrap();
     let bif = straight_branch(&rod, 6.0);
     let (force, _) = rod.spatial_force_moment(&bif.x, 0);
@@ -504,14 +622,21 @@ fn non_planar_symmetric_branch_with_phase_condition() {
         bifurcations: vec![straight],
         stop: Stop::Target,
         counts: Default::default(),
-        resume: rodkit::continuation::Resume { x: vec![], lambda: 0.0, tangent_x: vec![], tangent_lambda: 0.0, step: 0.0 },
+        resume: rodkit::continuation::Resume {
+            x: vec![],
+            lambda: 0.0,
+            tangent_x: vec![],
+            tangent_lambda: 0.0,
+            step: 0.0,
+        },
         phase: None,
         contact: None,
         samples: vec![],
         sample_states: vec![],
         missed_samples: vec![],
     };
-    let opts = Options { residual_tol: 1e-11, max_step: 0.1, max_steps: 20, track_singular: true, ..Default::default() };
+    let opts =
+        Options { residual_tol: 1e-11, max_step: 0.1, max_steps: 20, track_singular: true, ..Default::default() };
     let b = rod.switch_branch(&branch, 0, 0, 0.05, &opts, rodkit::rod::branch::Method::Newton, |_| true).unwrap();
     assert!(b.phase.is_some());
     let n = rod.unknowns();

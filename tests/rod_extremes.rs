@@ -14,8 +14,9 @@ use rodkit::Status;
 use std::f64::consts::PI;
 
 fn all_finite(b: &Branch) -> bool {
-    b.records.iter().all(|r| r.lambda.is_finite() && r.residual.is_finite() && r.step.is_finite() && r.outputs.iter().all(|v| v.is_finite()))
-        && b.samples.iter().all(|s| s.residual.is_finite() && s.outputs.iter().all(|v| v.is_finite()))
+    b.records.iter().all(|r| {
+        r.lambda.is_finite() && r.residual.is_finite() && r.step.is_finite() && r.outputs.iter().all(|v| v.is_finite())
+    }) && b.samples.iter().all(|s| s.residual.is_finite() && s.outputs.iter().all(|v| v.is_finite()))
         && b.resume.x.iter().all(|v| v.is_finite())
 }
 
@@ -41,7 +42,8 @@ fn dead_load_tip(alpha: f64, ga: f64, ea: f64) -> [f64; 3] {
         let steps = 20000;
         let h = 1.0 / steps as f64;
         let mut y = [0.0, 0.0, 0.0, m0];
-        let add = |a: [f64; 4], b: [f64; 4], t: f64| [a[0] + t * b[0], a[1] + t * b[1], a[2] + t * b[2], a[3] + t * b[3]];
+        let add =
+            |a: [f64; 4], b: [f64; 4], t: f64| [a[0] + t * b[0], a[1] + t * b[1], a[2] + t * b[2], a[3] + t * b[3]];
         for _ in 0..steps {
             let k1 = f(y);
             let k2 = f(add(y, k1, 0.5 * h));
@@ -104,7 +106,13 @@ fn ten_thousand_elements() {
     let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap();
     let loads = Loads { tip_moment: Some(Load::dead([0.0, 2.0 * PI, 0.0])), ..Default::default() };
     let rod = Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Midpoint, 10_000).unwrap();
-    let opts = Options { target_lambda: Some(0.5), residual_tol: 1e-10, initial_step: 0.5, max_step: 1.0, ..Default::default() };
+    let opts = Options {
+        target_lambda: Some(0.5),
+        residual_tol: 1e-10,
+        initial_step: 0.5,
+        max_step: 1.0,
+        ..Default::default()
+    };
     let t = std::time::Instant::now();
     let b = rod.continue_branch(None, 0.0, true, &opts, Method::Newton, |_| true).unwrap();
     println!("N = 1e4, n = {}: {:?}, {:?}", rod.unknowns(), t.elapsed(), b.counts);
@@ -127,7 +135,14 @@ fn follower_load_to_alpha_100() {
         let loads = Loads { tip_force: Some(Load::follower([1.0, 0.0, 0.0])), ..Default::default() };
         Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), n).unwrap()
     };
-    let opts = Options { target_lambda: Some(100.0), residual_tol: 1e-10, initial_step: 0.5, max_step: 5.0, max_steps: 3000, ..Default::default() };
+    let opts = Options {
+        target_lambda: Some(100.0),
+        residual_tol: 1e-10,
+        initial_step: 0.5,
+        max_step: 5.0,
+        max_steps: 3000,
+        ..Default::default()
+    };
     let solve = |r: &Rod, method: Method| {
         let mut sys = r.system().unwrap();
         let start = Start::Point { x: r.straight_state(), lambda: 0.0, increasing: true };
@@ -184,10 +199,21 @@ fn start_exactly_at_a_bifurcation_point() {
     // cannot converge; the location keeps its best point (regression: the
     // bifurcation was lost). Gauss(4) × 8 is within 1e-9 of the formula.
     for method in [Method::Newton, Method::Anm(AnmOptions::default())] {
-        let opts = Options { target_lambda: Some(3.0), residual_tol: 1e-10, initial_step: 0.2, max_step: 1.0, detect_bifurcations: true, ..Default::default() };
+        let opts = Options {
+            target_lambda: Some(3.0),
+            residual_tol: 1e-10,
+            initial_step: 0.2,
+            max_step: 1.0,
+            detect_bifurcations: true,
+            ..Default::default()
+        };
         let b = rod.continue_branch(None, 0.0, true, &opts, method, |_| true).unwrap();
         assert_eq!(b.bifurcations.len(), 1, "{method:?}");
-        assert!((b.bifurcations[0].lambda - pcr).abs() < 1e-9 * pcr, "{method:?}: {} vs {pcr}", b.bifurcations[0].lambda);
+        assert!(
+            (b.bifurcations[0].lambda - pcr).abs() < 1e-9 * pcr,
+            "{method:?}: {} vs {pcr}",
+            b.bifurcations[0].lambda
+        );
     }
     for method in [Method::Newton, Method::Anm(AnmOptions::default())] {
         for increasing in [true, false] {
@@ -198,9 +224,17 @@ fn start_exactly_at_a_bifurcation_point() {
                     assert!(b.records.iter().all(|r| r.lambda.is_finite() && r.residual.is_finite()));
                     for x in &b.states {
                         let tip = rod.tip(x);
-                        assert!(tip[0].hypot(tip[1]) < 1e-8, "{method:?}: left the straight branch at a start on it: {tip:?}");
+                        assert!(
+                            tip[0].hypot(tip[1]) < 1e-8,
+                            "{method:?}: left the straight branch at a start on it: {tip:?}"
+                        );
                     }
-                    println!("{method:?} increasing {increasing}: {:?}, {} records to Λ {}", b.stop, b.records.len(), b.records.last().unwrap().lambda);
+                    println!(
+                        "{method:?} increasing {increasing}: {:?}, {} records to Λ {}",
+                        b.stop,
+                        b.records.len(),
+                        b.records.last().unwrap().lambda
+                    );
                 }
                 Err(e) => {
                     assert_eq!(e.status, Status::ErrNotConverged, "{}", e.message);
@@ -226,7 +260,13 @@ fn start_exactly_at_a_bifurcation_point() {
 fn zero_load() {
     let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap();
     let rod = Rod::new(law, 1.0, Loads::default(), Supports::Cantilever, Scheme::Gauss(2), 8).unwrap();
-    let opts = Options { target_lambda: Some(2.0), max_step: 0.5, samples: vec![0.5, 1.5], detect_bifurcations: true, ..Default::default() };
+    let opts = Options {
+        target_lambda: Some(2.0),
+        max_step: 0.5,
+        samples: vec![0.5, 1.5],
+        detect_bifurcations: true,
+        ..Default::default()
+    };
     for method in [Method::Anm(AnmOptions::default()), Method::Newton] {
         let b = rod.continue_branch(None, 0.0, true, &opts, method, |_| true).unwrap();
         assert_eq!(b.stop, Stop::Target, "{method:?}");
@@ -263,9 +303,15 @@ fn degenerate_stiffness_rejected() {
     let mut k = nalgebra::Matrix6::<f64>::identity();
     k[(0, 1)] = 2.0;
     k[(1, 0)] = 2.0;
-    assert_eq!(RodLaw::general(k, nalgebra::Vector3::zeros(), nalgebra::Vector3::z()).unwrap_err().status, Status::ErrNotPositiveDefinite);
+    assert_eq!(
+        RodLaw::general(k, nalgebra::Vector3::zeros(), nalgebra::Vector3::z()).unwrap_err().status,
+        Status::ErrNotPositiveDefinite
+    );
     k[(1, 0)] = 1.0;
-    assert_eq!(RodLaw::general(k, nalgebra::Vector3::zeros(), nalgebra::Vector3::z()).unwrap_err().status, Status::ErrOutOfRange);
+    assert_eq!(
+        RodLaw::general(k, nalgebra::Vector3::zeros(), nalgebra::Vector3::z()).unwrap_err().status,
+        Status::ErrOutOfRange
+    );
     // Zero length, zero elements.
     let law = RodLaw::isotropic(1.0, 1.0, 1.0, 1.0).unwrap();
     assert!(Rod::new(law.clone(), 0.0, Loads::default(), Supports::Cantilever, Scheme::Midpoint, 4).is_err());

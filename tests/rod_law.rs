@@ -24,7 +24,8 @@ fn thin_isotropic_tube_has_textbook_section_constants() {
     let (e, nu, r, t) = (3.0, 0.3, 1.4, 0.01);
     let g = e / (2.0 * (1.0 + nu));
     for tau0 in [0.0, 0.8, -3.0] {
-        let k = ThinTube::new(r, t, tau0, OrthotropicSurface::isotropic(e, nu).unwrap()).unwrap().rod_stiffness().unwrap();
+        let k =
+            ThinTube::new(r, t, tau0, OrthotropicSurface::isotropic(e, nu).unwrap()).unwrap().rod_stiffness().unwrap();
         assert!(rel(k.stretch(), 2.0 * PI * r * t * e) < 1e-14);
         assert!(rel(k.bending(), PI * r.powi(3) * t * e) < 1e-14);
         assert!(rel(k.twist(), 2.0 * PI * r.powi(3) * t * g) < 1e-14);
@@ -62,7 +63,9 @@ fn thin_helical_tube_is_a_hemitropic_rod() {
         assert!(rel(k.shear(), c / (2.0 * r * r)) < 1e-13);
         assert!(rel(k.bend_shear(), -g / 2.0) < 1e-12);
         // Hemitropic form: nothing else is coupled.
-        let pattern = RodStiffness::hemitropic(k.bending(), k.twist(), k.shear(), k.stretch(), k.twist_stretch(), k.bend_shear()).unwrap();
+        let pattern =
+            RodStiffness::hemitropic(k.bending(), k.twist(), k.shear(), k.stretch(), k.twist_stretch(), k.bend_shear())
+                .unwrap();
         assert_eq!(pattern.k, k.k);
     }
 }
@@ -74,7 +77,13 @@ fn reversing_the_helix_flips_the_chiral_couplings() {
     let chiral = |k: &RodStiffness| [k.twist_stretch(), k.bend_shear()];
     let achiral = |k: &RodStiffness| [k.bending(), k.twist(), k.shear(), k.stretch()];
     let thin = |tau0: f64| ThinTube::new(1.0, 0.1, tau0, helical().surface()).unwrap().rod_stiffness().unwrap();
-    let thick = |tau0: f64| ThickTube::new(0.5, 1.0, tau0, helical(), Compressibility::Compressible).unwrap().rod_stiffness(1e-12).unwrap().value;
+    let thick = |tau0: f64| {
+        ThickTube::new(0.5, 1.0, tau0, helical(), Compressibility::Compressible)
+            .unwrap()
+            .rod_stiffness(1e-12)
+            .unwrap()
+            .value
+    };
     for (plus, minus) in [(thin(1.3), thin(-1.3)), (thick(1.3), thick(-1.3))] {
         for (p, m) in chiral(&plus).iter().zip(chiral(&minus)) {
             assert!(p.abs() > 0.0 && rel(-m, *p) < 1e-10, "{p} vs {m}");
@@ -120,14 +129,23 @@ fn thick_rod_law_converges_to_thin() {
     let moduli = |k: &RodStiffness| [k.bending(), k.twist(), k.shear(), k.stretch(), k.twist_stretch(), k.bend_shear()];
     let diff = |t: f64| {
         let thin = ThinTube::new(r, t, 1.4, helical().surface()).unwrap().rod_stiffness().unwrap();
-        let thick = ThickTube::new(r - t / 2.0, r + t / 2.0, 1.4, helical(), Compressibility::Compressible).unwrap().rod_stiffness(1e-12).unwrap().value;
+        let thick = ThickTube::new(r - t / 2.0, r + t / 2.0, 1.4, helical(), Compressibility::Compressible)
+            .unwrap()
+            .rod_stiffness(1e-12)
+            .unwrap()
+            .value;
         let (a, b) = (moduli(&thin), moduli(&thick));
         [0, 1, 2, 3, 4, 5].map(|i| rel(b[i], a[i]))
     };
     let (coarse, fine) = (diff(0.04), diff(0.01));
     for i in 0..6 {
         let rate = (coarse[i] / fine[i]).log(4.0);
-        assert!(fine[i] < 0.05 && (rate >= 0.95 || fine[i] < 1e-9), "modulus {i}: differences {:e} → {:e}, rate {rate}", coarse[i], fine[i]);
+        assert!(
+            fine[i] < 0.05 && (rate >= 0.95 || fine[i] < 1e-9),
+            "modulus {i}: differences {:e} → {:e}, rate {rate}",
+            coarse[i],
+            fine[i]
+        );
     }
 }
 
@@ -141,6 +159,10 @@ fn thick_rod_law_estimate_bounds_error() {
         let est = tube.rod_stiffness(tol).unwrap();
         let scale = reference.k.amax();
         let err = (est.value.k - reference.k).amax() / scale;
-        assert!(est.error_estimate <= tol && err <= est.error_estimate.max(1e-13), "tol {tol:e}: error {err:e}, estimate {:e}", est.error_estimate);
+        assert!(
+            est.error_estimate <= tol && err <= est.error_estimate.max(1e-13),
+            "tol {tol:e}: error {err:e}, estimate {:e}",
+            est.error_estimate
+        );
     }
 }

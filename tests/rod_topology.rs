@@ -20,7 +20,14 @@ use std::f64::consts::PI;
 fn linking_number_is_the_end_rotation_along_a_buckling_path() {
     let law = RodLaw::kirchhoff(1.0, 1.3, 4.0).unwrap();
     let rod = Rod::new(law, 1.0, Loads::default(), Supports::Twisted { tension: 1.0 }, Scheme::Gauss(4), 16).unwrap();
-    let opts = Options { target_lambda: Some(0.99), residual_tol: 1e-12, initial_step: 0.2, max_step: 0.5, detect_bifurcations: true, ..Default::default() };
+    let opts = Options {
+        target_lambda: Some(0.99),
+        residual_tol: 1e-12,
+        initial_step: 0.2,
+        max_step: 0.5,
+        detect_bifurcations: true,
+        ..Default::default()
+    };
     let straight = rod.continue_branch(None, 0.0, true, &opts, Method::Newton, |_| true).unwrap();
     for (r, x) in straight.records.iter().zip(&straight.states) {
         let phi = rod.end_rotation(x, r.lambda).unwrap();

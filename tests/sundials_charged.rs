@@ -31,8 +31,24 @@ fn kinsol_agrees_on_the_charged_residual() {
     let scene = DnaScene { base_pairs: 200, ..Default::default() };
     let rod = scene.rod(24, 2).unwrap();
     let charge = scene.charge();
-    let opts = Options { target_lambda: Some(8.0), residual_tol: 1e-12, initial_step: 1.0, max_step: 2.0, detect_bifurcations: true, bifurcation_tol: 1e-8, ..Default::default() };
-    let straight = supercoil::follow(&rod, &charge, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, None, &opts, |_| true).unwrap();
+    let opts = Options {
+        target_lambda: Some(8.0),
+        residual_tol: 1e-12,
+        initial_step: 1.0,
+        max_step: 2.0,
+        detect_bifurcations: true,
+        bifurcation_tol: 1e-8,
+        ..Default::default()
+    };
+    let straight = supercoil::follow(
+        &rod,
+        &charge,
+        Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
+        None,
+        &opts,
+        |_| true,
+    )
+    .unwrap();
     assert!(!straight.bifurcations.is_empty(), "no buckling below φ = 8");
     let opts = Options { residual_tol: 1e-12, initial_step: 0.1, max_step: 0.3, max_steps: 16, ..Default::default() };
     let buckled = supercoil::switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap();
@@ -47,7 +63,12 @@ fn kinsol_agrees_on_the_charged_residual() {
         let root = kinsol_root(&ctx, &mut p, phi, &perturbed(&x, &us, 1e-4));
         let d = root.iter().zip(&x).zip(&us).map(|((a, b), s)| ((a - b) / s).abs()).fold(0.0, f64::max);
         let o = supercoil::observables(&rod, &x, phi).unwrap();
-        println!("φ = {phi:.5} ({:.4} turns, Wr {:.4}, phase {}): KINSOL vs rodkit {d:e}", o.turns, o.writhe, phase.is_some());
+        println!(
+            "φ = {phi:.5} ({:.4} turns, Wr {:.4}, phase {}): KINSOL vs rodkit {d:e}",
+            o.turns,
+            o.writhe,
+            phase.is_some()
+        );
         assert!(d < 1e-8, "φ = {phi}: {d:e}");
     }
 }

@@ -10,8 +10,7 @@ mod sundials;
 
 use std::cell::RefCell;
 use sundials::{
-    ida_solve, kinsol_solve, Context, DenseColMajor, IdaOptions, InitialCondition, KinsolOptions,
-    Strategy,
+    ida_solve, kinsol_solve, Context, DenseColMajor, IdaOptions, InitialCondition, KinsolOptions, Strategy,
 };
 
 fn max_abs(v: &[f64]) -> f64 {
@@ -62,20 +61,11 @@ const ROOT_RTOL: f64 = 1e-12;
 fn assert_root3(x: &[f64]) {
     for i in 0..3 {
         let rel = (x[i] - ROOT3[i]).abs() / ROOT3[i].abs();
-        assert!(
-            rel <= ROOT_RTOL,
-            "component {i}: x = {:.17e}, exact {}, rel. error {rel:e}",
-            x[i],
-            ROOT3[i]
-        );
+        assert!(rel <= ROOT_RTOL, "component {i}: x = {:.17e}, exact {}, rel. error {rel:e}", x[i], ROOT3[i]);
     }
     let mut f = [0.0; 3];
     residual3(x, &mut f);
-    assert!(
-        max_abs(&f) <= FTOL3,
-        "‖F(x)‖∞ = {:e} > {FTOL3:e}",
-        max_abs(&f)
-    );
+    assert!(max_abs(&f) <= FTOL3, "‖F(x)‖∞ = {:e} > {FTOL3:e}", max_abs(&f));
 }
 
 fn opts(strategy: Strategy) -> KinsolOptions {
@@ -105,11 +95,7 @@ fn kinsol_exact_newton_analytic_jacobian_finds_exact_root() {
         assert_eq!(stats.residual_evals_fd, 0);
         // Hand-run Newton from START3 reaches ‖F‖∞ < 1e−15 in 5 steps; a
         // quadratically convergent solver cannot need more than a handful.
-        assert!(
-            (3..=8).contains(&stats.iterations),
-            "iterations = {}",
-            stats.iterations
-        );
+        assert!((3..=8).contains(&stats.iterations), "iterations = {}", stats.iterations);
         assert!(stats.func_norm <= FTOL3 * 3f64.sqrt());
     }
 }
@@ -138,32 +124,17 @@ fn kinsol_exact_newton_converges_quadratically() {
     )
     .unwrap();
     let norms = norms.into_inner();
-    println!(
-        "‖F‖∞ history: {:?}",
-        norms.iter().map(|r| format!("{r:.3e}")).collect::<Vec<_>>()
-    );
+    println!("‖F‖∞ history: {:?}", norms.iter().map(|r| format!("{r:.3e}")).collect::<Vec<_>>());
     assert_root3(&x);
-    assert_eq!(
-        norms.len() as i64,
-        stats.iterations + 1,
-        "one residual call per Newton iterate"
-    );
+    assert_eq!(norms.len() as i64, stats.iterations + 1, "one residual call per Newton iterate");
     let mut checked = 0;
     for w in norms.windows(2) {
         if w[1] > 1e-14 {
-            assert!(
-                w[1] <= w[0] * w[0],
-                "not quadratic: {:e} -> {:e}",
-                w[0],
-                w[1]
-            );
+            assert!(w[1] <= w[0] * w[0], "not quadratic: {:e} -> {:e}", w[0], w[1]);
             checked += 1;
         }
     }
-    assert!(
-        checked >= 3,
-        "too few pre-asymptotic steps to judge ({checked})"
-    );
+    assert!(checked >= 3, "too few pre-asymptotic steps to judge ({checked})");
 }
 
 #[test]
@@ -178,16 +149,9 @@ fn kinsol_exact_newton_finite_difference_jacobian_finds_exact_root() {
         // per Jacobian, one Jacobian per iteration.
         assert_eq!(stats.jacobian_evals, stats.iterations);
         assert_eq!(stats.residual_evals_fd, 3 * stats.jacobian_evals);
-        assert_eq!(
-            stats.residual_calls as i64,
-            stats.residual_evals + stats.residual_evals_fd
-        );
+        assert_eq!(stats.residual_calls as i64, stats.residual_evals + stats.residual_evals_fd);
         // An O(√ε) Jacobian error only adds an O(√ε)·‖F‖ term per step.
-        assert!(
-            (3..=8).contains(&stats.iterations),
-            "iterations = {}",
-            stats.iterations
-        );
+        assert!((3..=8).contains(&stats.iterations), "iterations = {}", stats.iterations);
     }
 }
 
@@ -199,24 +163,14 @@ fn kinsol_modified_newton_reuses_the_jacobian() {
     let ctx = Context::new().unwrap();
     let mut jac = jacobian3;
     let mut x = START3;
-    let exact = kinsol_solve(
-        &ctx,
-        &mut x,
-        residual3,
-        Some(&mut jac),
-        &opts(Strategy::LineSearch),
-    )
-    .unwrap();
+    let exact = kinsol_solve(&ctx, &mut x, residual3, Some(&mut jac), &opts(Strategy::LineSearch)).unwrap();
     let mut x = START3;
     let modified = kinsol_solve(
         &ctx,
         &mut x,
         residual3,
         Some(&mut jac),
-        &KinsolOptions {
-            max_setup_calls: 10,
-            ..opts(Strategy::LineSearch)
-        },
+        &KinsolOptions { max_setup_calls: 10, ..opts(Strategy::LineSearch) },
     )
     .unwrap();
     println!("exact {exact:?}\nmodified {modified:?}");
@@ -248,10 +202,7 @@ fn kinsol_without_root_is_an_error() {
         for x0 in [0.7, 3.0, 0.0] {
             for analytic in [true, false] {
                 let mut x = [x0];
-                let o = KinsolOptions {
-                    max_iters: 100,
-                    ..opts(strategy)
-                };
+                let o = KinsolOptions { max_iters: 100, ..opts(strategy) };
                 let res = if analytic {
                     kinsol_solve(&ctx, &mut x, no_root, Some(&mut jac), &o)
                 } else {
@@ -259,10 +210,7 @@ fn kinsol_without_root_is_an_error() {
                 };
                 println!("{strategy:?}, x0 = {x0}, analytic J = {analytic}: {res:?}");
                 let err = res.expect_err("x² + 1 = 0 has no real root");
-                assert!(
-                    err.contains("KIN"),
-                    "error should name the KINSOL flag: {err}"
-                );
+                assert!(err.contains("KIN"), "error should name the KINSOL flag: {err}");
             }
         }
     }
@@ -297,20 +245,11 @@ fn kinsol_rejects_bad_input() {
     let mut x: [f64; 0] = [];
     assert!(kinsol_solve(&ctx, &mut x, |_, _| {}, None, &KinsolOptions::default()).is_err());
     let mut x = START3;
-    let o = KinsolOptions {
-        u_scale: Some(vec![1.0, -1.0, 1.0]),
-        ..KinsolOptions::default()
-    };
+    let o = KinsolOptions { u_scale: Some(vec![1.0, -1.0, 1.0]), ..KinsolOptions::default() };
     assert!(kinsol_solve(&ctx, &mut x, residual3, None, &o).is_err());
-    let o = KinsolOptions {
-        func_norm_tol: -1.0,
-        ..KinsolOptions::default()
-    };
+    let o = KinsolOptions { func_norm_tol: -1.0, ..KinsolOptions::default() };
     let err = kinsol_solve(&ctx, &mut x, residual3, None, &o).unwrap_err();
-    assert!(
-        err.contains("KINSetFuncNormTol") && err.contains("KIN_ILL_INPUT"),
-        "{err}"
-    );
+    assert!(err.contains("KINSetFuncNormTol") && err.contains("KIN_ILL_INPUT"), "{err}");
 }
 
 // ---------------------------------------------------------------------------
@@ -328,12 +267,7 @@ const GLOBAL_TOL: f64 = 1e-7;
 const T_OUT: [f64; 7] = [0.1, 0.5, 1.0, 2.0, 3.7, 5.0, 10.0];
 
 fn ida_opts(ic: InitialCondition) -> IdaOptions {
-    IdaOptions {
-        rtol: RTOL,
-        atol: ATOL,
-        initial_condition: ic,
-        ..IdaOptions::default()
-    }
+    IdaOptions { rtol: RTOL, atol: ATOL, initial_condition: ic, ..IdaOptions::default() }
 }
 
 /// Linear semi-explicit index-1 DAE (a two-state exchange with conservation):
@@ -388,40 +322,18 @@ fn ida_linear_dae_matches_closed_form() {
     let id = [1.0, 0.0];
     for analytic in [true, false] {
         let mut jac = linear_dae_jac;
-        let jac_arg: Option<&mut sundials::IdaJacobian<'_>> =
-            if analytic { Some(&mut jac) } else { None };
-        let sol = ida_solve(
-            &ctx,
-            0.0,
-            &y0,
-            &yp0,
-            &id,
-            linear_dae,
-            jac_arg,
-            &ida_opts(InitialCondition::AsGiven),
-            &T_OUT,
-        )
-        .unwrap();
+        let jac_arg: Option<&mut sundials::IdaJacobian<'_>> = if analytic { Some(&mut jac) } else { None };
+        let sol =
+            ida_solve(&ctx, 0.0, &y0, &yp0, &id, linear_dae, jac_arg, &ida_opts(InitialCondition::AsGiven), &T_OUT)
+                .unwrap();
         let err = max_error(&sol, |t| linear_exact(t, y10).to_vec());
-        println!(
-            "linear DAE, analytic J = {analytic}: max rel. error {err:e}, {:?}",
-            sol.stats
-        );
-        assert_eq!(
-            sol.t,
-            T_OUT.to_vec(),
-            "IDA_NORMAL returns at the requested times"
-        );
+        println!("linear DAE, analytic J = {analytic}: max rel. error {err:e}, {:?}", sol.stats);
+        assert_eq!(sol.t, T_OUT.to_vec(), "IDA_NORMAL returns at the requested times");
         assert!(err <= GLOBAL_TOL, "max error {err:e}");
         // y' is returned too: check it against the closed form as well.
         for (t, yp) in sol.t.iter().zip(&sol.yp) {
             let ex = linear_exact_dot(*t, y10);
-            assert!(
-                (yp[0] - ex[0]).abs() <= 1e-6,
-                "y1'({t}) = {} vs {}",
-                yp[0],
-                ex[0]
-            );
+            assert!((yp[0] - ex[0]).abs() <= 1e-6, "y1'({t}) = {} vs {}", yp[0], ex[0]);
         }
         assert!(sol.stats.steps > 0 && sol.stats.residual_evals > 0);
         if analytic {
@@ -494,8 +406,7 @@ fn ida_nonlinear_dae_with_inconsistent_start_fixed_by_calc_ic() {
     let y10 = 1.0;
     for analytic in [true, false] {
         let mut jac = nonlinear_dae_jac;
-        let jac_arg: Option<&mut sundials::IdaJacobian<'_>> =
-            if analytic { Some(&mut jac) } else { None };
+        let jac_arg: Option<&mut sundials::IdaJacobian<'_>> = if analytic { Some(&mut jac) } else { None };
         let sol = ida_solve(
             &ctx,
             0.0,
@@ -508,14 +419,8 @@ fn ida_nonlinear_dae_with_inconsistent_start_fixed_by_calc_ic() {
             &T_OUT,
         )
         .unwrap();
-        println!(
-            "nonlinear DAE, analytic J = {analytic}: y0 = {:?}, yp0 = {:?}, {:?}",
-            sol.y0, sol.yp0, sol.stats
-        );
-        assert_eq!(
-            sol.y0[0], y10,
-            "IDA_YA_YDP_INIT keeps the differential component"
-        );
+        println!("nonlinear DAE, analytic J = {analytic}: y0 = {:?}, yp0 = {:?}, {:?}", sol.y0, sol.yp0, sol.stats);
+        assert_eq!(sol.y0[0], y10, "IDA_YA_YDP_INIT keeps the differential component");
         assert!((sol.y0[1] - 1.0).abs() <= 1e-9, "y2(0) = {}", sol.y0[1]);
         assert!((sol.yp0[0] - 1.0).abs() <= 1e-9, "y1'(0) = {}", sol.yp0[0]);
         let err = max_error(&sol, |t| nonlinear_exact(t, y10).to_vec());
@@ -547,10 +452,7 @@ fn ida_panic_in_residual_is_an_error_not_an_abort() {
     );
     let err = res.expect_err("a panicking residual must give Err");
     println!("{err}");
-    assert!(
-        err.contains("DAE residual failed on purpose") && err.contains("IDA_"),
-        "{err}"
-    );
+    assert!(err.contains("DAE residual failed on purpose") && err.contains("IDA_"), "{err}");
 }
 
 #[test]
@@ -559,29 +461,14 @@ fn ida_rejects_bad_input() {
     let y0 = linear_exact(0.0, 1.0);
     let yp0 = linear_exact_dot(0.0, 1.0);
     let o = ida_opts(InitialCondition::AsGiven);
-    let run = |id: &[f64], t_out: &[f64], o: &IdaOptions| {
-        ida_solve(&ctx, 0.0, &y0, &yp0, id, linear_dae, None, o, t_out)
-    };
-    assert!(
-        run(&[1.0, 0.0], &[1.0, 0.5], &o).is_err(),
-        "non-monotone output times"
-    );
+    let run =
+        |id: &[f64], t_out: &[f64], o: &IdaOptions| ida_solve(&ctx, 0.0, &y0, &yp0, id, linear_dae, None, o, t_out);
+    assert!(run(&[1.0, 0.0], &[1.0, 0.5], &o).is_err(), "non-monotone output times");
     assert!(run(&[1.0, 0.0], &[0.0, 1.0], &o).is_err(), "output at t0");
     assert!(run(&[1.0, 0.5], &[1.0], &o).is_err(), "id not 0/1");
     assert!(run(&[1.0], &[1.0], &o).is_err(), "id length");
-    let err = run(
-        &[1.0, 0.0],
-        &[1.0],
-        &IdaOptions {
-            rtol: -1.0,
-            ..o.clone()
-        },
-    )
-    .unwrap_err();
-    assert!(
-        err.contains("IDASStolerances") && err.contains("IDA_ILL_INPUT"),
-        "{err}"
-    );
+    let err = run(&[1.0, 0.0], &[1.0], &IdaOptions { rtol: -1.0, ..o.clone() }).unwrap_err();
+    assert!(err.contains("IDASStolerances") && err.contains("IDA_ILL_INPUT"), "{err}");
     // Too few steps allowed: IDA_TOO_MUCH_WORK, reported as Err.
     let err = run(&[1.0, 0.0], &[10.0], &IdaOptions { max_steps: 5, ..o }).unwrap_err();
     assert!(err.contains("IDA_TOO_MUCH_WORK"), "{err}");

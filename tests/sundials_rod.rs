@@ -15,10 +15,10 @@
 //! Run: `cargo test --release --features sundials --test sundials_rod -- --nocapture`
 #![cfg(feature = "sundials")]
 
-#[path = "support/sundials.rs"]
-mod sundials;
 #[path = "support/rod_band.rs"]
 mod rod_band;
+#[path = "support/sundials.rs"]
+mod sundials;
 
 use rodkit::continuation::{Options, Problem};
 use rodkit::rod::branch::Method;
@@ -78,7 +78,14 @@ fn kinsol_agrees_on_the_discrete_residual() {
     let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 300.0, 1000.0).unwrap();
     let loads = Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() };
     let rod = Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(2), 8).unwrap();
-    let opts = Options { target_lambda: Some(3.0), initial_step: 0.2, max_step: 0.5, residual_tol: 1e-12, detect_bifurcations: true, ..Default::default() };
+    let opts = Options {
+        target_lambda: Some(3.0),
+        initial_step: 0.2,
+        max_step: 0.5,
+        residual_tol: 1e-12,
+        detect_bifurcations: true,
+        ..Default::default()
+    };
     let straight = rod.continue_branch(None, 0.0, true, &opts, Method::Newton, |_| true).unwrap();
     let opts = Options { residual_tol: 1e-12, max_step: 0.2, max_steps: 30, ..Default::default() };
     let buckled = rod.switch_branch(&straight, 0, 0, 0.05, &opts, Method::Newton, |_| true).unwrap();
@@ -110,7 +117,8 @@ fn shoot(ctx: &Context, rod: &Rod, lambda: f64, guess: [f64; 6]) -> Vec<f64> {
                 r[k] = yp[k] - f[k];
             }
         };
-        let sol = ida_solve(ctx, 0.0, &y0, &yp0, &[1.0; 13], residual, None, &ida, &[rod.length]).expect("IDA integrates");
+        let sol =
+            ida_solve(ctx, 0.0, &y0, &yp0, &[1.0; 13], residual, None, &ida, &[rod.length]).expect("IDA integrates");
         sol.y[0].clone()
     };
     let mut u = guess.to_vec();
@@ -210,7 +218,8 @@ fn kinsol_band_solver_on_the_rod() {
         ..Default::default()
     };
     let mut x = states[0].clone();
-    let stats = kinsol_solve_band(&ctx, &mut x, residual, &mut jac, upper, lower, &opts).expect("KINSOL band converges");
+    let stats =
+        kinsol_solve_band(&ctx, &mut x, residual, &mut jac, upper, lower, &opts).expect("KINSOL band converges");
     let d = scaled_difference(&x, &states[1], &us);
     println!("band KINSOL: {} iterations, difference {d:e}, bandwidths {upper}/{lower} of n = {n}", stats.iterations);
     assert!(d < 1e-9, "{d:e}");
@@ -255,7 +264,14 @@ fn kinsol_on_the_other_validation_branches() {
     // non-planar branch switched onto at the first bifurcation.
     let law = RodLaw::kirchhoff(1.0, 1.3, 4.0).unwrap();
     let rod = Rod::new(law, 1.0, Loads::default(), Supports::Twisted { tension: 1.0 }, Scheme::Gauss(2), 12).unwrap();
-    let opts = Options { target_lambda: Some(0.99), residual_tol: 1e-12, initial_step: 0.2, max_step: 0.5, detect_bifurcations: true, ..Default::default() };
+    let opts = Options {
+        target_lambda: Some(0.99),
+        residual_tol: 1e-12,
+        initial_step: 0.2,
+        max_step: 0.5,
+        detect_bifurcations: true,
+        ..Default::default()
+    };
     let straight = rod.continue_branch(None, 0.0, true, &opts, Method::Newton, |_| true).unwrap();
     let opts = Options { residual_tol: 1e-12, max_step: 0.1, max_steps: 8, ..Default::default() };
     let b = rod.switch_branch(&straight, 0, 0, 0.05, &opts, Method::Newton, |_| true).unwrap();

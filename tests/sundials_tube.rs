@@ -140,7 +140,15 @@ impl<'m> Wall<'m> {
 
     /// Integrates the wall from A to B with r(A) = `start` (compressible) or
     /// deformed inner radius `start` (incompressible), s(A) = −p_in.
-    fn integrate(&self, ctx: &Context, start: f64, lambda: f64, psi: f64, p_in: f64, tol: Tolerances) -> Result<Through, String> {
+    fn integrate(
+        &self,
+        ctx: &Context,
+        start: f64,
+        lambda: f64,
+        psi: f64,
+        p_in: f64,
+        tol: Tolerances,
+    ) -> Result<Through, String> {
         if !(start > 0.0 && lambda > 0.0 && start.is_finite() && psi.is_finite()) {
             return Err(format!("shooting unknowns outside the domain: start {start}, λ {lambda}, ψ {psi}"));
         }
@@ -161,7 +169,15 @@ impl<'m> Wall<'m> {
     }
 
     /// y = (r/B, s/μ, F/(μπB²), T/(μπB³), a); id = (1, 1, 1, 1, 0).
-    fn integrate_compressible(&self, ctx: &Context, r0: f64, lambda: f64, psi: f64, p_in: f64, tol: Tolerances) -> Result<Through, String> {
+    fn integrate_compressible(
+        &self,
+        ctx: &Context,
+        r0: f64,
+        lambda: f64,
+        psi: f64,
+        p_in: f64,
+        tol: Tolerances,
+    ) -> Result<Through, String> {
         let (aa, bb, mu) = (self.inner, self.outer, self.stress);
         let rates = |big: f64, r: f64, s: f64, a: f64| -> ([f64; 4], f64) {
             let [srr, stt, szz, stz] = self.sigma(big, a, r, lambda, psi);
@@ -202,7 +218,15 @@ impl<'m> Wall<'m> {
     }
 
     /// y = (s/μ, F/(μπB²), T/(μπB³)), all differential; r(R) explicit.
-    fn integrate_incompressible(&self, ctx: &Context, a_in: f64, lambda: f64, psi: f64, p_in: f64, tol: Tolerances) -> Result<Through, String> {
+    fn integrate_incompressible(
+        &self,
+        ctx: &Context,
+        a_in: f64,
+        lambda: f64,
+        psi: f64,
+        p_in: f64,
+        tol: Tolerances,
+    ) -> Result<Through, String> {
         let (aa, bb, mu) = (self.inner, self.outer, self.stress);
         let radius = |big: f64| (a_in * a_in + (big * big - aa * aa) / lambda).sqrt();
         let rates = |big: f64, s: f64| -> [f64; 3] {
@@ -288,7 +312,9 @@ impl Shooting<'_, '_> {
         let l = &self.loading;
         match l.ends {
             Ends::Open => t.wall_force,
-            Ends::Closed => t.wall_force - PI * t.r_in * t.r_in * l.inner_pressure + PI * t.r_out * t.r_out * l.outer_pressure,
+            Ends::Closed => {
+                t.wall_force - PI * t.r_in * t.r_in * l.inner_pressure + PI * t.r_out * t.r_out * l.outer_pressure
+            }
         }
     }
 
@@ -331,8 +357,14 @@ struct ShotState {
 /// One KINSOL solve of the shooting problem for `loading` from `u` (exact
 /// Newton, difference-quotient Jacobian); the last integration's end values
 /// and the iteration count.
-fn kinsol_shooting(ctx: &Context, wall: &Wall<'_>, loading: &Loading, u: &mut [f64], tol: Tolerances, final_solve: bool)
-    -> Result<(ShotState, i64), String> {
+fn kinsol_shooting(
+    ctx: &Context,
+    wall: &Wall<'_>,
+    loading: &Loading,
+    u: &mut [f64],
+    tol: Tolerances,
+    final_solve: bool,
+) -> Result<(ShotState, i64), String> {
     let problem = Shooting { wall, loading: *loading };
     let opts = KinsolOptions {
         // Full Newton steps for the final solve (its start is the predicted
@@ -381,8 +413,15 @@ fn kinsol_shooting(ctx: &Context, wall: &Wall<'_>, loading: &Loading, u: &mut [f
 /// path and tight at the end. The final solve is repeated with 10× looser IDA
 /// tolerances: the change (in the comparison's measure) estimates the
 /// shooting side's own error (`self_check`).
-fn shoot(ctx: &Context, wall: &Wall<'_>, loading: &Loading, steps: usize, scales: &Scales) -> Result<ShotState, String> {
-    let n = 1 + matches!(loading.axial, Axial::Force(_)) as usize + matches!(loading.torsion, Torsion::Torque(_)) as usize;
+fn shoot(
+    ctx: &Context,
+    wall: &Wall<'_>,
+    loading: &Loading,
+    steps: usize,
+    scales: &Scales,
+) -> Result<ShotState, String> {
+    let n =
+        1 + matches!(loading.axial, Axial::Force(_)) as usize + matches!(loading.torsion, Torsion::Torque(_)) as usize;
     // The stress-free state: r(A) = A (or a_in = A), λ = 1, ψ = 0.
     let mut u = vec![0.0; n];
     u[0] = wall.inner / wall.outer;
@@ -399,15 +438,21 @@ fn shoot(ctx: &Context, wall: &Wall<'_>, loading: &Loading, steps: usize, scales
                 u[i] = 2.0 * current[i] - p[i];
             }
         }
-        let tol = if last { Tolerances { rtol: IDA_RTOL, atol: IDA_ATOL } } else { Tolerances { rtol: IDA_RTOL_PATH, atol: IDA_ATOL_PATH } };
+        let tol = if last {
+            Tolerances { rtol: IDA_RTOL, atol: IDA_ATOL }
+        } else {
+            Tolerances { rtol: IDA_RTOL_PATH, atol: IDA_ATOL_PATH }
+        };
         let part = partial_load(loading, k as f64 / steps as f64);
-        let (state, it) = kinsol_shooting(ctx, wall, &part, &mut u, tol, last).map_err(|e| format!("load step {k}/{steps}: {e}"))?;
+        let (state, it) =
+            kinsol_shooting(ctx, wall, &part, &mut u, tol, last).map_err(|e| format!("load step {k}/{steps}: {e}"))?;
         iterations += it;
         previous = Some(current);
         if last {
             let mut v = u.clone();
             let loose = Tolerances { rtol: 10.0 * IDA_RTOL, atol: 10.0 * IDA_ATOL };
-            let (check, _) = kinsol_shooting(ctx, wall, loading, &mut v, loose, true).map_err(|e| format!("self-check: {e}"))?;
+            let (check, _) =
+                kinsol_shooting(ctx, wall, loading, &mut v, loose, true).map_err(|e| format!("self-check: {e}"))?;
             let self_check = scales.errors(&state, &check).iter().fold(0.0f64, |m, &e| m.max(e));
             return Ok(ShotState { kinsol_iterations: iterations, self_check, ..state });
         }
@@ -455,7 +500,9 @@ fn loading(axial: Axial, torsion: Torsion, p_in: f64, p_out: f64, ends: Ends) ->
 
 fn cases() -> Vec<Case> {
     let svk = |inc| Box::new(SaintVenantKirchhoff::new(helical(), 1.7, inc)) as Box<dyn WallMaterial>;
-    let nh = |mu, lame, inc| Box::new(NeoHookean { shear_modulus: mu, lame_lambda: lame, incompressible: inc }) as Box<dyn WallMaterial>;
+    let nh = |mu, lame, inc| {
+        Box::new(NeoHookean { shear_modulus: mu, lame_lambda: lame, incompressible: inc }) as Box<dyn WallMaterial>
+    };
     use Axial::{Force, Stretch};
     use Ends::{Closed, Open};
     use Torsion::{Torque, Twist};

@@ -43,7 +43,8 @@ fn lame_incompressible(a: f64, b: f64, mu: f64) -> Matrix3<f64> {
 
 #[test]
 fn isotropic_compressible_matches_lame_at_any_helix_angle() {
-    for (a, b, nu, tau0) in [(1.0, 2.0, 0.3, 0.0), (0.3, 1.0, 0.45, 2.0), (5.0, 5.5, -0.5, -0.4), (1.0, 10.0, 0.1, 1.0)] {
+    for (a, b, nu, tau0) in [(1.0, 2.0, 0.3, 0.0), (0.3, 1.0, 0.45, 2.0), (5.0, 5.5, -0.5, -0.4), (1.0, 10.0, 0.1, 1.0)]
+    {
         let mat = Orthotropic::isotropic(7.0, nu).unwrap();
         let tube = ThickTube::new(a, b, tau0, mat, Compressibility::Compressible).unwrap();
         let k = tube.coupling_stiffness(1e-12).unwrap();
@@ -135,7 +136,12 @@ fn thick_converges_to_thin_at_rate_at_least_one() {
         for j in i..3 {
             for w in errors.windows(2) {
                 let rate = (w[0][(i, j)] / w[1][(i, j)]).log2();
-                assert!(rate >= 0.95, "entry ({i},{j}): errors {:e} → {:e}, rate {rate:.3}", w[0][(i, j)], w[1][(i, j)]);
+                assert!(
+                    rate >= 0.95,
+                    "entry ({i},{j}): errors {:e} → {:e}, rate {rate:.3}",
+                    w[0][(i, j)],
+                    w[1][(i, j)]
+                );
             }
             assert!(errors[3][(i, j)] < 0.05, "entry ({i},{j}) error {:e} at t/R = 0.01", errors[3][(i, j)]);
         }

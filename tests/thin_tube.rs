@@ -109,17 +109,35 @@ fn tensor_rotated_compliance(mat: &OrthotropicSurface, alpha: f64) -> Matrix3<f6
     let (n, m) = alpha.sin_cos();
     let r = [[m, -n], [n, m]];
     let mut g = [[[[0.0f64; 2]; 2]; 2]; 2];
-    for a in 0..2 { for b in 0..2 { for c in 0..2 { for d in 0..2 {
-        let mut acc = 0.0;
-        for i in 0..2 { for j in 0..2 { for k in 0..2 { for l in 0..2 {
-            acc += r[a][i] * r[b][j] * r[c][k] * r[d][l] * s[i][j][k][l];
-        }}}}
-        g[a][b][c][d] = acc;
-    }}}}
+    for a in 0..2 {
+        for b in 0..2 {
+            for c in 0..2 {
+                for d in 0..2 {
+                    let mut acc = 0.0;
+                    for i in 0..2 {
+                        for j in 0..2 {
+                            for k in 0..2 {
+                                for l in 0..2 {
+                                    acc += r[a][i] * r[b][j] * r[c][k] * r[d][l] * s[i][j][k][l];
+                                }
+                            }
+                        }
+                    }
+                    g[a][b][c][d] = acc;
+                }
+            }
+        }
+    }
     Matrix3::new(
-        g[0][0][0][0], g[0][0][1][1], 2.0 * g[0][0][0][1],
-        g[1][1][0][0], g[1][1][1][1], 2.0 * g[1][1][0][1],
-        2.0 * g[0][1][0][0], 2.0 * g[0][1][1][1], 4.0 * g[0][1][0][1],
+        g[0][0][0][0],
+        g[0][0][1][1],
+        2.0 * g[0][0][0][1],
+        g[1][1][0][0],
+        g[1][1][1][1],
+        2.0 * g[1][1][0][1],
+        2.0 * g[0][1][0][0],
+        2.0 * g[0][1][1][1],
+        4.0 * g[0][1][0][1],
     )
 }
 
@@ -221,12 +239,9 @@ fn invalid_inputs_are_rejected_with_named_arguments() {
 /// 90°, t/R = 1e−6: finite results or a clear status, never NaN.
 #[test]
 fn extremes_give_finite_results() {
-    for (e1, ratio, tau0, t) in [
-        (1e150, 1e4, 1e-8, 1e-6),
-        (1e-150, 1e-4, 1e8, 1.0),
-        (1.0, 1e4, 1.732, 1e-6),
-        (1.0, 1e-4, -1.732, 1.9),
-    ] {
+    for (e1, ratio, tau0, t) in
+        [(1e150, 1e4, 1e-8, 1e-6), (1e-150, 1e-4, 1e8, 1.0), (1.0, 1e4, 1.732, 1e-6), (1.0, 1e-4, -1.732, 1.9)]
+    {
         let mat = OrthotropicSurface::new(e1, e1 * ratio, 0.0, e1 * 0.1).unwrap();
         let tube = ThinTube::new(1.0, t, tau0, mat).unwrap();
         match tube.coupling_stiffness() {

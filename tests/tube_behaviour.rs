@@ -45,7 +45,13 @@ fn extremum(states: &[TubeState], y: impl Fn(&TubeState) -> f64, sense: f64) -> 
 fn torsional_stiffness(case: &Case, model: TubeModel, lam: f64, psi: f64) -> f64 {
     let scene = TubeScene::new(case.inner, case.outer, case.law.clone(), model, 1e-10, None).unwrap();
     let torque = |p: f64| {
-        let l = Loading { axial: Axial::Stretch(lam), torsion: Torsion::Twist(p), inner_pressure: 0.0, outer_pressure: 0.0, ends: Ends::Open };
+        let l = Loading {
+            axial: Axial::Stretch(lam),
+            torsion: Torsion::Twist(p),
+            inner_pressure: 0.0,
+            outer_pressure: 0.0,
+            ends: Ends::Open,
+        };
         scene.solve(&l).unwrap().0.torque
     };
     let h = 1e-4 / case.outer;
@@ -60,7 +66,11 @@ fn torsional_stiffness(case: &Case, model: TubeModel, lam: f64, psi: f64) -> f64
 /// it), and the state at the turn is torsionally stable.
 #[test]
 fn overwinding_then_unwinding() {
-    for (name, lam_turn) in [("svk_membrane_incompressible", 1.0497), ("svk_thick_incompressible", 1.0496), ("hgo_two_fixed_families", 1.050)] {
+    for (name, lam_turn) in [
+        ("svk_membrane_incompressible", 1.0497),
+        ("svk_thick_incompressible", 1.0496),
+        ("hgo_two_fixed_families", 1.050),
+    ] {
         let all = cases();
         let case = all.iter().find(|c| c.name == name).unwrap();
         let fine = stretch_sweep(case, case.model, 1.15, 0.0025, 1e-10);
@@ -113,7 +123,8 @@ fn deflation_then_inflation() {
         assert!((lam_star - lam_min).abs() < 0.01, "{name}: minimum at λ = {lam_star}");
         assert!((lam_star - lam_loose).abs() < 1e-3, "{name}: {lam_star} vs {lam_loose}");
         assert!(fine.last().unwrap().deformed_outer_radius > b_min + 2e-3 * case.outer, "{name}: no re-inflation");
-        let at = fine.iter().min_by(|a, b| (a.stretch - lam_star).abs().total_cmp(&(b.stretch - lam_star).abs())).unwrap();
+        let at =
+            fine.iter().min_by(|a, b| (a.stretch - lam_star).abs().total_cmp(&(b.stretch - lam_star).abs())).unwrap();
         assert!(torsional_stiffness(case, case.model, at.stretch, at.twist) > 0.0, "{name}: unstable at the minimum");
     }
 }

@@ -8,9 +8,18 @@ use rodkit::tube::{Compressibility, Orthotropic, ThickTube, ThinTube};
 use std::f64::consts::PI;
 
 fn finite_state(s: &TubeState) -> bool {
-    [s.stretch, s.twist, s.wall_force, s.applied_force, s.torque, s.deformed_inner_radius, s.deformed_outer_radius, s.error_estimate]
-        .iter()
-        .all(|v| v.is_finite())
+    [
+        s.stretch,
+        s.twist,
+        s.wall_force,
+        s.applied_force,
+        s.torque,
+        s.deformed_inner_radius,
+        s.deformed_outer_radius,
+        s.error_estimate,
+    ]
+    .iter()
+    .all(|v| v.is_finite())
         && s.profile.sigma_rr.iter().chain(&s.profile.sigma_zz).all(|v| v.is_finite())
 }
 
@@ -53,9 +62,12 @@ fn wall_thickness_from_one_millionth_to_solid() {
     // works in ln R with a 1e−6 pinhole, so it converges spectrally: the
     // solid's rod law agrees with a 1e−5 hole to O(1e−10) (the hole's own
     // O(A²) effect) and the scene meets a 1e−10 tolerance.
-    let hole = ThickTube::new(1e-5, 1.0, 1.7, helical(), Compressibility::Compressible).unwrap().stretch_twist_at(64).unwrap();
-    let solid64 = ThickTube::new(0.0, 1.0, 1.7, helical(), Compressibility::Compressible).unwrap().stretch_twist_at(64).unwrap();
-    let solid96 = ThickTube::new(0.0, 1.0, 1.7, helical(), Compressibility::Compressible).unwrap().stretch_twist_at(96).unwrap();
+    let hole =
+        ThickTube::new(1e-5, 1.0, 1.7, helical(), Compressibility::Compressible).unwrap().stretch_twist_at(64).unwrap();
+    let solid64 =
+        ThickTube::new(0.0, 1.0, 1.7, helical(), Compressibility::Compressible).unwrap().stretch_twist_at(64).unwrap();
+    let solid96 =
+        ThickTube::new(0.0, 1.0, 1.7, helical(), Compressibility::Compressible).unwrap().stretch_twist_at(96).unwrap();
     assert!((solid96.stretch - solid64.stretch).abs() < 1e-11 * solid96.stretch, "{solid64:?} vs {solid96:?}");
     assert!((hole.stretch - solid96.stretch).abs() < 1e-9 * solid96.stretch, "{hole:?} vs {solid96:?}");
     let svk = WallLaw::SaintVenantKirchhoff(SaintVenantKirchhoff::new(helical(), 1.7, false));
@@ -73,9 +85,24 @@ fn helix_angles_and_moduli_ratios() {
         // ν_ij = 0.2·√min(1, E_i/E_j) keeps every ν_ij·ν_ji ≤ 0.04: positive definite.
         let (e1, e2, e3) = (1.0f64, ratio, ratio.sqrt());
         let nu = |ei: f64, ej: f64| 0.2 * (ei / ej).min(1.0).sqrt();
-        let m = Orthotropic::new(e1, e2, e3, nu(e1, e2), nu(e1, e3), nu(e2, e3), 0.3 * e2.min(1.0), 0.3 * e3.min(1.0), 0.3 * e2.min(e3)).unwrap();
+        let m = Orthotropic::new(
+            e1,
+            e2,
+            e3,
+            nu(e1, e2),
+            nu(e1, e3),
+            nu(e2, e3),
+            0.3 * e2.min(1.0),
+            0.3 * e3.min(1.0),
+            0.3 * e2.min(e3),
+        )
+        .unwrap();
         for tau0 in [0.0, 1.0, 1e13] {
-            let k = ThickTube::new(0.8, 1.2, tau0, m, Compressibility::Compressible).unwrap().coupling_stiffness(1e-8).unwrap().value;
+            let k = ThickTube::new(0.8, 1.2, tau0, m, Compressibility::Compressible)
+                .unwrap()
+                .coupling_stiffness(1e-8)
+                .unwrap()
+                .value;
             assert!(k.k.iter().all(|v| v.is_finite()), "ratio {ratio:e} τ0 {tau0:e}");
             if tau0 != 1.0 {
                 let scale = (k.k[(0, 0)] * k.k[(1, 1)]).sqrt();
@@ -85,10 +112,14 @@ fn helix_angles_and_moduli_ratios() {
             // anisotropy (here ν21 = ν12·E2/E1 up to 20) makes SVK non-convex
             // or leaves no equilibrium at a few per cent stretch.
             let svk = SaintVenantKirchhoff::new(m, tau0, false);
-            match FiniteTube::new(0.8, 1.2, &svk).unwrap().solve(&Loading::torsion_free_stretch(1.05), &SolveOptions::default()) {
+            match FiniteTube::new(0.8, 1.2, &svk)
+                .unwrap()
+                .solve(&Loading::torsion_free_stretch(1.05), &SolveOptions::default())
+            {
                 Ok(s) => assert!(finite_state(&s)),
                 Err(e) => assert!(
-                    matches!(e.status, rodkit::Status::ErrMaterialInstability | rodkit::Status::ErrNotConverged) && !e.message.is_empty(),
+                    matches!(e.status, rodkit::Status::ErrMaterialInstability | rodkit::Status::ErrNotConverged)
+                        && !e.message.is_empty(),
                     "ratio {ratio:e} τ0 {tau0:e}: {e}"
                 ),
             }
@@ -108,8 +139,15 @@ fn very_large_stretch_and_twist() {
     for (law, name) in [(&nh, "compressible"), (&inc, "incompressible")] {
         let tube = FiniteTube::new(0.5, 1.0, law).unwrap();
         for (lambda, psi) in [(4.0, 0.0), (1.0, 3.0), (3.0, 2.0), (0.5, 1.0)] {
-            let l = Loading { axial: Axial::Stretch(lambda), torsion: Torsion::Twist(psi), inner_pressure: 0.0, outer_pressure: 0.0, ends: Ends::Open };
-            let s = tube.solve(&l, &SolveOptions::default()).unwrap_or_else(|e| panic!("{name} λ {lambda} ψ {psi}: {e}"));
+            let l = Loading {
+                axial: Axial::Stretch(lambda),
+                torsion: Torsion::Twist(psi),
+                inner_pressure: 0.0,
+                outer_pressure: 0.0,
+                ends: Ends::Open,
+            };
+            let s =
+                tube.solve(&l, &SolveOptions::default()).unwrap_or_else(|e| panic!("{name} λ {lambda} ψ {psi}: {e}"));
             assert!(finite_state(&s), "{name} λ {lambda} ψ {psi}");
             if name == "incompressible" {
                 let vol = (s.deformed_outer_radius.powi(2) - s.deformed_inner_radius.powi(2)) * lambda;

@@ -11,7 +11,11 @@ use rodkit::Status;
 use std::f64::consts::PI;
 
 fn helical_svk() -> WallLaw {
-    WallLaw::SaintVenantKirchhoff(SaintVenantKirchhoff::new(Orthotropic::new(10.0, 2.0, 1.5, 0.35, 0.3, 0.4, 1.2, 0.8, 0.6).unwrap(), 1.7, false))
+    WallLaw::SaintVenantKirchhoff(SaintVenantKirchhoff::new(
+        Orthotropic::new(10.0, 2.0, 1.5, 0.35, 0.3, 0.4, 1.2, 0.8, 0.6).unwrap(),
+        1.7,
+        false,
+    ))
 }
 
 /// Reference: the thick solver at 1e−12. The scene's answer must be within
@@ -30,8 +34,13 @@ fn auto_picks_the_cheapest_model_that_meets_the_tolerance() {
         assert_eq!(used, expect, "A {a} B {b} tol {tol:e}");
         let law = helical_svk();
         let WallLaw::SaintVenantKirchhoff(m) = &law else { unreachable!() };
-        let reference = FiniteTube::new(a, b, m).unwrap().solve(&loading, &SolveOptions { rel_tol: 1e-12, intervals: None }).unwrap();
-        let err = ((state.twist - reference.twist) * b).abs().max((state.deformed_outer_radius - reference.deformed_outer_radius).abs() / b);
+        let reference = FiniteTube::new(a, b, m)
+            .unwrap()
+            .solve(&loading, &SolveOptions { rel_tol: 1e-12, intervals: None })
+            .unwrap();
+        let err = ((state.twist - reference.twist) * b)
+            .abs()
+            .max((state.deformed_outer_radius - reference.deformed_outer_radius).abs() / b);
         assert!(err <= tol, "A {a} B {b} tol {tol:e} ({used:?}): true error {err:e}");
         assert!(state.error_estimate <= tol);
     }
@@ -70,8 +79,14 @@ fn fibre_walls_have_no_linear_stiffness_and_bad_laws_are_rejected() {
     assert!(s.applied_force > 0.0 && s.torque.abs() < 1e-9);
 
     let bad = WallLaw::NeoHookean(NeoHookean { shear_modulus: 1.0, lame_lambda: -1.0, incompressible: false });
-    assert_eq!(TubeScene::new(0.5, 1.0, bad, TubeModel::Auto, 1e-6, None).unwrap_err().status, Status::ErrNotPositiveDefinite);
+    assert_eq!(
+        TubeScene::new(0.5, 1.0, bad, TubeModel::Auto, 1e-6, None).unwrap_err().status,
+        Status::ErrNotPositiveDefinite
+    );
     let bad = WallLaw::NeoHookean(NeoHookean { shear_modulus: -1.0, lame_lambda: 1.0, incompressible: false });
     assert_eq!(TubeScene::new(0.5, 1.0, bad, TubeModel::Auto, 1e-6, None).unwrap_err().status, Status::ErrNotPositive);
-    assert_eq!(TubeScene::new(1.0, 0.5, helical_svk(), TubeModel::Auto, 1e-6, None).unwrap_err().status, Status::ErrInvalidGeometry);
+    assert_eq!(
+        TubeScene::new(1.0, 0.5, helical_svk(), TubeModel::Auto, 1e-6, None).unwrap_err().status,
+        Status::ErrInvalidGeometry
+    );
 }

@@ -42,8 +42,15 @@ fn unit_and_derivative(d1: [f64; 3], d2: [f64; 3]) -> ([f64; 3], [f64; 3]) {
 }
 
 /// Fuller's integral between the unit tangents of two parametrised curves.
-fn fuller(c0: &dyn Fn(f64) -> ([f64; 3], [f64; 3], [f64; 3]), c1: &dyn Fn(f64) -> ([f64; 3], [f64; 3], [f64; 3]), period: f64) -> f64 {
-    let (g, w) = ([-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831, 0.9061798459386640], [0.2369268850561891, 0.4786286704993665, 0.5688888888888889, 0.4786286704993665, 0.2369268850561891]);
+fn fuller(
+    c0: &dyn Fn(f64) -> ([f64; 3], [f64; 3], [f64; 3]),
+    c1: &dyn Fn(f64) -> ([f64; 3], [f64; 3], [f64; 3]),
+    period: f64,
+) -> f64 {
+    let (g, w) = (
+        [-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831, 0.9061798459386640],
+        [0.2369268850561891, 0.4786286704993665, 0.5688888888888889, 0.4786286704993665, 0.2369268850561891],
+    );
     let m = 4000;
     let mut sum = 0.0;
     for k in 0..m {
@@ -118,7 +125,11 @@ fn writhe_of_an_open_rod_closed_by_rays_matches_fuller() {
             (
                 [eps * f * cm, eps * f * sm, s],
                 [eps * (df * cm - f * m * sm), eps * (df * sm + f * m * cm), 1.0],
-                [eps * (ddf * cm - 2.0 * df * m * sm - f * m * m * cm), eps * (ddf * sm + 2.0 * df * m * cm - f * m * m * sm), 0.0],
+                [
+                    eps * (ddf * cm - 2.0 * df * m * sm - f * m * m * cm),
+                    eps * (ddf * sm + 2.0 * df * m * cm - f * m * m * sm),
+                    0.0,
+                ],
             )
         };
         let straight = |s: f64| ([0.0, 0.0, s], [0.0, 0.0, 1.0], [0.0; 3]);

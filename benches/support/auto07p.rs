@@ -407,7 +407,13 @@ fn read(dir: &Path, f: &str) -> Result<String, String> {
     fs::read_to_string(dir.join(f)).map_err(|e: io::Error| format!("{}: {e}", dir.join(f).display()))
 }
 
-fn collect(dir: &Path, pairs: &[(&str, &str, &str)], walls: Vec<Duration>, ntst: usize, tol: f64) -> Result<AutoRun, String> {
+fn collect(
+    dir: &Path,
+    pairs: &[(&str, &str, &str)],
+    walls: Vec<Duration>,
+    ntst: usize,
+    tol: f64,
+) -> Result<AutoRun, String> {
     let mut points = Vec::new();
     let mut steps_per_branch = Vec::new();
     let mut newton = 0;

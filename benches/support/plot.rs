@@ -4,7 +4,13 @@ use plotters::prelude::*;
 use std::path::Path;
 
 /// Linear-axes line plot of named series.
-pub fn line_plot<S: AsRef<str>>(path: &Path, title: &str, xlabel: &str, ylabel: &str, series: &[(S, Vec<(f64, f64)>, RGBColor)]) -> Result<(), Box<dyn std::error::Error>> {
+pub fn line_plot<S: AsRef<str>>(
+    path: &Path,
+    title: &str,
+    xlabel: &str,
+    ylabel: &str,
+    series: &[(S, Vec<(f64, f64)>, RGBColor)],
+) -> Result<(), Box<dyn std::error::Error>> {
     let all = series.iter().flat_map(|s| s.1.iter());
     let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
     for &(x, y) in all {
@@ -19,7 +25,13 @@ pub fn line_plot<S: AsRef<str>>(path: &Path, title: &str, xlabel: &str, ylabel: 
         .x_label_area_size(56)
         .y_label_area_size(84)
         .build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))?;
-    chart.configure_mesh().x_desc(xlabel).y_desc(ylabel).axis_desc_style(("sans-serif", 18)).label_style(("sans-serif", 15)).draw()?;
+    chart
+        .configure_mesh()
+        .x_desc(xlabel)
+        .y_desc(ylabel)
+        .axis_desc_style(("sans-serif", 18))
+        .label_style(("sans-serif", 15))
+        .draw()?;
     for (name, pts, color) in series {
         let color = *color;
         chart
@@ -27,7 +39,12 @@ pub fn line_plot<S: AsRef<str>>(path: &Path, title: &str, xlabel: &str, ylabel: 
             .label(name.as_ref().to_string())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2)));
     }
-    chart.configure_series_labels().background_style(WHITE.mix(0.9)).border_style(BLACK).label_font(("sans-serif", 15)).draw()?;
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 15))
+        .draw()?;
     root.present()?;
     Ok(())
 }

@@ -42,7 +42,8 @@ pub struct ElectrostaticEnergy {
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_electrostatics_spec_default(spec: *mut ElectrostaticsSpec) -> i32 {
     guard(|| {
-        *arg_mut("spec", spec)? = ElectrostaticsSpec { line_charge: f64::NAN, kappa: f64::NAN, a: f64::NAN, near_width: f64::NAN, order: 10 };
+        *arg_mut("spec", spec)? =
+            ElectrostaticsSpec { line_charge: f64::NAN, kappa: f64::NAN, a: f64::NAN, near_width: f64::NAN, order: 10 };
         Ok(Status::Ok)
     })
 }
@@ -52,14 +53,26 @@ unsafe fn matrix_columns(name: &str, p: *const f64, ld: i64, nodes: usize) -> Re
         return Err(null_error(name));
     }
     error::count_in_range(&format!("ld of {name}"), ld, 3, i64::MAX / 8)?;
-    let len = (ld as usize).checked_mul(nodes - 1).and_then(|v| v.checked_add(3)).ok_or_else(|| Error::new(Status::ErrOutOfRange, format!("argument `{name}`: size overflows")))?;
+    let len = (ld as usize)
+        .checked_mul(nodes - 1)
+        .and_then(|v| v.checked_add(3))
+        .ok_or_else(|| Error::new(Status::ErrOutOfRange, format!("argument `{name}`: size overflows")))?;
     let v = std::slice::from_raw_parts(p, len);
-    let cols: Vec<[f64; 3]> = (0..nodes).map(|i| [v[i * ld as usize], v[i * ld as usize + 1], v[i * ld as usize + 2]]).collect();
+    let cols: Vec<[f64; 3]> =
+        (0..nodes).map(|i| [v[i * ld as usize], v[i * ld as usize + 1], v[i * ld as usize + 2]]).collect();
     error::finite_result(name, cols.as_flattened())?;
     Ok(cols)
 }
 
-unsafe fn curve_from(s: *const f64, xyz: *const f64, ldx: i64, tangents: *const f64, ldt: i64, nodes: i64, closed: i32) -> Result<HermiteCurve> {
+unsafe fn curve_from(
+    s: *const f64,
+    xyz: *const f64,
+    ldx: i64,
+    tangents: *const f64,
+    ldt: i64,
+    nodes: i64,
+    closed: i32,
+) -> Result<HermiteCurve> {
     error::count_in_range("nodes", nodes, 2, 1 << 26)?;
     let n = nodes as usize;
     if s.is_null() {
@@ -95,9 +108,16 @@ fn settings(spec: &ElectrostaticsSpec) -> Result<(LineCharge, Screening, EnergyQ
     }
     error::positive("a", spec.a)?;
     if !(spec.near_width > spec.a) {
-        return Err(Error::new(Status::ErrOutOfRange, format!("argument `near_width` ({:e}) must exceed a ({:e})", spec.near_width, spec.a)));
+        return Err(Error::new(
+            Status::ErrOutOfRange,
+            format!("argument `near_width` ({:e}) must exceed a ({:e})", spec.near_width, spec.a),
+        ));
     }
-    Ok((LineCharge::Uniform(spec.line_charge), Screening { kappa: spec.kappa, a: spec.a }, EnergyQuadrature { delta: spec.near_width, order: spec.order as usize, cutoff: None }))
+    Ok((
+        LineCharge::Uniform(spec.line_charge),
+        Screening { kappa: spec.kappa, a: spec.a },
+        EnergyQuadrature { delta: spec.near_width, order: spec.order as usize, cutoff: None },
+    ))
 }
 
 /// The continuum electrostatic self-energy of the curve (nodes ≥ 2;
@@ -224,7 +244,10 @@ pub unsafe extern "C" fn rodkit_curve_electrostatic_energy_within(
             error::finite("kappa", spec.kappa)?;
             error::positive("a", spec.a)?;
             if spec.kappa < 0.0 {
-                return Err(Error::new(Status::ErrOutOfRange, format!("argument `kappa` must be ≥ 0 (got {:e})", spec.kappa)));
+                return Err(Error::new(
+                    Status::ErrOutOfRange,
+                    format!("argument `kappa` must be ≥ 0 (got {:e})", spec.kappa),
+                ));
             }
             Ok((LineCharge::Uniform(spec.line_charge), Screening { kappa: spec.kappa, a: spec.a }))
         };

@@ -49,9 +49,7 @@ pub extern "C" fn rodkit_status_string(code: i32) -> *const c_char {
 /// longer (or use `rodkit_last_error_copy`).
 #[no_mangle]
 pub extern "C" fn rodkit_last_error_message() -> *const c_char {
-    guard_value(c"internal error while reading the last error".as_ptr(), || {
-        LAST_ERROR.with(|m| m.borrow().as_ptr())
-    })
+    guard_value(c"internal error while reading the last error".as_ptr(), || LAST_ERROR.with(|m| m.borrow().as_ptr()))
 }
 
 /// Copy the last-error message into a caller buffer of `capacity` bytes

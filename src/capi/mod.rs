@@ -145,7 +145,9 @@ mod tests {
                 // The body runs up to the next top-level item.
                 let body = chunk.split("\n}\n").next().unwrap();
                 assert!(
-                    body.contains("guard(") || body.contains("guard_value(") || body.contains("guard_preserving_error("),
+                    body.contains("guard(")
+                        || body.contains("guard_value(")
+                        || body.contains("guard_preserving_error("),
                     "exported function {name} does not run inside guard()"
                 );
             }

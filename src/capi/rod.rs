@@ -355,7 +355,9 @@ fn frame(name: &str, v: i32) -> Result<Option<Frame>> {
         0 => Ok(None),
         1 => Ok(Some(Frame::Dead)),
         2 => Ok(Some(Frame::Follower)),
-        _ => Err(Error::new(Status::ErrOutOfRange, format!("argument `{name}` must be a RodkitLoadFrame 0…2 (got {v})"))),
+        _ => {
+            Err(Error::new(Status::ErrOutOfRange, format!("argument `{name}` must be a RodkitLoadFrame 0…2 (got {v})")))
+        }
     }
 }
 
@@ -374,7 +376,14 @@ fn load(name: &str, f: i32, x: f64, y: f64, z: f64) -> Result<Option<Load>> {
 fn model_from(s: &RodSpec, general: Option<Matrix6<f64>>) -> Result<Model> {
     let intrinsic_u = Vector3::new(s.intrinsic_u1, s.intrinsic_u2, s.intrinsic_u3);
     let intrinsic_v = Vector3::new(s.intrinsic_v1, s.intrinsic_v2, s.intrinsic_v3);
-    for (n, v) in [("intrinsic_u1", s.intrinsic_u1), ("intrinsic_u2", s.intrinsic_u2), ("intrinsic_u3", s.intrinsic_u3), ("intrinsic_v1", s.intrinsic_v1), ("intrinsic_v2", s.intrinsic_v2), ("intrinsic_v3", s.intrinsic_v3)] {
+    for (n, v) in [
+        ("intrinsic_u1", s.intrinsic_u1),
+        ("intrinsic_u2", s.intrinsic_u2),
+        ("intrinsic_u3", s.intrinsic_u3),
+        ("intrinsic_v1", s.intrinsic_v1),
+        ("intrinsic_v2", s.intrinsic_v2),
+        ("intrinsic_v3", s.intrinsic_v3),
+    ] {
         error::finite(n, v)?;
     }
     let kirchhoff = match s.kirchhoff {
@@ -392,12 +401,21 @@ fn model_from(s: &RodSpec, general: Option<Matrix6<f64>>) -> Result<Model> {
         law.intrinsic_v = intrinsic_v;
         law
     } else {
-        for (n, v) in [("bending1", s.bending1), ("bending2", s.bending2), ("twist", s.twist), ("shear1", s.shear1), ("shear2", s.shear2), ("stretch", s.stretch)] {
+        for (n, v) in [
+            ("bending1", s.bending1),
+            ("bending2", s.bending2),
+            ("twist", s.twist),
+            ("shear1", s.shear1),
+            ("shear2", s.shear2),
+            ("stretch", s.stretch),
+        ] {
             error::positive(n, v)?;
         }
         error::finite("twist_stretch", s.twist_stretch)?;
         error::finite("bend_shear", s.bend_shear)?;
-        let mut k = Matrix6::from_diagonal(&nalgebra::Vector6::new(s.bending1, s.bending2, s.twist, s.shear1, s.shear2, s.stretch));
+        let mut k = Matrix6::from_diagonal(&nalgebra::Vector6::new(
+            s.bending1, s.bending2, s.twist, s.shear1, s.shear2, s.stretch,
+        ));
         for (i, j, v) in [(2, 5, s.twist_stretch), (0, 3, s.bend_shear), (1, 4, s.bend_shear)] {
             k[(i, j)] = v;
             k[(j, i)] = v;
@@ -414,13 +432,30 @@ fn model_from(s: &RodSpec, general: Option<Matrix6<f64>>) -> Result<Model> {
         3 => Supports::Pinned,
         4 => Supports::Twisted { tension: s.end_tension },
         5 => Supports::Torqued { tension: s.end_tension },
-        v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `supports` must be a RodkitRodSupports 1…5 (got {v})"))),
+        v => {
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                format!("argument `supports` must be a RodkitRodSupports 1…5 (got {v})"),
+            ))
+        }
     };
     let loads = Loads {
         tip_force: load("tip_force", s.tip_force_frame, s.tip_force_x, s.tip_force_y, s.tip_force_z)?,
         tip_moment: load("tip_moment", s.tip_moment_frame, s.tip_moment_x, s.tip_moment_y, s.tip_moment_z)?,
-        distributed_force: load("distributed_force", s.distributed_force_frame, s.distributed_force_x, s.distributed_force_y, s.distributed_force_z)?,
-        distributed_couple: load("distributed_couple", s.distributed_couple_frame, s.distributed_couple_x, s.distributed_couple_y, s.distributed_couple_z)?,
+        distributed_force: load(
+            "distributed_force",
+            s.distributed_force_frame,
+            s.distributed_force_x,
+            s.distributed_force_y,
+            s.distributed_force_z,
+        )?,
+        distributed_couple: load(
+            "distributed_couple",
+            s.distributed_couple_frame,
+            s.distributed_couple_x,
+            s.distributed_couple_y,
+            s.distributed_couple_z,
+        )?,
     };
     let scheme = match s.scheme {
         1 => Scheme::Midpoint,
@@ -428,7 +463,12 @@ fn model_from(s: &RodSpec, general: Option<Matrix6<f64>>) -> Result<Model> {
             error::count_in_range("stages", s.stages, 2, 4)?;
             Scheme::Gauss(s.stages as usize)
         }
-        v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `scheme` must be a RodkitRodScheme 1…2 (got {v})"))),
+        v => {
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                format!("argument `scheme` must be a RodkitRodScheme 1…2 (got {v})"),
+            ))
+        }
     };
     error::count_in_range("elements", s.elements, 1, 1 << 20)?;
     let model = Model::new(law, s.length, loads, supports, scheme, s.elements as usize)?;
@@ -443,23 +483,39 @@ unsafe fn options_from(o: &ContinuationOptions, unknowns: usize) -> Result<(Opti
     let method = match o.method {
         1 => {
             if !(2..=60).contains(&o.anm_order) {
-                return Err(Error::new(Status::ErrOutOfRange, format!("argument `anm_order` must lie in [2, 60] (got {})", o.anm_order)));
+                return Err(Error::new(
+                    Status::ErrOutOfRange,
+                    format!("argument `anm_order` must lie in [2, 60] (got {})", o.anm_order),
+                ));
             }
             error::in_range("anm_epsilon", o.anm_epsilon, 1e-15, 1e-1)?;
             let pade = match o.anm_pade {
                 0 => false,
                 1 => true,
-                v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `anm_pade` must be 0 or 1 (got {v})"))),
+                v => {
+                    return Err(Error::new(
+                        Status::ErrOutOfRange,
+                        format!("argument `anm_pade` must be 0 or 1 (got {v})"),
+                    ))
+                }
             };
             Method::Anm(AnmOptions { order: o.anm_order as usize, epsilon: o.anm_epsilon, pade })
         }
         2 => Method::Newton,
-        v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `method` must be a RodkitContinuationMethod 1…2 (got {v})"))),
+        v => {
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                format!("argument `method` must be a RodkitContinuationMethod 1…2 (got {v})"),
+            ))
+        }
     };
     error::finite("lambda_min", o.lambda_min)?;
     error::finite("lambda_max", o.lambda_max)?;
     if !(o.lambda_min < o.lambda_max) {
-        return Err(Error::new(Status::ErrOutOfRange, format!("need lambda_min ({:e}) < lambda_max ({:e})", o.lambda_min, o.lambda_max)));
+        return Err(Error::new(
+            Status::ErrOutOfRange,
+            format!("need lambda_min ({:e}) < lambda_max ({:e})", o.lambda_min, o.lambda_max),
+        ));
     }
     error::count_in_range("max_steps", o.max_steps, 0, 1 << 30)?;
     let target = if o.target_lambda.is_nan() { None } else { Some(error::finite("target_lambda", o.target_lambda)?) };
@@ -485,7 +541,10 @@ unsafe fn options_from(o: &ContinuationOptions, unknowns: usize) -> Result<(Opti
             check_len("scaling_count", o.scaling_count, unknowns as i64 + 1)?;
             let s = in_slice("scaling", o.scaling, o.scaling_count)?;
             if let Some(k) = s.iter().position(|v| !(v.is_finite() && *v > 0.0)) {
-                return Err(Error::new(Status::ErrNotPositive, format!("argument `scaling[{k}]` must be positive and finite (got {:e})", s[k])));
+                return Err(Error::new(
+                    Status::ErrNotPositive,
+                    format!("argument `scaling[{k}]` must be positive and finite (got {:e})", s[k]),
+                ));
             }
             Some(Scaling { x: s[..unknowns].to_vec(), lambda: s[unknowns] })
         },
@@ -606,14 +665,20 @@ fn same_rod<'a>(rod: &Rod, branch: &'a Branch) -> Result<&'a Branch> {
 }
 
 /// Run `f` with a Rust progress closure forwarding to the C callback.
-unsafe fn with_progress<T>(model: &Model, cb: BranchCallback, user_data: *mut c_void, f: impl FnOnce(&mut dyn FnMut(&Record) -> bool) -> Result<T>) -> Result<T> {
+unsafe fn with_progress<T>(
+    model: &Model,
+    cb: BranchCallback,
+    user_data: *mut c_void,
+    f: impl FnOnce(&mut dyn FnMut(&Record) -> bool) -> Result<T>,
+) -> Result<T> {
     let mut points = 0i64;
     let mut forward = |r: &Record| -> bool {
         points += 1;
         match cb {
             Some(cb) => {
                 // The branch's records carry the state as their outputs.
-                let tip_rotation = if r.outputs.len() >= model.unknowns() { model.tip_rotation(&r.outputs) } else { f64::NAN };
+                let tip_rotation =
+                    if r.outputs.len() >= model.unknowns() { model.tip_rotation(&r.outputs) } else { f64::NAN };
                 cb(&BranchProgress { points, lambda: r.lambda, residual: r.residual, tip_rotation }, user_data) == 0
             }
             None => true,
@@ -719,7 +784,13 @@ unsafe fn store_rod(model: Model, out: *mut *mut Rod) -> Result<Status> {
     let system = model.system()?;
     let n = model.unknowns();
     let nnz = system.pattern().nnz();
-    *slot = Box::into_raw(Box::new(Rod { model, system, scratch_r: vec![0.0; n], scratch_values: vec![0.0; nnz], scratch_dl: vec![0.0; n] }));
+    *slot = Box::into_raw(Box::new(Rod {
+        model,
+        system,
+        scratch_r: vec![0.0; n],
+        scratch_values: vec![0.0; nnz],
+        scratch_dl: vec![0.0; n],
+    }));
     Ok(Status::Ok)
 }
 
@@ -741,7 +812,12 @@ pub unsafe extern "C" fn rodkit_rod_new(spec: *const RodSpec, out: *mut *mut Rod
 /// stiffness (column-major, leading dimension `ldk` ≥ 6, order (u, v)) in
 /// place of the spec's moduli (bending1…bend_shear are ignored).
 #[no_mangle]
-pub unsafe extern "C" fn rodkit_rod_new_general(spec: *const RodSpec, stiffness: *const f64, ldk: i64, out: *mut *mut Rod) -> i32 {
+pub unsafe extern "C" fn rodkit_rod_new_general(
+    spec: *const RodSpec,
+    stiffness: *const f64,
+    ldk: i64,
+    out: *mut *mut Rod,
+) -> i32 {
     guard(|| {
         if let Some(o) = out.as_mut() {
             *o = std::ptr::null_mut();
@@ -851,14 +927,17 @@ pub unsafe extern "C" fn rodkit_rod_continue(
             *o = std::ptr::null_mut();
         }
         let rod = arg_ref("rod", rod)?;
-        let (opts, method, increasing) = options_from(arg_ref("options", options)?, rod.model.unknowns()).map_err(|e| qualify_argument(e, "options."))?;
+        let (opts, method, increasing) = options_from(arg_ref("options", options)?, rod.model.unknowns())
+            .map_err(|e| qualify_argument(e, "options."))?;
         let x0 = if x0.is_null() {
             None
         } else {
             check_len("n", n, rod.model.unknowns() as i64)?;
             Some(in_slice("x0", x0, n)?)
         };
-        let b = with_progress(&rod.model, progress, user_data, |cb| rod.model.continue_branch(x0, lambda0, increasing, &opts, method, cb))?;
+        let b = with_progress(&rod.model, progress, user_data, |cb| {
+            rod.model.continue_branch(x0, lambda0, increasing, &opts, method, cb)
+        })?;
         store_branch(rod, b, None, out)
     })
 }
@@ -879,8 +958,11 @@ pub unsafe extern "C" fn rodkit_branch_resume(
         }
         let rod = arg_ref("rod", rod)?;
         let from = same_rod(rod, arg_ref("branch", branch)?)?;
-        let (opts, method, _) = options_from(arg_ref("options", options)?, rod.model.unknowns()).map_err(|e| qualify_argument(e, "options."))?;
-        let b = with_progress(&rod.model, progress, user_data, |cb| rod.model.resume_branch(&from.branch, &opts, method, cb))?;
+        let (opts, method, _) = options_from(arg_ref("options", options)?, rod.model.unknowns())
+            .map_err(|e| qualify_argument(e, "options."))?;
+        let b = with_progress(&rod.model, progress, user_data, |cb| {
+            rod.model.resume_branch(&from.branch, &opts, method, cb)
+        })?;
         let previous = rod.model.torqued().then(|| from.records.last().map(|r| r.end_rotation)).flatten();
         store_branch(rod, b, previous, out)
     })
@@ -911,7 +993,8 @@ pub unsafe extern "C" fn rodkit_branch_switch(
         let from = same_rod(rod, arg_ref("branch", branch)?)?;
         error::count_in_range("index", index, 0, i64::MAX)?;
         error::count_in_range("direction", direction, 0, i64::MAX)?;
-        let (opts, method, _) = options_from(arg_ref("options", options)?, rod.model.unknowns()).map_err(|e| qualify_argument(e, "options."))?;
+        let (opts, method, _) = options_from(arg_ref("options", options)?, rod.model.unknowns())
+            .map_err(|e| qualify_argument(e, "options."))?;
         let b = with_progress(&rod.model, progress, user_data, |cb| {
             rod.model.switch_branch(&from.branch, index as usize, direction as usize, first_step, &opts, method, cb)
         })?;
@@ -963,7 +1046,12 @@ pub unsafe extern "C" fn rodkit_branch_summary(branch: *const Branch, info: *mut
 /// number of records of the branch. Fewer than that copied:
 /// RODKIT_STATUS_INFO_TRUNCATED (capacity 0 with records NULL is a size query).
 #[no_mangle]
-pub unsafe extern "C" fn rodkit_branch_records(branch: *const Branch, records: *mut BranchRecord, capacity: i64, count: *mut i64) -> i32 {
+pub unsafe extern "C" fn rodkit_branch_records(
+    branch: *const Branch,
+    records: *mut BranchRecord,
+    capacity: i64,
+    count: *mut i64,
+) -> i32 {
     guard(|| {
         let b = arg_ref("branch", branch)?;
         error::count_in_range("capacity", capacity, 0, i64::MAX)?;
@@ -986,7 +1074,12 @@ pub unsafe extern "C" fn rodkit_branch_records(branch: *const Branch, records: *
 /// receives their number. Truncation and size queries as for
 /// rodkit_branch_records.
 #[no_mangle]
-pub unsafe extern "C" fn rodkit_branch_samples(branch: *const Branch, samples: *mut BranchRecord, capacity: i64, count: *mut i64) -> i32 {
+pub unsafe extern "C" fn rodkit_branch_samples(
+    branch: *const Branch,
+    samples: *mut BranchRecord,
+    capacity: i64,
+    count: *mut i64,
+) -> i32 {
     guard(|| {
         let b = arg_ref("branch", branch)?;
         error::count_in_range("capacity", capacity, 0, i64::MAX)?;
@@ -1017,7 +1110,13 @@ pub unsafe extern "C" fn rodkit_branch_sample_state(branch: *const Branch, sampl
 
 /// Copy up to `capacity` located bifurcations; `count` receives their number.
 #[no_mangle]
-pub unsafe extern "C" fn rodkit_branch_bifurcations(branch: *const Branch, rod: *const Rod, out: *mut Bifurcation, capacity: i64, count: *mut i64) -> i32 {
+pub unsafe extern "C" fn rodkit_branch_bifurcations(
+    branch: *const Branch,
+    rod: *const Rod,
+    out: *mut Bifurcation,
+    capacity: i64,
+    count: *mut i64,
+) -> i32 {
     guard(|| {
         let rod = arg_ref("rod", rod)?;
         let b = same_rod(rod, arg_ref("branch", branch)?)?;
@@ -1065,7 +1164,14 @@ pub unsafe extern "C" fn rodkit_branch_state(branch: *const Branch, record: i64,
 /// Node positions r(s_i), i = 0…N, of record `record`: xyz[k + ld·i]
 /// (ld ≥ 3), for `nodes` = N + 1 nodes (the rod's elements + 1).
 #[no_mangle]
-pub unsafe extern "C" fn rodkit_branch_positions(branch: *const Branch, rod: *const Rod, record: i64, xyz: *mut f64, ld: i64, nodes: i64) -> i32 {
+pub unsafe extern "C" fn rodkit_branch_positions(
+    branch: *const Branch,
+    rod: *const Rod,
+    record: i64,
+    xyz: *mut f64,
+    ld: i64,
+    nodes: i64,
+) -> i32 {
     guard(|| {
         let rod = arg_ref("rod", rod)?;
         let b = same_rod(rod, arg_ref("branch", branch)?)?;
@@ -1073,7 +1179,9 @@ pub unsafe extern "C" fn rodkit_branch_positions(branch: *const Branch, rod: *co
         error::count_in_range("ld", ld, 3, i64::MAX / 64)?;
         check_len("nodes", nodes, rod.model.elements as i64 + 1)?;
         let p = rod.model.positions(&b.branch.states[record as usize]);
-        let len = ld.checked_mul(nodes - 1).and_then(|v| v.checked_add(3)).ok_or_else(|| Error::new(Status::ErrOutOfRange, format!("argument `ld` ({ld}) times the nodes overflows")))?;
+        let len = ld.checked_mul(nodes - 1).and_then(|v| v.checked_add(3)).ok_or_else(|| {
+            Error::new(Status::ErrOutOfRange, format!("argument `ld` ({ld}) times the nodes overflows"))
+        })?;
         let out = out_slice("xyz", xyz, len)?;
         for (i, r) in p.iter().enumerate() {
             out[i * ld as usize..i * ld as usize + 3].copy_from_slice(r);
@@ -1105,7 +1213,13 @@ pub unsafe extern "C" fn rodkit_rod_residual(rod: *mut Rod, x: *const f64, n: i6
 /// the count; with capacity < nnz only the count is written
 /// (RODKIT_STATUS_INFO_TRUNCATED; row_idx may then be NULL).
 #[no_mangle]
-pub unsafe extern "C" fn rodkit_rod_jacobian_pattern(rod: *const Rod, col_ptr: *mut i64, row_idx: *mut i64, capacity: i64, nnz: *mut i64) -> i32 {
+pub unsafe extern "C" fn rodkit_rod_jacobian_pattern(
+    rod: *const Rod,
+    col_ptr: *mut i64,
+    row_idx: *mut i64,
+    capacity: i64,
+    nnz: *mut i64,
+) -> i32 {
     guard(|| {
         let rod = arg_ref("rod", rod)?;
         error::count_in_range("capacity", capacity, 0, i64::MAX)?;
@@ -1135,7 +1249,15 @@ pub unsafe extern "C" fn rodkit_rod_jacobian_pattern(rod: *const Rod, col_ptr: *
 /// ∂R/∂x at (x, Λ) in the order of rodkit_rod_jacobian_pattern (`values`,
 /// `nnz` entries) and ∂R/∂Λ (`d_lambda`, n entries; may be NULL).
 #[no_mangle]
-pub unsafe extern "C" fn rodkit_rod_jacobian(rod: *mut Rod, x: *const f64, n: i64, lambda: f64, values: *mut f64, nnz: i64, d_lambda: *mut f64) -> i32 {
+pub unsafe extern "C" fn rodkit_rod_jacobian(
+    rod: *mut Rod,
+    x: *const f64,
+    n: i64,
+    lambda: f64,
+    values: *mut f64,
+    nnz: i64,
+    d_lambda: *mut f64,
+) -> i32 {
     guard(|| {
         let rod = arg_mut("rod", rod)?;
         check_len("n", n, rod.model.unknowns() as i64)?;

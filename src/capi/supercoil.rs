@@ -202,7 +202,12 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
         control: match s.end_control {
             1 => crate::electrostatics::supercoil::EndControl::Rotation,
             2 => crate::electrostatics::supercoil::EndControl::Torque,
-            v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `end_control` must be a RodkitEndControl 1…2 (got {v})"))),
+            v => {
+                return Err(Error::new(
+                    Status::ErrOutOfRange,
+                    format!("argument `end_control` must be a RodkitEndControl 1…2 (got {v})"),
+                ))
+            }
         },
     };
     Ok((scene, settings))
@@ -294,7 +299,12 @@ pub unsafe extern "C" fn rodkit_supercoil_summary(run: *const Supercoil, info: *
 /// Copy the path's points (at most `capacity`; `*count` receives the
 /// number of points; RODKIT_STATUS_INFO_TRUNCATED when they did not fit).
 #[no_mangle]
-pub unsafe extern "C" fn rodkit_supercoil_points(run: *const Supercoil, points: *mut SupercoilPoint, capacity: i64, count: *mut i64) -> i32 {
+pub unsafe extern "C" fn rodkit_supercoil_points(
+    run: *const Supercoil,
+    points: *mut SupercoilPoint,
+    capacity: i64,
+    count: *mut i64,
+) -> i32 {
     guard(|| {
         let r = &arg_ref("run", run)?.run;
         let count = arg_mut("count", count)?;
@@ -326,14 +336,23 @@ pub unsafe extern "C" fn rodkit_supercoil_points(run: *const Supercoil, points: 
 
 /// Node positions (nm) of point `point`: xyz[k + ld·i], i < nodes.
 #[no_mangle]
-pub unsafe extern "C" fn rodkit_supercoil_positions(run: *const Supercoil, point: i64, xyz: *mut f64, ld: i64, nodes: i64) -> i32 {
+pub unsafe extern "C" fn rodkit_supercoil_positions(
+    run: *const Supercoil,
+    point: i64,
+    xyz: *mut f64,
+    ld: i64,
+    nodes: i64,
+) -> i32 {
     guard(|| {
         let r = &arg_ref("run", run)?.run;
         error::count_in_range("point", point, 0, r.points.len() as i64 - 1)?;
         error::count_in_range("ld", ld, 3, i64::MAX / 64)?;
         let want = r.rod.elements as i64 + 1;
         if nodes != want {
-            return Err(Error::new(Status::ErrInvalidDimension, format!("argument `nodes` must be {want} (got {nodes})")));
+            return Err(Error::new(
+                Status::ErrInvalidDimension,
+                format!("argument `nodes` must be {want} (got {nodes})"),
+            ));
         }
         if xyz.is_null() {
             return Err(null_error("xyz"));
@@ -413,7 +432,12 @@ pub struct Equilibrium {
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_equilibrium_spec_default(spec: *mut EquilibriumSpec) -> i32 {
     guard(|| {
-        *arg_mut("spec", spec)? = EquilibriumSpec { discrete_base_pairs: 0, cutoff_tolerance: 1e-4, solver: EquilibriumSolver::NewtonKrylov as i32, residual_tol: 1e-10 };
+        *arg_mut("spec", spec)? = EquilibriumSpec {
+            discrete_base_pairs: 0,
+            cutoff_tolerance: 1e-4,
+            solver: EquilibriumSolver::NewtonKrylov as i32,
+            residual_tol: 1e-10,
+        };
         Ok(Status::Ok)
     })
 }
@@ -426,7 +450,15 @@ pub unsafe extern "C" fn rodkit_equilibrium_spec_default(spec: *mut EquilibriumS
 /// RODKIT_STATUS_ERR_NOT_CONVERGED (nothing written). Reentrant; `run`
 /// is only read.
 #[no_mangle]
-pub unsafe extern "C" fn rodkit_supercoil_solve_point(run: *const Supercoil, point: i64, spec: *const EquilibriumSpec, out: *mut Equilibrium, xyz: *mut f64, ld: i64, nodes: i64) -> i32 {
+pub unsafe extern "C" fn rodkit_supercoil_solve_point(
+    run: *const Supercoil,
+    point: i64,
+    spec: *const EquilibriumSpec,
+    out: *mut Equilibrium,
+    xyz: *mut f64,
+    ld: i64,
+    nodes: i64,
+) -> i32 {
     guard(|| {
         use crate::electrostatics::equilibrium::{solve_point, EquilibriumSolver as Solver};
         let r = &arg_ref("run", run)?.run;
@@ -449,7 +481,10 @@ pub unsafe extern "C" fn rodkit_supercoil_solve_point(run: *const Supercoil, poi
         if !xyz.is_null() {
             error::count_in_range("ld", ld, 3, i64::MAX / 64)?;
             if nodes != want {
-                return Err(Error::new(Status::ErrInvalidDimension, format!("argument `nodes` must be {want} (got {nodes})")));
+                return Err(Error::new(
+                    Status::ErrInvalidDimension,
+                    format!("argument `nodes` must be {want} (got {nodes})"),
+                ));
             }
         }
         let p = solve_point(r, point as usize, &charge, solver, s.residual_tol)?;

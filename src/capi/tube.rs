@@ -48,10 +48,11 @@ pub struct FreeTubeResponse {
 }
 
 fn thin_tube(spec: &ThinTubeSpec) -> Result<ThinTube> {
-    let material = OrthotropicSurface::new(spec.e1, spec.e2, spec.nu12, spec.g12).map_err(|e| qualify_argument(e, "spec."))?;
-    ThinTube::new(spec.mid_radius, spec.thickness, spec.intrinsic_twist, material).map_err(|e| qualify_argument(e, "spec."))
+    let material =
+        OrthotropicSurface::new(spec.e1, spec.e2, spec.nu12, spec.g12).map_err(|e| qualify_argument(e, "spec."))?;
+    ThinTube::new(spec.mid_radius, spec.thickness, spec.intrinsic_twist, material)
+        .map_err(|e| qualify_argument(e, "spec."))
 }
-
 
 /// Fill `spec` with its defaults: every field NaN (unset). Set all of them.
 #[no_mangle]

@@ -181,12 +181,26 @@ fn nan_default_material() -> WallMaterialSpec {
         law: WallLawKind::Unset as i32,
         incompressible: 0,
         intrinsic_twist: 0.0,
-        e1: n, e2: n, e3: n, nu12: n, nu13: n, nu23: n, g12: n, g13: n, g23: n,
+        e1: n,
+        e2: n,
+        e3: n,
+        nu12: n,
+        nu13: n,
+        nu23: n,
+        g12: n,
+        g13: n,
+        g23: n,
         shear_modulus: n,
         lame_lambda: n,
         fibre_families: 0,
-        fibre1_k1: n, fibre1_k2: n, fibre1_angle: n, fibre1_hand: 1.0,
-        fibre2_k1: n, fibre2_k2: n, fibre2_angle: n, fibre2_hand: -1.0,
+        fibre1_k1: n,
+        fibre1_k2: n,
+        fibre1_angle: n,
+        fibre1_hand: 1.0,
+        fibre2_k1: n,
+        fibre2_k2: n,
+        fibre2_angle: n,
+        fibre2_hand: -1.0,
     }
 }
 
@@ -200,7 +214,11 @@ fn flag(name: &str, v: i32) -> Result<bool> {
 
 fn law(m: &WallMaterialSpec) -> Result<Law> {
     let inc = flag("material.incompressible", m.incompressible)?;
-    let nh = || NeoHookean { shear_modulus: m.shear_modulus, lame_lambda: if inc { 0.0 } else { m.lame_lambda }, incompressible: inc };
+    let nh = || NeoHookean {
+        shear_modulus: m.shear_modulus,
+        lame_lambda: if inc { 0.0 } else { m.lame_lambda },
+        incompressible: inc,
+    };
     let l = match m.law {
         1 => {
             let o = Orthotropic::new(m.e1, m.e2, m.e3, m.nu12, m.nu13, m.nu23, m.g12, m.g13, m.g23)
@@ -240,12 +258,22 @@ fn loading(l: &TubeLoading) -> Result<Loading> {
     let axial = match l.axial_control {
         0 => Axial::Stretch(l.axial),
         1 => Axial::Force(l.axial),
-        v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `loading.axial_control` must be 0 (stretch) or 1 (force) (got {v})"))),
+        v => {
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                format!("argument `loading.axial_control` must be 0 (stretch) or 1 (force) (got {v})"),
+            ))
+        }
     };
     let torsion = match l.torsion_control {
         0 => Torsion::Twist(l.torsion),
         1 => Torsion::Torque(l.torsion),
-        v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `loading.torsion_control` must be 0 (twist) or 1 (torque) (got {v})"))),
+        v => {
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                format!("argument `loading.torsion_control` must be 0 (twist) or 1 (torque) (got {v})"),
+            ))
+        }
     };
     let ends = if flag("loading.closed_ends", l.closed_ends)? { Ends::Closed } else { Ends::Open };
     match axial {
@@ -333,14 +361,20 @@ pub unsafe extern "C" fn rodkit_tube_new(spec: *const TubeSpec, out: *mut *mut T
             0 => Model::Auto,
             1 => Model::Thick,
             2 => Model::Membrane,
-            v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `spec.model` must be a RodkitTubeModel 0…2 (got {v})"))),
+            v => {
+                return Err(Error::new(
+                    Status::ErrOutOfRange,
+                    format!("argument `spec.model` must be a RodkitTubeModel 0…2 (got {v})"),
+                ))
+            }
         };
         let intervals = match spec.intervals {
             0 => None,
             n => Some(error::count_in_range("spec.intervals", n, 4, 256)? as usize),
         };
-        let scene = TubeScene::new(spec.inner_radius, spec.outer_radius, law(&spec.material)?, model, spec.rel_tol, intervals)
-            .map_err(|e| qualify_argument(e, "spec."))?;
+        let scene =
+            TubeScene::new(spec.inner_radius, spec.outer_radius, law(&spec.material)?, model, spec.rel_tol, intervals)
+                .map_err(|e| qualify_argument(e, "spec."))?;
         *out = Box::into_raw(Box::new(Tube { scene }));
         Ok(Status::Ok)
     })
@@ -400,7 +434,10 @@ pub unsafe extern "C" fn rodkit_tube_profile(
             return Ok(Status::Ok);
         }
         if (capacity as usize) < n {
-            return Err(Error::new(Status::ErrInvalidDimension, format!("argument `capacity` ({capacity}) is below the {n} nodes of the profile")));
+            return Err(Error::new(
+                Status::ErrInvalidDimension,
+                format!("argument `capacity` ({capacity}) is below the {n} nodes of the profile"),
+            ));
         }
         let columns: [(&str, *mut f64, &Vec<f64>); 6] = [
             ("reference_radius", reference_radius, &p.reference_radius),
@@ -486,7 +523,12 @@ pub unsafe extern "C" fn rodkit_tube_sweep(
 /// `ldk` ≥ 3; `error_estimate` (may be NULL) its relative error estimate.
 /// Fibre-reinforced walls have none (tension-only fibres): ERR_OUT_OF_RANGE.
 #[no_mangle]
-pub unsafe extern "C" fn rodkit_tube_coupling_stiffness(tube: *const Tube, k: *mut f64, ldk: i64, error_estimate: *mut f64) -> i32 {
+pub unsafe extern "C" fn rodkit_tube_coupling_stiffness(
+    tube: *const Tube,
+    k: *mut f64,
+    ldk: i64,
+    error_estimate: *mut f64,
+) -> i32 {
     guard(|| {
         let tube = arg_ref("tube", tube)?;
         let est = tube.scene.coupling_stiffness()?;
@@ -520,7 +562,12 @@ pub unsafe extern "C" fn rodkit_tube_stretch_twist(tube: *const Tube, s: *mut f6
 /// a linearisation at rest (not tension-only fibres). `error_estimate` (may
 /// be NULL) receives the estimated relative error.
 #[no_mangle]
-pub unsafe extern "C" fn rodkit_tube_rod_stiffness(tube: *const Tube, k: *mut f64, ldk: i64, error_estimate: *mut f64) -> i32 {
+pub unsafe extern "C" fn rodkit_tube_rod_stiffness(
+    tube: *const Tube,
+    k: *mut f64,
+    ldk: i64,
+    error_estimate: *mut f64,
+) -> i32 {
     guard(|| {
         let tube = arg_ref("tube", tube)?;
         let est = tube.scene.rod_stiffness()?;

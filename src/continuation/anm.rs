@@ -22,10 +22,10 @@
 //! target Λ inside a step is located on the polynomial Λ(a) and the point
 //! corrected at fixed Λ.
 
-use super::bordered::Bordered;
 use super::bifurcation::{Bifurcation, State};
-use super::newton::{correct, detect, make_record, residual_norm, validate, validate_resume, Start};
+use super::bordered::Bordered;
 use super::newton::deliver_sample;
+use super::newton::{correct, detect, make_record, residual_norm, validate, validate_resume, Start};
 use super::pade::{self, Curve};
 use super::{all_roots, first_root};
 use super::{Branch, Counts, Options, Record, Resume, Sample, Scaling, SeriesProblem, Stop};
@@ -67,7 +67,10 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
     error::in_range("epsilon", anm.epsilon, 1e-15, 1e-1)?;
     let n = problem.dim();
     let p_max = anm.order;
-    let scaling = opts.scaling.clone().unwrap_or_else(|| { let (x, lambda) = problem.unknown_scales(); Scaling { x, lambda } });
+    let scaling = opts.scaling.clone().unwrap_or_else(|| {
+        let (x, lambda) = problem.unknown_scales();
+        Scaling { x, lambda }
+    });
     let eq = problem.equation_scales();
     let mut bordered = Bordered::new(problem.pattern())?;
     bordered.set_monitor_scales(&eq, &scaling);
@@ -80,17 +83,32 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             let mut x = x;
             let mut l = lambda;
             let anchor = x.clone();
-            let (it, _) = correct(problem, &mut bordered, &scaling, &eq, &mut x, &mut l, (&anchor, lambda), (&e_lambda, 1.0), opts.residual_tol, false, &mut counts)
-                .map_err(|e| Error::new(e.status, format!("continuation start: {}", e.message)))?;
+            let (it, _) = correct(
+                problem,
+                &mut bordered,
+                &scaling,
+                &eq,
+                &mut x,
+                &mut l,
+                (&anchor, lambda),
+                (&e_lambda, 1.0),
+                opts.residual_tol,
+                false,
+                &mut counts,
+            )
+            .map_err(|e| Error::new(e.status, format!("continuation start: {}", e.message)))?;
             (x, l, e_lambda.clone(), if increasing { 1.0 } else { -1.0 }, it)
         }
         Start::Resume(r) => {
             validate_resume(&r, n)?;
-            match bordered.factorise_at(problem, &r.x, r.lambda, &r.tangent_x, r.tangent_lambda, &scaling, &mut counts) {
+            match bordered.factorise_at(problem, &r.x, r.lambda, &r.tangent_x, r.tangent_lambda, &scaling, &mut counts)
+            {
                 Ok(()) => (r.x, r.lambda, r.tangent_x, r.tangent_lambda, 0),
                 // Exactly singular: a resume at a bifurcation point; leave it
                 // as a switch does.
-                Err(e) if e.status == Status::ErrNotConverged => leave_singular(problem, &mut bordered, &scaling, &eq, &r, opts, &mut counts)?,
+                Err(e) if e.status == Status::ErrNotConverged => {
+                    leave_singular(problem, &mut bordered, &scaling, &eq, &r, opts, &mut counts)?
+                }
                 Err(e) => return Err(e),
             }
         }
@@ -130,11 +148,36 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             if records.is_empty() {
                 return Err(e);
             }
-            return Ok(finish(Stop::StepTooSmall, x, lambda, vx, vl, last_a, records, counts, std::mem::take(&mut bifurcations)).with_samples(samples, missed));
+            return Ok(finish(
+                Stop::StepTooSmall,
+                x,
+                lambda,
+                vx,
+                vl,
+                last_a,
+                records,
+                counts,
+                std::mem::take(&mut bifurcations),
+            )
+            .with_samples(samples, missed));
         }
         let (x1, l1) = bordered.tangent(&scaling, &mut counts)?;
         // The record of X0 (its determinant signs need this factorisation).
-        let mut rec = make_record(problem, &mut bordered, &scaling, &eq, &x, lambda, &x1, l1, pending_step, pending_iterations, opts, &mut observe, &mut counts);
+        let mut rec = make_record(
+            problem,
+            &mut bordered,
+            &scaling,
+            &eq,
+            &x,
+            lambda,
+            &x1,
+            l1,
+            pending_step,
+            pending_iterations,
+            opts,
+            &mut observe,
+            &mut counts,
+        );
         rec.series_residual = pending_series_residual;
         let go_on = progress(&rec);
         records.push(rec);
@@ -144,7 +187,9 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
                 history.remove(0);
             }
             let before = bordered.factorisations();
-            if let Some(b) = detect(problem, &mut bordered, &scaling, &eq, opts, &records, &history, &bifurcations, &mut counts)? {
+            if let Some(b) =
+                detect(problem, &mut bordered, &scaling, &eq, opts, &records, &history, &bifurcations, &mut counts)?
+            {
                 bifurcations.push(b);
             }
             if bordered.factorisations() != before {
@@ -153,13 +198,46 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             }
         }
         if at_target {
-            return Ok(finish(Stop::Target, x, lambda, x1, l1, last_a, records, counts, std::mem::take(&mut bifurcations)).with_samples(samples, missed));
+            return Ok(finish(
+                Stop::Target,
+                x,
+                lambda,
+                x1,
+                l1,
+                last_a,
+                records,
+                counts,
+                std::mem::take(&mut bifurcations),
+            )
+            .with_samples(samples, missed));
         }
         if !go_on {
-            return Ok(finish(Stop::Cancelled, x, lambda, x1, l1, last_a, records, counts, std::mem::take(&mut bifurcations)).with_samples(samples, missed));
+            return Ok(finish(
+                Stop::Cancelled,
+                x,
+                lambda,
+                x1,
+                l1,
+                last_a,
+                records,
+                counts,
+                std::mem::take(&mut bifurcations),
+            )
+            .with_samples(samples, missed));
         }
         if step == opts.max_steps {
-            return Ok(finish(Stop::MaxSteps, x, lambda, x1, l1, last_a, records, counts, std::mem::take(&mut bifurcations)).with_samples(samples, missed));
+            return Ok(finish(
+                Stop::MaxSteps,
+                x,
+                lambda,
+                x1,
+                l1,
+                last_a,
+                records,
+                counts,
+                std::mem::take(&mut bifurcations),
+            )
+            .with_samples(samples, missed));
         }
 
         // The series.
@@ -202,7 +280,18 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
         let mut a = if p_max > 2 { radius(p_max).min(radius(p_max - 1)) } else { radius(p_max) };
         a = a.min(opts.max_step);
         if !(a >= opts.min_step) {
-            return Ok(finish(Stop::StepTooSmall, x, lambda, x1, l1, a, records, counts, std::mem::take(&mut bifurcations)).with_samples(samples, missed));
+            return Ok(finish(
+                Stop::StepTooSmall,
+                x,
+                lambda,
+                x1,
+                l1,
+                a,
+                records,
+                counts,
+                std::mem::take(&mut bifurcations),
+            )
+            .with_samples(samples, missed));
         }
         // Padé: a longer step where the rational form stays within ε.
         let mut denominator = None;
@@ -233,9 +322,26 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
                 for t in all_roots(|t| lam_at(t) - target, a) {
                     let mut xs = vec![0.0; n];
                     curve.evaluate(t, &mut xs, None);
-                    let sample = deliver_sample(problem, &mut bordered, &scaling, &eq, &mut xs, target, (&x1, l1), opts.residual_tol, &mut counts, &mut refactorised);
+                    let sample = deliver_sample(
+                        problem,
+                        &mut bordered,
+                        &scaling,
+                        &eq,
+                        &mut xs,
+                        target,
+                        (&x1, l1),
+                        opts.residual_tol,
+                        &mut counts,
+                        &mut refactorised,
+                    );
                     match sample {
-                        Ok((iterations, residual)) => samples.push(Sample { lambda: target, record: records.len() - 1, outputs: observe(&xs, target), residual, newton_iterations: iterations }),
+                        Ok((iterations, residual)) => samples.push(Sample {
+                            lambda: target,
+                            record: records.len() - 1,
+                            outputs: observe(&xs, target),
+                            residual,
+                            newton_iterations: iterations,
+                        }),
                         Err(_) => missed.push(target),
                     }
                 }
@@ -261,10 +367,25 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
         let mut tn = vec![0.0; n + 1];
         let (mut ln, iterations, series_residual) = loop {
             curve.evaluate(a, &mut xn, Some(&mut tn));
-            let mut ln = if stop == Some(Stop::Target) { opts.target_lambda.expect("a target stop has a target") } else { lam_at(a) };
+            let mut ln = if stop == Some(Stop::Target) {
+                opts.target_lambda.expect("a target stop has a target")
+            } else {
+                lam_at(a)
+            };
             // Λ range: stop before leaving it.
             if stop.is_none() && !(ln >= opts.lambda_range.0 && ln <= opts.lambda_range.1) {
-                return Ok(finish(Stop::LambdaRange, x, lambda, x1, l1, a, records, counts, std::mem::take(&mut bifurcations)).with_samples(samples, missed));
+                return Ok(finish(
+                    Stop::LambdaRange,
+                    x,
+                    lambda,
+                    x1,
+                    l1,
+                    a,
+                    records,
+                    counts,
+                    std::mem::take(&mut bifurcations),
+                )
+                .with_samples(samples, missed));
             }
             problem.residual(&xn, ln, &mut r);
             counts.residuals += 1;
@@ -275,9 +396,33 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             let anchor = xn.clone();
             let anchor_l = ln;
             let result = if stop == Some(Stop::Target) {
-                correct(problem, &mut bordered, &scaling, &eq, &mut xn, &mut ln, (&anchor, anchor_l), (&e_lambda, 1.0), opts.residual_tol, false, &mut counts)
+                correct(
+                    problem,
+                    &mut bordered,
+                    &scaling,
+                    &eq,
+                    &mut xn,
+                    &mut ln,
+                    (&anchor, anchor_l),
+                    (&e_lambda, 1.0),
+                    opts.residual_tol,
+                    false,
+                    &mut counts,
+                )
             } else {
-                correct(problem, &mut bordered, &scaling, &eq, &mut xn, &mut ln, (&anchor, anchor_l), (&vx, vl), opts.residual_tol, true, &mut counts)
+                correct(
+                    problem,
+                    &mut bordered,
+                    &scaling,
+                    &eq,
+                    &mut xn,
+                    &mut ln,
+                    (&anchor, anchor_l),
+                    (&vx, vl),
+                    opts.residual_tol,
+                    true,
+                    &mut counts,
+                )
             };
             match result {
                 Ok((it, _)) => break (ln, it, series_residual),
@@ -287,7 +432,18 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
                     a *= 0.5;
                     stop = None;
                     if !(a >= opts.min_step) {
-                        return Ok(finish(Stop::StepTooSmall, x, lambda, x1, l1, a, records, counts, std::mem::take(&mut bifurcations)).with_samples(samples, missed));
+                        return Ok(finish(
+                            Stop::StepTooSmall,
+                            x,
+                            lambda,
+                            x1,
+                            l1,
+                            a,
+                            records,
+                            counts,
+                            std::mem::take(&mut bifurcations),
+                        )
+                        .with_samples(samples, missed));
                     }
                     bordered.factorise_at(problem, &x, lambda, &vx, vl, &scaling, &mut counts)?;
                 }
@@ -331,7 +487,19 @@ fn leave_singular<P: SeriesProblem + ?Sized>(
         let mut l = r.lambda + ds * r.tangent_lambda;
         let anchor = x.clone();
         let al = l;
-        if let Ok((it, _)) = correct(problem, bordered, scaling, eq, &mut x, &mut l, (&anchor, al), (&r.tangent_x, r.tangent_lambda), opts.residual_tol, false, counts) {
+        if let Ok((it, _)) = correct(
+            problem,
+            bordered,
+            scaling,
+            eq,
+            &mut x,
+            &mut l,
+            (&anchor, al),
+            (&r.tangent_x, r.tangent_lambda),
+            opts.residual_tol,
+            false,
+            counts,
+        ) {
             let dx: Vec<f64> = x.iter().zip(&r.x).map(|(a, b)| a - b).collect();
             let norm = scaling.norm(&dx, l - r.lambda);
             if norm > 0.0 && norm.is_finite() {
@@ -341,12 +509,33 @@ fn leave_singular<P: SeriesProblem + ?Sized>(
         }
         ds *= 0.5;
         if !(ds >= opts.min_step) {
-            return Err(Error::new(Status::ErrNotConverged, "ANM: no regular point found along the start direction (singular start)"));
+            return Err(Error::new(
+                Status::ErrNotConverged,
+                "ANM: no regular point found along the start direction (singular start)",
+            ));
         }
     }
 }
 
 #[allow(clippy::too_many_arguments)]
-fn finish(stop: Stop, x: Vec<f64>, lambda: f64, tx: Vec<f64>, tl: f64, step: f64, records: Vec<Record>, counts: Counts, bifurcations: Vec<Bifurcation>) -> Branch {
-    Branch { records, bifurcations, stop, resume: Resume { x, lambda, tangent_x: tx, tangent_lambda: tl, step }, counts, samples: Vec::new(), missed_samples: Vec::new() }
+fn finish(
+    stop: Stop,
+    x: Vec<f64>,
+    lambda: f64,
+    tx: Vec<f64>,
+    tl: f64,
+    step: f64,
+    records: Vec<Record>,
+    counts: Counts,
+    bifurcations: Vec<Bifurcation>,
+) -> Branch {
+    Branch {
+        records,
+        bifurcations,
+        stop,
+        resume: Resume { x, lambda, tangent_x: tx, tangent_lambda: tl, step },
+        counts,
+        samples: Vec::new(),
+        missed_samples: Vec::new(),
+    }
 }

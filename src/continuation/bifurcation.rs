@@ -78,7 +78,19 @@ pub(crate) fn locate<P: Problem + ?Sized>(
         let mut l = left.lambda + tau * left.tl;
         let anchor = x.clone();
         let al = l;
-        correct(problem, bordered, scaling, eq, &mut x, &mut l, (&anchor, al), (&left.tx, left.tl), residual_tol, false, counts)?;
+        correct(
+            problem,
+            bordered,
+            scaling,
+            eq,
+            &mut x,
+            &mut l,
+            (&anchor, al),
+            (&left.tx, left.tl),
+            residual_tol,
+            false,
+            counts,
+        )?;
         bordered.factorise_at(problem, &x, l, &left.tx, left.tl, scaling, counts)?;
         Ok((x, l, bordered.signed_smallest_singular_value(counts)))
     };

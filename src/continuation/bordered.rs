@@ -79,8 +79,16 @@ impl Bordered {
     }
 
     /// Evaluate the Jacobian at (x, Λ), border it with W·v and factorise.
-    pub fn factorise_at<P: Problem + ?Sized>(&mut self, problem: &mut P, x: &[f64], lambda: f64, vx: &[f64], vl: f64,
-                                               scaling: &Scaling, counts: &mut Counts) -> Result<()> {
+    pub fn factorise_at<P: Problem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &[f64],
+        lambda: f64,
+        vx: &[f64],
+        vl: f64,
+        scaling: &Scaling,
+        counts: &mut Counts,
+    ) -> Result<()> {
         problem.jacobian(x, lambda, &mut self.jx, &mut self.jl);
         counts.jacobians += 1;
         self.factorise_border(vx, vl, scaling, counts)
@@ -220,9 +228,17 @@ impl Bordered {
     /// [`Bordered::smallest_singular_vectors`] with the Ritz values'
     /// relative tolerance and an iteration cap (a monitor needs a few
     /// digits; null vectors of a located point need many).
-    pub fn smallest_singular_vectors_to(&mut self, k: usize, tol: f64, max_iterations: usize, counts: &mut Counts) -> (Vec<f64>, Vec<Vec<f64>>) {
+    pub fn smallest_singular_vectors_to(
+        &mut self,
+        k: usize,
+        tol: f64,
+        max_iterations: usize,
+        counts: &mut Counts,
+    ) -> (Vec<f64>, Vec<Vec<f64>>) {
         let m = self.n + 1;
-        let mut v: Vec<Vec<f64>> = (0..k).map(|c| (0..m).map(|i| (((i + 1) * (c + 3) * 7919) % 1009) as f64 / 1009.0 - 0.5).collect()).collect();
+        let mut v: Vec<Vec<f64>> = (0..k)
+            .map(|c| (0..m).map(|i| (((i + 1) * (c + 3) * 7919) % 1009) as f64 / 1009.0 - 0.5).collect())
+            .collect();
         orthonormalise(&mut v);
         let mut sigma = vec![f64::INFINITY; k];
         for _ in 0..max_iterations {
@@ -273,7 +289,11 @@ impl Bordered {
         let scaled: Vec<f64> = v[0].iter().zip(&self.col_scale).map(|(a, c)| a / c).collect();
         self.scaled_mul(&scaled, &mut w);
         let align: f64 = w.iter().zip(&scaled).map(|(a, b)| a * b).sum();
-        if align < 0.0 { -sigma[0] } else { sigma[0] }
+        if align < 0.0 {
+            -sigma[0]
+        } else {
+            sigma[0]
+        }
     }
 
     pub fn factorisations(&self) -> usize {

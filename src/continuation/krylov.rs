@@ -57,7 +57,16 @@ pub struct KrylovOptions {
 
 impl Default for KrylovOptions {
     fn default() -> Self {
-        KrylovOptions { residual_tol: 1e-8, max_newton: 30, restart: 40, max_linear: 200, eta_max: 0.1, refresh_after: 10, central: true, perturbation: 1e-6 }
+        KrylovOptions {
+            residual_tol: 1e-8,
+            max_newton: 30,
+            restart: 40,
+            max_linear: 200,
+            eta_max: 0.1,
+            refresh_after: 10,
+            central: true,
+            perturbation: 1e-6,
+        }
     }
 }
 
@@ -109,9 +118,14 @@ impl BandPreconditioner {
     pub fn bordered(pattern: &Pattern, band: usize, border: usize) -> Result<Self> {
         let n = pattern.n;
         if pattern.nnz() >= DROPPED as usize {
-            return Err(Error::new(Status::ErrInvalidDimension, format!("band preconditioner: {} entries is beyond the u32 positions' range", pattern.nnz())));
+            return Err(Error::new(
+                Status::ErrInvalidDimension,
+                format!("band preconditioner: {} entries is beyond the u32 positions' range", pattern.nnz()),
+            ));
         }
-        let keep = |i: usize, j: usize| i.abs_diff(j) <= band || (i.min(j) < band && i.max(j) + band >= n) || i.max(j) + border >= n;
+        let keep = |i: usize, j: usize| {
+            i.abs_diff(j) <= band || (i.min(j) < band && i.max(j) + band >= n) || i.max(j) + border >= n
+        };
         // The kept entries in the full pattern's (sorted, compressed-column)
         // order are already the band's: one pass, no sort or search.
         let mut col_ptr = Vec::with_capacity(n + 1);
@@ -131,7 +145,16 @@ impl BandPreconditioner {
         }
         let small = Pattern { n, col_ptr, row_idx };
         let values = vec![0.0; small.nnz()];
-        Ok(BandPreconditioner { n, band, map, jx: vec![0.0; pattern.nnz()], jl: vec![0.0; n], values, lu: SparseLu::new(small)?, factorised: false })
+        Ok(BandPreconditioner {
+            n,
+            band,
+            map,
+            jx: vec![0.0; pattern.nnz()],
+            jl: vec![0.0; n],
+            values,
+            lu: SparseLu::new(small)?,
+            factorised: false,
+        })
     }
 
     pub fn band(&self) -> usize {
@@ -150,9 +173,18 @@ impl BandPreconditioner {
 
     /// Evaluate `source`'s Jacobian at (x, Λ) (its pattern must be the one
     /// given to [`BandPreconditioner::new`]) and factorise its band.
-    pub fn refresh<Q: Problem + ?Sized>(&mut self, source: &mut Q, x: &[f64], lambda: f64, counts: &mut Counts) -> Result<()> {
+    pub fn refresh<Q: Problem + ?Sized>(
+        &mut self,
+        source: &mut Q,
+        x: &[f64],
+        lambda: f64,
+        counts: &mut Counts,
+    ) -> Result<()> {
         if source.dim() != self.n || source.pattern().nnz() != self.map.len() {
-            return Err(Error::new(Status::ErrInvalidDimension, "band preconditioner: the Jacobian's pattern is not the one it was built for"));
+            return Err(Error::new(
+                Status::ErrInvalidDimension,
+                "band preconditioner: the Jacobian's pattern is not the one it was built for",
+            ));
         }
         self.factorised = false;
         source.jacobian(x, lambda, &mut self.jx, &mut self.jl);
@@ -197,7 +229,10 @@ pub fn newton_krylov<P: Problem + ?Sized>(
     let n = problem.dim();
     crate::error::count_in_range("Newton–Krylov state length", x.len() as i64, n as i64, n as i64)?;
     if pre.n != n {
-        return Err(Error::new(Status::ErrInvalidDimension, "Newton–Krylov: the preconditioner is for another dimension"));
+        return Err(Error::new(
+            Status::ErrInvalidDimension,
+            "Newton–Krylov: the preconditioner is for another dimension",
+        ));
     }
     crate::error::positive("Newton–Krylov residual tolerance", opts.residual_tol)?;
     crate::error::count_in_range("GMRES restart length", opts.restart as i64, 1, 10_000)?;
@@ -207,7 +242,11 @@ pub fn newton_krylov<P: Problem + ?Sized>(
     let rms = |v: &[f64]| scaling.norm(v, 0.0);
     let m = opts.restart;
     let mut report = KrylovReport::default();
-    let refresh = |pre: &mut BandPreconditioner, src: &mut Option<&mut dyn Problem>, problem: &mut P, x: &[f64], counts: &mut Counts| match src {
+    let refresh = |pre: &mut BandPreconditioner,
+                   src: &mut Option<&mut dyn Problem>,
+                   problem: &mut P,
+                   x: &[f64],
+                   counts: &mut Counts| match src {
         Some(q) => pre.refresh(&mut **q, x, lambda, counts),
         None => pre.refresh(problem, x, lambda, counts),
     };
@@ -218,7 +257,8 @@ pub fn newton_krylov<P: Problem + ?Sized>(
     let mut basis = vec![0.0; (m + 1) * n];
     let mut h = vec![0.0; (m + 1) * m];
     let (mut cs, mut sn, mut g, mut y) = (vec![0.0; m], vec![0.0; m], vec![0.0; m + 1], vec![0.0; m]);
-    let (mut r, mut f, mut rp, mut z, mut step, mut trial) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let (mut r, mut f, mut rp, mut z, mut step, mut trial) =
+        (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let eval = |problem: &mut P, x: &[f64], r: &mut [f64], f: &mut [f64], counts: &mut Counts| {
         problem.residual(x, lambda, r);
         counts.residuals += 1;
@@ -236,7 +276,10 @@ pub fn newton_krylov<P: Problem + ?Sized>(
         let res = residual_norm(&r, &d);
         report.residual = res;
         if !res.is_finite() {
-            return Err(Error::new(Status::ErrNonFiniteResult, format!("Newton–Krylov: non-finite residual at iteration {it}")));
+            return Err(Error::new(
+                Status::ErrNonFiniteResult,
+                format!("Newton–Krylov: non-finite residual at iteration {it}"),
+            ));
         }
         if res <= opts.residual_tol {
             report.newton_iterations = it;
@@ -276,37 +319,38 @@ pub fn newton_krylov<P: Problem + ?Sized>(
         let central = opts.central;
         let xs: &[f64] = x;
         let rs: &[f64] = &r;
-        let product = |problem: &mut P, v: &[f64], out: &mut [f64], trial: &mut [f64], rp: &mut [f64], counts: &mut Counts| {
-            let vnorm = rms(v);
-            if vnorm == 0.0 || !vnorm.is_finite() {
-                out.fill(0.0);
-                return;
-            }
-            let sigma = pert / vnorm;
-            for i in 0..n {
-                trial[i] = xs[i] + sigma * v[i];
-            }
-            problem.residual(trial, lambda, rp);
-            counts.residuals += 1;
-            if central {
-                // (R(x + σv) − R(x − σv)) / 2σ: O(σ²), robust along the
-                // soft directions of a long rod where |J v| ≪ |J||v| and a
-                // forward difference's O(σ) error is not small relative to it.
+        let product =
+            |problem: &mut P, v: &[f64], out: &mut [f64], trial: &mut [f64], rp: &mut [f64], counts: &mut Counts| {
+                let vnorm = rms(v);
+                if vnorm == 0.0 || !vnorm.is_finite() {
+                    out.fill(0.0);
+                    return;
+                }
+                let sigma = pert / vnorm;
                 for i in 0..n {
-                    out[i] = rp[i];
-                    trial[i] = xs[i] - sigma * v[i];
+                    trial[i] = xs[i] + sigma * v[i];
                 }
                 problem.residual(trial, lambda, rp);
                 counts.residuals += 1;
-                for i in 0..n {
-                    out[i] = (out[i] - rp[i]) / (2.0 * sigma * d[i]);
+                if central {
+                    // (R(x + σv) − R(x − σv)) / 2σ: O(σ²), robust along the
+                    // soft directions of a long rod where |J v| ≪ |J||v| and a
+                    // forward difference's O(σ) error is not small relative to it.
+                    for i in 0..n {
+                        out[i] = rp[i];
+                        trial[i] = xs[i] - sigma * v[i];
+                    }
+                    problem.residual(trial, lambda, rp);
+                    counts.residuals += 1;
+                    for i in 0..n {
+                        out[i] = (out[i] - rp[i]) / (2.0 * sigma * d[i]);
+                    }
+                } else {
+                    for i in 0..n {
+                        out[i] = (rp[i] - rs[i]) / (sigma * d[i]);
+                    }
                 }
-            } else {
-                for i in 0..n {
-                    out[i] = (rp[i] - rs[i]) / (sigma * d[i]);
-                }
-            }
-        };
+            };
         let mut solved = false;
         let mut refreshed = false;
         let mut linear = 0;
@@ -431,25 +475,29 @@ pub fn newton_krylov<P: Problem + ?Sized>(
         // iteration (10 kbp DNA rod: 4 iterations instead of 3). Shorter
         // steps are held to ‖F̃‖₂, along which the direction is a descent.
         let mut new_fnorm = fnorm;
-        let taken = backtrack(problem, x, &step, lambda, &mut r, &mut trial, &mut rp, 10, &mut report.counts, |t, rt| {
-            for i in 0..n {
-                z[i] = rt[i] / d[i];
-            }
-            let trial_norm = norm2(&z);
-            let decrease = 1.0 - 1e-4 * t * (1.0 - eta);
-            let trial_max = residual_norm(rt, &d);
-            let by_two_norm = trial_norm <= decrease * fnorm;
-            let ok = trial_norm.is_finite() && (by_two_norm || (t == 1.0 && trial_max <= decrease * res));
-            if ok {
-                // A step accepted on the max norm measures its rate there:
-                // the 2-norm's grew, and would cap the next forcing term.
-                rate = if by_two_norm { trial_norm / fnorm } else { trial_max / res };
-                new_fnorm = trial_norm;
-            }
-            ok
-        });
+        let taken =
+            backtrack(problem, x, &step, lambda, &mut r, &mut trial, &mut rp, 10, &mut report.counts, |t, rt| {
+                for i in 0..n {
+                    z[i] = rt[i] / d[i];
+                }
+                let trial_norm = norm2(&z);
+                let decrease = 1.0 - 1e-4 * t * (1.0 - eta);
+                let trial_max = residual_norm(rt, &d);
+                let by_two_norm = trial_norm <= decrease * fnorm;
+                let ok = trial_norm.is_finite() && (by_two_norm || (t == 1.0 && trial_max <= decrease * res));
+                if ok {
+                    // A step accepted on the max norm measures its rate there:
+                    // the 2-norm's grew, and would cap the next forcing term.
+                    rate = if by_two_norm { trial_norm / fnorm } else { trial_max / res };
+                    new_fnorm = trial_norm;
+                }
+                ok
+            });
         if taken.is_none() {
-            return Err(Error::new(Status::ErrNotConverged, format!("Newton–Krylov: no decrease of the residual along the step at iteration {it}")));
+            return Err(Error::new(
+                Status::ErrNotConverged,
+                format!("Newton–Krylov: no decrease of the residual along the step at iteration {it}"),
+            ));
         }
         // z holds the accepted point's scaled residual (the last trial).
         std::mem::swap(&mut f, &mut z);
@@ -461,6 +509,11 @@ pub fn newton_krylov<P: Problem + ?Sized>(
             refresh(pre, &mut jacobian_source, problem, x, &mut report.counts)?;
         }
     }
-    Err(Error::new(Status::ErrNotConverged, format!(
-        "Newton–Krylov: residual {:.2e} above {:.1e} after {} iterations", report.residual, opts.residual_tol, opts.max_newton)))
+    Err(Error::new(
+        Status::ErrNotConverged,
+        format!(
+            "Newton–Krylov: residual {:.2e} above {:.1e} after {} iterations",
+            report.residual, opts.residual_tol, opts.max_newton
+        ),
+    ))
 }

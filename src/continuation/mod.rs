@@ -336,4 +336,3 @@ pub(crate) fn first_root(g: impl Fn(f64) -> f64, b: f64) -> Option<f64> {
     }
     None
 }
-

@@ -78,7 +78,13 @@ pub(crate) fn backtrack<P: Problem + ?Sized>(
 /// converges in 6 iterations. Returns (iterations, final max |R_i|/d_i);
 /// non-convergence is ErrNotConverged, a non-finite residual
 /// ErrNonFiniteResult.
-pub fn damped_newton<P: Problem + ?Sized>(problem: &mut P, x: &mut [f64], lambda: f64, tol: f64, counts: &mut Counts) -> Result<(usize, f64)> {
+pub fn damped_newton<P: Problem + ?Sized>(
+    problem: &mut P,
+    x: &mut [f64],
+    lambda: f64,
+    tol: f64,
+    counts: &mut Counts,
+) -> Result<(usize, f64)> {
     const MAX_ITERATIONS: usize = 40;
     let n = problem.dim();
     error::count_in_range("Newton state length", x.len() as i64, n as i64, n as i64)?;
@@ -91,7 +97,10 @@ pub fn damped_newton<P: Problem + ?Sized>(problem: &mut P, x: &mut [f64], lambda
     let mut res = residual_norm(&r, &d);
     for it in 0..=MAX_ITERATIONS {
         if !res.is_finite() {
-            return Err(Error::new(Status::ErrNonFiniteResult, format!("direct Newton: non-finite residual at iteration {it}")));
+            return Err(Error::new(
+                Status::ErrNonFiniteResult,
+                format!("direct Newton: non-finite residual at iteration {it}"),
+            ));
         }
         if res <= tol {
             return Ok((it, res));
@@ -118,10 +127,18 @@ pub fn damped_newton<P: Problem + ?Sized>(problem: &mut P, x: &mut [f64], lambda
             ok
         });
         if taken.is_none() {
-            return Err(Error::new(Status::ErrNotConverged, format!("direct Newton: no decrease of the residual along the step at iteration {it} (residual {res:.2e})")));
+            return Err(Error::new(
+                Status::ErrNotConverged,
+                format!(
+                    "direct Newton: no decrease of the residual along the step at iteration {it} (residual {res:.2e})"
+                ),
+            ));
         }
     }
-    Err(Error::new(Status::ErrNotConverged, format!("direct Newton: residual {res:.2e} above {tol:.1e} after {MAX_ITERATIONS} iterations")))
+    Err(Error::new(
+        Status::ErrNotConverged,
+        format!("direct Newton: residual {res:.2e} above {tol:.1e} after {MAX_ITERATIONS} iterations"),
+    ))
 }
 
 /// Newton on [R(x, Λ) = 0, ⟨(x, Λ) − anchor, v⟩_W = 0] in place.
@@ -163,7 +180,10 @@ pub(crate) fn correct<P: Problem + ?Sized>(
         }
         let slow = res > 0.5 * previous;
         if it == max_iterations || (slow && it >= 3 && (!chord || last_refresh.map(|k| k + 1) == Some(it))) {
-            return Err(Error::new(Status::ErrNotConverged, format!("Newton correction: residual {res:e} after {it} iterations (tolerance {tol:e})")));
+            return Err(Error::new(
+                Status::ErrNotConverged,
+                format!("Newton correction: residual {res:e} after {it} iterations (tolerance {tol:e})"),
+            ));
         }
         // Newton: a factorisation per iteration. Chord: the caller's
         // factorisation while the residual at least halves per iteration,
@@ -242,13 +262,35 @@ pub(crate) fn deliver_sample<P: Problem + ?Sized>(
     *refactorised = true;
     let mut l = target;
     let e_lambda = vec![0.0; n];
-    let (it, res) = correct(problem, bordered, scaling, equation_scales, xs, &mut l, (&prediction, target), (&e_lambda, 1.0), tol, false, counts)?;
+    let (it, res) = correct(
+        problem,
+        bordered,
+        scaling,
+        equation_scales,
+        xs,
+        &mut l,
+        (&prediction, target),
+        (&e_lambda, 1.0),
+        tol,
+        false,
+        counts,
+    )?;
     Ok((chord + it, res))
 }
 
 /// Cubic Hermite interpolation between two branch points X0, X1 with unit
 /// tangents t0, t1 over the arc length h: X(θ), θ ∈ [0, 1] (Λ last).
-fn hermite(x0: &[f64], l0: f64, t0: (&[f64], f64), x1: &[f64], l1: f64, t1: (&[f64], f64), h: f64, theta: f64, out: &mut [f64]) -> f64 {
+fn hermite(
+    x0: &[f64],
+    l0: f64,
+    t0: (&[f64], f64),
+    x1: &[f64],
+    l1: f64,
+    t1: (&[f64], f64),
+    h: f64,
+    theta: f64,
+    out: &mut [f64],
+) -> f64 {
     // (Empty slices: the Λ part alone.)
     let (t2, t3) = (theta * theta, theta * theta * theta);
     let h00 = 2.0 * t3 - 3.0 * t2 + 1.0;
@@ -273,7 +315,10 @@ pub fn continue_newton<P: Problem + ?Sized>(
 ) -> Result<Branch> {
     validate(problem, opts)?;
     let n = problem.dim();
-    let scaling = opts.scaling.clone().unwrap_or_else(|| { let (x, lambda) = problem.unknown_scales(); Scaling { x, lambda } });
+    let scaling = opts.scaling.clone().unwrap_or_else(|| {
+        let (x, lambda) = problem.unknown_scales();
+        Scaling { x, lambda }
+    });
     let eq = problem.equation_scales();
     let mut bordered = Bordered::new(problem.pattern())?;
     bordered.set_monitor_scales(&eq, &scaling);
@@ -288,8 +333,20 @@ pub fn continue_newton<P: Problem + ?Sized>(
             let mut x = x;
             let mut l = lambda;
             let anchor = x.clone();
-            let (it, _) = correct(problem, &mut bordered, &scaling, &eq, &mut x, &mut l, (&anchor, lambda), (&e_lambda, 1.0), opts.residual_tol, false, &mut counts)
-                .map_err(|e| Error::new(e.status, format!("continuation start: {}", e.message)))?;
+            let (it, _) = correct(
+                problem,
+                &mut bordered,
+                &scaling,
+                &eq,
+                &mut x,
+                &mut l,
+                (&anchor, lambda),
+                (&e_lambda, 1.0),
+                opts.residual_tol,
+                false,
+                &mut counts,
+            )
+            .map_err(|e| Error::new(e.status, format!("continuation start: {}", e.message)))?;
             let dir = if increasing { 1.0 } else { -1.0 };
             bordered.factorise_at(problem, &x, l, &e_lambda, dir, &scaling, &mut counts)?;
             let (tx, tl) = bordered.tangent(&scaling, &mut counts)?;
@@ -298,7 +355,8 @@ pub fn continue_newton<P: Problem + ?Sized>(
         Start::Resume(r) => {
             validate_resume(&r, n)?;
             let step = resume_step(r.step, opts);
-            match bordered.factorise_at(problem, &r.x, r.lambda, &r.tangent_x, r.tangent_lambda, &scaling, &mut counts) {
+            match bordered.factorise_at(problem, &r.x, r.lambda, &r.tangent_x, r.tangent_lambda, &scaling, &mut counts)
+            {
                 Ok(()) => {
                     let (tx, tl) = bordered.tangent(&scaling, &mut counts)?;
                     (r.x, r.lambda, tx, tl, step, 0)
@@ -337,7 +395,21 @@ pub fn continue_newton<P: Problem + ?Sized>(
             series_residual: None,
         }
     } else {
-        make_record(problem, &mut bordered, &scaling, &eq, &x, lambda, &tx, tl, 0.0, first_iterations, opts, &mut observe, &mut counts)
+        make_record(
+            problem,
+            &mut bordered,
+            &scaling,
+            &eq,
+            &x,
+            lambda,
+            &tx,
+            tl,
+            0.0,
+            first_iterations,
+            opts,
+            &mut observe,
+            &mut counts,
+        )
     };
     let go_on = progress(&first);
     records.push(first);
@@ -357,14 +429,24 @@ pub fn continue_newton<P: Problem + ?Sized>(
     for &target in &opts.samples {
         if target == lambda {
             let rec = &records[0];
-            samples.push(Sample { lambda, record: 0, outputs: observe(&x, lambda), residual: rec.residual, newton_iterations: 0 });
+            samples.push(Sample {
+                lambda,
+                record: 0,
+                outputs: observe(&x, lambda),
+                residual: rec.residual,
+                newton_iterations: 0,
+            });
         }
     }
     if !go_on {
-        return Ok(finish(Stop::Cancelled, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed));
+        return Ok(
+            finish(Stop::Cancelled, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed)
+        );
     }
     if opts.target_lambda == Some(lambda) {
-        return Ok(finish(Stop::Target, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed));
+        return Ok(
+            finish(Stop::Target, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed)
+        );
     }
 
     for _ in 0..opts.max_steps {
@@ -374,12 +456,25 @@ pub fn continue_newton<P: Problem + ?Sized>(
             let mut ln = lambda + ds * tl;
             let anchor = xn.clone();
             let anchor_l = ln;
-            match correct(problem, &mut bordered, &scaling, &eq, &mut xn, &mut ln, (&anchor, anchor_l), (&tx, tl), opts.residual_tol, false, &mut counts) {
+            match correct(
+                problem,
+                &mut bordered,
+                &scaling,
+                &eq,
+                &mut xn,
+                &mut ln,
+                (&anchor, anchor_l),
+                (&tx, tl),
+                opts.residual_tol,
+                false,
+                &mut counts,
+            ) {
                 Ok((it, _)) => break (xn, ln, it),
                 Err(_) => {
                     ds *= 0.5;
                     if ds < opts.min_step {
-                        return Ok(finish(Stop::StepTooSmall, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed));
+                        return Ok(finish(Stop::StepTooSmall, x, lambda, tx, tl, ds, records, counts, bifurcations)
+                            .with_samples(samples, missed));
                     }
                 }
             }
@@ -393,25 +488,58 @@ pub fn continue_newton<P: Problem + ?Sized>(
                 let mut xt: Vec<f64> = x.iter().zip(&xn).map(|(a, b)| a + s * (b - a)).collect();
                 let mut lt = target;
                 let anchor = xt.clone();
-                if correct(problem, &mut bordered, &scaling, &eq, &mut xt, &mut lt, (&anchor, target), (&e_lambda, 1.0), opts.residual_tol, false, &mut counts).is_err() {
-                    return Ok(finish(Stop::StepTooSmall, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed));
+                if correct(
+                    problem,
+                    &mut bordered,
+                    &scaling,
+                    &eq,
+                    &mut xt,
+                    &mut lt,
+                    (&anchor, target),
+                    (&e_lambda, 1.0),
+                    opts.residual_tol,
+                    false,
+                    &mut counts,
+                )
+                .is_err()
+                {
+                    return Ok(finish(Stop::StepTooSmall, x, lambda, tx, tl, ds, records, counts, bifurcations)
+                        .with_samples(samples, missed));
                 }
                 (xn, ln) = (xt, target);
                 stop = Some(Stop::Target);
             }
         }
         if stop.is_none() && !(ln >= opts.lambda_range.0 && ln <= opts.lambda_range.1) {
-            return Ok(finish(Stop::LambdaRange, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed));
+            return Ok(finish(Stop::LambdaRange, x, lambda, tx, tl, ds, records, counts, bifurcations)
+                .with_samples(samples, missed));
         }
         // The tangent at the new point (one factorisation; its determinant
         // signs go into the record).
         // An exactly singular matrix there ends the branch with its records.
-        let tangent = bordered.factorise_at(problem, &xn, ln, &tx, tl, &scaling, &mut counts).and_then(|_| bordered.tangent(&scaling, &mut counts));
+        let tangent = bordered
+            .factorise_at(problem, &xn, ln, &tx, tl, &scaling, &mut counts)
+            .and_then(|_| bordered.tangent(&scaling, &mut counts));
         let Ok((txn, tln)) = tangent else {
-            return Ok(finish(Stop::StepTooSmall, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed));
+            return Ok(finish(Stop::StepTooSmall, x, lambda, tx, tl, ds, records, counts, bifurcations)
+                .with_samples(samples, missed));
         };
         let step = scaling.norm(&x.iter().zip(&xn).map(|(a, b)| b - a).collect::<Vec<_>>(), ln - lambda);
-        let rec = make_record(problem, &mut bordered, &scaling, &eq, &xn, ln, &txn, tln, step, iterations, opts, &mut observe, &mut counts);
+        let rec = make_record(
+            problem,
+            &mut bordered,
+            &scaling,
+            &eq,
+            &xn,
+            ln,
+            &txn,
+            tln,
+            step,
+            iterations,
+            opts,
+            &mut observe,
+            &mut counts,
+        );
         let go_on = progress(&rec);
         records.push(rec);
         // Dense output: requested loads crossed by the step, predicted by
@@ -423,10 +551,29 @@ pub fn continue_newton<P: Problem + ?Sized>(
                 continue;
             }
             let mut xs = vec![0.0; n];
-            for theta in all_roots(|t| hermite(&[], lambda, (&[], tl), &[], ln, (&[], tln), step, t, &mut []) - target, 1.0) {
+            for theta in
+                all_roots(|t| hermite(&[], lambda, (&[], tl), &[], ln, (&[], tln), step, t, &mut []) - target, 1.0)
+            {
                 hermite(&x, lambda, (&tx, tl), &xn, ln, (&txn, tln), step, theta, &mut xs);
-                match deliver_sample(problem, &mut bordered, &scaling, &eq, &mut xs, target, (&txn, tln), opts.residual_tol, &mut counts, &mut refactorised) {
-                    Ok((it, res)) => samples.push(Sample { lambda: target, record: records.len() - 2, outputs: observe(&xs, target), residual: res, newton_iterations: it }),
+                match deliver_sample(
+                    problem,
+                    &mut bordered,
+                    &scaling,
+                    &eq,
+                    &mut xs,
+                    target,
+                    (&txn, tln),
+                    opts.residual_tol,
+                    &mut counts,
+                    &mut refactorised,
+                ) {
+                    Ok((it, res)) => samples.push(Sample {
+                        lambda: target,
+                        record: records.len() - 2,
+                        outputs: observe(&xs, target),
+                        residual: res,
+                        newton_iterations: it,
+                    }),
                     Err(_) => missed.push(target),
                 }
             }
@@ -439,7 +586,9 @@ pub fn continue_newton<P: Problem + ?Sized>(
             if history.len() > 3 {
                 history.remove(0);
             }
-            if let Some(b) = detect(problem, &mut bordered, &scaling, &eq, opts, &records, &history, &bifurcations, &mut counts)? {
+            if let Some(b) =
+                detect(problem, &mut bordered, &scaling, &eq, opts, &records, &history, &bifurcations, &mut counts)?
+            {
                 bifurcations.push(b);
             }
         }
@@ -451,7 +600,8 @@ pub fn continue_newton<P: Problem + ?Sized>(
             return Ok(finish(stop, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed));
         }
         if !go_on {
-            return Ok(finish(Stop::Cancelled, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed));
+            return Ok(finish(Stop::Cancelled, x, lambda, tx, tl, ds, records, counts, bifurcations)
+                .with_samples(samples, missed));
         }
     }
     Ok(finish(Stop::MaxSteps, x, lambda, tx, tl, ds, records, counts, bifurcations).with_samples(samples, missed))
@@ -479,7 +629,8 @@ pub(crate) fn make_record<P: Problem + ?Sized>(
     problem.residual(x, lambda, &mut r);
     counts.residuals += 1;
     let (bordered_det_sign, det_sign) = bordered.determinant_signs(scaling, tx, tl);
-    let smallest_singular_value = (opts.track_singular || opts.detect_bifurcations).then(|| bordered.signed_smallest_singular_value(counts));
+    let smallest_singular_value =
+        (opts.track_singular || opts.detect_bifurcations).then(|| bordered.signed_smallest_singular_value(counts));
     Record {
         lambda,
         outputs: observe(x, lambda),
@@ -523,15 +674,26 @@ pub(crate) fn validate<P: Problem + ?Sized>(problem: &P, opts: &Options) -> Resu
     error::positive("min_step", opts.min_step)?;
     error::positive("max_step", opts.max_step)?;
     if !(opts.min_step <= opts.initial_step && opts.initial_step <= opts.max_step) {
-        return Err(Error::new(Status::ErrOutOfRange, format!(
-            "steps must satisfy min_step ({:e}) <= initial_step ({:e}) <= max_step ({:e})", opts.min_step, opts.initial_step, opts.max_step)));
+        return Err(Error::new(
+            Status::ErrOutOfRange,
+            format!(
+                "steps must satisfy min_step ({:e}) <= initial_step ({:e}) <= max_step ({:e})",
+                opts.min_step, opts.initial_step, opts.max_step
+            ),
+        ));
     }
     if let Some(t) = opts.target_lambda {
         error::finite("target_lambda", t)?;
     }
     if let Some(s) = &opts.scaling {
-        if s.x.len() != problem.dim() || !s.x.iter().all(|v| v.is_finite() && *v > 0.0) || !(s.lambda.is_finite() && s.lambda > 0.0) {
-            return Err(Error::new(Status::ErrOutOfRange, "scaling: one positive finite scale per unknown and for the parameter"));
+        if s.x.len() != problem.dim()
+            || !s.x.iter().all(|v| v.is_finite() && *v > 0.0)
+            || !(s.lambda.is_finite() && s.lambda > 0.0)
+        {
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                "scaling: one positive finite scale per unknown and for the parameter",
+            ));
         }
     }
     Ok(())
@@ -559,20 +721,21 @@ pub(crate) fn detect<P: Problem + ?Sized>(
     let h = history.len();
     let signed = |r: &Record| r.smallest_singular_value.unwrap_or(1.0);
     // A record with sign 0 is a singular start (a switch): no bracket.
-    let bracket = if r1.bordered_det_sign != r2.bordered_det_sign && r1.bordered_det_sign != 0.0 && r2.bordered_det_sign != 0.0 {
-        Some((&history[h - 2], &history[h - 1], true))
-    } else if signed(r1) * signed(r2) < 0.0 {
-        Some((&history[h - 2], &history[h - 1], false))
-    } else if k >= 3 && h >= 3 {
-        let sig = |r: &Record| r.smallest_singular_value.map_or(f64::INFINITY, f64::abs);
-        let r0 = &records[k - 3];
-        // A dip worth a location: 5 % below both neighbours (a flat σ_min,
-        // e.g. a mode far from singular, dips by rounding at every other
-        // point, and each false location costs a golden-section search).
-        (sig(r1) < 0.95 * sig(r0).min(sig(r2))).then(|| (&history[h - 3], &history[h - 1], false))
-    } else {
-        None
-    };
+    let bracket =
+        if r1.bordered_det_sign != r2.bordered_det_sign && r1.bordered_det_sign != 0.0 && r2.bordered_det_sign != 0.0 {
+            Some((&history[h - 2], &history[h - 1], true))
+        } else if signed(r1) * signed(r2) < 0.0 {
+            Some((&history[h - 2], &history[h - 1], false))
+        } else if k >= 3 && h >= 3 {
+            let sig = |r: &Record| r.smallest_singular_value.map_or(f64::INFINITY, f64::abs);
+            let r0 = &records[k - 3];
+            // A dip worth a location: 5 % below both neighbours (a flat σ_min,
+            // e.g. a mode far from singular, dips by rounding at every other
+            // point, and each false location costs a golden-section search).
+            (sig(r1) < 0.95 * sig(r0).min(sig(r2))).then(|| (&history[h - 3], &history[h - 1], false))
+        } else {
+            None
+        };
     let Some((left, right, flip)) = bracket else { return Ok(None) };
     // Already located inside this bracket (a flip seen again as a dip).
     let (lo, hi) = (left.lambda.min(right.lambda), left.lambda.max(right.lambda));
@@ -581,5 +744,17 @@ pub(crate) fn detect<P: Problem + ?Sized>(
     }
     // A location that fails (a trial point that does not converge) loses
     // this bifurcation, not the branch.
-    Ok(bifurcation::locate(problem, bordered, scaling, eq, opts.residual_tol, left, right, flip, opts.bifurcation_tol, counts).unwrap_or(None))
+    Ok(bifurcation::locate(
+        problem,
+        bordered,
+        scaling,
+        eq,
+        opts.residual_tol,
+        left,
+        right,
+        flip,
+        opts.bifurcation_tol,
+        counts,
+    )
+    .unwrap_or(None))
 }

@@ -34,8 +34,8 @@ pub(crate) enum Curve<'a> {
 /// (w_p = t^p D_{P'−1−p}(t)/D_{P'−1}(t), P' = d.len(), p < P').
 fn pade_weights(d: &[f64], t: f64, w: &mut [f64], dw: &mut [f64]) {
     let m = d.len(); // P′: uses U_1 … U_{P′−1}
-    // D_k(t) = Σ_{i≤k} d_i t^i and D_k′(t) = Σ_{1≤i≤k} i d_i t^{i−1}, k < m
-    // (on the stack: the engine's orders are at most MAX_ORDER).
+                     // D_k(t) = Σ_{i≤k} d_i t^i and D_k′(t) = Σ_{1≤i≤k} i d_i t^{i−1}, k < m
+                     // (on the stack: the engine's orders are at most MAX_ORDER).
     let mut dk = [0.0; MAX_ORDER + 1];
     let mut dk_prime = [0.0; MAX_ORDER + 1];
     let (mut s, mut sp, mut tp, mut tpm) = (0.0, 0.0, 1.0, 0.0);
@@ -176,7 +176,13 @@ pub(crate) fn denominator(series: &[Vec<f64>], m: usize, scaling: &Scaling) -> O
 /// where the approximants from P and P − 1 terms differ by at most ε
 /// relative to U(t) − U0, with no pole of either denominator up to t.
 /// Returns the step and the denominator to use, or None (keep the series).
-pub(crate) fn step(series: &[Vec<f64>], scaling: &Scaling, epsilon: f64, a_series: f64, cap: f64) -> Option<(f64, Vec<f64>)> {
+pub(crate) fn step(
+    series: &[Vec<f64>],
+    scaling: &Scaling,
+    epsilon: f64,
+    a_series: f64,
+    cap: f64,
+) -> Option<(f64, Vec<f64>)> {
     let p = series.len() - 1;
     let d_hi = denominator(series, p, scaling)?;
     let d_lo = denominator(series, p - 1, scaling)?;

@@ -9,7 +9,11 @@ use crate::error::{self, Result};
 /// Charges at the midpoints s_i = (i + ½)·b of a spacing b (the number of
 /// base pairs N = round(L/b), b adjusted to L/N), q_i = λ(s_i)·b: the
 /// midpoint Riemann sum of the continuum integral.
-pub fn base_pairs(curve: &dyn Centerline, charge: &LineCharge, spacing: f64) -> Result<(Vec<[f64; 3]>, Vec<f64>, Vec<f64>)> {
+pub fn base_pairs(
+    curve: &dyn Centerline,
+    charge: &LineCharge,
+    spacing: f64,
+) -> Result<(Vec<[f64; 3]>, Vec<f64>, Vec<f64>)> {
     error::positive("spacing", spacing)?;
     let l = curve.length();
     let n = ((l / spacing).round() as usize).max(1);
@@ -126,7 +130,9 @@ impl CellList {
                     if let Some(list) = self.cells.get(&(cx + dx, cy + dy, cz + dz)) {
                         for &j in list {
                             if j > i {
-                                let d2 = (r[i][0] - r[j][0]).powi(2) + (r[i][1] - r[j][1]).powi(2) + (r[i][2] - r[j][2]).powi(2);
+                                let d2 = (r[i][0] - r[j][0]).powi(2)
+                                    + (r[i][1] - r[j][1]).powi(2)
+                                    + (r[i][2] - r[j][2]).powi(2);
                                 if d2 < radius * radius {
                                     out.push(j);
                                 }
@@ -146,7 +152,15 @@ impl CellList {
 /// formed in ascending j, the rows are added in index order, so the result
 /// is bitwise identical for any thread count. Returns (energy, pairs
 /// evaluated).
-pub fn energy_cutoff(r: &[[f64; 3]], q: &[f64], s: &[f64], screening: &Screening, rc: f64, period: Option<f64>, threads: usize) -> (f64, usize) {
+pub fn energy_cutoff(
+    r: &[[f64; 3]],
+    q: &[f64],
+    s: &[f64],
+    screening: &Screening,
+    rc: f64,
+    period: Option<f64>,
+    threads: usize,
+) -> (f64, usize) {
     let cells = CellList::new(r, rc);
     let n = r.len();
     let rows = |range: std::ops::Range<usize>| -> Vec<(f64, usize)> {
@@ -164,7 +178,8 @@ pub fn energy_cutoff(r: &[[f64; 3]], q: &[f64], s: &[f64], screening: &Screening
                     if ds <= screening.a {
                         continue;
                     }
-                    let d = ((r[i][0] - r[j][0]).powi(2) + (r[i][1] - r[j][1]).powi(2) + (r[i][2] - r[j][2]).powi(2)).sqrt();
+                    let d = ((r[i][0] - r[j][0]).powi(2) + (r[i][1] - r[j][1]).powi(2) + (r[i][2] - r[j][2]).powi(2))
+                        .sqrt();
                     row += q[j] * (-screening.kappa * d).exp() / d;
                     pairs += 1;
                 }
@@ -178,10 +193,12 @@ pub fn energy_cutoff(r: &[[f64; 3]], q: &[f64], s: &[f64], screening: &Screening
     } else {
         let chunk = n.div_ceil(threads);
         std::thread::scope(|scope| {
-            let handles: Vec<_> = (0..threads).map(|t| {
-                let range = (t * chunk).min(n)..((t + 1) * chunk).min(n);
-                scope.spawn(move || rows(range))
-            }).collect();
+            let handles: Vec<_> = (0..threads)
+                .map(|t| {
+                    let range = (t * chunk).min(n)..((t + 1) * chunk).min(n);
+                    scope.spawn(move || rows(range))
+                })
+                .collect();
             handles.into_iter().flat_map(|h| h.join().expect("a worker panicked")).collect()
         })
     };

@@ -65,7 +65,13 @@ pub struct PointEquilibrium {
 /// `run.points`) under `charge` with `solver`, to max |R_i|/d_i ≤
 /// `residual_tol`. Points on the buckled branch keep its phase condition.
 /// Non-convergence is ErrNotConverged (the state is then not returned).
-pub fn solve_point(run: &SupercoilRun, point: usize, charge: &RodCharge, solver: EquilibriumSolver, residual_tol: f64) -> Result<PointEquilibrium> {
+pub fn solve_point(
+    run: &SupercoilRun,
+    point: usize,
+    charge: &RodCharge,
+    solver: EquilibriumSolver,
+    residual_tol: f64,
+) -> Result<PointEquilibrium> {
     let clock = std::time::Instant::now();
     error::count_in_range("point", point as i64, 0, run.points.len() as i64 - 1)?;
     error::positive("residual_tol", residual_tol)?;
@@ -76,7 +82,12 @@ pub fn solve_point(run: &SupercoilRun, point: usize, charge: &RodCharge, solver:
     let (mut x, phase) = if point < straight {
         (run.states[point].clone(), None)
     } else {
-        let b = run.buckled.as_ref().ok_or_else(|| Error::new(Status::ErrOutOfRange, "argument `point` lies beyond the straight branch of a run without a buckled one"))?;
+        let b = run.buckled.as_ref().ok_or_else(|| {
+            Error::new(
+                Status::ErrOutOfRange,
+                "argument `point` lies beyond the straight branch of a run without a buckled one",
+            )
+        })?;
         (b.states[point - straight].clone(), b.phase)
     };
     // Λ of the point (φ, or the end torque of a torque clamp), and its φ.
@@ -135,7 +146,8 @@ pub fn solve_point(run: &SupercoilRun, point: usize, charge: &RodCharge, solver:
                     };
                     x.copy_from_slice(&start);
                     let source = cheap.as_mut().map(|c| c as &mut dyn Problem);
-                    result = newton_krylov(&mut problem, source, &mut pre, &mut x, lambda, &opts).map(|rep| (rep, band));
+                    result =
+                        newton_krylov(&mut problem, source, &mut pre, &mut x, lambda, &opts).map(|rep| (rep, band));
                     match &result {
                         Err(e) if e.status == Status::ErrNotConverged => continue,
                         _ => break,
@@ -151,10 +163,19 @@ pub fn solve_point(run: &SupercoilRun, point: usize, charge: &RodCharge, solver:
         }
         if !problem.list_is_local() || problem.displacement(&x) <= half_skin {
             let path = rod.positions(&run.states[point]);
-            let shift = rod.positions(&x[..n]).iter().zip(&path).map(|(a, b)| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()).fold(0.0, f64::max);
+            let shift = rod
+                .positions(&x[..n])
+                .iter()
+                .zip(&path)
+                .map(|(a, b)| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt())
+                .fold(0.0, f64::max);
             x.truncate(n);
             // A torque clamp's re-solved end angle, followed from the path's.
-            let phi = if rod.torqued() { unwrap_rotation(phi_path, rod.end_rotation(&x, lambda).expect("torque clamp")) } else { lambda };
+            let phi = if rod.torqued() {
+                unwrap_rotation(phi_path, rod.end_rotation(&x, lambda).expect("torque clamp"))
+            } else {
+                lambda
+            };
             return Ok(PointEquilibrium {
                 observables: observables(rod, &x, phi)?,
                 state: x,
@@ -169,5 +190,8 @@ pub fn solve_point(run: &SupercoilRun, point: usize, charge: &RodCharge, solver:
             });
         }
     }
-    Err(Error::new(Status::ErrNotConverged, format!("the shape kept moving past half the Verlet skin ({half_skin:.3} nm) over {pair_lists} pair lists")))
+    Err(Error::new(
+        Status::ErrNotConverged,
+        format!("the shape kept moving past half the Verlet skin ({half_skin:.3} nm) over {pair_lists} pair lists"),
+    ))
 }

@@ -53,8 +53,8 @@ pub mod discrete;
 pub mod equilibrium;
 pub mod rod;
 mod rod_base_pairs;
-pub mod supercoil;
 pub mod special;
+pub mod supercoil;
 pub mod writhe;
 
 use crate::error::{self, Error, Result};
@@ -163,17 +163,30 @@ fn validate(curve: &dyn Centerline, screening: &Screening, quad: &EnergyQuadratu
     error::positive("length", curve.length())?;
     error::finite("kappa", screening.kappa)?;
     if screening.kappa < 0.0 {
-        return Err(Error::new(Status::ErrOutOfRange, format!("argument `kappa` must be ≥ 0 (got {:e})", screening.kappa)));
+        return Err(Error::new(
+            Status::ErrOutOfRange,
+            format!("argument `kappa` must be ≥ 0 (got {:e})", screening.kappa),
+        ));
     }
     error::positive("a", screening.a)?;
     error::finite("delta", quad.delta)?;
     if !(quad.delta > screening.a) {
-        return Err(Error::new(Status::ErrOutOfRange, format!("argument `delta` ({:e}) must exceed a ({:e})", quad.delta, screening.a)));
+        return Err(Error::new(
+            Status::ErrOutOfRange,
+            format!("argument `delta` ({:e}) must exceed a ({:e})", quad.delta, screening.a),
+        ));
     }
     let l = curve.length();
     let max_delta = if curve.closed() { 0.5 * l } else { l };
     if !(quad.delta < max_delta) {
-        return Err(Error::new(Status::ErrOutOfRange, format!("argument `delta` ({:e}) must be below {} ({max_delta:e})", quad.delta, if curve.closed() { "L/2 on a closed curve" } else { "L" })));
+        return Err(Error::new(
+            Status::ErrOutOfRange,
+            format!(
+                "argument `delta` ({:e}) must be below {} ({max_delta:e})",
+                quad.delta,
+                if curve.closed() { "L/2 on a closed curve" } else { "L" }
+            ),
+        ));
     }
     error::count_in_range("order", quad.order as i64, 2, 32)?;
     Ok(())
@@ -185,7 +198,12 @@ fn near_integrals(l: f64, s: &Screening) -> [f64; 4] {
     if l <= s.a {
         return [0.0; 4];
     }
-    [special::j(-1, s.a, l, s.kappa), special::j(0, s.a, l, s.kappa), special::j(1, s.a, l, s.kappa), special::j(2, s.a, l, s.kappa)]
+    [
+        special::j(-1, s.a, l, s.kappa),
+        special::j(0, s.a, l, s.kappa),
+        special::j(1, s.a, l, s.kappa),
+        special::j(2, s.a, l, s.kappa),
+    ]
 }
 
 fn near_side(lambda: (f64, f64, f64), sign: f64, curvature2: f64, j: &[f64; 4], s: &Screening) -> f64 {
@@ -205,7 +223,12 @@ fn panels(lo: f64, hi: f64, breaks: &[f64]) -> Vec<(f64, f64)> {
 }
 
 /// The continuum electrostatic energy of `curve` carrying `charge`.
-pub fn energy(curve: &dyn Centerline, charge: &LineCharge, screening: &Screening, quad: &EnergyQuadrature) -> Result<Energy> {
+pub fn energy(
+    curve: &dyn Centerline,
+    charge: &LineCharge,
+    screening: &Screening,
+    quad: &EnergyQuadrature,
+) -> Result<Energy> {
     energy_core(curve, charge, screening, quad, None)
 }
 
@@ -216,7 +239,13 @@ type Sink<'a> = Option<&'a mut dyn FnMut(f64, [f64; 3], [f64; 3])>;
 /// The quadrature of [`energy`]; with a sink, also the derivative of the
 /// quadrature formula itself (positions at the quadrature points and
 /// r'' at the outer points; the points' arc lengths are fixed).
-fn energy_core(curve: &dyn Centerline, charge: &LineCharge, screening: &Screening, quad: &EnergyQuadrature, mut sink: Sink<'_>) -> Result<Energy> {
+fn energy_core(
+    curve: &dyn Centerline,
+    charge: &LineCharge,
+    screening: &Screening,
+    quad: &EnergyQuadrature,
+    mut sink: Sink<'_>,
+) -> Result<Energy> {
     validate(curve, screening, quad)?;
     let l = curve.length();
     let closed = curve.closed();
@@ -410,7 +439,9 @@ impl FarZone {
             // The global edges inside [t0, t1] (shifted by ±L when closed):
             // found by binary search, so a point costs O(its window).
             let mut breaks: Vec<f64> = Vec::new();
-            for shift in if self.closed { [-l, 0.0, l] } else { [0.0, 0.0, 0.0] }.iter().take(if self.closed { 3 } else { 1 }) {
+            for shift in
+                if self.closed { [-l, 0.0, l] } else { [0.0, 0.0, 0.0] }.iter().take(if self.closed { 3 } else { 1 })
+            {
                 let (lo, hi) = (t0 - shift, t1 - shift);
                 let start = self.edges.partition_point(|&e| e <= lo);
                 for &e in self.edges[start..].iter().take_while(|&&e| e < hi) {
@@ -483,7 +514,13 @@ impl FarZone {
 /// §3.2) and, where the side is cut short by an end, the odd term
 /// ∓λ r'(e^{−κa}/a − e^{−κℓ}/ℓ), which cancels between two equal sides.
 /// Truncation: O(δ²) in the interior, O(δ) within δ of an end.
-pub fn force_density(curve: &dyn Centerline, charge: &LineCharge, screening: &Screening, quad: &EnergyQuadrature, s: f64) -> Result<[f64; 3]> {
+pub fn force_density(
+    curve: &dyn Centerline,
+    charge: &LineCharge,
+    screening: &Screening,
+    quad: &EnergyQuadrature,
+    s: f64,
+) -> Result<[f64; 3]> {
     validate(curve, screening, quad)?;
     let l = curve.length();
     error::finite("s", s)?;
@@ -529,7 +566,12 @@ pub fn force_density(curve: &dyn Centerline, charge: &LineCharge, screening: &Sc
 /// The energy of a [`HermiteCurve`] and its gradient with respect to the
 /// node positions and node tangents (the exact derivative of the
 /// quadrature formula: minus it is the discrete electrostatic force).
-pub fn energy_gradient(curve: &HermiteCurve, charge: &LineCharge, screening: &Screening, quad: &EnergyQuadrature) -> Result<(Energy, Vec<[f64; 3]>, Vec<[f64; 3]>)> {
+pub fn energy_gradient(
+    curve: &HermiteCurve,
+    charge: &LineCharge,
+    screening: &Screening,
+    quad: &EnergyQuadrature,
+) -> Result<(Energy, Vec<[f64; 3]>, Vec<[f64; 3]>)> {
     let m = curve.s.len();
     let mut gr = vec![[0.0; 3]; m];
     let mut gt = vec![[0.0; 3]; m];
@@ -563,7 +605,10 @@ pub struct HermiteCurve {
 impl HermiteCurve {
     pub fn new(s: Vec<f64>, r: Vec<[f64; 3]>, t: Vec<[f64; 3]>, closed: bool) -> Result<Self> {
         if s.len() < 2 || r.len() != s.len() || t.len() != s.len() {
-            return Err(Error::new(Status::ErrInvalidDimension, "a Hermite curve needs ≥ 2 nodes with one position and one tangent each"));
+            return Err(Error::new(
+                Status::ErrInvalidDimension,
+                "a Hermite curve needs ≥ 2 nodes with one position and one tangent each",
+            ));
         }
         if !s.windows(2).all(|w| w[1] > w[0]) || s[0] != 0.0 {
             return Err(Error::new(Status::ErrOutOfRange, "node arc lengths must start at 0 and increase"));
@@ -610,7 +655,12 @@ impl HermiteCurve {
         (
             k,
             h,
-            [2.0 * u * u * u - 3.0 * u * u + 1.0, u * u * u - 2.0 * u * u + u, -2.0 * u * u * u + 3.0 * u * u, u * u * u - u * u],
+            [
+                2.0 * u * u * u - 3.0 * u * u + 1.0,
+                u * u * u - 2.0 * u * u + u,
+                -2.0 * u * u * u + 3.0 * u * u,
+                u * u * u - u * u,
+            ],
             [12.0 * u - 6.0, 6.0 * u - 4.0, -12.0 * u + 6.0, 6.0 * u - 2.0],
         )
     }
@@ -625,8 +675,14 @@ impl Centerline for HermiteCurve {
     }
     fn eval(&self, s: f64) -> ([f64; 3], [f64; 3], [f64; 3]) {
         let (k, h, u) = self.locate(s);
-        let (h00, h10, h01, h11) = (2.0 * u * u * u - 3.0 * u * u + 1.0, u * u * u - 2.0 * u * u + u, -2.0 * u * u * u + 3.0 * u * u, u * u * u - u * u);
-        let (d00, d10, d01, d11) = (6.0 * u * u - 6.0 * u, 3.0 * u * u - 4.0 * u + 1.0, -6.0 * u * u + 6.0 * u, 3.0 * u * u - 2.0 * u);
+        let (h00, h10, h01, h11) = (
+            2.0 * u * u * u - 3.0 * u * u + 1.0,
+            u * u * u - 2.0 * u * u + u,
+            -2.0 * u * u * u + 3.0 * u * u,
+            u * u * u - u * u,
+        );
+        let (d00, d10, d01, d11) =
+            (6.0 * u * u - 6.0 * u, 3.0 * u * u - 4.0 * u + 1.0, -6.0 * u * u + 6.0 * u, 3.0 * u * u - 2.0 * u);
         let (e00, e10, e01, e11) = (12.0 * u - 6.0, 6.0 * u - 4.0, -12.0 * u + 6.0, 6.0 * u - 2.0);
         let mut out = ([0.0; 3], [0.0; 3], [0.0; 3]);
         for i in 0..3 {
@@ -668,7 +724,12 @@ pub struct EnergyReport {
 /// starting coarse (δ = 4a, 3 Gauss points, cutoff for tolerance/10) and
 /// halving δ (down to 1.5a) while adding 2 Gauss points until two
 /// successive resolutions agree; no electrostatics for a zero charge.
-pub fn energy_within(curve: &dyn Centerline, charge: &LineCharge, screening: &Screening, tolerance: f64) -> Result<EnergyReport> {
+pub fn energy_within(
+    curve: &dyn Centerline,
+    charge: &LineCharge,
+    screening: &Screening,
+    tolerance: f64,
+) -> Result<EnergyReport> {
     error::in_range("tolerance", tolerance, 1e-14, 1e-1)?;
     if let LineCharge::Uniform(q) = charge {
         error::finite("line charge", *q)?;
@@ -713,7 +774,9 @@ mod tests {
     fn locate_finds_the_element_holding_s() {
         let uniform: Vec<f64> = (0..=50).map(|i| 3.4 * i as f64).collect();
         let graded: Vec<f64> = (0..=30).map(|i| 2f64.powi(i) - 1.0).collect();
-        let jittered: Vec<f64> = (0..=40).map(|i| i as f64 + if i % 2 == 1 { 0.45 } else { 0.0 } * if i % 3 == 0 { -1.0 } else { 1.0 }).collect();
+        let jittered: Vec<f64> = (0..=40)
+            .map(|i| i as f64 + if i % 2 == 1 { 0.45 } else { 0.0 } * if i % 3 == 0 { -1.0 } else { 1.0 })
+            .collect();
         for s in [uniform, graded, jittered] {
             let n = s.len();
             let curve = HermiteCurve::new(s.clone(), vec![[0.0; 3]; n], vec![[0.0, 0.0, 1.0]; n], false).unwrap();

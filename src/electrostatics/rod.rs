@@ -103,21 +103,37 @@ impl RodCharge {
     /// Defaults: 2 near elements, cutoff at 1e-6, skin max(2a, 4/κ), no
     /// hard core, 1 thread.
     pub fn new(line_charge: f64, screening: Screening) -> Self {
-        let skin = if screening.kappa > 0.0 { (2.0 * screening.a).max(4.0 / screening.kappa) } else { 2.0 * screening.a };
-        RodCharge { line_charge, screening, near_elements: 2, cutoff_tolerance: Some(1e-6), skin, hard_core: None, threads: 1, base_pairs: None }
+        let skin =
+            if screening.kappa > 0.0 { (2.0 * screening.a).max(4.0 / screening.kappa) } else { 2.0 * screening.a };
+        RodCharge {
+            line_charge,
+            screening,
+            near_elements: 2,
+            cutoff_tolerance: Some(1e-6),
+            skin,
+            hard_core: None,
+            threads: 1,
+            base_pairs: None,
+        }
     }
 
     fn validate(&self) -> Result<()> {
         error::finite("line_charge", self.line_charge)?;
         error::finite("kappa", self.screening.kappa)?;
         if self.screening.kappa < 0.0 {
-            return Err(Error::new(Status::ErrOutOfRange, format!("argument `kappa` must be ≥ 0 (got {:e})", self.screening.kappa)));
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                format!("argument `kappa` must be ≥ 0 (got {:e})", self.screening.kappa),
+            ));
         }
         error::positive("a", self.screening.a)?;
         error::count_in_range("near_elements", self.near_elements as i64, 1, 64)?;
         if let Some(t) = self.cutoff_tolerance {
             if !(t > 0.0 && t < 1.0) {
-                return Err(Error::new(Status::ErrOutOfRange, format!("argument `cutoff_tolerance` must be in (0, 1) (got {t:e})")));
+                return Err(Error::new(
+                    Status::ErrOutOfRange,
+                    format!("argument `cutoff_tolerance` must be in (0, 1) (got {t:e})"),
+                ));
             }
         }
         error::positive("skin", self.skin)?;
@@ -220,13 +236,24 @@ impl ChargedRod {
         charge.validate()?;
         let s = match rod.scheme {
             Scheme::Gauss(s) => s,
-            Scheme::Midpoint => return Err(Error::new(Status::ErrOutOfRange, "a charged rod needs a Gauss scheme (its stage points carry the charge)")),
+            Scheme::Midpoint => {
+                return Err(Error::new(
+                    Status::ErrOutOfRange,
+                    "a charged rod needs a Gauss scheme (its stage points carry the charge)",
+                ))
+            }
         };
         if !rod.law.kirchhoff {
-            return Err(Error::new(Status::ErrOutOfRange, "a charged rod must be a Kirchhoff rod (the near zone's curvature is |u × e3|)"));
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                "a charged rod must be a Kirchhoff rod (the near zone's curvature is |u × e3|)",
+            ));
         }
         if rod.law.stiffness[(0, 1)] != 0.0 || rod.law.intrinsic_u != nalgebra::Vector3::zeros() {
-            return Err(Error::new(Status::ErrOutOfRange, "a charged rod must be straight with uncoupled bending axes"));
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                "a charged rod must be straight with uncoupled bending axes",
+            ));
         }
         let h = rod.element_length();
         let tab = Tableau::gauss(s);
@@ -263,11 +290,15 @@ impl ChargedRod {
         };
         let n = sys.dim();
         if reference.len() != n {
-            return Err(Error::new(Status::ErrInvalidDimension, format!("reference state has {} entries, the charged rod {n}", reference.len())));
+            return Err(Error::new(
+                Status::ErrInvalidDimension,
+                format!("reference state has {} entries, the charged rod {n}", reference.len()),
+            ));
         }
         error::finite_result("reference", reference)?;
         let cutoff = if l2 == 0.0 { None } else { charge.cutoff(rod.length) };
-        let reference_r: Vec<[f64; 3]> = points.iter().map(|p| [reference[p.offset], reference[p.offset + 1], reference[p.offset + 2]]).collect();
+        let reference_r: Vec<[f64; 3]> =
+            points.iter().map(|p| [reference[p.offset], reference[p.offset + 1], reference[p.offset + 2]]).collect();
         // Far pairs: elements more than m apart, within r_off + skin (all without a cutoff; none without charge).
         let mut adj_ptr = vec![0];
         let mut adj = Vec::new();
@@ -279,7 +310,10 @@ impl ChargedRod {
             _ => None,
         };
         let stage_s: Vec<f64> = points.iter().map(|p| p.s).collect();
-        let sites = charge.base_pairs.filter(|_| l2 != 0.0).map(|b| BasePairSites::new(&stage_s, rod.length, b, a, &reference_r, list_radius, charge.threads));
+        let sites = charge
+            .base_pairs
+            .filter(|_| l2 != 0.0)
+            .map(|b| BasePairSites::new(&stage_s, rod.length, b, a, &reference_r, list_radius, charge.threads));
         if let Some(sites) = &sites {
             for j in 0..points.len() {
                 adj.extend_from_slice(sites.partners(j));
@@ -308,7 +342,8 @@ impl ChargedRod {
         }
         // Pattern: the rod's, plus element(j)'s n-rows × (r_j, q_j) and × r_k.
         let n_rows = |e: usize| -> Vec<usize> {
-            let mut rows: Vec<usize> = (0..s).flat_map(|i| (0..3).map(move |c| rod.node(e) + 13 + 13 * i + 7 + c)).collect();
+            let mut rows: Vec<usize> =
+                (0..s).flat_map(|i| (0..3).map(move |c| rod.node(e) + 13 + 13 * i + 7 + c)).collect();
             rows.extend((0..3).map(|c| rod.node(e + 1) + 7 + c));
             rows
         };
@@ -352,13 +387,19 @@ impl ChargedRod {
                 let rows = n_rows(pt.element);
                 for &row in &rows {
                     for c in 0..7 {
-                        diag_pos.push(pattern.position(row, pt.offset + c).ok_or_else(|| internal("diagonal entry missing"))?);
+                        diag_pos.push(
+                            pattern.position(row, pt.offset + c).ok_or_else(|| internal("diagonal entry missing"))?,
+                        );
                     }
                 }
                 for &k in &adj[adj_ptr[j]..adj_ptr[j + 1]] {
                     for &row in &rows {
                         for c in 0..3 {
-                            full_pos.push(pattern.position(row, points[k].offset + c).ok_or_else(|| internal("site block entry missing"))?);
+                            full_pos.push(
+                                pattern
+                                    .position(row, points[k].offset + c)
+                                    .ok_or_else(|| internal("site block entry missing"))?,
+                            );
                         }
                     }
                 }
@@ -368,7 +409,9 @@ impl ChargedRod {
                 let rows = n_rows(pt.element);
                 for &row in &rows {
                     for c in 0..7 {
-                        diag_pos.push(pattern.position(row, pt.offset + c).ok_or_else(|| internal("diagonal entry missing"))?);
+                        diag_pos.push(
+                            pattern.position(row, pt.offset + c).ok_or_else(|| internal("diagonal entry missing"))?,
+                        );
                     }
                 }
                 for &k in &adj[adj_ptr[j]..adj_ptr[j + 1]] {
@@ -413,7 +456,12 @@ impl ChargedRod {
             list_local: any_pairs && list_radius.is_some(),
             twisted_phi,
             pool: if charge.threads > 1 {
-                Some(rayon::ThreadPoolBuilder::new().num_threads(charge.threads).build().map_err(|e| Error::new(Status::ErrInternal, format!("thread pool: {e}")))?)
+                Some(
+                    rayon::ThreadPoolBuilder::new()
+                        .num_threads(charge.threads)
+                        .build()
+                        .map_err(|e| Error::new(Status::ErrInternal, format!("thread pool: {e}")))?,
+                )
             } else {
                 None
             },
@@ -449,7 +497,11 @@ impl ChargedRod {
     /// ≤ 10 % on the buckled rod and lost as much on the straight ones.
     pub fn local_band(&self) -> usize {
         let one = self.rod.block_size() + 12;
-        if self.sites.is_some() { 2 * one } else { one }
+        if self.sites.is_some() {
+            2 * one
+        } else {
+            one
+        }
     }
 
     /// Unknowns appended after the rod's own (the phase condition's
@@ -490,13 +542,18 @@ impl ChargedRod {
     /// list's reference: the list is exact while it is below skin/2.
     pub fn displacement(&self, x: &[f64]) -> f64 {
         if let Some(sites) = &self.sites {
-            let stages: Vec<[f64; 3]> = self.points.iter().map(|p| [x[p.offset], x[p.offset + 1], x[p.offset + 2]]).collect();
+            let stages: Vec<[f64; 3]> =
+                self.points.iter().map(|p| [x[p.offset], x[p.offset + 1], x[p.offset + 2]]).collect();
             return sites.displacement(&stages);
         }
-        self.points.iter().zip(&self.reference).map(|(p, r0)| {
-            let d = [x[p.offset] - r0[0], x[p.offset + 1] - r0[1], x[p.offset + 2] - r0[2]];
-            (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
-        }).fold(0.0, f64::max)
+        self.points
+            .iter()
+            .zip(&self.reference)
+            .map(|(p, r0)| {
+                let d = [x[p.offset] - r0[0], x[p.offset + 1] - r0[1], x[p.offset + 2] - r0[2]];
+                (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+            })
+            .fold(0.0, f64::max)
     }
 
     /// The rod's Λ for the continuation parameter.
@@ -523,7 +580,9 @@ impl ChargedRod {
     /// The hard core's P(d) (0 beyond 2.5a).
     fn hard_potential(&self, d: f64) -> f64 {
         match self.charge.hard_core {
-            Some(khc) if d < HARD_CORE_RANGE * self.charge.screening.a => khc * (HARD_CORE_RANGE * self.charge.screening.a - d).powi(3),
+            Some(khc) if d < HARD_CORE_RANGE * self.charge.screening.a => {
+                khc * (HARD_CORE_RANGE * self.charge.screening.a - d).powi(3)
+            }
             _ => 0.0,
         }
     }
@@ -536,7 +595,11 @@ impl ChargedRod {
         let (mut p1, mut p2) = (0.0, 0.0);
         if l2 != 0.0 {
             let e = (-kappa * d).exp();
-            let (f0, f1, f2) = (e / d, -e * (1.0 + kappa * d) / (d * d), e * (2.0 + 2.0 * kappa * d + kappa * kappa * d * d) / (d * d * d));
+            let (f0, f1, f2) = (
+                e / d,
+                -e * (1.0 + kappa * d) / (d * d),
+                e * (2.0 + 2.0 * kappa * d + kappa * kappa * d * d) / (d * d * d),
+            );
             let (s0, s1, s2) = match self.cutoff {
                 None => (1.0, 0.0, 0.0),
                 Some((_, off)) if d >= off => (0.0, 0.0, 0.0),
@@ -767,7 +830,9 @@ impl ChargedRod {
             }
         }
         if let Some(mut sites) = self.sites.take() {
-            (far, hard) = sites.energy(&self.r, &|d, gap| (self.potential(d), if self.hard_gap(gap) { self.hard_potential(d) } else { 0.0 }));
+            (far, hard) = sites.energy(&self.r, &|d, gap| {
+                (self.potential(d), if self.hard_gap(gap) { self.hard_potential(d) } else { 0.0 })
+            });
             self.sites = Some(sites);
         }
         RodEnergy { near, far, hard_core: hard, elastic }
@@ -874,7 +939,8 @@ impl Problem for ChargedRod {
                 qm[i] -= 1.0;
                 let (rp, rm) = (rotation(&qp), rotation(&qm));
                 for c in 0..3 {
-                    dq[c][i] = 0.5 * ((rp[0][c] - rm[0][c]) * p[0] + (rp[1][c] - rm[1][c]) * p[1] + (rp[2][c] - rm[2][c]) * p[2]);
+                    dq[c][i] = 0.5
+                        * ((rp[0][c] - rm[0][c]) * p[0] + (rp[1][c] - rm[1][c]) * p[1] + (rp[2][c] - rm[2][c]) * p[2]);
                 }
             }
             // ∂(Rᵀp)/∂r_j = Rᵀ D_j.

@@ -80,7 +80,15 @@ impl BasePairSites {
     /// pairs within `radius` of each other there (None: every pair),
     /// excluding pairs at most `a` apart along the rod; scratch for
     /// `threads` threads.
-    pub(super) fn new(stage_s: &[f64], length: f64, spacing: f64, a: f64, stages: &[[f64; 3]], radius: Option<f64>, threads: usize) -> Self {
+    pub(super) fn new(
+        stage_s: &[f64],
+        length: f64,
+        spacing: f64,
+        a: f64,
+        stages: &[[f64; 3]],
+        radius: Option<f64>,
+        threads: usize,
+    ) -> Self {
         let ns = stage_s.len();
         let order = STENCIL.min(ns);
         let count = ((length / spacing).round() as usize).max(1);
@@ -94,7 +102,9 @@ impl BasePairSites {
             let j0 = next.saturating_sub(order / 2).min(ns - order);
             let nodes = &stage_s[j0..j0 + order];
             for j in 0..order {
-                basis.push((0..order).filter(|&m| m != j).map(|m| (sk - nodes[m]) / (nodes[j] - nodes[m])).product::<f64>());
+                basis.push(
+                    (0..order).filter(|&m| m != j).map(|m| (sk - nodes[m]) / (nodes[j] - nodes[m])).product::<f64>(),
+                );
             }
             site_s.push(sk);
             stencil.push(j0);
@@ -140,7 +150,9 @@ impl BasePairSites {
         }
         let span = |k: usize| this.stencil[k]..this.stencil[k] + order;
         for k in 0..count {
-            let cols = sorted_union(this.pair[this.pair_ptr[k]..this.pair_ptr[k + 1]].iter().flat_map(|&l| span(l)).chain(span(k)));
+            let cols = sorted_union(
+                this.pair[this.pair_ptr[k]..this.pair_ptr[k + 1]].iter().flat_map(|&l| span(l)).chain(span(k)),
+            );
             this.col.extend(cols);
             this.col_ptr.push(this.col.len());
         }
@@ -153,7 +165,11 @@ impl BasePairSites {
         for (j, h) in holders.iter().enumerate() {
             this.holder.extend(h);
             this.holder_ptr.push(this.holder.len());
-            let partners = sorted_union(h.iter().flat_map(|&k| this.col[this.col_ptr[k]..this.col_ptr[k + 1]].iter().copied()).chain(std::iter::once(j)));
+            let partners = sorted_union(
+                h.iter()
+                    .flat_map(|&k| this.col[this.col_ptr[k]..this.col_ptr[k + 1]].iter().copied())
+                    .chain(std::iter::once(j)),
+            );
             this.partner.extend(partners);
             this.partner_ptr.push(this.partner.len());
         }
@@ -206,10 +222,12 @@ impl BasePairSites {
 
     /// The largest distance a site at `stages` is from the list's reference.
     pub(super) fn displacement(&self, stages: &[[f64; 3]]) -> f64 {
-        (0..self.count()).map(|k| {
-            let (r, r0) = (self.site(k, stages), self.reference[k]);
-            ((r[0] - r0[0]).powi(2) + (r[1] - r0[1]).powi(2) + (r[2] - r0[2]).powi(2)).sqrt()
-        }).fold(0.0, f64::max)
+        (0..self.count())
+            .map(|k| {
+                let (r, r0) = (self.site(k, stages), self.reference[k]);
+                ((r[0] - r0[0]).powi(2) + (r[1] - r0[1]).powi(2) + (r[2] - r0[2]).powi(2)).sqrt()
+            })
+            .fold(0.0, f64::max)
     }
 
     /// ½ Σ b² P(d) over the pair list, with `potential` = P(d) (λ² included).
@@ -241,24 +259,49 @@ impl BasePairSites {
     /// one contiguous chunk per thread: each site's and each stage's sum is
     /// the same sequence of operations whatever the chunking, so the results
     /// are bitwise those of one thread.
-    pub(super) fn forces(&mut self, stages: &[[f64; 3]], w: &[f64], pair: PairFn, p: &mut [[f64; 3]], out: Option<&mut [[f64; 9]]>, pool: Option<&rayon::ThreadPool>) {
+    pub(super) fn forces(
+        &mut self,
+        stages: &[[f64; 3]],
+        w: &[f64],
+        pair: PairFn,
+        p: &mut [[f64; 3]],
+        out: Option<&mut [[f64; 9]]>,
+        pool: Option<&rayon::ThreadPool>,
+    ) {
         self.interpolate(stages);
         let jacobian = out.is_some();
-        let (mut force, mut blocks, mut slots) = (std::mem::take(&mut self.force), std::mem::take(&mut self.blocks), std::mem::take(&mut self.slots));
+        let (mut force, mut blocks, mut slots) =
+            (std::mem::take(&mut self.force), std::mem::take(&mut self.blocks), std::mem::take(&mut self.slots));
         let this = &*self;
         let threads = pool.map_or(1, |p| p.current_num_threads()).clamp(1, slots.len());
         // Pass 1, sites: f_k and the blocks ∂f_k/∂r_i (k's own column range).
         let count = this.count();
-        run_chunks(pool, threads, count, &mut slots, |ks, slot, parts: &mut (&mut [[f64; 3]], &mut [[f64; 9]])| {
-            this.site_forces(ks, pair, parts.0, jacobian.then_some(&mut *parts.1), slot)
-        }, |ks| (ks.len(), if jacobian { this.col_ptr[ks.end] - this.col_ptr[ks.start] } else { 0 }), (&mut force[..], &mut blocks[..]));
+        run_chunks(
+            pool,
+            threads,
+            count,
+            &mut slots,
+            |ks, slot, parts: &mut (&mut [[f64; 3]], &mut [[f64; 9]])| {
+                this.site_forces(ks, pair, parts.0, jacobian.then_some(&mut *parts.1), slot)
+            },
+            |ks| (ks.len(), if jacobian { this.col_ptr[ks.end] - this.col_ptr[ks.start] } else { 0 }),
+            (&mut force[..], &mut blocks[..]),
+        );
         // Pass 2, stages: p_j and ∂p_j/∂r_i (j's own partner range).
         let ns = p.len();
         let mut empty: [[f64; 9]; 0] = [];
         let out = out.unwrap_or(&mut empty[..]);
-        run_chunks(pool, threads, ns, &mut slots, |js, slot, parts: &mut (&mut [[f64; 3]], &mut [[f64; 9]])| {
-            this.stage_forces(js, w, &force, &blocks, parts.0, jacobian.then_some(&mut *parts.1), slot)
-        }, |js| (js.len(), if jacobian { this.partner_ptr[js.end] - this.partner_ptr[js.start] } else { 0 }), (p, out));
+        run_chunks(
+            pool,
+            threads,
+            ns,
+            &mut slots,
+            |js, slot, parts: &mut (&mut [[f64; 3]], &mut [[f64; 9]])| {
+                this.stage_forces(js, w, &force, &blocks, parts.0, jacobian.then_some(&mut *parts.1), slot)
+            },
+            |js| (js.len(), if jacobian { this.partner_ptr[js.end] - this.partner_ptr[js.start] } else { 0 }),
+            (p, out),
+        );
         self.force = force;
         self.blocks = blocks;
         self.slots = slots;
@@ -269,7 +312,14 @@ impl BasePairSites {
     /// over the site's stage columns, Σ_l g_kl ℓ_i(s_l) − (Σ_l g_kl) ℓ_i(s_k),
     /// g_kl = b [P'/d I + (P'' − P'/d) ΔΔᵀ/d²] (into `blocks`, indexed from
     /// col_ptr[ks.start]); `slot`: all usize::MAX on entry and exit.
-    fn site_forces(&self, ks: std::ops::Range<usize>, pair: PairFn, force: &mut [[f64; 3]], mut blocks: Option<&mut [[f64; 9]]>, slot: &mut [usize]) {
+    fn site_forces(
+        &self,
+        ks: std::ops::Range<usize>,
+        pair: PairFn,
+        force: &mut [[f64; 3]],
+        mut blocks: Option<&mut [[f64; 9]]>,
+        slot: &mut [usize],
+    ) {
         let order = self.order();
         let b = self.spacing;
         let (k0, base) = (ks.start, self.col_ptr[ks.start]);
@@ -338,7 +388,16 @@ impl BasePairSites {
     /// partners (into `out`, indexed from partner_ptr[js.start]), from every
     /// site's `force` and `blocks`; `slot` as in [`Self::site_forces`].
     #[allow(clippy::too_many_arguments)]
-    fn stage_forces(&self, js: std::ops::Range<usize>, w: &[f64], force: &[[f64; 3]], blocks: &[[f64; 9]], p: &mut [[f64; 3]], mut out: Option<&mut [[f64; 9]]>, slot: &mut [usize]) {
+    fn stage_forces(
+        &self,
+        js: std::ops::Range<usize>,
+        w: &[f64],
+        force: &[[f64; 3]],
+        blocks: &[[f64; 9]],
+        p: &mut [[f64; 3]],
+        mut out: Option<&mut [[f64; 9]]>,
+        slot: &mut [usize],
+    ) {
         let order = self.order();
         let b = self.spacing;
         let (j0, base) = (js.start, self.partner_ptr[js.start]);
@@ -359,7 +418,9 @@ impl BasePairSites {
                     pj[c] += lj * force[k][c];
                 }
                 if let Some(out) = out.as_deref_mut() {
-                    for (cp, &i) in (self.col_ptr[k]..self.col_ptr[k + 1]).zip(&self.col[self.col_ptr[k]..self.col_ptr[k + 1]]) {
+                    for (cp, &i) in
+                        (self.col_ptr[k]..self.col_ptr[k + 1]).zip(&self.col[self.col_ptr[k]..self.col_ptr[k + 1]])
+                    {
                         let (src, dst) = (blocks[cp], &mut out[slot[i]]);
                         for m in 0..9 {
                             dst[m] += lj * src[m];
@@ -381,8 +442,15 @@ impl BasePairSites {
 /// else in `threads` contiguous chunks on the pool, each with its own slot
 /// scratch and its own disjoint parts of the two output slices (`sizes`
 /// gives a range's lengths in each).
-fn run_chunks<'a, W, S>(pool: Option<&rayon::ThreadPool>, threads: usize, n: usize, slots: &mut [Vec<usize>], work: W, sizes: S, parts: (&'a mut [[f64; 3]], &'a mut [[f64; 9]]))
-where
+fn run_chunks<'a, W, S>(
+    pool: Option<&rayon::ThreadPool>,
+    threads: usize,
+    n: usize,
+    slots: &mut [Vec<usize>],
+    work: W,
+    sizes: S,
+    parts: (&'a mut [[f64; 3]], &'a mut [[f64; 9]]),
+) where
     W: Fn(std::ops::Range<usize>, &mut [usize], &mut (&mut [[f64; 3]], &mut [[f64; 9]])) + Sync,
     S: Fn(std::ops::Range<usize>) -> (usize, usize) + Sync,
 {
@@ -411,4 +479,3 @@ where
         _ => work(0..n, &mut slots[0], &mut (a, b)),
     }
 }
-

@@ -115,8 +115,14 @@ fn start_x(start: &Start) -> &[f64] {
 
 /// Follow a branch of the charged rod from `start` (with the rod's phase
 /// condition when given), rebuilding the pair list as the shape moves.
-pub fn follow(rod: &Rod, charge: &RodCharge, start: Start, phase: Option<(usize, f64)>, opts: &Options,
-              mut progress: impl FnMut(&Record) -> bool) -> Result<ChargedBranch> {
+pub fn follow(
+    rod: &Rod,
+    charge: &RodCharge,
+    start: Start,
+    phase: Option<(usize, f64)>,
+    opts: &Options,
+    mut progress: impl FnMut(&Record) -> bool,
+) -> Result<ChargedBranch> {
     let mut start = start;
     let mut out = ChargedBranch {
         records: Vec::new(),
@@ -146,7 +152,19 @@ pub fn follow(rod: &Rod, charge: &RodCharge, start: Start, phase: Option<(usize,
                 let anchor = r.x.clone();
                 let mut l = r.lambda;
                 let fix = vec![0.0; r.x.len()];
-                correct(&mut problem, &mut bordered, &scaling, &eq, &mut r.x, &mut l, (&anchor, r.lambda), (&fix, 1.0), opts.residual_tol, false, &mut out.counts)?;
+                correct(
+                    &mut problem,
+                    &mut bordered,
+                    &scaling,
+                    &eq,
+                    &mut r.x,
+                    &mut l,
+                    (&anchor, r.lambda),
+                    (&fix, 1.0),
+                    opts.residual_tol,
+                    false,
+                    &mut out.counts,
+                )?;
                 if let (Some(rec), Some(st)) = (out.records.last_mut(), out.states.last_mut()) {
                     st.copy_from_slice(&r.x);
                     rec.residual = opts.residual_tol;
@@ -157,9 +175,16 @@ pub fn follow(rod: &Rod, charge: &RodCharge, start: Start, phase: Option<(usize,
             let (r, _) = stage_points(rod, start_x(&start));
             r
         };
-        let offsets: Vec<usize> = (0..rod.elements).flat_map(|e| (0..rod.scheme.stages()).map(move |j| rod.node(e) + 13 * (1 + j))).collect();
+        let offsets: Vec<usize> =
+            (0..rod.elements).flat_map(|e| (0..rod.scheme.stages()).map(move |j| rod.node(e) + 13 * (1 + j))).collect();
         let moved = |x: &[f64]| -> f64 {
-            offsets.iter().zip(&reference).map(|(&o, r0)| ((x[o] - r0[0]).powi(2) + (x[o + 1] - r0[1]).powi(2) + (x[o + 2] - r0[2]).powi(2)).sqrt()).fold(0.0, f64::max)
+            offsets
+                .iter()
+                .zip(&reference)
+                .map(|(&o, r0)| {
+                    ((x[o] - r0[0]).powi(2) + (x[o + 1] - r0[1]).powi(2) + (x[o + 2] - r0[2]).powi(2)).sqrt()
+                })
+                .fold(0.0, f64::max)
         };
         let local = problem.list_is_local();
         let mut stale = false;
@@ -229,13 +254,27 @@ pub fn follow(rod: &Rod, charge: &RodCharge, start: Start, phase: Option<(usize,
 /// symmetric rod (the buckling of a twisted rod under tension) with the
 /// rod's phase condition at the node of largest lateral displacement of
 /// the null direction, the first point taken at a fixed buckle amplitude.
-pub fn switch(rod: &Rod, charge: &RodCharge, branch: &ChargedBranch, index: usize, direction: usize, first_step: f64, opts: &Options,
-              progress: impl FnMut(&Record) -> bool) -> Result<ChargedBranch> {
+pub fn switch(
+    rod: &Rod,
+    charge: &RodCharge,
+    branch: &ChargedBranch,
+    index: usize,
+    direction: usize,
+    first_step: f64,
+    opts: &Options,
+    progress: impl FnMut(&Record) -> bool,
+) -> Result<ChargedBranch> {
     let bif = branch.bifurcations.get(index).ok_or_else(|| {
-        Error::new(Status::ErrOutOfRange, format!("bifurcation index {index} out of range (the branch has {})", branch.bifurcations.len()))
+        Error::new(
+            Status::ErrOutOfRange,
+            format!("bifurcation index {index} out of range (the branch has {})", branch.bifurcations.len()),
+        )
     })?;
     let (nx, nl) = bif.null_vectors.get(direction).ok_or_else(|| {
-        Error::new(Status::ErrOutOfRange, format!("direction {direction} out of range (the point has {} null directions)", bif.null_vectors.len()))
+        Error::new(
+            Status::ErrOutOfRange,
+            format!("direction {direction} out of range (the point has {} null directions)", bif.null_vectors.len()),
+        )
     })?;
     error::positive("first_step", first_step)?;
     if branch.phase.is_some() || bif.multiplicity < 2 {
@@ -257,7 +296,15 @@ pub fn switch(rod: &Rod, charge: &RodCharge, branch: &ChargedBranch, index: usiz
     let scaling = Scaling { x: sx, lambda: sl };
     let start = branch_start(&aug, (&d, *nl), first_step, &scaling);
     let mut counts = Counts::default();
-    let resume = rod.amplitude_start(&mut problem, &scaling, &start, phase.expect("set above"), first_step, opts.residual_tol, &mut counts)?;
+    let resume = rod.amplitude_start(
+        &mut problem,
+        &scaling,
+        &start,
+        phase.expect("set above"),
+        first_step,
+        opts.residual_tol,
+        &mut counts,
+    )?;
     let mut b = follow(rod, charge, Start::Resume(resume), phase, opts, progress)?;
     b.counts.add(&counts);
     rod.check_unfolding(&b.states, problem.unknown_scales().0[rod.unknowns()])?;
@@ -339,8 +386,15 @@ impl DnaScene {
 
     pub fn validate(&self) -> Result<()> {
         error::count_in_range("base_pairs", self.base_pairs as i64, 10, 1 << 24)?;
-        for (n, v) in [("rise", self.rise), ("tension", self.tension), ("radius", self.radius), ("bending_persistence", self.bending_persistence),
-                       ("twist_persistence", self.twist_persistence), ("temperature", self.temperature), ("permittivity", self.permittivity)] {
+        for (n, v) in [
+            ("rise", self.rise),
+            ("tension", self.tension),
+            ("radius", self.radius),
+            ("bending_persistence", self.bending_persistence),
+            ("twist_persistence", self.twist_persistence),
+            ("temperature", self.temperature),
+            ("permittivity", self.permittivity),
+        ] {
             error::positive(n, v)?;
         }
         error::finite("salt", self.salt)?;
@@ -363,12 +417,23 @@ impl DnaScene {
     pub fn rod_controlled(&self, elements: usize, stages: usize, control: EndControl) -> Result<Rod> {
         self.validate()?;
         let kt = self.kt();
-        let law = crate::rod::RodLaw::kirchhoff(self.bending_persistence * kt, self.bending_persistence * kt, self.twist_persistence * kt)?;
+        let law = crate::rod::RodLaw::kirchhoff(
+            self.bending_persistence * kt,
+            self.bending_persistence * kt,
+            self.twist_persistence * kt,
+        )?;
         let supports = match control {
             EndControl::Rotation => Supports::Twisted { tension: self.tension },
             EndControl::Torque => Supports::Torqued { tension: self.tension },
         };
-        Rod::new(law, self.length(), crate::rod::Loads::default(), supports, crate::rod::scheme::Scheme::Gauss(stages), elements)
+        Rod::new(
+            law,
+            self.length(),
+            crate::rod::Loads::default(),
+            supports,
+            crate::rod::scheme::Scheme::Gauss(stages),
+            elements,
+        )
     }
 
     /// The charge: λ² = k_BT l_B ν² (pN), κ from the salt (0: Coulomb).
@@ -421,7 +486,18 @@ impl Default for SupercoilSettings {
     /// step stays where it started: on 1 kbp at 0.1 M, 150 steps reach the
     /// fold at 3.46 turns, extension 172 nm, at 1e-8).
     fn default() -> Self {
-        SupercoilSettings { elements: 170, stages: 2, cutoff_tolerance: Some(1e-4), hard_core: None, threads: 1, max_turns: 12.0, max_steps: 600, residual_tol: 1e-8, base_pairs: false, control: EndControl::Rotation }
+        SupercoilSettings {
+            elements: 170,
+            stages: 2,
+            cutoff_tolerance: Some(1e-4),
+            hard_core: None,
+            threads: 1,
+            max_turns: 12.0,
+            max_steps: 600,
+            residual_tol: 1e-8,
+            base_pairs: false,
+            control: EndControl::Rotation,
+        }
     }
 }
 
@@ -503,13 +579,28 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
     // golden section on a double point costs ~4 factorisations per
     // reduction, and 1e-10 would take twice the reductions for digits the
     // curves do not show.
-    let mut opts = Options { residual_tol: settings.residual_tol, initial_step: 2.0, max_step: 2.0, detect_bifurcations: true, bifurcation_tol: 1e-7, max_steps: settings.max_steps, ..Default::default() };
+    let mut opts = Options {
+        residual_tol: settings.residual_tol,
+        initial_step: 2.0,
+        max_step: 2.0,
+        detect_bifurcations: true,
+        bifurcation_tol: 1e-7,
+        max_steps: settings.max_steps,
+        ..Default::default()
+    };
     let mut straight: Option<ChargedBranch> = None;
     let mut target = 0.95 * phi_1;
     while target <= 3.0 * phi_g + 0.5 * chunk {
         opts.target_lambda = Some(per_phi * target);
         let b = match &straight {
-            None => follow(&rod, &charge, Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true }, None, &opts, |_| true)?,
+            None => follow(
+                &rod,
+                &charge,
+                Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
+                None,
+                &opts,
+                |_| true,
+            )?,
             Some(prev) => {
                 let mut next = follow(&rod, &charge, Start::Resume(prev.resume.clone()), None, &opts, |_| true)?;
                 let mut merged = prev.clone();
@@ -539,14 +630,21 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
     // φ of a state: Λ itself, or a torque clamp's angle followed from the
     // previous point (steps turn the end by far less than 2π).
     let phi_of = |prev: &mut f64, x: &[f64], lambda: f64| -> f64 {
-        let phi = if torque { unwrap_rotation(*prev, rod.end_rotation(x, lambda).expect("torque clamp")) } else { lambda };
+        let phi =
+            if torque { unwrap_rotation(*prev, rod.end_rotation(x, lambda).expect("torque clamp")) } else { lambda };
         *prev = phi;
         phi
     };
     let mut phi_prev = 0.0;
     for (r, x) in straight.records.iter().zip(&straight.states) {
         let phi = phi_of(&mut phi_prev, x, r.lambda);
-        points.push(PathPoint { phi, parameter: r.lambda, observables: observables(&rod, x, phi)?, branch: 0, residual: r.residual });
+        points.push(PathPoint {
+            phi,
+            parameter: r.lambda,
+            observables: observables(&rod, x, phi)?,
+            branch: 0,
+            residual: r.residual,
+        });
         states.push(x.clone());
     }
     let mut buckling = None;
@@ -576,10 +674,26 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
         phi_prev = phi_b;
         for (r, x) in b.records.iter().zip(&b.states) {
             let phi = phi_of(&mut phi_prev, &x[..n], r.lambda);
-            points.push(PathPoint { phi, parameter: r.lambda, observables: observables(&rod, &x[..n], phi)?, branch: 1, residual: r.residual });
+            points.push(PathPoint {
+                phi,
+                parameter: r.lambda,
+                observables: observables(&rod, &x[..n], phi)?,
+                branch: 1,
+                residual: r.residual,
+            });
             states.push(x[..n].to_vec());
         }
         buckled = Some(b);
     }
-    Ok(SupercoilRun { scene: scene.clone(), rod, charge, points, states, buckling, straight, buckled, seconds: start.elapsed().as_secs_f64() })
+    Ok(SupercoilRun {
+        scene: scene.clone(),
+        rod,
+        charge,
+        points,
+        states,
+        buckling,
+        straight,
+        buckled,
+        seconds: start.elapsed().as_secs_f64(),
+    })
 }

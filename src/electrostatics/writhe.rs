@@ -138,7 +138,15 @@ fn ray_panels() -> Vec<(f64, f64)> {
 /// ∫ over the ray from `end` = (r, r', _) in direction `sign`·r̂' of the
 /// Gauss integrand against (p, tp), the ray's tangent oriented with the
 /// curve (it enters at s = 0, leaves at s = L).
-fn ray_integral(p: [f64; 3], tp: [f64; 3], end: &([f64; 3], [f64; 3], [f64; 3]), sign: f64, l: f64, gx: &[f64], gw: &[f64]) -> f64 {
+fn ray_integral(
+    p: [f64; 3],
+    tp: [f64; 3],
+    end: &([f64; 3], [f64; 3], [f64; 3]),
+    sign: f64,
+    l: f64,
+    gx: &[f64],
+    gw: &[f64],
+) -> f64 {
     let t = unit(end.1);
     let mut sum = 0.0;
     for (u0, u1) in ray_panels() {

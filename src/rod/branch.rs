@@ -6,10 +6,10 @@
 use super::model::Rod;
 use crate::continuation::anm::{continue_anm, AnmOptions};
 use crate::continuation::bifurcation::{branch_start, Bifurcation};
-use crate::continuation::newton::{continue_newton, Start};
-use crate::continuation::system::AssembledSystem;
 use crate::continuation::bordered::Bordered;
 use crate::continuation::newton::correct;
+use crate::continuation::newton::{continue_newton, Start};
+use crate::continuation::system::AssembledSystem;
 use crate::continuation::{Counts, Options, Problem, Record, Resume, Sample, Scaling, Stop};
 use crate::error::{self, Error, Result};
 use crate::status::Status;
@@ -78,8 +78,14 @@ impl Rod {
         }
     }
 
-    fn follow(&self, start: Start, phase: Option<(usize, f64)>, opts: &Options, method: Method,
-              mut progress: impl FnMut(&Record) -> bool) -> Result<RodBranch> {
+    fn follow(
+        &self,
+        start: Start,
+        phase: Option<(usize, f64)>,
+        opts: &Options,
+        method: Method,
+        mut progress: impl FnMut(&Record) -> bool,
+    ) -> Result<RodBranch> {
         let mut sys = self.system_for(phase)?;
         let opts = &self.options_for(opts, &sys);
         let mut states = Vec::new();
@@ -118,8 +124,15 @@ impl Rod {
 
     /// A branch from the state `x0` at `lambda0` (None: the straight state),
     /// leaving towards increasing Λ when `increasing`.
-    pub fn continue_branch(&self, x0: Option<&[f64]>, lambda0: f64, increasing: bool, opts: &Options, method: Method,
-                           progress: impl FnMut(&Record) -> bool) -> Result<RodBranch> {
+    pub fn continue_branch(
+        &self,
+        x0: Option<&[f64]>,
+        lambda0: f64,
+        increasing: bool,
+        opts: &Options,
+        method: Method,
+        progress: impl FnMut(&Record) -> bool,
+    ) -> Result<RodBranch> {
         error::finite("lambda0", lambda0)?;
         let x = match x0 {
             Some(x) => {
@@ -133,7 +146,13 @@ impl Rod {
     }
 
     /// Continue `branch` from where it stopped (same phase condition).
-    pub fn resume_branch(&self, branch: &RodBranch, opts: &Options, method: Method, progress: impl FnMut(&Record) -> bool) -> Result<RodBranch> {
+    pub fn resume_branch(
+        &self,
+        branch: &RodBranch,
+        opts: &Options,
+        method: Method,
+        progress: impl FnMut(&Record) -> bool,
+    ) -> Result<RodBranch> {
         self.follow(Start::Resume(branch.resume.clone()), branch.phase, opts, method, progress)
     }
 
@@ -142,13 +161,30 @@ impl Rod {
     /// followed with a phase condition: the node of largest deflection in
     /// that direction (the tip of a cantilever, the middle node otherwise)
     /// keeps no displacement across the direction's azimuth.
-    pub fn switch_branch(&self, branch: &RodBranch, index: usize, direction: usize, first_step: f64, opts: &Options, method: Method,
-                         progress: impl FnMut(&Record) -> bool) -> Result<RodBranch> {
+    pub fn switch_branch(
+        &self,
+        branch: &RodBranch,
+        index: usize,
+        direction: usize,
+        first_step: f64,
+        opts: &Options,
+        method: Method,
+        progress: impl FnMut(&Record) -> bool,
+    ) -> Result<RodBranch> {
         let bif = branch.bifurcations.get(index).ok_or_else(|| {
-            Error::new(Status::ErrOutOfRange, format!("bifurcation index {index} out of range (the branch has {})", branch.bifurcations.len()))
+            Error::new(
+                Status::ErrOutOfRange,
+                format!("bifurcation index {index} out of range (the branch has {})", branch.bifurcations.len()),
+            )
         })?;
         let (nx, nl) = bif.null_vectors.get(direction).ok_or_else(|| {
-            Error::new(Status::ErrOutOfRange, format!("direction {direction} out of range (the point has {} null directions)", bif.null_vectors.len()))
+            Error::new(
+                Status::ErrOutOfRange,
+                format!(
+                    "direction {direction} out of range (the point has {} null directions)",
+                    bif.null_vectors.len()
+                ),
+            )
         })?;
         error::positive("first_step", first_step)?;
         let (phase, bif, direction) = if branch.phase.is_none() && bif.multiplicity >= 2 {
@@ -171,7 +207,15 @@ impl Rod {
         let mut start = branch_start(&bif, (&direction, *nl), first_step, &scaling);
         if let Some((node, azimuth)) = phase {
             let mut sys = self.system_for(phase)?;
-            start = self.amplitude_start(&mut sys, &scaling, &start, (node, azimuth), first_step, opts.residual_tol, &mut Counts::default())?;
+            start = self.amplitude_start(
+                &mut sys,
+                &scaling,
+                &start,
+                (node, azimuth),
+                first_step,
+                opts.residual_tol,
+                &mut Counts::default(),
+            )?;
         }
         // Without a phase condition the start is the (near-)singular point
         // itself: a switch start keeps the null direction for the first step.
@@ -194,7 +238,10 @@ impl Rod {
         };
         let node = (1..=self.elements).fold(0, |best, i| if lateral(i) > lateral(best) { i } else { best });
         if node == 0 || lateral(node) == 0.0 {
-            return Err(Error::new(Status::ErrOutOfRange, "a phase condition needs a null direction with a lateral displacement (and at least 2 elements)"));
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                "a phase condition needs a null direction with a lateral displacement (and at least 2 elements)",
+            ));
         }
         let at = self.node(node);
         Ok((node, nx[at + 1].atan2(nx[at])))
@@ -207,8 +254,16 @@ impl Rod {
     /// free, are excluded. `problem` is the rod's system with that phase
     /// condition (charged or not); returns the point with its secant tangent.
     #[allow(clippy::too_many_arguments)]
-    pub(crate) fn amplitude_start<P: crate::continuation::Problem + ?Sized>(&self, problem: &mut P, scaling: &Scaling, start: &Resume, (node, azimuth): (usize, f64),
-                                                                          first_step: f64, residual_tol: f64, counts: &mut Counts) -> Result<Resume> {
+    pub(crate) fn amplitude_start<P: crate::continuation::Problem + ?Sized>(
+        &self,
+        problem: &mut P,
+        scaling: &Scaling,
+        start: &Resume,
+        (node, azimuth): (usize, f64),
+        first_step: f64,
+        residual_tol: f64,
+        counts: &mut Counts,
+    ) -> Result<Resume> {
         let mut bordered = Bordered::new(problem.pattern())?;
         let eq = problem.equation_scales();
         let mut e = vec![0.0; start.x.len()];
@@ -219,10 +274,28 @@ impl Rod {
         let mut l = start.lambda + first_step * start.tangent_lambda;
         let anchor = x.clone();
         let al = l;
-        correct(problem, &mut bordered, scaling, &eq, &mut x, &mut l, (&anchor, al), (&e, 0.0), residual_tol, false, counts)?;
+        correct(
+            problem,
+            &mut bordered,
+            scaling,
+            &eq,
+            &mut x,
+            &mut l,
+            (&anchor, al),
+            (&e, 0.0),
+            residual_tol,
+            false,
+            counts,
+        )?;
         let dx: Vec<f64> = x.iter().zip(&start.x).map(|(a, b)| a - b).collect();
         let norm = scaling.norm(&dx, l - start.lambda);
-        Ok(Resume { tangent_x: dx.iter().map(|v| v / norm).collect(), tangent_lambda: (l - start.lambda) / norm, x, lambda: l, step: first_step })
+        Ok(Resume {
+            tangent_x: dx.iter().map(|v| v / norm).collect(),
+            tangent_lambda: (l - start.lambda) / norm,
+            x,
+            lambda: l,
+            step: first_step,
+        })
     }
 
     /// μ = 0 on every tilted solution, but the unfolding vanishes on the
@@ -264,9 +337,11 @@ impl Rod {
 
     /// Node positions r(s_i), i = 0…N.
     pub fn positions(&self, x: &[f64]) -> Vec<[f64; 3]> {
-        (0..=self.elements).map(|i| {
-            let y = self.node_state(x, i);
-            [y[0], y[1], y[2]]
-        }).collect()
+        (0..=self.elements)
+            .map(|i| {
+                let y = self.node_state(x, i);
+                [y[0], y[1], y[2]]
+            })
+            .collect()
     }
 }

@@ -35,7 +35,14 @@ impl RodLaw {
     }
 
     /// The hemitropic law of §2.2 (twist–stretch g, bend–shear c2), straight.
-    pub fn hemitropic(bending: f64, twist: f64, shear: f64, stretch: f64, twist_stretch: f64, bend_shear: f64) -> Result<Self> {
+    pub fn hemitropic(
+        bending: f64,
+        twist: f64,
+        shear: f64,
+        stretch: f64,
+        twist_stretch: f64,
+        bend_shear: f64,
+    ) -> Result<Self> {
         for (name, v) in [("bending", bending), ("twist", twist), ("shear", shear), ("stretch", stretch)] {
             error::positive(name, v)?;
         }

@@ -82,7 +82,14 @@ pub struct Rod {
 }
 
 impl Rod {
-    pub fn new(law: RodLaw, length: f64, loads: Loads, supports: Supports, scheme: Scheme, elements: usize) -> Result<Self> {
+    pub fn new(
+        law: RodLaw,
+        length: f64,
+        loads: Loads,
+        supports: Supports,
+        scheme: Scheme,
+        elements: usize,
+    ) -> Result<Self> {
         error::positive("length", length)?;
         // 2^18 elements: ~17 million unknowns with 4 Gauss stages, the most a
         // 24 GiB machine factorises; more would abort on allocation.
@@ -90,7 +97,12 @@ impl Rod {
         if let Scheme::Gauss(s) = scheme {
             error::count_in_range("Gauss stages", s as i64, 1, 4)?;
         }
-        for (name, l) in [("tip_force", loads.tip_force), ("tip_moment", loads.tip_moment), ("distributed_force", loads.distributed_force), ("distributed_couple", loads.distributed_couple)] {
+        for (name, l) in [
+            ("tip_force", loads.tip_force),
+            ("tip_moment", loads.tip_moment),
+            ("distributed_force", loads.distributed_force),
+            ("distributed_couple", loads.distributed_couple),
+        ] {
             if let Some(l) = l {
                 error::finite_result(name, &l.vector)?;
             }
@@ -102,35 +114,58 @@ impl Rod {
                 error::finite_result("end_rotation", &end_rotation)?;
                 let norm = end_rotation.iter().map(|v| v * v).sum::<f64>().sqrt();
                 if (norm - 1.0).abs() > 1e-12 {
-                    return Err(Error::new(Status::ErrOutOfRange, format!("end_rotation must be a unit quaternion (|q| = {norm})")));
+                    return Err(Error::new(
+                        Status::ErrOutOfRange,
+                        format!("end_rotation must be a unit quaternion (|q| = {norm})"),
+                    ));
                 }
                 if loads.tip_force.is_some() || loads.tip_moment.is_some() {
-                    return Err(Error::new(Status::ErrOutOfRange, "a clamped end takes no tip load (its force and moment are reactions)"));
+                    return Err(Error::new(
+                        Status::ErrOutOfRange,
+                        "a clamped end takes no tip load (its force and moment are reactions)",
+                    ));
                 }
             }
             Supports::Pinned => {
                 if loads.tip_moment.is_some() {
-                    return Err(Error::new(Status::ErrOutOfRange, "a pinned end carries no moment: tip_moment must be None"));
+                    return Err(Error::new(
+                        Status::ErrOutOfRange,
+                        "a pinned end carries no moment: tip_moment must be None",
+                    ));
                 }
                 if let Some(f) = loads.tip_force {
                     if f.frame != Frame::Dead || f.vector[0] != 0.0 || f.vector[1] != 0.0 {
-                        return Err(Error::new(Status::ErrOutOfRange, "a pinned rod takes an axial dead tip force (0, 0, P) only"));
+                        return Err(Error::new(
+                            Status::ErrOutOfRange,
+                            "a pinned rod takes an axial dead tip force (0, 0, P) only",
+                        ));
                     }
                 }
             }
             Supports::TwistedAtDistance { distance } => {
                 error::positive("distance", distance)?;
                 if !(distance <= length) {
-                    return Err(Error::new(Status::ErrOutOfRange, format!("argument `distance` ({distance:e}) exceeds the length of an inextensible rod ({length:e})")));
+                    return Err(Error::new(
+                        Status::ErrOutOfRange,
+                        format!(
+                            "argument `distance` ({distance:e}) exceeds the length of an inextensible rod ({length:e})"
+                        ),
+                    ));
                 }
                 if loads.tip_force.is_some() || loads.tip_moment.is_some() {
-                    return Err(Error::new(Status::ErrOutOfRange, "a rod with a controlled end rotation takes no tip load"));
+                    return Err(Error::new(
+                        Status::ErrOutOfRange,
+                        "a rod with a controlled end rotation takes no tip load",
+                    ));
                 }
             }
             Supports::Twisted { tension } | Supports::Torqued { tension } => {
                 error::finite("tension", tension)?;
                 if loads.tip_force.is_some() || loads.tip_moment.is_some() {
-                    return Err(Error::new(Status::ErrOutOfRange, "a rod with a controlled end rotation takes no tip load (set its tension)"));
+                    return Err(Error::new(
+                        Status::ErrOutOfRange,
+                        "a rod with a controlled end rotation takes no tip load (set its tension)",
+                    ));
                 }
             }
             Supports::Cantilever => {}
@@ -345,18 +380,35 @@ impl Rod {
     /// (crate::electrostatics::rod). Elements with equal stiffening share
     /// one recorded kernel.
     pub(crate) fn system_stiffened(&self, extra: &[Vec<f64>]) -> Result<AssembledSystem> {
-        if extra.len() != self.elements || extra.iter().any(|e| e.len() != self.scheme.stages()) || self.scheme == Scheme::Midpoint {
-            return Err(Error::new(Status::ErrInvalidDimension, "stiffening needs a Gauss scheme and one value per stage of every element"));
+        if extra.len() != self.elements
+            || extra.iter().any(|e| e.len() != self.scheme.stages())
+            || self.scheme == Scheme::Midpoint
+        {
+            return Err(Error::new(
+                Status::ErrInvalidDimension,
+                "stiffening needs a Gauss scheme and one value per stage of every element",
+            ));
         }
         self.build(None, Some(extra))
     }
 
     /// [`Rod::system_with_phase`] with the stiffening of [`Rod::system_stiffened`].
-    pub(crate) fn system_with_phase_stiffened(&self, node: usize, azimuth: f64, extra: &[Vec<f64>]) -> Result<AssembledSystem> {
+    pub(crate) fn system_with_phase_stiffened(
+        &self,
+        node: usize,
+        azimuth: f64,
+        extra: &[Vec<f64>],
+    ) -> Result<AssembledSystem> {
         error::count_in_range("phase node", node as i64, 1, self.elements as i64)?;
         error::finite("azimuth", azimuth)?;
-        if extra.len() != self.elements || extra.iter().any(|e| e.len() != self.scheme.stages()) || self.scheme == Scheme::Midpoint {
-            return Err(Error::new(Status::ErrInvalidDimension, "stiffening needs a Gauss scheme and one value per stage of every element"));
+        if extra.len() != self.elements
+            || extra.iter().any(|e| e.len() != self.scheme.stages())
+            || self.scheme == Scheme::Midpoint
+        {
+            return Err(Error::new(
+                Status::ErrInvalidDimension,
+                "stiffening needs a Gauss scheme and one value per stage of every element",
+            ));
         }
         self.build(Some((node, azimuth)), Some(extra))
     }
@@ -387,7 +439,9 @@ impl Rod {
         let uniform: Vec<RhsData> = vec![data.clone(); stages.max(1)];
         let element = Arc::new(match self.scheme {
             Scheme::Midpoint => Tape::record(27 + extra_in, |v| midpoint_kernel(&data, h, v, unfold)),
-            Scheme::Gauss(_) => Tape::record(13 * (stages + 2) + 1 + extra_in, |v| gauss_kernel(&uniform, h, &tab, v, unfold)),
+            Scheme::Gauss(_) => {
+                Tape::record(13 * (stages + 2) + 1 + extra_in, |v| gauss_kernel(&uniform, h, &tab, v, unfold))
+            }
         });
         // Stiffened elements: one tape per distinct set of stage values.
         let mut tapes: std::collections::HashMap<Vec<u64>, Arc<Tape>> = std::collections::HashMap::new();
@@ -401,7 +455,9 @@ impl Rod {
                         .entry(key)
                         .or_insert_with(|| {
                             let per_stage: Vec<RhsData> = e[i].iter().map(|v| self.rhs_data_stiffened(*v)).collect();
-                            Arc::new(Tape::record(13 * (stages + 2) + 1 + extra_in, |v| gauss_kernel(&per_stage, h, &tab, v, unfold)))
+                            Arc::new(Tape::record(13 * (stages + 2) + 1 + extra_in, |v| {
+                                gauss_kernel(&per_stage, h, &tab, v, unfold)
+                            }))
                         })
                         .clone()
                 }
@@ -446,14 +502,34 @@ impl Rod {
         let cosine = self.end_cosine();
         let angle = self.end_angle();
         let is_angle = |k: usize| Some(k) == cosine || angle.is_some_and(|(c, s)| k == c || k == s);
-        let unknowns: Vec<f64> = (0..n).map(|k| if k == mu { ss[10] / self.length } else if is_angle(k) { 1.0 } else { ss[k % 13] }).collect();
+        let unknowns: Vec<f64> = (0..n)
+            .map(|k| {
+                if k == mu {
+                    ss[10] / self.length
+                } else if is_angle(k) {
+                    1.0
+                } else {
+                    ss[k % 13]
+                }
+            })
+            .collect();
         let scale_q = 1.0 / self.length;
         let rate = |k: usize| match k {
             0..=2 => 1.0,
             3..=6 => scale_q,
             _ => ss[k] / self.length,
         };
-        let mut equations: Vec<f64> = (0..n).map(|k| if k == mu { self.length } else if is_angle(k) { 1.0 } else { h * rate(k % 13) }).collect();
+        let mut equations: Vec<f64> = (0..n)
+            .map(|k| {
+                if k == mu {
+                    self.length
+                } else if is_angle(k) {
+                    1.0
+                } else {
+                    h * rate(k % 13)
+                }
+            })
+            .collect();
         let bc_scales = self.boundary_scales();
         equations[..13].copy_from_slice(&bc_scales);
         // A torque clamp's moment row and its Λ (the end torque): moments.
@@ -517,7 +593,11 @@ impl Rod {
             let lambda = v[26];
             let mut out: Vec<Var> = Vec::with_capacity(13);
             match supports {
-                Supports::Cantilever | Supports::Clamped { .. } | Supports::Twisted { .. } | Supports::TwistedAtDistance { .. } | Supports::Torqued { .. } => {
+                Supports::Cantilever
+                | Supports::Clamped { .. }
+                | Supports::Twisted { .. }
+                | Supports::TwistedAtDistance { .. }
+                | Supports::Torqued { .. } => {
                     out.extend_from_slice(&y0[0..3]);
                     out.push(y0[3] - 1.0);
                     out.extend_from_slice(&y0[4..7]);
@@ -536,7 +616,9 @@ impl Rod {
                     let end = |l: Option<Load>, at: usize, out: &mut Vec<Var>| {
                         let applied: [Option<Var>; 3] = match l {
                             None => [None; 3],
-                            Some(Load { frame: Frame::Follower, vector }) => vector.map(|c| (c != 0.0).then(|| lambda * c)),
+                            Some(Load { frame: Frame::Follower, vector }) => {
+                                vector.map(|c| (c != 0.0).then(|| lambda * c))
+                            }
                             Some(Load { frame: Frame::Dead, vector }) => {
                                 let b = kinematics::to_body(&ql, &vector);
                                 [Some(b[0] * lambda), Some(b[1] * lambda), Some(b[2] * lambda)]
@@ -554,11 +636,20 @@ impl Rod {
                 }
                 Supports::Clamped { end_position, end_rotation, end_displacement } => {
                     for k in 0..3 {
-                        let moved = if end_displacement[k] != 0.0 { lambda * end_displacement[k] + end_position[k] } else { Var::constant(end_position[k]) };
+                        let moved = if end_displacement[k] != 0.0 {
+                            lambda * end_displacement[k] + end_position[k]
+                        } else {
+                            Var::constant(end_position[k])
+                        };
                         out.push(yl[k] - moved);
                     }
                     let conj = [end_rotation[0], -end_rotation[1], -end_rotation[2], -end_rotation[3]];
-                    let c = [Var::constant(conj[0]), Var::constant(conj[1]), Var::constant(conj[2]), Var::constant(conj[3])];
+                    let c = [
+                        Var::constant(conj[0]),
+                        Var::constant(conj[1]),
+                        Var::constant(conj[2]),
+                        Var::constant(conj[3]),
+                    ];
                     let rel = kinematics::quat_mul(&c, &ql);
                     out.extend_from_slice(&rel[1..4]);
                 }

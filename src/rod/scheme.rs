@@ -66,7 +66,9 @@ impl Tableau {
         // Lagrange basis in monomials: solve V coeffs = I with V_kj = c_k^j.
         let v = DMatrix::from_fn(s, s, |k, j| c[k].powi(j as i32));
         let coeffs = v.try_inverse().expect("distinct Gauss nodes"); // column j: ℓ_j's monomial coefficients
-        let integral = |j: usize, upper: f64| (0..s).map(|m| coeffs[(m, j)] * upper.powi(m as i32 + 1) / (m as f64 + 1.0)).sum::<f64>();
+        let integral = |j: usize, upper: f64| {
+            (0..s).map(|m| coeffs[(m, j)] * upper.powi(m as i32 + 1) / (m as f64 + 1.0)).sum::<f64>()
+        };
         let b = (0..s).map(|j| integral(j, 1.0)).collect();
         let a = (0..s).map(|i| (0..s).map(|j| integral(j, c[i])).collect()).collect();
         Tableau { c, b, a }

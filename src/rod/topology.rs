@@ -75,7 +75,10 @@ impl Rod {
             let q = [y[3], y[4], y[5], y[6]];
             let n2 = q.iter().map(|v| v * v).sum::<f64>();
             if !(n2 > 0.0 && n2.is_finite()) {
-                return Err(Error::new(Status::ErrNonFiniteResult, "writhe: a quaternion of the state is zero or not finite"));
+                return Err(Error::new(
+                    Status::ErrNonFiniteResult,
+                    "writhe: a quaternion of the state is zero or not finite",
+                ));
             }
             let rot = rotation(&q);
             let d3 = [rot[0][2] / n2, rot[1][2] / n2, rot[2][2] / n2];

@@ -99,9 +99,10 @@ impl CouplingStiffness {
 
     /// Free-tube response: solve K e = (1, 0, 0).
     pub fn free_response(&self) -> Result<FreeTubeResponse> {
-        let chol = self.k.cholesky().ok_or_else(|| {
-            Error::new(Status::ErrNotPositiveDefinite, "coupling stiffness is not positive definite")
-        })?;
+        let chol = self
+            .k
+            .cholesky()
+            .ok_or_else(|| Error::new(Status::ErrNotPositiveDefinite, "coupling stiffness is not positive definite"))?;
         // K⁻¹ e_1 is the response; the rest of K⁻¹ bounds the coupling.
         let cinv = chol.inverse();
         let e = cinv.column(0);

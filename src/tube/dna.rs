@@ -245,7 +245,12 @@ pub struct FitResult {
 impl FitResult {
     /// The fitted thin tube.
     pub fn tube(&self) -> ThinTube {
-        ThinTube { mid_radius: self.mid_radius, thickness: self.thickness, intrinsic_twist: self.intrinsic_twist, material: self.material }
+        ThinTube {
+            mid_radius: self.mid_radius,
+            thickness: self.thickness,
+            intrinsic_twist: self.intrinsic_twist,
+            material: self.material,
+        }
     }
 }
 
@@ -255,9 +260,15 @@ fn compliance_map(helix_angle: f64, nu12: f64) -> Matrix3<f64> {
     let (n, m) = helix_angle.sin_cos();
     let (c, s, mn) = (m * m, n * n, m * n);
     Matrix3::new(
-        c * c - 2.0 * nu12 * c * s, s * s, c * s,
-        mn * (2.0 * (1.0 + nu12) * c - 2.0 * nu12 * s), -2.0 * mn * s, -mn * (c - s),
-        4.0 * c * s * (1.0 + 2.0 * nu12), 4.0 * c * s, (c - s) * (c - s),
+        c * c - 2.0 * nu12 * c * s,
+        s * s,
+        c * s,
+        mn * (2.0 * (1.0 + nu12) * c - 2.0 * nu12 * s),
+        -2.0 * mn * s,
+        -mn * (c - s),
+        4.0 * c * s * (1.0 + 2.0 * nu12),
+        4.0 * c * s,
+        (c - s) * (c - s),
     )
 }
 
@@ -269,7 +280,12 @@ fn rotated_compliances(st: &DnaTargets, mid_radius: f64, thickness: f64) -> Vect
 }
 
 /// Which physical constraint x = (1/E1, 1/E2, 1/G12) violates, if any.
-fn physical(x: &Vector3<f64>, nu12: f64, thickness: f64, nu12_ok_msg: impl Fn() -> String) -> Result<OrthotropicSurface> {
+fn physical(
+    x: &Vector3<f64>,
+    nu12: f64,
+    thickness: f64,
+    nu12_ok_msg: impl Fn() -> String,
+) -> Result<OrthotropicSurface> {
     let names = ["E1", "E2", "G12"];
     for i in 0..3 {
         if x[i].is_nan() || x[i] <= 0.0 || !(1.0 / x[i]).is_finite() {
@@ -312,7 +328,13 @@ fn physical(x: &Vector3<f64>, nu12: f64, thickness: f64, nu12_ok_msg: impl Fn() 
 /// `ErrNotPositiveDefinite` (the message names the constraint);
 /// Newton not reaching [`REL_TOL`] in [`MAX_ITERATIONS`] (only possible very
 /// close to the degenerate ν12): `ErrNotConverged`.
-pub fn fit_thin_wall(targets: DnaTargets, mid_radius: f64, helix_angle: f64, thickness: f64, nu12: f64) -> Result<FitResult> {
+pub fn fit_thin_wall(
+    targets: DnaTargets,
+    mid_radius: f64,
+    helix_angle: f64,
+    thickness: f64,
+    nu12: f64,
+) -> Result<FitResult> {
     targets.validate()?;
     error::positive("mid_radius", mid_radius)?;
     error::positive("thickness", thickness)?;
@@ -469,7 +491,9 @@ impl OutOfPlane {
     /// The nine constants (validated by [`Orthotropic::new`]: a set that is
     /// not positive definite gives `ErrNotPositiveDefinite`).
     pub fn complete(&self, surface: &OrthotropicSurface) -> Result<Orthotropic> {
-        for (name, v) in [("e3_over_e2", self.e3_over_e2), ("g13_over_g12", self.g13_over_g12), ("g23_over_g12", self.g23_over_g12)] {
+        for (name, v) in
+            [("e3_over_e2", self.e3_over_e2), ("g13_over_g12", self.g13_over_g12), ("g23_over_g12", self.g23_over_g12)]
+        {
             error::positive(name, v)?;
         }
         Orthotropic::new(
@@ -578,7 +602,9 @@ mod tests {
     /// expansion (2) used by the fit.
     #[test]
     fn hand_expanded_map_equals_rotated_compliance() {
-        for &(e1, e2, nu, g, alpha) in &[(3.0, 0.7, 0.3, 0.4, 1.047), (1.0, 2.0, -0.2, 5.0, -0.4), (0.5, 0.5, 0.45, 0.1, 1.4)] {
+        for &(e1, e2, nu, g, alpha) in
+            &[(3.0, 0.7, 0.3, 0.4, 1.047), (1.0, 2.0, -0.2, 5.0, -0.4), (0.5, 0.5, 0.45, 0.1, 1.4)]
+        {
             let mat = OrthotropicSurface::new(e1, e2, nu, g).unwrap();
             let sb = mat.rotated_compliance(alpha);
             let y = compliance_map(alpha, nu) * Vector3::new(1.0 / e1, 1.0 / e2, 1.0 / g);

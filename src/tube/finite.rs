@@ -60,7 +60,13 @@ impl Loading {
     /// Torsionally relaxed stretching: stretch λ, zero torque, no pressure,
     /// open ends.
     pub fn torsion_free_stretch(stretch: f64) -> Self {
-        Loading { axial: Axial::Stretch(stretch), torsion: Torsion::Torque(0.0), inner_pressure: 0.0, outer_pressure: 0.0, ends: Ends::Open }
+        Loading {
+            axial: Axial::Stretch(stretch),
+            torsion: Torsion::Torque(0.0),
+            inner_pressure: 0.0,
+            outer_pressure: 0.0,
+            ends: Ends::Open,
+        }
     }
 
     /// Inflation by an inner pressure p, torque-free, with the axial
@@ -262,7 +268,10 @@ impl<'m> FiniteTube<'m> {
                 let est = previous.map_or(f64::INFINITY, |p| p.error_estimate);
                 return Err(Error::new(
                     Status::ErrNotConverged,
-                    format!("finite-strain tube: estimated error {est:e} above rel_tol {:e} at {n} intervals", opts.rel_tol),
+                    format!(
+                        "finite-strain tube: estimated error {est:e} above rel_tol {:e} at {n} intervals",
+                        opts.rel_tol
+                    ),
                 ));
             }
             n += n / 2;
@@ -274,7 +283,10 @@ impl<'m> FiniteTube<'m> {
         if self.inner_radius == 0.0 && loading.inner_pressure != 0.0 {
             return Err(Error::new(
                 Status::ErrOutOfRange,
-                format!("a solid cylinder has no inner surface: inner_pressure must be 0 (got {:e})", loading.inner_pressure),
+                format!(
+                    "a solid cylinder has no inner surface: inner_pressure must be 0 (got {:e})",
+                    loading.inner_pressure
+                ),
             ));
         }
         Ok(())
@@ -299,8 +311,15 @@ impl<'m> FiniteTube<'m> {
     /// stop moving (fixed-point iteration: a breakpoint off by δ costs O(δ²)
     /// in the fields, so the radii settle in a few rounds). Each round starts
     /// Newton from the previous solution interpolated onto the new pieces.
-    fn resolve_switches(&self, n: usize, mut grid: PiecewiseGrid, mut layout: Layout, loading: &Loading,
-                        x: &mut DVector<f64>, iterations: &mut usize) -> Result<(PiecewiseGrid, Layout)> {
+    fn resolve_switches(
+        &self,
+        n: usize,
+        mut grid: PiecewiseGrid,
+        mut layout: Layout,
+        loading: &Loading,
+        x: &mut DVector<f64>,
+        iterations: &mut usize,
+    ) -> Result<(PiecewiseGrid, Layout)> {
         if self.material.switches() == 0 {
             return Ok((grid, layout));
         }
@@ -376,7 +395,14 @@ impl<'m> FiniteTube<'m> {
 
     /// `x` on `from` carried to the nodes of `to` (interpolated r and σ_rr;
     /// λ, ψ and the incompressible inner radius copied).
-    fn transfer(&self, from: &PiecewiseGrid, from_layout: &Layout, x: &DVector<f64>, to: &PiecewiseGrid, to_layout: &Layout) -> DVector<f64> {
+    fn transfer(
+        &self,
+        from: &PiecewiseGrid,
+        from_layout: &Layout,
+        x: &DVector<f64>,
+        to: &PiecewiseGrid,
+        to_layout: &Layout,
+    ) -> DVector<f64> {
         if self.material.incompressible() {
             return x.clone();
         }
@@ -398,7 +424,14 @@ impl<'m> FiniteTube<'m> {
     /// From the solution `x` at `from`, reach `to`: Newton straight there,
     /// and on failure along the straight load path in bisected increments
     /// (load homotopy, at most 2⁸ increments). Returns Newton iterations.
-    fn continue_to(&self, grid: &PiecewiseGrid, layout: &Layout, x: &mut DVector<f64>, from: &Loading, to: &Loading) -> Result<usize> {
+    fn continue_to(
+        &self,
+        grid: &PiecewiseGrid,
+        layout: &Layout,
+        x: &mut DVector<f64>,
+        from: &Loading,
+        to: &Loading,
+    ) -> Result<usize> {
         let (mut s_done, mut ds, mut iterations) = (0.0f64, 1.0f64, 0);
         while s_done < 1.0 {
             let s = (s_done + ds).min(1.0);
@@ -415,7 +448,10 @@ impl<'m> FiniteTube<'m> {
                     if ds < 1.0 / 256.0 {
                         return Err(Error::new(
                             e.status,
-                            format!("finite-strain tube: no equilibrium reached at load fraction {s:.4} ({})", e.message),
+                            format!(
+                                "finite-strain tube: no equilibrium reached at load fraction {s:.4} ({})",
+                                e.message
+                            ),
                         ));
                     }
                 }
@@ -431,7 +467,12 @@ impl<'m> FiniteTube<'m> {
     /// every state reports that solve's error estimate. `progress(i, state)`
     /// is called after each state; returning false stops the sweep cleanly
     /// (`cancelled` is set and the states so far are returned).
-    pub fn sweep(&self, loadings: &[Loading], opts: &SolveOptions, mut progress: impl FnMut(usize, &TubeState) -> bool) -> Result<Sweep> {
+    pub fn sweep(
+        &self,
+        loadings: &[Loading],
+        opts: &SolveOptions,
+        mut progress: impl FnMut(usize, &TubeState) -> bool,
+    ) -> Result<Sweep> {
         let Some(last) = loadings.last() else {
             return Ok(Sweep { states: vec![], cancelled: false });
         };
@@ -558,14 +599,21 @@ impl<'m> FiniteTube<'m> {
     /// law, 8 evaluations a node) and the chain rule through a = Dr, b = r/R,
     /// γ = rψ: O(n) law evaluations instead of O(n²) for differencing the
     /// whole residual, and no n²-amplified round-off in the columns.
-    fn jacobian(&self, grid: &PiecewiseGrid, layout: &Layout, loading: &Loading, x: &DVector<f64>, jac: &mut DMatrix<f64>) -> bool {
+    fn jacobian(
+        &self,
+        grid: &PiecewiseGrid,
+        layout: &Layout,
+        loading: &Loading,
+        x: &DVector<f64>,
+        jac: &mut DMatrix<f64>,
+    ) -> bool {
         let (lambda, psi) = self.prescribed(layout, loading, x);
         let Some((r, dr, sigma)) = self.fields(grid, layout, x, lambda, psi) else { return false };
         let (n, m) = (layout.n, layout.n + 1);
         let (rr, d, w) = (&grid.nodes, &grid.diff, &grid.weights);
         let (mu, b_out, len) = (self.modulus, self.outer_radius, self.outer_radius - self.inner_radius);
         let solid = rr[0] == 0.0; // a grid through the axis (not a pinhole)
-        // ds[j][q]: ∂σ/∂q at node j for q = (a, b, λ, γ).
+                                  // ds[j][q]: ∂σ/∂q at node j for q = (a, b, λ, γ).
         let mut ds = Vec::with_capacity(m);
         for j in 0..m {
             let hoop = if rr[j] > 0.0 { r[j] / rr[j] } else { dr[j] };
@@ -587,7 +635,15 @@ impl<'m> FiniteTube<'m> {
         }
         // ∂(stress component c at node j)/∂r_k.
         let dsig_dr = |j: usize, c: (usize, usize), k: usize| {
-            let db = if rr[j] > 0.0 { if j == k { 1.0 / rr[j] } else { 0.0 } } else { d[(j, k)] };
+            let db = if rr[j] > 0.0 {
+                if j == k {
+                    1.0 / rr[j]
+                } else {
+                    0.0
+                }
+            } else {
+                d[(j, k)]
+            };
             let dg = if j == k { psi } else { 0.0 };
             ds[j][0][c] * d[(j, k)] + ds[j][1][c] * db + ds[j][3][c] * dg
         };
@@ -654,10 +710,12 @@ impl<'m> FiniteTube<'m> {
                 jac[(i, k)] = 2.0 * PI * v / scale;
             }
             if let Some(l) = layout.stretch {
-                jac[(i, l)] = 2.0 * PI * (0..m).map(|j| w[j] * ds[j][2][c] * r[j].powi(power) * dr[j]).sum::<f64>() / scale;
+                jac[(i, l)] =
+                    2.0 * PI * (0..m).map(|j| w[j] * ds[j][2][c] * r[j].powi(power) * dr[j]).sum::<f64>() / scale;
             }
             if let Some(t) = layout.twist {
-                jac[(i, t)] = 2.0 * PI * (0..m).map(|j| w[j] * ds[j][3][c] * r[j].powi(power + 1) * dr[j]).sum::<f64>() / scale;
+                jac[(i, t)] =
+                    2.0 * PI * (0..m).map(|j| w[j] * ds[j][3][c] * r[j].powi(power + 1) * dr[j]).sum::<f64>() / scale;
             }
         };
         if let Some(i) = layout.stretch {
@@ -690,8 +748,14 @@ impl<'m> FiniteTube<'m> {
 
     /// Deformed radius r, its derivative r' and the Cauchy stress at each
     /// node; `None` outside the domain (r or r' ≤ 0, λ ≤ 0, non-finite).
-    fn fields(&self, grid: &PiecewiseGrid, layout: &Layout, x: &DVector<f64>, lambda: f64, psi: f64)
-        -> Option<(DVector<f64>, DVector<f64>, Vec<Matrix3<f64>>)> {
+    fn fields(
+        &self,
+        grid: &PiecewiseGrid,
+        layout: &Layout,
+        x: &DVector<f64>,
+        lambda: f64,
+        psi: f64,
+    ) -> Option<(DVector<f64>, DVector<f64>, Vec<Matrix3<f64>>)> {
         if !(lambda > 0.0) {
             return None;
         }
@@ -730,10 +794,20 @@ impl<'m> FiniteTube<'m> {
     /// Radial stress through the wall for an incompressible law (the
     /// multiplier eliminated): σ_rr(A) = −p plus the integral of equilibrium;
     /// for a solid cylinder, anchored at σ_rr(B) = −p_o instead.
-    fn incompressible_radial_stress(&self, grid: &PiecewiseGrid, r: &DVector<f64>, dr: &DVector<f64>,
-                                    sigma: &[Matrix3<f64>], loading: &Loading) -> DVector<f64> {
+    fn incompressible_radial_stress(
+        &self,
+        grid: &PiecewiseGrid,
+        r: &DVector<f64>,
+        dr: &DVector<f64>,
+        sigma: &[Matrix3<f64>],
+        loading: &Loading,
+    ) -> DVector<f64> {
         let m = r.len();
-        let g = DVector::from_fn(m, |j, _| if r[j] > 0.0 { (sigma[j][(1, 1)] - sigma[j][(0, 0)]) * dr[j] / r[j] } else { 0.0 });
+        let g =
+            DVector::from_fn(
+                m,
+                |j, _| if r[j] > 0.0 { (sigma[j][(1, 1)] - sigma[j][(0, 0)]) * dr[j] / r[j] } else { 0.0 },
+            );
         let cum = grid.cumulative_integral(&g);
         if self.inner_radius > 0.0 {
             cum.map(|c| c - loading.inner_pressure)
@@ -743,7 +817,14 @@ impl<'m> FiniteTube<'m> {
         }
     }
 
-    fn residual(&self, grid: &PiecewiseGrid, layout: &Layout, loading: &Loading, x: &DVector<f64>, f: &mut DVector<f64>) -> bool {
+    fn residual(
+        &self,
+        grid: &PiecewiseGrid,
+        layout: &Layout,
+        loading: &Loading,
+        x: &DVector<f64>,
+        f: &mut DVector<f64>,
+    ) -> bool {
         let (lambda, psi) = self.prescribed(layout, loading, x);
         let Some((r, dr, sigma)) = self.fields(grid, layout, x, lambda, psi) else { return false };
         let (a_len, b) = (self.outer_radius - self.inner_radius, self.outer_radius);
@@ -806,8 +887,14 @@ impl<'m> FiniteTube<'m> {
 
     /// (F_wall, T) = (2π∫σ_zz r r' dR, 2π∫σ_θz r² r' dR); for incompressible
     /// laws σ_zz = σ̂_zz − p̂ with p̂ = σ̂_rr − σ_rr.
-    fn resultants(&self, grid: &PiecewiseGrid, r: &DVector<f64>, dr: &DVector<f64>, sigma: &[Matrix3<f64>],
-                  srr: Option<&DVector<f64>>) -> (f64, f64) {
+    fn resultants(
+        &self,
+        grid: &PiecewiseGrid,
+        r: &DVector<f64>,
+        dr: &DVector<f64>,
+        sigma: &[Matrix3<f64>],
+        srr: Option<&DVector<f64>>,
+    ) -> (f64, f64) {
         let m = r.len();
         let szz = |j: usize| match srr {
             Some(s) => sigma[j][(2, 2)] - (sigma[j][(0, 0)] - s[j]),
@@ -863,7 +950,14 @@ impl<'m> FiniteTube<'m> {
             switch_radii: grid.breaks(),
             profile,
         };
-        let scalars = [state.stretch, state.twist, state.wall_force, state.torque, state.deformed_inner_radius, state.deformed_outer_radius];
+        let scalars = [
+            state.stretch,
+            state.twist,
+            state.wall_force,
+            state.torque,
+            state.deformed_inner_radius,
+            state.deformed_outer_radius,
+        ];
         error::finite_result("finite-strain tube state", &scalars)?;
         Ok(state)
     }
@@ -1053,7 +1147,13 @@ mod tests {
         for (inner, breaks) in [(0.4, &[][..]), (0.4, &[0.75][..]), (0.0, &[][..])] {
             let tube = FiniteTube::new(inner, 1.1, &nh).unwrap();
             let p_in = if inner > 0.0 { 0.2 } else { 0.0 };
-            let loading = Loading { axial: Axial::Force(0.3), torsion: Torsion::Torque(0.1), inner_pressure: p_in, outer_pressure: 0.05, ends: Ends::Closed };
+            let loading = Loading {
+                axial: Axial::Force(0.3),
+                torsion: Torsion::Torque(0.1),
+                inner_pressure: p_in,
+                outer_pressure: 0.05,
+                ends: Ends::Closed,
+            };
             // The solid's pinhole grid spans 14 e-folds of R: more nodes.
             let n = if inner > 0.0 { 10 } else { 32 };
             let grid = tube.grid(n, breaks);
@@ -1063,7 +1163,7 @@ mod tests {
             for j in 0..m {
                 let big = grid.nodes[j];
                 x[j] = big * (1.05 + 0.1 * big * big); // r
-                x[m + j] = 0.1 * (big - 0.5);          // s
+                x[m + j] = 0.1 * (big - 0.5); // s
             }
             x[2 * m] = 1.2; // λ
             x[2 * m + 1] = 0.3; // ψ
@@ -1089,8 +1189,16 @@ mod tests {
                 let err = (&col - jac.column(k)).amax();
                 // The differences are noisier across the pinhole (D ~ 1e7 there).
                 let tol = if inner > 0.0 { 1e-6 } else { 1e-4 };
-                let worst = (0..col.len()).max_by(|&a, &b| (col[a] - jac[(a, k)]).abs().partial_cmp(&(col[b] - jac[(b, k)]).abs()).unwrap()).unwrap();
-                assert!(err < tol * col.amax().max(1.0), "inner {inner}: column {k}: error {err:e} of {:e} at row {worst}: {} vs {}", col.amax(), col[worst], jac[(worst, k)]);
+                let worst = (0..col.len())
+                    .max_by(|&a, &b| (col[a] - jac[(a, k)]).abs().partial_cmp(&(col[b] - jac[(b, k)]).abs()).unwrap())
+                    .unwrap();
+                assert!(
+                    err < tol * col.amax().max(1.0),
+                    "inner {inner}: column {k}: error {err:e} of {:e} at row {worst}: {} vs {}",
+                    col.amax(),
+                    col[worst],
+                    jac[(worst, k)]
+                );
             }
         }
     }

@@ -132,8 +132,11 @@ impl<'m> MembraneTube<'m> {
             let s = (done + ds).min(1.0);
             let part = from.lerp(loading, s);
             let mut trial = x.clone();
-            let opts = NewtonOptions { step_tol: 1e-13, residual_tol: 1e-13, max_iterations: 50, reuse_jacobian: false };
-            match newton::solve(&mut trial, &typical, &opts, |x, f| self.residual(r0, &part, stretch_at, twist_at, x, f)) {
+            let opts =
+                NewtonOptions { step_tol: 1e-13, residual_tol: 1e-13, max_iterations: 50, reuse_jacobian: false };
+            match newton::solve(&mut trial, &typical, &opts, |x, f| {
+                self.residual(r0, &part, stretch_at, twist_at, x, f)
+            }) {
                 Ok(rep) => {
                     iterations += rep.iterations;
                     *x = trial;
@@ -143,7 +146,10 @@ impl<'m> MembraneTube<'m> {
                 Err(e) => {
                     ds *= 0.5;
                     if ds < 1.0 / 256.0 {
-                        return Err(Error::new(e.status, format!("membrane tube: no equilibrium at load fraction {s:.4} ({})", e.message)));
+                        return Err(Error::new(
+                            e.status,
+                            format!("membrane tube: no equilibrium at load fraction {s:.4} ({})", e.message),
+                        ));
                     }
                 }
             }
@@ -154,7 +160,13 @@ impl<'m> MembraneTube<'m> {
     }
 
     /// (a, b, λ, ψ) from the unknowns and the prescribed values.
-    fn kinematics(&self, loading: &Loading, stretch_at: Option<usize>, twist_at: Option<usize>, x: &DVector<f64>) -> [f64; 4] {
+    fn kinematics(
+        &self,
+        loading: &Loading,
+        stretch_at: Option<usize>,
+        twist_at: Option<usize>,
+        x: &DVector<f64>,
+    ) -> [f64; 4] {
         let b = if self.material.incompressible() { x[0] } else { x[1] };
         let lambda = match loading.axial {
             Axial::Stretch(l) => l,
@@ -198,8 +210,15 @@ impl<'m> MembraneTube<'m> {
         (wall, applied, torque)
     }
 
-    fn residual(&self, r0: f64, loading: &Loading, stretch_at: Option<usize>, twist_at: Option<usize>,
-                x: &DVector<f64>, f: &mut DVector<f64>) -> bool {
+    fn residual(
+        &self,
+        r0: f64,
+        loading: &Loading,
+        stretch_at: Option<usize>,
+        twist_at: Option<usize>,
+        x: &DVector<f64>,
+        f: &mut DVector<f64>,
+    ) -> bool {
         let k = self.kinematics(loading, stretch_at, twist_at, x);
         let Some(s) = self.stress(r0, k) else { return false };
         let [a, b, _, _] = k;
@@ -226,9 +245,18 @@ impl<'m> MembraneTube<'m> {
         true
     }
 
-    fn state(&self, r0: f64, loading: &Loading, stretch_at: Option<usize>, twist_at: Option<usize>, x: &DVector<f64>) -> Result<TubeState> {
+    fn state(
+        &self,
+        r0: f64,
+        loading: &Loading,
+        stretch_at: Option<usize>,
+        twist_at: Option<usize>,
+        x: &DVector<f64>,
+    ) -> Result<TubeState> {
         let k = self.kinematics(loading, stretch_at, twist_at, x);
-        let s = self.stress(r0, k).ok_or_else(|| Error::new(Status::ErrNonFiniteResult, "membrane tube: converged state is outside the domain"))?;
+        let s = self.stress(r0, k).ok_or_else(|| {
+            Error::new(Status::ErrNonFiniteResult, "membrane tube: converged state is outside the domain")
+        })?;
         let [a, b, lambda, psi] = k;
         let (wall, applied, torque) = self.resultants(r0, k, &s, loading);
         let (r, t) = (b * r0, a * self.thickness);
@@ -265,7 +293,11 @@ impl MembraneTube<'_> {
     /// previous one, so the sweep follows one branch of equilibria (solving
     /// each point from rest could land on another where several exist);
     /// `progress(i, state)` returning false stops the sweep cleanly.
-    pub fn sweep(&self, loadings: &[Loading], mut progress: impl FnMut(usize, &TubeState) -> bool) -> Result<crate::tube::finite::Sweep> {
+    pub fn sweep(
+        &self,
+        loadings: &[Loading],
+        mut progress: impl FnMut(usize, &TubeState) -> bool,
+    ) -> Result<crate::tube::finite::Sweep> {
         let mut states = Vec::with_capacity(loadings.len());
         let Some(first) = loadings.first() else {
             return Ok(crate::tube::finite::Sweep { states, cancelled: false });

@@ -67,11 +67,7 @@ impl OrthotropicSurface {
     /// Compliance in the material axes, S (Voigt 1, 2, 6).
     pub fn compliance(&self) -> Matrix3<f64> {
         let s12 = -self.nu12 / self.e1;
-        Matrix3::new(
-            1.0 / self.e1, s12, 0.0,
-            s12, 1.0 / self.e2, 0.0,
-            0.0, 0.0, 1.0 / self.g12,
-        )
+        Matrix3::new(1.0 / self.e1, s12, 0.0, s12, 1.0 / self.e2, 0.0, 0.0, 0.0, 1.0 / self.g12)
     }
 
     /// Plane-stress stiffness in the material axes, Q = S⁻¹ in closed form:
@@ -79,11 +75,7 @@ impl OrthotropicSurface {
     pub fn stiffness(&self) -> Matrix3<f64> {
         let d = 1.0 - self.nu12 * self.nu12 * (self.e2 / self.e1);
         let q12 = self.nu12 * self.e2 / d;
-        Matrix3::new(
-            self.e1 / d, q12, 0.0,
-            q12, self.e2 / d, 0.0,
-            0.0, 0.0, self.g12,
-        )
+        Matrix3::new(self.e1 / d, q12, 0.0, q12, self.e2 / d, 0.0, 0.0, 0.0, self.g12)
     }
 
     /// Stiffness Q̄ in the tube axes (Z, Θ, ZΘ): Q̄ = T(α)ᵀ Q T(α) (work
@@ -116,11 +108,7 @@ impl OrthotropicSurface {
 pub fn strain_rotation(alpha: f64) -> Matrix3<f64> {
     let (n, m) = alpha.sin_cos();
     let (mm, nn, mn) = (m * m, n * n, m * n);
-    Matrix3::new(
-        mm, nn, mn,
-        nn, mm, -mn,
-        -2.0 * mn, 2.0 * mn, mm - nn,
-    )
+    Matrix3::new(mm, nn, mn, nn, mm, -mn, -2.0 * mn, 2.0 * mn, mm - nn)
 }
 
 #[cfg(test)]
@@ -188,7 +176,17 @@ impl Orthotropic {
     /// Validated constructor: moduli positive and the 6×6 compliance positive
     /// definite (Cholesky), so the strain energy is positive for every strain.
     #[allow(clippy::too_many_arguments)]
-    pub fn new(e1: f64, e2: f64, e3: f64, nu12: f64, nu13: f64, nu23: f64, g12: f64, g13: f64, g23: f64) -> Result<Self> {
+    pub fn new(
+        e1: f64,
+        e2: f64,
+        e3: f64,
+        nu12: f64,
+        nu13: f64,
+        nu23: f64,
+        g12: f64,
+        g13: f64,
+        g23: f64,
+    ) -> Result<Self> {
         for (name, v) in [("e1", e1), ("e2", e2), ("e3", e3), ("g12", g12), ("g13", g13), ("g23", g23)] {
             error::positive(name, v)?;
         }
@@ -295,20 +293,40 @@ mod tests3d {
         let m = Orthotropic::new(3.0, 1.5, 0.8, 0.3, 0.25, 0.4, 0.9, 0.5, 0.3).unwrap();
         let c = m.stiffness();
         let idx = |i: usize, j: usize| match (i.min(j), i.max(j)) {
-            (0, 0) => 0, (1, 1) => 1, (2, 2) => 2, (1, 2) => 3, (0, 2) => 4, _ => 5,
+            (0, 0) => 0,
+            (1, 1) => 1,
+            (2, 2) => 2,
+            (1, 2) => 3,
+            (0, 2) => 4,
+            _ => 5,
         };
         for &alpha in &[0.0, 0.7, -1.2] {
             let (n, mm) = f64::sin_cos(alpha);
             let a = [[mm, -n, 0.0], [n, mm, 0.0], [0.0, 0.0, 1.0]];
             let rotated = m.rotated_stiffness(alpha);
-            for i in 0..3 { for j in 0..3 { for k in 0..3 { for l in 0..3 {
-                let mut acc = 0.0;
-                for p in 0..3 { for q in 0..3 { for r in 0..3 { for s in 0..3 {
-                    acc += a[i][p] * a[j][q] * a[k][r] * a[l][s] * c[(idx(p, q), idx(r, s))];
-                }}}}
-                let got = rotated[(idx(i, j), idx(k, l))];
-                assert!((got - acc).abs() < 1e-13 * c.amax(), "alpha {alpha}: C{i}{j}{k}{l} {got} vs {acc}");
-            }}}}
+            for i in 0..3 {
+                for j in 0..3 {
+                    for k in 0..3 {
+                        for l in 0..3 {
+                            let mut acc = 0.0;
+                            for p in 0..3 {
+                                for q in 0..3 {
+                                    for r in 0..3 {
+                                        for s in 0..3 {
+                                            acc += a[i][p] * a[j][q] * a[k][r] * a[l][s] * c[(idx(p, q), idx(r, s))];
+                                        }
+                                    }
+                                }
+                            }
+                            let got = rotated[(idx(i, j), idx(k, l))];
+                            assert!(
+                                (got - acc).abs() < 1e-13 * c.amax(),
+                                "alpha {alpha}: C{i}{j}{k}{l} {got} vs {acc}"
+                            );
+                        }
+                    }
+                }
+            }
         }
     }
 

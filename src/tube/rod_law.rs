@@ -52,7 +52,14 @@ pub struct RodStiffness {
 impl RodStiffness {
     /// The hemitropic form from its six moduli; rejects a law that is not
     /// positive definite.
-    pub fn hemitropic(bending: f64, twist: f64, shear: f64, stretch: f64, twist_stretch: f64, bend_shear: f64) -> Result<Self> {
+    pub fn hemitropic(
+        bending: f64,
+        twist: f64,
+        shear: f64,
+        stretch: f64,
+        twist_stretch: f64,
+        bend_shear: f64,
+    ) -> Result<Self> {
         let mut k = Matrix6::zeros();
         k[(0, 0)] = bending;
         k[(1, 1)] = bending;
@@ -66,7 +73,10 @@ impl RodStiffness {
         }
         error::finite_result("rod stiffness", k.as_slice())?;
         if k.cholesky().is_none() {
-            return Err(Error::new(Status::ErrNotPositiveDefinite, format!("rod stiffness is not positive definite: {k}")));
+            return Err(Error::new(
+                Status::ErrNotPositiveDefinite,
+                format!("rod stiffness is not positive definite: {k}"),
+            ));
         }
         Ok(RodStiffness { k })
     }
@@ -109,7 +119,12 @@ fn condense(c: &DMatrix<f64>, keep: &[usize], free: &[usize]) -> Matrix2<f64> {
     let sub = |rows: &[usize], cols: &[usize]| DMatrix::from_fn(rows.len(), cols.len(), |i, j| c[(rows[i], cols[j])]);
     let (kk, kf, ff) = (sub(keep, keep), sub(keep, free), sub(free, free));
     let schur = kk - &kf * ff.lu().solve(&kf.transpose()).expect("a positive-definite block is invertible");
-    Matrix2::new(schur[(0, 0)], 0.5 * (schur[(0, 1)] + schur[(1, 0)]), 0.5 * (schur[(0, 1)] + schur[(1, 0)]), schur[(1, 1)])
+    Matrix2::new(
+        schur[(0, 0)],
+        0.5 * (schur[(0, 1)] + schur[(1, 0)]),
+        0.5 * (schur[(0, 1)] + schur[(1, 0)]),
+        schur[(1, 1)],
+    )
 }
 
 /// (a, b, c) of a wall layer at helix angle α: the law in (ε_zz, γ_zθ) with
@@ -148,8 +163,14 @@ impl ThinTube {
         let m = condense(&c, &[0, 2], &[1]);
         let (r, t) = (self.mid_radius, self.thickness);
         let (a, b, cc) = (m[(0, 0)], m[(0, 1)], m[(1, 1)]);
-        RodStiffness::hemitropic(PI * r.powi(3) * t * a, 2.0 * PI * r.powi(3) * t * cc, PI * r * t * cc, 2.0 * PI * r * t * a,
-                                 2.0 * PI * r * r * t * b, -PI * r * r * t * b)
+        RodStiffness::hemitropic(
+            PI * r.powi(3) * t * a,
+            2.0 * PI * r.powi(3) * t * cc,
+            PI * r * t * cc,
+            2.0 * PI * r * t * a,
+            2.0 * PI * r * r * t * b,
+            -PI * r * r * t * b,
+        )
     }
 }
 
@@ -184,14 +205,23 @@ impl ThickTube {
             let fine = layered(fine_n);
             // Scales: K_b, G, and √(K_b G) for the coupling.
             let scale = [fine[0].abs(), fine[1].abs(), (fine[0] * fine[1]).abs().sqrt()];
-            let est = (0..3).map(|i| (fine[i] - coarse[i]).abs() / scale[i]).fold(32.0 * fine_n as f64 * f64::EPSILON, f64::max);
+            let est = (0..3)
+                .map(|i| (fine[i] - coarse[i]).abs() / scale[i])
+                .fold(32.0 * fine_n as f64 * f64::EPSILON, f64::max);
             if est <= rel_tol || fine_n >= 512 {
                 if est > rel_tol {
-                    return Err(Error::new(Status::ErrNotConverged, format!("rod law of a thick tube: layer quadrature estimate {est:e} above rel_tol {rel_tol:e}")));
+                    return Err(Error::new(
+                        Status::ErrNotConverged,
+                        format!("rod law of a thick tube: layer quadrature estimate {est:e} above rel_tol {rel_tol:e}"),
+                    ));
                 }
                 let s = &st.value;
                 let law = RodStiffness::hemitropic(fine[0], s.twist, fine[1], s.stretch, s.coupling, fine[2])?;
-                return Ok(Estimated { value: law, intervals: st.intervals, error_estimate: est.max(st.error_estimate) });
+                return Ok(Estimated {
+                    value: law,
+                    intervals: st.intervals,
+                    error_estimate: est.max(st.error_estimate),
+                });
             }
             (n, coarse) = (fine_n, fine);
         }
@@ -212,7 +242,10 @@ impl ThickTube {
             let scale = fine.stretch.abs().max(fine.twist.abs() / (b * b));
             let diff = (fine.matrix() - coarse.matrix()).abs();
             let roundoff = (32.0 * n as f64 * f64::EPSILON).max(n as f64 * f64::EPSILON * thinness);
-            let est = (diff[(0, 0)] / scale).max(diff[(0, 1)] / (scale * b)).max(diff[(1, 1)] / (scale * b * b)).max(roundoff);
+            let est = (diff[(0, 0)] / scale)
+                .max(diff[(0, 1)] / (scale * b))
+                .max(diff[(1, 1)] / (scale * b * b))
+                .max(roundoff);
             if est <= rel_tol {
                 return Ok(Estimated { value: fine, intervals: n, error_estimate: est });
             }

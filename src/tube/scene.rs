@@ -34,8 +34,10 @@ impl WallLaw {
                 if !(3.0 * m.lame_lambda + 2.0 * m.shear_modulus > 0.0) {
                     return Err(Error::new(
                         Status::ErrNotPositiveDefinite,
-                        format!("neo-Hookean law is not positive definite: bulk modulus λ_L + 2μ/3 = {:e} must be positive",
-                            m.lame_lambda + 2.0 * m.shear_modulus / 3.0),
+                        format!(
+                            "neo-Hookean law is not positive definite: bulk modulus λ_L + 2μ/3 = {:e} must be positive",
+                            m.lame_lambda + 2.0 * m.shear_modulus / 3.0
+                        ),
                     ));
                 }
             }
@@ -53,7 +55,10 @@ impl WallLaw {
                     match fam.angle {
                         crate::tube::material::fibre::FibreAngle::Helix { hand } => {
                             if hand != 1.0 && hand != -1.0 {
-                                return Err(Error::new(Status::ErrOutOfRange, format!("argument `fibre_hand` must be +1 or -1 (got {hand})")));
+                                return Err(Error::new(
+                                    Status::ErrOutOfRange,
+                                    format!("argument `fibre_hand` must be +1 or -1 (got {hand})"),
+                                ));
                             }
                         }
                         crate::tube::material::fibre::FibreAngle::Fixed(a) => {
@@ -128,7 +133,14 @@ pub struct TubeScene {
 }
 
 impl TubeScene {
-    pub fn new(inner_radius: f64, outer_radius: f64, law: WallLaw, model: TubeModel, rel_tol: f64, intervals: Option<usize>) -> Result<Self> {
+    pub fn new(
+        inner_radius: f64,
+        outer_radius: f64,
+        law: WallLaw,
+        model: TubeModel,
+        rel_tol: f64,
+        intervals: Option<usize>,
+    ) -> Result<Self> {
         // Geometry and law are validated by building both models once.
         law.validate()?;
         let scene = TubeScene { inner_radius, outer_radius, law, model, rel_tol, intervals };
@@ -149,9 +161,16 @@ impl TubeScene {
 
     fn membrane(&self) -> Result<MembraneTube<'_>> {
         if self.inner_radius == 0.0 {
-            return Err(Error::new(Status::ErrInvalidGeometry, "a solid cylinder has no membrane model: use the thick model"));
+            return Err(Error::new(
+                Status::ErrInvalidGeometry,
+                "a solid cylinder has no membrane model: use the thick model",
+            ));
         }
-        MembraneTube::new(0.5 * (self.inner_radius + self.outer_radius), self.outer_radius - self.inner_radius, self.law.as_material())
+        MembraneTube::new(
+            0.5 * (self.inner_radius + self.outer_radius),
+            self.outer_radius - self.inner_radius,
+            self.law.as_material(),
+        )
     }
 
     fn options(&self) -> SolveOptions {
@@ -178,7 +197,11 @@ impl TubeScene {
 
     /// A sweep along `loadings` with one model for all states (for Auto: the
     /// membrane if its estimate meets the tolerance at the last loading).
-    pub fn sweep(&self, loadings: &[Loading], progress: impl FnMut(usize, &TubeState) -> bool) -> Result<(Sweep, TubeModel)> {
+    pub fn sweep(
+        &self,
+        loadings: &[Loading],
+        progress: impl FnMut(usize, &TubeState) -> bool,
+    ) -> Result<(Sweep, TubeModel)> {
         let model = match (self.model, loadings.last()) {
             (TubeModel::Auto, Some(last)) => self.solve(last)?.1,
             (TubeModel::Auto, None) => TubeModel::Thick,
@@ -196,7 +219,8 @@ impl TubeScene {
     /// thick linear theory of the law's small-strain material.
     pub fn coupling_stiffness(&self) -> Result<Estimated<CouplingStiffness>> {
         let (mat, comp, tau0) = self.law.small_strain()?;
-        ThickTube::new(self.inner_radius, self.outer_radius, tau0, mat, comp)?.coupling_stiffness(self.rel_tol.max(1e-12))
+        ThickTube::new(self.inner_radius, self.outer_radius, tau0, mat, comp)?
+            .coupling_stiffness(self.rel_tol.max(1e-12))
     }
 
     /// The tube section as a rod (§1.5 "effective rod law"): the condensed

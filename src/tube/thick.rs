@@ -99,7 +99,9 @@ impl ThickTube {
         if !(inner_radius < outer_radius) {
             return Err(Error::new(
                 Status::ErrInvalidGeometry,
-                format!("impossible tube: inner radius {inner_radius:e} must be below the outer radius {outer_radius:e}"),
+                format!(
+                    "impossible tube: inner radius {inner_radius:e} must be below the outer radius {outer_radius:e}"
+                ),
             ));
         }
         Ok(ThickTube { inner_radius, outer_radius, intrinsic_twist, material, compressibility })
@@ -192,7 +194,8 @@ impl ThickTube {
             (ChebyshevGrid::logarithmic(intervals, PINHOLE * b, b), Inner::TractionFree)
         };
         let r = &grid.nodes;
-        let c: Vec<Matrix4<f64>> = r.iter().map(|&ri| tube_block(&self.material, (self.intrinsic_twist * ri).atan())).collect();
+        let c: Vec<Matrix4<f64>> =
+            r.iter().map(|&ri| tube_block(&self.material, (self.intrinsic_twist * ri).atan())).collect();
         let out = if incompressible {
             self.incompressible(&grid, &c, cases, inner)?
         } else {
@@ -211,7 +214,13 @@ impl ThickTube {
     /// with u(A) = Aε_A replacing the first at R = A and s(B) = 0 replacing
     /// the second at R = B. Solid cylinder: u(0) = 0 and s'(0) = 0 (fields
     /// even in R) at the axis.
-    fn compressible(&self, grid: &ChebyshevGrid, c: &[Matrix4<f64>], cases: &[[f64; 3]], inner: Inner) -> Result<Vec<[f64; 3]>> {
+    fn compressible(
+        &self,
+        grid: &ChebyshevGrid,
+        c: &[Matrix4<f64>],
+        cases: &[[f64; 3]],
+        inner: Inner,
+    ) -> Result<Vec<[f64; 3]>> {
         let n = grid.intervals();
         let m = n + 1;
         let (r, d) = (&grid.nodes, &grid.diff);
@@ -257,18 +266,25 @@ impl ThickTube {
                 rhs[i] = if i == 0 && !traction_free { a * eps_a } else { -loaded(i, RR) };
                 rhs[m + i] = if i == n || (i == 0 && traction_free) { 0.0 } else { loaded(i, TT) };
             }
-            let sol = lu.solve(&rhs).ok_or_else(|| {
-                Error::new(Status::ErrNotConverged, "thick-tube collocation matrix is singular")
-            })?;
+            let sol = lu
+                .solve(&rhs)
+                .ok_or_else(|| Error::new(Status::ErrNotConverged, "thick-tube collocation matrix is singular"))?;
             let u = sol.rows(0, m).into_owned();
             let du = d * &u;
-            let stress = |j: usize, row: usize| c[j][(row, TT)] * u[j] / r[j] + c[j][(row, RR)] * du[j] + loaded(j, row);
+            let stress =
+                |j: usize, row: usize| c[j][(row, TT)] * u[j] / r[j] + c[j][(row, RR)] * du[j] + loaded(j, row);
             out.push(self.resultants(grid, |j| stress(j, ZZ), |j| stress(j, ZT), -sol[m]));
         }
         Ok(out)
     }
 
-    fn incompressible(&self, grid: &ChebyshevGrid, c: &[Matrix4<f64>], cases: &[[f64; 3]], inner: Inner) -> Result<Vec<[f64; 3]>> {
+    fn incompressible(
+        &self,
+        grid: &ChebyshevGrid,
+        c: &[Matrix4<f64>],
+        cases: &[[f64; 3]],
+        inner: Inner,
+    ) -> Result<Vec<[f64; 3]>> {
         let (r, a, n) = (&grid.nodes, self.inner_radius, grid.intervals());
         let mut out = Vec::with_capacity(cases.len());
         for &[eps, psi, eps_a] in cases {
@@ -307,14 +323,25 @@ impl ThickTube {
         let r = &grid.nodes;
         let jump = DVector::from_fn(r.len(), |j, _| {
             let w = dd / (r[j] * r[j]);
-            let row = |k: usize| c[j][(k, ZZ)] * eps + c[j][(k, TT)] * (-0.5 * eps + w) + c[j][(k, RR)] * (-0.5 * eps - w) + c[j][(k, ZT)] * psi * r[j];
+            let row = |k: usize| {
+                c[j][(k, ZZ)] * eps
+                    + c[j][(k, TT)] * (-0.5 * eps + w)
+                    + c[j][(k, RR)] * (-0.5 * eps - w)
+                    + c[j][(k, ZT)] * psi * r[j]
+            };
             (row(TT) - row(RR)) / r[j]
         });
         grid.integrate(&jump)
     }
 
     /// (F, T, 2πA²p) = (2π∫σ_ZZ R dR, 2π∫τ_ZΘ R² dR, 2πA²p).
-    fn resultants(&self, grid: &ChebyshevGrid, szz: impl Fn(usize) -> f64, szt: impl Fn(usize) -> f64, p: f64) -> [f64; 3] {
+    fn resultants(
+        &self,
+        grid: &ChebyshevGrid,
+        szz: impl Fn(usize) -> f64,
+        szt: impl Fn(usize) -> f64,
+        p: f64,
+    ) -> [f64; 3] {
         let r = &grid.nodes;
         let mut f = 2.0 * PI * grid.integrate(&DVector::from_fn(r.len(), |j, _| szz(j) * r[j]));
         let mut t = 2.0 * PI * grid.integrate(&DVector::from_fn(r.len(), |j, _| szt(j) * r[j] * r[j]));

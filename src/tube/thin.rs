@@ -67,11 +67,7 @@ impl ThinTube {
         // (ε, ψ, ε_θ) and scaling the shear row and column by R.
         let q = self.material.rotated_stiffness(self.helix_angle());
         let r = self.mid_radius;
-        let p = Matrix3::new(
-            1.0, 0.0, 0.0,
-            0.0, 0.0, r,
-            0.0, 1.0, 0.0,
-        );
+        let p = Matrix3::new(1.0, 0.0, 0.0, 0.0, 0.0, r, 0.0, 1.0, 0.0);
         let k = (p * q * p.transpose()) * (2.0 * PI * r * self.thickness);
         CouplingStiffness::new(k, self.intrinsic_twist)
     }

@@ -66,7 +66,8 @@ pub fn jacobian_fd_error(p: &mut dyn Problem, x: &[f64], phi: f64) -> f64 {
             dense[pat.row_idx[k] * n + col] = jx[k];
         }
     }
-    let row_max: Vec<f64> = (0..n).map(|i| (0..n).map(|j| dense[i * n + j].abs()).fold(jl[i].abs(), f64::max)).collect();
+    let row_max: Vec<f64> =
+        (0..n).map(|i| (0..n).map(|j| dense[i * n + j].abs()).fold(jl[i].abs(), f64::max)).collect();
     let (us, _) = p.unknown_scales();
     let (mut rp, mut rm) = (vec![0.0; n], vec![0.0; n]);
     let mut worst = 0.0f64;

@@ -127,7 +127,14 @@ impl DenseMat {
     /// same owner type (SUNMatDestroy frees either kind).
     fn band(n: usize, upper: usize, lower: usize, ctx: &Context) -> Result<Self, String> {
         // SAFETY: plain constructor; null is checked.
-        let m = unsafe { sys::SUNBandMatrix(n as sys::sunindextype, upper as sys::sunindextype, lower as sys::sunindextype, ctx.as_raw()) };
+        let m = unsafe {
+            sys::SUNBandMatrix(
+                n as sys::sunindextype,
+                upper as sys::sunindextype,
+                lower as sys::sunindextype,
+                ctx.as_raw(),
+            )
+        };
         if m.is_null() {
             return Err(format!("SUNBandMatrix({n}, {upper}, {lower}) returned NULL"));
         }
@@ -269,11 +276,7 @@ impl<'a> DenseColMajor<'a> {
             let len = sys::SUNDenseMatrix_LData(m) as usize;
             debug_assert_eq!(len, nrows * ncols);
             let p = sys::SUNDenseMatrix_Data(m);
-            let data = if len == 0 || p.is_null() {
-                &mut []
-            } else {
-                std::slice::from_raw_parts_mut(p, len)
-            };
+            let data = if len == 0 || p.is_null() { &mut [] } else { std::slice::from_raw_parts_mut(p, len) };
             Self { data, nrows, ncols }
         }
     }
@@ -317,20 +320,14 @@ impl<'a> DenseColMajor<'a> {
 impl Index<(usize, usize)> for DenseColMajor<'_> {
     type Output = f64;
     fn index(&self, (i, j): (usize, usize)) -> &f64 {
-        assert!(
-            i < self.nrows && j < self.ncols,
-            "DenseColMajor: ({i}, {j}) out of range"
-        );
+        assert!(i < self.nrows && j < self.ncols, "DenseColMajor: ({i}, {j}) out of range");
         &self.data[i + j * self.nrows]
     }
 }
 
 impl IndexMut<(usize, usize)> for DenseColMajor<'_> {
     fn index_mut(&mut self, (i, j): (usize, usize)) -> &mut f64 {
-        assert!(
-            i < self.nrows && j < self.ncols,
-            "DenseColMajor: ({i}, {j}) out of range"
-        );
+        assert!(i < self.nrows && j < self.ncols, "DenseColMajor: ({i}, {j}) out of range");
         &mut self.data[i + j * self.nrows]
     }
 }
@@ -590,11 +587,7 @@ struct KinData<'a, 'j> {
     panic: Option<String>,
 }
 
-unsafe extern "C" fn kin_residual(
-    u: sys::N_Vector,
-    f: sys::N_Vector,
-    user_data: *mut c_void,
-) -> c_int {
+unsafe extern "C" fn kin_residual(u: sys::N_Vector, f: sys::N_Vector, user_data: *mut c_void) -> c_int {
     // SAFETY: user_data is the `KinData` that outlives the KINSOL memory;
     // u and f are distinct live serial vectors owned by KINSOL.
     let data = unsafe { &mut *(user_data as *mut KinData<'_, '_>) };
@@ -693,10 +686,7 @@ fn kinsol_solve_with<'a, 'j>(
     let scale = |s: &Option<Vec<f64>>, what: &str| -> Result<Vec<f64>, String> {
         match s {
             None => Ok(vec![1.0; n]),
-            Some(v) if v.len() != n => Err(format!(
-                "kinsol_solve: {what} has length {} != {n}",
-                v.len()
-            )),
+            Some(v) if v.len() != n => Err(format!("kinsol_solve: {what} has length {} != {n}", v.len())),
             Some(v) if v.iter().any(|&s| !(s > 0.0 && s.is_finite())) => {
                 Err(format!("kinsol_solve: {what} must be positive and finite"))
             }
@@ -747,14 +737,7 @@ fn kinsol_solve_with<'a, 'j>(
     if mem.0.is_null() {
         return Err("KINCreate returned NULL".into());
     }
-    let w = Work {
-        mem,
-        ls,
-        mat,
-        u,
-        u_scale,
-        f_scale,
-    };
+    let w = Work { mem, ls, mat, u, u_scale, f_scale };
 
     let m = w.mem.0;
     let strategy = match opts.strategy {
@@ -765,101 +748,44 @@ fn kinsol_solve_with<'a, 'j>(
     // SAFETY: `m` is live; the callbacks match KINSOL's prototypes; the
     // user data outlives `w`; all vectors/matrices have length n.
     let flag = unsafe {
-        check(
-            sys::KINInit(m, Some(kin_residual), w.u.0),
-            "KINInit",
-            kin_flag_name,
-        )?;
-        check(
-            sys::KINSetUserData(m, user_data),
-            "KINSetUserData",
-            kin_flag_name,
-        )?;
-        check(
-            sys::KINSetFuncNormTol(m, opts.func_norm_tol),
-            "KINSetFuncNormTol",
-            kin_flag_name,
-        )?;
-        check(
-            sys::KINSetScaledStepTol(m, opts.scaled_step_tol),
-            "KINSetScaledStepTol",
-            kin_flag_name,
-        )?;
-        check(
-            sys::KINSetNumMaxIters(m, opts.max_iters as c_long),
-            "KINSetNumMaxIters",
-            kin_flag_name,
-        )?;
-        check(
-            sys::KINSetMaxSetupCalls(m, opts.max_setup_calls as c_long),
-            "KINSetMaxSetupCalls",
-            kin_flag_name,
-        )?;
+        check(sys::KINInit(m, Some(kin_residual), w.u.0), "KINInit", kin_flag_name)?;
+        check(sys::KINSetUserData(m, user_data), "KINSetUserData", kin_flag_name)?;
+        check(sys::KINSetFuncNormTol(m, opts.func_norm_tol), "KINSetFuncNormTol", kin_flag_name)?;
+        check(sys::KINSetScaledStepTol(m, opts.scaled_step_tol), "KINSetScaledStepTol", kin_flag_name)?;
+        check(sys::KINSetNumMaxIters(m, opts.max_iters as c_long), "KINSetNumMaxIters", kin_flag_name)?;
+        check(sys::KINSetMaxSetupCalls(m, opts.max_setup_calls as c_long), "KINSetMaxSetupCalls", kin_flag_name)?;
         if let Some(step) = opts.max_newton_step {
-            check(
-                sys::KINSetMaxNewtonStep(m, step),
-                "KINSetMaxNewtonStep",
-                kin_flag_name,
-            )?;
+            check(sys::KINSetMaxNewtonStep(m, step), "KINSetMaxNewtonStep", kin_flag_name)?;
         }
-        check(
-            sys::KINSetLinearSolver(m, w.ls.0, w.mat.0),
-            "KINSetLinearSolver",
-            kinls_flag_name,
-        )?;
+        check(sys::KINSetLinearSolver(m, w.ls.0, w.mat.0), "KINSetLinearSolver", kinls_flag_name)?;
         if has_jacobian {
-            check(
-                sys::KINSetJacFn(m, Some(kin_jacobian)),
-                "KINSetJacFn",
-                kinls_flag_name,
-            )?;
+            check(sys::KINSetJacFn(m, Some(kin_jacobian)), "KINSetJacFn", kinls_flag_name)?;
         }
         if band_widths.is_some() {
-            check(
-                sys::KINSetJacFn(m, Some(kin_band_jacobian)),
-                "KINSetJacFn",
-                kinls_flag_name,
-            )?;
+            check(sys::KINSetJacFn(m, Some(kin_band_jacobian)), "KINSetJacFn", kinls_flag_name)?;
         }
         sys::KINSol(m, w.u.0, strategy, w.u_scale.0, w.f_scale.0)
     };
     x.copy_from_slice(w.u.as_slice());
 
-    let get = |f: unsafe extern "C" fn(*mut c_void, *mut c_long) -> c_int,
-               call: &str,
-               name: fn(c_int) -> &'static str| {
-        let mut v: c_long = 0;
-        // SAFETY: `m` is live and `v` a valid out-pointer.
-        check(unsafe { f(m, &mut v) }, call, name).map(|_| v as i64)
-    };
+    let get =
+        |f: unsafe extern "C" fn(*mut c_void, *mut c_long) -> c_int, call: &str, name: fn(c_int) -> &'static str| {
+            let mut v: c_long = 0;
+            // SAFETY: `m` is live and `v` a valid out-pointer.
+            check(unsafe { f(m, &mut v) }, call, name).map(|_| v as i64)
+        };
     let stats = (|| -> Result<KinsolStats, String> {
         let mut func_norm = 0.0;
         // SAFETY: `m` is live and `func_norm` a valid out-pointer.
-        check(
-            unsafe { sys::KINGetFuncNorm(m, &mut func_norm) },
-            "KINGetFuncNorm",
-            kin_flag_name,
-        )?;
+        check(unsafe { sys::KINGetFuncNorm(m, &mut func_norm) }, "KINGetFuncNorm", kin_flag_name)?;
         Ok(KinsolStats {
             flag,
             flag_name: kin_flag_name(flag),
-            iterations: get(
-                sys::KINGetNumNonlinSolvIters,
-                "KINGetNumNonlinSolvIters",
-                kin_flag_name,
-            )?,
+            iterations: get(sys::KINGetNumNonlinSolvIters, "KINGetNumNonlinSolvIters", kin_flag_name)?,
             residual_evals: get(sys::KINGetNumFuncEvals, "KINGetNumFuncEvals", kin_flag_name)?,
-            residual_evals_fd: get(
-                sys::KINGetNumLinFuncEvals,
-                "KINGetNumLinFuncEvals",
-                kinls_flag_name,
-            )?,
+            residual_evals_fd: get(sys::KINGetNumLinFuncEvals, "KINGetNumLinFuncEvals", kinls_flag_name)?,
             jacobian_evals: get(sys::KINGetNumJacEvals, "KINGetNumJacEvals", kinls_flag_name)?,
-            backtracks: get(
-                sys::KINGetNumBacktrackOps,
-                "KINGetNumBacktrackOps",
-                kin_flag_name,
-            )?,
+            backtracks: get(sys::KINGetNumBacktrackOps, "KINGetNumBacktrackOps", kin_flag_name)?,
             residual_calls: data.residual_calls,
             func_norm,
         })
@@ -1043,11 +969,7 @@ pub fn ida_solve(
         return Err("ida_solve: empty state vector".into());
     }
     if yp0.len() != n || id.len() != n {
-        return Err(format!(
-            "ida_solve: lengths differ (y0 {n}, yp0 {}, id {})",
-            yp0.len(),
-            id.len()
-        ));
+        return Err(format!("ida_solve: lengths differ (y0 {n}, yp0 {}, id {})", yp0.len(), id.len()));
     }
     if id.iter().any(|&v| v != 0.0 && v != 1.0) {
         return Err("ida_solve: id entries must be 0 (algebraic) or 1 (differential)".into());
@@ -1064,18 +986,11 @@ pub fn ida_solve(
             .windows(2)
             .all(|w| (w[1] - w[0]) * dir > 0.0);
     if !monotone {
-        return Err(
-            "ida_solve: output times must be finite, strictly monotone and away from t0".into(),
-        );
+        return Err("ida_solve: output times must be finite, strictly monotone and away from t0".into());
     }
 
     let has_jacobian = jacobian.is_some();
-    let mut data = IdaData {
-        residual: &mut residual,
-        jacobian,
-        residual_calls: 0,
-        panic: None,
-    };
+    let mut data = IdaData { residual: &mut residual, jacobian, residual_calls: 0, panic: None };
 
     // Field order = drop order (solver memory first).
     struct Work {
@@ -1096,14 +1011,7 @@ pub fn ida_solve(
     if mem.0.is_null() {
         return Err("IDACreate returned NULL".into());
     }
-    let mut w = Work {
-        mem,
-        ls,
-        mat,
-        y,
-        yp,
-        id: idv,
-    };
+    let mut w = Work { mem, ls, mat, y, yp, id: idv };
     let m = w.mem.0;
     let user_data = &mut data as *mut IdaData<'_, '_> as *mut c_void;
 
@@ -1111,53 +1019,21 @@ pub fn ida_solve(
         // SAFETY: `m` is live; callbacks match IDA's prototypes; the user
         // data outlives `w`; all vectors/matrices have length n.
         unsafe {
-            check(
-                sys::IDAInit(m, Some(ida_residual), t0, w.y.0, w.yp.0),
-                "IDAInit",
-                ida_flag_name,
-            )?;
-            check(
-                sys::IDASetUserData(m, user_data),
-                "IDASetUserData",
-                ida_flag_name,
-            )?;
-            check(
-                sys::IDASStolerances(m, opts.rtol, opts.atol),
-                "IDASStolerances",
-                ida_flag_name,
-            )?;
-            check(
-                sys::IDASetMaxNumSteps(m, opts.max_steps as c_long),
-                "IDASetMaxNumSteps",
-                ida_flag_name,
-            )?;
+            check(sys::IDAInit(m, Some(ida_residual), t0, w.y.0, w.yp.0), "IDAInit", ida_flag_name)?;
+            check(sys::IDASetUserData(m, user_data), "IDASetUserData", ida_flag_name)?;
+            check(sys::IDASStolerances(m, opts.rtol, opts.atol), "IDASStolerances", ida_flag_name)?;
+            check(sys::IDASetMaxNumSteps(m, opts.max_steps as c_long), "IDASetMaxNumSteps", ida_flag_name)?;
             if let Some(q) = opts.max_order {
-                check(
-                    sys::IDASetMaxOrd(m, q as c_int),
-                    "IDASetMaxOrd",
-                    ida_flag_name,
-                )?;
+                check(sys::IDASetMaxOrd(m, q as c_int), "IDASetMaxOrd", ida_flag_name)?;
             }
             check(sys::IDASetId(m, w.id.0), "IDASetId", ida_flag_name)?;
             if opts.stop_at_last_output {
                 let t_last = *t_out.last().unwrap();
-                check(
-                    sys::IDASetStopTime(m, t_last),
-                    "IDASetStopTime",
-                    ida_flag_name,
-                )?;
+                check(sys::IDASetStopTime(m, t_last), "IDASetStopTime", ida_flag_name)?;
             }
-            check(
-                sys::IDASetLinearSolver(m, w.ls.0, w.mat.0),
-                "IDASetLinearSolver",
-                idals_flag_name,
-            )?;
+            check(sys::IDASetLinearSolver(m, w.ls.0, w.mat.0), "IDASetLinearSolver", idals_flag_name)?;
             if has_jacobian {
-                check(
-                    sys::IDASetJacFn(m, Some(ida_jacobian)),
-                    "IDASetJacFn",
-                    idals_flag_name,
-                )?;
+                check(sys::IDASetJacFn(m, Some(ida_jacobian)), "IDASetJacFn", idals_flag_name)?;
             }
             let icopt = match opts.initial_condition {
                 InitialCondition::AsGiven => None,
@@ -1165,16 +1041,8 @@ pub fn ida_solve(
                 InitialCondition::ComputeY => Some(sys::IDA_Y_INIT),
             };
             if let Some(icopt) = icopt {
-                check(
-                    sys::IDACalcIC(m, icopt, t_out[0]),
-                    "IDACalcIC",
-                    ida_flag_name,
-                )?;
-                check(
-                    sys::IDAGetConsistentIC(m, w.y.0, w.yp.0),
-                    "IDAGetConsistentIC",
-                    ida_flag_name,
-                )?;
+                check(sys::IDACalcIC(m, icopt, t_out[0]), "IDACalcIC", ida_flag_name)?;
+                check(sys::IDAGetConsistentIC(m, w.y.0, w.yp.0), "IDAGetConsistentIC", ida_flag_name)?;
             }
         }
         let y0_used = w.y.as_slice().to_vec();
@@ -1203,46 +1071,19 @@ pub fn ida_solve(
         };
         let mut last_order: c_int = 0;
         // SAFETY: `m` is live and `last_order` a valid out-pointer.
-        check(
-            unsafe { sys::IDAGetLastOrder(m, &mut last_order) },
-            "IDAGetLastOrder",
-            ida_flag_name,
-        )?;
+        check(unsafe { sys::IDAGetLastOrder(m, &mut last_order) }, "IDAGetLastOrder", ida_flag_name)?;
         let stats = IdaStats {
             steps: get(sys::IDAGetNumSteps, "IDAGetNumSteps", ida_flag_name)?,
             residual_evals: get(sys::IDAGetNumResEvals, "IDAGetNumResEvals", ida_flag_name)?,
-            residual_evals_fd: get(
-                sys::IDAGetNumLinResEvals,
-                "IDAGetNumLinResEvals",
-                idals_flag_name,
-            )?,
+            residual_evals_fd: get(sys::IDAGetNumLinResEvals, "IDAGetNumLinResEvals", idals_flag_name)?,
             jacobian_evals: get(sys::IDAGetNumJacEvals, "IDAGetNumJacEvals", idals_flag_name)?,
-            nonlin_iters: get(
-                sys::IDAGetNumNonlinSolvIters,
-                "IDAGetNumNonlinSolvIters",
-                ida_flag_name,
-            )?,
-            nonlin_conv_fails: get(
-                sys::IDAGetNumNonlinSolvConvFails,
-                "IDAGetNumNonlinSolvConvFails",
-                ida_flag_name,
-            )?,
-            err_test_fails: get(
-                sys::IDAGetNumErrTestFails,
-                "IDAGetNumErrTestFails",
-                ida_flag_name,
-            )?,
+            nonlin_iters: get(sys::IDAGetNumNonlinSolvIters, "IDAGetNumNonlinSolvIters", ida_flag_name)?,
+            nonlin_conv_fails: get(sys::IDAGetNumNonlinSolvConvFails, "IDAGetNumNonlinSolvConvFails", ida_flag_name)?,
+            err_test_fails: get(sys::IDAGetNumErrTestFails, "IDAGetNumErrTestFails", ida_flag_name)?,
             last_order,
             residual_calls: 0, // filled in below, once `data` is readable again
         };
-        Ok(IdaSolution {
-            y0: y0_used,
-            yp0: yp0_used,
-            t: t_ret,
-            y: ys,
-            yp: yps,
-            stats,
-        })
+        Ok(IdaSolution { y0: y0_used, yp0: yp0_used, t: t_ret, y: ys, yp: yps, stats })
     };
     let result = run(&mut w);
     drop(w);
@@ -1260,7 +1101,12 @@ pub fn ida_solve(
 /// rodkit `Problem` at fixed Λ from `start`; returns its root, asserting
 /// a scaled residual ≤ 1e-11. The cross-check of tests/sundials_rod.rs and
 /// tests/sundials_charged.rs.
-pub fn kinsol_problem_root<P: rodkit::continuation::Problem + ?Sized>(ctx: &Context, sys: &mut P, lambda: f64, start: &[f64]) -> Vec<f64> {
+pub fn kinsol_problem_root<P: rodkit::continuation::Problem + ?Sized>(
+    ctx: &Context,
+    sys: &mut P,
+    lambda: f64,
+    start: &[f64],
+) -> Vec<f64> {
     let n = sys.dim();
     let eq = sys.equation_scales();
     let (us, _) = sys.unknown_scales();

@@ -47,11 +47,7 @@ impl WallStrain {
 
     /// Deformation gradient F, rows (r, θ, z), columns (R, Θ, Z).
     pub fn gradient(&self) -> Matrix3<f64> {
-        Matrix3::new(
-            self.radial, 0.0, 0.0,
-            0.0, self.hoop, self.shear,
-            0.0, 0.0, self.axial,
-        )
+        Matrix3::new(self.radial, 0.0, 0.0, 0.0, self.hoop, self.shear, 0.0, 0.0, self.axial)
     }
 
     /// Right Cauchy–Green tensor C = FᵀF.

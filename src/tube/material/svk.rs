@@ -36,7 +36,11 @@ impl SaintVenantKirchhoff {
         // Engineering shears: 2E_ij = C_ij for i ≠ j.
         Vector6::from_fn(|k, _| {
             let (i, j) = PAIRS[k];
-            if i == j { 0.5 * (c[(i, i)] - 1.0) } else { c[(i, j)] }
+            if i == j {
+                0.5 * (c[(i, i)] - 1.0)
+            } else {
+                c[(i, j)]
+            }
         })
     }
 }
@@ -89,7 +93,12 @@ mod tests {
         let eps = Vector6::new(1.0, -0.5, 0.3, 0.0, 0.0, 0.7);
         let lin = w.material.rotated_stiffness((1.7f64 * r).atan()) * eps;
         for (k, &(i, j)) in PAIRS.iter().enumerate() {
-            assert!((sigma[(i, j)] - lin[k]).abs() < 1e-5 * lin.amax(), "component {k}: {} vs {}", sigma[(i, j)], lin[k]);
+            assert!(
+                (sigma[(i, j)] - lin[k]).abs() < 1e-5 * lin.amax(),
+                "component {k}: {} vs {}",
+                sigma[(i, j)],
+                lin[k]
+            );
         }
     }
 }

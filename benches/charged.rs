@@ -173,15 +173,15 @@ fn superhelix_state(rod: &rodkit::rod::model::Rod) -> Vec<f64> {
 /// the cutoff's tolerance, so Newton contracts by about that much per
 /// iteration instead of quadratically).
 struct Truncated<'a> {
-    full: &'a mut rodkit::electrostatics::rod::ChargedRod,
-    cut: &'a mut rodkit::electrostatics::rod::ChargedRod,
+    full: &'a mut rodkit::charged::rod::ChargedRod,
+    cut: &'a mut rodkit::charged::rod::ChargedRod,
 }
 
 impl rodkit::continuation::Problem for Truncated<'_> {
     fn dim(&self) -> usize {
         self.cut.dim()
     }
-    fn pattern(&self) -> &rodkit::sparse::Pattern {
+    fn pattern(&self) -> &rodkit::linalg::sparse::Pattern {
         self.cut.pattern()
     }
     fn residual(&mut self, x: &[f64], lambda: f64, r: &mut [f64]) {
@@ -206,11 +206,12 @@ fn force_error(f: &[[f64; 3]], reference: &[[f64; 3]]) -> f64 {
 }
 
 fn rod_table(out: &mut String, dir: &std::path::Path) {
+    use rodkit::charged::branch::follow;
+    use rodkit::charged::dna::DnaScene;
+    use rodkit::charged::rod::{ChargedRod, RodCharge};
     use rodkit::continuation::krylov::{newton_krylov, BandPreconditioner, KrylovOptions};
     use rodkit::continuation::newton::{continue_newton, Start};
     use rodkit::continuation::{Options, Problem};
-    use rodkit::electrostatics::rod::{ChargedRod, RodCharge};
-    use rodkit::electrostatics::supercoil::{follow, DnaScene};
     let _ = writeln!(out, "\ncoupled rod, continuum vs discrete base pairs (DNA scene: 0.1 M, ν = 1/l_B, 1 pN; h = 3.4 nm, Gauss(2); straight state at φ = 2)");
     let _ = writeln!(out, "time per residual and Jacobian (medians of 21 and 9) and per equilibrium (medians of 3 direct, 9 NK, 3 NK all pairs): Newton at φ = 2.1 from the continuum's equilibrium at φ = 2 (a continuation corrector) to a scaled residual of 1e-8, the DNA scene default,");
     let _ = writeln!(out, "  direct = sparse Newton of the continuation engine (exact Jacobian, full LU, symbolic analysis included); NK = Newton–Krylov (GMRES, central-difference products, preconditioner: LU of the Jacobian band |i − j| ≤ w, w = {} = one element's coupling for the continuum, twice that for base pairs, refreshed after > 10 GMRES iterations), cold (symbolic analysis, Jacobian and band LU included) and warm (band LU kept from a previous solve, as along a continuation);", 51);

@@ -13,7 +13,7 @@
 mod plot;
 use plot::line_plot;
 use plotters::prelude::{RGBColor, BLUE, RED};
-use rodkit::electrostatics::supercoil::{run_scene, DnaScene, SupercoilSettings};
+use rodkit::charged::dna::{run_scene, DnaScene, SupercoilSettings};
 use std::fmt::Write as _;
 use std::path::Path;
 

@@ -5,17 +5,28 @@
 //! the only place allowed to opt out of the lint below.
 #![deny(unsafe_code)]
 
-pub mod chebyshev;
-pub mod continuation;
-pub mod electrostatics;
+// Infrastructure.
 pub mod error;
-pub mod newton;
-pub mod rod;
-pub mod sparse;
 pub mod status;
-pub mod taylor;
-pub mod tube;
 pub mod version;
+
+// Numerical building blocks, independent of any model.
+pub mod chebyshev;
+pub mod linalg;
+pub mod quadrature;
+pub mod roots;
+pub mod taylor;
+
+// Engines: nonlinear solves and continuation.
+pub mod continuation;
+pub mod newton;
+
+// Geometry and physics.
+pub mod charged;
+pub mod electrostatics;
+pub mod geometry;
+pub mod rod;
+pub mod tube;
 
 pub mod capi;
 

@@ -167,8 +167,8 @@ fn ring_energy_writhe_and_validation() {
 #[test]
 fn supercoil_solve_point_through_the_c_abi() {
     use rodkit::capi::supercoil::*;
-    use rodkit::electrostatics::equilibrium::{solve_point, EquilibriumSolver as Solver};
-    use rodkit::electrostatics::supercoil::{run_scene, DnaScene, SupercoilSettings};
+    use rodkit::charged::dna::{run_scene, DnaScene, SupercoilSettings};
+    use rodkit::charged::equilibrium::{solve_point, EquilibriumSolver as Solver};
     let mut spec = std::mem::MaybeUninit::<DnaSupercoilSpec>::uninit();
     assert_eq!(unsafe { rodkit_dna_supercoil_spec_default(spec.as_mut_ptr()) }, 0);
     let mut spec = unsafe { spec.assume_init() };
@@ -275,7 +275,7 @@ fn supercoil_solve_point_through_the_c_abi() {
 #[test]
 fn torque_clamp_supercoil_through_the_c_abi() {
     use rodkit::capi::supercoil::*;
-    use rodkit::electrostatics::supercoil::{run_scene, DnaScene, EndControl as Control, SupercoilSettings};
+    use rodkit::charged::dna::{run_scene, DnaScene, EndControl as Control, SupercoilSettings};
     let mut spec = std::mem::MaybeUninit::<DnaSupercoilSpec>::uninit();
     assert_eq!(unsafe { rodkit_dna_supercoil_spec_default(spec.as_mut_ptr()) }, 0);
     let mut spec = unsafe { spec.assume_init() };

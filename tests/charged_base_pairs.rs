@@ -7,11 +7,12 @@
 mod charged;
 
 use charged::coiled_state;
+use rodkit::charged::branch;
+use rodkit::charged::dna::DnaScene;
+use rodkit::charged::rod::{ChargedRod, RodCharge};
 use rodkit::continuation::newton::Start;
 use rodkit::continuation::Options;
 use rodkit::electrostatics::discrete;
-use rodkit::electrostatics::rod::{ChargedRod, RodCharge};
-use rodkit::electrostatics::supercoil::{self, DnaScene};
 use rodkit::rod::model::Rod;
 
 /// 200 bp at 0.01 M on 20 elements (3.4 nm), base pairs at 0.34 nm, a
@@ -161,7 +162,7 @@ fn buckling_point_converges_to_the_continuum() {
             max_steps: 200,
             ..Default::default()
         };
-        let b = supercoil::follow(
+        let b = branch::follow(
             &rod,
             charge,
             Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },

@@ -6,10 +6,11 @@
 //! straight twisted state, the OSF-stiffened uncharged rod), or a clear
 //! status; never NaN.
 
+use rodkit::charged::branch::{self, ChargedBranch};
+use rodkit::charged::dna::DnaScene;
+use rodkit::charged::rod::{ChargedRod, RodCharge};
 use rodkit::continuation::newton::Start;
 use rodkit::continuation::Options;
-use rodkit::electrostatics::rod::{ChargedRod, RodCharge};
-use rodkit::electrostatics::supercoil::{self, ChargedBranch, DnaScene};
 use rodkit::electrostatics::Screening;
 use rodkit::rod::model::{Rod, Supports};
 use rodkit::rod::{Loads, RodLaw};
@@ -25,7 +26,7 @@ fn straight(rod: &Rod, charge: &RodCharge, to: f64) -> ChargedBranch {
         max_steps: 100,
         ..Default::default()
     };
-    supercoil::follow(
+    branch::follow(
         rod,
         charge,
         Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
@@ -208,7 +209,7 @@ fn long_rod() {
         max_steps: 200,
         ..Default::default()
     };
-    let b = supercoil::follow(
+    let b = branch::follow(
         &rod,
         &charge,
         Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },

@@ -6,11 +6,11 @@
 mod charged;
 
 use charged::coiled_state;
+use rodkit::charged::branch::{self, ChargedBranch};
+use rodkit::charged::dna::{self, DnaScene};
+use rodkit::charged::rod::{ChargedRod, RodCharge};
 use rodkit::continuation::newton::Start;
 use rodkit::continuation::{Options, Problem};
-use rodkit::electrostatics::rod::{ChargedRod, RodCharge};
-use rodkit::electrostatics::supercoil::ChargedBranch;
-use rodkit::electrostatics::supercoil::{self, DnaScene};
 use rodkit::electrostatics::{energy, EnergyQuadrature, HermiteCurve, LineCharge};
 use rodkit::rod::kinematics::rotation;
 use rodkit::rod::model::Rod;
@@ -65,7 +65,7 @@ fn force_is_minus_the_energy_gradient() {
         .collect();
     assert!(far_pairs.iter().any(|&d| d > on && d < off), "no pair in the switch ({on}, {off})");
     assert!(
-        far_pairs.iter().any(|&d| d < rodkit::electrostatics::rod::HARD_CORE_RANGE * charge.screening.a),
+        far_pairs.iter().any(|&d| d < rodkit::charged::rod::HARD_CORE_RANGE * charge.screening.a),
         "no pair in the hard core"
     );
     let mut worst = 0.0f64;
@@ -148,7 +148,7 @@ fn straight_branch(rod: &Rod, charge: &RodCharge, to: f64) -> ChargedBranch {
         max_steps: 200,
         ..Default::default()
     };
-    supercoil::follow(
+    branch::follow(
         rod,
         charge,
         Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
@@ -210,7 +210,7 @@ fn buckled_300() -> &'static (ChargedBranch, ChargedBranch) {
         let straight = straight_branch(&rod, &charge, 12.0);
         let opts =
             Options { residual_tol: 1e-11, initial_step: 0.05, max_step: 0.5, max_steps: 40, ..Default::default() };
-        let b = supercoil::switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap();
+        let b = branch::switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap();
         (straight, b)
     })
 }
@@ -248,7 +248,7 @@ fn end_torque_is_the_derivative_of_the_energy() {
         let dg = (gibbs_at(&rod, &charge, b.phase, x, phi + eps, scene.tension)
             - gibbs_at(&rod, &charge, b.phase, x, phi - eps, scene.tension))
             / (2.0 * eps);
-        let o = supercoil::observables(&rod, x, phi).unwrap();
+        let o = dna::observables(&rod, x, phi).unwrap();
         let err = (dg - o.torque).abs() / o.torque.abs();
         println!("φ {phi:.5}: torque {:.8} pN nm, dG/dφ {dg:.8}, relative {err:e}", o.torque);
         assert!(err < 2e-5, "φ {phi}: torque {} vs dG/dφ {dg}", o.torque);
@@ -266,13 +266,13 @@ fn linking_number_is_the_end_rotation() {
     for (r, x) in
         straight.records.iter().zip(&straight.states).step_by(3).chain(b.records.iter().zip(&b.states).step_by(4))
     {
-        let o = supercoil::observables(&rod, x, r.lambda).unwrap();
+        let o = dna::observables(&rod, x, r.lambda).unwrap();
         let e = (o.twist + o.writhe - o.turns).abs();
         worst = worst.max(e);
         assert!(e < 1e-4, "φ {}: Tw {} + Wr {} vs {} turns", r.lambda, o.twist, o.writhe, o.turns);
     }
     let last = b.states.last().unwrap();
-    let o = supercoil::observables(&rod, last, b.records.last().unwrap().lambda).unwrap();
+    let o = dna::observables(&rod, last, b.records.last().unwrap().lambda).unwrap();
     assert!(o.writhe > 0.3, "the branch barely writhes: Wr {}", o.writhe);
     println!("worst |Tw + Wr − φ/2π| {worst:e}; last point Tw {} Wr {}", o.twist, o.writhe);
 }
@@ -362,7 +362,7 @@ fn strand_crossing_stops_the_branch_and_a_hard_core_prevents_it() {
         let straight = straight_branch(&rod, charge, 12.0);
         let opts =
             Options { residual_tol: 1e-10, initial_step: 0.2, max_step: 1.0, max_steps: 100, ..Default::default() };
-        supercoil::switch(&rod, charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap()
+        branch::switch(&rod, charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap()
     };
     let b = run(&charge);
     let c = b.crossing.expect("the uncharged loop crosses itself");
@@ -473,10 +473,10 @@ fn dna_scene_finds_the_first_buckling_point() {
     let (k, c) = (base.bending_persistence * kt, base.twist_persistence * kt);
     let l = base.base_pairs as f64 * base.rise;
     let roots = clamped_buckling_torques(k, base.tension, l, 2);
-    let settings = supercoil::SupercoilSettings { elements: 50, max_steps: 30, ..Default::default() };
+    let settings = dna::SupercoilSettings { elements: 50, max_steps: 30, ..Default::default() };
     let uncharged = DnaScene { charge_per_length: 0.0, ..base.clone() };
-    let (phi0, m0) = supercoil::run_scene(&uncharged, &settings).unwrap().buckling.expect("uncharged buckling");
-    let (phi1, m1) = supercoil::run_scene(&base, &settings).unwrap().buckling.expect("charged buckling");
+    let (phi0, m0) = dna::run_scene(&uncharged, &settings).unwrap().buckling.expect("uncharged buckling");
+    let (phi1, m1) = dna::run_scene(&base, &settings).unwrap().buckling.expect("charged buckling");
     println!("analytic roots {roots:?}; scene uncharged M {m0} (φ {phi0}), charged M {m1} (φ {phi1})");
     assert!((m0 - roots[0]).abs() < 1e-4 * roots[0], "uncharged {m0} vs {}", roots[0]);
     // φ = ML/C of the straight twisted rod up to the collocation of the
@@ -500,11 +500,11 @@ fn dna_scene_finds_the_first_buckling_point() {
 #[test]
 fn torque_clamp_follows_the_rotation_controlled_path() {
     let scene = DnaScene { base_pairs: 300, ..Default::default() };
-    let base = supercoil::SupercoilSettings { elements: 40, max_steps: 60, max_turns: 2.2, ..Default::default() };
-    let rotation = supercoil::run_scene(&scene, &base).unwrap();
-    let torque = supercoil::run_scene(
+    let base = dna::SupercoilSettings { elements: 40, max_steps: 60, max_turns: 2.2, ..Default::default() };
+    let rotation = dna::run_scene(&scene, &base).unwrap();
+    let torque = dna::run_scene(
         &scene,
-        &supercoil::SupercoilSettings { control: supercoil::EndControl::Torque, max_steps: 40, ..base.clone() },
+        &dna::SupercoilSettings { control: dna::EndControl::Torque, max_steps: 40, ..base.clone() },
     )
     .unwrap();
     let (br, bt) = (rotation.buckling.unwrap(), torque.buckling.unwrap());

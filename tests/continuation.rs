@@ -230,7 +230,7 @@ fn switch_at_a_located_pitchfork_follows_the_new_branch() {
 #[test]
 fn nan_residual_is_never_converged() {
     use rodkit::continuation::Problem;
-    use rodkit::sparse::Pattern;
+    use rodkit::linalg::sparse::Pattern;
     struct Poisoned(AssembledSystem);
     impl Problem for Poisoned {
         fn dim(&self) -> usize {

@@ -560,7 +560,7 @@ fn strand_crossing_is_detected() {
             r.push([0.0, -10.0 + spacing * k as f64, sep]);
             s.push(100.0 + spacing * k as f64);
         }
-        let hit = discrete::closest_pair_within(&r, &s, 2.0 * a, 3.0 * a);
+        let hit = rodkit::geometry::proximity::closest_pair_within(&r, &s, 2.0 * a, 3.0 * a);
         assert_eq!(hit.is_some(), crossing, "separation {sep}: {hit:?}");
         if let Some((d, i, j)) = hit {
             assert!((d - sep).abs() < spacing, "distance {d} vs {sep}");

@@ -540,9 +540,8 @@ fn c_rod_sundials_driver() {
 /// (−2.9245397422, tests/writhe.rs) to the Hermite centreline's error.
 #[test]
 fn fortran_charged_curve_driver() {
-    use rodkit::electrostatics::{
-        discrete, energy, writhe::writhe, EnergyQuadrature, HermiteCurve, LineCharge, Screening,
-    };
+    use rodkit::electrostatics::{discrete, energy, EnergyQuadrature, HermiteCurve, LineCharge, Screening};
+    use rodkit::geometry::writhe::writhe;
     let out = run("f_charged_curve_shared", &[]);
     let got = values(&out);
     let (radius, pitch, length, n) = (1.0f64, 3.0f64, 20.0f64, 81usize);
@@ -590,8 +589,8 @@ fn fortran_charged_curve_driver() {
 /// agree (1e-9); the static build prints the same.
 #[test]
 fn fortran_dna_supercoil_driver() {
-    use rodkit::electrostatics::equilibrium::{solve_point, EquilibriumSolver};
-    use rodkit::electrostatics::supercoil::{run_scene, DnaScene, SupercoilSettings};
+    use rodkit::charged::dna::{run_scene, DnaScene, SupercoilSettings};
+    use rodkit::charged::equilibrium::{solve_point, EquilibriumSolver};
     let out = run("f_dna_supercoil_shared", &[]);
     let got = values(&out);
     let scene = DnaScene { base_pairs: 300, ..Default::default() };
@@ -626,7 +625,7 @@ fn fortran_dna_supercoil_driver() {
 /// the static build prints the same.
 #[test]
 fn c_dna_supercoil_driver() {
-    use rodkit::electrostatics::supercoil::{run_scene, DnaScene, SupercoilSettings};
+    use rodkit::charged::dna::{run_scene, DnaScene, SupercoilSettings};
     let dir = std::env::temp_dir().join(format!("rodkit-supercoil-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let (csv, vtk) = (dir.join("d.csv"), dir.join("d.vtk"));
@@ -660,7 +659,7 @@ fn c_dna_supercoil_driver() {
     // solve_point (1e-12); Newton–Krylov and the direct solver agree; the
     // shape moves, by far less than the radius (3.0e-2 nm measured).
     {
-        use rodkit::electrostatics::equilibrium::{solve_point, EquilibriumSolver};
+        use rodkit::charged::equilibrium::{solve_point, EquilibriumSolver};
         let mut bp = r.charge.clone();
         bp.base_pairs = Some(scene.rise);
         let p = solve_point(&r, r.points.len() - 1, &bp, EquilibriumSolver::NewtonKrylov, 1e-10).unwrap();
@@ -693,7 +692,7 @@ fn c_dna_supercoil_driver() {
     let out_t = run("c_dna_supercoil_shared", &args_t);
     assert!(out_t.contains("continued in the end torque"), "{out_t}");
     let got_t = values(&out_t);
-    let settings_t = SupercoilSettings { control: rodkit::electrostatics::supercoil::EndControl::Torque, ..settings };
+    let settings_t = SupercoilSettings { control: rodkit::charged::dna::EndControl::Torque, ..settings };
     let rt = run_scene(&scene, &settings_t).unwrap();
     let last_t = rt.points.last().unwrap().observables;
     assert_eq!(got_t["points"], rt.points.len() as f64);

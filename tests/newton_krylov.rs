@@ -3,12 +3,13 @@
 //! problem with a known solution and on the charged DNA rod against the
 //! direct sparse Newton of the continuation engine.
 
+use rodkit::charged::branch::follow;
+use rodkit::charged::dna::DnaScene;
+use rodkit::charged::rod::ChargedRod;
 use rodkit::continuation::krylov::{newton_krylov, BandPreconditioner, KrylovOptions};
 use rodkit::continuation::newton::{continue_newton, Start};
 use rodkit::continuation::{Options, Problem};
-use rodkit::electrostatics::rod::ChargedRod;
-use rodkit::electrostatics::supercoil::{follow, DnaScene};
-use rodkit::sparse::Pattern;
+use rodkit::linalg::sparse::Pattern;
 use rodkit::status::Status;
 
 /// R_i(u) = (u_{i−1} − 2u_i + u_{i+1})/h² − μ e^{u_i} + γ ū − b_i on a
@@ -254,7 +255,7 @@ fn charged_rod_equilibrium_matches_direct_newton() {
         let s = p.unknown_scales().0;
         let diff = x.iter().zip(&direct.resume.x).zip(&s).map(|((a, b), s)| ((a - b) / s).abs()).fold(0.0, f64::max);
         let (kept, all) = pre.kept();
-        let mut full = rodkit::sparse::SparseLu::new(p.pattern().clone()).unwrap();
+        let mut full = rodkit::linalg::sparse::SparseLu::new(p.pattern().clone()).unwrap();
         let mut jx = vec![0.0; all];
         let mut jl = vec![0.0; p.dim()];
         p.jacobian(&x, 2.1, &mut jx, &mut jl);

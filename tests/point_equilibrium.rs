@@ -5,8 +5,8 @@
 //! sparse Newton (two independent solvers); all-pairs base pairs differ
 //! from the cutoff's by about the cutoff tolerance.
 
-use rodkit::electrostatics::equilibrium::{solve_point, EquilibriumSolver};
-use rodkit::electrostatics::supercoil::{run_scene, DnaScene, SupercoilRun, SupercoilSettings};
+use rodkit::charged::dna::{run_scene, DnaScene, SupercoilRun, SupercoilSettings};
+use rodkit::charged::equilibrium::{solve_point, EquilibriumSolver};
 use rodkit::status::Status;
 
 fn small_run() -> SupercoilRun {

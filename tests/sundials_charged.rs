@@ -14,10 +14,11 @@
 #[path = "support/sundials.rs"]
 mod sundials;
 
+use rodkit::charged::branch;
+use rodkit::charged::dna::{self, DnaScene};
+use rodkit::charged::rod::ChargedRod;
 use rodkit::continuation::newton::Start;
 use rodkit::continuation::{Options, Problem};
-use rodkit::electrostatics::rod::ChargedRod;
-use rodkit::electrostatics::supercoil::{self, DnaScene};
 use sundials::{kinsol_problem_root as kinsol_root, Context};
 
 fn perturbed(x: &[f64], scales: &[f64], eps: f64) -> Vec<f64> {
@@ -40,7 +41,7 @@ fn kinsol_agrees_on_the_charged_residual() {
         bifurcation_tol: 1e-8,
         ..Default::default()
     };
-    let straight = supercoil::follow(
+    let straight = branch::follow(
         &rod,
         &charge,
         Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
@@ -51,7 +52,7 @@ fn kinsol_agrees_on_the_charged_residual() {
     .unwrap();
     assert!(!straight.bifurcations.is_empty(), "no buckling below φ = 8");
     let opts = Options { residual_tol: 1e-12, initial_step: 0.1, max_step: 0.3, max_steps: 16, ..Default::default() };
-    let buckled = supercoil::switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap();
+    let buckled = branch::switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap();
     let k = straight.records.len() / 2;
     let mut points = vec![(None, straight.states[k].clone(), straight.records[k].lambda)];
     for k in [8, buckled.records.len() - 1] {
@@ -62,7 +63,7 @@ fn kinsol_agrees_on_the_charged_residual() {
         let (us, _) = p.unknown_scales();
         let root = kinsol_root(&ctx, &mut p, phi, &perturbed(&x, &us, 1e-4));
         let d = root.iter().zip(&x).zip(&us).map(|((a, b), s)| ((a - b) / s).abs()).fold(0.0, f64::max);
-        let o = supercoil::observables(&rod, &x, phi).unwrap();
+        let o = dna::observables(&rod, &x, phi).unwrap();
         println!(
             "φ = {phi:.5} ({:.4} turns, Wr {:.4}, phase {}): KINSOL vs rodkit {d:e}",
             o.turns,

@@ -7,8 +7,8 @@
 //! straight segment (collinear with its rays: Wr = 0; the rays' tangents
 //! are the same for C1, so they add nothing to Fuller's integral).
 
-use rodkit::electrostatics::writhe::writhe;
 use rodkit::electrostatics::Centerline;
+use rodkit::geometry::writhe::writhe;
 use std::f64::consts::PI;
 
 /// A curve r(σ) given with r'(σ), r''(σ) for its own parameter σ ∈ [0, P].

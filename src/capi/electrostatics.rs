@@ -4,8 +4,9 @@
 //! leading dimensions — and interpolated by C¹ cubic Hermite pieces.
 
 use super::{arg_mut, arg_ref, guard, null_error, qualify_argument};
-use crate::electrostatics::{self, discrete, writhe::writhe, EnergyQuadrature, HermiteCurve, LineCharge, Screening};
+use crate::electrostatics::{self, discrete, EnergyQuadrature, HermiteCurve, LineCharge, Screening};
 use crate::error::{self, Error, Result};
+use crate::geometry::writhe::writhe;
 use crate::status::Status;
 
 /// Line charge and interaction. Call `rodkit_electrostatics_spec_default`

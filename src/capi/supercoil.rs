@@ -5,7 +5,7 @@
 //! the path (turns, extension, torque, twist, writhe) and the shapes.
 
 use super::{arg_mut, arg_ref, guard, null_error, qualify_argument};
-use crate::electrostatics::supercoil::{run_scene, DnaScene, SupercoilRun, SupercoilSettings};
+use crate::charged::dna::{run_scene, DnaScene, SupercoilRun, SupercoilSettings};
 use crate::error::{self, Error, Result};
 use crate::status::Status;
 
@@ -200,8 +200,8 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
         residual_tol: s.residual_tol,
         base_pairs: flag("discrete_base_pairs", s.discrete_base_pairs)?,
         control: match s.end_control {
-            1 => crate::electrostatics::supercoil::EndControl::Rotation,
-            2 => crate::electrostatics::supercoil::EndControl::Torque,
+            1 => crate::charged::dna::EndControl::Rotation,
+            2 => crate::charged::dna::EndControl::Torque,
             v => {
                 return Err(Error::new(
                     Status::ErrOutOfRange,
@@ -460,7 +460,7 @@ pub unsafe extern "C" fn rodkit_supercoil_solve_point(
     nodes: i64,
 ) -> i32 {
     guard(|| {
-        use crate::electrostatics::equilibrium::{solve_point, EquilibriumSolver as Solver};
+        use crate::charged::equilibrium::{solve_point, EquilibriumSolver as Solver};
         let r = &arg_ref("run", run)?.run;
         let s = *arg_ref("spec", spec)?;
         let out = arg_mut("out", out)?;

@@ -23,13 +23,13 @@
 //! corrected at fixed Λ.
 
 use super::bifurcation::{Bifurcation, State};
-use super::bordered::Bordered;
 use super::newton::deliver_sample;
 use super::newton::{correct, detect, make_record, residual_norm, validate, validate_resume, Start};
 use super::pade::{self, Curve};
-use super::{all_roots, first_root};
+use super::tangent::Bordered;
 use super::{Branch, Counts, Options, Record, Resume, Sample, Scaling, SeriesProblem, Stop};
 use crate::error::{self, Error, Result};
+use crate::roots::{all_roots, first_root};
 use crate::status::Status;
 
 /// ANM settings.

@@ -27,7 +27,8 @@
 use super::newton::{backtrack, residual_norm};
 use super::{Counts, Problem, Scaling};
 use crate::error::{Error, Result};
-use crate::sparse::{Pattern, SparseLu};
+use crate::linalg::band::BandLu;
+use crate::linalg::Pattern;
 use crate::status::Status;
 
 /// Options of [`newton_krylov`].
@@ -83,24 +84,14 @@ pub struct KrylovReport {
     pub counts: Counts,
 }
 
-/// [`BandPreconditioner`]'s mark of a full-pattern entry outside the band.
-const DROPPED: u32 = u32::MAX;
-
-/// The sparse LU of the banded part of a Jacobian (see the module header),
-/// with its symbolic analysis done once and its numeric factorisation kept
-/// until [`BandPreconditioner::refresh`].
+/// The lagged preconditioner: the LU of the band of a Jacobian
+/// ([`BandLu`]: the rod's band, the boundary corners, an optional border)
+/// with the Jacobian buffers it is evaluated into, its numeric
+/// factorisation kept until [`BandPreconditioner::refresh`].
 pub struct BandPreconditioner {
-    n: usize,
-    band: usize,
-    /// For each entry of the full pattern, its position in the band's
-    /// values (DROPPED: not kept). u32, not Option<usize>: 4 bytes an entry
-    /// instead of 16 (12 MB at 10 kbp on the DNA rod, all of it touched —
-    /// page faults — by every cold solve).
-    map: Vec<u32>,
+    lu: BandLu,
     jx: Vec<f64>,
     jl: Vec<f64>,
-    values: Vec<f64>,
-    lu: SparseLu,
     factorised: bool,
 }
 
@@ -112,58 +103,19 @@ impl BandPreconditioner {
     }
 
     /// As [`BandPreconditioner::new`], also keeping the last `border` rows
-    /// and columns whole: unknowns appended to a banded problem (a phase
-    /// condition's multiplier, a continuation's parameter) whose equations
-    /// reach mid-band — without them the banded matrix is singular.
+    /// and columns whole (see [`BandLu::new`]).
     pub fn bordered(pattern: &Pattern, band: usize, border: usize) -> Result<Self> {
-        let n = pattern.n;
-        if pattern.nnz() >= DROPPED as usize {
-            return Err(Error::new(
-                Status::ErrInvalidDimension,
-                format!("band preconditioner: {} entries is beyond the u32 positions' range", pattern.nnz()),
-            ));
-        }
-        let keep = |i: usize, j: usize| {
-            i.abs_diff(j) <= band || (i.min(j) < band && i.max(j) + band >= n) || i.max(j) + border >= n
-        };
-        // The kept entries in the full pattern's (sorted, compressed-column)
-        // order are already the band's: one pass, no sort or search.
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::new();
-        let mut map = Vec::with_capacity(pattern.nnz());
-        col_ptr.push(0);
-        for j in 0..n {
-            for &i in &pattern.row_idx[pattern.col_ptr[j]..pattern.col_ptr[j + 1]] {
-                map.push(if keep(i, j) {
-                    row_idx.push(i);
-                    (row_idx.len() - 1) as u32
-                } else {
-                    DROPPED
-                });
-            }
-            col_ptr.push(row_idx.len());
-        }
-        let small = Pattern { n, col_ptr, row_idx };
-        let values = vec![0.0; small.nnz()];
-        Ok(BandPreconditioner {
-            n,
-            band,
-            map,
-            jx: vec![0.0; pattern.nnz()],
-            jl: vec![0.0; n],
-            values,
-            lu: SparseLu::new(small)?,
-            factorised: false,
-        })
+        let lu = BandLu::new(pattern, band, border)?;
+        Ok(BandPreconditioner { lu, jx: vec![0.0; pattern.nnz()], jl: vec![0.0; pattern.n], factorised: false })
     }
 
     pub fn band(&self) -> usize {
-        self.band
+        self.lu.band()
     }
 
     /// Entries kept of the full pattern's.
     pub fn kept(&self) -> (usize, usize) {
-        (self.values.len(), self.map.len())
+        self.lu.kept()
     }
 
     /// Entries of the banded matrix's L + U (0 before the first factorisation).
@@ -180,7 +132,7 @@ impl BandPreconditioner {
         lambda: f64,
         counts: &mut Counts,
     ) -> Result<()> {
-        if source.dim() != self.n || source.pattern().nnz() != self.map.len() {
+        if source.dim() != self.lu.dim() || source.pattern().nnz() != self.jx.len() {
             return Err(Error::new(
                 Status::ErrInvalidDimension,
                 "band preconditioner: the Jacobian's pattern is not the one it was built for",
@@ -189,13 +141,7 @@ impl BandPreconditioner {
         self.factorised = false;
         source.jacobian(x, lambda, &mut self.jx, &mut self.jl);
         counts.jacobians += 1;
-        self.values.fill(0.0);
-        for (&m, &v) in self.map.iter().zip(&self.jx) {
-            if m != DROPPED {
-                self.values[m as usize] = v;
-            }
-        }
-        self.lu.factorise(&self.values)?;
+        self.lu.factorise(&self.jx)?;
         counts.factorisations += 1;
         self.factorised = true;
         Ok(())
@@ -228,7 +174,7 @@ pub fn newton_krylov<P: Problem + ?Sized>(
 ) -> Result<KrylovReport> {
     let n = problem.dim();
     crate::error::count_in_range("Newton–Krylov state length", x.len() as i64, n as i64, n as i64)?;
-    if pre.n != n {
+    if pre.lu.dim() != n {
         return Err(Error::new(
             Status::ErrInvalidDimension,
             "Newton–Krylov: the preconditioner is for another dimension",

@@ -22,13 +22,14 @@
 
 pub mod anm;
 pub mod bifurcation;
-pub mod bordered;
 pub mod krylov;
 pub mod newton;
 mod pade;
 pub mod system;
+pub mod tangent;
 
-use crate::sparse::Pattern;
+use crate::linalg::dense::nan_max;
+use crate::linalg::Pattern;
 
 /// A system of n equations in n unknowns x and the parameter Λ.
 pub trait Problem {
@@ -59,16 +60,6 @@ pub trait SeriesProblem: Problem {
     /// side of the recursion); called again with the solved X_p it commits
     /// order p.
     fn series_order(&mut self, p: usize, xp: &[f64], lambda_p: f64, out: &mut [f64]);
-}
-
-/// max(a, b) that keeps NaN (f64::max drops it: a NaN residual would score
-/// 0 and pass every tolerance).
-pub(crate) fn nan_max(a: f64, b: f64) -> f64 {
-    if a.is_nan() || b.is_nan() {
-        f64::NAN
-    } else {
-        a.max(b)
-    }
 }
 
 /// Typical magnitudes of the unknowns and Λ: the arc-length inner product
@@ -287,52 +278,4 @@ impl Branch {
         self.missed_samples = missed;
         self
     }
-}
-
-/// Every root of g on (0, b] (sign changes over 64 pieces, bisected): a
-/// step that passes a fold crosses a load twice.
-pub(crate) fn all_roots(g: impl Fn(f64) -> f64, b: f64) -> Vec<f64> {
-    let mut roots = Vec::new();
-    let mut lo = 0.0;
-    while let Some(t) = first_root(|s| g(lo + s), b - lo) {
-        roots.push(lo + t);
-        lo += t * (1.0 + 1e-12) + f64::EPSILON;
-        if lo >= b {
-            break;
-        }
-    }
-    roots
-}
-
-/// The first root of g on (0, b]: a scan in 64 pieces then bisection.
-pub(crate) fn first_root(g: impl Fn(f64) -> f64, b: f64) -> Option<f64> {
-    let pieces = 64;
-    let mut a0 = 0.0;
-    let mut g0 = g(0.0);
-    if g0 == 0.0 {
-        return None; // starting on the target: not a crossing
-    }
-    for k in 1..=pieces {
-        let a1 = b * k as f64 / pieces as f64;
-        let g1 = g(a1);
-        if g0 * g1 <= 0.0 {
-            let (mut lo, mut hi, mut glo) = (a0, a1, g0);
-            for _ in 0..100 {
-                let mid = 0.5 * (lo + hi);
-                let gm = g(mid);
-                if gm == 0.0 {
-                    return Some(mid);
-                }
-                if gm * glo < 0.0 {
-                    hi = mid;
-                } else {
-                    lo = mid;
-                    glo = gm;
-                }
-            }
-            return Some(0.5 * (lo + hi));
-        }
-        (a0, g0) = (a1, g1);
-    }
-    None
 }

@@ -5,9 +5,11 @@
 //! reuses. Also the corrections both engines share.
 
 use super::bifurcation::{self, Bifurcation, State};
-use super::bordered::Bordered;
-use super::{all_roots, Branch, Counts, Options, Problem, Record, Resume, Sample, Scaling, Stop};
+use super::tangent::Bordered;
+use super::{Branch, Counts, Options, Problem, Record, Resume, Sample, Scaling, Stop};
 use crate::error::{self, Error, Result};
+use crate::linalg::dense::nan_max;
+use crate::roots::all_roots;
 use crate::status::Status;
 
 /// Where a continuation starts.
@@ -29,7 +31,7 @@ pub enum Start {
 
 /// Scaled residual max |R_i| / e_i (NaN when any R_i is NaN).
 pub(crate) fn residual_norm(r: &[f64], scales: &[f64]) -> f64 {
-    r.iter().zip(scales).map(|(a, s)| (a / s).abs()).fold(0.0, super::nan_max)
+    r.iter().zip(scales).map(|(a, s)| (a / s).abs()).fold(0.0, nan_max)
 }
 
 /// Halving line search from `x` along `step` at fixed Λ: t = 1, ½, … (at
@@ -89,7 +91,7 @@ pub fn damped_newton<P: Problem + ?Sized>(
     let n = problem.dim();
     error::count_in_range("Newton state length", x.len() as i64, n as i64, n as i64)?;
     let d = problem.equation_scales();
-    let mut lu = crate::sparse::SparseLu::new(problem.pattern().clone())?;
+    let mut lu = crate::linalg::sparse::SparseLu::new(problem.pattern().clone())?;
     let (mut jx, mut jl) = (vec![0.0; problem.pattern().nnz()], vec![0.0; n]);
     let (mut r, mut rt, mut step, mut trial) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     problem.residual(x, lambda, &mut r);

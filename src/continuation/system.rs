@@ -7,7 +7,7 @@
 //! by forward mode per block) and Taylor coefficients.
 
 use super::{Problem, SeriesProblem};
-use crate::sparse::Pattern;
+use crate::linalg::sparse::Pattern;
 use crate::taylor::{JacobianWork, Tape, TaylorWork};
 use std::sync::Arc;
 

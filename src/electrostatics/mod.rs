@@ -35,42 +35,23 @@
 //! within 0.1 %, falling at order 4.00; the OSF stiffness 1/(4κ²) from
 //! rings at κR = 20, 40; the base-pair sum converging at O(b).
 //!
-//! Writhe: [`writhe`] (Gauss double integral, rays closing an open rod;
-//! checked against Fuller's theorem to 1e-9).
-//!
 //! Force: [`force_density`] (the regularised f(s) of §3.1, r''·ln(δ/a) and
 //! λλ'd3·ln(δ/a) near-zone terms, one-sided at the ends; O(δ²), checked on
 //! rings against the exact virial) and [`energy_gradient`] (the exact
 //! derivative of the quadrature energy for a Hermite centreline).
-//! Twist and Lk = Tw + Wr of a rod state: `crate::rod::topology`.
 //!
-//! The coupling into a rod's equations: [`rod`] (the charged Kirchhoff
-//! rod as a continuation problem; with `RodCharge::base_pairs` the
-//! discrete base-pair model on the same rod, `rod_base_pairs`) and
-//! [`supercoil`] (branches, the DNA supercoiling scene).
+//! This module is the field of a centreline only: the curve itself and its
+//! writhe are [`crate::geometry`]; the charged rod — this field as a term
+//! of a rod's equations, its branches and the DNA scene — is
+//! [`crate::charged`].
 
 pub mod discrete;
-pub mod equilibrium;
-pub mod rod;
-mod rod_base_pairs;
 pub mod special;
-pub mod supercoil;
-pub mod writhe;
 
 use crate::error::{self, Error, Result};
+pub use crate::geometry::{Centerline, HermiteCurve};
+use crate::quadrature::{gauss_legendre, panels};
 use crate::status::Status;
-
-/// A smooth centreline parametrised by arc length s ∈ [0, L].
-pub trait Centerline {
-    fn length(&self) -> f64;
-    /// A closed curve (r(L) = r(0), periodic): no ends.
-    fn closed(&self) -> bool;
-    /// r(s), r'(s), r''(s).
-    fn eval(&self, s: f64) -> ([f64; 3], [f64; 3], [f64; 3]);
-    /// Arc lengths where the curve is only C¹ (element nodes), ascending,
-    /// inside (0, L); quadrature panels break there.
-    fn breakpoints(&self) -> Vec<f64>;
-}
 
 /// The line charge density λ(s) with its first two derivatives.
 #[derive(Clone)]
@@ -121,42 +102,6 @@ pub struct Energy {
     /// Far-zone kernel evaluations (the cost: O(N) with a cutoff, O(N²)
     /// without).
     pub far_evaluations: usize,
-}
-
-/// Gauss–Legendre nodes and weights on [−1, 1] (Newton on P_n).
-pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
-    let mut x = vec![0.0; n];
-    let mut w = vec![0.0; n];
-    for i in 0..n {
-        let mut z = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-        for _ in 0..100 {
-            let (mut p0, mut p1) = (1.0, z);
-            for k in 2..=n {
-                let p2 = ((2 * k - 1) as f64 * z * p1 - (k - 1) as f64 * p0) / k as f64;
-                p0 = p1;
-                p1 = p2;
-            }
-            let (pn, pn1) = if n == 1 { (z, 1.0) } else { (p1, p0) };
-            let dp = n as f64 * (z * pn - pn1) / (z * z - 1.0);
-            let dz = pn / dp;
-            z -= dz;
-            if dz.abs() < 1e-16 {
-                let dpn = {
-                    let (mut q0, mut q1) = (1.0, z);
-                    for k in 2..=n {
-                        let q2 = ((2 * k - 1) as f64 * z * q1 - (k - 1) as f64 * q0) / k as f64;
-                        q0 = q1;
-                        q1 = q2;
-                    }
-                    n as f64 * (z * q1 - q0) / (z * z - 1.0)
-                };
-                x[i] = z;
-                w[i] = 2.0 / ((1.0 - z * z) * dpn * dpn);
-                break;
-            }
-        }
-    }
-    (x, w)
 }
 
 fn validate(curve: &dyn Centerline, screening: &Screening, quad: &EnergyQuadrature) -> Result<()> {
@@ -210,16 +155,6 @@ fn near_side(lambda: (f64, f64, f64), sign: f64, curvature2: f64, j: &[f64; 4], 
     let (q, dq, ddq) = lambda;
     let k = s.kappa;
     q * (j[0] + curvature2 / 24.0 * j[2] + k * curvature2 / 24.0 * j[3]) + sign * dq * j[1] + 0.5 * ddq * j[2]
-}
-
-/// Panels of [lo, hi] broken at `breaks` (those inside).
-fn panels(lo: f64, hi: f64, breaks: &[f64]) -> Vec<(f64, f64)> {
-    let mut pts = vec![lo];
-    pts.extend(breaks.iter().copied().filter(|&b| b > lo && b < hi));
-    pts.push(hi);
-    pts.sort_by(f64::total_cmp);
-    pts.dedup_by(|a, b| (*a - *b).abs() <= 1e-14 * (hi - lo).abs().max(1.0));
-    pts.windows(2).map(|w| (w[0], w[1])).filter(|(a, b)| b > a).collect()
 }
 
 /// The continuum electrostatic energy of `curve` carrying `charge`.
@@ -354,7 +289,7 @@ struct FarZone {
     edges: Vec<f64>,
     /// Global points: (t, weight, panel index, position).
     points: Vec<(f64, f64, usize, [f64; 3])>,
-    cutoff: Option<(f64, discrete::CellList, Vec<[f64; 3]>)>,
+    cutoff: Option<(f64, crate::geometry::proximity::CellList, Vec<[f64; 3]>)>,
     gx: Vec<f64>,
     gw: Vec<f64>,
 }
@@ -386,7 +321,7 @@ impl FarZone {
         }
         let cutoff = cutoff.map(|rc| {
             let pos: Vec<[f64; 3]> = points.iter().map(|p| p.3).collect();
-            (rc, discrete::CellList::new(&pos, rc), pos)
+            (rc, crate::geometry::proximity::CellList::new(&pos, rc), pos)
         });
         FarZone { l, closed: curve.closed(), delta, kappa, edges, points, cutoff, gx: gx.to_vec(), gw: gw.to_vec() }
     }
@@ -592,112 +527,6 @@ pub fn energy_gradient(
     Ok((e, gr, gt))
 }
 
-/// A C¹ centreline through nodes: cubic Hermite in arc length from node
-/// positions and unit tangents (the rod's nodes and d3), open or closed.
-#[derive(Clone, Debug, PartialEq)]
-pub struct HermiteCurve {
-    pub s: Vec<f64>,
-    pub r: Vec<[f64; 3]>,
-    pub t: Vec<[f64; 3]>,
-    pub closed: bool,
-}
-
-impl HermiteCurve {
-    pub fn new(s: Vec<f64>, r: Vec<[f64; 3]>, t: Vec<[f64; 3]>, closed: bool) -> Result<Self> {
-        if s.len() < 2 || r.len() != s.len() || t.len() != s.len() {
-            return Err(Error::new(
-                Status::ErrInvalidDimension,
-                "a Hermite curve needs ≥ 2 nodes with one position and one tangent each",
-            ));
-        }
-        if !s.windows(2).all(|w| w[1] > w[0]) || s[0] != 0.0 {
-            return Err(Error::new(Status::ErrOutOfRange, "node arc lengths must start at 0 and increase"));
-        }
-        Ok(HermiteCurve { s, r, t, closed })
-    }
-
-    /// The element k holding s (s_k ≤ s < s_{k+1}; the last element for
-    /// s = L), its length h and the local coordinate u.
-    fn locate(&self, s: f64) -> (usize, f64, f64) {
-        let n = self.s.len() - 1;
-        let last = self.s[n];
-        let s = s.clamp(0.0, last);
-        // A rod's nodes are (nearly) uniform: start from the uniform guess
-        // and walk a few nodes; otherwise bisect. The writhe's double
-        // integral evaluates the curve ~10⁵ times per path point, and the
-        // bisection alone was 10 % of a supercoiling run.
-        let mut k = (((s / last) * n as f64) as usize).min(n - 1);
-        let mut found = false;
-        for _ in 0..4 {
-            if k > 0 && self.s[k] > s {
-                k -= 1;
-            } else if k + 1 < n && self.s[k + 1] <= s {
-                k += 1;
-            } else {
-                found = true;
-                break;
-            }
-        }
-        if !found {
-            k = match self.s.binary_search_by(|v| v.total_cmp(&s)) {
-                Ok(i) => i.min(n - 1),
-                Err(i) => (i.max(1) - 1).min(n - 1),
-            };
-        }
-        let h = self.s[k + 1] - self.s[k];
-        (k, h, (s - self.s[k]) / h)
-    }
-
-    /// (k, h, value weights, second-derivative weights in u) of the
-    /// Hermite basis (h00, h10, h01, h11) at s.
-    fn basis(&self, s: f64) -> (usize, f64, [f64; 4], [f64; 4]) {
-        let (k, h, u) = self.locate(s);
-        (
-            k,
-            h,
-            [
-                2.0 * u * u * u - 3.0 * u * u + 1.0,
-                u * u * u - 2.0 * u * u + u,
-                -2.0 * u * u * u + 3.0 * u * u,
-                u * u * u - u * u,
-            ],
-            [12.0 * u - 6.0, 6.0 * u - 4.0, -12.0 * u + 6.0, 6.0 * u - 2.0],
-        )
-    }
-}
-
-impl Centerline for HermiteCurve {
-    fn length(&self) -> f64 {
-        *self.s.last().expect("≥ 2 nodes")
-    }
-    fn closed(&self) -> bool {
-        self.closed
-    }
-    fn eval(&self, s: f64) -> ([f64; 3], [f64; 3], [f64; 3]) {
-        let (k, h, u) = self.locate(s);
-        let (h00, h10, h01, h11) = (
-            2.0 * u * u * u - 3.0 * u * u + 1.0,
-            u * u * u - 2.0 * u * u + u,
-            -2.0 * u * u * u + 3.0 * u * u,
-            u * u * u - u * u,
-        );
-        let (d00, d10, d01, d11) =
-            (6.0 * u * u - 6.0 * u, 3.0 * u * u - 4.0 * u + 1.0, -6.0 * u * u + 6.0 * u, 3.0 * u * u - 2.0 * u);
-        let (e00, e10, e01, e11) = (12.0 * u - 6.0, 6.0 * u - 4.0, -12.0 * u + 6.0, 6.0 * u - 2.0);
-        let mut out = ([0.0; 3], [0.0; 3], [0.0; 3]);
-        for i in 0..3 {
-            let (p0, p1, m0, m1) = (self.r[k][i], self.r[k + 1][i], h * self.t[k][i], h * self.t[k + 1][i]);
-            out.0[i] = h00 * p0 + h10 * m0 + h01 * p1 + h11 * m1;
-            out.1[i] = (d00 * p0 + d10 * m0 + d01 * p1 + d11 * m1) / h;
-            out.2[i] = (e00 * p0 + e10 * m0 + e01 * p1 + e11 * m1) / (h * h);
-        }
-        out
-    }
-    fn breakpoints(&self) -> Vec<f64> {
-        self.s[1..self.s.len() - 1].to_vec()
-    }
-}
-
 /// Which electrostatic model a scene got.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ElectrostaticModel {
@@ -760,39 +589,4 @@ pub fn energy_within(
         (delta, order, coarse) = (d2, o2, fine);
     }
     Err(Error::new(Status::ErrNotConverged, format!("electrostatic energy: no setting reached the relative tolerance {tolerance:e} (last δ {delta:e}, order {order})")))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The element search (uniform guess + walk, else bisection) against a
-    /// plain linear scan (the reference: the last node ≤ s, the last element
-    /// at s = L), on uniform, geometrically graded and jittered nodes, at
-    /// the nodes themselves, between them and at the ends.
-    #[test]
-    fn locate_finds_the_element_holding_s() {
-        let uniform: Vec<f64> = (0..=50).map(|i| 3.4 * i as f64).collect();
-        let graded: Vec<f64> = (0..=30).map(|i| 2f64.powi(i) - 1.0).collect();
-        let jittered: Vec<f64> = (0..=40)
-            .map(|i| i as f64 + if i % 2 == 1 { 0.45 } else { 0.0 } * if i % 3 == 0 { -1.0 } else { 1.0 })
-            .collect();
-        for s in [uniform, graded, jittered] {
-            let n = s.len();
-            let curve = HermiteCurve::new(s.clone(), vec![[0.0; 3]; n], vec![[0.0, 0.0, 1.0]; n], false).unwrap();
-            let last = s[n - 1];
-            let mut probes: Vec<f64> = s.clone();
-            probes.extend((0..=997).map(|i| last * i as f64 / 997.0));
-            probes.extend(s.windows(2).map(|w| 0.5 * (w[0] + w[1])));
-            probes.extend([-1.0, last + 1.0, last * (1.0 - 1e-15)]);
-            for &p in &probes {
-                let c = p.clamp(0.0, last);
-                let expect = (0..n - 1).rev().find(|&k| s[k] <= c).unwrap_or(0).min(n - 2);
-                let (k, h, u) = curve.locate(p);
-                assert_eq!(k, expect, "s = {p}");
-                assert_eq!(h, s[k + 1] - s[k]);
-                assert!((0.0..=1.0).contains(&u), "u = {u} at s = {p}");
-            }
-        }
-    }
 }

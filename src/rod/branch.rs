@@ -6,10 +6,10 @@
 use super::model::Rod;
 use crate::continuation::anm::{continue_anm, AnmOptions};
 use crate::continuation::bifurcation::{branch_start, Bifurcation};
-use crate::continuation::bordered::Bordered;
 use crate::continuation::newton::correct;
 use crate::continuation::newton::{continue_newton, Start};
 use crate::continuation::system::AssembledSystem;
+use crate::continuation::tangent::Bordered;
 use crate::continuation::{Counts, Options, Problem, Record, Resume, Sample, Scaling, Stop};
 use crate::error::{self, Error, Result};
 use crate::status::Status;

@@ -205,7 +205,7 @@ impl Rod {
         let gap = 0.5 * std::f64::consts::PI * d;
         let r: Vec<[f64; 3]> = pts.iter().map(|p| p.1).collect();
         let s: Vec<f64> = pts.iter().map(|p| p.0).collect();
-        crate::electrostatics::discrete::closest_pair_within(&r, &s, d, gap).map(|(dist, i, j)| (dist, s[i], s[j]))
+        crate::geometry::proximity::closest_pair_within(&r, &s, d, gap).map(|(dist, i, j)| (dist, s[i], s[j]))
     }
 
     /// Element length h.
@@ -325,7 +325,7 @@ impl Rod {
 
     /// The right-hand side's data with `extra_bending` added to both bending
     /// stiffnesses (K11, K22): the local electrostatic (OSF-like) stiffening
-    /// of a charged rod's near zone (crate::electrostatics::rod).
+    /// of a charged rod's near zone (crate::charged::rod).
     pub(crate) fn rhs_data_stiffened(&self, extra_bending: f64) -> RhsData {
         let c = if extra_bending == 0.0 {
             self.law.compliance()
@@ -377,7 +377,7 @@ impl Rod {
 
     /// The system with extra bending stiffness `extra[i][j]` at stage j of
     /// element i (Gauss schemes): a charged rod's near-zone stiffening
-    /// (crate::electrostatics::rod). Elements with equal stiffening share
+    /// (crate::charged::rod). Elements with equal stiffening share
     /// one recorded kernel.
     pub(crate) fn system_stiffened(&self, extra: &[Vec<f64>]) -> Result<AssembledSystem> {
         if extra.len() != self.elements

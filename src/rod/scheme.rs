@@ -47,21 +47,8 @@ pub struct Tableau {
 impl Tableau {
     pub fn gauss(s: usize) -> Tableau {
         assert!((1..=8).contains(&s), "Gauss–Legendre with {s} stages");
-        // Roots of the Legendre polynomial P_s on [−1, 1] by Newton from
-        // Chebyshev guesses, mapped to [0, 1].
-        let mut c = Vec::with_capacity(s);
-        for k in 0..s {
-            let mut x = -(std::f64::consts::PI * (k as f64 + 0.75) / (s as f64 + 0.5)).cos();
-            for _ in 0..100 {
-                let (p, dp) = legendre(s, x);
-                let dx = p / dp;
-                x -= dx;
-                if dx.abs() < 1e-16 {
-                    break;
-                }
-            }
-            c.push(0.5 * (x + 1.0));
-        }
+        // The Gauss–Legendre nodes on [−1, 1], mapped to [0, 1].
+        let mut c: Vec<f64> = crate::quadrature::gauss_legendre(s).0.iter().map(|z| 0.5 * (1.0 - z)).collect();
         c.sort_by(f64::total_cmp);
         // Lagrange basis in monomials: solve V coeffs = I with V_kj = c_k^j.
         let v = DMatrix::from_fn(s, s, |k, j| c[k].powi(j as i32));
@@ -72,22 +59,6 @@ impl Tableau {
         let b = (0..s).map(|j| integral(j, 1.0)).collect();
         let a = (0..s).map(|i| (0..s).map(|j| integral(j, c[i])).collect()).collect();
         Tableau { c, b, a }
-    }
-}
-
-/// (P_n(x), P_n'(x)) by the three-term recurrence.
-fn legendre(n: usize, x: f64) -> (f64, f64) {
-    let (mut p0, mut p1) = (1.0, x);
-    for k in 2..=n {
-        let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
-        p0 = p1;
-        p1 = p2;
-    }
-    let dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
-    if n == 0 {
-        (1.0, 0.0)
-    } else {
-        (p1, dp)
     }
 }
 

@@ -377,7 +377,13 @@ impl<'m> FiniteTube<'m> {
             }
             for j in 0..nodes.len() - 1 {
                 if values[j] * values[j + 1] < 0.0 && nodes[j] < nodes[j + 1] {
-                    roots.push(bracketed_root(|big| g(k, big), nodes[j], nodes[j + 1], values[j], values[j + 1]));
+                    roots.push(crate::roots::bracketed_root(
+                        |big| g(k, big),
+                        nodes[j],
+                        nodes[j + 1],
+                        values[j],
+                        values[j + 1],
+                    ));
                 }
             }
         }
@@ -1069,56 +1075,6 @@ pub(crate) fn validate(loading: &Loading) -> Result<()> {
 /// own scales: radii per B, stretch, twist × B, force per μπB², torque per
 /// μπB³ (so a state near rest is not judged by the relative change of tiny
 /// resultants).
-/// Root of g in [a, b] with g(a) = ga, g(b) = gb of opposite signs: Illinois
-/// regula falsi, with a bisection whenever the bracket fails to halve, to
-/// 1e−15 of the bracket (or an exact zero).
-fn bracketed_root(g: impl Fn(f64) -> f64, mut a: f64, mut b: f64, mut ga: f64, mut gb: f64) -> f64 {
-    let tol = 1e-15 * (a.abs() + b.abs());
-    let mut side = 0i8;
-    for _ in 0..200 {
-        let width = b - a;
-        if width <= tol {
-            break;
-        }
-        let mut c = (a * gb - b * ga) / (gb - ga);
-        if !(c > a && c < b) {
-            c = 0.5 * (a + b);
-        }
-        let gc = g(c);
-        if gc == 0.0 {
-            return c;
-        }
-        if gc.signum() == ga.signum() {
-            (a, ga) = (c, gc);
-            if side == -1 {
-                gb *= 0.5;
-            }
-            side = -1;
-        } else {
-            (b, gb) = (c, gc);
-            if side == 1 {
-                ga *= 0.5;
-            }
-            side = 1;
-        }
-        if b - a > 0.5 * width {
-            // Slow side: bisect once.
-            let mid = 0.5 * (a + b);
-            let gm = g(mid);
-            if gm == 0.0 {
-                return mid;
-            }
-            if gm.signum() == ga.signum() {
-                (a, ga) = (mid, gm);
-            } else {
-                (b, gb) = (mid, gm);
-            }
-            side = 0;
-        }
-    }
-    0.5 * (a + b)
-}
-
 fn state_difference(a: &TubeState, b: &TubeState, outer: f64, modulus: f64) -> f64 {
     let force = modulus * PI * outer * outer;
     let pairs = [

@@ -6,7 +6,7 @@
 /// Jacobian: the rod system is then banded for SUNDIALS' band solver. The
 /// pattern's diagonal is skipped: AssembledSystem adds it as a pivot slot
 /// even where it is structurally zero (the end conditions' rows).
-pub fn band_layout(p: &rodkit::sparse::Pattern) -> (Vec<usize>, usize, usize) {
+pub fn band_layout(p: &rodkit::linalg::sparse::Pattern) -> (Vec<usize>, usize, usize) {
     let mut first = vec![usize::MAX; p.n];
     for j in 0..p.n {
         for k in p.col_ptr[j]..p.col_ptr[j + 1] {

@@ -9,20 +9,10 @@
 //! and r(L) + σ r̂'(L), σ ≥ 0; the ray integrals are mapped to finite
 //! intervals (σ = ℓu/(1 − u)), exact as the rays go to infinity.
 
-use super::{gauss_legendre, Centerline};
+use super::vec3::{cross, dot, sub};
+use super::Centerline;
 use crate::error::{self, Result};
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
+use crate::quadrature::{gauss_legendre, panels};
 
 /// The Gauss integrand for points p, q with tangents tp, tq (0 at p = q).
 fn kernel(p: [f64; 3], tp: [f64; 3], q: [f64; 3], tq: [f64; 3]) -> f64 {
@@ -37,8 +27,7 @@ fn kernel(p: [f64; 3], tp: [f64; 3], q: [f64; 3], tq: [f64; 3]) -> f64 {
 /// Panels of [lo, hi] broken at `breaks` and graded geometrically towards
 /// `lo` and `hi` (to width `finest`) where `grade` says.
 fn graded_panels(lo: f64, hi: f64, breaks: &[f64], grade: (bool, bool), finest: f64) -> Vec<(f64, f64)> {
-    let mut pts = vec![lo, hi];
-    pts.extend(breaks.iter().copied().filter(|&b| b > lo && b < hi));
+    let mut pts = breaks.to_vec();
     let mut w = finest;
     while w < 0.5 * (hi - lo) {
         if grade.0 {
@@ -49,9 +38,7 @@ fn graded_panels(lo: f64, hi: f64, breaks: &[f64], grade: (bool, bool), finest: 
         }
         w *= 2.0;
     }
-    pts.sort_by(f64::total_cmp);
-    pts.dedup_by(|a, b| (*a - *b).abs() <= 1e-14 * (hi - lo).abs().max(1.0));
-    pts.windows(2).map(|w| (w[0], w[1])).filter(|(a, b)| b > a).collect()
+    panels(lo, hi, &pts)
 }
 
 /// Writhe of `curve` (closed, or open and closed by rays along its end

@@ -53,17 +53,19 @@
 //! preconditioner — 5–9× faster cold, ~20× warm on straight 1–10 kbp rods —
 //! and the damped direct Newton, as fast on 1 kbp buckled shapes.
 
-use super::discrete::{screening_cutoff, CellList};
-use super::rod_base_pairs::BasePairSites;
-use super::special;
-use super::Screening;
+use super::base_pairs::BasePairSites;
 use crate::continuation::system::AssembledSystem;
 use crate::continuation::Problem;
+use crate::electrostatics::discrete::screening_cutoff;
+use crate::electrostatics::special;
+use crate::electrostatics::Screening;
 use crate::error::{self, Error, Result};
+use crate::geometry::proximity::CellList;
+use crate::geometry::vec3::distance;
+use crate::linalg::Pattern;
 use crate::rod::kinematics::rotation;
 use crate::rod::model::{Rod, Supports};
 use crate::rod::scheme::{Scheme, Tableau};
-use crate::sparse::Pattern;
 use crate::status::Status;
 
 /// The hard core acts below this many radii (2.5a): it starts before the
@@ -819,7 +821,7 @@ impl ChargedRod {
             for &k in &self.adj[self.adj_ptr[j]..self.adj_ptr[j + 1]] {
                 let rk = self.r[k];
                 let rj = self.r[j];
-                let d = ((rj[0] - rk[0]).powi(2) + (rj[1] - rk[1]).powi(2) + (rj[2] - rk[2]).powi(2)).sqrt();
+                let d = distance(&rj, &rk);
                 let ww = 0.5 * pt.w * self.points[k].w;
                 if l2 != 0.0 {
                     far += ww * self.potential(d);

@@ -8,12 +8,13 @@
 //! determinant signs locate the buckling points; a single equilibrium is
 //! cheaper by Newton–Krylov — benches/charged.rs measures both).
 
+use super::dna::{observables, Observables, SupercoilRun};
 use super::rod::{ChargedRod, RodCharge};
-use super::supercoil::{observables, Observables, SupercoilRun};
 use crate::continuation::krylov::{newton_krylov, BandPreconditioner, KrylovOptions};
 use crate::continuation::newton::damped_newton;
 use crate::continuation::{Counts, Problem};
 use crate::error::{self, Error, Result};
+use crate::geometry::vec3::distance;
 use crate::rod::model::unwrap_rotation;
 use crate::status::Status;
 
@@ -163,12 +164,7 @@ pub fn solve_point(
         }
         if !problem.list_is_local() || problem.displacement(&x) <= half_skin {
             let path = rod.positions(&run.states[point]);
-            let shift = rod
-                .positions(&x[..n])
-                .iter()
-                .zip(&path)
-                .map(|(a, b)| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt())
-                .fold(0.0, f64::max);
+            let shift = rod.positions(&x[..n]).iter().zip(&path).map(|(a, b)| distance(&a, &b)).fold(0.0, f64::max);
             x.truncate(n);
             // A torque clamp's re-solved end angle, followed from the path's.
             let phi = if rod.torqued() {

@@ -27,7 +27,8 @@
 //! The forces run on the caller's threads (RodCharge::threads), bitwise
 //! identical for any count; the energy (reporting only) is sequential.
 
-use super::discrete::CellList;
+use crate::geometry::proximity::CellList;
+use crate::geometry::vec3::distance;
 
 /// Stage points in each site's interpolation stencil (cubic).
 pub const STENCIL: usize = 4;
@@ -225,7 +226,7 @@ impl BasePairSites {
         (0..self.count())
             .map(|k| {
                 let (r, r0) = (self.site(k, stages), self.reference[k]);
-                ((r[0] - r0[0]).powi(2) + (r[1] - r0[1]).powi(2) + (r[2] - r0[2]).powi(2)).sqrt()
+                distance(&r, &r0)
             })
             .fold(0.0, f64::max)
     }
@@ -241,7 +242,7 @@ impl BasePairSites {
             let rk = self.sites[k];
             for &l in &self.pair[self.pair_ptr[k]..self.pair_ptr[k + 1]] {
                 let rl = self.sites[l];
-                let d = ((rk[0] - rl[0]).powi(2) + (rk[1] - rl[1]).powi(2) + (rk[2] - rl[2]).powi(2)).sqrt();
+                let d = distance(&rk, &rl);
                 if d > 0.0 {
                     let (pe, ph) = potential(d, (self.site_s[k] - self.site_s[l]).abs());
                     e += 0.5 * b2 * pe;

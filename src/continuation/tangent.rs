@@ -1,0 +1,151 @@
+//! The bordered tangent B = [[R_x, R_Λ], [vᵀW]] of a continuation (W =
+//! diag(1/(n s_i²), 1/s_Λ²), the arc-length metric of [`super::Scaling`])
+//! and what both engines do with it: tangents, Newton corrections,
+//! determinant signs, the smallest singular value. The matrix itself is a
+//! [`BorderedLu`]; this layer evaluates the problem's Jacobian into it,
+//! writes the metric's border and counts the work.
+//!
+//! B is regular at folds (where R_x is singular) and singular at simple
+//! bifurcation points, so det B changes sign exactly at bifurcations, and
+//! with the tangent t (R_x t_x + R_Λ t_Λ = 0):
+//!   det R_x = det B · t_Λ / ⟨v, t⟩_W,
+//! so sign det R_x comes with no second factorisation.
+
+use super::{Counts, Problem, Scaling};
+use crate::error::{Error, Result};
+use crate::linalg::bordered::BorderedLu;
+use crate::linalg::Pattern;
+use crate::status::Status;
+
+pub struct Bordered {
+    n: usize,
+    lu: BorderedLu,
+    jx: Vec<f64>,
+    jl: Vec<f64>,
+    /// The border row W·v of the last factorisation (x part).
+    row: Vec<f64>,
+    /// The border used in the last factorisation.
+    border_x: Vec<f64>,
+    border_l: f64,
+}
+
+impl Bordered {
+    pub fn new(pattern: &Pattern) -> Result<Self> {
+        let n = pattern.n;
+        Ok(Bordered {
+            n,
+            lu: BorderedLu::new(pattern)?,
+            jx: vec![0.0; pattern.nnz()],
+            jl: vec![0.0; n],
+            row: vec![0.0; n],
+            border_x: vec![0.0; n],
+            border_l: 0.0,
+        })
+    }
+
+    /// Evaluate the Jacobian at (x, Λ), border it with W·v and factorise.
+    pub fn factorise_at<P: Problem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &[f64],
+        lambda: f64,
+        vx: &[f64],
+        vl: f64,
+        scaling: &Scaling,
+        counts: &mut Counts,
+    ) -> Result<()> {
+        problem.jacobian(x, lambda, &mut self.jx, &mut self.jl);
+        counts.jacobians += 1;
+        self.factorise_border(vx, vl, scaling, counts)
+    }
+
+    /// Re-factorise the current Jacobian with another border.
+    pub fn factorise_border(&mut self, vx: &[f64], vl: f64, scaling: &Scaling, counts: &mut Counts) -> Result<()> {
+        let mean = 1.0 / self.n.max(1) as f64;
+        for j in 0..self.n {
+            self.row[j] = mean * vx[j] / (scaling.x[j] * scaling.x[j]);
+        }
+        self.border_x.copy_from_slice(vx);
+        self.border_l = vl;
+        self.lu.factorise(&self.jx, &self.jl, &self.row, vl / (scaling.lambda * scaling.lambda))?;
+        counts.factorisations += 1;
+        Ok(())
+    }
+
+    /// Solve B z = rhs in place (rhs has n + 1 entries).
+    pub fn solve(&mut self, rhs: &mut [f64], counts: &mut Counts) {
+        self.lu.solve(rhs);
+        counts.solves += 1;
+    }
+
+    /// The unit tangent (in ⟨·,·⟩_W) from the current factorisation:
+    /// B t = (0, 1), normalised, oriented along the border (⟨t, v⟩_W > 0).
+    pub fn tangent(&mut self, scaling: &Scaling, counts: &mut Counts) -> Result<(Vec<f64>, f64)> {
+        let mut z = vec![0.0; self.n + 1];
+        z[self.n] = 1.0;
+        self.solve(&mut z, counts);
+        let tl = z[self.n];
+        let tx = &z[..self.n];
+        let norm = scaling.norm(tx, tl);
+        if !(norm.is_finite() && norm > 0.0) {
+            return Err(Error::new(Status::ErrNotConverged, "continuation: no tangent (singular bordered system)"));
+        }
+        let sign = if scaling.dot(tx, tl, &self.border_x, self.border_l) < 0.0 { -1.0 } else { 1.0 };
+        Ok((tx.iter().map(|v| sign * v / norm).collect(), sign * tl / norm))
+    }
+
+    /// Negative pivots of the factorised bordered tangent (see
+    /// [`crate::linalg::SparseLu::negative_pivots`]).
+    pub fn negative_pivots(&self) -> usize {
+        self.lu.negative_pivots()
+    }
+
+    /// (sign det B, sign det R_x) for the current factorisation and the
+    /// tangent t computed from it.
+    pub fn determinant_signs(&self, scaling: &Scaling, tx: &[f64], tl: f64) -> (f64, f64) {
+        let sign_b = self.lu.determinant_sign();
+        let vt = scaling.dot(tx, tl, &self.border_x, self.border_l);
+        let sign_j = sign_b * (tl * vt).signum();
+        (sign_b, if tl == 0.0 { 0.0 } else { sign_j })
+    }
+
+    /// Scale the singular-value monitor by the problem's equation scales
+    /// (rows: 1/e_i, √n for the border row) and the continuation's unknown
+    /// scales (columns), so that σ_min does not depend on the units of the
+    /// model.
+    pub fn set_monitor_scales(&mut self, equation_scales: &[f64], scaling: &Scaling) {
+        let n = self.n;
+        let mut row = vec![1.0; n + 1];
+        let mut col = vec![1.0; n + 1];
+        for i in 0..n {
+            let e = equation_scales[i];
+            row[i] = if e > 0.0 && e.is_finite() { 1.0 / e } else { 1.0 };
+            let s = scaling.x[i];
+            col[i] = if s > 0.0 && s.is_finite() { s } else { 1.0 };
+        }
+        row[n] = (n.max(1) as f64).sqrt();
+        col[n] = if scaling.lambda > 0.0 && scaling.lambda.is_finite() { scaling.lambda } else { 1.0 };
+        self.lu.set_scales(&row, &col);
+    }
+
+    /// Smallest singular value of the (scaled) bordered tangent.
+    pub fn smallest_singular_value(&mut self, counts: &mut Counts) -> f64 {
+        self.lu.smallest_singular_value(&mut counts.solves)
+    }
+
+    /// The k smallest singular values (ascending) and right singular
+    /// vectors, to 1e-10 (the null vectors of a located point).
+    pub fn smallest_singular_vectors(&mut self, k: usize, counts: &mut Counts) -> (Vec<f64>, Vec<Vec<f64>>) {
+        self.lu.smallest_singular_vectors(k, 1e-10, 30, &mut counts.solves)
+    }
+
+    /// σ_min signed by the alignment of its singular vectors: it changes
+    /// sign at every bifurcation, double ones included.
+    pub fn signed_smallest_singular_value(&mut self, counts: &mut Counts) -> f64 {
+        self.lu.signed_smallest_singular_value(&mut counts.solves)
+    }
+
+    pub fn factorisations(&self) -> usize {
+        self.lu.factorisations()
+    }
+}

@@ -209,9 +209,10 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
     use rodkit::charged::branch::follow;
     use rodkit::charged::dna::DnaScene;
     use rodkit::charged::rod::{ChargedRod, RodCharge};
-    use rodkit::continuation::krylov::{newton_krylov, BandPreconditioner, KrylovOptions};
+    use rodkit::continuation::equilibrium::newton_krylov;
     use rodkit::continuation::newton::{continue_newton, Start};
     use rodkit::continuation::{Options, Problem};
+    use rodkit::nonlinear::krylov::{BandPreconditioner, KrylovOptions};
     let _ = writeln!(out, "\ncoupled rod, continuum vs discrete base pairs (DNA scene: 0.1 M, ν = 1/l_B, 1 pN; h = 3.4 nm, Gauss(2); straight state at φ = 2)");
     let _ = writeln!(out, "time per residual and Jacobian (medians of 21 and 9) and per equilibrium (medians of 3 direct, 9 NK, 3 NK all pairs): Newton at φ = 2.1 from the continuum's equilibrium at φ = 2 (a continuation corrector) to a scaled residual of 1e-8, the DNA scene default,");
     let _ = writeln!(out, "  direct = sparse Newton of the continuation engine (exact Jacobian, full LU, symbolic analysis included); NK = Newton–Krylov (GMRES, central-difference products, preconditioner: LU of the Jacobian band |i − j| ≤ w, w = {} = one element's coupling for the continuum, twice that for base pairs, refreshed after > 10 GMRES iterations), cold (symbolic analysis, Jacobian and band LU included) and warm (band LU kept from a previous solve, as along a continuation);", 51);
@@ -364,9 +365,9 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
         // cold solve's excess at ≥ 10 kbp is the first touch of its memory.
         let t_refresh = {
             let mut pre = BandPreconditioner::new(cp.pattern(), cp.local_band()).unwrap();
-            let mut counts = rodkit::continuation::Counts::default();
-            pre.refresh(&mut cp, &x, 2.1, &mut counts).unwrap();
-            time(9, || pre.refresh(&mut cp, &x, 2.1, &mut counts).unwrap()).1
+            let mut at = rodkit::continuation::equilibrium::AtFixed::new(&mut cp, 2.1);
+            pre.refresh(&mut at, &x).unwrap();
+            time(9, || pre.refresh(&mut at, &x).unwrap()).1
         };
         let mut two = charge.clone();
         two.threads = 2;

@@ -19,7 +19,7 @@ pub mod taylor;
 
 // Engines: nonlinear solves and continuation.
 pub mod continuation;
-pub mod newton;
+pub mod nonlinear;
 
 // Geometry and physics.
 pub mod charged;

@@ -6,10 +6,11 @@
 use rodkit::charged::branch::follow;
 use rodkit::charged::dna::DnaScene;
 use rodkit::charged::rod::ChargedRod;
-use rodkit::continuation::krylov::{newton_krylov, BandPreconditioner, KrylovOptions};
+use rodkit::continuation::equilibrium::newton_krylov;
 use rodkit::continuation::newton::{continue_newton, Start};
 use rodkit::continuation::{Options, Problem};
 use rodkit::linalg::sparse::Pattern;
+use rodkit::nonlinear::krylov::{BandPreconditioner, KrylovOptions};
 use rodkit::status::Status;
 
 /// R_i(u) = (u_{i−1} − 2u_i + u_{i+1})/h² − μ e^{u_i} + γ ū − b_i on a

@@ -11,7 +11,8 @@
 
 use super::rod::{ChargedRod, RodCharge};
 use crate::continuation::bifurcation::{branch_start, Bifurcation};
-use crate::continuation::newton::{continue_newton, correct, Start};
+use crate::continuation::corrector::correct;
+use crate::continuation::newton::{continue_newton, Start};
 use crate::continuation::tangent::Bordered;
 use crate::continuation::{Counts, Options, Problem, Record, Resume, Scaling, Stop};
 use crate::error::{self, Error, Result};

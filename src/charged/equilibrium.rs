@@ -10,11 +10,11 @@
 
 use super::dna::{observables, Observables, SupercoilRun};
 use super::rod::{ChargedRod, RodCharge};
-use crate::continuation::krylov::{newton_krylov, BandPreconditioner, KrylovOptions};
-use crate::continuation::newton::damped_newton;
+use crate::continuation::equilibrium::{damped_newton, newton_krylov};
 use crate::continuation::{Counts, Problem};
 use crate::error::{self, Error, Result};
 use crate::geometry::vec3::distance;
+use crate::nonlinear::krylov::{BandPreconditioner, KrylovOptions};
 use crate::rod::model::unwrap_rotation;
 use crate::status::Status;
 
@@ -156,7 +156,7 @@ pub fn solve_point(
                 }
                 let (rep, band) = result?;
                 preconditioner_band = band;
-                counts.add(&rep.counts);
+                counts.add_work(&rep.counts);
                 newton_iterations += rep.newton_iterations;
                 linear_iterations += rep.linear_iterations;
                 residual = rep.residual;

@@ -23,12 +23,14 @@
 //! corrected at fixed Λ.
 
 use super::bifurcation::{Bifurcation, State};
-use super::newton::deliver_sample;
-use super::newton::{correct, detect, make_record, residual_norm, validate, validate_resume, Start};
+use super::corrector::correct;
+use super::corrector::deliver_sample;
+use super::newton::{detect, make_record, validate, validate_resume, Start};
 use super::pade::{self, Curve};
 use super::tangent::Bordered;
 use super::{Branch, Counts, Options, Record, Resume, Sample, Scaling, SeriesProblem, Stop};
 use crate::error::{self, Error, Result};
+use crate::nonlinear::scaled_max_norm;
 use crate::roots::{all_roots, first_root};
 use crate::status::Status;
 
@@ -389,7 +391,7 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             }
             problem.residual(&xn, ln, &mut r);
             counts.residuals += 1;
-            let series_residual = residual_norm(&r, &eq);
+            let series_residual = scaled_max_norm(&r, &eq);
             if series_residual <= opts.residual_tol {
                 break (ln, 0, series_residual);
             }

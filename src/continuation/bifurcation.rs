@@ -18,7 +18,7 @@
 //! border row). [`branch_start`] turns one into a [`Resume`] from which
 //! either engine follows the new branch.
 
-use super::newton::correct;
+use super::corrector::correct;
 use super::tangent::Bordered;
 use super::{Counts, Problem, Resume, Scaling};
 use crate::error::Result;

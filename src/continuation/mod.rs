@@ -22,7 +22,8 @@
 
 pub mod anm;
 pub mod bifurcation;
-pub mod krylov;
+pub mod corrector;
+pub mod equilibrium;
 pub mod newton;
 mod pade;
 pub mod system;
@@ -253,6 +254,14 @@ impl Counts {
         self.jacobians += other.jacobians;
         self.series_orders += other.series_orders;
         self.pade_steps += other.pade_steps;
+    }
+
+    /// Add a nonlinear solve's work.
+    pub fn add_work(&mut self, work: &crate::nonlinear::Work) {
+        self.residuals += work.residuals;
+        self.jacobians += work.jacobians;
+        self.factorisations += work.factorisations;
+        self.solves += work.solves;
     }
 }
 

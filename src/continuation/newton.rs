@@ -5,10 +5,11 @@
 //! reuses. Also the corrections both engines share.
 
 use super::bifurcation::{self, Bifurcation, State};
+use super::corrector::{correct, deliver_sample};
 use super::tangent::Bordered;
 use super::{Branch, Counts, Options, Problem, Record, Resume, Sample, Scaling, Stop};
 use crate::error::{self, Error, Result};
-use crate::linalg::dense::nan_max;
+use crate::nonlinear::scaled_max_norm;
 use crate::roots::all_roots;
 use crate::status::Status;
 
@@ -27,257 +28,6 @@ pub enum Start {
     /// bordered matrix is nearly singular and its "tangent" is an arbitrary
     /// mix of the two branches' (usually the old one's).
     Switch(Resume),
-}
-
-/// Scaled residual max |R_i| / e_i (NaN when any R_i is NaN).
-pub(crate) fn residual_norm(r: &[f64], scales: &[f64]) -> f64 {
-    r.iter().zip(scales).map(|(a, s)| (a / s).abs()).fold(0.0, nan_max)
-}
-
-/// Halving line search from `x` along `step` at fixed Λ: t = 1, ½, … (at
-/// most `tries` values); the first t whose trial residual `accept(t,
-/// r_trial)` takes is kept: x ← x + t·step, `r` ← R there. `trial` and
-/// `rt` are caller-owned buffers. Returns the t taken (None: none was,
-/// `x` and `r` unchanged). Shared by the direct and Newton–Krylov solvers
-/// of single equilibria, which differ only in what they accept.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn backtrack<P: Problem + ?Sized>(
-    problem: &mut P,
-    x: &mut [f64],
-    step: &[f64],
-    lambda: f64,
-    r: &mut Vec<f64>,
-    trial: &mut [f64],
-    rt: &mut Vec<f64>,
-    tries: usize,
-    counts: &mut Counts,
-    mut accept: impl FnMut(f64, &[f64]) -> bool,
-) -> Option<f64> {
-    let mut t = 1.0;
-    for _ in 0..tries {
-        for i in 0..x.len() {
-            trial[i] = x[i] + t * step[i];
-        }
-        problem.residual(trial, lambda, rt);
-        counts.residuals += 1;
-        if accept(t, rt) {
-            x.copy_from_slice(trial);
-            std::mem::swap(r, rt);
-            return Some(t);
-        }
-        t *= 0.5;
-    }
-    None
-}
-
-/// Newton on R(x, Λ) = 0 at fixed Λ with the exact sparse Jacobian and a
-/// full LU (its ordering chosen once), damped: the step is halved until the
-/// scaled max residual falls by the Armijo factor (an exact Newton step is
-/// a descent direction in any norm). The continuation's corrector
-/// ([`correct`]) is undamped — it has a predictor and small steps; for one
-/// equilibrium from a farther guess it failed next to a buckling point (the
-/// DNA scene's point re-solved with base pairs, a 0.9 nm move), where this
-/// converges in 6 iterations. Returns (iterations, final max |R_i|/d_i);
-/// non-convergence is ErrNotConverged, a non-finite residual
-/// ErrNonFiniteResult.
-pub fn damped_newton<P: Problem + ?Sized>(
-    problem: &mut P,
-    x: &mut [f64],
-    lambda: f64,
-    tol: f64,
-    counts: &mut Counts,
-) -> Result<(usize, f64)> {
-    const MAX_ITERATIONS: usize = 40;
-    let n = problem.dim();
-    error::count_in_range("Newton state length", x.len() as i64, n as i64, n as i64)?;
-    let d = problem.equation_scales();
-    let mut lu = crate::linalg::sparse::SparseLu::new(problem.pattern().clone())?;
-    let (mut jx, mut jl) = (vec![0.0; problem.pattern().nnz()], vec![0.0; n]);
-    let (mut r, mut rt, mut step, mut trial) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    problem.residual(x, lambda, &mut r);
-    counts.residuals += 1;
-    let mut res = residual_norm(&r, &d);
-    for it in 0..=MAX_ITERATIONS {
-        if !res.is_finite() {
-            return Err(Error::new(
-                Status::ErrNonFiniteResult,
-                format!("direct Newton: non-finite residual at iteration {it}"),
-            ));
-        }
-        if res <= tol {
-            return Ok((it, res));
-        }
-        if it == MAX_ITERATIONS {
-            break;
-        }
-        problem.jacobian(x, lambda, &mut jx, &mut jl);
-        counts.jacobians += 1;
-        lu.factorise(&jx)?;
-        counts.factorisations += 1;
-        for i in 0..n {
-            step[i] = -r[i];
-        }
-        lu.solve(&mut step);
-        counts.solves += 1;
-        let previous = res;
-        let taken = backtrack(problem, x, &step, lambda, &mut r, &mut trial, &mut rt, 12, counts, |t, rt| {
-            let next = residual_norm(rt, &d);
-            let ok = next.is_finite() && next <= (1.0 - 1e-4 * t) * previous;
-            if ok {
-                res = next;
-            }
-            ok
-        });
-        if taken.is_none() {
-            return Err(Error::new(
-                Status::ErrNotConverged,
-                format!(
-                    "direct Newton: no decrease of the residual along the step at iteration {it} (residual {res:.2e})"
-                ),
-            ));
-        }
-    }
-    Err(Error::new(
-        Status::ErrNotConverged,
-        format!("direct Newton: residual {res:.2e} above {tol:.1e} after {MAX_ITERATIONS} iterations"),
-    ))
-}
-
-/// Newton on [R(x, Λ) = 0, ⟨(x, Λ) − anchor, v⟩_W = 0] in place.
-/// `reuse`: the current factorisation of `bordered` (border v) is reused
-/// while the residual falls by 4× per iteration (chord), refactorised
-/// otherwise. Returns (factorisations-triggering iterations, final residual).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn correct<P: Problem + ?Sized>(
-    problem: &mut P,
-    bordered: &mut Bordered,
-    scaling: &Scaling,
-    equation_scales: &[f64],
-    x: &mut [f64],
-    lambda: &mut f64,
-    anchor: (&[f64], f64),
-    v: (&[f64], f64),
-    tol: f64,
-    reuse: bool,
-    counts: &mut Counts,
-) -> Result<(usize, f64)> {
-    let n = x.len();
-    let mut r = vec![0.0; n];
-    let mut z = vec![0.0; n + 1];
-    let mut previous = f64::INFINITY;
-    // Chord iterations (reuse) converge linearly: more of them, each a
-    // residual and a solve, before a fresh factorisation is worth it.
-    let chord = reuse;
-    let max_iterations = if chord { 20 } else { 12 };
-    let mut last_refresh: Option<usize> = None;
-    for it in 0..=max_iterations {
-        problem.residual(x, *lambda, &mut r);
-        counts.residuals += 1;
-        let res = residual_norm(&r, equation_scales);
-        if !res.is_finite() {
-            return Err(Error::new(Status::ErrNotConverged, "Newton correction: the residual is not finite"));
-        }
-        if res <= tol {
-            return Ok((it, res));
-        }
-        let slow = res > 0.5 * previous;
-        if it == max_iterations || (slow && it >= 3 && (!chord || last_refresh.map(|k| k + 1) == Some(it))) {
-            return Err(Error::new(
-                Status::ErrNotConverged,
-                format!("Newton correction: residual {res:e} after {it} iterations (tolerance {tol:e})"),
-            ));
-        }
-        // Newton: a factorisation per iteration. Chord: the caller's
-        // factorisation while the residual at least halves per iteration,
-        // a fresh one (then kept) when it does not.
-        if !chord || slow {
-            bordered.factorise_at(problem, x, *lambda, v.0, v.1, scaling, counts)?;
-            last_refresh = Some(it);
-        }
-        for i in 0..n {
-            z[i] = -r[i];
-        }
-        let dx: Vec<f64> = x.iter().zip(anchor.0).map(|(a, b)| a - b).collect();
-        z[n] = -scaling.dot(&dx, *lambda - anchor.1, v.0, v.1);
-        bordered.solve(&mut z, counts);
-        for i in 0..n {
-            x[i] += z[i];
-        }
-        *lambda += z[n];
-        previous = res;
-    }
-    unreachable!("the loop returns")
-}
-
-/// A point at the fixed load `target` from the prediction `xs` (in place):
-/// chord iterations on the current factorisation of `bordered` (taken
-/// near xs, with tangent t = (t_x, t_Λ) from it): B z = (−R, 0) solves the
-/// linearised equations on the hyperplane ⟨·, v⟩ = 0, and z − (z_Λ / t_Λ) t
-/// is the step with ΔΛ = 0 (R_x t_x + R_Λ t_Λ = 0). When the chord stalls
-/// or the tangent is nearly vertical (a fold), Newton at fixed Λ with fresh
-/// factorisations takes over and `refactorised` is set (the caller's
-/// factorisation is gone). Returns (iterations, final residual).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn deliver_sample<P: Problem + ?Sized>(
-    problem: &mut P,
-    bordered: &mut Bordered,
-    scaling: &Scaling,
-    equation_scales: &[f64],
-    xs: &mut [f64],
-    target: f64,
-    tangent: (&[f64], f64),
-    tol: f64,
-    counts: &mut Counts,
-    refactorised: &mut bool,
-) -> Result<(usize, f64)> {
-    let n = xs.len();
-    let prediction = xs.to_vec();
-    let mut r = vec![0.0; n];
-    let mut z = vec![0.0; n + 1];
-    let mut previous = f64::INFINITY;
-    let (tx, tl) = tangent;
-    let mut chord = 0;
-    for it in 0..=12 {
-        problem.residual(xs, target, &mut r);
-        counts.residuals += 1;
-        let res = residual_norm(&r, equation_scales);
-        if res <= tol {
-            return Ok((it, res));
-        }
-        if !res.is_finite() || res > 0.5 * previous || tl.abs() < 1e-8 {
-            break;
-        }
-        for i in 0..n {
-            z[i] = -r[i];
-        }
-        z[n] = 0.0;
-        bordered.solve(&mut z, counts);
-        let c = z[n] / tl;
-        for i in 0..n {
-            xs[i] += z[i] - c * tx[i];
-        }
-        previous = res;
-        chord = it + 1;
-    }
-    // Fresh Newton at fixed Λ from the prediction.
-    xs.copy_from_slice(&prediction);
-    *refactorised = true;
-    let mut l = target;
-    let e_lambda = vec![0.0; n];
-    let (it, res) = correct(
-        problem,
-        bordered,
-        scaling,
-        equation_scales,
-        xs,
-        &mut l,
-        (&prediction, target),
-        (&e_lambda, 1.0),
-        tol,
-        false,
-        counts,
-    )?;
-    Ok((chord + it, res))
 }
 
 /// Cubic Hermite interpolation between two branch points X0, X1 with unit
@@ -387,7 +137,7 @@ pub fn continue_newton<P: Problem + ?Sized>(
         Record {
             lambda,
             outputs: observe(&x, lambda),
-            residual: residual_norm(&r, &eq),
+            residual: scaled_max_norm(&r, &eq),
             step: 0.0,
             det_sign: 0.0,
             bordered_det_sign: 0.0,
@@ -636,7 +386,7 @@ pub(crate) fn make_record<P: Problem + ?Sized>(
     Record {
         lambda,
         outputs: observe(x, lambda),
-        residual: residual_norm(&r, eq),
+        residual: scaled_max_norm(&r, eq),
         step,
         det_sign,
         bordered_det_sign,

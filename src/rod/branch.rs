@@ -6,7 +6,7 @@
 use super::model::Rod;
 use crate::continuation::anm::{continue_anm, AnmOptions};
 use crate::continuation::bifurcation::{branch_start, Bifurcation};
-use crate::continuation::newton::correct;
+use crate::continuation::corrector::correct;
 use crate::continuation::newton::{continue_newton, Start};
 use crate::continuation::system::AssembledSystem;
 use crate::continuation::tangent::Bordered;

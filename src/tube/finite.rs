@@ -18,7 +18,7 @@
 
 use crate::chebyshev::PiecewiseGrid;
 use crate::error::{self, Error, Result};
-use crate::newton::{self, NewtonOptions};
+use crate::nonlinear::dense::{self as newton, NewtonOptions};
 use crate::status::Status;
 use crate::tube::material::{WallMaterial, WallStrain};
 use crate::tube::thick::PINHOLE;

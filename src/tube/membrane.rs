@@ -19,7 +19,7 @@
 //! neglects (see [`MembraneTube::solve`]).
 
 use crate::error::{self, Error, Result};
-use crate::newton::{self, NewtonOptions};
+use crate::nonlinear::dense::{self as newton, NewtonOptions};
 use crate::status::Status;
 use crate::tube::finite::{Axial, Ends, Loading, Torsion, TubeState, WallProfile};
 use crate::tube::material::{WallMaterial, WallStrain};

@@ -1,0 +1,209 @@
+//! The continuation's corrections, as the one Newton iteration of
+//! [`crate::nonlinear`] on the bordered tangent ([`Bordered`]):
+//!
+//! * [`correct`]: Newton on [R(x, Λ) = 0, ⟨(x, Λ) − anchor, v⟩_W = 0] —
+//!   the pseudo-arc-length corrector, the fixed-Λ correction (v = e_Λ) and
+//!   the bifurcation location's trial points — undamped, with a fresh
+//!   factorisation per iteration or chord iterations on the caller's;
+//! * [`deliver_sample`]: a point at a fixed load from a prediction by
+//!   chord iterations on the step's factorisation, projected onto ΔΛ = 0,
+//!   falling back to [`correct`] at fixed Λ.
+
+use super::equilibrium::AtFixed;
+use super::tangent::Bordered;
+use super::{Counts, Problem, Scaling};
+use crate::error::{Error, Result};
+use crate::nonlinear::{self, Equations, FullStep, Iterate, LinearSolve, LinearStep, ResidualTest, Stall};
+use crate::status::Status;
+
+/// The corrector's equations in X = (x, Λ): F(X) = (R(x, Λ), ⟨X − anchor, v⟩_W).
+struct Arclength<'a, P: ?Sized> {
+    problem: &'a mut P,
+    scaling: &'a Scaling,
+    anchor: (&'a [f64], f64),
+    v: (&'a [f64], f64),
+    dx: Vec<f64>,
+    residuals: usize,
+}
+
+impl<P: Problem + ?Sized> Equations for Arclength<'_, P> {
+    fn dim(&self) -> usize {
+        self.dx.len() + 1
+    }
+
+    fn residual(&mut self, x: &[f64], f: &mut [f64]) -> Result<bool> {
+        let n = self.dx.len();
+        self.problem.residual(&x[..n], x[n], &mut f[..n]);
+        self.residuals += 1;
+        for i in 0..n {
+            self.dx[i] = x[i] - self.anchor.0[i];
+        }
+        f[n] = self.scaling.dot(&self.dx, x[n] - self.anchor.1, self.v.0, self.v.1);
+        Ok(true)
+    }
+}
+
+/// The Newton step of [`Arclength`] from the bordered tangent with border
+/// v: a fresh factorisation at every iteration, or (chord) the current one
+/// while the residual at least halves per iteration and a fresh one (then
+/// kept) when it does not.
+struct BorderedStep<'a> {
+    bordered: &'a mut Bordered,
+    chord: bool,
+    counts: Counts,
+}
+
+impl<P: Problem + ?Sized> LinearSolve<Arclength<'_, P>> for BorderedStep<'_> {
+    fn step(
+        &mut self,
+        eq: &mut Arclength<'_, P>,
+        x: &[f64],
+        f: &[f64],
+        it: &Iterate,
+        delta: &mut [f64],
+    ) -> Result<LinearStep> {
+        let n = x.len() - 1;
+        let fresh = !self.chord || it.norm > 0.5 * it.previous;
+        if fresh {
+            self.bordered.factorise_at(eq.problem, &x[..n], x[n], eq.v.0, eq.v.1, eq.scaling, &mut self.counts)?;
+        }
+        for (d, v) in delta.iter_mut().zip(f) {
+            *d = -v;
+        }
+        self.bordered.solve(delta, &mut self.counts);
+        Ok(LinearStep { eta: 0.0, fresh })
+    }
+}
+
+/// The equation scales with the arc-length row left out of the test.
+fn with_free_border(equation_scales: &[f64]) -> Vec<f64> {
+    let mut d = equation_scales.to_vec();
+    d.push(f64::INFINITY);
+    d
+}
+
+/// Newton on [R(x, Λ) = 0, ⟨(x, Λ) − anchor, v⟩_W = 0] in place, to max
+/// |R_i|/e_i ≤ `tol`. `reuse`: chord iterations on the current
+/// factorisation of `bordered` (border v), refactorised when the residual
+/// does not halve; a stall after a fresh factorisation (from the third
+/// iteration) fails. At most 12 iterations (20 with chord: they converge
+/// linearly, more of them, each a residual and a solve, before a fresh
+/// factorisation is worth it). Returns (iterations, final residual).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn correct<P: Problem + ?Sized>(
+    problem: &mut P,
+    bordered: &mut Bordered,
+    scaling: &Scaling,
+    equation_scales: &[f64],
+    x: &mut [f64],
+    lambda: &mut f64,
+    anchor: (&[f64], f64),
+    v: (&[f64], f64),
+    tol: f64,
+    reuse: bool,
+    counts: &mut Counts,
+) -> Result<(usize, f64)> {
+    let n = x.len();
+    let mut xl = x.to_vec();
+    xl.push(*lambda);
+    let mut eq = Arclength { problem, scaling, anchor, v, dx: vec![0.0; n], residuals: 0 };
+    let mut linear = BorderedStep { bordered, chord: reuse, counts: Counts::default() };
+    let mut test = ResidualTest::new(with_free_border(equation_scales), tol, "Newton correction");
+    test.non_finite = Status::ErrNotConverged;
+    test.stall = Stall::AfterFresh;
+    let max_iterations = if reuse { 20 } else { 12 };
+    let result = nonlinear::solve(&mut eq, &mut xl, &mut linear, &mut FullStep::new(n + 1), &mut test, max_iterations);
+    counts.residuals += eq.residuals;
+    counts.add(&linear.counts);
+    x.copy_from_slice(&xl[..n]);
+    *lambda = xl[n];
+    result.map(|r| (r.iterations, r.norm))
+}
+
+/// Chord steps at fixed Λ on the current bordered factorisation (taken
+/// near the point, with tangent t): B z = (−R, 0) solves the linearised
+/// equations on the hyperplane ⟨·, v⟩ = 0, and z − (z_Λ / t_Λ) t is the
+/// step with ΔΛ = 0 (R_x t_x + R_Λ t_Λ = 0).
+struct ProjectedChord<'a> {
+    bordered: &'a mut Bordered,
+    tangent: (&'a [f64], f64),
+    z: Vec<f64>,
+    steps: usize,
+    counts: Counts,
+}
+
+impl<E: Equations + ?Sized> LinearSolve<E> for ProjectedChord<'_> {
+    fn step(&mut self, _eq: &mut E, _x: &[f64], f: &[f64], _it: &Iterate, delta: &mut [f64]) -> Result<LinearStep> {
+        let (tx, tl) = self.tangent;
+        // A nearly vertical tangent (a fold) cannot be projected.
+        if tl.abs() < 1e-8 {
+            return Err(Error::new(Status::ErrNotConverged, "sample: the tangent is vertical (a fold)"));
+        }
+        let n = f.len();
+        for i in 0..n {
+            self.z[i] = -f[i];
+        }
+        self.z[n] = 0.0;
+        self.bordered.solve(&mut self.z, &mut self.counts);
+        let c = self.z[n] / tl;
+        for i in 0..n {
+            delta[i] = self.z[i] - c * tx[i];
+        }
+        self.steps += 1;
+        Ok(LinearStep { eta: 0.0, fresh: true })
+    }
+}
+
+/// A point at the fixed load `target` from the prediction `xs` (in place):
+/// chord iterations ([`ProjectedChord`]) on the current factorisation of
+/// `bordered` (taken near xs, with tangent t = (t_x, t_Λ) from it), at most
+/// 12, stopping at the first that does not halve the residual. When the
+/// chord stalls or the tangent is nearly vertical (a fold), Newton at fixed
+/// Λ with fresh factorisations takes over from the prediction and
+/// `refactorised` is set (the caller's factorisation is gone). Returns
+/// (iterations, final residual).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn deliver_sample<P: Problem + ?Sized>(
+    problem: &mut P,
+    bordered: &mut Bordered,
+    scaling: &Scaling,
+    equation_scales: &[f64],
+    xs: &mut [f64],
+    target: f64,
+    tangent: (&[f64], f64),
+    tol: f64,
+    counts: &mut Counts,
+    refactorised: &mut bool,
+) -> Result<(usize, f64)> {
+    let n = xs.len();
+    let prediction = xs.to_vec();
+    let mut chord = ProjectedChord { bordered, tangent, z: vec![0.0; n + 1], steps: 0, counts: Counts::default() };
+    let mut eq = AtFixed::new(problem, target);
+    let mut test = ResidualTest::new(equation_scales.to_vec(), tol, "sample");
+    test.stall = Stall::Immediate;
+    let result = nonlinear::solve(&mut eq, xs, &mut chord, &mut FullStep::new(n), &mut test, 12);
+    counts.residuals += eq.residuals;
+    counts.add(&chord.counts);
+    if let Ok(r) = result {
+        return Ok((r.iterations, r.norm));
+    }
+    // Fresh Newton at fixed Λ from the prediction.
+    xs.copy_from_slice(&prediction);
+    *refactorised = true;
+    let mut l = target;
+    let e_lambda = vec![0.0; n];
+    let (it, res) = correct(
+        problem,
+        chord.bordered,
+        scaling,
+        equation_scales,
+        xs,
+        &mut l,
+        (&prediction, target),
+        (&e_lambda, 1.0),
+        tol,
+        false,
+        counts,
+    )?;
+    Ok((chord.steps + it, res))
+}

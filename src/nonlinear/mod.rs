@@ -1,0 +1,465 @@
+//! One Newton iteration for every nonlinear solve in rodkit — the tube
+//! walls, the DNA fit, the continuation correctors and single equilibria —
+//! built like KINSOL from pluggable parts:
+//!
+//! * [`Equations`]: F(x) = 0 and its domain;
+//! * [`LinearSolve`]: how a step δ with J δ ≈ −F is found and when the
+//!   linearisation is refreshed — a dense LU of an analytic or
+//!   forward-difference Jacobian ([`dense`]), a sparse LU ([`sparse`]), the
+//!   bordered LU of a continuation (in `crate::continuation::corrector`),
+//!   or GMRES with a lagged band preconditioner and Eisenstat–Walker forcing
+//!   ([`krylov`]);
+//! * [`LineSearch`]: the full step ([`FullStep`]) or halving backtracking
+//!   with an Armijo test in a chosen norm ([`Backtracking`]);
+//! * [`Convergence`]: when to stop — a scaled residual with an optional
+//!   stall rule ([`ResidualTest`]) or a step criterion ([`StepTest`]).
+//!
+//! [`solve`] runs x_{k+1} = x_k + t_k δ_k with them. Work counts are kept
+//! by the parts that do the work ([`Work`]).
+
+pub mod dense;
+pub mod krylov;
+pub mod sparse;
+
+use crate::error::{Error, Result};
+use crate::linalg::dense::nan_max;
+use crate::status::Status;
+
+/// F(x) = 0, n equations in n unknowns.
+pub trait Equations {
+    fn dim(&self) -> usize;
+    /// F(x) into `f`. Ok(false): x lies outside the domain (a line search
+    /// shortens the step); an error stops the solve.
+    fn residual(&mut self, x: &[f64], f: &mut [f64]) -> Result<bool>;
+}
+
+/// Work done by a solve's parts (what the benchmarks count).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Work {
+    pub residuals: usize,
+    pub jacobians: usize,
+    pub factorisations: usize,
+    pub solves: usize,
+}
+
+impl Work {
+    pub fn add(&mut self, other: &Work) {
+        self.residuals += other.residuals;
+        self.jacobians += other.jacobians;
+        self.factorisations += other.factorisations;
+        self.solves += other.solves;
+    }
+}
+
+/// What the iteration knows at an iterate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Iterate {
+    pub iteration: usize,
+    /// The convergence test's norm of F here.
+    pub norm: f64,
+    /// … at the previous iterate (∞ at the first).
+    pub previous: f64,
+    /// ‖F_k‖ / ‖F_{k−1}‖ of the last accepted step, in the norm the line
+    /// search accepted it in (NaN before the first).
+    pub rate: f64,
+    /// Whether the last step was computed on a fresh linearisation (taken
+    /// at its own iterate).
+    pub fresh: bool,
+}
+
+/// A step found by a [`LinearSolve`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LinearStep {
+    /// The relative accuracy asked of the linear solve (0: exact).
+    pub eta: f64,
+    /// Computed on a linearisation taken at this iterate.
+    pub fresh: bool,
+}
+
+/// How a Newton step is computed.
+pub trait LinearSolve<E: ?Sized> {
+    /// δ with J(x) δ ≈ −f, f = F(x).
+    fn step(&mut self, eq: &mut E, x: &[f64], f: &[f64], it: &Iterate, delta: &mut [f64]) -> Result<LinearStep>;
+    /// Drop a kept linearisation (the next step takes a fresh one): after a
+    /// line search failed on a stale one.
+    fn invalidate(&mut self) {}
+    /// A step was accepted: x and f are the new iterate's.
+    fn accepted(&mut self, _eq: &mut E, _x: &[f64], _f: &[f64], _step: &Accepted) -> Result<()> {
+        Ok(())
+    }
+}
+
+/// An accepted step: the fraction t of δ taken and the rate it achieved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Accepted {
+    pub t: f64,
+    pub rate: f64,
+}
+
+/// How far along δ to go.
+pub trait LineSearch<E: ?Sized> {
+    /// Move x ← x + tδ and f ← F there for the first acceptable t; Ok(None)
+    /// when none is (x and f unchanged).
+    fn search(
+        &mut self,
+        eq: &mut E,
+        x: &mut [f64],
+        f: &mut [f64],
+        delta: &[f64],
+        it: &Iterate,
+        eta: f64,
+    ) -> Result<Option<Accepted>>;
+}
+
+/// A convergence test's decision.
+#[derive(Debug)]
+pub enum Verdict {
+    Continue,
+    Converged,
+    Fail(Error),
+}
+
+/// When to stop.
+pub trait Convergence {
+    /// The norm of F that [`Iterate::norm`] reports.
+    fn norm(&self, f: &[f64]) -> f64;
+    /// At an iterate, before a step.
+    fn before_step(&mut self, it: &Iterate) -> Verdict;
+    /// After an accepted step tδ to x (`it` is the new iterate).
+    fn after_step(&mut self, _x: &[f64], _delta: &[f64], _t: f64, _it: &Iterate) -> Verdict {
+        Verdict::Continue
+    }
+    /// The error when the iterations run out at `it`.
+    fn exhausted(&self, it: &Iterate) -> Error;
+    /// The error when no step along δ was acceptable at `it`.
+    fn no_descent(&self, it: &Iterate) -> Error;
+}
+
+/// What a solve did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Report {
+    /// Newton steps taken.
+    pub iterations: usize,
+    /// The convergence test's norm of F at the returned x.
+    pub norm: f64,
+}
+
+/// Newton's method on `eq` from `x` (overwritten with the solution), at
+/// most `max_iterations` steps. A line search that fails on a kept (stale)
+/// linearisation is retried once on a fresh one.
+pub fn solve<E, L, S, C>(
+    eq: &mut E,
+    x: &mut [f64],
+    linear: &mut L,
+    search: &mut S,
+    test: &mut C,
+    max_iterations: usize,
+) -> Result<Report>
+where
+    E: Equations + ?Sized,
+    L: LinearSolve<E> + ?Sized,
+    S: LineSearch<E> + ?Sized,
+    C: Convergence + ?Sized,
+{
+    let n = eq.dim();
+    crate::error::count_in_range("Newton state length", x.len() as i64, n as i64, n as i64)?;
+    let mut f = vec![0.0; n];
+    let mut delta = vec![0.0; n];
+    if !eq.residual(x, &mut f)? {
+        return Err(Error::new(Status::ErrNotConverged, "Newton: the initial guess is outside the domain"));
+    }
+    let mut it = Iterate { iteration: 0, norm: test.norm(&f), previous: f64::INFINITY, rate: f64::NAN, fresh: false };
+    for k in 0..=max_iterations {
+        it.iteration = k;
+        match test.before_step(&it) {
+            Verdict::Converged => return Ok(Report { iterations: k, norm: it.norm }),
+            Verdict::Fail(e) => return Err(e),
+            Verdict::Continue => {}
+        }
+        if k == max_iterations {
+            break;
+        }
+        let (accepted, fresh) = loop {
+            let step = linear.step(eq, x, &f, &it, &mut delta)?;
+            match search.search(eq, x, &mut f, &delta, &it, step.eta)? {
+                Some(a) => break (a, step.fresh),
+                None if !step.fresh => linear.invalidate(),
+                None => return Err(test.no_descent(&it)),
+            }
+        };
+        it = Iterate { iteration: k + 1, norm: test.norm(&f), previous: it.norm, rate: accepted.rate, fresh };
+        linear.accepted(eq, x, &f, &accepted)?;
+        match test.after_step(x, &delta, accepted.t, &it) {
+            Verdict::Converged => return Ok(Report { iterations: k + 1, norm: it.norm }),
+            Verdict::Fail(e) => return Err(e),
+            Verdict::Continue => {}
+        }
+    }
+    Err(test.exhausted(&it))
+}
+
+/// max_i |f_i| / d_i (NaN when any f_i is NaN).
+pub fn scaled_max_norm(f: &[f64], scales: &[f64]) -> f64 {
+    f.iter().zip(scales).map(|(a, s)| (a / s).abs()).fold(0.0, nan_max)
+}
+
+/// The full Newton step, x ← x + δ (refused outside the domain).
+pub struct FullStep {
+    trial: Vec<f64>,
+    ft: Vec<f64>,
+}
+
+impl FullStep {
+    /// For n unknowns.
+    pub fn new(n: usize) -> Self {
+        FullStep { trial: vec![0.0; n], ft: vec![0.0; n] }
+    }
+}
+
+impl<E: Equations + ?Sized> LineSearch<E> for FullStep {
+    fn search(
+        &mut self,
+        eq: &mut E,
+        x: &mut [f64],
+        f: &mut [f64],
+        delta: &[f64],
+        _it: &Iterate,
+        _eta: f64,
+    ) -> Result<Option<Accepted>> {
+        for i in 0..x.len() {
+            self.trial[i] = x[i] + delta[i];
+        }
+        if !eq.residual(&self.trial, &mut self.ft)? {
+            return Ok(None);
+        }
+        x.copy_from_slice(&self.trial);
+        f.copy_from_slice(&self.ft);
+        Ok(Some(Accepted { t: 1.0, rate: f64::NAN }))
+    }
+}
+
+/// The norm a [`Backtracking`] search must decrease, on the scaled
+/// residual F_i / d_i.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Norm {
+    Max,
+    Two,
+}
+
+/// Halving backtracking, t = 1, ½, … (`tries` values): t is accepted when
+/// the trial lies in the domain and ‖F̃(x + tδ)‖ ≤ (1 − 10⁻⁴ t (1 − η)) ‖F̃(x)‖
+/// (Armijo, with η the linear solve's relative accuracy: an inexact step
+/// is a descent direction only to that accuracy) in `norm`, or when
+/// `full_step_max_norm` and the full step decreases the max norm so, or
+/// when the trial's max norm is below `accept_below`.
+pub struct Backtracking {
+    /// The equation scales d_i.
+    pub scales: Vec<f64>,
+    pub norm: Norm,
+    pub tries: usize,
+    pub full_step_max_norm: bool,
+    pub accept_below: f64,
+    trial: Vec<f64>,
+    ft: Vec<f64>,
+}
+
+impl Backtracking {
+    pub fn new(scales: Vec<f64>, norm: Norm, tries: usize) -> Self {
+        let n = scales.len();
+        Backtracking {
+            scales,
+            norm,
+            tries,
+            full_step_max_norm: false,
+            accept_below: 0.0,
+            trial: vec![0.0; n],
+            ft: vec![0.0; n],
+        }
+    }
+
+    /// ‖F̃‖₂ of F̃_i = F_i / d_i.
+    fn two_norm(&self, f: &[f64]) -> f64 {
+        f.iter().zip(&self.scales).map(|(a, d)| (a / d) * (a / d)).sum::<f64>().sqrt()
+    }
+}
+
+impl<E: Equations + ?Sized> LineSearch<E> for Backtracking {
+    fn search(
+        &mut self,
+        eq: &mut E,
+        x: &mut [f64],
+        f: &mut [f64],
+        delta: &[f64],
+        _it: &Iterate,
+        eta: f64,
+    ) -> Result<Option<Accepted>> {
+        let max0 = scaled_max_norm(f, &self.scales);
+        let two0 = self.two_norm(f);
+        let mut t = 1.0;
+        for _ in 0..self.tries {
+            for i in 0..x.len() {
+                self.trial[i] = x[i] + t * delta[i];
+            }
+            if eq.residual(&self.trial, &mut self.ft)? {
+                let decrease = 1.0 - 1e-4 * t * (1.0 - eta);
+                let max1 = scaled_max_norm(&self.ft, &self.scales);
+                // The search norm: finite, and decreased (Armijo).
+                let (finite, by_norm, rate) = match self.norm {
+                    Norm::Max => (max1.is_finite(), max1 <= decrease * max0, max1 / max0),
+                    Norm::Two => {
+                        let two1 = self.two_norm(&self.ft);
+                        (two1.is_finite(), two1 <= decrease * two0, two1 / two0)
+                    }
+                };
+                let by_max = self.full_step_max_norm && t == 1.0 && max1 <= decrease * max0;
+                if finite && (by_norm || by_max || max1 < self.accept_below) {
+                    x.copy_from_slice(&self.trial);
+                    f.copy_from_slice(&self.ft);
+                    // A step accepted on the max norm alone measures its
+                    // rate there: the search norm's grew.
+                    let rate = if !by_norm && by_max { max1 / max0 } else { rate };
+                    return Ok(Some(Accepted { t, rate }));
+                }
+            }
+            t *= 0.5;
+        }
+        Ok(None)
+    }
+}
+
+/// How a [`ResidualTest`] treats an iteration that did not halve the residual.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stall {
+    /// Never a failure by itself.
+    Allowed,
+    /// A failure from the third iteration on when the step was computed on
+    /// a fresh linearisation (a kept one is refreshed first).
+    AfterFresh,
+    /// A failure at once.
+    Immediate,
+}
+
+/// Converged when max_i |F_i| / d_i ≤ `tol` at an iterate.
+pub struct ResidualTest {
+    pub scales: Vec<f64>,
+    pub tol: f64,
+    /// What the messages call the solver ("direct Newton", …).
+    pub label: &'static str,
+    /// The status of a non-finite residual.
+    pub non_finite: Status,
+    pub stall: Stall,
+}
+
+impl ResidualTest {
+    pub fn new(scales: Vec<f64>, tol: f64, label: &'static str) -> Self {
+        ResidualTest { scales, tol, label, non_finite: Status::ErrNonFiniteResult, stall: Stall::Allowed }
+    }
+}
+
+impl Convergence for ResidualTest {
+    fn norm(&self, f: &[f64]) -> f64 {
+        scaled_max_norm(f, &self.scales)
+    }
+
+    fn before_step(&mut self, it: &Iterate) -> Verdict {
+        let k = it.iteration;
+        if !it.norm.is_finite() {
+            return Verdict::Fail(Error::new(
+                self.non_finite,
+                format!("{}: non-finite residual at iteration {k}", self.label),
+            ));
+        }
+        if it.norm <= self.tol {
+            return Verdict::Converged;
+        }
+        let slow = it.norm > 0.5 * it.previous;
+        let stalled = match self.stall {
+            Stall::Allowed => false,
+            Stall::AfterFresh => slow && k >= 3 && it.fresh,
+            Stall::Immediate => slow,
+        };
+        if stalled {
+            return Verdict::Fail(self.exhausted(it));
+        }
+        Verdict::Continue
+    }
+
+    fn exhausted(&self, it: &Iterate) -> Error {
+        Error::new(
+            Status::ErrNotConverged,
+            format!(
+                "{}: residual {:.2e} above {:.1e} after {} iterations",
+                self.label, it.norm, self.tol, it.iteration
+            ),
+        )
+    }
+
+    fn no_descent(&self, it: &Iterate) -> Error {
+        Error::new(
+            Status::ErrNotConverged,
+            format!(
+                "{}: no decrease of the residual along the step at iteration {} (residual {:.2e})",
+                self.label, it.iteration, it.norm
+            ),
+        )
+    }
+}
+
+/// Converged when, after a step, max_k |t δ_k| / s_k ≤ `step_tol` (s_k:
+/// `typical`, or |x_k| of the new iterate when empty) and the residual's
+/// max norm is ≤ `residual_tol`.
+pub struct StepTest {
+    pub typical: Vec<f64>,
+    pub step_tol: f64,
+    pub residual_tol: f64,
+    /// What the messages call the solver.
+    pub label: &'static str,
+    /// The last step's scaled size.
+    pub last_step: f64,
+}
+
+impl StepTest {
+    pub fn new(typical: Vec<f64>, step_tol: f64, residual_tol: f64, label: &'static str) -> Self {
+        StepTest { typical, step_tol, residual_tol, label, last_step: f64::INFINITY }
+    }
+}
+
+impl Convergence for StepTest {
+    fn norm(&self, f: &[f64]) -> f64 {
+        f.iter().map(|a| a.abs()).fold(0.0, f64::max)
+    }
+
+    fn before_step(&mut self, _it: &Iterate) -> Verdict {
+        Verdict::Continue
+    }
+
+    fn after_step(&mut self, x: &[f64], delta: &[f64], t: f64, it: &Iterate) -> Verdict {
+        self.last_step = if self.typical.is_empty() {
+            delta.iter().zip(x).map(|(d, s)| (t * d / s).abs()).fold(0.0, nan_max)
+        } else {
+            delta.iter().zip(&self.typical).map(|(d, s)| (t * d / s).abs()).fold(0.0, nan_max)
+        };
+        if self.last_step <= self.step_tol && it.norm <= self.residual_tol {
+            Verdict::Converged
+        } else {
+            Verdict::Continue
+        }
+    }
+
+    fn exhausted(&self, it: &Iterate) -> Error {
+        Error::new(
+            Status::ErrNotConverged,
+            format!(
+                "{}: no convergence in {} iterations (max |F| = {:e}, last step {:e})",
+                self.label, it.iteration, it.norm, self.last_step
+            ),
+        )
+    }
+
+    fn no_descent(&self, it: &Iterate) -> Error {
+        Error::new(
+            Status::ErrNotConverged,
+            format!("{}: line search failed at iteration {} (|F| = {:e})", self.label, it.iteration, it.norm),
+        )
+    }
+}

@@ -44,7 +44,7 @@ fn main() {
         let last = r.points.last().unwrap().observables;
         let _ = writeln!(report, "{salt} M: Debye length {:.3} nm, λ² = {:.4} pN, cutoff {:?}; buckling at {:.4} turns, torque {:.3} pN nm; {} points, {} steps, {} factorisations, {:.1} s; last point {:.4} turns, z {:.2} nm, M {:.3} pN nm, Wr {:.4}; crossing {:?}; worst |Tw + Wr − turns| {:.1e}",
             1.0 / scene.kappa(), r.charge.line_charge.powi(2), r.charge.cutoff(r.rod.length), r.buckling.map_or(f64::NAN, |b| b.0 / two_pi), r.buckling.map_or(f64::NAN, |b| b.1),
-            r.points.len(), steps_done, facts, r.seconds, last.turns, last.extension, last.torque, last.writhe, r.buckled.as_ref().and_then(|b| b.crossing), worst_lk);
+            r.points.len(), steps_done, facts, r.seconds, last.turns, last.extension, last.torque, last.writhe, r.buckled.as_ref().and_then(|b| b.contact), worst_lk);
         let mut csv = String::from("turns,extension_nm,torque_pN_nm,tension_pN,twist,writhe,branch\n");
         for p in &r.points {
             let o = p.observables;

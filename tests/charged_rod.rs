@@ -365,7 +365,7 @@ fn strand_crossing_stops_the_branch_and_a_hard_core_prevents_it() {
         branch::switch(&rod, charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap()
     };
     let b = run(&charge);
-    let c = b.crossing.expect("the uncharged loop crosses itself");
+    let c = b.contact.expect("the uncharged loop crosses itself");
     assert_eq!(b.stop, rodkit::continuation::Stop::Cancelled);
     assert_eq!(c.record, b.records.len() - 1);
     // Brute force over all stage pairs with arc-length gap > πa.
@@ -402,7 +402,7 @@ fn strand_crossing_stops_the_branch_and_a_hard_core_prevents_it() {
     );
     charge.hard_core = Some(10.0);
     let h = run(&charge);
-    assert!(h.crossing.is_none(), "hard core crossed: {:?}", h.crossing);
+    assert!(h.contact.is_none(), "hard core crossed: {:?}", h.contact);
     assert!(h.records.len() > b.records.len(), "the hard-core branch stopped early ({:?})", h.stop);
     let dmin = h.states.iter().map(|x| closest(x)).fold(f64::INFINITY, f64::min);
     println!("hard core: {} points, closest approach {dmin:.3} nm (2a = {})", h.records.len(), 2.0 * scene.radius);

@@ -226,7 +226,7 @@ pub unsafe extern "C" fn rodkit_dna_supercoil_run(spec: *const DnaSupercoilSpec,
         let (scene, settings) = scene_of(arg_ref("spec", spec)?).map_err(|e| qualify_argument(e, "spec."))?;
         let run = run_scene(&scene, &settings)?;
         let status = match &run.buckled {
-            Some(b) if b.crossing.is_some() => Status::InfoStrandCrossing,
+            Some(b) if b.contact.is_some() => Status::InfoStrandCrossing,
             Some(b) => match b.stop {
                 crate::continuation::Stop::MaxSteps => Status::InfoStepLimit,
                 crate::continuation::Stop::StepTooSmall => Status::InfoStepTooSmall,
@@ -285,7 +285,7 @@ pub unsafe extern "C" fn rodkit_supercoil_summary(run: *const Supercoil, info: *
             i.residuals += b.counts.residuals as i64;
             i.pair_lists += b.pair_lists as i64;
         }
-        if let Some(c) = r.buckled.as_ref().and_then(|b| b.crossing) {
+        if let Some(c) = r.buckled.as_ref().and_then(|b| b.contact) {
             i.crossing = 1;
             i.crossing_distance = c.distance;
             i.crossing_s1 = c.s1;

@@ -336,27 +336,17 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
     let mut target = 0.95 * phi_1;
     while target <= 3.0 * phi_g + 0.5 * chunk {
         opts.target_lambda = Some(per_phi * target);
-        let b = match &straight {
-            None => follow(
-                &rod,
-                &charge,
-                Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
-                None,
-                &opts,
-                |_| true,
-            )?,
-            Some(prev) => {
-                let mut next = follow(&rod, &charge, Start::Resume(prev.resume.clone()), None, &opts, |_| true)?;
-                let mut merged = prev.clone();
-                merged.records.extend(next.records.drain(1..));
-                merged.states.extend(next.states.drain(1..));
-                merged.bifurcations.extend(next.bifurcations);
-                merged.stop = next.stop;
-                merged.resume = next.resume;
-                merged.pair_lists += next.pair_lists;
-                merged.counts.add(&next.counts);
-                merged
+        let start = match &straight {
+            None => Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
+            Some(prev) => Start::Resume(prev.resume.clone()),
+        };
+        let next = follow(&rod, &charge, start, None, &opts, |_| true)?;
+        let b = match straight.take() {
+            Some(mut prev) => {
+                prev.append(next);
+                prev
             }
+            None => next,
         };
         let found = !b.bifurcations.is_empty();
         let stop = b.stop;

@@ -22,13 +22,12 @@
 //! target Λ inside a step is located on the polynomial Λ(a) and the point
 //! corrected at fixed Λ.
 
-use super::bifurcation::{Bifurcation, State};
-use super::corrector::correct;
-use super::corrector::deliver_sample;
-use super::newton::{detect, make_record, validate, validate_resume, Start};
+use super::bifurcation::State;
+use super::corrector::{correct, Plane};
+use super::newton::Start;
 use super::pade::{self, Curve};
-use super::tangent::Bordered;
-use super::{Branch, Counts, Options, Record, Resume, Sample, Scaling, SeriesProblem, Stop};
+use super::run::{resume_step, validate_resume, Run};
+use super::{Branch, Options, Record, Resume, SeriesProblem, Stop};
 use crate::error::{self, Error, Result};
 use crate::nonlinear::scaled_max_norm;
 use crate::roots::{all_roots, first_root};
@@ -64,213 +63,171 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
     mut observe: impl FnMut(&[f64], f64) -> Vec<f64>,
     mut progress: impl FnMut(&Record) -> bool,
 ) -> Result<Branch> {
-    validate(problem, opts)?;
+    let mut run = Run::new(problem, opts)?;
     error::count_in_range("order", anm.order as i64, 2, pade::MAX_ORDER as i64)?;
     error::in_range("epsilon", anm.epsilon, 1e-15, 1e-1)?;
-    let n = problem.dim();
-    let p_max = anm.order;
-    let scaling = opts.scaling.clone().unwrap_or_else(|| {
-        let (x, lambda) = problem.unknown_scales();
-        Scaling { x, lambda }
-    });
-    let eq = problem.equation_scales();
-    let mut bordered = Bordered::new(problem.pattern())?;
-    bordered.set_monitor_scales(&eq, &scaling);
-    let mut counts = Counts::default();
-    let e_lambda = vec![0.0; n];
-
-    let (mut x, mut lambda, mut vx, mut vl, first_iterations) = match start {
-        Start::Point { x, lambda, increasing } => {
-            error::count_in_range("start point length", x.len() as i64, n as i64, n as i64)?;
-            let mut x = x;
-            let mut l = lambda;
-            let anchor = x.clone();
-            let (it, _) = correct(
-                problem,
-                &mut bordered,
-                &scaling,
-                &eq,
-                &mut x,
-                &mut l,
-                (&anchor, lambda),
-                (&e_lambda, 1.0),
-                opts.residual_tol,
-                false,
-                &mut counts,
-            )
-            .map_err(|e| Error::new(e.status, format!("continuation start: {}", e.message)))?;
-            (x, l, e_lambda.clone(), if increasing { 1.0 } else { -1.0 }, it)
-        }
-        Start::Resume(r) => {
-            validate_resume(&r, n)?;
-            match bordered.factorise_at(problem, &r.x, r.lambda, &r.tangent_x, r.tangent_lambda, &scaling, &mut counts)
-            {
-                Ok(()) => (r.x, r.lambda, r.tangent_x, r.tangent_lambda, 0),
-                // Exactly singular: a resume at a bifurcation point; leave it
-                // as a switch does.
-                Err(e) if e.status == Status::ErrNotConverged => {
-                    leave_singular(problem, &mut bordered, &scaling, &eq, &r, opts, &mut counts)?
-                }
-                Err(e) => return Err(e),
+    let (mut x, mut lambda, mut v, first_iterations) = begin(&mut run, problem, start)?;
+    let mut expansion = Expansion::new(problem.dim(), anm.order);
+    // What the next record reports of the step that reached its point.
+    let (mut iterations, mut step_length, mut series_residual) = (first_iterations, 0.0, None);
+    let mut last_a = opts.initial_step;
+    // Starting on the target: the start is the answer.
+    let mut at_target = opts.target_lambda == Some(lambda);
+    for step in 0..=opts.max_steps {
+        // One factorisation at X0 with the border v.
+        if let Err(e) = run.ctx.factorise(problem, &x, lambda, (&v.0, v.1)) {
+            if run.records.is_empty() {
+                return Err(e);
             }
+            return Ok(run.finish(Stop::StepTooSmall, State { x, lambda, tx: v.0, tl: v.1 }, last_a));
         }
+        let (x1, l1) = run.ctx.tangent()?;
+        // The record of X0 (its determinant signs need this factorisation).
+        let mut rec = run.record(problem, &x, lambda, (&x1, l1), step_length, iterations, &mut observe);
+        rec.series_residual = series_residual;
+        let go_on = run.push(rec, &mut progress);
+        let here = State { x, lambda, tx: x1, tl: l1 };
+        if opts.detect_bifurcations && run.watch(problem, here.clone())? {
+            // Locating moved the factorisation: restore this step's.
+            run.ctx.factorise(problem, &here.x, lambda, (&v.0, v.1))?;
+        }
+        let stop = if at_target {
+            Some(Stop::Target)
+        } else if !go_on {
+            Some(Stop::Cancelled)
+        } else {
+            (step == opts.max_steps).then_some(Stop::MaxSteps)
+        };
+        if let Some(stop) = stop {
+            return Ok(run.finish(stop, here, last_a));
+        }
+        expansion.compute(&mut run, problem, &here);
+        let a = expansion.radius(&run, anm);
+        if !(a >= opts.min_step) {
+            return Ok(run.finish(Stop::StepTooSmall, here, a));
+        }
+        // Padé: a longer step where the rational form stays within ε.
+        let (a, denominator) = match anm.pade && a < opts.max_step {
+            true => match pade::step(&expansion.series, &run.ctx.scaling, anm.epsilon, a, (4.0 * a).min(opts.max_step))
+            {
+                Some((t, d)) if t > a => {
+                    run.ctx.counts.pade_steps += 1;
+                    (t, Some(d))
+                }
+                _ => (a, None),
+            },
+            false => (a, None),
+        };
+        let curve = match &denominator {
+            Some(d) => Curve::Pade(&expansion.series, d),
+            None => Curve::Series(&expansion.series),
+        };
+        samples(&mut run, problem, &curve, a, &here, &v, &mut observe)?;
+        let end = match end_point(&mut run, problem, &curve, a, &here, &v)? {
+            End::Reached(end) => end,
+            End::Stopped(stop, a) => return Ok(run.finish(stop, here, a)),
+        };
+        run.ctx.counts.steps += 1;
+        let tnorm = run.ctx.scaling.norm(&end.tangent[..end.x.len()], end.tangent[end.x.len()]);
+        v = (end.tangent[..end.x.len()].iter().map(|t| t / tnorm).collect(), end.tangent[end.x.len()] / tnorm);
+        let dx: Vec<f64> = here.x.iter().zip(&end.x).map(|(p, q)| q - p).collect();
+        step_length = run.ctx.scaling.norm(&dx, end.lambda - here.lambda);
+        (iterations, series_residual) = (end.iterations, Some(end.series_residual));
+        // A target point is recorded at the loop's top, after its factorisation.
+        at_target = end.target;
+        (x, lambda, last_a) = (end.x, end.lambda, end.a);
+    }
+    unreachable!("the loop returns")
+}
+
+/// The first point, the border of its first factorisation and the Newton
+/// iterations that corrected it.
+type Begin = (Vec<f64>, f64, (Vec<f64>, f64), usize);
+
+fn begin<P: SeriesProblem + ?Sized>(run: &mut Run, problem: &mut P, start: Start) -> Result<Begin> {
+    match start {
+        Start::Point { x, lambda, increasing } => {
+            let (x, l, it) = run.corrected_start(problem, x, lambda)?;
+            let e_lambda = vec![0.0; x.len()];
+            Ok((x, l, (e_lambda, if increasing { 1.0 } else { -1.0 }), it))
+        }
+        // Exactly singular: a resume at a bifurcation point; leave it as a
+        // switch does.
+        Start::Resume(r) => match run.factorise_resume(problem, &r)? {
+            true => Ok((r.x, r.lambda, (r.tangent_x, r.tangent_lambda), 0)),
+            false => leave_singular(run, problem, &r),
+        },
         // A switch at a (near-)singular point: the series needs a regular
         // expansion point and a tangent that is not the nearly singular
         // matrix's arbitrary null mix, so the first step is a Newton
         // predictor–corrector step along the given direction.
         Start::Switch(r) => {
-            validate_resume(&r, n)?;
-            leave_singular(problem, &mut bordered, &scaling, &eq, &r, opts, &mut counts)?
+            validate_resume(&r, problem.dim())?;
+            leave_singular(run, problem, &r)
         }
-    };
-    let mut records: Vec<Record> = Vec::new();
-    let mut pending_iterations = first_iterations;
-    let mut pending_step = 0.0;
-    let mut pending_series_residual: Option<f64> = None;
-    // Series storage: X_p for p = 0..=P, each n + 1 long (Λ last).
-    let mut series: Vec<Vec<f64>> = vec![vec![0.0; n + 1]; p_max + 1];
-    let mut rhs = vec![0.0; n];
-    let mut z = vec![0.0; n + 1];
-    let mut last_a = opts.initial_step;
-    let mut at_target = false;
-    let mut bifurcations: Vec<Bifurcation> = Vec::new();
-    let mut history: Vec<State> = Vec::new();
-    let mut samples: Vec<Sample> = Vec::new();
-    let mut missed: Vec<f64> = Vec::new();
-    let mut refactorised = false;
-    let mut r = vec![0.0; n];
-    if opts.target_lambda == Some(lambda) {
-        // Starting on the target: the start is the answer.
-        at_target = true;
+    }
+}
+
+/// The series X_p, p = 0…P (each n + 1 long, Λ last) at a point, with the
+/// buffers of its recursion.
+struct Expansion {
+    series: Vec<Vec<f64>>,
+    rhs: Vec<f64>,
+    z: Vec<f64>,
+    zeros: Vec<f64>,
+}
+
+impl Expansion {
+    fn new(n: usize, order: usize) -> Self {
+        Expansion {
+            series: vec![vec![0.0; n + 1]; order + 1],
+            rhs: vec![0.0; n],
+            z: vec![0.0; n + 1],
+            zeros: vec![0.0; n],
+        }
     }
 
-    for step in 0..=opts.max_steps {
-        // One factorisation at X0 with the border v.
-        if let Err(e) = bordered.factorise_at(problem, &x, lambda, &vx, vl, &scaling, &mut counts) {
-            if records.is_empty() {
-                return Err(e);
-            }
-            return Ok(finish(
-                Stop::StepTooSmall,
-                x,
-                lambda,
-                vx,
-                vl,
-                last_a,
-                records,
-                counts,
-                std::mem::take(&mut bifurcations),
-            )
-            .with_samples(samples, missed));
-        }
-        let (x1, l1) = bordered.tangent(&scaling, &mut counts)?;
-        // The record of X0 (its determinant signs need this factorisation).
-        let mut rec = make_record(
-            problem,
-            &mut bordered,
-            &scaling,
-            &eq,
-            &x,
-            lambda,
-            &x1,
-            l1,
-            pending_step,
-            pending_iterations,
-            opts,
-            &mut observe,
-            &mut counts,
-        );
-        rec.series_residual = pending_series_residual;
-        let go_on = progress(&rec);
-        records.push(rec);
-        if opts.detect_bifurcations {
-            history.push(State { x: x.clone(), lambda, tx: x1.clone(), tl: l1 });
-            if history.len() > 3 {
-                history.remove(0);
-            }
-            let before = bordered.factorisations();
-            if let Some(b) =
-                detect(problem, &mut bordered, &scaling, &eq, opts, &records, &history, &bifurcations, &mut counts)?
-            {
-                bifurcations.push(b);
-            }
-            if bordered.factorisations() != before {
-                // Locating moved the factorisation: restore this step's.
-                bordered.factorise_at(problem, &x, lambda, &vx, vl, &scaling, &mut counts)?;
-            }
-        }
-        if at_target {
-            return Ok(finish(
-                Stop::Target,
-                x,
-                lambda,
-                x1,
-                l1,
-                last_a,
-                records,
-                counts,
-                std::mem::take(&mut bifurcations),
-            )
-            .with_samples(samples, missed));
-        }
-        if !go_on {
-            return Ok(finish(
-                Stop::Cancelled,
-                x,
-                lambda,
-                x1,
-                l1,
-                last_a,
-                records,
-                counts,
-                std::mem::take(&mut bifurcations),
-            )
-            .with_samples(samples, missed));
-        }
-        if step == opts.max_steps {
-            return Ok(finish(
-                Stop::MaxSteps,
-                x,
-                lambda,
-                x1,
-                l1,
-                last_a,
-                records,
-                counts,
-                std::mem::take(&mut bifurcations),
-            )
-            .with_samples(samples, missed));
-        }
-
-        // The series.
-        series[0][..n].copy_from_slice(&x);
-        series[0][n] = lambda;
-        series[1][..n].copy_from_slice(&x1);
-        series[1][n] = l1;
-        problem.series_begin(&x, lambda, p_max);
-        problem.series_order(1, &x1, l1, &mut rhs);
+    /// Every order from the current factorisation (module docs): X_0 the
+    /// point, X_1 its tangent, X_p (p ≥ 2) from B z = (−F_p, 0) made
+    /// W-orthogonal to X_1.
+    fn compute<P: SeriesProblem + ?Sized>(&mut self, run: &mut Run, problem: &mut P, here: &State) {
+        let n = here.x.len();
+        let p_max = self.series.len() - 1;
+        let (x1, l1) = (&here.tx, here.tl);
+        self.series[0][..n].copy_from_slice(&here.x);
+        self.series[0][n] = here.lambda;
+        self.series[1][..n].copy_from_slice(x1);
+        self.series[1][n] = l1;
+        problem.series_begin(&here.x, here.lambda, p_max);
+        problem.series_order(1, x1, l1, &mut self.rhs);
+        let z = &mut self.z;
         for p in 2..=p_max {
-            problem.series_order(p, &e_lambda, 0.0, &mut rhs);
+            problem.series_order(p, &self.zeros, 0.0, &mut self.rhs);
             for i in 0..n {
-                z[i] = -rhs[i];
+                z[i] = -self.rhs[i];
             }
             z[n] = 0.0;
-            bordered.solve(&mut z, &mut counts);
-            let c = scaling.dot(&z[..n], z[n], &x1, l1);
+            run.ctx.bordered.solve(z, &mut run.ctx.counts);
+            let c = run.ctx.scaling.dot(&z[..n], z[n], x1, l1);
             for i in 0..n {
                 z[i] -= c * x1[i];
             }
             z[n] -= c * l1;
-            series[p].copy_from_slice(&z);
-            problem.series_order(p, &z[..n], z[n], &mut rhs);
-            counts.series_orders += 1;
+            self.series[p].copy_from_slice(z);
+            problem.series_order(p, &z[..n], z[n], &mut self.rhs);
+            run.ctx.counts.series_orders += 1;
         }
-        // Step length from the last term (and the one before: a series with
-        // vanishing odd or even terms would otherwise overshoot). A
-        // non-finite term (a blown-up evaluation) gives a zero step.
-        let norm_of = |v: &[f64]| scaling.norm(&v[..n], v[n]);
+    }
+
+    /// a_max from the last term (and the one before: a series with
+    /// vanishing odd or even terms would otherwise overshoot), capped at
+    /// the maximal step. A non-finite term (a blown-up evaluation) gives a
+    /// zero step.
+    fn radius(&self, run: &Run, anm: &AnmOptions) -> f64 {
+        let n = self.rhs.len();
+        let p_max = self.series.len() - 1;
         let radius = |p: usize| {
-            let t = norm_of(&series[p]);
+            let t = run.ctx.scaling.norm(&self.series[p][..n], self.series[p][n]);
             if !t.is_finite() {
                 0.0
             } else if t > 0.0 {
@@ -279,234 +236,155 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
                 f64::INFINITY
             }
         };
-        let mut a = if p_max > 2 { radius(p_max).min(radius(p_max - 1)) } else { radius(p_max) };
-        a = a.min(opts.max_step);
-        if !(a >= opts.min_step) {
-            return Ok(finish(
-                Stop::StepTooSmall,
+        let a = if p_max > 2 { radius(p_max).min(radius(p_max - 1)) } else { radius(p_max) };
+        a.min(run.opts.max_step)
+    }
+}
+
+/// Dense output: every requested Λ the step (0, a] crosses, from the curve
+/// (corrected on this step's factorisation when its residual is above the
+/// tolerance); the step's factorisation restored when a sample needed a
+/// fresh one.
+fn samples<P: SeriesProblem + ?Sized>(
+    run: &mut Run,
+    problem: &mut P,
+    curve: &Curve,
+    a: f64,
+    here: &State,
+    v: &(Vec<f64>, f64),
+    observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
+) -> Result<()> {
+    let (lam0, lam1) = (here.lambda, curve.lambda(a));
+    let record = run.records.len() - 1;
+    let mut refactorised = false;
+    let opts = run.opts;
+    for &target in &opts.samples {
+        if (target - lam0) * (target - lam1) > 0.0 || target == lam0 {
+            continue;
+        }
+        for t in all_roots(|t| curve.lambda(t) - target, a) {
+            let mut xs = vec![0.0; here.x.len()];
+            curve.evaluate(t, &mut xs, None);
+            run.sample(problem, xs, target, (&here.tx, here.tl), record, &mut refactorised, observe);
+        }
+    }
+    if refactorised {
+        run.ctx.factorise(problem, &here.x, here.lambda, (&v.0, v.1))?;
+    }
+    Ok(())
+}
+
+/// The corrected end of a step.
+struct EndPoint {
+    x: Vec<f64>,
+    lambda: f64,
+    /// dX/da there (n + 1, unnormalised): the next border.
+    tangent: Vec<f64>,
+    iterations: usize,
+    /// The series' residual before the correction.
+    series_residual: f64,
+    /// The step length taken.
+    a: f64,
+    /// The point is the target Λ.
+    target: bool,
+}
+
+enum End {
+    Reached(EndPoint),
+    /// The run stops (λ range, step too small) with this step length.
+    Stopped(Stop, f64),
+}
+
+/// The end point X(a), corrected: chord on this step's factorisation
+/// (border v), or at fixed Λ for a target Λ inside the step (the first root
+/// of Λ(a) − Λ_t on (0, a]). A correction that fails halves the step (a
+/// series evaluated too far out) and drops the target.
+fn end_point<P: SeriesProblem + ?Sized>(
+    run: &mut Run,
+    problem: &mut P,
+    curve: &Curve,
+    mut a: f64,
+    here: &State,
+    v: &(Vec<f64>, f64),
+) -> Result<End> {
+    let opts = run.opts;
+    let n = here.x.len();
+    let mut target = None;
+    if let Some(t) = opts.target_lambda {
+        if let Some(at) = first_root(|s| curve.lambda(s) - t, a) {
+            a = at;
+            target = Some(t);
+        }
+    }
+    let mut x = vec![0.0; n];
+    let mut tangent = vec![0.0; n + 1];
+    let mut r = vec![0.0; n];
+    loop {
+        curve.evaluate(a, &mut x, Some(&mut tangent));
+        let mut lambda = target.unwrap_or_else(|| curve.lambda(a));
+        // Λ range: stop before leaving it.
+        if target.is_none() && !(lambda >= opts.lambda_range.0 && lambda <= opts.lambda_range.1) {
+            return Ok(End::Stopped(Stop::LambdaRange, a));
+        }
+        problem.residual(&x, lambda, &mut r);
+        run.ctx.counts.residuals += 1;
+        let series_residual = scaled_max_norm(&r, &run.ctx.eq);
+        let end = |x, lambda, iterations| {
+            End::Reached(EndPoint {
                 x,
                 lambda,
-                x1,
-                l1,
+                tangent: tangent.clone(),
+                iterations,
+                series_residual,
                 a,
-                records,
-                counts,
-                std::mem::take(&mut bifurcations),
-            )
-            .with_samples(samples, missed));
-        }
-        // Padé: a longer step where the rational form stays within ε.
-        let mut denominator = None;
-        if anm.pade && a < opts.max_step {
-            if let Some((t, d)) = pade::step(&series, &scaling, anm.epsilon, a, (4.0 * a).min(opts.max_step)) {
-                if t > a {
-                    a = t;
-                    denominator = Some(d);
-                    counts.pade_steps += 1;
-                }
-            }
-        }
-        let curve = match &denominator {
-            Some(d) => Curve::Pade(&series, d),
-            None => Curve::Series(&series),
+                target: target.is_some(),
+            })
         };
-        let lam_at = |t: f64| curve.lambda(t);
-        // Dense output: every requested Λ the step crosses, from the series
-        // (corrected on this step's factorisation when its residual is
-        // above the tolerance).
-        if !opts.samples.is_empty() {
-            let lam0 = lambda;
-            let lam1 = lam_at(a);
-            for &target in &opts.samples {
-                if (target - lam0) * (target - lam1) > 0.0 || target == lam0 {
-                    continue;
-                }
-                for t in all_roots(|t| lam_at(t) - target, a) {
-                    let mut xs = vec![0.0; n];
-                    curve.evaluate(t, &mut xs, None);
-                    let sample = deliver_sample(
-                        problem,
-                        &mut bordered,
-                        &scaling,
-                        &eq,
-                        &mut xs,
-                        target,
-                        (&x1, l1),
-                        opts.residual_tol,
-                        &mut counts,
-                        &mut refactorised,
-                    );
-                    match sample {
-                        Ok((iterations, residual)) => samples.push(Sample {
-                            lambda: target,
-                            record: records.len() - 1,
-                            outputs: observe(&xs, target),
-                            residual,
-                            newton_iterations: iterations,
-                        }),
-                        Err(_) => missed.push(target),
-                    }
-                }
-            }
-            if refactorised {
-                // A sample needed a fresh factorisation: restore the step's.
-                bordered.factorise_at(problem, &x, lambda, &vx, vl, &scaling, &mut counts)?;
-                refactorised = false;
-            }
+        if series_residual <= opts.residual_tol {
+            return Ok(end(x, lambda, 0));
         }
-        // A target Λ inside the step: the first root of Λ(a) − Λt on (0, a].
-        let mut stop = None;
-        if let Some(target) = opts.target_lambda {
-            if let Some(at) = first_root(|t| lam_at(t) - target, a) {
-                a = at;
-                stop = Some(Stop::Target);
+        let anchor = x.clone();
+        let result = match target {
+            Some(t) => {
+                correct(problem, &mut run.ctx, &mut x, &mut lambda, Plane::fixed(&anchor, t), opts.residual_tol, false)
             }
-        }
-        // The end point, corrected: chord on this step's factorisation
-        // (border v), or at fixed Λ for a target point. A correction that
-        // fails halves the step (a series evaluated too far out).
-        let mut xn = vec![0.0; n];
-        let mut tn = vec![0.0; n + 1];
-        let (mut ln, iterations, series_residual) = loop {
-            curve.evaluate(a, &mut xn, Some(&mut tn));
-            let mut ln = if stop == Some(Stop::Target) {
-                opts.target_lambda.expect("a target stop has a target")
-            } else {
-                lam_at(a)
-            };
-            // Λ range: stop before leaving it.
-            if stop.is_none() && !(ln >= opts.lambda_range.0 && ln <= opts.lambda_range.1) {
-                return Ok(finish(
-                    Stop::LambdaRange,
-                    x,
-                    lambda,
-                    x1,
-                    l1,
-                    a,
-                    records,
-                    counts,
-                    std::mem::take(&mut bifurcations),
-                )
-                .with_samples(samples, missed));
-            }
-            problem.residual(&xn, ln, &mut r);
-            counts.residuals += 1;
-            let series_residual = scaled_max_norm(&r, &eq);
-            if series_residual <= opts.residual_tol {
-                break (ln, 0, series_residual);
-            }
-            let anchor = xn.clone();
-            let anchor_l = ln;
-            let result = if stop == Some(Stop::Target) {
-                correct(
-                    problem,
-                    &mut bordered,
-                    &scaling,
-                    &eq,
-                    &mut xn,
-                    &mut ln,
-                    (&anchor, anchor_l),
-                    (&e_lambda, 1.0),
-                    opts.residual_tol,
-                    false,
-                    &mut counts,
-                )
-            } else {
-                correct(
-                    problem,
-                    &mut bordered,
-                    &scaling,
-                    &eq,
-                    &mut xn,
-                    &mut ln,
-                    (&anchor, anchor_l),
-                    (&vx, vl),
-                    opts.residual_tol,
-                    true,
-                    &mut counts,
-                )
-            };
-            match result {
-                Ok((it, _)) => break (ln, it, series_residual),
-                Err(_) => {
-                    // Back to this step's factorisation, half the step, no
-                    // target inside it any more.
-                    a *= 0.5;
-                    stop = None;
-                    if !(a >= opts.min_step) {
-                        return Ok(finish(
-                            Stop::StepTooSmall,
-                            x,
-                            lambda,
-                            x1,
-                            l1,
-                            a,
-                            records,
-                            counts,
-                            std::mem::take(&mut bifurcations),
-                        )
-                        .with_samples(samples, missed));
-                    }
-                    bordered.factorise_at(problem, &x, lambda, &vx, vl, &scaling, &mut counts)?;
-                }
+            None => {
+                let plane = Plane::new((&anchor, lambda), (&v.0, v.1));
+                correct(problem, &mut run.ctx, &mut x, &mut lambda, plane, opts.residual_tol, true)
             }
         };
-        pending_series_residual = Some(series_residual);
-        counts.steps += 1;
-        let tnorm = scaling.norm(&tn[..n], tn[n]);
-        vx = tn[..n].iter().map(|v| v / tnorm).collect();
-        vl = tn[n] / tnorm;
-        pending_step = scaling.norm(&x.iter().zip(&xn).map(|(p, q)| q - p).collect::<Vec<_>>(), ln - lambda);
-        pending_iterations = iterations;
-        if stop == Some(Stop::Target) {
-            // Recorded at the loop's top, after its factorisation.
-            at_target = true;
-            ln = opts.target_lambda.expect("a target stop has a target");
+        if let Ok((it, _)) = result {
+            let lambda = target.unwrap_or(lambda);
+            return Ok(end(x, lambda, it));
         }
-        x = xn;
-        lambda = ln;
-        last_a = a;
+        // Back to this step's factorisation, half the step, no target
+        // inside it any more.
+        a *= 0.5;
+        target = None;
+        if !(a >= opts.min_step) {
+            return Ok(End::Stopped(Stop::StepTooSmall, a));
+        }
+        run.ctx.factorise(problem, &here.x, here.lambda, (&v.0, v.1))?;
     }
-    unreachable!("the loop returns")
 }
 
 /// The first point off a singular point `r` along its direction: a Newton
 /// predictor–corrector step of length r.step (halved until it converges),
 /// with the secant as the next border.
-#[allow(clippy::too_many_arguments)]
-fn leave_singular<P: SeriesProblem + ?Sized>(
-    problem: &mut P,
-    bordered: &mut Bordered,
-    scaling: &Scaling,
-    eq: &[f64],
-    r: &Resume,
-    opts: &Options,
-    counts: &mut Counts,
-) -> Result<(Vec<f64>, f64, Vec<f64>, f64, usize)> {
-    let mut ds = super::newton::resume_step(r.step, opts);
+fn leave_singular<P: SeriesProblem + ?Sized>(run: &mut Run, problem: &mut P, r: &Resume) -> Result<Begin> {
+    let opts = run.opts;
+    let mut ds = resume_step(r.step, opts);
     loop {
         let mut x: Vec<f64> = r.x.iter().zip(&r.tangent_x).map(|(a, t)| a + ds * t).collect();
         let mut l = r.lambda + ds * r.tangent_lambda;
         let anchor = x.clone();
-        let al = l;
-        if let Ok((it, _)) = correct(
-            problem,
-            bordered,
-            scaling,
-            eq,
-            &mut x,
-            &mut l,
-            (&anchor, al),
-            (&r.tangent_x, r.tangent_lambda),
-            opts.residual_tol,
-            false,
-            counts,
-        ) {
+        let plane = Plane::new((&anchor, l), (&r.tangent_x, r.tangent_lambda));
+        if let Ok((it, _)) = correct(problem, &mut run.ctx, &mut x, &mut l, plane, opts.residual_tol, false) {
             let dx: Vec<f64> = x.iter().zip(&r.x).map(|(a, b)| a - b).collect();
-            let norm = scaling.norm(&dx, l - r.lambda);
+            let norm = run.ctx.scaling.norm(&dx, l - r.lambda);
             if norm > 0.0 && norm.is_finite() {
                 let vx = dx.iter().map(|v| v / norm).collect();
-                return Ok((x, l, vx, (l - r.lambda) / norm, it));
+                return Ok((x, l, (vx, (l - r.lambda) / norm), it));
             }
         }
         ds *= 0.5;
@@ -516,28 +394,5 @@ fn leave_singular<P: SeriesProblem + ?Sized>(
                 "ANM: no regular point found along the start direction (singular start)",
             ));
         }
-    }
-}
-
-#[allow(clippy::too_many_arguments)]
-fn finish(
-    stop: Stop,
-    x: Vec<f64>,
-    lambda: f64,
-    tx: Vec<f64>,
-    tl: f64,
-    step: f64,
-    records: Vec<Record>,
-    counts: Counts,
-    bifurcations: Vec<Bifurcation>,
-) -> Branch {
-    Branch {
-        records,
-        bifurcations,
-        stop,
-        resume: Resume { x, lambda, tangent_x: tx, tangent_lambda: tl, step },
-        counts,
-        samples: Vec::new(),
-        missed_samples: Vec::new(),
     }
 }

@@ -18,9 +18,9 @@
 //! border row). [`branch_start`] turns one into a [`Resume`] from which
 //! either engine follows the new branch.
 
-use super::corrector::correct;
-use super::tangent::Bordered;
-use super::{Counts, Problem, Resume, Scaling};
+use super::corrector::{correct, Plane};
+use super::run::Context;
+use super::{Problem, Resume, Scaling};
 use crate::error::Result;
 
 /// A located bifurcation point.
@@ -57,44 +57,29 @@ pub(crate) struct State {
 /// Locate a bifurcation between `left` and `right` (states on the branch,
 /// `left` before `right`) to `tol` in scaled arc length. Returns None when
 /// the minimum of σ_min is not small enough to be a singular point.
-#[allow(clippy::too_many_arguments)]
+/// `tols`: the residual tolerance of the trial points and the location's.
 pub(crate) fn locate<P: Problem + ?Sized>(
     problem: &mut P,
-    bordered: &mut Bordered,
-    scaling: &Scaling,
-    eq: &[f64],
-    residual_tol: f64,
+    ctx: &mut Context,
     left: &State,
     right: &State,
     det_sign_change: bool,
-    tol: f64,
-    counts: &mut Counts,
+    (residual_tol, tol): (f64, f64),
 ) -> Result<Option<Bifurcation>> {
     let dx: Vec<f64> = right.x.iter().zip(&left.x).map(|(a, b)| a - b).collect();
-    let span = scaling.dot(&dx, right.lambda - left.lambda, &left.tx, left.tl);
+    let span = ctx.scaling.dot(&dx, right.lambda - left.lambda, &left.tx, left.tl);
     // The point at arc parameter τ on the hyperplane ⟨X − X_L − τ t_L, t_L⟩ = 0.
-    let mut point = |tau: f64, counts: &mut Counts, bordered: &mut Bordered| -> Result<(Vec<f64>, f64, f64)> {
+    let mut point = |tau: f64, ctx: &mut Context| -> Result<(Vec<f64>, f64, f64)> {
         let mut x: Vec<f64> = left.x.iter().zip(&left.tx).map(|(a, t)| a + tau * t).collect();
         let mut l = left.lambda + tau * left.tl;
         let anchor = x.clone();
-        let al = l;
-        correct(
-            problem,
-            bordered,
-            scaling,
-            eq,
-            &mut x,
-            &mut l,
-            (&anchor, al),
-            (&left.tx, left.tl),
-            residual_tol,
-            false,
-            counts,
-        )?;
-        bordered.factorise_at(problem, &x, l, &left.tx, left.tl, scaling, counts)?;
-        Ok((x, l, bordered.signed_smallest_singular_value(counts)))
+        let plane = Plane::new((&anchor, l), (&left.tx, left.tl));
+        correct(problem, ctx, &mut x, &mut l, plane, residual_tol, false)?;
+        ctx.factorise(problem, &x, l, (&left.tx, left.tl))?;
+        let sigma = ctx.bordered.signed_smallest_singular_value(&mut ctx.counts);
+        Ok((x, l, sigma))
     };
-    let (sa, sb) = (point(0.0, counts, bordered)?.2, point(span, counts, bordered)?.2);
+    let (sa, sb) = (point(0.0, ctx)?.2, point(span, ctx)?.2);
     let ends = sa.abs().max(sb.abs());
     let (mut a, mut b) = (0.0, span);
     if sa * sb < 0.0 {
@@ -114,7 +99,7 @@ pub(crate) fn locate<P: Problem + ?Sized>(
             // Right at the singular point the corrector itself may fail to
             // converge (its matrix is singular there): the best point so
             // far is then as close as the location gets.
-            let Ok((_, _, fc)) = point(c, counts, bordered) else { break };
+            let Ok((_, _, fc)) = point(c, ctx) else { break };
             if fc.abs() < best_f {
                 (best, best_f) = (c, fc.abs());
             }
@@ -138,7 +123,7 @@ pub(crate) fn locate<P: Problem + ?Sized>(
         // the arc length's rounding would otherwise never be met.
         let g = 0.5 * (5f64.sqrt() - 1.0);
         let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
-        let (mut fc, mut fd) = (point(c, counts, bordered)?.2.abs(), point(d, counts, bordered)?.2.abs());
+        let (mut fc, mut fd) = (point(c, ctx)?.2.abs(), point(d, ctx)?.2.abs());
         let mut reductions = 0;
         while (b - a).abs() > tol && reductions < 120 {
             reductions += 1;
@@ -147,19 +132,19 @@ pub(crate) fn locate<P: Problem + ?Sized>(
                 d = c;
                 fd = fc;
                 c = b - g * (b - a);
-                fc = point(c, counts, bordered)?.2.abs();
+                fc = point(c, ctx)?.2.abs();
             } else {
                 a = c;
                 c = d;
                 fc = fd;
                 d = a + g * (b - a);
-                fd = point(d, counts, bordered)?.2.abs();
+                fd = point(d, ctx)?.2.abs();
             }
         }
     }
     let tau = 0.5 * (a + b);
-    let (x, lambda, _) = point(tau, counts, bordered)?;
-    let (sigma, vectors) = bordered.smallest_singular_vectors(3, counts);
+    let (x, lambda, _) = point(tau, ctx)?;
+    let (sigma, vectors) = ctx.bordered.smallest_singular_vectors(3, &mut ctx.counts);
     // The bracket was resolved to `tol`: a genuine zero leaves σ_min at
     // O(tol) of the end values; a mere dip (no singularity) stays at their scale.
     // (Clamped: a bracket shorter than the tolerance would make any σ "small".)
@@ -173,7 +158,7 @@ pub(crate) fn locate<P: Problem + ?Sized>(
         .iter()
         .take(multiplicity)
         .map(|v| {
-            let norm = scaling.norm(&v[..n], v[n]);
+            let norm = ctx.scaling.norm(&v[..n], v[n]);
             (v[..n].iter().map(|a| a / norm).collect(), v[n] / norm)
         })
         .collect();

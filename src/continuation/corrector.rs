@@ -10,6 +10,7 @@
 //!   falling back to [`correct`] at fixed Λ.
 
 use super::equilibrium::AtFixed;
+use super::run::Context;
 use super::tangent::Bordered;
 use super::{Counts, Problem, Scaling};
 use crate::error::{Error, Result};
@@ -82,31 +83,55 @@ fn with_free_border(equation_scales: &[f64]) -> Vec<f64> {
     d
 }
 
-/// Newton on [R(x, Λ) = 0, ⟨(x, Λ) − anchor, v⟩_W = 0] in place, to max
-/// |R_i|/e_i ≤ `tol`. `reuse`: chord iterations on the current
-/// factorisation of `bordered` (border v), refactorised when the residual
-/// does not halve; a stall after a fresh factorisation (from the third
-/// iteration) fails. At most 12 iterations (20 with chord: they converge
-/// linearly, more of them, each a residual and a solve, before a fresh
-/// factorisation is worth it). Returns (iterations, final residual).
-#[allow(clippy::too_many_arguments)]
+/// The hyperplane ⟨(x, Λ) − anchor, v⟩_W = 0 a correction stays on.
+#[derive(Clone, Copy)]
+pub(crate) struct Plane<'a> {
+    pub anchor: (&'a [f64], f64),
+    /// v; None: e_Λ (the correction at fixed Λ).
+    pub normal: Option<(&'a [f64], f64)>,
+}
+
+impl<'a> Plane<'a> {
+    pub fn new(anchor: (&'a [f64], f64), normal: (&'a [f64], f64)) -> Self {
+        Plane { anchor, normal: Some(normal) }
+    }
+
+    /// Λ fixed at `lambda`.
+    pub fn fixed(anchor: &'a [f64], lambda: f64) -> Self {
+        Plane { anchor: (anchor, lambda), normal: None }
+    }
+}
+
+/// Newton on [R(x, Λ) = 0, ⟨(x, Λ) − anchor, v⟩_W = 0] (`plane`) in place,
+/// to max |R_i|/e_i ≤ `tol`. `reuse`: chord iterations on the current
+/// factorisation of the context's bordered tangent (border v),
+/// refactorised when the residual does not halve; a stall after a fresh
+/// factorisation (from the third iteration) fails. At most 12 iterations
+/// (20 with chord: they converge linearly, more of them, each a residual and
+/// a solve, before a fresh factorisation is worth it). Returns (iterations,
+/// final residual).
 pub(crate) fn correct<P: Problem + ?Sized>(
     problem: &mut P,
-    bordered: &mut Bordered,
-    scaling: &Scaling,
-    equation_scales: &[f64],
+    ctx: &mut Context,
     x: &mut [f64],
     lambda: &mut f64,
-    anchor: (&[f64], f64),
-    v: (&[f64], f64),
+    plane: Plane<'_>,
     tol: f64,
     reuse: bool,
-    counts: &mut Counts,
 ) -> Result<(usize, f64)> {
     let n = x.len();
+    let e_lambda;
+    let v = match plane.normal {
+        Some(v) => v,
+        None => {
+            e_lambda = vec![0.0; n];
+            (&e_lambda[..], 1.0)
+        }
+    };
     let mut xl = x.to_vec();
     xl.push(*lambda);
-    let mut eq = Arclength { problem, scaling, anchor, v, dx: vec![0.0; n], residuals: 0 };
+    let Context { scaling, eq: equation_scales, bordered, counts } = ctx;
+    let mut eq = Arclength { problem, scaling, anchor: plane.anchor, v, dx: vec![0.0; n], residuals: 0 };
     let mut linear = BorderedStep { bordered, chord: reuse, counts: Counts::default() };
     let mut test = ResidualTest::new(with_free_border(equation_scales), tol, "Newton correction");
     test.non_finite = Status::ErrNotConverged;
@@ -156,34 +181,37 @@ impl<E: Equations + ?Sized> LinearSolve<E> for ProjectedChord<'_> {
 
 /// A point at the fixed load `target` from the prediction `xs` (in place):
 /// chord iterations ([`ProjectedChord`]) on the current factorisation of
-/// `bordered` (taken near xs, with tangent t = (t_x, t_Λ) from it), at most
-/// 12, stopping at the first that does not halve the residual. When the
-/// chord stalls or the tangent is nearly vertical (a fold), Newton at fixed
-/// Λ with fresh factorisations takes over from the prediction and
-/// `refactorised` is set (the caller's factorisation is gone). Returns
-/// (iterations, final residual).
-#[allow(clippy::too_many_arguments)]
+/// the context's bordered tangent (taken near xs, with tangent t = (t_x,
+/// t_Λ) from it), at most 12, stopping at the first that does not halve the
+/// residual. When the chord stalls or the tangent is nearly vertical (a
+/// fold), Newton at fixed Λ with fresh factorisations takes over from the
+/// prediction and `refactorised` is set (the caller's factorisation is
+/// gone). Returns (iterations, final residual).
 pub(crate) fn deliver_sample<P: Problem + ?Sized>(
     problem: &mut P,
-    bordered: &mut Bordered,
-    scaling: &Scaling,
-    equation_scales: &[f64],
+    ctx: &mut Context,
     xs: &mut [f64],
     target: f64,
     tangent: (&[f64], f64),
     tol: f64,
-    counts: &mut Counts,
     refactorised: &mut bool,
 ) -> Result<(usize, f64)> {
     let n = xs.len();
     let prediction = xs.to_vec();
-    let mut chord = ProjectedChord { bordered, tangent, z: vec![0.0; n + 1], steps: 0, counts: Counts::default() };
+    let mut chord = ProjectedChord {
+        bordered: &mut ctx.bordered,
+        tangent,
+        z: vec![0.0; n + 1],
+        steps: 0,
+        counts: Counts::default(),
+    };
     let mut eq = AtFixed::new(problem, target);
-    let mut test = ResidualTest::new(equation_scales.to_vec(), tol, "sample");
+    let mut test = ResidualTest::new(ctx.eq.clone(), tol, "sample");
     test.stall = Stall::Immediate;
     let result = nonlinear::solve(&mut eq, xs, &mut chord, &mut FullStep::new(n), &mut test, 12);
-    counts.residuals += eq.residuals;
-    counts.add(&chord.counts);
+    let steps = chord.steps;
+    ctx.counts.residuals += eq.residuals;
+    ctx.counts.add(&chord.counts);
     if let Ok(r) = result {
         return Ok((r.iterations, r.norm));
     }
@@ -191,19 +219,6 @@ pub(crate) fn deliver_sample<P: Problem + ?Sized>(
     xs.copy_from_slice(&prediction);
     *refactorised = true;
     let mut l = target;
-    let e_lambda = vec![0.0; n];
-    let (it, res) = correct(
-        problem,
-        chord.bordered,
-        scaling,
-        equation_scales,
-        xs,
-        &mut l,
-        (&prediction, target),
-        (&e_lambda, 1.0),
-        tol,
-        false,
-        counts,
-    )?;
-    Ok((chord.steps + it, res))
+    let (it, res) = correct(problem, ctx, xs, &mut l, Plane::fixed(&prediction, target), tol, false)?;
+    Ok((steps + it, res))
 }

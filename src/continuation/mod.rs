@@ -26,6 +26,7 @@ pub mod corrector;
 pub mod equilibrium;
 pub mod newton;
 mod pade;
+pub(crate) mod run;
 pub mod system;
 pub mod tangent;
 
@@ -279,12 +280,4 @@ pub struct Branch {
     /// Requested loads the branch crossed but where no point within the
     /// tolerance was found (the correction did not converge).
     pub missed_samples: Vec<f64>,
-}
-
-impl Branch {
-    pub(crate) fn with_samples(mut self, samples: Vec<Sample>, missed: Vec<f64>) -> Self {
-        self.samples = samples;
-        self.missed_samples = missed;
-        self
-    }
 }

@@ -1,16 +1,20 @@
-//! Branches of rod equilibria: continuation from a state, resumption, and
-//! switching at a located bifurcation — the phase condition chosen for the
-//! caller when the point is double (rotational symmetry). What the C ABI
-//! and the drivers use; the generic engines do the work.
+//! Branches of rod equilibria — plain and charged — in one type
+//! ([`RodBranch`]): continuation from a state, resumption, and switching at
+//! a located bifurcation with the phase condition chosen for the caller
+//! when the point is double (rotational symmetry). [`Followed`] is what a
+//! rod model provides to be followed and switched ([`switch`]); the plain
+//! rod's is here (either engine), the charged rod's in
+//! `crate::charged::branch` (pair lists rebuilt as the shape moves). What
+//! the C ABI and the drivers use; the generic engines do the work.
 
 use super::model::Rod;
 use crate::continuation::anm::{continue_anm, AnmOptions};
 use crate::continuation::bifurcation::{branch_start, Bifurcation};
-use crate::continuation::corrector::correct;
+use crate::continuation::corrector::{correct, Plane};
 use crate::continuation::newton::{continue_newton, Start};
+use crate::continuation::run::{validate, Context};
 use crate::continuation::system::AssembledSystem;
-use crate::continuation::tangent::Bordered;
-use crate::continuation::{Counts, Options, Problem, Record, Resume, Sample, Scaling, Stop};
+use crate::continuation::{Branch, Counts, Options, Problem, Record, Resume, Sample, Scaling, Stop};
 use crate::error::{self, Error, Result};
 use crate::status::Status;
 
@@ -34,10 +38,13 @@ pub struct RodBranch {
     pub resume: Resume,
     /// The phase condition (node, azimuth) the branch was followed with.
     pub phase: Option<(usize, f64)>,
-    /// Self-contact (with a rod diameter): the first record where
-    /// non-neighbouring points are closer than the diameter, with that
-    /// distance and the pair's arc lengths. The rod has no contact model:
-    /// records past it pass through themselves.
+    /// Where the rod first touches itself: the first record whose
+    /// non-neighbouring points come closer than the contact distance, with
+    /// that distance and the pair's arc lengths. A plain rod given a
+    /// diameter has no contact model: its records past it pass through
+    /// themselves. A charged rod's contact is a strand crossing (stage
+    /// points closer than 2a, arc-length gap > πa) and its branch stops
+    /// there (`stop` = Cancelled).
     pub contact: Option<Contact>,
     /// Points at the requested loads (`Options::samples`), their outputs
     /// moved into `sample_states`.
@@ -45,6 +52,9 @@ pub struct RodBranch {
     pub sample_states: Vec<Vec<f64>>,
     /// Requested loads crossed where no point within the tolerance was found.
     pub missed_samples: Vec<f64>,
+    /// Electrostatic pair lists built (a charged rod: 1 + rebuilds; 0 for
+    /// a plain rod).
+    pub pair_lists: usize,
 }
 
 /// Where a branch first passes through itself.
@@ -56,25 +66,95 @@ pub struct Contact {
     pub s2: f64,
 }
 
-impl Rod {
-    fn system_for(&self, phase: Option<(usize, f64)>) -> Result<AssembledSystem> {
-        match phase {
-            Some((node, azimuth)) => self.system_with_phase(node, azimuth),
-            None => self.system(),
+impl RodBranch {
+    /// An engine's branch whose outputs are the states followed by `extra`
+    /// trailing values (dropped): the states moved out of the records and
+    /// samples.
+    pub(crate) fn from_engine(b: Branch, phase: Option<(usize, f64)>, extra: usize) -> Self {
+        let take = |outputs: &mut Vec<f64>| {
+            let mut x = std::mem::take(outputs);
+            x.truncate(x.len() - extra);
+            x
+        };
+        let mut records = b.records;
+        let states = records.iter_mut().map(|r| take(&mut r.outputs)).collect();
+        let mut samples = b.samples;
+        let sample_states = samples.iter_mut().map(|s| take(&mut s.outputs)).collect();
+        RodBranch {
+            records,
+            states,
+            bifurcations: b.bifurcations,
+            stop: b.stop,
+            counts: b.counts,
+            resume: b.resume,
+            phase,
+            contact: None,
+            samples,
+            sample_states,
+            missed_samples: b.missed_samples,
+            pair_lists: 0,
         }
     }
 
-    /// The options for the system followed: a caller's scaling is for the
-    /// rod's n unknowns; with a phase condition the unfolding parameter μ
-    /// is appended with its own scale.
-    fn options_for(&self, opts: &Options, sys: &AssembledSystem) -> Options {
-        match &opts.scaling {
-            Some(s) if s.x.len() + 1 == sys.dim() => {
-                let mut x = s.x.clone();
-                x.push(*sys.unknown_scales().0.last().expect("a phase system has μ"));
-                Options { scaling: Some(Scaling { x, lambda: s.lambda }), ..opts.clone() }
-            }
-            _ => opts.clone(),
+    /// Append `next`, continued from this branch's resume point (its first
+    /// record repeats this branch's last): records, states, samples and
+    /// contact renumbered, the stop and resume point taken from `next`,
+    /// the work added.
+    pub fn append(&mut self, mut next: RodBranch) {
+        let offset = self.records.len().saturating_sub(1);
+        self.records.extend(next.records.drain(1..));
+        self.states.extend(next.states.drain(1..));
+        self.bifurcations.append(&mut next.bifurcations);
+        for s in &mut next.samples {
+            s.record += offset;
+        }
+        self.samples.append(&mut next.samples);
+        self.sample_states.append(&mut next.sample_states);
+        self.missed_samples.append(&mut next.missed_samples);
+        if self.contact.is_none() {
+            self.contact = next.contact.map(|c| Contact { record: c.record + offset, ..c });
+        }
+        self.stop = next.stop;
+        self.resume = next.resume;
+        self.counts.add(&next.counts);
+        self.pair_lists += next.pair_lists;
+    }
+}
+
+/// A rod model whose branches can be followed and switched.
+pub trait Followed {
+    type System: Problem;
+    fn rod(&self) -> &Rod;
+    /// The model's system (with the phase condition when given), built
+    /// about the state x.
+    fn system(&self, phase: Option<(usize, f64)>, x: &[f64]) -> Result<Self::System>;
+    /// Follow a branch from `start`.
+    fn follow(
+        &self,
+        start: Start,
+        phase: Option<(usize, f64)>,
+        opts: &Options,
+        progress: &mut dyn FnMut(&Record) -> bool,
+    ) -> Result<RodBranch>;
+}
+
+/// The plain rod followed by `method`.
+pub struct Plain<'a> {
+    pub rod: &'a Rod,
+    pub method: Method,
+}
+
+impl Followed for Plain<'_> {
+    type System = AssembledSystem;
+
+    fn rod(&self) -> &Rod {
+        self.rod
+    }
+
+    fn system(&self, phase: Option<(usize, f64)>, _x: &[f64]) -> Result<AssembledSystem> {
+        match phase {
+            Some((node, azimuth)) => self.rod.system_with_phase(node, azimuth),
+            None => self.rod.system(),
         }
     }
 
@@ -83,45 +163,104 @@ impl Rod {
         start: Start,
         phase: Option<(usize, f64)>,
         opts: &Options,
-        method: Method,
-        mut progress: impl FnMut(&Record) -> bool,
+        progress: &mut dyn FnMut(&Record) -> bool,
     ) -> Result<RodBranch> {
-        let mut sys = self.system_for(phase)?;
-        let opts = &self.options_for(opts, &sys);
-        let mut states = Vec::new();
+        let rod = self.rod;
+        let mut sys = self.system(phase, &[])?;
+        let opts = &options_for(opts, &sys);
         let observe = |x: &[f64], _: f64| x.to_vec();
-        let mut cb = |r: &Record| progress(r);
-        let b = match method {
-            Method::Anm(a) => continue_anm(&mut sys, start, opts, &a, observe, &mut cb)?,
-            Method::Newton => continue_newton(&mut sys, start, opts, observe, &mut cb)?,
+        let b = match self.method {
+            Method::Anm(a) => continue_anm(&mut sys, start, opts, &a, observe, progress)?,
+            Method::Newton => continue_newton(&mut sys, start, opts, observe, progress)?,
         };
-        let mut records = b.records;
-        for r in &mut records {
-            states.push(std::mem::take(&mut r.outputs));
-        }
-        let contact = self.diameter.and_then(|d| {
-            states.iter().enumerate().find_map(|(k, x)| {
-                let (distance, s1, s2) = self.closest_approach(x)?;
+        let mut branch = RodBranch::from_engine(b, phase, 0);
+        branch.contact = rod.diameter.and_then(|d| {
+            branch.states.iter().enumerate().find_map(|(k, x)| {
+                let (distance, s1, s2) = rod.closest_approach(x)?;
                 (distance < d).then_some(Contact { record: k, distance, s1, s2 })
             })
         });
-        let mut samples = b.samples;
-        let sample_states = samples.iter_mut().map(|s| std::mem::take(&mut s.outputs)).collect();
-        Ok(RodBranch {
-            records,
-            states,
-            bifurcations: b.bifurcations,
-            stop: b.stop,
-            counts: b.counts,
-            resume: b.resume,
-            phase,
-            contact,
-            samples,
-            sample_states,
-            missed_samples: b.missed_samples,
-        })
+        Ok(branch)
     }
+}
 
+/// The options for the system followed: a caller's scaling is for the
+/// rod's n unknowns; with a phase condition the unfolding parameter μ is
+/// appended with its own scale.
+pub(crate) fn options_for<P: Problem + ?Sized>(opts: &Options, sys: &P) -> Options {
+    match &opts.scaling {
+        Some(s) if s.x.len() + 1 == sys.dim() => {
+            let mut x = s.x.clone();
+            x.push(*sys.unknown_scales().0.last().expect("a phase system has μ"));
+            Options { scaling: Some(Scaling { x, lambda: s.lambda }), ..opts.clone() }
+        }
+        _ => opts.clone(),
+    }
+}
+
+/// Leave `branch` of `model` at its bifurcation `index` along null
+/// direction `direction` (first step `first_step`). At a double point of
+/// a symmetric rod, on a branch followed without a phase condition, the
+/// new branch is followed with one: the node of largest deflection in that
+/// direction (the tip of a cantilever, the middle node otherwise) keeps no
+/// displacement across the direction's azimuth, and the first point is
+/// taken at a fixed buckle amplitude ([`Rod::amplitude_start`]); the
+/// branch is refused if it slid onto the spurious straight family
+/// ([`Rod::check_unfolding`]). Otherwise the start is the bifurcation
+/// point itself, left along the direction (a switch start).
+pub fn switch<M: Followed + ?Sized>(
+    model: &M,
+    branch: &RodBranch,
+    index: usize,
+    direction: usize,
+    first_step: f64,
+    opts: &Options,
+    progress: &mut dyn FnMut(&Record) -> bool,
+) -> Result<RodBranch> {
+    let rod = model.rod();
+    let bif = branch.bifurcations.get(index).ok_or_else(|| {
+        Error::new(
+            Status::ErrOutOfRange,
+            format!("bifurcation index {index} out of range (the branch has {})", branch.bifurcations.len()),
+        )
+    })?;
+    let (nx, nl) = bif.null_vectors.get(direction).ok_or_else(|| {
+        Error::new(
+            Status::ErrOutOfRange,
+            format!("direction {direction} out of range (the point has {} null directions)", bif.null_vectors.len()),
+        )
+    })?;
+    error::positive("first_step", first_step)?;
+    let double = branch.phase.is_none() && bif.multiplicity >= 2;
+    let (phase, bif, direction) = if double {
+        // The unfolding parameter μ, zero at the point and along the direction.
+        let mut aug = bif.clone();
+        aug.x.push(0.0);
+        aug.tangent_x.push(0.0);
+        let mut d = nx.clone();
+        d.push(0.0);
+        (Some(rod.phase_for(nx)?), aug, d)
+    } else {
+        (branch.phase, bif.clone(), nx.clone())
+    };
+    let mut sys = model.system(phase, &bif.x)?;
+    validate(&sys, &Options { scaling: None, ..opts.clone() })?;
+    let opts = &options_for(opts, &sys);
+    let scaling = opts.scaling.clone().unwrap_or_else(|| Scaling::of(&sys));
+    let start = branch_start(&bif, (&direction, *nl), first_step, &scaling);
+    let Some(phase_condition) = phase.filter(|_| double) else {
+        return model.follow(Start::Switch(start), phase, opts, progress);
+    };
+    let mu_scale = sys.unknown_scales().0.last().copied().unwrap_or(1.0);
+    let mut counts = Counts::default();
+    let resume = rod.amplitude_start(&mut sys, scaling, &start, phase_condition, opts.residual_tol, &mut counts)?;
+    let mut b = model.follow(Start::Resume(resume), phase, opts, progress)?;
+    b.counts.add(&counts);
+    rod.check_unfolding(&b.states, mu_scale)?;
+    Ok(b)
+}
+
+impl Rod {
     /// A branch from the state `x0` at `lambda0` (None: the straight state),
     /// leaving towards increasing Λ when `increasing`.
     pub fn continue_branch(
@@ -131,7 +270,7 @@ impl Rod {
         increasing: bool,
         opts: &Options,
         method: Method,
-        progress: impl FnMut(&Record) -> bool,
+        mut progress: impl FnMut(&Record) -> bool,
     ) -> Result<RodBranch> {
         error::finite("lambda0", lambda0)?;
         let x = match x0 {
@@ -142,7 +281,8 @@ impl Rod {
             }
             None => self.straight_state(),
         };
-        self.follow(Start::Point { x, lambda: lambda0, increasing }, None, opts, method, progress)
+        let start = Start::Point { x, lambda: lambda0, increasing };
+        Plain { rod: self, method }.follow(start, None, opts, &mut progress)
     }
 
     /// Continue `branch` from where it stopped (same phase condition).
@@ -151,16 +291,14 @@ impl Rod {
         branch: &RodBranch,
         opts: &Options,
         method: Method,
-        progress: impl FnMut(&Record) -> bool,
+        mut progress: impl FnMut(&Record) -> bool,
     ) -> Result<RodBranch> {
-        self.follow(Start::Resume(branch.resume.clone()), branch.phase, opts, method, progress)
+        Plain { rod: self, method }.follow(Start::Resume(branch.resume.clone()), branch.phase, opts, &mut progress)
     }
 
     /// Leave `branch` at its bifurcation `index` along null direction
-    /// `direction`. At a double point of a symmetric rod the new branch is
-    /// followed with a phase condition: the node of largest deflection in
-    /// that direction (the tip of a cantilever, the middle node otherwise)
-    /// keeps no displacement across the direction's azimuth.
+    /// `direction` ([`switch`]).
+    #[allow(clippy::too_many_arguments)]
     pub fn switch_branch(
         &self,
         branch: &RodBranch,
@@ -169,62 +307,9 @@ impl Rod {
         first_step: f64,
         opts: &Options,
         method: Method,
-        progress: impl FnMut(&Record) -> bool,
+        mut progress: impl FnMut(&Record) -> bool,
     ) -> Result<RodBranch> {
-        let bif = branch.bifurcations.get(index).ok_or_else(|| {
-            Error::new(
-                Status::ErrOutOfRange,
-                format!("bifurcation index {index} out of range (the branch has {})", branch.bifurcations.len()),
-            )
-        })?;
-        let (nx, nl) = bif.null_vectors.get(direction).ok_or_else(|| {
-            Error::new(
-                Status::ErrOutOfRange,
-                format!(
-                    "direction {direction} out of range (the point has {} null directions)",
-                    bif.null_vectors.len()
-                ),
-            )
-        })?;
-        error::positive("first_step", first_step)?;
-        let (phase, bif, direction) = if branch.phase.is_none() && bif.multiplicity >= 2 {
-            let (node, azimuth) = self.phase_for(nx)?;
-            let mut aug = bif.clone();
-            aug.x.push(0.0);
-            aug.tangent_x.push(0.0);
-            let mut d = nx.clone();
-            d.push(0.0);
-            (Some((node, azimuth)), aug, d)
-        } else {
-            (branch.phase, bif.clone(), nx.clone())
-        };
-        let sys = self.system_for(phase)?;
-        let (sx, sl) = sys.unknown_scales();
-        let mu_scale = sx.last().copied().unwrap_or(1.0);
-        crate::continuation::newton::validate(&sys, &Options { scaling: None, ..opts.clone() })?;
-        let opts = &self.options_for(opts, &sys);
-        let scaling = opts.scaling.clone().unwrap_or(Scaling { x: sx, lambda: sl });
-        let mut start = branch_start(&bif, (&direction, *nl), first_step, &scaling);
-        if let Some((node, azimuth)) = phase {
-            let mut sys = self.system_for(phase)?;
-            start = self.amplitude_start(
-                &mut sys,
-                &scaling,
-                &start,
-                (node, azimuth),
-                first_step,
-                opts.residual_tol,
-                &mut Counts::default(),
-            )?;
-        }
-        // Without a phase condition the start is the (near-)singular point
-        // itself: a switch start keeps the null direction for the first step.
-        let first = if phase.is_some() { Start::Resume(start) } else { Start::Switch(start) };
-        let b = self.follow(first, phase, opts, method, progress)?;
-        if phase.is_some() {
-            self.check_unfolding(&b.states, mu_scale)?;
-        }
-        Ok(b)
+        switch(&Plain { rod: self, method }, branch, index, direction, first_step, opts, &mut progress)
     }
 
     /// The phase condition for leaving a double point along null direction
@@ -249,52 +334,41 @@ impl Rod {
 
     /// The first point of a branch switched with a phase condition, taken at
     /// a fixed buckle amplitude instead of the arc length: ⟨X − X_pred, e⟩ =
-    /// 0 with e the phase node's displacement along the azimuth. Straight
-    /// states (amplitude 0), where the unfolding vanishes and μ would be
-    /// free, are excluded. `problem` is the rod's system with that phase
-    /// condition (charged or not); returns the point with its secant tangent.
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn amplitude_start<P: crate::continuation::Problem + ?Sized>(
+    /// 0 with e the phase node's displacement along the azimuth, X_pred the
+    /// start's step along its direction. Straight states (amplitude 0), where
+    /// the unfolding vanishes and μ would be free, are excluded. `problem` is
+    /// the rod's system with that phase condition (charged or not); returns
+    /// the point with its secant tangent.
+    pub(crate) fn amplitude_start<P: Problem + ?Sized>(
         &self,
         problem: &mut P,
-        scaling: &Scaling,
+        scaling: Scaling,
         start: &Resume,
         (node, azimuth): (usize, f64),
-        first_step: f64,
         residual_tol: f64,
         counts: &mut Counts,
     ) -> Result<Resume> {
-        let mut bordered = Bordered::new(problem.pattern())?;
-        let eq = problem.equation_scales();
+        let mut ctx = Context::new(problem, scaling)?;
         let mut e = vec![0.0; start.x.len()];
         let at = self.node(node);
         e[at] = azimuth.cos();
         e[at + 1] = azimuth.sin();
-        let mut x: Vec<f64> = start.x.iter().zip(&start.tangent_x).map(|(a, t)| a + first_step * t).collect();
-        let mut l = start.lambda + first_step * start.tangent_lambda;
+        let step = start.step;
+        let mut x: Vec<f64> = start.x.iter().zip(&start.tangent_x).map(|(a, t)| a + step * t).collect();
+        let mut l = start.lambda + step * start.tangent_lambda;
         let anchor = x.clone();
-        let al = l;
-        correct(
-            problem,
-            &mut bordered,
-            scaling,
-            &eq,
-            &mut x,
-            &mut l,
-            (&anchor, al),
-            (&e, 0.0),
-            residual_tol,
-            false,
-            counts,
-        )?;
+        let plane = Plane::new((&anchor, l), (&e, 0.0));
+        let result = correct(problem, &mut ctx, &mut x, &mut l, plane, residual_tol, false);
+        counts.add(&ctx.counts);
+        result?;
         let dx: Vec<f64> = x.iter().zip(&start.x).map(|(a, b)| a - b).collect();
-        let norm = scaling.norm(&dx, l - start.lambda);
+        let norm = ctx.scaling.norm(&dx, l - start.lambda);
         Ok(Resume {
             tangent_x: dx.iter().map(|v| v / norm).collect(),
             tangent_lambda: (l - start.lambda) / norm,
             x,
             lambda: l,
-            step: first_step,
+            step,
         })
     }
 
@@ -315,33 +389,5 @@ impl Rod {
             ));
         }
         Ok(())
-    }
-
-    /// The angle between the tip tangent d3(L) and e3 (radians, 0…π).
-    pub fn tip_rotation(&self, x: &[f64]) -> f64 {
-        let y = self.node_state(x, self.elements);
-        let n2 = y[3] * y[3] + y[4] * y[4] + y[5] * y[5] + y[6] * y[6];
-        let d3z = (y[3] * y[3] - y[4] * y[4] - y[5] * y[5] + y[6] * y[6]) / n2;
-        d3z.clamp(-1.0, 1.0).acos()
-    }
-
-    /// Spatial force and moment at node i: R(q) n_b, R(q) m_b.
-    pub fn spatial_force_moment(&self, x: &[f64], i: usize) -> ([f64; 3], [f64; 3]) {
-        let y = self.node_state(x, i);
-        let q = [y[3], y[4], y[5], y[6]];
-        let r = super::kinematics::rotation(&q);
-        let n = super::kinematics::mat_vec(&r, &[y[7], y[8], y[9]]);
-        let m = super::kinematics::mat_vec(&r, &[y[10], y[11], y[12]]);
-        (n, m)
-    }
-
-    /// Node positions r(s_i), i = 0…N.
-    pub fn positions(&self, x: &[f64]) -> Vec<[f64; 3]> {
-        (0..=self.elements)
-            .map(|i| {
-                let y = self.node_state(x, i);
-                [y[0], y[1], y[2]]
-            })
-            .collect()
     }
 }

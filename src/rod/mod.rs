@@ -8,6 +8,7 @@
 pub mod branch;
 pub mod kinematics;
 pub mod model;
+pub mod outputs;
 pub mod scheme;
 pub mod topology;
 

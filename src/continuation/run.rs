@@ -1,0 +1,340 @@
+//! What both continuation engines share: the correction context (scales,
+//! bordered tangent, work counts: [`Context`]) and a run's bookkeeping
+//! ([`Run`]: options checked once, the start-up, records with their
+//! determinant signs and σ_min, bifurcation detection, dense-output samples,
+//! the finished [`Branch`]).
+
+use super::bifurcation::{self, Bifurcation, State};
+use super::corrector::{correct, deliver_sample, Plane};
+use super::tangent::Bordered;
+use super::{Branch, Counts, Options, Problem, Record, Resume, Sample, Scaling};
+use crate::error::{self, Error, Result};
+use crate::nonlinear::scaled_max_norm;
+use crate::status::Status;
+
+/// The scales, the bordered tangent and the work counts every correction
+/// of a run uses.
+pub(crate) struct Context {
+    pub scaling: Scaling,
+    /// The problem's equation scales.
+    pub eq: Vec<f64>,
+    pub bordered: Bordered,
+    pub counts: Counts,
+}
+
+impl Context {
+    /// For `problem` with `scaling` (the singular-value monitor scaled by
+    /// both).
+    pub fn new<P: Problem + ?Sized>(problem: &P, scaling: Scaling) -> Result<Self> {
+        let eq = problem.equation_scales();
+        let mut bordered = Bordered::new(problem.pattern())?;
+        bordered.set_monitor_scales(&eq, &scaling);
+        Ok(Context { scaling, eq, bordered, counts: Counts::default() })
+    }
+
+    /// Evaluate the Jacobian at (x, Λ), border it with v and factorise.
+    pub fn factorise<P: Problem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &[f64],
+        lambda: f64,
+        v: (&[f64], f64),
+    ) -> Result<()> {
+        self.bordered.factorise_at(problem, x, lambda, v.0, v.1, &self.scaling, &mut self.counts)
+    }
+
+    /// The unit tangent from the current factorisation.
+    pub fn tangent(&mut self) -> Result<(Vec<f64>, f64)> {
+        self.bordered.tangent(&self.scaling, &mut self.counts)
+    }
+
+    /// max |R_i| / e_i at (x, Λ) (one residual).
+    pub fn residual_norm<P: Problem + ?Sized>(&mut self, problem: &mut P, x: &[f64], lambda: f64) -> f64 {
+        let mut r = vec![0.0; x.len()];
+        problem.residual(x, lambda, &mut r);
+        self.counts.residuals += 1;
+        scaled_max_norm(&r, &self.eq)
+    }
+}
+
+/// A resume or switch point: lengths and finiteness (a hand-built or
+/// deserialised Resume is user input).
+pub(crate) fn validate_resume(r: &Resume, n: usize) -> Result<()> {
+    error::count_in_range("resume point length", r.x.len() as i64, n as i64, n as i64)?;
+    error::count_in_range("resume tangent length", r.tangent_x.len() as i64, n as i64, n as i64)?;
+    error::finite_result("resume point", &r.x)?;
+    error::finite_result("resume tangent", &r.tangent_x)?;
+    error::finite("resume lambda", r.lambda)?;
+    error::finite("resume tangent_lambda", r.tangent_lambda)?;
+    Ok(())
+}
+
+/// The step a resume asks for, within the options' bounds (the initial
+/// step when it is not a positive finite number).
+pub(crate) fn resume_step(step: f64, opts: &Options) -> f64 {
+    if step.is_finite() && step > 0.0 {
+        step.clamp(opts.min_step, opts.max_step)
+    } else {
+        opts.initial_step
+    }
+}
+
+/// The options against the problem: tolerances, steps, target, scaling.
+pub(crate) fn validate<P: Problem + ?Sized>(problem: &P, opts: &Options) -> Result<()> {
+    error::in_range("bifurcation_tol", opts.bifurcation_tol, 1e-15, 1.0)?;
+    error::in_range("residual_tol", opts.residual_tol, 1e-15, 1.0)?;
+    error::positive("initial_step", opts.initial_step)?;
+    error::positive("min_step", opts.min_step)?;
+    error::positive("max_step", opts.max_step)?;
+    if !(opts.min_step <= opts.initial_step && opts.initial_step <= opts.max_step) {
+        return Err(Error::new(
+            Status::ErrOutOfRange,
+            format!(
+                "steps must satisfy min_step ({:e}) <= initial_step ({:e}) <= max_step ({:e})",
+                opts.min_step, opts.initial_step, opts.max_step
+            ),
+        ));
+    }
+    if let Some(t) = opts.target_lambda {
+        error::finite("target_lambda", t)?;
+    }
+    if let Some(s) = &opts.scaling {
+        if s.x.len() != problem.dim()
+            || !s.x.iter().all(|v| v.is_finite() && *v > 0.0)
+            || !(s.lambda.is_finite() && s.lambda > 0.0)
+        {
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                "scaling: one positive finite scale per unknown and for the parameter",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A run of either engine: its options, correction context and what it
+/// has produced so far.
+pub(crate) struct Run<'o> {
+    pub opts: &'o Options,
+    pub ctx: Context,
+    pub records: Vec<Record>,
+    pub bifurcations: Vec<Bifurcation>,
+    /// The last (up to) three points with their tangents: detection's brackets.
+    history: Vec<State>,
+    pub samples: Vec<Sample>,
+    pub missed: Vec<f64>,
+}
+
+impl<'o> Run<'o> {
+    /// Options checked, the scaling (the options' or the problem's), the
+    /// bordered tangent.
+    pub fn new<P: Problem + ?Sized>(problem: &P, opts: &'o Options) -> Result<Self> {
+        validate(problem, opts)?;
+        let scaling = opts.scaling.clone().unwrap_or_else(|| Scaling::of(problem));
+        Ok(Run {
+            opts,
+            ctx: Context::new(problem, scaling)?,
+            records: Vec::new(),
+            bifurcations: Vec::new(),
+            history: Vec::new(),
+            samples: Vec::new(),
+            missed: Vec::new(),
+        })
+    }
+
+    /// A start point corrected at its fixed Λ: (x, Λ, Newton iterations).
+    pub fn corrected_start<P: Problem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        mut x: Vec<f64>,
+        lambda: f64,
+    ) -> Result<(Vec<f64>, f64, usize)> {
+        let n = problem.dim();
+        error::count_in_range("start point length", x.len() as i64, n as i64, n as i64)?;
+        let mut l = lambda;
+        let anchor = x.clone();
+        let (it, _) = correct(
+            problem,
+            &mut self.ctx,
+            &mut x,
+            &mut l,
+            Plane::fixed(&anchor, lambda),
+            self.opts.residual_tol,
+            false,
+        )
+        .map_err(|e| Error::new(e.status, format!("continuation start: {}", e.message)))?;
+        Ok((x, l, it))
+    }
+
+    /// A resume point checked and factorised with its tangent as border:
+    /// Ok(false) when the matrix is exactly singular (a resume at a
+    /// bifurcation point, to be left as a switch is).
+    pub fn factorise_resume<P: Problem + ?Sized>(&mut self, problem: &mut P, r: &Resume) -> Result<bool> {
+        validate_resume(r, problem.dim())?;
+        match self.ctx.factorise(problem, &r.x, r.lambda, (&r.tangent_x, r.tangent_lambda)) {
+            Ok(()) => Ok(true),
+            Err(e) if e.status == Status::ErrNotConverged => Ok(false),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// A record at (x, Λ) from the current factorisation (taken at that
+    /// point with a border close to the tangent t).
+    #[allow(clippy::too_many_arguments)]
+    pub fn record<P: Problem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &[f64],
+        lambda: f64,
+        t: (&[f64], f64),
+        step: f64,
+        newton_iterations: usize,
+        observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
+    ) -> Record {
+        let residual = self.ctx.residual_norm(problem, x, lambda);
+        let ctx = &mut self.ctx;
+        let (bordered_det_sign, det_sign) = ctx.bordered.determinant_signs(&ctx.scaling, t.0, t.1);
+        let smallest_singular_value = (self.opts.track_singular || self.opts.detect_bifurcations)
+            .then(|| ctx.bordered.signed_smallest_singular_value(&mut ctx.counts));
+        Record {
+            lambda,
+            outputs: observe(x, lambda),
+            residual,
+            step,
+            det_sign,
+            bordered_det_sign,
+            smallest_singular_value,
+            negative_pivots: Some(ctx.bordered.negative_pivots()),
+            newton_iterations,
+            series_residual: None,
+        }
+    }
+
+    /// The record of a singular start (a switch): no determinant signs,
+    /// σ_min = 0, no pivots.
+    pub fn singular_record<P: Problem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &[f64],
+        lambda: f64,
+        observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
+    ) -> Record {
+        Record {
+            lambda,
+            outputs: observe(x, lambda),
+            residual: self.ctx.residual_norm(problem, x, lambda),
+            step: 0.0,
+            det_sign: 0.0,
+            bordered_det_sign: 0.0,
+            smallest_singular_value: Some(0.0),
+            negative_pivots: None,
+            newton_iterations: 0,
+            series_residual: None,
+        }
+    }
+
+    /// Keep `rec` and report it: false when the callback asks to stop.
+    pub fn push(&mut self, rec: Record, progress: &mut impl FnMut(&Record) -> bool) -> bool {
+        let go_on = progress(&rec);
+        self.records.push(rec);
+        go_on
+    }
+
+    /// After a new record at `state`: with bifurcation detection, a det B
+    /// sign change over the last step, or a local minimum of σ_min at the
+    /// previous record, is located (once). Returns whether the location
+    /// refactorised the bordered tangent.
+    pub fn watch<P: Problem + ?Sized>(&mut self, problem: &mut P, state: State) -> Result<bool> {
+        if !self.opts.detect_bifurcations {
+            return Ok(false);
+        }
+        self.history.push(state);
+        if self.history.len() > 3 {
+            self.history.remove(0);
+        }
+        let before = self.ctx.bordered.factorisations();
+        if let Some(b) = self.detect(problem)? {
+            self.bifurcations.push(b);
+        }
+        Ok(self.ctx.bordered.factorisations() != before)
+    }
+
+    fn detect<P: Problem + ?Sized>(&mut self, problem: &mut P) -> Result<Option<Bifurcation>> {
+        let (records, history) = (&self.records, &self.history);
+        let k = records.len();
+        if k < 2 || history.len() < 2 {
+            return Ok(None);
+        }
+        let (r1, r2) = (&records[k - 2], &records[k - 1]);
+        let h = history.len();
+        let signed = |r: &Record| r.smallest_singular_value.unwrap_or(1.0);
+        // A record with sign 0 is a singular start (a switch): no bracket.
+        let flip =
+            r1.bordered_det_sign != r2.bordered_det_sign && r1.bordered_det_sign != 0.0 && r2.bordered_det_sign != 0.0;
+        let bracket = if flip || signed(r1) * signed(r2) < 0.0 {
+            Some((h - 2, h - 1, flip))
+        } else if k >= 3 && h >= 3 {
+            let sig = |r: &Record| r.smallest_singular_value.map_or(f64::INFINITY, f64::abs);
+            let r0 = &records[k - 3];
+            // A dip worth a location: 5 % below both neighbours (a flat σ_min,
+            // e.g. a mode far from singular, dips by rounding at every other
+            // point, and each false location costs a golden-section search).
+            (sig(r1) < 0.95 * sig(r0).min(sig(r2))).then_some((h - 3, h - 1, false))
+        } else {
+            None
+        };
+        let Some((left, right, flip)) = bracket else { return Ok(None) };
+        let (left, right) = (&history[left], &history[right]);
+        // Already located inside this bracket (a flip seen again as a dip).
+        let (lo, hi) = (left.lambda.min(right.lambda), left.lambda.max(right.lambda));
+        if self.bifurcations.iter().any(|b| b.lambda >= lo && b.lambda <= hi) {
+            return Ok(None);
+        }
+        // A location that fails (a trial point that does not converge) loses
+        // this bifurcation, not the branch.
+        let (left, right) = (left.clone(), right.clone());
+        let tols = (self.opts.residual_tol, self.opts.bifurcation_tol);
+        Ok(bifurcation::locate(problem, &mut self.ctx, &left, &right, flip, tols).unwrap_or(None))
+    }
+
+    /// Dense output at `target` from the prediction `xs` (corrected on the
+    /// current factorisation, tangent t): a sample in the step that starts
+    /// at record `record`, or a missed load. Sets `refactorised` when the
+    /// correction needed fresh factorisations.
+    #[allow(clippy::too_many_arguments)]
+    pub fn sample<P: Problem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        mut xs: Vec<f64>,
+        target: f64,
+        t: (&[f64], f64),
+        record: usize,
+        refactorised: &mut bool,
+        observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
+    ) {
+        match deliver_sample(problem, &mut self.ctx, &mut xs, target, t, self.opts.residual_tol, refactorised) {
+            Ok((iterations, residual)) => self.samples.push(Sample {
+                lambda: target,
+                record,
+                outputs: observe(&xs, target),
+                residual,
+                newton_iterations: iterations,
+            }),
+            Err(_) => self.missed.push(target),
+        }
+    }
+
+    /// The branch, stopped for `stop`, resumable from `at` (a point and
+    /// its tangent) with step `step`.
+    pub fn finish(self, stop: super::Stop, at: State, step: f64) -> Branch {
+        Branch {
+            records: self.records,
+            bifurcations: self.bifurcations,
+            stop,
+            resume: Resume { x: at.x, lambda: at.lambda, tangent_x: at.tx, tangent_lambda: at.tl, step },
+            counts: self.ctx.counts,
+            samples: self.samples,
+            missed_samples: self.missed,
+        }
+    }
+}

@@ -286,7 +286,6 @@ pub struct SupercoilRun {
 pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<SupercoilRun> {
     let start = std::time::Instant::now();
     let rod = scene.rod_controlled(settings.elements, settings.stages, settings.control)?;
-    let torque = settings.control == EndControl::Torque;
     let mut charge = scene.charge();
     charge.cutoff_tolerance = settings.cutoff_tolerance;
     charge.hard_core = settings.hard_core;
@@ -295,9 +294,84 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
     error::positive("max_turns", settings.max_turns)?;
     error::count_in_range("max_steps", settings.max_steps as i64, 1, 1 << 24)?;
     error::positive("residual_tol", settings.residual_tol)?;
+    let straight = straight_path(&rod, &charge, scene.tension, settings)?;
+    let mut turns = Turns { torque: settings.control == EndControl::Torque, phi: 0.0 };
+    let (mut points, mut states) = (Vec::new(), Vec::new());
+    turns.path(&rod, &straight, 0, &mut points, &mut states)?;
+    let mut buckling = None;
+    let mut buckled = None;
+    if let Some(bif) = straight.bifurcations.first() {
+        let (_, m) = rod.spatial_force_moment(&bif.x, rod.elements);
+        let phi_b = turns.follow(&rod, &bif.x, bif.lambda);
+        buckling = Some((phi_b, m[2]));
+        let b = buckled_path(&rod, &charge, &straight, settings, turns)?;
+        turns.phi = phi_b;
+        turns.path(&rod, &b, 1, &mut points, &mut states)?;
+        buckled = Some(b);
+    }
+    Ok(SupercoilRun {
+        scene: scene.clone(),
+        rod,
+        charge,
+        points,
+        states,
+        buckling,
+        straight,
+        buckled,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// The end rotation φ along a path: Λ itself under rotation control, or a
+/// torque clamp's angle read from each state and followed from the previous
+/// point (steps turn the end by far less than 2π).
+#[derive(Clone, Copy)]
+struct Turns {
+    torque: bool,
+    /// φ of the last point.
+    phi: f64,
+}
+
+impl Turns {
+    fn follow(&mut self, rod: &Rod, x: &[f64], lambda: f64) -> f64 {
+        self.phi = if self.torque {
+            unwrap_rotation(self.phi, rod.end_rotation(x, lambda).expect("torque clamp"))
+        } else {
+            lambda
+        };
+        self.phi
+    }
+
+    /// The path points of `b` (the rod's unknowns of each state: a phase
+    /// condition's μ dropped) into `points` and `states`.
+    fn path(
+        &mut self,
+        rod: &Rod,
+        b: &ChargedBranch,
+        branch: usize,
+        points: &mut Vec<PathPoint>,
+        states: &mut Vec<Vec<f64>>,
+    ) -> Result<()> {
+        let n = rod.unknowns();
+        for (r, x) in b.records.iter().zip(&b.states) {
+            let phi = self.follow(rod, &x[..n], r.lambda);
+            let observables = observables(rod, &x[..n], phi)?;
+            points.push(PathPoint { phi, parameter: r.lambda, observables, branch, residual: r.residual });
+            states.push(x[..n].to_vec());
+        }
+        Ok(())
+    }
+}
+
+/// The straight branch from φ = 0 in chunks of a quarter of Greenhill's
+/// estimate φ_G = 2√(K_b T) L / C until the first buckling point is
+/// located (at most 3φ_G). Under torque control the targets are in M =
+/// Cφ/L (the straight rod's torque: electrostatics exerts none on a
+/// straight line).
+fn straight_path(rod: &Rod, charge: &RodCharge, tension: f64, settings: &SupercoilSettings) -> Result<ChargedBranch> {
     let kb = rod.law.bending();
     let c = rod.law.stiffness[(2, 2)];
-    let phi_g = 2.0 * (kb * scene.tension.max(kb / (rod.length * rod.length))).sqrt() * rod.length / c;
+    let phi_g = 2.0 * (kb * tension.max(kb / (rod.length * rod.length))).sqrt() * rod.length / c;
     let chunk = 0.25 * phi_g;
     // The straight clamped rod buckles at a sequence of double points,
     // M_n ≈ √(4K_bT + (2πnK_b/L)²) for the uncharged rod (the roots of the
@@ -311,14 +385,14 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
     // to 0.95 φ_1 of the uncharged rod (charge only stiffens the straight
     // rod: φ_1 is a lower bound), then steps of a quarter of φ_2 − φ_1
     // (in the scaled arc length, which is ≈ φ on the straight branch).
-    let tension = scene.tension.max(0.0);
+    let tension = tension.max(0.0);
     let m_n = |n: f64| (4.0 * kb * tension + (2.0 * std::f64::consts::PI * n * kb / rod.length).powi(2)).sqrt();
     let (phi_1, phi_2) = (m_n(1.0) * rod.length / c, m_n(2.0) * rod.length / c);
     let fine_step = (0.25 * (phi_2 - phi_1)).clamp(1e-3, 2.0);
     // The parameter per radian on the straight branch. The steps stay in
     // scaled arc length, dominated there by the state's rotation (≈ φ)
     // under either control (M's own scale, a moment, is ~30× Cφ/L).
-    let per_phi = if torque { rod.torque_per_radian() } else { 1.0 };
+    let per_phi = if settings.control == EndControl::Torque { rod.torque_per_radian() } else { 1.0 };
     // The buckling point to 1e-7 in scaled arc length (φ to ~1e-7 rad):
     // golden section on a double point costs ~4 factorisations per
     // reduction, and 1e-10 would take twice the reductions for digits the
@@ -340,7 +414,7 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
             None => Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
             Some(prev) => Start::Resume(prev.resume.clone()),
         };
-        let next = follow(&rod, &charge, start, None, &opts, |_| true)?;
+        let next = follow(rod, charge, start, None, &opts, |_| true)?;
         let b = match straight.take() {
             Some(mut prev) => {
                 prev.append(next);
@@ -348,8 +422,7 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
             }
             None => next,
         };
-        let found = !b.bifurcations.is_empty();
-        let stop = b.stop;
+        let (found, stop) = (!b.bifurcations.is_empty(), b.stop);
         straight = Some(b);
         if found || stop != Stop::Target {
             break;
@@ -358,76 +431,34 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
         opts.max_step = fine_step;
         opts.initial_step = fine_step;
     }
-    let straight = straight.expect("at least one chunk");
-    let mut points = Vec::new();
-    let mut states = Vec::new();
-    // φ of a state: Λ itself, or a torque clamp's angle followed from the
-    // previous point (steps turn the end by far less than 2π).
-    let phi_of = |prev: &mut f64, x: &[f64], lambda: f64| -> f64 {
-        let phi =
-            if torque { unwrap_rotation(*prev, rod.end_rotation(x, lambda).expect("torque clamp")) } else { lambda };
-        *prev = phi;
-        phi
+    Ok(straight.expect("at least one chunk"))
+}
+
+/// The buckled branch from the straight one's first buckling point (phase
+/// condition, first step 0.02) until `max_turns`, the step limit or a
+/// strand crossing; `turns` holds φ at the buckling point. Rotation control
+/// stops at the λ range; a torque clamp's turns are checked on each point
+/// (its M has no such bound: the torque falls after buckling, then stays on
+/// the plateau).
+fn buckled_path(
+    rod: &Rod,
+    charge: &RodCharge,
+    straight: &ChargedBranch,
+    settings: &SupercoilSettings,
+    mut turns: Turns,
+) -> Result<ChargedBranch> {
+    let max_phi = 2.0 * std::f64::consts::PI * settings.max_turns;
+    let opts = Options {
+        residual_tol: settings.residual_tol,
+        initial_step: 0.3,
+        max_step: 2.0,
+        max_steps: settings.max_steps,
+        lambda_range: if turns.torque { (0.0, f64::MAX) } else { (0.0, max_phi) },
+        ..Default::default()
     };
-    let mut phi_prev = 0.0;
-    for (r, x) in straight.records.iter().zip(&straight.states) {
-        let phi = phi_of(&mut phi_prev, x, r.lambda);
-        points.push(PathPoint {
-            phi,
-            parameter: r.lambda,
-            observables: observables(&rod, x, phi)?,
-            branch: 0,
-            residual: r.residual,
-        });
-        states.push(x.clone());
-    }
-    let mut buckling = None;
-    let mut buckled = None;
-    if let Some(bif) = straight.bifurcations.first() {
-        let (_, m) = rod.spatial_force_moment(&bif.x, rod.elements);
-        let phi_b = phi_of(&mut phi_prev, &bif.x, bif.lambda);
-        buckling = Some((phi_b, m[2]));
-        let two_pi = 2.0 * std::f64::consts::PI;
-        // Rotation control stops at the λ range; a torque clamp's turns
-        // are checked on each point (its M has no such bound: the torque
-        // falls after buckling, then stays on the plateau).
-        let opts = Options {
-            residual_tol: settings.residual_tol,
-            initial_step: 0.3,
-            max_step: 2.0,
-            max_steps: settings.max_steps,
-            lambda_range: if torque { (0.0, f64::MAX) } else { (0.0, two_pi * settings.max_turns) },
-            ..Default::default()
-        };
-        let n = rod.unknowns();
-        let mut phi_run = phi_b;
-        let b = switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |rec| {
-            let phi = phi_of(&mut phi_run, &rec.outputs[..n], rec.lambda);
-            !torque || (phi > 0.0 && phi < two_pi * settings.max_turns)
-        })?;
-        phi_prev = phi_b;
-        for (r, x) in b.records.iter().zip(&b.states) {
-            let phi = phi_of(&mut phi_prev, &x[..n], r.lambda);
-            points.push(PathPoint {
-                phi,
-                parameter: r.lambda,
-                observables: observables(&rod, &x[..n], phi)?,
-                branch: 1,
-                residual: r.residual,
-            });
-            states.push(x[..n].to_vec());
-        }
-        buckled = Some(b);
-    }
-    Ok(SupercoilRun {
-        scene: scene.clone(),
-        rod,
-        charge,
-        points,
-        states,
-        buckling,
-        straight,
-        buckled,
-        seconds: start.elapsed().as_secs_f64(),
+    let n = rod.unknowns();
+    switch(rod, charge, straight, 0, 0, 0.02, &opts, |rec| {
+        let phi = turns.follow(rod, &rec.outputs[..n], rec.lambda);
+        !turns.torque || (phi > 0.0 && phi < max_phi)
     })
 }

@@ -14,7 +14,7 @@ use crate::continuation::equilibrium::{damped_newton, newton_krylov};
 use crate::continuation::{Counts, Problem};
 use crate::error::{self, Error, Result};
 use crate::geometry::vec3::distance;
-use crate::nonlinear::krylov::{BandPreconditioner, KrylovOptions};
+use crate::nonlinear::krylov::{BandPreconditioner, KrylovOptions, KrylovReport};
 use crate::rod::model::unwrap_rotation;
 use crate::status::Status;
 
@@ -114,47 +114,7 @@ pub fn solve_point(
                 residual = res;
             }
             EquilibriumSolver::NewtonKrylov => {
-                let opts = KrylovOptions { residual_tol, ..Default::default() };
-                // The preconditioner's Jacobian: the model's own, or with
-                // every pair kept, the 1e-4 cutoff model's (same state).
-                let mut cheap = None;
-                if charge.cutoff_tolerance.is_none() {
-                    let mut c = charge.clone();
-                    c.cutoff_tolerance = Some(PRECONDITIONER_CUTOFF);
-                    cheap = Some(ChargedRod::new(rod, &c, phase, &x)?);
-                }
-                // The preconditioner keeps the rod's band on the straight
-                // branch (the benchmark's case: 5–8 GMRES iterations, an LU
-                // 2–3× sparser than the whole one) and the whole pattern on
-                // the buckled branch, whose soft modes feel the pairs a few
-                // elements apart that the band drops: the default 1 kbp
-                // scene's buckled point re-solved with base pairs failed
-                // with the band (GMRES returned poor directions, the line
-                // search gave up after 11 Newton iterations, 0.47 s) and
-                // took 4 Newton / 44 GMRES iterations with the whole
-                // pattern (0.16 s; direct Newton 0.21 s). A failure with
-                // the band is retried with the whole pattern.
-                let whole = x.len();
-                let bands: &[usize] = if phase.is_none() { &[0, whole] } else { &[whole] };
-                let start = x.clone();
-                let mut result = Err(Error::new(Status::ErrNotConverged, "Newton–Krylov not run"));
-                for &band in bands {
-                    // 0: the source's rod band.
-                    let (mut pre, band) = {
-                        let src = cheap.as_ref().unwrap_or(&problem);
-                        let band = if band == 0 { src.local_band() } else { band };
-                        (BandPreconditioner::bordered(src.pattern(), band, src.border())?, band)
-                    };
-                    x.copy_from_slice(&start);
-                    let source = cheap.as_mut().map(|c| c as &mut dyn Problem);
-                    result =
-                        newton_krylov(&mut problem, source, &mut pre, &mut x, lambda, &opts).map(|rep| (rep, band));
-                    match &result {
-                        Err(e) if e.status == Status::ErrNotConverged => continue,
-                        _ => break,
-                    }
-                }
-                let (rep, band) = result?;
+                let (rep, band) = krylov_point(&mut problem, charge, phase, &mut x, lambda, residual_tol)?;
                 preconditioner_band = band;
                 counts.add_work(&rep.counts);
                 newton_iterations += rep.newton_iterations;
@@ -164,7 +124,7 @@ pub fn solve_point(
         }
         if !problem.list_is_local() || problem.displacement(&x) <= half_skin {
             let path = rod.positions(&run.states[point]);
-            let shift = rod.positions(&x[..n]).iter().zip(&path).map(|(a, b)| distance(&a, &b)).fold(0.0, f64::max);
+            let shift = rod.positions(&x[..n]).iter().zip(&path).map(|(a, b)| distance(a, b)).fold(0.0, f64::max);
             x.truncate(n);
             // A torque clamp's re-solved end angle, followed from the path's.
             let phi = if rod.torqued() {
@@ -190,4 +150,56 @@ pub fn solve_point(
         Status::ErrNotConverged,
         format!("the shape kept moving past half the Verlet skin ({half_skin:.3} nm) over {pair_lists} pair lists"),
     ))
+}
+
+/// Newton–Krylov on one pair list: (the report, the preconditioner's band).
+fn krylov_point(
+    problem: &mut ChargedRod,
+    charge: &RodCharge,
+    phase: Option<(usize, f64)>,
+    x: &mut [f64],
+    lambda: f64,
+    residual_tol: f64,
+) -> Result<(KrylovReport, usize)> {
+    let rod = &problem.rod().clone();
+    let opts = KrylovOptions { residual_tol, ..Default::default() };
+    // The preconditioner's Jacobian: the model's own, or with
+    // every pair kept, the 1e-4 cutoff model's (same state).
+    let mut cheap = None;
+    if charge.cutoff_tolerance.is_none() {
+        let mut c = charge.clone();
+        c.cutoff_tolerance = Some(PRECONDITIONER_CUTOFF);
+        cheap = Some(ChargedRod::new(rod, &c, phase, x)?);
+    }
+    // The preconditioner keeps the rod's band on the straight
+    // branch (the benchmark's case: 5–8 GMRES iterations, an LU
+    // 2–3× sparser than the whole one) and the whole pattern on
+    // the buckled branch, whose soft modes feel the pairs a few
+    // elements apart that the band drops: the default 1 kbp
+    // scene's buckled point re-solved with base pairs failed
+    // with the band (GMRES returned poor directions, the line
+    // search gave up after 11 Newton iterations, 0.47 s) and
+    // took 4 Newton / 44 GMRES iterations with the whole
+    // pattern (0.16 s; direct Newton 0.21 s). A failure with
+    // the band is retried with the whole pattern.
+    let whole = x.len();
+    let bands: &[usize] = if phase.is_none() { &[0, whole] } else { &[whole] };
+    let start = x.to_vec();
+    let mut result = Err(Error::new(Status::ErrNotConverged, "Newton–Krylov not run"));
+    for &band in bands {
+        // 0: the source's rod band.
+        let (mut pre, band) = {
+            let src = cheap.as_ref().unwrap_or(&*problem);
+            let band = if band == 0 { src.local_band() } else { band };
+            (BandPreconditioner::bordered(src.pattern(), band, src.border())?, band)
+        };
+        x.copy_from_slice(&start);
+        let source = cheap.as_mut().map(|c| c as &mut dyn Problem);
+        result = newton_krylov(&mut *problem, source, &mut pre, x, lambda, &opts).map(|rep| (rep, band));
+        match &result {
+            Err(e) if e.status == Status::ErrNotConverged => continue,
+            _ => break,
+        }
+    }
+    result
 }

@@ -66,7 +66,7 @@ impl<P: Problem + ?Sized> LinearSolve<Arclength<'_, P>> for BorderedStep<'_> {
         let n = x.len() - 1;
         let fresh = !self.chord || it.norm > 0.5 * it.previous;
         if fresh {
-            self.bordered.factorise_at(eq.problem, &x[..n], x[n], eq.v.0, eq.v.1, eq.scaling, &mut self.counts)?;
+            self.bordered.factorise_at(eq.problem, &x[..n], x[n], eq.v, eq.scaling, &mut self.counts)?;
         }
         for (d, v) in delta.iter_mut().zip(f) {
             *d = -v;

@@ -29,29 +29,19 @@ pub enum Start {
     Switch(Resume),
 }
 
-/// Cubic Hermite interpolation between two branch points X0, X1 with unit
-/// tangents t0, t1 over the arc length h: X(θ), θ ∈ [0, 1] (Λ last).
-fn hermite(
-    x0: &[f64],
-    l0: f64,
-    t0: (&[f64], f64),
-    x1: &[f64],
-    l1: f64,
-    t1: (&[f64], f64),
-    h: f64,
-    theta: f64,
-    out: &mut [f64],
-) -> f64 {
-    // (Empty slices: the Λ part alone.)
+/// Cubic Hermite interpolation between two branch points `a` and `b` with
+/// their unit tangents over the arc length h: X(θ), θ ∈ [0, 1], its x part
+/// into `out` (empty: Λ alone), Λ returned.
+fn hermite(a: &State, b: &State, h: f64, theta: f64, out: &mut [f64]) -> f64 {
     let (t2, t3) = (theta * theta, theta * theta * theta);
     let h00 = 2.0 * t3 - 3.0 * t2 + 1.0;
     let h10 = t3 - 2.0 * t2 + theta;
     let h01 = -2.0 * t3 + 3.0 * t2;
     let h11 = t3 - t2;
-    for i in 0..out.len() {
-        out[i] = h00 * x0[i] + h10 * h * t0.0[i] + h01 * x1[i] + h11 * h * t1.0[i];
+    for (i, o) in out.iter_mut().enumerate() {
+        *o = h00 * a.x[i] + h10 * h * a.tx[i] + h01 * b.x[i] + h11 * h * b.tx[i];
     }
-    h00 * l0 + h10 * h * t0.1 + h01 * l1 + h11 * h * t1.1
+    h00 * a.lambda + h10 * h * a.tl + h01 * b.lambda + h11 * h * b.tl
 }
 
 /// Newton pseudo-arc-length continuation. `observe(x, Λ)` chooses each
@@ -229,10 +219,10 @@ fn samples<P: Problem + ?Sized>(
         if (target - l0) * (target - l1) > 0.0 || target == l0 {
             continue;
         }
-        let lambda_at = |t: f64| hermite(&[], l0, (&[], at.tl), &[], l1, (&[], next.tl), step, t, &mut []);
+        let lambda_at = |t: f64| hermite(at, next, step, t, &mut []);
         for theta in all_roots(|t| lambda_at(t) - target, 1.0) {
             let mut xs = vec![0.0; at.x.len()];
-            hermite(&at.x, l0, (&at.tx, at.tl), &next.x, l1, (&next.tx, next.tl), step, theta, &mut xs);
+            hermite(at, next, step, theta, &mut xs);
             run.sample(problem, xs, target, (&next.tx, next.tl), record, &mut refactorised, observe);
         }
     }

@@ -40,7 +40,7 @@ impl Context {
         lambda: f64,
         v: (&[f64], f64),
     ) -> Result<()> {
-        self.bordered.factorise_at(problem, x, lambda, v.0, v.1, &self.scaling, &mut self.counts)
+        self.bordered.factorise_at(problem, x, lambda, v, &self.scaling, &mut self.counts)
     }
 
     /// The unit tangent from the current factorisation.

@@ -49,8 +49,7 @@ impl Bordered {
         problem: &mut P,
         x: &[f64],
         lambda: f64,
-        vx: &[f64],
-        vl: f64,
+        (vx, vl): (&[f64], f64),
         scaling: &Scaling,
         counts: &mut Counts,
     ) -> Result<()> {

@@ -35,11 +35,16 @@ impl Rod {
 }
 
 impl Rod {
-    /// Offsets in the unknowns of every stage point's position, element by
-    /// element (node(e) + 13 (1 + j): the stage block follows the node's).
+    /// Offset in the unknowns of the state at stage j of element e (its
+    /// position first): the element's stage blocks follow its node's.
+    pub fn stage_offset(&self, e: usize, j: usize) -> usize {
+        self.node(e) + 13 * (1 + j)
+    }
+
+    /// [`Rod::stage_offset`] of every stage point, element by element.
     pub fn stage_offsets(&self) -> Vec<usize> {
         let stages = self.scheme.stages();
-        (0..self.elements).flat_map(|e| (0..stages).map(move |j| self.node(e) + 13 * (1 + j))).collect()
+        (0..self.elements).flat_map(|e| (0..stages).map(move |j| self.stage_offset(e, j))).collect()
     }
 
     /// Stage-point positions and their arc lengths in state x.

@@ -82,6 +82,8 @@
 //! [`fit_family`] sweeps them.
 
 use crate::error::{self, Error, Result};
+use crate::nonlinear::dense::{DenseLu, Refresh};
+use crate::nonlinear::{self, Equations, FullStep, StepTest};
 use crate::status::Status;
 use crate::tube::coupling::{CouplingStiffness, FreeTubeResponse, StretchTwist, Winding};
 use crate::tube::orthotropic::{Orthotropic, OrthotropicSurface};
@@ -316,6 +318,39 @@ fn physical(
     OrthotropicSurface::new(e1, e2, nu12, g12)
 }
 
+/// The fit's equations in x = (1/E1, 1/E2, 1/G12) at fixed ν12: the
+/// rotated compliances (1) of the thin model's condensed law with the
+/// material x, minus the targets'. Outside the physical materials (a
+/// modulus ≤ 0, ν12² ≥ E1/E2) there is no fit at all: an error.
+struct FitEquations {
+    tube: ThinTube,
+    /// The x of `tube.material`.
+    at: [f64; 3],
+    nu12: f64,
+    goal: Vector3<f64>,
+}
+
+impl Equations for FitEquations {
+    fn dim(&self) -> usize {
+        3
+    }
+
+    fn residual(&mut self, x: &[f64], f: &mut [f64]) -> Result<bool> {
+        if x != self.at {
+            error::finite_result("DNA fit compliances", x)?;
+            let nu12 = self.nu12;
+            let hint =
+                || format!("nu12 = {nu12:e} is outside the physical range for these targets at this helix angle");
+            self.tube.material = physical(&Vector3::from_column_slice(x), nu12, self.tube.thickness, hint)?;
+            self.at.copy_from_slice(x);
+        }
+        let achieved = DnaTargets::from(self.tube.coupling_stiffness()?.stretch_twist());
+        let r = rotated_compliances(&achieved, self.tube.mid_radius, self.tube.thickness) - self.goal;
+        f.copy_from_slice(r.as_slice());
+        Ok(true)
+    }
+}
+
 /// Fit (E1, E2, G12) of a thin wall of thickness t, mid radius R and helix
 /// angle α at prescribed ν12 so that the condensed law of
 /// [`ThinTube::coupling_stiffness`]`().stretch_twist()` equals the targets
@@ -363,10 +398,7 @@ pub fn fit_thin_wall(
             ),
         ));
     }
-    let jac = compliance_map(helix_angle, nu12);
-    let lu = jac.lu();
     let goal = rotated_compliances(&targets, mid_radius, thickness);
-
     // Isotropic-like start: S = 2πRt·E and C = 2πR³t·G for isotropy; E2
     // lowered if needed so that ν12² E2/E1 < 1.
     let e0 = targets.stretch / (2.0 * PI * mid_radius * thickness);
@@ -374,38 +406,36 @@ pub fn fit_thin_wall(
     let e2_0 = if nu12 * nu12 < 0.5 { e0 } else { 0.5 * e0 / (nu12 * nu12) };
     let start = OrthotropicSurface::new(e0, e2_0, nu12, g0)?;
     // ThinTube::new also checks the geometry (t < 2R).
-    let mut tube = ThinTube::new(mid_radius, thickness, tau0, start)?;
-    let mut x = Vector3::new(1.0 / start.e1, 1.0 / start.e2, 1.0 / start.g12);
-
-    let hint = || format!("nu12 = {nu12:e} is outside the physical range for these targets at this helix angle");
-    let mut iterations = 0;
-    let mut last_step = f64::INFINITY;
-    while iterations < MAX_ITERATIONS {
-        iterations += 1;
-        let achieved = DnaTargets::from(tube.coupling_stiffness()?.stretch_twist());
-        let residual = goal - rotated_compliances(&achieved, mid_radius, thickness);
-        let dx = lu.solve(&residual).ok_or_else(|| {
-            Error::new(Status::ErrOutOfRange, "the DNA fit's linear system is singular for this helix angle and nu12")
-        })?;
-        let next = x + dx;
-        error::finite_result("DNA fit compliances", next.as_slice())?;
-        tube.material = physical(&next, nu12, thickness, hint)?;
-        last_step = (0..3).map(|i| (dx[i] / next[i]).abs()).fold(0.0, f64::max);
-        x = next;
-        if last_step <= REL_TOL {
-            break;
+    let tube = ThinTube::new(mid_radius, thickness, tau0, start)?;
+    let mut x = [1.0 / start.e1, 1.0 / start.e2, 1.0 / start.g12];
+    let mut fit = FitEquations { tube, at: x, nu12, goal };
+    // Newton on (2) with its exact, constant Jacobian (the map is linear),
+    // full steps, converged on the relative step.
+    let jac = compliance_map(helix_angle, nu12);
+    let constant = |_: &nalgebra::DVector<f64>, j: &mut nalgebra::DMatrix<f64>| {
+        j.copy_from(&jac);
+        true
+    };
+    let mut linear = DenseLu::new(vec![1.0; 3], Refresh::Never, Some(constant));
+    let mut test = StepTest::new(Vec::new(), REL_TOL, f64::INFINITY, "DNA thin-wall fit");
+    let solved = nonlinear::solve(&mut fit, &mut x, &mut linear, &mut FullStep::new(3), &mut test, MAX_ITERATIONS);
+    let iterations = match solved {
+        Ok(report) => report.iterations,
+        Err(e) if e.status == Status::ErrNotConverged => {
+            return Err(Error::new(
+                Status::ErrNotConverged,
+                format!(
+                    "DNA thin-wall fit: last Newton step changed the moduli by {:e} (relative), above {REL_TOL:e} \
+                     after {MAX_ITERATIONS} iterations (nu12 = {nu12:e} is close to the degenerate -cot^2(alpha) = {:e})",
+                    test.last_step,
+                    -(m * m) / (n * n)
+                ),
+            ));
         }
-    }
-    if last_step.is_nan() || last_step > REL_TOL {
-        return Err(Error::new(
-            Status::ErrNotConverged,
-            format!(
-                "DNA thin-wall fit: last Newton step changed the moduli by {last_step:e} (relative), above {REL_TOL:e} \
-                 after {MAX_ITERATIONS} iterations (nu12 = {nu12:e} is close to the degenerate -cot^2(alpha) = {:e})",
-                -(m * m) / (n * n)
-            ),
-        ));
-    }
+        Err(e) => return Err(e),
+    };
+    let last_step = test.last_step;
+    let tube = fit.tube;
     let stiffness = tube.coupling_stiffness()?;
     let achieved = stiffness.stretch_twist();
     let response = stiffness.free_response()?;

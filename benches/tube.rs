@@ -27,7 +27,7 @@ mod behaviour_cases;
 
 use nalgebra::{Matrix3, Vector3};
 use plotters::prelude::*;
-use rodkit::capi::tube::ThinTubeSpec;
+use rodkit::capi::thin_tube::ThinTubeSpec;
 use rodkit::tube::{Compressibility, Orthotropic, OrthotropicSurface, ThickTube, ThinTube};
 use std::fmt::Write as _;
 use std::fs;

@@ -1081,6 +1081,40 @@ int32_t rodkit_rod_unknowns(const struct RodkitRod *rod, int64_t *n);
 // The straight stress-free state (length n = rodkit_rod_unknowns).
 int32_t rodkit_rod_straight_state(const struct RodkitRod *rod, double *x, int64_t n);
 
+// Residual R(x, Λ) of the discrete equations (length n each), in the
+// form SUNDIALS' KINSOL calls: a user's KINSysFn wraps it with
+// N_VGetArrayPointer. Not thread-safe on one handle (work buffers).
+int32_t rodkit_rod_residual(struct RodkitRod *rod,
+                            const double *x,
+                            int64_t n,
+                            double lambda,
+                            double *r);
+
+// The Jacobian's sparsity in compressed columns: col_ptr (n + 1 entries)
+// and row_idx (nnz entries, sorted within each column). `nnz` receives
+// the count; with capacity < nnz only the count is written
+// (RODKIT_STATUS_INFO_TRUNCATED; row_idx may then be NULL).
+int32_t rodkit_rod_jacobian_pattern(const struct RodkitRod *rod,
+                                    int64_t *col_ptr,
+                                    int64_t *row_idx,
+                                    int64_t capacity,
+                                    int64_t *nnz);
+
+// ∂R/∂x at (x, Λ) in the order of rodkit_rod_jacobian_pattern (`values`,
+// `nnz` entries) and ∂R/∂Λ (`d_lambda`, n entries; may be NULL).
+int32_t rodkit_rod_jacobian(struct RodkitRod *rod,
+                            const double *x,
+                            int64_t n,
+                            double lambda,
+                            double *values,
+                            int64_t nnz,
+                            double *d_lambda);
+
+// The rod ODE's right-hand side y' = f(y, Λ) (physics.md §2.1) for
+// y = (r, q, n_b, m_b) (13 entries each), without distributed loads'
+// dependence on s: for IDA-based shooting (IDAResFn: F = y' − f(y)).
+int32_t rodkit_rod_rhs(const struct RodkitRod *rod, const double *y, double lambda, double *dy);
+
 // Follow a branch from the state `x0` (length n; NULL: the straight
 // state) at `lambda0`. Returns 0 when the target was reached, a positive
 // RODKIT_STATUS_INFO_* when the branch ended otherwise (the branch is
@@ -1169,40 +1203,6 @@ int32_t rodkit_branch_positions(const struct RodkitBranch *branch,
                                 double *xyz,
                                 int64_t ld,
                                 int64_t nodes);
-
-// Residual R(x, Λ) of the discrete equations (length n each), in the
-// form SUNDIALS' KINSOL calls: a user's KINSysFn wraps it with
-// N_VGetArrayPointer. Not thread-safe on one handle (work buffers).
-int32_t rodkit_rod_residual(struct RodkitRod *rod,
-                            const double *x,
-                            int64_t n,
-                            double lambda,
-                            double *r);
-
-// The Jacobian's sparsity in compressed columns: col_ptr (n + 1 entries)
-// and row_idx (nnz entries, sorted within each column). `nnz` receives
-// the count; with capacity < nnz only the count is written
-// (RODKIT_STATUS_INFO_TRUNCATED; row_idx may then be NULL).
-int32_t rodkit_rod_jacobian_pattern(const struct RodkitRod *rod,
-                                    int64_t *col_ptr,
-                                    int64_t *row_idx,
-                                    int64_t capacity,
-                                    int64_t *nnz);
-
-// ∂R/∂x at (x, Λ) in the order of rodkit_rod_jacobian_pattern (`values`,
-// `nnz` entries) and ∂R/∂Λ (`d_lambda`, n entries; may be NULL).
-int32_t rodkit_rod_jacobian(struct RodkitRod *rod,
-                            const double *x,
-                            int64_t n,
-                            double lambda,
-                            double *values,
-                            int64_t nnz,
-                            double *d_lambda);
-
-// The rod ODE's right-hand side y' = f(y, Λ) (physics.md §2.1) for
-// y = (r, q, n_b, m_b) (13 entries each), without distributed loads'
-// dependence on s: for IDA-based shooting (IDAResFn: F = y' − f(y)).
-int32_t rodkit_rod_rhs(const struct RodkitRod *rod, const double *y, double lambda, double *dy);
 
 // Fill `spec` with the defaults above.
 int32_t rodkit_dna_supercoil_spec_default(struct RodkitDnaSupercoilSpec *spec);

@@ -5,7 +5,7 @@
 
 use rodkit::capi::diagnostic::rodkit_diagnostic_panic;
 use rodkit::capi::error::{rodkit_last_error_copy, rodkit_last_error_message, rodkit_status_string};
-use rodkit::capi::tube::*;
+use rodkit::capi::thin_tube::*;
 use rodkit::capi::version::{rodkit_library_abi_version, rodkit_version};
 use rodkit::tube::{OrthotropicSurface, ThinTube};
 use rodkit::Status;

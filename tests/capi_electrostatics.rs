@@ -2,7 +2,7 @@
 //! API's on a ring (and the §3.5 Coulomb ring formula to the near-zone
 //! truncation), validation by name, nothing written on failure.
 
-use rodkit::capi::electrostatics::*;
+use rodkit::capi::curve::*;
 use rodkit::capi::error::rodkit_last_error_message;
 use rodkit::Status;
 use std::f64::consts::PI;
@@ -166,6 +166,7 @@ fn ring_energy_writhe_and_validation() {
 /// written when asked, and bad arguments are statuses naming the argument.
 #[test]
 fn supercoil_solve_point_through_the_c_abi() {
+    use rodkit::capi::equilibrium::*;
     use rodkit::capi::supercoil::*;
     use rodkit::charged::dna::{run_scene, DnaScene, SupercoilSettings};
     use rodkit::charged::equilibrium::{solve_point, EquilibriumSolver as Solver};
@@ -274,6 +275,7 @@ fn supercoil_solve_point_through_the_c_abi() {
 /// `end_control` is a status naming it.
 #[test]
 fn torque_clamp_supercoil_through_the_c_abi() {
+    use rodkit::capi::equilibrium::*;
     use rodkit::capi::supercoil::*;
     use rodkit::charged::dna::{run_scene, DnaScene, EndControl as Control, SupercoilSettings};
     let mut spec = std::mem::MaybeUninit::<DnaSupercoilSpec>::uninit();

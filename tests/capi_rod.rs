@@ -3,8 +3,12 @@
 //! finite differences, continuation statuses (target, cancel, step limit),
 //! truncating copies.
 
+use rodkit::capi::branch::*;
+use rodkit::capi::branch_record::*;
+use rodkit::capi::continuation::*;
 use rodkit::capi::error::rodkit_last_error_message;
 use rodkit::capi::rod::*;
+use rodkit::capi::rod_spec::*;
 use rodkit::Status;
 use std::ffi::{c_void, CStr};
 use std::ptr;

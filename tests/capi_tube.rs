@@ -3,7 +3,8 @@
 //! profile size query, sweeps with a cancelling callback.
 
 use rodkit::capi::error::rodkit_last_error_message;
-use rodkit::capi::tube_scene::*;
+use rodkit::capi::tube::*;
+use rodkit::capi::wall_material::*;
 use rodkit::tube::finite::Loading;
 use rodkit::tube::material::SaintVenantKirchhoff;
 use rodkit::tube::scene::{TubeModel, TubeScene, WallLaw};

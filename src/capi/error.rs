@@ -5,6 +5,7 @@
 //! so after a successful call it is the empty string. The accessors below do
 //! not clear it.
 
+use super::args::null_error;
 use super::{guard_preserving_error, guard_value};
 use crate::error;
 use crate::status::Status;
@@ -63,7 +64,7 @@ pub extern "C" fn rodkit_last_error_message() -> *const c_char {
 pub unsafe extern "C" fn rodkit_last_error_copy(buffer: *mut c_char, capacity: i64, length: *mut i64) -> i32 {
     guard_preserving_error(|| {
         if buffer.is_null() {
-            return Err(super::null_error("buffer"));
+            return Err(null_error("buffer"));
         }
         error::count_in_range("capacity", capacity, 1, i64::MAX)?;
         LAST_ERROR.with(|m| {

@@ -4,9 +4,13 @@
 //! buckled branch. One call runs the scene into a handle; accessors copy
 //! the path (turns, extension, torque, twist, writhe) and the shapes.
 
-use super::{arg_mut, arg_ref, guard, null_error, qualify_argument};
-use crate::charged::dna::{run_scene, DnaScene, SupercoilRun, SupercoilSettings};
-use crate::error::{self, Error, Result};
+use super::args::{arg_mut, arg_ref, c_enum, check_nodes, copy_out, enum_arg, flag, free_handle, non_negative};
+use super::args::{qualify_argument, write_positions};
+use super::{guard, guard_value};
+use crate::charged::dna::{self, run_scene, DnaScene, SupercoilRun, SupercoilSettings};
+use crate::continuation::Stop;
+use crate::electrostatics::discrete::base_pair_count;
+use crate::error::{self, Result};
 use crate::status::Status;
 
 /// A supercoiling scene in nm, pN, mol/L. Call
@@ -120,7 +124,7 @@ pub struct SupercoilPoint {
 
 /// An opaque computed path.
 pub struct Supercoil {
-    run: SupercoilRun,
+    pub(super) run: SupercoilRun,
 }
 
 /// Fill `spec` with the defaults above.
@@ -155,14 +159,7 @@ pub unsafe extern "C" fn rodkit_dna_supercoil_spec_default(spec: *mut DnaSuperco
     })
 }
 
-/// A 0/1 switch of a spec.
-fn flag(name: &str, v: i32) -> Result<bool> {
-    match v {
-        0 => Ok(false),
-        1 => Ok(true),
-        v => Err(Error::new(Status::ErrOutOfRange, format!("argument `{name}` must be 0 or 1 (got {v})"))),
-    }
-}
+c_enum!(EndControl, "a RodkitEndControl 1…2", [EndControl::Rotation, EndControl::Torque]);
 
 fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
     error::count_in_range("base_pairs", s.base_pairs, 10, 1 << 24)?;
@@ -172,9 +169,7 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
     error::count_in_range("max_steps", s.max_steps, 1, 1 << 24)?;
     for (n, v) in [("cutoff_tolerance", s.cutoff_tolerance), ("hard_core", s.hard_core)] {
         error::finite(n, v)?;
-        if v < 0.0 {
-            return Err(Error::new(Status::ErrOutOfRange, format!("argument `{n}` must be ≥ 0 (got {v:e})")));
-        }
+        non_negative(n, v)?;
     }
     let scene = DnaScene {
         base_pairs: s.base_pairs as usize,
@@ -199,15 +194,9 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
         max_steps: s.max_steps as usize,
         residual_tol: s.residual_tol,
         base_pairs: flag("discrete_base_pairs", s.discrete_base_pairs)?,
-        control: match s.end_control {
-            1 => crate::charged::dna::EndControl::Rotation,
-            2 => crate::charged::dna::EndControl::Torque,
-            v => {
-                return Err(Error::new(
-                    Status::ErrOutOfRange,
-                    format!("argument `end_control` must be a RodkitEndControl 1…2 (got {v})"),
-                ))
-            }
+        control: match enum_arg::<EndControl>("end_control", s.end_control)? {
+            EndControl::Rotation => dna::EndControl::Rotation,
+            EndControl::Torque => dna::EndControl::Torque,
         },
     };
     Ok((scene, settings))
@@ -228,8 +217,8 @@ pub unsafe extern "C" fn rodkit_dna_supercoil_run(spec: *const DnaSupercoilSpec,
         let status = match &run.buckled {
             Some(b) if b.contact.is_some() => Status::InfoStrandCrossing,
             Some(b) => match b.stop {
-                crate::continuation::Stop::MaxSteps => Status::InfoStepLimit,
-                crate::continuation::Stop::StepTooSmall => Status::InfoStepTooSmall,
+                Stop::MaxSteps => Status::InfoStepLimit,
+                Stop::StepTooSmall => Status::InfoStepTooSmall,
                 _ => Status::Ok,
             },
             None => Status::Ok,
@@ -242,11 +231,7 @@ pub unsafe extern "C" fn rodkit_dna_supercoil_run(spec: *const DnaSupercoilSpec,
 /// Free a handle (NULL is ignored).
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_supercoil_free(run: *mut Supercoil) {
-    let _ = super::guard_value((), || {
-        if !run.is_null() {
-            drop(Box::from_raw(run));
-        }
-    });
+    guard_value((), || free_handle(run));
 }
 
 /// Summary of a run.
@@ -272,7 +257,7 @@ pub unsafe extern "C" fn rodkit_supercoil_summary(run: *const Supercoil, info: *
             cutoff_on: f64::NAN,
             cutoff_off: f64::NAN,
             seconds: r.seconds,
-            base_pair_charges: r.charge.base_pairs.map_or(0, |b| ((r.rod.length / b).round() as i64).max(1)),
+            base_pair_charges: r.charge.base_pairs.map_or(0, |b| base_pair_count(r.rod.length, b) as i64),
             ..Default::default()
         };
         if let Some((on, off)) = r.charge.cutoff(r.rod.length) {
@@ -307,30 +292,21 @@ pub unsafe extern "C" fn rodkit_supercoil_points(
 ) -> i32 {
     guard(|| {
         let r = &arg_ref("run", run)?.run;
-        let count = arg_mut("count", count)?;
-        error::count_in_range("capacity", capacity, 0, i64::MAX)?;
-        *count = r.points.len() as i64;
-        let k = (capacity as usize).min(r.points.len());
-        if k > 0 {
-            if points.is_null() {
-                return Err(null_error("points"));
+        // A NULL `count` is reported before a bad `capacity` here, as always.
+        arg_mut("count", count)?;
+        copy_out("points", points, capacity, count, &r.points, |p| {
+            let ob = p.observables;
+            SupercoilPoint {
+                turns: ob.turns,
+                extension: ob.extension,
+                torque: ob.torque,
+                tension: ob.tension,
+                twist: ob.twist,
+                writhe: ob.writhe,
+                branch: p.branch as i32,
+                residual: p.residual,
             }
-            let out = std::slice::from_raw_parts_mut(points, k);
-            for (o, p) in out.iter_mut().zip(&r.points) {
-                let ob = p.observables;
-                *o = SupercoilPoint {
-                    turns: ob.turns,
-                    extension: ob.extension,
-                    torque: ob.torque,
-                    tension: ob.tension,
-                    twist: ob.twist,
-                    writhe: ob.writhe,
-                    branch: p.branch as i32,
-                    residual: p.residual,
-                };
-            }
-        }
-        Ok(if k < r.points.len() { Status::InfoTruncated } else { Status::Ok })
+        })
     })
 }
 
@@ -346,173 +322,8 @@ pub unsafe extern "C" fn rodkit_supercoil_positions(
     guard(|| {
         let r = &arg_ref("run", run)?.run;
         error::count_in_range("point", point, 0, r.points.len() as i64 - 1)?;
-        error::count_in_range("ld", ld, 3, i64::MAX / 64)?;
-        let want = r.rod.elements as i64 + 1;
-        if nodes != want {
-            return Err(Error::new(
-                Status::ErrInvalidDimension,
-                format!("argument `nodes` must be {want} (got {nodes})"),
-            ));
-        }
-        if xyz.is_null() {
-            return Err(null_error("xyz"));
-        }
-        let len = (ld as usize) * (nodes as usize - 1) + 3;
-        let out = std::slice::from_raw_parts_mut(xyz, len);
-        for (i, p) in r.rod.positions(&r.states[point as usize]).iter().enumerate() {
-            out[i * ld as usize..i * ld as usize + 3].copy_from_slice(p);
-        }
-        Ok(Status::Ok)
-    })
-}
-
-/// How `rodkit_supercoil_solve_point` solves (`RodkitEquilibriumSpec.solver`).
-#[repr(i32)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum EquilibriumSolver {
-    /// Sparse Newton, exact Jacobian, full LU (the continuation's corrector).
-    Direct = 1,
-    /// Newton–Krylov: GMRES with difference products, preconditioned by the
-    /// LU of the Jacobian's band (cheaper for one equilibrium; the only
-    /// practical solver for every pair on long rods).
-    NewtonKrylov = 2,
-}
-
-/// A point of a path re-solved under another electrostatic model or with
-/// another solver (the scene, its salt, charge, radius, hard core and
-/// threads stay the run's). Call `rodkit_equilibrium_spec_default` first:
-/// continuum, cutoff tolerance 1e-4, Newton–Krylov, scaled residual 1e-10.
-#[repr(C)]
-#[derive(Clone, Copy, Debug)]
-pub struct EquilibriumSpec {
-    /// 0: the continuum line charge; 1: discrete base-pair charges at the
-    /// scene's rise (the thesis's comparison).
-    pub discrete_base_pairs: i32,
-    /// Relative energy tolerance of the screening cutoff; 0: every pair
-    /// (with Newton–Krylov, preconditioned by the 1e-4 cutoff's band).
-    pub cutoff_tolerance: f64,
-    /// RODKIT_EQUILIBRIUM_SOLVER_DIRECT or ..._NEWTON_KRYLOV.
-    pub solver: i32,
-    /// Converged when max |R_i| / (equation scale) ≤ residual_tol.
-    pub residual_tol: f64,
-}
-
-/// What `rodkit_supercoil_solve_point` found.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Equilibrium {
-    /// Observables as `RodkitSupercoilPoint`, of the re-solved state (under
-    /// rotation control its turns are the point's; under a torque clamp the
-    /// torque is, and the turns are read from the new shape).
-    pub turns: f64,
-    pub extension: f64,
-    pub torque: f64,
-    pub tension: f64,
-    pub twist: f64,
-    pub writhe: f64,
-    /// Final scaled residual.
-    pub residual: f64,
-    /// Largest distance a node moved from the path's point (nm).
-    pub shift: f64,
-    pub seconds: f64,
-    /// Newton iterations (direct: the corrector's factorisations).
-    pub newton_iterations: i64,
-    /// GMRES iterations (0 for the direct solver).
-    pub linear_iterations: i64,
-    pub factorisations: i64,
-    pub residuals: i64,
-    pub pair_lists: i64,
-    /// Newton–Krylov's preconditioner band (half-bandwidth; the dimension
-    /// when the whole Jacobian was used: always on the buckled branch, and
-    /// after the band failed on the straight one); 0 for direct.
-    pub preconditioner_band: i64,
-}
-
-/// Fill `spec` with the defaults above.
-#[no_mangle]
-pub unsafe extern "C" fn rodkit_equilibrium_spec_default(spec: *mut EquilibriumSpec) -> i32 {
-    guard(|| {
-        *arg_mut("spec", spec)? = EquilibriumSpec {
-            discrete_base_pairs: 0,
-            cutoff_tolerance: 1e-4,
-            solver: EquilibriumSolver::NewtonKrylov as i32,
-            residual_tol: 1e-10,
-        };
-        Ok(Status::Ok)
-    })
-}
-
-/// Solve the equilibrium at point `point` of `run` (at its end rotation
-/// under rotation control, at its end torque under a torque clamp; from
-/// its shape) under the model of `spec`, into `out`; with `xyz` not NULL
-/// also its node positions (nm) xyz[k + ld·i], i < nodes (nodes as
-/// `RodkitSupercoilInfo.nodes`). Non-convergence is
-/// RODKIT_STATUS_ERR_NOT_CONVERGED (nothing written). Reentrant; `run`
-/// is only read.
-#[no_mangle]
-pub unsafe extern "C" fn rodkit_supercoil_solve_point(
-    run: *const Supercoil,
-    point: i64,
-    spec: *const EquilibriumSpec,
-    out: *mut Equilibrium,
-    xyz: *mut f64,
-    ld: i64,
-    nodes: i64,
-) -> i32 {
-    guard(|| {
-        use crate::charged::equilibrium::{solve_point, EquilibriumSolver as Solver};
-        let r = &arg_ref("run", run)?.run;
-        let s = *arg_ref("spec", spec)?;
-        let out = arg_mut("out", out)?;
-        error::count_in_range("point", point, 0, r.points.len() as i64 - 1)?;
-        let q = |e: Error| qualify_argument(e, "spec.");
-        let solver = match s.solver {
-            1 => Solver::Direct,
-            2 => Solver::NewtonKrylov,
-            v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `spec.solver` must be RODKIT_EQUILIBRIUM_SOLVER_DIRECT (1) or _NEWTON_KRYLOV (2) (got {v})"))),
-        };
-        // [0, 1]: 1 itself is refused by the model's own validation.
-        error::in_range("cutoff_tolerance", s.cutoff_tolerance, 0.0, 1.0).map_err(q)?;
-        error::positive("residual_tol", s.residual_tol).map_err(q)?;
-        let mut charge = r.charge.clone();
-        charge.cutoff_tolerance = (s.cutoff_tolerance > 0.0).then_some(s.cutoff_tolerance);
-        charge.base_pairs = flag("discrete_base_pairs", s.discrete_base_pairs).map_err(q)?.then_some(r.scene.rise);
-        let want = r.rod.elements as i64 + 1;
-        if !xyz.is_null() {
-            error::count_in_range("ld", ld, 3, i64::MAX / 64)?;
-            if nodes != want {
-                return Err(Error::new(
-                    Status::ErrInvalidDimension,
-                    format!("argument `nodes` must be {want} (got {nodes})"),
-                ));
-            }
-        }
-        let p = solve_point(r, point as usize, &charge, solver, s.residual_tol)?;
-        let o = p.observables;
-        *out = Equilibrium {
-            turns: o.turns,
-            extension: o.extension,
-            torque: o.torque,
-            tension: o.tension,
-            twist: o.twist,
-            writhe: o.writhe,
-            residual: p.residual,
-            shift: p.shift,
-            seconds: p.seconds,
-            newton_iterations: p.newton_iterations as i64,
-            linear_iterations: p.linear_iterations as i64,
-            factorisations: p.counts.factorisations as i64,
-            residuals: p.counts.residuals as i64,
-            pair_lists: p.pair_lists as i64,
-            preconditioner_band: p.preconditioner_band as i64,
-        };
-        if !xyz.is_null() {
-            let len = (ld as usize) * (nodes as usize - 1) + 3;
-            let dst = std::slice::from_raw_parts_mut(xyz, len);
-            for (i, v) in r.rod.positions(&p.state).iter().enumerate() {
-                dst[i * ld as usize..i * ld as usize + 3].copy_from_slice(v);
-            }
-        }
+        check_nodes(ld, nodes, r.rod.elements + 1)?;
+        write_positions(xyz, ld, &r.rod.positions(&r.states[point as usize]))?;
         Ok(Status::Ok)
     })
 }

@@ -1,148 +1,421 @@
-//! C ABI of the tube models (`physics.md` §1).
+//! The tube handle `RodkitTube` (physics.md §1.2–1.5): a tube from its
+//! geometry and wall material (`wall_material`), loadings, states, profiles
+//! through the wall, sweeps with a progress callback, the linear coupling
+//! stiffness and the section's rod law.
 
-use super::{arg_mut, arg_ref, guard, qualify_argument, write_matrix};
-use crate::error::Result;
+use super::args::{arg_mut, arg_ref, c_enum, capacity_arg, enum_arg, flag, free_handle, null_error};
+use super::args::{qualify_argument, write_matrix};
+use super::wall_material::{law, nan_default_material, WallMaterialSpec};
+use super::{guard, guard_value};
+use crate::error::{self, Error, Result};
 use crate::status::Status;
-use crate::tube::{OrthotropicSurface, ThinTube};
+use crate::tube::finite::{Axial, Ends, Loading, Torsion, TubeState as State};
+pub use crate::tube::scene::TubeModel;
+use crate::tube::scene::{TubeModel as Model, TubeScene};
+use std::ffi::c_void;
 
-/// A thin helically reinforced tube in its stress-free state (physics.md
-/// §1.4): geometry, intrinsic twist and in-surface orthotropic constants.
-/// Units are the caller's, used consistently (e.g. nm and pN/nm²).
-///
-/// Initialise with `rodkit_thin_tube_spec_default`, which sets every field to
-/// NaN ("unset": a forgotten field is rejected by name), then set them all.
+/// A tube: geometry, wall material, model choice and tolerance.
+/// Initialise with `rodkit_tube_spec_default`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
-pub struct ThinTubeSpec {
-    /// Mid-surface radius R > 0.
-    pub mid_radius: f64,
-    /// Wall thickness t, 0 < t < 2R.
-    pub thickness: f64,
-    /// Intrinsic twist τ0 (1/length; any sign = handedness): the reinforcement
-    /// follows a helix at angle atan(τ0·R) from the axis.
-    pub intrinsic_twist: f64,
-    /// Young's modulus along the reinforcement, E1 > 0.
-    pub e1: f64,
-    /// Young's modulus across the reinforcement (in the surface), E2 > 0.
-    pub e2: f64,
-    /// Major Poisson ratio ν12, with ν12² < E1/E2 (positive definiteness).
-    pub nu12: f64,
-    /// In-surface shear modulus G12 > 0.
-    pub g12: f64,
+pub struct TubeSpec {
+    /// Inner radius A ≥ 0 (0: solid cylinder) and outer radius B > A.
+    pub inner_radius: f64,
+    pub outer_radius: f64,
+    pub material: WallMaterialSpec,
+    /// RodkitTubeModel (default RODKIT_TUBE_MODEL_AUTO).
+    pub model: i32,
+    /// Requested accuracy (default 1e−8): radii per B, λ, ψB, F per μπB²,
+    /// T per μπB³ for the thick model; the membrane's estimate likewise.
+    pub rel_tol: f64,
+    /// Fixed Chebyshev intervals for the thick model, 4…256; 0: adaptive.
+    pub intervals: i64,
 }
 
-/// Response of a free thin tube (zero torque, zero pressure) to an axial force
-/// F, per unit force.
+/// How the axial direction is loaded.
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AxialControl {
+    /// `axial` is the stretch λ > 0.
+    Stretch = 0,
+    /// `axial` is the applied force F (besides the pressure on closed ends).
+    Force = 1,
+}
+
+/// How the torsion is loaded.
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TorsionControl {
+    /// `torsion` is the twist per reference length ψ.
+    Twist = 0,
+    /// `torsion` is the torque T.
+    Torque = 1,
+}
+
+/// A loading. Initialise with `rodkit_tube_loading_default` (λ = 1, ψ = 0,
+/// no pressure, open ends).
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
-pub struct FreeTubeResponse {
-    /// dε/dF: axial strain per force.
-    pub dstrain_dforce: f64,
-    /// dψ/dF: twist per length per force.
-    pub dtwist_dforce: f64,
-    /// dε_θ/dF: hoop strain per force (> 0: inflates when stretched).
-    pub dhoop_dforce: f64,
-    /// RodkitWinding: +1 overwinds (twists further in the sense of τ0),
-    /// −1 unwinds, 0 neither (τ0 = 0 or no coupling).
-    pub winding: i32,
+pub struct TubeLoading {
+    /// RodkitAxialControl and its value.
+    pub axial_control: i32,
+    pub axial: f64,
+    /// RodkitTorsionControl and its value.
+    pub torsion_control: i32,
+    pub torsion: f64,
+    /// Pressure on the inner and outer surfaces.
+    pub inner_pressure: f64,
+    pub outer_pressure: f64,
+    /// 1: closed (capped) ends, the wall also carries πa²p − πb²p_o; 0: open.
+    pub closed_ends: i32,
 }
 
-fn thin_tube(spec: &ThinTubeSpec) -> Result<ThinTube> {
-    let material =
-        OrthotropicSurface::new(spec.e1, spec.e2, spec.nu12, spec.g12).map_err(|e| qualify_argument(e, "spec."))?;
-    ThinTube::new(spec.mid_radius, spec.thickness, spec.intrinsic_twist, material)
-        .map_err(|e| qualify_argument(e, "spec."))
+/// An equilibrium state.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct TubeState {
+    pub stretch: f64,
+    pub twist: f64,
+    /// Axial force carried by the wall, 2π∫σ_zz r dr.
+    pub wall_force: f64,
+    /// Axial force applied besides the cap pressure (= wall_force when open).
+    pub applied_force: f64,
+    pub torque: f64,
+    pub inner_pressure: f64,
+    pub outer_pressure: f64,
+    pub deformed_inner_radius: f64,
+    pub deformed_outer_radius: f64,
+    /// The answering model's error estimate (see RodkitTubeSpec.rel_tol).
+    pub error_estimate: f64,
+    /// Chebyshev intervals (thick) or 0 (membrane).
+    pub intervals: i64,
+    pub newton_iterations: i64,
+    /// RodkitTubeModel that produced the state (thick or membrane).
+    pub model: i32,
 }
 
-/// Fill `spec` with its defaults: every field NaN (unset). Set all of them.
+/// What a progress callback is told.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    /// Items done so far (1…total) and their total.
+    pub done: i64,
+    pub total: i64,
+}
+
+/// Progress callback: return 0 to continue, non-zero to stop cleanly. It must
+/// not unwind into rodkit (no C++ throw, no longjmp); it may call rodkit
+/// functions (rodkit holds no locks while it runs).
+pub type ProgressCallback = Option<unsafe extern "C" fn(progress: *const Progress, user_data: *mut c_void) -> i32>;
+
+/// Opaque tube handle (rodkit_tube_new / rodkit_tube_free). Immutable after
+/// creation: it may be moved between threads and used by several threads at
+/// once.
+pub struct Tube {
+    scene: TubeScene,
+}
+
+c_enum!(TubeModel, "a RodkitTubeModel 0…2", [TubeModel::Auto, TubeModel::Thick, TubeModel::Membrane]);
+c_enum!(AxialControl, "0 (stretch) or 1 (force)", [AxialControl::Stretch, AxialControl::Force]);
+c_enum!(TorsionControl, "0 (twist) or 1 (torque)", [TorsionControl::Twist, TorsionControl::Torque]);
+
+fn loading(l: &TubeLoading) -> Result<Loading> {
+    let axial = match enum_arg::<AxialControl>("loading.axial_control", l.axial_control)? {
+        AxialControl::Stretch => Axial::Stretch(l.axial),
+        AxialControl::Force => Axial::Force(l.axial),
+    };
+    let torsion = match enum_arg::<TorsionControl>("loading.torsion_control", l.torsion_control)? {
+        TorsionControl::Twist => Torsion::Twist(l.torsion),
+        TorsionControl::Torque => Torsion::Torque(l.torsion),
+    };
+    let ends = if flag("loading.closed_ends", l.closed_ends)? { Ends::Closed } else { Ends::Open };
+    match axial {
+        Axial::Stretch(v) => error::positive("loading.axial", v)?,
+        Axial::Force(v) => error::finite("loading.axial", v)?,
+    };
+    error::finite("loading.torsion", l.torsion)?;
+    error::finite("loading.inner_pressure", l.inner_pressure)?;
+    error::finite("loading.outer_pressure", l.outer_pressure)?;
+    Ok(Loading { axial, torsion, inner_pressure: l.inner_pressure, outer_pressure: l.outer_pressure, ends })
+}
+
+fn state(s: &State, model: Model) -> TubeState {
+    TubeState {
+        stretch: s.stretch,
+        twist: s.twist,
+        wall_force: s.wall_force,
+        applied_force: s.applied_force,
+        torque: s.torque,
+        inner_pressure: s.inner_pressure,
+        outer_pressure: s.outer_pressure,
+        deformed_inner_radius: s.deformed_inner_radius,
+        deformed_outer_radius: s.deformed_outer_radius,
+        error_estimate: s.error_estimate,
+        intervals: s.intervals as i64,
+        newton_iterations: s.newton_iterations as i64,
+        model: model as i32,
+    }
+}
+
+/// Fill `spec` with defaults: radii NaN (unset), material as
+/// `rodkit_wall_material_spec_default`, model Auto, rel_tol 1e−8, adaptive grid.
 #[no_mangle]
-pub unsafe extern "C" fn rodkit_thin_tube_spec_default(spec: *mut ThinTubeSpec) -> i32 {
+pub unsafe extern "C" fn rodkit_tube_spec_default(spec: *mut TubeSpec) -> i32 {
     guard(|| {
-        *arg_mut("spec", spec)? = ThinTubeSpec {
-            mid_radius: f64::NAN,
-            thickness: f64::NAN,
-            intrinsic_twist: f64::NAN,
-            e1: f64::NAN,
-            e2: f64::NAN,
-            nu12: f64::NAN,
-            g12: f64::NAN,
+        *arg_mut("spec", spec)? = TubeSpec {
+            inner_radius: f64::NAN,
+            outer_radius: f64::NAN,
+            material: nan_default_material(),
+            model: Model::Auto as i32,
+            rel_tol: 1e-8,
+            intervals: 0,
         };
         Ok(Status::Ok)
     })
 }
 
-/// Helix angle α = atan(τ0·R) of the reinforcement at the mid surface, in
-/// radians from the tube axis. Validates `spec` like the functions below.
+/// Fill `loading` with the unloaded state: stretch 1, twist 0, no pressure,
+/// open ends.
 #[no_mangle]
-pub unsafe extern "C" fn rodkit_thin_tube_helix_angle(spec: *const ThinTubeSpec, alpha: *mut f64) -> i32 {
+pub unsafe extern "C" fn rodkit_tube_loading_default(loading: *mut TubeLoading) -> i32 {
     guard(|| {
-        let tube = thin_tube(arg_ref("spec", spec)?)?;
-        *arg_mut("alpha", alpha)? = tube.helix_angle();
+        *arg_mut("loading", loading)? = TubeLoading {
+            axial_control: AxialControl::Stretch as i32,
+            axial: 1.0,
+            torsion_control: TorsionControl::Twist as i32,
+            torsion: 0.0,
+            inner_pressure: 0.0,
+            outer_pressure: 0.0,
+            closed_ends: 0,
+        };
         Ok(Status::Ok)
     })
 }
 
-/// Linear coupling stiffness K (physics.md §1.4), symmetric positive definite:
-/// (F, T, 2πR²p) = K (ε, ψ, ε_θ), with ε the axial strain, ψ the twist per
-/// length, ε_θ the mid-surface hoop strain, F the axial force carried by the
-/// wall (open ends), T the torque and p the inner pressure.
+/// Validate `spec` and create a tube. On success `*out` owns a new handle
+/// (free it with `rodkit_tube_free`); on failure `*out` is set to NULL.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_tube_new(spec: *const TubeSpec, out: *mut *mut Tube) -> i32 {
+    guard(|| {
+        let out = arg_mut("out", out)?;
+        *out = std::ptr::null_mut();
+        let spec = arg_ref("spec", spec)?;
+        let model = enum_arg::<Model>("spec.model", spec.model)?;
+        let intervals = match spec.intervals {
+            0 => None,
+            n => Some(error::count_in_range("spec.intervals", n, 4, 256)? as usize),
+        };
+        let scene =
+            TubeScene::new(spec.inner_radius, spec.outer_radius, law(&spec.material)?, model, spec.rel_tol, intervals)
+                .map_err(|e| qualify_argument(e, "spec."))?;
+        *out = Box::into_raw(Box::new(Tube { scene }));
+        Ok(Status::Ok)
+    })
+}
+
+/// Destroy a tube created by `rodkit_tube_new`; NULL is accepted.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_tube_free(tube: *mut Tube) {
+    guard_value((), || free_handle(tube))
+}
+
+/// The equilibrium of `tube` under `loading`, written to `*out`.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_tube_solve(tube: *const Tube, loading: *const TubeLoading, out: *mut TubeState) -> i32 {
+    guard(|| {
+        let tube = arg_ref("tube", tube)?;
+        let l = self::loading(arg_ref("loading", loading)?)?;
+        let out = arg_mut("out", out)?;
+        let (s, model) = tube.scene.solve(&l)?;
+        *out = state(&s, model);
+        Ok(Status::Ok)
+    })
+}
+
+/// Stresses through the wall (Cauchy, deformed cylindrical basis) at the
+/// answering model's nodes: reference radius R, deformed radius r, σ_rr,
+/// σ_θθ, σ_zz, σ_θz. `*count` receives the number of nodes. Size query:
+/// with `capacity` 0 the six arrays may be NULL and only `*count` is written.
+/// Otherwise each array needs `capacity` ≥ that count.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_tube_profile(
+    tube: *const Tube,
+    loading: *const TubeLoading,
+    capacity: i64,
+    reference_radius: *mut f64,
+    radius: *mut f64,
+    sigma_rr: *mut f64,
+    sigma_tt: *mut f64,
+    sigma_zz: *mut f64,
+    sigma_tz: *mut f64,
+    count: *mut i64,
+) -> i32 {
+    guard(|| {
+        let tube = arg_ref("tube", tube)?;
+        let l = self::loading(arg_ref("loading", loading)?)?;
+        let count = arg_mut("count", count)?;
+        let capacity = capacity_arg(capacity)?;
+        let (s, _) = tube.scene.solve(&l)?;
+        let p = &s.profile;
+        let n = p.radius.len();
+        *count = n as i64;
+        if capacity == 0 {
+            return Ok(Status::Ok);
+        }
+        if capacity < n {
+            return Err(Error::new(
+                Status::ErrInvalidDimension,
+                format!("argument `capacity` ({capacity}) is below the {n} nodes of the profile"),
+            ));
+        }
+        let columns: [(&str, *mut f64, &Vec<f64>); 6] = [
+            ("reference_radius", reference_radius, &p.reference_radius),
+            ("radius", radius, &p.radius),
+            ("sigma_rr", sigma_rr, &p.sigma_rr),
+            ("sigma_tt", sigma_tt, &p.sigma_tt),
+            ("sigma_zz", sigma_zz, &p.sigma_zz),
+            ("sigma_tz", sigma_tz, &p.sigma_tz),
+        ];
+        if let Some((name, _, _)) = columns.iter().find(|c| c.1.is_null()) {
+            return Err(null_error(name));
+        }
+        for (_, ptr, values) in columns {
+            std::slice::from_raw_parts_mut(ptr, n).copy_from_slice(values);
+        }
+        Ok(Status::Ok)
+    })
+}
+
+/// Equilibria along `count` loadings of the same kind (same controls and
+/// ends; e.g. stretches at zero torque, or pressures), each continued from the
+/// previous one, into `states[0 … count−1]`. `*completed` (may be NULL)
+/// receives the number of states written. `progress` (may be NULL) is called
+/// after each state with `user_data`; a non-zero return stops the sweep and
+/// the function returns RODKIT_STATUS_INFO_CANCELLED (> 0) with the states so
+/// far. On a failure the states before it are written and `*completed` says
+/// how many.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_tube_sweep(
+    tube: *const Tube,
+    loadings: *const TubeLoading,
+    count: i64,
+    states: *mut TubeState,
+    progress: ProgressCallback,
+    user_data: *mut c_void,
+    completed: *mut i64,
+) -> i32 {
+    if let Some(c) = completed.as_mut() {
+        *c = 0;
+    }
+    guard(|| {
+        let tube = arg_ref("tube", tube)?;
+        error::count_in_range("count", count, 1, 1 << 40)?;
+        if loadings.is_null() {
+            return Err(null_error("loadings"));
+        }
+        if states.is_null() {
+            return Err(null_error("states"));
+        }
+        let n = count as usize;
+        let input = std::slice::from_raw_parts(loadings, n);
+        let list = input
+            .iter()
+            .enumerate()
+            .map(|(i, l)| self::loading(l).map_err(|e| qualify_argument(e, &format!("loadings[{i}]."))))
+            .collect::<Result<Vec<_>>>()?;
+        let out = std::slice::from_raw_parts_mut(states, n);
+        let mut written = 0usize;
+        // Each state is written as soon as it exists, so a later failure
+        // leaves the earlier ones valid.
+        let result = tube.scene.sweep(&list, |i, s| {
+            out[i] = state(s, Model::Thick);
+            written = i + 1;
+            match progress {
+                Some(cb) => cb(&Progress { done: i as i64 + 1, total: count }, user_data) == 0,
+                None => true,
+            }
+        });
+        if let Some(c) = completed.as_mut() {
+            *c = written as i64;
+        }
+        let (sweep, model) = result?;
+        for s in out.iter_mut().take(written) {
+            s.model = model as i32;
+        }
+        Ok(if sweep.cancelled { Status::InfoCancelled } else { Status::Ok })
+    })
+}
+
+/// Write the n×n matrix `column_major` into `k` (leading dimension `ldk`)
+/// and, when `error_estimate` is not NULL, its relative error estimate.
 ///
-/// `k` receives the 3×3 matrix column-major with leading dimension `ldk` ≥ 3
-/// (entries k[i + j·ldk]; the array needs 2·ldk + 3 doubles).
+/// # Safety
+/// As [`write_matrix`]; `error_estimate` NULL or writable.
+unsafe fn write_estimated(
+    k: *mut f64,
+    ldk: i64,
+    n: usize,
+    column_major: &[f64],
+    estimate: f64,
+    error_estimate: *mut f64,
+) -> Result<Status> {
+    write_matrix("k", k, ldk, "ldk", n, n, column_major)?;
+    if let Some(e) = error_estimate.as_mut() {
+        *e = estimate;
+    }
+    Ok(Status::Ok)
+}
+
+/// Linear coupling stiffness about the stress-free state (physics.md §1.4),
+/// thick theory, in the inner-radius variables: (F, T, 2πA²p) = K (ε, ψ,
+/// ε_A). `k` receives the 3×3 matrix column-major with leading dimension
+/// `ldk` ≥ 3; `error_estimate` (may be NULL) its relative error estimate.
+/// Fibre-reinforced walls have none (tension-only fibres): ERR_OUT_OF_RANGE.
 #[no_mangle]
-pub unsafe extern "C" fn rodkit_thin_tube_coupling_stiffness(spec: *const ThinTubeSpec, k: *mut f64, ldk: i64) -> i32 {
+pub unsafe extern "C" fn rodkit_tube_coupling_stiffness(
+    tube: *const Tube,
+    k: *mut f64,
+    ldk: i64,
+    error_estimate: *mut f64,
+) -> i32 {
     guard(|| {
-        let stiffness = thin_tube(arg_ref("spec", spec)?)?.coupling_stiffness()?;
-        write_matrix("k", k, ldk, "ldk", 3, 3, &stiffness.column_major())?;
-        Ok(Status::Ok)
+        let tube = arg_ref("tube", tube)?;
+        let est = tube.scene.coupling_stiffness()?;
+        write_estimated(k, ldk, 3, &est.value.column_major(), est.error_estimate, error_estimate)
     })
 }
 
-/// Condensed stretch–twist law at zero pressure (inflation eliminated):
-/// (F, T) = [[S, g], [g, C]] (ε, ψ) — the hemitropic rod coupling of §2.2.
+/// The section as a rod: the condensed stretch–twist law at zero pressure,
+/// (F, T) = [[S, g], [g, C]] (ε, ψ), ready for a hemitropic rod (§2.2).
 /// `s` receives the 2×2 matrix column-major with leading dimension `lds` ≥ 2.
 #[no_mangle]
-pub unsafe extern "C" fn rodkit_thin_tube_stretch_twist(spec: *const ThinTubeSpec, s: *mut f64, lds: i64) -> i32 {
+pub unsafe extern "C" fn rodkit_tube_stretch_twist(tube: *const Tube, s: *mut f64, lds: i64) -> i32 {
     guard(|| {
-        let law = thin_tube(arg_ref("spec", spec)?)?.coupling_stiffness()?.stretch_twist();
+        let tube = arg_ref("tube", tube)?;
+        let law = tube.scene.stretch_twist()?;
         write_matrix("s", s, lds, "lds", 2, 2, law.matrix().as_slice())?;
         Ok(Status::Ok)
     })
 }
 
-/// Response of the free tube (T = 0, p = 0) to an axial force, and whether it
-/// over- or unwinds (decided by the condensed coupling g, not by K_εψ alone).
+/// The section as a hemitropic rod (physics.md §2.2): the 6×6 stiffness in
+/// the order (u1, u2, u3, v1, v2, v3) ↔ (m1, m2, m3, n1, n2, n3), column-major
+/// into `k` with leading dimension `ldk` ≥ 6. Stretch–twist block from the
+/// thick theory (as rodkit_tube_stretch_twist); bending and shear from
+/// layer-wise thin-walled beam theory (exact Euler–Bernoulli bending; shear
+/// with the thin-tube coefficient 1/2, low for thick walls). Needs a law with
+/// a linearisation at rest (not tension-only fibres). `error_estimate` (may
+/// be NULL) receives the estimated relative error.
 #[no_mangle]
-pub unsafe extern "C" fn rodkit_thin_tube_free_response(
-    spec: *const ThinTubeSpec,
-    response: *mut FreeTubeResponse,
+pub unsafe extern "C" fn rodkit_tube_rod_stiffness(
+    tube: *const Tube,
+    k: *mut f64,
+    ldk: i64,
+    error_estimate: *mut f64,
 ) -> i32 {
     guard(|| {
-        let r = thin_tube(arg_ref("spec", spec)?)?.coupling_stiffness()?.free_response()?;
-        *arg_mut("response", response)? = FreeTubeResponse {
-            dstrain_dforce: r.dstrain_dforce,
-            dtwist_dforce: r.dtwist_dforce,
-            dhoop_dforce: r.dhoop_dforce,
-            winding: r.winding as i32,
-        };
-        Ok(Status::Ok)
-    })
-}
-
-/// The section as a hemitropic rod (physics.md §2.2), thin-walled beam
-/// theory: the symmetric positive-definite 6×6 stiffness K with
-/// (m1, m2, m3, n1, n2, n3) = K (u − û, v − v̂) with û = 0, v̂ = e3 (the
-/// straight unstressed tube), strains ordered (u1, u2, u3, v1, v2, v3):
-/// bending K_b = πR³t·a, twist C, shear G = πRt·c (thin-tube shear
-/// coefficient 1/2), stretch S, twist–stretch g (entries (3,6)) and
-/// bend–shear c2 = −g/2 (entries (1,4), (2,5)); its (u3, v3) block is
-/// rodkit_thin_tube_stretch_twist. `k` receives the matrix column-major with
-/// leading dimension `ldk` ≥ 6.
-#[no_mangle]
-pub unsafe extern "C" fn rodkit_thin_tube_rod_stiffness(spec: *const ThinTubeSpec, k: *mut f64, ldk: i64) -> i32 {
-    guard(|| {
-        let law = thin_tube(arg_ref("spec", spec)?)?.rod_stiffness()?;
-        write_matrix("k", k, ldk, "ldk", 6, 6, &law.column_major())?;
-        Ok(Status::Ok)
+        let tube = arg_ref("tube", tube)?;
+        let est = tube.scene.rod_stiffness()?;
+        write_estimated(k, ldk, 6, &est.value.column_major(), est.error_estimate, error_estimate)
     })
 }

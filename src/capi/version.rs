@@ -2,7 +2,8 @@
 //! macros come from the same sources (Cargo.toml, src/version.rs): compare
 //! them with these at run time to detect a header/library mismatch.
 
-use super::guard;
+use super::args::arg_mut;
+use super::{guard, guard_value};
 use crate::status::Status;
 use crate::version;
 
@@ -11,9 +12,9 @@ use crate::version;
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_version(major: *mut i32, minor: *mut i32, patch: *mut i32) -> i32 {
     guard(|| {
-        let major = super::arg_mut("major", major)?;
-        let minor = super::arg_mut("minor", minor)?;
-        let patch = super::arg_mut("patch", patch)?;
+        let major = arg_mut("major", major)?;
+        let minor = arg_mut("minor", minor)?;
+        let patch = arg_mut("patch", patch)?;
         (*major, *minor, *patch) = (version::MAJOR, version::MINOR, version::PATCH);
         Ok(Status::Ok)
     })
@@ -23,5 +24,5 @@ pub unsafe extern "C" fn rodkit_version(major: *mut i32, minor: *mut i32, patch:
 /// header it was built with. It changes only when the binary interface does.
 #[no_mangle]
 pub extern "C" fn rodkit_library_abi_version() -> i32 {
-    super::guard_value(-1, || version::ABI_VERSION)
+    guard_value(-1, || version::ABI_VERSION)
 }

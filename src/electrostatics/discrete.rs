@@ -8,6 +8,13 @@ use crate::error::{self, Result};
 use crate::geometry::proximity::CellList;
 use crate::geometry::vec3::distance;
 
+/// The number of base pairs of a rod of length `length` at the requested
+/// `spacing`: N = round(L/b), at least one (the spacing is then adjusted to
+/// L/N).
+pub fn base_pair_count(length: f64, spacing: f64) -> usize {
+    ((length / spacing).round() as usize).max(1)
+}
+
 /// Charges at the midpoints s_i = (i + ½)·b of a spacing b (the number of
 /// base pairs N = round(L/b), b adjusted to L/N), q_i = λ(s_i)·b: the
 /// midpoint Riemann sum of the continuum integral.
@@ -18,7 +25,7 @@ pub fn base_pairs(
 ) -> Result<(Vec<[f64; 3]>, Vec<f64>, Vec<f64>)> {
     error::positive("spacing", spacing)?;
     let l = curve.length();
-    let n = ((l / spacing).round() as usize).max(1);
+    let n = base_pair_count(l, spacing);
     error::count_in_range("base pairs", n as i64, 1, 10_000_000)?;
     let b = l / n as f64;
     let s: Vec<f64> = (0..n).map(|i| (i as f64 + 0.5) * b).collect();
@@ -135,4 +142,19 @@ pub fn energy_cutoff(
         })
     };
     per_point.iter().fold((0.0, 0), |(e, p), &(v, k)| (e + v, p + k))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::base_pair_count;
+
+    /// Reference: N = round(L/b) by hand — 1 kbp of DNA at 0.34 nm per base
+    /// pair, 1 nm (2.94 → 3), and a rod shorter than half a spacing (one
+    /// charge, not none).
+    #[test]
+    fn base_pair_count_rounds_and_keeps_one() {
+        assert_eq!(base_pair_count(340.0, 0.34), 1000);
+        assert_eq!(base_pair_count(1.0, 0.34), 3);
+        assert_eq!(base_pair_count(0.1, 0.34), 1);
+    }
 }

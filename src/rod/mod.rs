@@ -47,14 +47,46 @@ impl RodLaw {
         for (name, v) in [("bending", bending), ("twist", twist), ("shear", shear), ("stretch", stretch)] {
             error::positive(name, v)?;
         }
-        error::finite("twist_stretch", twist_stretch)?;
-        error::finite("bend_shear", bend_shear)?;
-        let mut k = Matrix6::from_diagonal(&nalgebra::Vector6::new(bending, bending, twist, shear, shear, stretch));
-        for (i, j, v) in [(2, 5, twist_stretch), (0, 3, bend_shear), (1, 4, bend_shear)] {
+        let moduli = Moduli {
+            bending1: bending,
+            bending2: bending,
+            twist,
+            shear1: shear,
+            shear2: shear,
+            stretch,
+            twist_stretch,
+            bend_shear,
+        };
+        Self::from_moduli(&moduli, Vector3::zeros(), Vector3::new(0.0, 0.0, 1.0))
+    }
+
+    /// The hemitropic law of §2.2 from its moduli (two bending and two
+    /// shear axes may differ) with intrinsic strains û, v̂:
+    /// K = diag(K1, K2, C, G1, G2, S) plus the couplings K(u3, v3) = g and
+    /// K(u1, v1) = K(u2, v2) = c2, symmetric. The six principal moduli must
+    /// be positive, the couplings finite, and K positive definite (e.g.
+    /// g² < C·S); errors name the [`Moduli`] field.
+    pub fn from_moduli(m: &Moduli, intrinsic_u: Vector3<f64>, intrinsic_v: Vector3<f64>) -> Result<Self> {
+        for (name, v) in [
+            ("bending1", m.bending1),
+            ("bending2", m.bending2),
+            ("twist", m.twist),
+            ("shear1", m.shear1),
+            ("shear2", m.shear2),
+            ("stretch", m.stretch),
+        ] {
+            error::positive(name, v)?;
+        }
+        error::finite("twist_stretch", m.twist_stretch)?;
+        error::finite("bend_shear", m.bend_shear)?;
+        let mut k = Matrix6::from_diagonal(&nalgebra::Vector6::new(
+            m.bending1, m.bending2, m.twist, m.shear1, m.shear2, m.stretch,
+        ));
+        for (i, j, v) in [(2, 5, m.twist_stretch), (0, 3, m.bend_shear), (1, 4, m.bend_shear)] {
             k[(i, j)] = v;
             k[(j, i)] = v;
         }
-        Self::general(k, Vector3::zeros(), Vector3::new(0.0, 0.0, 1.0))
+        Self::general(k, intrinsic_u, intrinsic_v)
     }
 
     /// Inextensible, unshearable rod with bending stiffnesses K1, K2 and
@@ -112,6 +144,23 @@ impl RodLaw {
     }
 }
 
+/// The moduli of a hemitropic section (physics.md §2.2), for
+/// [`RodLaw::from_moduli`]: bending about d1 and d2, twist, shear along d1
+/// and d2, stretch, and the chiral couplings twist–stretch g (u3·v3) and
+/// bend–shear c2 (u1·v1 and u2·v2; −g/2 for a thin helically reinforced
+/// tube). The C spec `RodkitRodSpec` has the same fields.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Moduli {
+    pub bending1: f64,
+    pub bending2: f64,
+    pub twist: f64,
+    pub shear1: f64,
+    pub shear2: f64,
+    pub stretch: f64,
+    pub twist_stretch: f64,
+    pub bend_shear: f64,
+}
+
 /// How a load follows the rod.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Frame {
@@ -145,4 +194,83 @@ pub struct Loads {
     /// Per unit reference length.
     pub distributed_force: Option<Load>,
     pub distributed_couple: Option<Load>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn moduli() -> Moduli {
+        Moduli {
+            bending1: 2.0,
+            bending2: 3.0,
+            twist: 5.0,
+            shear1: 70.0,
+            shear2: 110.0,
+            stretch: 130.0,
+            twist_stretch: -7.0,
+            bend_shear: 1.5,
+        }
+    }
+
+    /// Reference: physics.md §2.2 written out entry by entry (the matrix
+    /// the C spec's moduli have always produced): diagonal (K1, K2, C, G1,
+    /// G2, S), g at (u3, v3), c2 at (u1, v1) and (u2, v2), symmetric, zero
+    /// elsewhere; the intrinsic strains kept.
+    #[test]
+    fn from_moduli_places_each_modulus() {
+        let (u, v) = (Vector3::new(0.1, -0.2, 0.3), Vector3::new(0.01, 0.02, 1.1));
+        let law = RodLaw::from_moduli(&moduli(), u, v).unwrap();
+        #[rustfmt::skip]
+        let expected = Matrix6::new(
+            2.0, 0.0, 0.0,  1.5,   0.0,    0.0,
+            0.0, 3.0, 0.0,  0.0,   1.5,    0.0,
+            0.0, 0.0, 5.0,  0.0,   0.0,   -7.0,
+            1.5, 0.0, 0.0, 70.0,   0.0,    0.0,
+            0.0, 1.5, 0.0,  0.0, 110.0,    0.0,
+            0.0, 0.0, -7.0, 0.0,   0.0,  130.0,
+        );
+        assert_eq!(law.stiffness, expected);
+        assert_eq!((law.intrinsic_u, law.intrinsic_v, law.kirchhoff), (u, v, false));
+    }
+
+    /// Reference: the closed-form inverses of the coupled 2×2 blocks,
+    /// [[C, g], [g, S]]⁻¹ = [[S, −g], [−g, C]]/(CS − g²) and
+    /// [[K1, c2], [c2, G1]]⁻¹ = [[G1, −c2], [−c2, K1]]/(K1·G1 − c2²).
+    #[test]
+    fn from_moduli_compliance_matches_closed_form() {
+        let m = moduli();
+        let c = RodLaw::from_moduli(&m, Vector3::zeros(), Vector3::z()).unwrap().compliance();
+        let det_ts = m.twist * m.stretch - m.twist_stretch * m.twist_stretch;
+        let det_bs = m.bending1 * m.shear1 - m.bend_shear * m.bend_shear;
+        for (got, want) in [
+            (c[(2, 2)], m.stretch / det_ts),
+            (c[(2, 5)], -m.twist_stretch / det_ts),
+            (c[(5, 5)], m.twist / det_ts),
+            (c[(0, 0)], m.shear1 / det_bs),
+            (c[(0, 3)], -m.bend_shear / det_bs),
+        ] {
+            assert!((got - want).abs() <= 1e-14 * want.abs(), "{got} vs {want}");
+        }
+    }
+
+    #[test]
+    fn from_moduli_refuses_bad_moduli() {
+        let bad = Moduli { bending2: 0.0, ..moduli() };
+        let e = RodLaw::from_moduli(&bad, Vector3::zeros(), Vector3::z()).unwrap_err();
+        assert_eq!(e.status, Status::ErrNotPositive);
+        assert!(e.message.contains("`bending2`"), "{}", e.message);
+        // g² = C·S: semi-definite.
+        let singular = Moduli { twist_stretch: (5.0f64 * 130.0).sqrt(), ..moduli() };
+        let e = RodLaw::from_moduli(&singular, Vector3::zeros(), Vector3::z()).unwrap_err();
+        assert_eq!(e.status, Status::ErrNotPositiveDefinite);
+    }
+
+    /// The symmetric section is the special case with equal pairs.
+    #[test]
+    fn hemitropic_is_from_moduli_with_equal_axes() {
+        let law = RodLaw::hemitropic(2.0, 5.0, 70.0, 130.0, -7.0, 1.5).unwrap();
+        let m = Moduli { bending2: 2.0, shear2: 70.0, ..moduli() };
+        assert_eq!(law, RodLaw::from_moduli(&m, Vector3::zeros(), Vector3::z()).unwrap());
+    }
 }

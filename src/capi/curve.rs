@@ -3,10 +3,12 @@
 //! positions and unit tangents as 3 × nodes column-major arrays with
 //! leading dimensions — and interpolated by C¹ cubic Hermite pieces.
 
-use super::{arg_mut, arg_ref, guard, null_error, qualify_argument};
+use super::args::{arg_mut, arg_ref, flag, in_array, non_negative, null_error, qualify_argument};
+use super::guard;
 use crate::electrostatics::{self, discrete, EnergyQuadrature, HermiteCurve, LineCharge, Screening};
 use crate::error::{self, Error, Result};
 use crate::geometry::writhe::writhe;
+use crate::geometry::Centerline;
 use crate::status::Status;
 
 /// Line charge and interaction. Call `rodkit_electrostatics_spec_default`
@@ -76,26 +78,19 @@ unsafe fn curve_from(
 ) -> Result<HermiteCurve> {
     error::count_in_range("nodes", nodes, 2, 1 << 26)?;
     let n = nodes as usize;
-    if s.is_null() {
-        return Err(null_error("s"));
-    }
-    let s = std::slice::from_raw_parts(s, n).to_vec();
+    let s = in_array("s", s, nodes)?.to_vec();
     error::finite_result("s", &s)?;
     let r = matrix_columns("xyz", xyz, ldx, n)?;
     let mut t = matrix_columns("tangents", tangents, ldt, n)?;
     for (i, v) in t.iter_mut().enumerate() {
         let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        if !(norm > 0.0) {
+        // Finite columns: the norm is never NaN.
+        if norm <= 0.0 {
             return Err(Error::new(Status::ErrOutOfRange, format!("argument `tangents`: column {i} is zero")));
         }
         v.iter_mut().for_each(|c| *c /= norm);
     }
-    let closed = match closed {
-        0 => false,
-        1 => true,
-        v => return Err(Error::new(Status::ErrOutOfRange, format!("argument `closed` must be 0 or 1 (got {v})"))),
-    };
-    HermiteCurve::new(s, r, t, closed)
+    HermiteCurve::new(s, r, t, flag("closed", closed)?)
 }
 
 fn settings(spec: &ElectrostaticsSpec) -> Result<(LineCharge, Screening, EnergyQuadrature)> {
@@ -104,11 +99,9 @@ fn settings(spec: &ElectrostaticsSpec) -> Result<(LineCharge, Screening, EnergyQ
     error::finite("a", spec.a)?;
     error::finite("near_width", spec.near_width)?;
     error::count_in_range("order", spec.order, 2, 32)?;
-    if spec.kappa < 0.0 {
-        return Err(Error::new(Status::ErrOutOfRange, format!("argument `kappa` must be ≥ 0 (got {:e})", spec.kappa)));
-    }
+    non_negative("kappa", spec.kappa)?;
     error::positive("a", spec.a)?;
-    if !(spec.near_width > spec.a) {
+    if spec.near_width <= spec.a {
         return Err(Error::new(
             Status::ErrOutOfRange,
             format!("argument `near_width` ({:e}) must exceed a ({:e})", spec.near_width, spec.a),
@@ -124,7 +117,6 @@ fn settings(spec: &ElectrostaticsSpec) -> Result<(LineCharge, Screening, EnergyQ
 /// The continuum electrostatic self-energy of the curve (nodes ≥ 2;
 /// `closed` 1: the last node repeats the first and the curve is periodic).
 #[no_mangle]
-#[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn rodkit_curve_electrostatic_energy(
     s: *const f64,
     xyz: *const f64,
@@ -150,7 +142,6 @@ pub unsafe extern "C" fn rodkit_curve_electrostatic_energy(
 /// b (≈ `spacing`, adjusted to divide the length) at the midpoints, all
 /// pairs with |s_i − s_j| > a (the thesis's comparison, O(N²)).
 #[no_mangle]
-#[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn rodkit_curve_base_pair_energy(
     s: *const f64,
     xyz: *const f64,
@@ -168,7 +159,7 @@ pub unsafe extern "C" fn rodkit_curve_base_pair_energy(
         let (charge, screening, _) = settings(arg_ref("spec", spec)?).map_err(|e| qualify_argument(e, "spec."))?;
         let out = arg_mut("energy", energy)?;
         let (r, q, sp) = discrete::base_pairs(&curve, &charge, spacing)?;
-        let period = curve.closed.then(|| *curve.s.last().expect("≥ 2 nodes"));
+        let period = curve.closed.then(|| curve.length());
         let e = discrete::energy(&r, &q, &sp, &screening, period);
         error::finite("energy", e)?;
         *out = e;
@@ -180,7 +171,6 @@ pub unsafe extern "C" fn rodkit_curve_base_pair_energy(
 /// curve closed by rays along its end tangents; `order` Gauss points per
 /// panel (2…32).
 #[no_mangle]
-#[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn rodkit_curve_writhe(
     s: *const f64,
     xyz: *const f64,
@@ -224,7 +214,6 @@ pub struct EnergyWithin {
 /// whose error estimate meets it, and which settings were used.
 /// `spec.near_width` and `spec.order` are ignored (chosen here).
 #[no_mangle]
-#[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn rodkit_curve_electrostatic_energy_within(
     s: *const f64,
     xyz: *const f64,
@@ -244,12 +233,7 @@ pub unsafe extern "C" fn rodkit_curve_electrostatic_energy_within(
             error::finite("line_charge", spec.line_charge)?;
             error::finite("kappa", spec.kappa)?;
             error::positive("a", spec.a)?;
-            if spec.kappa < 0.0 {
-                return Err(Error::new(
-                    Status::ErrOutOfRange,
-                    format!("argument `kappa` must be ≥ 0 (got {:e})", spec.kappa),
-                ));
-            }
+            non_negative("kappa", spec.kappa)?;
             Ok((LineCharge::Uniform(spec.line_charge), Screening { kappa: spec.kappa, a: spec.a }))
         };
         let (charge, screening) = inner().map_err(|e| qualify_argument(e, "spec."))?;

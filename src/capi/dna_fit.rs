@@ -1,7 +1,8 @@
 //! C ABI of the DNA wall fit (physics.md §1.5, `rodkit::tube::dna`).
 
-use super::tube::ThinTubeSpec;
-use super::{arg_mut, guard};
+use super::args::arg_mut;
+use super::guard;
+use super::thin_tube::ThinTubeSpec;
 use crate::status::Status;
 use crate::tube::dna::{fit_thin_wall, thick_comparison, DnaTargets, OutOfPlane};
 

@@ -13,7 +13,7 @@ use crate::continuation::Options;
 use crate::continuation::Record;
 use crate::error::{self, Error, Result};
 use crate::rod::branch::{Method, RodBranch};
-use crate::rod::model::{unwrap_rotation, Rod as Model};
+use crate::rod::model::Rod as Model;
 use crate::status::Status;
 use std::ffi::c_void;
 
@@ -122,17 +122,6 @@ unsafe fn copy_state(
     Ok(Status::Ok)
 }
 
-/// A torque clamp's continuous end rotation at bifurcation `index` of
-/// `from`: its φ (mod 4π) unwrapped against the record nearest to it.
-fn rotation_at_bifurcation(model: &Model, from: &Branch, index: usize) -> Option<f64> {
-    let bif = from.branch.bifurcations.get(index)?;
-    let raw = model.end_rotation(&bif.x, bif.lambda)?;
-    let n = model.unknowns().min(bif.x.len());
-    let distance = |x: &[f64]| x[..n].iter().zip(&bif.x[..n]).map(|(a, b)| (a - b) * (a - b)).sum::<f64>();
-    let nearest = from.branch.states.iter().enumerate().min_by(|a, b| distance(a.1).total_cmp(&distance(b.1)))?.0;
-    Some(unwrap_rotation(from.records.get(nearest)?.end_rotation, raw))
-}
-
 /// Follow a branch from the state `x0` (length n; NULL: the straight
 /// state) at `lambda0`. Returns 0 when the target was reached, a positive
 /// RODKIT_STATUS_INFO_* when the branch ended otherwise (the branch is
@@ -216,7 +205,14 @@ pub unsafe extern "C" fn rodkit_branch_switch(
         let b = with_progress(&rod.model, progress, user_data, |cb| {
             rod.model.switch_branch(&from.branch, index as usize, direction as usize, first_step, &opts, method, cb)
         })?;
-        let previous = rod.model.torqued().then(|| rotation_at_bifurcation(&rod.model, from, index as usize)).flatten();
+        let previous = rod
+            .model
+            .torqued()
+            .then(|| {
+                let phi: Vec<f64> = from.records.iter().map(|r| r.end_rotation).collect();
+                from.branch.rotation_at_bifurcation(&rod.model, index as usize, &phi)
+            })
+            .flatten();
         store_branch(rod, b, previous, out)
     })
 }

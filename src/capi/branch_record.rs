@@ -4,7 +4,7 @@
 
 use crate::continuation::Stop;
 use crate::rod::branch::RodBranch;
-use crate::rod::model::{unwrap_rotation, Rod as Model};
+use crate::rod::model::Rod as Model;
 use crate::status::Status;
 
 /// Why a branch ended (`RodkitBranchInfo.stop`).
@@ -152,7 +152,6 @@ fn record_of(model: &Model, n: usize, lambda: f64, x: &[f64]) -> BranchRecord {
         base_moment_y: m[1],
         base_moment_z: m[2],
         unfolding: if x.len() > n { x[n] } else { 0.0 },
-        end_rotation: model.end_rotation(x, lambda).unwrap_or(0.0),
         ..Default::default()
     }
 }
@@ -167,11 +166,9 @@ pub(super) fn record_lists(
     previous: Option<f64>,
 ) -> (Vec<BranchRecord>, Vec<BranchRecord>) {
     let n = model.unknowns();
-    let mut records: Vec<BranchRecord> = branch
-        .records
-        .iter()
-        .zip(&branch.states)
-        .map(|(r, x)| BranchRecord {
+    let (record_phi, sample_phi) = branch.end_rotations(model, previous);
+    let records = (branch.records.iter().zip(&branch.states).zip(record_phi))
+        .map(|((r, x), end_rotation)| BranchRecord {
             residual: r.residual,
             step: r.step,
             det_sign: r.det_sign,
@@ -179,39 +176,19 @@ pub(super) fn record_lists(
             test_function: r.smallest_singular_value.unwrap_or(f64::NAN),
             newton_iterations: r.newton_iterations as i64,
             negative_pivots: r.negative_pivots.map_or(-1, |v| v as i64),
+            end_rotation,
             ..record_of(model, n, r.lambda, x)
         })
         .collect();
-    let mut samples: Vec<BranchRecord> = branch
-        .samples
-        .iter()
-        .zip(&branch.sample_states)
-        .map(|(s, x)| BranchRecord {
+    let samples = (branch.samples.iter().zip(&branch.sample_states).zip(sample_phi))
+        .map(|((s, x), end_rotation)| BranchRecord {
             residual: s.residual,
             test_function: f64::NAN,
             newton_iterations: s.newton_iterations as i64,
             negative_pivots: -1,
+            end_rotation,
             ..record_of(model, n, s.lambda, x)
         })
         .collect();
-    if model.torqued() {
-        // A torque clamp's φ from (cos φ/2, sin φ/2) is known mod 4π: turns
-        // followed by continuity along the records (a step turns the end by
-        // less than 2π), from the point the branch left if it is a resumed
-        // or switched one; each sample from the record that starts its step
-        // (samples at loads far apart may be turns apart from each other).
-        let mut last = previous;
-        for r in records.iter_mut() {
-            if let Some(p) = last {
-                r.end_rotation = unwrap_rotation(p, r.end_rotation);
-            }
-            last = Some(r.end_rotation);
-        }
-        for (rec, s) in samples.iter_mut().zip(&branch.samples) {
-            if let Some(from) = records.get(s.record) {
-                rec.end_rotation = unwrap_rotation(from.end_rotation, rec.end_rotation);
-            }
-        }
-    }
     (records, samples)
 }

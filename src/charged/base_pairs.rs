@@ -92,7 +92,7 @@ impl BasePairSites {
     ) -> Self {
         let ns = stage_s.len();
         let order = STENCIL.min(ns);
-        let count = ((length / spacing).round() as usize).max(1);
+        let count = crate::electrostatics::discrete::base_pair_count(length, spacing);
         let b = length / count as f64;
         let mut site_s = Vec::with_capacity(count);
         let mut stencil = Vec::with_capacity(count);

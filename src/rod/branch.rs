@@ -7,7 +7,7 @@
 //! `crate::charged::branch` (pair lists rebuilt as the shape moves). What
 //! the C ABI and the drivers use; the generic engines do the work.
 
-use super::model::Rod;
+use super::model::{unwrap_rotation, Rod};
 use crate::continuation::anm::{continue_anm, AnmOptions};
 use crate::continuation::bifurcation::{branch_start, Bifurcation};
 use crate::continuation::corrector::{correct, Plane};
@@ -118,6 +118,49 @@ impl RodBranch {
         self.resume = next.resume;
         self.counts.add(&next.counts);
         self.pair_lists += next.pair_lists;
+    }
+}
+
+impl RodBranch {
+    /// The end rotation φ at every record and at every sample, for a rod
+    /// with one (zeros otherwise). Under a torque clamp φ is known mod 4π
+    /// from each state: it is followed by continuity along the records (a
+    /// step turns the end by less than 2π), from `previous` — the φ of the
+    /// point a resumed or switched branch left — when given, and each
+    /// sample from the record that starts its step (samples at loads far
+    /// apart may be turns apart from each other).
+    pub fn end_rotations(&self, rod: &Rod, previous: Option<f64>) -> (Vec<f64>, Vec<f64>) {
+        let raw = |x: &[f64], lambda: f64| rod.end_rotation(x, lambda).unwrap_or(0.0);
+        let mut records: Vec<f64> = self.records.iter().zip(&self.states).map(|(r, x)| raw(x, r.lambda)).collect();
+        let mut samples: Vec<f64> =
+            self.samples.iter().zip(&self.sample_states).map(|(s, x)| raw(x, s.lambda)).collect();
+        if rod.torqued() {
+            let mut last = previous;
+            for phi in records.iter_mut() {
+                if let Some(p) = last {
+                    *phi = unwrap_rotation(p, *phi);
+                }
+                last = Some(*phi);
+            }
+            for (phi, s) in samples.iter_mut().zip(&self.samples) {
+                if let Some(&from) = records.get(s.record) {
+                    *phi = unwrap_rotation(from, *phi);
+                }
+            }
+        }
+        (records, samples)
+    }
+
+    /// A torque clamp's end rotation at bifurcation `index`, followed from
+    /// the record nearest to it in state (`record_rotations`: the records'
+    /// continuous φ, from [`RodBranch::end_rotations`]).
+    pub fn rotation_at_bifurcation(&self, rod: &Rod, index: usize, record_rotations: &[f64]) -> Option<f64> {
+        let bif = self.bifurcations.get(index)?;
+        let raw = rod.end_rotation(&bif.x, bif.lambda)?;
+        let n = rod.unknowns().min(bif.x.len());
+        let distance = |x: &[f64]| x[..n].iter().zip(&bif.x[..n]).map(|(a, b)| (a - b) * (a - b)).sum::<f64>();
+        let nearest = self.states.iter().enumerate().min_by(|a, b| distance(a.1).total_cmp(&distance(b.1)))?.0;
+        Some(unwrap_rotation(*record_rotations.get(nearest)?, raw))
     }
 }
 

@@ -8,6 +8,7 @@
 //! ([`equilibrium`]); and the DNA supercoiling scene ([`dna`]). The field of
 //! a centreline itself is [`crate::electrostatics`].
 
+mod assembly;
 mod base_pairs;
 pub mod branch;
 pub mod dna;

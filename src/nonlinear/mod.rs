@@ -463,3 +463,89 @@ impl Convergence for StepTest {
         )
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// F(x) = atan(x), root 0.
+    struct Atan;
+
+    impl Equations for Atan {
+        fn dim(&self) -> usize {
+            1
+        }
+        fn residual(&mut self, x: &[f64], f: &mut [f64]) -> Result<bool> {
+            f[0] = x[0].atan();
+            Ok(true)
+        }
+    }
+
+    /// The exact Newton step times `fraction` (fraction 1: Newton).
+    struct Scaled {
+        fraction: f64,
+    }
+
+    impl LinearSolve<Atan> for Scaled {
+        fn step(&mut self, _: &mut Atan, x: &[f64], f: &[f64], _: &Iterate, d: &mut [f64]) -> Result<LinearStep> {
+            d[0] = -self.fraction * f[0] * (1.0 + x[0] * x[0]);
+            Ok(LinearStep { eta: 0.0, fresh: true })
+        }
+    }
+
+    /// Newton on atan from x = 3 overshoots (by hand: δ = −10 atan 3 =
+    /// −12.49, and |atan(−9.49)| = 1.466 > atan 3 = 1.249; t = ½ gives
+    /// x = −3.245, |atan| = 1.272, still no decrease), t = ¼ gives x =
+    /// −0.1225: the search takes t = ¼ with the rate |atan(−0.1225)|/atan 3.
+    #[test]
+    fn backtracking_takes_the_first_armijo_step() {
+        let (mut x, mut f) = (vec![3.0], vec![3f64.atan()]);
+        let delta = vec![-10.0 * 3f64.atan()];
+        let it = Iterate { iteration: 0, norm: f[0], previous: f64::INFINITY, rate: f64::NAN, fresh: true };
+        for norm in [Norm::Max, Norm::Two] {
+            let (mut x, mut f) = (x.clone(), f.clone());
+            let a = Backtracking::new(vec![1.0], norm, 10).search(&mut Atan, &mut x, &mut f, &delta, &it, 0.0);
+            let a = a.unwrap().expect("a step");
+            let expected = 3.0 + 0.25 * delta[0];
+            assert_eq!(a.t, 0.25);
+            assert!((x[0] - expected).abs() < 1e-15 && (f[0] - expected.atan()).abs() < 1e-15);
+            assert!((a.rate - expected.atan().abs() / 3f64.atan()).abs() < 1e-15);
+        }
+        // Two halvings allowed: none acceptable, x and f unchanged.
+        let none = Backtracking::new(vec![1.0], Norm::Max, 2).search(&mut Atan, &mut x, &mut f, &delta, &it, 0.0);
+        assert!(none.unwrap().is_none() && x == [3.0] && f == [3f64.atan()]);
+    }
+
+    /// The driver: undamped Newton on atan from 3 diverges (|x| grows past
+    /// 1.39, the known divergence threshold x with 2x = (1 + x²) atan x) and
+    /// fails on its non-finite or growing residual; damped by backtracking
+    /// it converges to the root 0 to the tolerance, quadratically at the end.
+    #[test]
+    fn damping_turns_a_divergent_newton_into_a_convergent_one() {
+        let mut x = vec![3.0];
+        let mut test = ResidualTest::new(vec![1.0], 1e-12, "atan");
+        let r = solve(&mut Atan, &mut x, &mut Scaled { fraction: 1.0 }, &mut FullStep::new(1), &mut test, 20);
+        assert!(r.is_err(), "{r:?}");
+        let mut x = vec![3.0];
+        let mut search = Backtracking::new(vec![1.0], Norm::Max, 20);
+        let r = solve(&mut Atan, &mut x, &mut Scaled { fraction: 1.0 }, &mut search, &mut test, 20).unwrap();
+        assert!(x[0].abs() <= 1e-12 && r.norm <= 1e-12 && r.iterations <= 8, "{x:?} {r:?}");
+    }
+
+    /// Stall rules on a step a tenth of Newton's (each iteration keeps
+    /// ~90 % of the residual, "slow"): Immediate fails at the first slow
+    /// iterate (iteration 1), AfterFresh from the third, Allowed runs to the
+    /// iteration limit.
+    #[test]
+    fn stall_rules_fail_where_documented() {
+        for (stall, fails_at) in [(Stall::Immediate, 1), (Stall::AfterFresh, 3), (Stall::Allowed, 50)] {
+            let mut x = vec![0.5];
+            let mut test = ResidualTest::new(vec![1.0], 1e-12, "atan");
+            test.stall = stall;
+            let e = solve(&mut Atan, &mut x, &mut Scaled { fraction: 0.1 }, &mut FullStep::new(1), &mut test, 50)
+                .unwrap_err();
+            assert_eq!(e.status, Status::ErrNotConverged);
+            assert!(e.message.contains(&format!("after {fails_at} iterations")), "{stall:?}: {}", e.message);
+        }
+    }
+}

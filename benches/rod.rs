@@ -14,6 +14,7 @@
 //! 2. the branch densely (100 loads), ANM vs Newton factorisations;
 //! 3. buckling, location, switch, post-buckled branch (AUTO's euler too);
 //! 4. the ANM's knobs (P, ε).
+//!
 //! Time: median of REPS interleaved repetitions. Writes target/bench/rod/
 //! {report.txt, tips.csv, dense.csv, post_buckling.csv, anm_knobs.csv,
 //! follower_work_precision.svg}.
@@ -25,8 +26,18 @@ mod auto07p;
 mod rod_band;
 #[cfg(feature = "sundials")]
 #[path = "../tests/support/sundials.rs"]
-#[allow(dead_code)]
 mod sundials;
+
+/// KINSOL's work for one run: (iterations, Jacobian evaluations, residual
+/// evaluations).
+type KinsolCounts = (i64, i64, i64);
+
+/// The tips at the four α from one KINSOL run, its counts and the times of
+/// every repetition.
+type KinsolRuns = (Vec<[f64; 3]>, KinsolCounts, Vec<Duration>);
+
+/// The reference tips of a scene at the given loads.
+type TipReference<'a> = dyn Fn(Scene, &[f64]) -> Vec<[f64; 3]> + 'a;
 
 /// SUNDIALS as a peer (`--features sundials`): natural-parameter
 /// continuation as a user without a continuation code would do it — α
@@ -36,7 +47,7 @@ mod sundials;
 /// started from the previous solution. Returns the tips at the four α,
 /// (KINSOL iterations, Jacobian evaluations, residual evaluations), time.
 #[cfg(feature = "sundials")]
-fn run_kinsol(rod: &Rod, tol: f64) -> Result<(Vec<[f64; 3]>, (i64, i64, i64), Duration), String> {
+fn run_kinsol(rod: &Rod, tol: f64) -> Result<(Vec<[f64; 3]>, KinsolCounts, Duration), String> {
     use rodkit::continuation::Problem;
     let t = Instant::now();
     let ctx = sundials::Context::new()?;
@@ -261,9 +272,8 @@ fn main() {
     let mut results: Vec<Option<(Vec<[f64; 3]>, Counts)>> = vec![None; times.len()];
     let mut auto_times: Vec<Vec<Duration>> = vec![vec![]; auto_ntst.len()];
     let mut auto_results: Vec<Option<auto07p::AutoRun>> = vec![None; auto_ntst.len()];
-    #[allow(unused_mut)]
-    let mut kinsol_results: Vec<Option<(Vec<[f64; 3]>, (i64, i64, i64), Vec<Duration>)>> =
-        vec![None; scenes.len() * configs.len()];
+    #[allow(unused_mut)] // filled only with the sundials feature
+    let mut kinsol_results: Vec<Option<KinsolRuns>> = vec![None; scenes.len() * configs.len()];
     for _ in 0..REPS {
         for (si, &scene) in scenes.iter().enumerate() {
             for (ci, &(scheme, n)) in configs.iter().enumerate() {
@@ -494,7 +504,7 @@ fn main() {
 /// Section 2: the whole branch densely — 100 evenly spaced loads α = 0.1 …
 /// 10, each within the residual tolerance: ANM (series) against Newton
 /// (interpolant + correction), factorisations and time as ratios.
-fn section_dense(out: &mut String, dir: &Path, dense: &[f64], reference: &dyn Fn(Scene, &[f64]) -> Vec<[f64; 3]>) {
+fn section_dense(out: &mut String, dir: &Path, dense: &[f64], reference: &TipReference<'_>) {
     let _ = writeln!(
         out,
         "\n2. The branch densely: tips at 100 loads α = 0.1, 0.2, …, 10 in one run, residual 1e-10, medians of {REPS}"

@@ -316,17 +316,21 @@ struct Series {
     dashed: bool,
 }
 
-/// Log–log chart. `guides`: dashed horizontal (y) / vertical (x) lines.
-fn loglog(
-    path: &Path,
-    title: &str,
-    xlabel: &str,
-    ylabel: &str,
-    series: &[Series],
-    hlines: &[(f64, String)],
-    vlines: &[(f64, String)],
+/// The frame of a log–log chart: title, axis labels, dashed labelled guides
+/// (horizontal at y, vertical at x) and where the legend goes.
+struct LogLog<'a> {
+    title: &'a str,
+    xlabel: &'a str,
+    ylabel: &'a str,
+    hlines: Vec<(f64, String)>,
+    vlines: Vec<(f64, String)>,
     legend: SeriesLabelPosition,
-) -> Result<(), Box<dyn std::error::Error>> {
+}
+
+/// Log–log chart of `series` in the frame `frame`.
+fn loglog(path: &Path, frame: &LogLog, series: &[Series]) -> Result<(), Box<dyn std::error::Error>> {
+    let LogLog { title, xlabel, ylabel, hlines, vlines, legend } = frame;
+    let (title, xlabel, ylabel, legend) = (*title, *xlabel, *ylabel, legend.clone());
     let pts = series.iter().flat_map(|s| s.points.iter()).filter(|(x, y)| *x > 0.0 && *y > 0.0);
     let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, 0.0f64, f64::INFINITY, 0.0f64);
     for &(x, y) in pts {
@@ -723,21 +727,19 @@ fn section_work_precision(dir: &Path, report: &mut String, thin_time: f64) -> Ve
             dashed: false,
         });
     }
-    loglog(
-        &dir.join("work_precision.svg"),
-        "Thick-tube K work–precision (vs 128-interval reference)",
-        "time per call [s] (median)",
-        "relative error  max|K − Kref| / max|Kref|",
-        &series,
-        &[
+    let frame = LogLog {
+        title: "Thick-tube K work–precision (vs 128-interval reference)",
+        xlabel: "time per call [s] (median)",
+        ylabel: "relative error  max|K − Kref| / max|Kref|",
+        hlines: vec![
             (1e-10, "target 1e-10".to_string()),
             (results[0].ref_self, format!("reference round-off, {}", results[0].name)),
             (results[1].ref_self, format!("reference round-off, {}", results[1].name)),
         ],
-        &[(200e-6, "target 200 µs".to_string())],
-        SeriesLabelPosition::UpperRight,
-    )
-    .expect("plot work_precision.svg");
+        vlines: vec![(200e-6, "target 200 µs".to_string())],
+        legend: SeriesLabelPosition::UpperRight,
+    };
+    loglog(&dir.join("work_precision.svg"), &frame, &series).expect("plot work_precision.svg");
     results
 }
 
@@ -888,7 +890,7 @@ fn section_thin_vs_thick(dir: &Path, report: &mut String) {
     series.push(Series {
         label: "max |ΔK_ij|/√(K_ii K_jj)".into(),
         points: normed_series,
-        color: BLACK.into(),
+        color: BLACK,
         line: true,
         marker: false,
         dashed: true,
@@ -901,17 +903,15 @@ fn section_thin_vs_thick(dir: &Path, report: &mut String) {
         marker: false,
         dashed: false,
     });
-    loglog(
-        &dir.join("thin_vs_thick.svg"),
-        "Thin closed form vs converged thick K (τ0 = 1.7, helical orthotropic wall)",
-        "wall thickness t/R",
-        "relative error of the thin-tube K entry",
-        &series,
-        &[],
-        &[],
-        SeriesLabelPosition::LowerRight,
-    )
-    .expect("plot thin_vs_thick.svg");
+    let frame = LogLog {
+        title: "Thin closed form vs converged thick K (τ0 = 1.7, helical orthotropic wall)",
+        xlabel: "wall thickness t/R",
+        ylabel: "relative error of the thin-tube K entry",
+        hlines: vec![],
+        vlines: vec![],
+        legend: SeriesLabelPosition::LowerRight,
+    };
+    loglog(&dir.join("thin_vs_thick.svg"), &frame, &series).expect("plot thin_vs_thick.svg");
 }
 
 // ------------------------------------------------------------------ main --

@@ -652,10 +652,8 @@ fn climb_score(o: &Outcome, outer: f64, fibre: bool) -> f64 {
             return dna_score(o, outer).max(-14.9);
         }
     }
-    if o.psi_start > 0.0 || (fibre && o.psi_start != 0.0) {
-        if o.slope_ratio.is_finite() {
-            return -20.0 + 5.0 * (1.0 - o.slope_ratio).clamp(0.0, 0.999);
-        }
+    if (o.psi_start > 0.0 || (fibre && o.psi_start != 0.0)) && o.slope_ratio.is_finite() {
+        return -20.0 + 5.0 * (1.0 - o.slope_ratio).clamp(0.0, 0.999);
     }
     -30.0
 }
@@ -671,9 +669,8 @@ fn dip_score(o: &Outcome) -> f64 {
 /// A candidate re-examined on finer grids.
 #[derive(Clone, Debug)]
 struct Check {
-    /// (label, λ of the ψ turn or None, λ of the outer-radius turn or None,
-    /// solved to, error) for each re-run.
-    runs: Vec<(String, Option<f64>, Option<f64>, f64, Option<String>)>,
+    /// Each re-run's findings.
+    runs: Vec<Rerun>,
     /// dT/dψ at fixed λ at the turn (positive: the torque-free state is
     /// torsionally stable there) and the torque at ψ itself (same branch).
     dtdpsi_turn: Option<(f64, f64)>,
@@ -681,6 +678,20 @@ struct Check {
     fine: Outcome,
     fine_curve: Curve,
     fibre: bool,
+}
+
+/// What one re-run of a candidate found.
+#[derive(Clone, Debug)]
+struct Rerun {
+    label: String,
+    /// λ of the ψ turn, if any.
+    psi_turn: Option<f64>,
+    /// λ of the outer-radius turn, if any.
+    radius_turn: Option<f64>,
+    /// The λ the sweep reached.
+    solved_to: f64,
+    /// Why it stopped early, if it did.
+    error: Option<String>,
 }
 
 fn torsional_stiffness(scene: &TubeScene, lam: f64, psi: f64, outer: f64) -> Option<(f64, f64)> {
@@ -748,13 +759,13 @@ fn confirm(p: &Params, coarse: &Outcome) -> Check {
             let c2 = trace(p, None, tol, &short);
             o = analyse(&c2, a, b);
         }
-        runs.push((
+        runs.push(Rerun {
             label,
-            o.reversal.as_ref().map(|r| r.turn.lam),
-            o.dips[1].as_ref().map(|d| d.turn.lam),
-            o.solved_to,
-            o.error.clone(),
-        ));
+            psi_turn: o.reversal.as_ref().map(|r| r.turn.lam),
+            radius_turn: o.dips[1].as_ref().map(|d| d.turn.lam),
+            solved_to: o.solved_to,
+            error: o.error.clone(),
+        });
         if k == 0 {
             fine = o;
             fine_curve = c;
@@ -785,8 +796,10 @@ fn confirmed(ch: &Check, twist: bool, coarse_jump: f64) -> bool {
     let lams: Vec<Option<f64>> = ch
         .runs
         .iter()
-        .filter(|r| !(r.3 < 1.02 && r.4.as_deref().is_some_and(|e| e.contains("MaterialInstability"))) || !ch.fibre)
-        .map(|r| if twist { r.1 } else { r.2 })
+        .filter(|r| {
+            !(r.solved_to < 1.02 && r.error.as_deref().is_some_and(|e| e.contains("MaterialInstability")) && ch.fibre)
+        })
+        .map(|r| if twist { r.psi_turn } else { r.radius_turn })
         .collect();
     let Some(Some(l0)) = lams.first().copied() else { return false };
     let agree = lams.len() >= 2 && lams.iter().all(|l| l.is_some_and(|l| (l - l0).abs() < 0.01));
@@ -856,7 +869,7 @@ fn print_case(tag: &str, p: &Params, o: &Outcome, check: Option<&Check>) {
     }
     print_dips(o, "      ");
     if let Some(ch) = check {
-        for (label, lt, lb, to, err) in &ch.runs {
+        for Rerun { label, psi_turn: lt, radius_turn: lb, solved_to: to, error: err } in &ch.runs {
             println!(
                 "      re-run {label}: ψ turn {} | outer-radius min {} | to λ {:.4}{}",
                 lt.map_or("none".into(), |l| format!("{l:.4}")),

@@ -79,14 +79,7 @@ impl RodLaw {
         }
         error::finite("twist_stretch", m.twist_stretch)?;
         error::finite("bend_shear", m.bend_shear)?;
-        let mut k = Matrix6::from_diagonal(&nalgebra::Vector6::new(
-            m.bending1, m.bending2, m.twist, m.shear1, m.shear2, m.stretch,
-        ));
-        for (i, j, v) in [(2, 5, m.twist_stretch), (0, 3, m.bend_shear), (1, 4, m.bend_shear)] {
-            k[(i, j)] = v;
-            k[(j, i)] = v;
-        }
-        Self::general(k, intrinsic_u, intrinsic_v)
+        Self::general(m.stiffness(), intrinsic_u, intrinsic_v)
     }
 
     /// Inextensible, unshearable rod with bending stiffnesses K1, K2 and
@@ -159,6 +152,24 @@ pub struct Moduli {
     pub stretch: f64,
     pub twist_stretch: f64,
     pub bend_shear: f64,
+}
+
+impl Moduli {
+    /// The 6×6 stiffness K of these moduli, unchecked (see
+    /// [`RodLaw::from_moduli`] for the checks): diag(K1, K2, C, G1, G2, S)
+    /// in the order (u1, u2, u3, v1, v2, v3), g between u3 and v3, c2
+    /// between u1, v1 and between u2, v2.
+    pub fn stiffness(&self) -> Matrix6<f64> {
+        let m = self;
+        let mut k = Matrix6::from_diagonal(&nalgebra::Vector6::new(
+            m.bending1, m.bending2, m.twist, m.shear1, m.shear2, m.stretch,
+        ));
+        for (i, j, v) in [(2, 5, m.twist_stretch), (0, 3, m.bend_shear), (1, 4, m.bend_shear)] {
+            k[(i, j)] = v;
+            k[(j, i)] = v;
+        }
+        k
+    }
 }
 
 /// How a load follows the rod.

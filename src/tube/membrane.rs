@@ -29,6 +29,14 @@ use crate::tube::material::{WallMaterial, WallStrain};
 use nalgebra::{DVector, Matrix3};
 use std::f64::consts::PI;
 
+/// Positions of the unknowns [a (compressible only), b, λ?, ψ?]: λ where
+/// the force is prescribed, ψ where the torque is; `len` of them.
+struct Layout {
+    stretch: Option<usize>,
+    twist: Option<usize>,
+    len: usize,
+}
+
 /// A thin tube of mid radius R and wall thickness t made of `material`.
 pub struct MembraneTube<'m> {
     pub mid_radius: f64,
@@ -60,9 +68,9 @@ impl<'m> MembraneTube<'m> {
 
     /// The unknowns at rest for the mid radius and the two bracket radii.
     fn rest_starts(&self, loading: &Loading) -> [DVector<f64>; 3] {
-        let (_, twist_at, len) = self.layout(loading);
-        let mut x = DVector::from_element(len, 1.0);
-        if let Some(i) = twist_at {
+        let layout = self.layout(loading);
+        let mut x = DVector::from_element(layout.len, 1.0);
+        if let Some(i) = layout.twist {
             x[i] = 0.0;
         }
         [x.clone(), x.clone(), x]
@@ -85,10 +93,10 @@ impl<'m> MembraneTube<'m> {
     }
 
     /// Positions of the unknowns: [a (compressible only), b, λ?, ψ?].
-    fn layout(&self, loading: &Loading) -> (Option<usize>, Option<usize>, usize) {
+    fn layout(&self, loading: &Loading) -> Layout {
         let base = if self.material.incompressible() { 1 } else { 2 };
-        let (stretch_at, twist_at) = load_unknowns(loading, base);
-        (stretch_at, twist_at, base + stretch_at.is_some() as usize + twist_at.is_some() as usize)
+        let (stretch, twist) = load_unknowns(loading, base);
+        Layout { stretch, twist, len: base + stretch.is_some() as usize + twist.is_some() as usize }
     }
 
     /// |(s(R − t/2) + s(R + t/2))/2 − s(R)| over the state's strain-like
@@ -124,29 +132,22 @@ impl<'m> MembraneTube<'m> {
     /// continued from the solution `x` at `from` along the straight load
     /// path (bisected on failure, as for the thick wall); `x` is updated.
     fn solve_at(&self, r0: f64, from: &Loading, x: &mut DVector<f64>, loading: &Loading) -> Result<TubeState> {
-        let (stretch_at, twist_at, len) = self.layout(loading);
-        let typical = DVector::from_fn(len, |k, _| if Some(k) == twist_at { 1.0 / r0 } else { 1.0 });
+        let layout = self.layout(loading);
+        let typical = DVector::from_fn(layout.len, |k, _| if Some(k) == layout.twist { 1.0 / r0 } else { 1.0 });
         let opts = NewtonOptions { step_tol: 1e-13, residual_tol: 1e-13, max_iterations: 50, reuse_jacobian: false };
         let iterations = load_homotopy(x, from, loading, "membrane tube", |part, trial| {
-            let report =
-                newton::solve(trial, &typical, &opts, |x, f| self.residual(r0, part, stretch_at, twist_at, x, f))?;
+            let report = newton::solve(trial, &typical, &opts, |x, f| self.residual(r0, part, &layout, x, f))?;
             Ok(report.iterations)
         })?;
-        let mut state = self.state(r0, loading, stretch_at, twist_at, x)?;
+        let mut state = self.state(r0, loading, &layout, x)?;
         state.newton_iterations = iterations;
         Ok(state)
     }
 
     /// (a, b, λ, ψ) from the unknowns and the prescribed values.
-    fn kinematics(
-        &self,
-        loading: &Loading,
-        stretch_at: Option<usize>,
-        twist_at: Option<usize>,
-        x: &DVector<f64>,
-    ) -> [f64; 4] {
+    fn kinematics(&self, loading: &Loading, layout: &Layout, x: &DVector<f64>) -> [f64; 4] {
         let b = if self.material.incompressible() { x[0] } else { x[1] };
-        let (lambda, psi) = stretch_and_twist(loading, stretch_at, twist_at, x);
+        let (lambda, psi) = stretch_and_twist(loading, layout.stretch, layout.twist, x);
         let a = if self.material.incompressible() { 1.0 / (b * lambda) } else { x[0] };
         [a, b, lambda, psi]
     }
@@ -181,16 +182,8 @@ impl<'m> MembraneTube<'m> {
         (wall, applied, torque)
     }
 
-    fn residual(
-        &self,
-        r0: f64,
-        loading: &Loading,
-        stretch_at: Option<usize>,
-        twist_at: Option<usize>,
-        x: &DVector<f64>,
-        f: &mut DVector<f64>,
-    ) -> bool {
-        let k = self.kinematics(loading, stretch_at, twist_at, x);
+    fn residual(&self, r0: f64, loading: &Loading, layout: &Layout, x: &DVector<f64>, f: &mut DVector<f64>) -> bool {
+        let k = self.kinematics(loading, layout, x);
         let Some(s) = self.stress(r0, k) else { return false };
         let [a, b, _, _] = k;
         let mu = self.modulus;
@@ -207,24 +200,17 @@ impl<'m> MembraneTube<'m> {
         }
         let (_, applied, torque) = self.resultants(r0, k, &s, loading);
         let force_scale = mu * 2.0 * PI * r0 * self.thickness;
-        if let (Axial::Force(target), Some(i)) = (loading.axial, stretch_at) {
+        if let (Axial::Force(target), Some(i)) = (loading.axial, layout.stretch) {
             f[i] = (applied - target) / force_scale;
         }
-        if let (Torsion::Torque(target), Some(i)) = (loading.torsion, twist_at) {
+        if let (Torsion::Torque(target), Some(i)) = (loading.torsion, layout.twist) {
             f[i] = (torque - target) / (force_scale * r0);
         }
         true
     }
 
-    fn state(
-        &self,
-        r0: f64,
-        loading: &Loading,
-        stretch_at: Option<usize>,
-        twist_at: Option<usize>,
-        x: &DVector<f64>,
-    ) -> Result<TubeState> {
-        let k = self.kinematics(loading, stretch_at, twist_at, x);
+    fn state(&self, r0: f64, loading: &Loading, layout: &Layout, x: &DVector<f64>) -> Result<TubeState> {
+        let k = self.kinematics(loading, layout, x);
         let s = self.stress(r0, k).ok_or_else(|| {
             Error::new(Status::ErrNonFiniteResult, "membrane tube: converged state is outside the domain")
         })?;

@@ -326,11 +326,10 @@ impl<'m> FiniteTube<'m> {
 
     /// Newton from the free state, continued to the load (see [`Self::continue_to`]).
     fn solve_with_homotopy(&self, loading: &Loading, n: usize) -> Result<TubeState> {
-        let grid = self.grid(n, &[]);
-        let layout = self.layout(loading, &grid);
+        let mut grid = self.grid(n, &[]);
+        let mut layout = self.layout(loading, &grid);
         let mut x = self.initial_guess(&grid, &layout);
         let mut iterations = self.continue_to(&grid, &layout, &mut x, &loading.rest(), loading)?;
-        let (mut grid, mut layout) = (grid, layout);
         self.resolve_switches(n, &mut grid, &mut layout, loading, &mut x, &mut iterations)?;
         let mut state = self.state(&grid, &layout, loading, &x)?;
         state.newton_iterations = iterations;

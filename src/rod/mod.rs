@@ -47,16 +47,7 @@ impl RodLaw {
         for (name, v) in [("bending", bending), ("twist", twist), ("shear", shear), ("stretch", stretch)] {
             error::positive(name, v)?;
         }
-        let moduli = Moduli {
-            bending1: bending,
-            bending2: bending,
-            twist,
-            shear1: shear,
-            shear2: shear,
-            stretch,
-            twist_stretch,
-            bend_shear,
-        };
+        let moduli = Moduli::symmetric(bending, twist, shear, stretch, twist_stretch, bend_shear);
         Self::from_moduli(&moduli, Vector3::zeros(), Vector3::new(0.0, 0.0, 1.0))
     }
 
@@ -155,6 +146,21 @@ pub struct Moduli {
 }
 
 impl Moduli {
+    /// A section symmetric about its axis: equal bending stiffnesses and
+    /// equal shear stiffnesses about d1 and d2 (the hemitropic law of §2.2).
+    pub fn symmetric(bending: f64, twist: f64, shear: f64, stretch: f64, twist_stretch: f64, bend_shear: f64) -> Self {
+        Moduli {
+            bending1: bending,
+            bending2: bending,
+            twist,
+            shear1: shear,
+            shear2: shear,
+            stretch,
+            twist_stretch,
+            bend_shear,
+        }
+    }
+
     /// The 6×6 stiffness K of these moduli, unchecked (see
     /// [`RodLaw::from_moduli`] for the checks): diag(K1, K2, C, G1, G2, S)
     /// in the order (u1, u2, u3, v1, v2, v3), g between u3 and v3, c2

@@ -61,17 +61,7 @@ impl RodStiffness {
         twist_stretch: f64,
         bend_shear: f64,
     ) -> Result<Self> {
-        let k = Moduli {
-            bending1: bending,
-            bending2: bending,
-            twist,
-            shear1: shear,
-            shear2: shear,
-            stretch,
-            twist_stretch,
-            bend_shear,
-        }
-        .stiffness();
+        let k = Moduli::symmetric(bending, twist, shear, stretch, twist_stretch, bend_shear).stiffness();
         error::finite_result("rod stiffness", k.as_slice())?;
         if k.cholesky().is_none() {
             return Err(Error::new(

@@ -25,7 +25,44 @@ fn ms(d: Duration) -> f64 {
     d.as_secs_f64() * 1e3
 }
 
+/// The run's settings (command-line options).
+struct Settings {
+    ntsts: Vec<usize>,
+    reps: usize,
+    tol: f64,
+    opt: auto07p::Options,
+}
+
+/// One follower run: NTST, AUTO's first run, the median wall time.
+type FollowerRow = (usize, auto07p::AutoRun, Duration);
+
+/// The loads of the follower cantilever's tips.
+const ALPHAS: [f64; 4] = [1.0, 2.0, 5.0, 10.0];
+
 fn main() {
+    let settings = parse_args();
+    if !auto07p::available() {
+        println!("auto_smoke: AUTO-07p not available, skipped");
+        return;
+    }
+    let Settings { reps, tol, opt, .. } = &settings;
+    println!(
+        "AUTO-07p peer: NCOL = 4, EPSL = EPSU = {tol:e}, EPSS = {:e}, IAD = {}, DSMAX = {}, reps = {reps}",
+        opt.epss.unwrap_or(10.0 * tol),
+        opt.iad,
+        opt.dsmax
+    );
+    // 1. Follower cantilever.
+    let rows = follower_runs(&settings);
+    print_follower_tips(&rows);
+    print_follower_errors(&rows);
+    print_self_convergence(&rows);
+    euler_table(&settings);
+}
+
+/// --ntst 4,8,16,32,64  --reps 5  --tol 1e-10  --iad 3  --dsmax 0.5 (see
+/// the module docs); unknown arguments (cargo's --bench) are skipped.
+fn parse_args() -> Settings {
     let mut ntsts = vec![4usize, 8, 16, 32, 64];
     let mut reps = 5usize;
     let mut tol = 1e-10f64;
@@ -52,26 +89,21 @@ fn main() {
         i += 2;
     }
     reps = reps.max(1);
-    if !auto07p::available() {
-        println!("auto_smoke: AUTO-07p not available, skipped");
-        return;
-    }
     ntsts.sort();
-    println!(
-        "AUTO-07p peer: NCOL = 4, EPSL = EPSU = {tol:e}, EPSS = {:e}, IAD = {}, DSMAX = {}, reps = {reps}",
-        opt.epss.unwrap_or(10.0 * tol),
-        opt.iad,
-        opt.dsmax
-    );
+    Settings { ntsts, reps, tol, opt }
+}
 
-    // 1. Follower cantilever.
-    let alphas = [1.0, 2.0, 5.0, 10.0];
+/// The follower cantilever at every NTST, `reps` times (the first run kept,
+/// the median time).
+fn follower_runs(settings: &Settings) -> Vec<FollowerRow> {
+    let Settings { ntsts, reps, tol, opt } = settings;
+    let (reps, tol) = (*reps, *tol);
     let mut rows = Vec::new();
-    for &n in &ntsts {
+    for &n in ntsts {
         let mut times = Vec::new();
         let mut first = None;
         for _ in 0..reps {
-            match auto07p::follower_with(n, tol, &opt) {
+            match auto07p::follower_with(n, tol, opt) {
                 Ok(r) => {
                     times.push(r.wall);
                     if first.is_none() {
@@ -88,12 +120,18 @@ fn main() {
             rows.push((n, r, median(times)));
         }
     }
+    rows
+}
+
+/// The tips r(L) at α = 1, 2, 5, 10 per NTST.
+fn print_follower_tips(rows: &[FollowerRow]) {
+    let alphas = ALPHAS;
     println!("\nFollower cantilever (n_b(L) = (α, 0, 0), K_b = L = 1, GA = 1e4, EA = 2.6e4): tip r(L)");
     println!(
         "{:>5} {:>5} {:>7} {:>10} | {:>34} {:>34} {:>34} {:>34}",
         "NTST", "steps", "Newton", "time ms", "α=1 (x, z, θ°)", "α=2", "α=5", "α=10"
     );
-    for (n, r, t) in &rows {
+    for (n, r, t) in rows {
         let mut s = format!("{n:>5} {:>5} {:>7} {:>10.3} |", r.steps, r.newton_iterations, ms(*t));
         for &a in &alphas {
             match r.at_lambda(a) {
@@ -106,6 +144,10 @@ fn main() {
         }
         println!("{s}");
     }
+}
+
+/// The error of the tips against the IVP reference per NTST.
+fn print_follower_errors(rows: &[FollowerRow]) {
     // Independent reference: the same ODEs as an initial value problem from the tip (the body-frame
     // balance laws do not involve r, q), RK4 with 4000 and 8000 steps agreeing to 1e-14
     // (benches/auto/follower_ref.py). (x, z) of r(L) at α = 1, 2, 5, 10.
@@ -117,7 +159,7 @@ fn main() {
     ];
     println!("\nError vs the IVP reference: max(|x − x_ref|, |y|, |z − z_ref|) at exact α (tangent-corrected)");
     println!("{:>5} {:>10} {:>10} {:>10} {:>10} {:>10}", "NTST", "α=1", "α=2", "α=5", "α=10", "time ms");
-    for (n, r, t) in &rows {
+    for (n, r, t) in rows {
         let mut s = format!("{n:>5}");
         for &(a, xr, zr) in &REF {
             match r.at_lambda(a) {
@@ -131,13 +173,19 @@ fn main() {
         }
         println!("{s} {:>10.3}", ms(*t));
     }
+}
+
+/// Self-convergence against the finest NTST, and how far AUTO's user points
+/// were from the exact α before the tangent correction.
+fn print_self_convergence(rows: &[FollowerRow]) {
+    let alphas = ALPHAS;
     if let Some((nref, rref, _)) = rows.last() {
         println!("\nSelf-convergence: max-norm |r(L) − r_ref(L)| with r_ref from NTST = {nref}; ΔΛ = max |Λ_UZ − α| before the tangent correction");
         println!(
             "{:>5} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}",
             "NTST", "α=1", "α=2", "α=5", "α=10", "ΔΛ", "time ms"
         );
-        for (n, r, t) in &rows {
+        for (n, r, t) in rows {
             let mut s = format!("{n:>5}");
             let mut dl: f64 = 0.0;
             for &a in &alphas {
@@ -154,7 +202,13 @@ fn main() {
             println!("{s} {dl:>10.2e} {:>10.3}", ms(*t));
         }
     }
+}
 
+/// Euler buckling: AUTO's branch point against P_cr and the end of the
+/// post-buckled branch against the IVP reference, per NTST.
+fn euler_table(settings: &Settings) {
+    let Settings { ntsts, reps, tol, opt } = settings;
+    let (reps, tol) = (*reps, *tol);
     // 2. Euler buckling.
     println!("\nEuler buckling (clamped–free, dead axial load; K_b1 = 2, K_b2 = K_b = 1 fixes the plane)");
     let pcr = auto07p::euler_critical_load(1.0, 1.0, 1e4, 2.6e4);
@@ -184,12 +238,12 @@ fn main() {
         "t run1 ms",
         "t total ms"
     );
-    for &n in &ntsts {
+    for &n in ntsts {
         let mut t1s = Vec::new();
         let mut ts = Vec::new();
         let mut first = None;
         for _ in 0..reps {
-            match auto07p::euler_with(n, tol, &opt) {
+            match auto07p::euler_with(n, tol, opt) {
                 Ok(r) => {
                     t1s.push(r.wall_runs[0]);
                     ts.push(r.wall);

@@ -12,7 +12,7 @@
 //! ratios in the same run. Writes target/bench/charged/{report.txt,
 //! energy.csv}.
 //!
-//! Second table, the coupled rod (src/electrostatics/rod.rs): the DNA scene
+//! Second table, the coupled rod (src/charged/rod.rs): the DNA scene
 //! (1 pN, 0.1 M, ν = 1/l_B) on 3.4 nm elements of Gauss(2), twisted
 //! straight state at φ = 2, with the continuum line charge and with the
 //! discrete base-pair charges on the same rod (RodCharge::base_pairs),
@@ -20,7 +20,7 @@
 //! own every-pair reference: time per residual (continuum also with 2
 //! threads), per Jacobian and per equilibrium (a Newton corrector φ = 2 →
 //! 2.1) by the direct sparse Newton and by Newton–Krylov with the rod-band
-//! preconditioner (src/continuation/krylov.rs; cold and warm), the
+//! preconditioner (src/nonlinear/krylov.rs; cold and warm), the
 //! all-pairs base-pair baseline (residual; equilibria: direct with the
 //! cutoff model's Jacobian, Newton–Krylov on its own residual) and the
 //! continuum's every-pair residual, as ratios, at 1, 3 and 10 kbp, and the
@@ -160,7 +160,7 @@ fn superhelix_state(rod: &rodkit::rod::model::Rod) -> Vec<f64> {
         put(rod.node(e), e as f64 * h);
         if e < rod.elements {
             for j in 0..2 {
-                put(rod.node(e) + 13 * (1 + j), (e as f64 + c[j]) * h);
+                put(rod.stage_offset(e, j), (e as f64 + c[j]) * h);
             }
         }
     }
@@ -205,60 +205,52 @@ fn force_error(f: &[[f64; 3]], reference: &[[f64; 3]]) -> f64 {
     f.iter().zip(reference).flat_map(|(a, b)| (0..3).map(move |c| (a[c] - b[c]).abs())).fold(0.0, f64::max) / scale
 }
 
-fn rod_table(out: &mut String, dir: &std::path::Path) {
-    use rodkit::charged::branch::follow;
-    use rodkit::charged::dna::DnaScene;
-    use rodkit::charged::rod::{ChargedRod, RodCharge};
-    use rodkit::continuation::equilibrium::newton_krylov;
-    use rodkit::continuation::newton::{continue_newton, Start};
-    use rodkit::continuation::{Options, Problem};
-    use rodkit::nonlinear::krylov::{BandPreconditioner, KrylovOptions};
-    let _ = writeln!(out, "\ncoupled rod, continuum vs discrete base pairs (DNA scene: 0.1 M, ν = 1/l_B, 1 pN; h = 3.4 nm, Gauss(2); straight state at φ = 2)");
-    let _ = writeln!(out, "time per residual and Jacobian (medians of 21 and 9) and per equilibrium (medians of 3 direct, 9 NK, 3 NK all pairs): Newton at φ = 2.1 from the continuum's equilibrium at φ = 2 (a continuation corrector) to a scaled residual of 1e-8, the DNA scene default,");
-    let _ = writeln!(out, "  direct = sparse Newton of the continuation engine (exact Jacobian, full LU, symbolic analysis included); NK = Newton–Krylov (GMRES, central-difference products, preconditioner: LU of the Jacobian band |i − j| ≤ w, w = {} = one element's coupling for the continuum, twice that for base pairs, refreshed after > 10 GMRES iterations), cold (symbolic analysis, Jacobian and band LU included) and warm (band LU kept from a previous solve, as along a continuation);", 51);
-    let _ = writeln!(out, "cutoffs with cell lists, continuum 3e-5 and base pairs 1e-4 (each meeting 1e-4 force error); force error on a superhelix (radius 3, pitch 40 nm) against the same model with every pair: max |p − p_ref| over the stage force densities, relative to max |p_ref| (base pairs) or to the continuum's whole electrostatic force density (its p is the far zone only)");
-    let _ = writeln!(out, "all-pairs base pairs: direct = Newton on its residual with the cutoff model's Jacobian (its exact one is dense); NK = its own residual's products, preconditioner from the cutoff model's Jacobian");
-    let _ = writeln!(
-        out,
-        "{:>4} {:>6} {:>22} {:>10} {:>10} {:>11} {:>10} {:>10} {:>4} {:>8}",
-        "kbp", "n", "model", "residual", "Jacobian", "eq direct", "eq NK", "NK warm", "GMRES", "f error"
-    );
-    let mut csv = String::from("bp,n,model,residual_s,jacobian_s,equilibrium_direct_s,equilibrium_nk_s,equilibrium_nk_warm_s,krylov_iterations,force_error,residual_2threads_s,jacobian_2threads_s\n");
-    let mut series: Vec<(&str, Vec<(f64, f64)>)> = vec![
-        ("continuum, cutoff", vec![]),
-        ("base pairs, cutoff", vec![]),
-        ("base pairs, all pairs", vec![]),
-        ("continuum, every pair", vec![]),
-    ];
-    let mut eq_series: Vec<(&str, Vec<(f64, f64)>)> = vec![
-        ("continuum, NK", vec![]),
-        ("base pairs, NK", vec![]),
-        ("base pairs all pairs, NK", vec![]),
-        ("continuum, direct", vec![]),
-        ("base pairs, direct", vec![]),
-    ];
-    let mut scaling = vec![];
-    let mut ratios = vec![];
-    let mut prev: Option<(f64, f64, f64, f64, f64)> = None;
-    let mut fit_points: Vec<(f64, [f64; 4])> = vec![];
-    let ms = |d: Duration| d.as_secs_f64() * 1e3;
-    let eq_opts = Options { residual_tol: 1e-8, max_steps: 0, ..Default::default() };
-    let nk_opts = KrylovOptions { residual_tol: 1e-8, ..Default::default() };
-    // 30 kbp: the continuum only (the base pairs' direct equilibrium alone
-    // would take ~15 s), to see the scaling past the 3 → 10 kbp step where
-    // the Jacobian and band LU (≈ 36 MB at 10 kbp) outgrow the 32 MB L3.
-    for bp in [1000usize, 3000, 10000, 30000] {
-        let scene = DnaScene { base_pairs: bp, ..Default::default() };
+/// Milliseconds of a duration.
+fn ms(d: Duration) -> f64 {
+    d.as_secs_f64() * 1e3
+}
+
+/// Seconds of an optional duration (NaN when absent, for the CSV).
+fn secs(t: Option<Duration>) -> f64 {
+    t.map_or(f64::NAN, |t| t.as_secs_f64())
+}
+
+/// One rod of the DNA scene at a length: its equilibrium at φ = 2 (the
+/// start of every timed equilibrium), the superhelix state (the force
+/// errors') and the solver options of the timings.
+struct RodCase {
+    rod: rodkit::rod::model::Rod,
+    x: Vec<f64>,
+    xs: Vec<f64>,
+    eq_opts: rodkit::continuation::Options,
+    nk_opts: rodkit::nonlinear::krylov::KrylovOptions,
+}
+
+/// Newton–Krylov timings: cold, warm, GMRES iterations.
+type NkTimes = (Duration, Duration, usize);
+
+/// What [`RodCase::measure`] found for one charge model.
+struct Measured {
+    n: usize,
+    residual: Duration,
+    jacobian: Option<Duration>,
+    /// The direct sparse Newton's equilibrium.
+    direct: Option<Duration>,
+    nk: Option<NkTimes>,
+    force_error: Option<f64>,
+    problem: rodkit::charged::rod::ChargedRod,
+}
+
+impl RodCase {
+    /// The DNA scene's rod of `bp` base pairs on 3.4 nm elements of
+    /// Gauss(2), followed by the continuum `charge` from the straight state
+    /// to φ = 2.
+    fn new(scene: &rodkit::charged::dna::DnaScene, bp: usize, charge: &rodkit::charged::rod::RodCharge) -> Self {
+        use rodkit::charged::branch::follow;
+        use rodkit::continuation::newton::Start;
+        use rodkit::continuation::Options;
+        use rodkit::nonlinear::krylov::KrylovOptions;
         let rod = scene.rod(bp / 10, 2).unwrap();
-        let with_discrete = bp <= 10_000;
-        // Cutoffs meeting 1e-4 relative force error on the superhelix: the
-        // continuum needs a tighter energy tolerance (3e-5: its force error
-        // was 1.9e-4 at 1e-4) than the base pairs (1.4e-5 at 1e-4).
-        let mut charge = scene.charge();
-        charge.cutoff_tolerance = Some(3e-5);
-        let mut discrete = charge.clone();
-        discrete.cutoff_tolerance = Some(1e-4);
-        discrete.base_pairs = Some(0.34);
         let opts = Options {
             target_lambda: Some(2.0),
             residual_tol: 1e-10,
@@ -268,7 +260,7 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
         };
         let b = follow(
             &rod,
-            &charge,
+            charge,
             Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
             None,
             &opts,
@@ -277,290 +269,450 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
         .unwrap();
         let x = b.states.last().unwrap().clone();
         let xs = superhelix_state(&rod);
-        // Newton–Krylov equilibria of `p` (preconditioner from `source` if
-        // given): cold (everything built in the timing) and warm.
-        let nk = |p: &mut dyn Problem, mut source: Option<&mut ChargedRod>, band: usize| {
-            // The preconditioner is built on its source's pattern.
-            let pattern = source.as_deref().map_or_else(|| p.pattern().clone(), |s| s.pattern().clone());
-            // Medians of 9 (3 for the all-pairs rod, seconds per solve): the
-            // cold solve's first band LU faults in fresh memory, and its time
-            // moved by ±15 % between runs of 5 at 10 kbp.
-            let reps = if source.is_some() { 3 } else { 9 };
-            let mut solve = |pre: &mut BandPreconditioner| {
-                let mut y = x.clone();
-                newton_krylov(p, source.as_deref_mut().map(|s| s as &mut dyn Problem), pre, &mut y, 2.1, &nk_opts)
-                    .unwrap()
-            };
-            let (rep, cold) = time(reps, || solve(&mut BandPreconditioner::new(&pattern, band).unwrap()));
-            let mut pre = BandPreconditioner::new(&pattern, band).unwrap();
-            solve(&mut pre);
-            let (_, warm) = time(reps, || solve(&mut pre));
-            (cold, warm, rep.linear_iterations)
+        let eq_opts = Options { residual_tol: 1e-8, max_steps: 0, ..Default::default() };
+        let nk_opts = KrylovOptions { residual_tol: 1e-8, ..Default::default() };
+        RodCase { rod, x, xs, eq_opts, nk_opts }
+    }
+
+    /// Newton–Krylov equilibria of `p` at φ = 2.1 from x (preconditioner
+    /// from `source` if given, else from `p`): cold (everything built in
+    /// the timing) and warm (the band LU kept).
+    fn newton_krylov_times(
+        &self,
+        p: &mut dyn rodkit::continuation::Problem,
+        mut source: Option<&mut rodkit::charged::rod::ChargedRod>,
+        band: usize,
+    ) -> NkTimes {
+        use rodkit::continuation::equilibrium::newton_krylov;
+        use rodkit::continuation::Problem;
+        use rodkit::nonlinear::krylov::BandPreconditioner;
+        // The preconditioner is built on its source's pattern.
+        let pattern = source.as_deref().map_or_else(|| p.pattern().clone(), |s| s.pattern().clone());
+        // Medians of 9 (3 for the all-pairs rod, seconds per solve): the
+        // cold solve's first band LU faults in fresh memory, and its time
+        // moved by ±15 % between runs of 5 at 10 kbp.
+        let reps = if source.is_some() { 3 } else { 9 };
+        let mut solve = |pre: &mut BandPreconditioner| {
+            let mut y = self.x.clone();
+            newton_krylov(p, source.as_deref_mut().map(|s| s as &mut dyn Problem), pre, &mut y, 2.1, &self.nk_opts)
+                .unwrap()
         };
-        // Times (residual, Jacobian, equilibria) and the force error of a model.
-        let measure = |model: &RodCharge, every: Option<&RodCharge>, full: bool| {
-            let mut p = ChargedRod::new(&rod, model, None, &x).unwrap();
-            let n = p.dim();
-            let mut r = vec![0.0; n];
-            let (_, t_res) = time(21, || p.residual(&x, 2.0, &mut r));
-            let mut jx = vec![0.0; p.pattern().nnz()];
-            let mut jl = vec![0.0; n];
-            let t_jac = time(9, || p.jacobian(&x, 2.0, &mut jx, &mut jl)).1;
-            if !full {
-                return (n, t_res, Some(t_jac), None, None, None, p);
-            }
-            let t_eq = time(3, || {
-                let b = continue_newton(
-                    &mut p,
-                    Start::Point { x: x.clone(), lambda: 2.1, increasing: true },
-                    &eq_opts,
-                    |_, _| vec![],
-                    |_| true,
-                )
-                .unwrap();
-                assert!(!b.records.is_empty(), "no equilibrium");
-            })
-            .1;
-            let band = p.local_band();
-            let t_nk = nk(&mut p, None, band);
-            let f_err = every.map(|e| {
-                let mut ps = ChargedRod::new(&rod, model, None, &xs).unwrap();
-                let mut pe = ChargedRod::new(&rod, e, None, &xs).unwrap();
-                let (fs, fe) = (ps.force_densities(&xs), pe.force_densities(&xs));
-                if model.base_pairs.is_some() {
-                    force_error(&fs, &fe)
-                } else {
-                    // The continuum's p is the far zone only (the near zone is the
-                    // bending stiffening): scale by the whole electrostatic force
-                    // density of the converged continuum (electrostatics::force_density).
-                    let curve = Superhelix { l: rod.length, panel: 2.0 };
-                    let quad = EnergyQuadrature { delta: 2.0, order: 8, cutoff: None };
-                    let total = (0..40)
-                        .map(|k| {
-                            rodkit::electrostatics::force_density(
-                                &curve,
-                                &LineCharge::Uniform(model.line_charge),
-                                &model.screening,
-                                &quad,
-                                rod.length * (k as f64 + 0.5) / 40.0,
-                            )
-                            .unwrap()
-                        })
-                        .flat_map(|v| v.into_iter())
-                        .fold(0.0f64, |m, v| m.max(v.abs()));
-                    let far = fe.iter().flat_map(|v| v.iter()).fold(0.0f64, |m, v| m.max(v.abs()));
-                    force_error(&fs, &fe) * far / total
-                }
-            });
-            (n, t_res, Some(t_jac), Some(t_eq), Some(t_nk), f_err, p)
-        };
-        let small = bp <= 3000;
-        let mut every = charge.clone();
-        every.cutoff_tolerance = None;
-        let mut every_bp = discrete.clone();
-        every_bp.cutoff_tolerance = None;
-        let (n, c_res, c_jac, c_eq, c_nk, c_err, mut cp) = measure(&charge, small.then_some(&every), true);
-        // The preconditioner's rebuild alone (Jacobian + band LU, on memory
-        // already touched by the solves above): linear in the length, so the
-        // cold solve's excess at ≥ 10 kbp is the first touch of its memory.
-        let t_refresh = {
-            let mut pre = BandPreconditioner::new(cp.pattern(), cp.local_band()).unwrap();
-            let mut at = rodkit::continuation::equilibrium::AtFixed::new(&mut cp, 2.1);
-            pre.refresh(&mut at, &x).unwrap();
-            time(9, || pre.refresh(&mut at, &x).unwrap()).1
-        };
-        let mut two = charge.clone();
-        two.threads = 2;
-        let (_, c_res2, c_jac2, ..) = measure(&two, None, false);
-        let mut d = with_discrete.then(|| measure(&discrete, small.then_some(&every_bp), true));
-        let d2 = with_discrete.then(|| {
-            let mut two = discrete.clone();
-            two.threads = 2;
-            let (_, res, jac, ..) = measure(&two, None, false);
-            (res, jac.unwrap())
-        });
-        // All-pairs discrete (1 and 3 kbp).
-        let all = small.then(|| {
-            let mut pa = ChargedRod::new(&rod, &every_bp, None, &x).unwrap();
-            let mut r = vec![0.0; n];
-            let (_, a_res) = time(3, || pa.residual(&x, 2.0, &mut r));
-            let d_p = &mut d.as_mut().unwrap().6;
-            let mut tr = Truncated { full: &mut pa, cut: d_p };
-            let (_, a_eq) = time(3, || {
-                let b = continue_newton(
-                    &mut tr,
-                    Start::Point { x: x.clone(), lambda: 2.1, increasing: true },
-                    &eq_opts,
-                    |_, _| vec![],
-                    |_| true,
-                )
-                .unwrap();
-                assert!(!b.records.is_empty(), "no all-pairs equilibrium");
-            });
-            let band = d_p.local_band();
-            let a_nk = nk(&mut pa, Some(d_p), band);
-            (a_res, a_eq, a_nk)
-        });
-        let e_res = small.then(|| {
-            let mut pe = ChargedRod::new(&rod, &every, None, &x).unwrap();
-            let mut r = vec![0.0; n];
-            time(3, || pe.residual(&x, 2.0, &mut r)).1
-        });
-        let fmt_t = |t: Option<Duration>| t.map_or("-".to_string(), |t| format!("{:.2}ms", ms(t)));
-        let fmt_e = |e: Option<f64>| e.map_or("-".to_string(), |e| format!("{e:.1e}"));
-        let row = |out: &mut String,
-                   kbp: String,
-                   name: &str,
-                   res: Option<Duration>,
-                   jac: Option<Duration>,
-                   eq: Option<Duration>,
-                   nk: Option<(Duration, Duration, usize)>,
-                   err: Option<f64>| {
-            let _ = writeln!(
-                out,
-                "{:>4} {:>6} {:>22} {:>10} {:>10} {:>11} {:>10} {:>10} {:>4} {:>8}",
-                kbp,
+        let (rep, cold) = time(reps, || solve(&mut BandPreconditioner::new(&pattern, band).unwrap()));
+        let mut pre = BandPreconditioner::new(&pattern, band).unwrap();
+        solve(&mut pre);
+        let (_, warm) = time(reps, || solve(&mut pre));
+        (cold, warm, rep.linear_iterations)
+    }
+
+    /// The direct sparse Newton's equilibrium of `p` at φ = 2.1 from x
+    /// (medians of 3).
+    fn direct_time<P: rodkit::continuation::Problem + ?Sized>(&self, p: &mut P, what: &str) -> Duration {
+        use rodkit::continuation::newton::{continue_newton, Start};
+        time(3, || {
+            let b = continue_newton(
+                p,
+                Start::Point { x: self.x.clone(), lambda: 2.1, increasing: true },
+                &self.eq_opts,
+                |_, _| vec![],
+                |_| true,
+            )
+            .unwrap();
+            assert!(!b.records.is_empty(), "no {what}");
+        })
+        .1
+    }
+
+    /// Times (residual, Jacobian and, with `full`, the equilibria) and the
+    /// force error against `every` (the same model with every pair).
+    fn measure(
+        &self,
+        model: &rodkit::charged::rod::RodCharge,
+        every: Option<&rodkit::charged::rod::RodCharge>,
+        full: bool,
+    ) -> Measured {
+        use rodkit::charged::rod::ChargedRod;
+        use rodkit::continuation::Problem;
+        let x = &self.x;
+        let mut p = ChargedRod::new(&self.rod, model, None, x).unwrap();
+        let n = p.dim();
+        let mut r = vec![0.0; n];
+        let (_, t_res) = time(21, || p.residual(x, 2.0, &mut r));
+        let mut jx = vec![0.0; p.pattern().nnz()];
+        let mut jl = vec![0.0; n];
+        let t_jac = time(9, || p.jacobian(x, 2.0, &mut jx, &mut jl)).1;
+        if !full {
+            return Measured {
                 n,
-                name,
-                fmt_t(res),
-                fmt_t(jac),
-                fmt_t(eq),
-                fmt_t(nk.map(|v| v.0)),
-                fmt_t(nk.map(|v| v.1)),
-                nk.map_or("-".into(), |v| v.2.to_string()),
-                fmt_e(err)
-            );
-        };
-        row(out, format!("{}", bp as f64 / 1000.0), "continuum, cutoff", Some(c_res), c_jac, c_eq, c_nk, c_err);
-        if let Some((_, d_res, d_jac, d_eq, d_nk, d_err, _)) = &d {
-            row(out, "".into(), "base pairs, cutoff", Some(*d_res), *d_jac, *d_eq, *d_nk, *d_err);
+                residual: t_res,
+                jacobian: Some(t_jac),
+                direct: None,
+                nk: None,
+                force_error: None,
+                problem: p,
+            };
         }
-        if let Some((a_res, a_eq, a_nk)) = all {
-            row(out, "".into(), "base pairs, all pairs", Some(a_res), None, Some(a_eq), Some(a_nk), None);
+        let t_eq = self.direct_time(&mut p, "equilibrium");
+        let band = p.local_band();
+        let t_nk = self.newton_krylov_times(&mut p, None, band);
+        let f_err = every.map(|e| self.force_error(model, e));
+        Measured {
+            n,
+            residual: t_res,
+            jacobian: Some(t_jac),
+            direct: Some(t_eq),
+            nk: Some(t_nk),
+            force_error: f_err,
+            problem: p,
         }
+    }
+
+    /// The force error of `model` against `every` on the superhelix: max
+    /// |p − p_ref| over the stage force densities relative to max |p_ref|
+    /// (base pairs) or to the continuum's whole electrostatic force density
+    /// (its p is the far zone only).
+    fn force_error(&self, model: &rodkit::charged::rod::RodCharge, every: &rodkit::charged::rod::RodCharge) -> f64 {
+        use rodkit::charged::rod::ChargedRod;
+        let (rod, xs) = (&self.rod, &self.xs);
+        let mut ps = ChargedRod::new(rod, model, None, xs).unwrap();
+        let mut pe = ChargedRod::new(rod, every, None, xs).unwrap();
+        let (fs, fe) = (ps.force_densities(xs), pe.force_densities(xs));
+        if model.base_pairs.is_some() {
+            return force_error(&fs, &fe);
+        }
+        // The continuum's p is the far zone only (the near zone is the
+        // bending stiffening): scale by the whole electrostatic force
+        // density of the converged continuum (electrostatics::force_density).
+        let curve = Superhelix { l: rod.length, panel: 2.0 };
+        let quad = EnergyQuadrature { delta: 2.0, order: 8, cutoff: None };
+        let total = (0..40)
+            .map(|k| {
+                rodkit::electrostatics::force_density(
+                    &curve,
+                    &LineCharge::Uniform(model.line_charge),
+                    &model.screening,
+                    &quad,
+                    rod.length * (k as f64 + 0.5) / 40.0,
+                )
+                .unwrap()
+            })
+            .flat_map(|v| v.into_iter())
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        let far = fe.iter().flat_map(|v| v.iter()).fold(0.0f64, |m, v| m.max(v.abs()));
+        force_error(&fs, &fe) * far / total
+    }
+
+    /// The preconditioner's rebuild alone (Jacobian + band LU) on `p`, on
+    /// memory already touched by the solves before it.
+    fn refresh_time(&self, p: &mut rodkit::charged::rod::ChargedRod) -> Duration {
+        use rodkit::continuation::Problem;
+        use rodkit::nonlinear::krylov::BandPreconditioner;
+        let mut pre = BandPreconditioner::new(p.pattern(), p.local_band()).unwrap();
+        let mut at = rodkit::continuation::equilibrium::AtFixed::new(p, 2.1);
+        pre.refresh(&mut at, &self.x).unwrap();
+        time(9, || pre.refresh(&mut at, &self.x).unwrap()).1
+    }
+
+    /// The all-pairs base-pair model (`every_bp`): its residual, its direct
+    /// equilibrium with the cutoff model's Jacobian (`cut`) and its
+    /// Newton–Krylov equilibrium preconditioned from `cut`.
+    fn all_pairs(
+        &self,
+        every_bp: &rodkit::charged::rod::RodCharge,
+        cut: &mut rodkit::charged::rod::ChargedRod,
+    ) -> (Duration, Duration, NkTimes) {
+        use rodkit::charged::rod::ChargedRod;
+        use rodkit::continuation::Problem;
+        let x = &self.x;
+        let mut pa = ChargedRod::new(&self.rod, every_bp, None, x).unwrap();
+        let mut r = vec![0.0; pa.dim()];
+        let (_, a_res) = time(3, || pa.residual(x, 2.0, &mut r));
+        let a_eq = self.direct_time(&mut Truncated { full: &mut pa, cut: &mut *cut }, "all-pairs equilibrium");
+        let band = cut.local_band();
+        let a_nk = self.newton_krylov_times(&mut pa, Some(cut), band);
+        (a_res, a_eq, a_nk)
+    }
+
+    /// The continuum's residual with every pair (medians of 3).
+    fn every_pair_residual(&self, every: &rodkit::charged::rod::RodCharge) -> Duration {
+        use rodkit::charged::rod::ChargedRod;
+        use rodkit::continuation::Problem;
+        let mut pe = ChargedRod::new(&self.rod, every, None, &self.x).unwrap();
+        let mut r = vec![0.0; pe.dim()];
+        time(3, || pe.residual(&self.x, 2.0, &mut r)).1
+    }
+}
+
+/// Everything measured at one length.
+struct LengthRow {
+    bp: usize,
+    /// The continuum with the cutoff (one thread, then the residual and
+    /// Jacobian on two).
+    continuum: Measured,
+    continuum_two: (Duration, Option<Duration>),
+    refresh: Duration,
+    /// The base pairs with the cutoff (≤ 10 kbp), and on two threads.
+    base_pairs: Option<Measured>,
+    base_pairs_two: Option<(Duration, Duration)>,
+    /// All-pairs base pairs (≤ 3 kbp): residual, direct, Newton–Krylov.
+    all_pairs: Option<(Duration, Duration, NkTimes)>,
+    /// The continuum's residual with every pair (≤ 3 kbp).
+    every_pair: Option<Duration>,
+}
+
+/// The measurements of the rod table at `bp` base pairs, in the order they
+/// were always taken (cache and memory state carry from one to the next).
+fn measure_length(bp: usize) -> LengthRow {
+    use rodkit::charged::dna::DnaScene;
+    let scene = DnaScene { base_pairs: bp, ..Default::default() };
+    let with_discrete = bp <= 10_000;
+    // Cutoffs meeting 1e-4 relative force error on the superhelix: the
+    // continuum needs a tighter energy tolerance (3e-5: its force error
+    // was 1.9e-4 at 1e-4) than the base pairs (1.4e-5 at 1e-4).
+    let mut charge = scene.charge();
+    charge.cutoff_tolerance = Some(3e-5);
+    let mut discrete = charge.clone();
+    discrete.cutoff_tolerance = Some(1e-4);
+    discrete.base_pairs = Some(0.34);
+    let case = RodCase::new(&scene, bp, &charge);
+    let small = bp <= 3000;
+    let mut every = charge.clone();
+    every.cutoff_tolerance = None;
+    let mut every_bp = discrete.clone();
+    every_bp.cutoff_tolerance = None;
+    let mut continuum = case.measure(&charge, small.then_some(&every), true);
+    // Linear in the length, so the cold solve's excess at ≥ 10 kbp is the
+    // first touch of its memory.
+    let refresh = case.refresh_time(&mut continuum.problem);
+    let mut two = charge.clone();
+    two.threads = 2;
+    let c2 = case.measure(&two, None, false);
+    let mut base_pairs = with_discrete.then(|| case.measure(&discrete, small.then_some(&every_bp), true));
+    let base_pairs_two = with_discrete.then(|| {
+        let mut two = discrete.clone();
+        two.threads = 2;
+        let m = case.measure(&two, None, false);
+        (m.residual, m.jacobian.unwrap())
+    });
+    let all_pairs = small.then(|| case.all_pairs(&every_bp, &mut base_pairs.as_mut().unwrap().problem));
+    let every_pair = small.then(|| case.every_pair_residual(&every));
+    LengthRow {
+        bp,
+        continuum,
+        continuum_two: (c2.residual, c2.jacobian),
+        refresh,
+        base_pairs,
+        base_pairs_two,
+        all_pairs,
+        every_pair,
+    }
+}
+
+fn fmt_t(t: Option<Duration>) -> String {
+    t.map_or("-".to_string(), |t| format!("{:.2}ms", ms(t)))
+}
+
+/// The columns of one model's line of the rod table ("-" where absent).
+struct Columns {
+    residual: Option<Duration>,
+    jacobian: Option<Duration>,
+    direct: Option<Duration>,
+    nk: Option<NkTimes>,
+    force_error: Option<f64>,
+}
+
+impl Measured {
+    fn columns(&self) -> Columns {
+        Columns {
+            residual: Some(self.residual),
+            jacobian: self.jacobian,
+            direct: self.direct,
+            nk: self.nk,
+            force_error: self.force_error,
+        }
+    }
+}
+
+/// One model's line of the rod table.
+fn model_row(out: &mut String, kbp: String, n: usize, name: &str, m: Columns) {
+    let Columns { residual: res, jacobian: jac, direct: eq, nk, force_error: err } = m;
+    let fmt_e = |e: Option<f64>| e.map_or("-".to_string(), |e| format!("{e:.1e}"));
+    let _ = writeln!(
+        out,
+        "{:>4} {:>6} {:>22} {:>10} {:>10} {:>11} {:>10} {:>10} {:>4} {:>8}",
+        kbp,
+        n,
+        name,
+        fmt_t(res),
+        fmt_t(jac),
+        fmt_t(eq),
+        fmt_t(nk.map(|v| v.0)),
+        fmt_t(nk.map(|v| v.1)),
+        nk.map_or("-".into(), |v| v.2.to_string()),
+        fmt_e(err)
+    );
+}
+
+/// The table's lines for one length: one per model, then the two-thread
+/// timings.
+fn write_rows(out: &mut String, row: &LengthRow) {
+    let (c, n) = (&row.continuum, row.continuum.n);
+    let kbp = format!("{}", row.bp as f64 / 1000.0);
+    model_row(out, kbp, n, "continuum, cutoff", c.columns());
+    if let Some(d) = &row.base_pairs {
+        model_row(out, "".into(), n, "base pairs, cutoff", d.columns());
+    }
+    if let Some((a_res, a_eq, a_nk)) = row.all_pairs {
+        let all =
+            Columns { residual: Some(a_res), jacobian: None, direct: Some(a_eq), nk: Some(a_nk), force_error: None };
+        model_row(out, "".into(), n, "base pairs, all pairs", all);
+    }
+    let (c_res2, c_jac2) = row.continuum_two;
+    let _ = writeln!(
+        out,
+        "{:>4} {:>6} {:>22} {:>10} {:>10} (2 threads){}",
+        "",
+        "",
+        "continuum, cutoff",
+        fmt_t(Some(c_res2)),
+        fmt_t(c_jac2),
+        row.every_pair.map_or(String::new(), |t| format!(
+            "; every pair: residual {} ({:.1}× the cutoff's)",
+            fmt_t(Some(t)),
+            t.as_secs_f64() / c.residual.as_secs_f64()
+        ))
+    );
+    if let Some((res, jac)) = row.base_pairs_two {
         let _ = writeln!(
             out,
-            "{:>4} {:>6} {:>22} {:>10} {:>10} (2 threads){}",
+            "{:>4} {:>6} {:>22} {:>10} {:>10} (2 threads)",
             "",
             "",
-            "continuum, cutoff",
-            fmt_t(Some(c_res2)),
-            fmt_t(c_jac2),
-            e_res.map_or(String::new(), |t| format!(
-                "; every pair: residual {} ({:.1}× the cutoff's)",
-                fmt_t(Some(t)),
-                t.as_secs_f64() / c_res.as_secs_f64()
-            ))
+            "base pairs, cutoff",
+            fmt_t(Some(res)),
+            fmt_t(Some(jac))
         );
-        if let Some((res, jac)) = d2 {
-            let _ = writeln!(
-                out,
-                "{:>4} {:>6} {:>22} {:>10} {:>10} (2 threads)",
-                "",
-                "",
-                "base pairs, cutoff",
-                fmt_t(Some(res)),
-                fmt_t(Some(jac))
-            );
-        }
-        let r = |a: Duration, b: Duration| a.as_secs_f64() / b.as_secs_f64();
-        let c_nk = c_nk.unwrap();
-        let mut line = format!("{:.0} kbp", bp as f64 / 1000.0);
-        if let Some((_, d_res, _, d_eq, d_nk, ..)) = &d {
-            let d_nk = d_nk.unwrap();
-            let _ = write!(line, ", faster than the cutoff base pairs: residual {:.1}×, equilibrium direct {:.1}×, NK {:.1}× (warm {:.1}×)",
-                r(*d_res, c_res), r(d_eq.unwrap(), c_eq.unwrap()), r(d_nk.0, c_nk.0), r(d_nk.1, c_nk.1));
-        }
-        if let Some((a_res, a_eq, a_nk)) = all {
-            let _ = write!(
-                line,
-                "; than all-pairs base pairs: residual {:.0}×, equilibrium direct {:.1}×, NK {:.0}×",
-                r(a_res, c_res),
-                r(a_eq, c_eq.unwrap()),
-                r(a_nk.0, c_nk.0)
-            );
-        }
+    }
+}
+
+/// The speed-up ratios at one length, as one line.
+fn ratio_line(row: &LengthRow) -> String {
+    let r = |a: Duration, b: Duration| a.as_secs_f64() / b.as_secs_f64();
+    let c = &row.continuum;
+    let (c_res, c_eq, c_nk) = (c.residual, c.direct.unwrap(), c.nk.unwrap());
+    let mut line = format!("{:.0} kbp", row.bp as f64 / 1000.0);
+    if let Some(d) = &row.base_pairs {
+        let d_nk = d.nk.unwrap();
         let _ = write!(
             line,
-            "; continuum NK vs direct {:.1}× faster (warm {:.1}×)",
-            r(c_eq.unwrap(), c_nk.0),
-            r(c_eq.unwrap(), c_nk.1)
+            ", faster than the cutoff base pairs: residual {:.1}×, equilibrium direct {:.1}×, NK {:.1}× (warm {:.1}×)",
+            r(d.residual, c_res),
+            r(d.direct.unwrap(), c_eq),
+            r(d_nk.0, c_nk.0),
+            r(d_nk.1, c_nk.1)
         );
+    }
+    if let Some((a_res, a_eq, a_nk)) = row.all_pairs {
         let _ = write!(
             line,
-            "; preconditioner refresh (Jacobian + band LU) {:.2} ms = {:.0} ns per unknown",
-            ms(t_refresh),
-            t_refresh.as_secs_f64() * 1e9 / n as f64
+            "; than all-pairs base pairs: residual {:.0}×, equilibrium direct {:.1}×, NK {:.0}×",
+            r(a_res, c_res),
+            r(a_eq, c_eq),
+            r(a_nk.0, c_nk.0)
         );
-        ratios.push(line);
-        let secs = |t: Option<Duration>| t.map_or(f64::NAN, |t| t.as_secs_f64());
+    }
+    let _ = write!(line, "; continuum NK vs direct {:.1}× faster (warm {:.1}×)", r(c_eq, c_nk.0), r(c_eq, c_nk.1));
+    let _ = write!(
+        line,
+        "; preconditioner refresh (Jacobian + band LU) {:.2} ms = {:.0} ns per unknown",
+        ms(row.refresh),
+        row.refresh.as_secs_f64() * 1e9 / c.n as f64
+    );
+    line
+}
+
+/// The CSV lines of one length.
+fn write_csv(csv: &mut String, row: &LengthRow) {
+    let (bp, c) = (row.bp, &row.continuum);
+    let n = c.n;
+    let c_nk = c.nk.unwrap();
+    let (c_res2, c_jac2) = row.continuum_two;
+    let _ = writeln!(
+        csv,
+        "{bp},{n},continuum_cutoff,{},{},{},{},{},{},{},{},{}",
+        c.residual.as_secs_f64(),
+        secs(c.jacobian),
+        secs(c.direct),
+        c_nk.0.as_secs_f64(),
+        c_nk.1.as_secs_f64(),
+        c_nk.2,
+        c.force_error.unwrap_or(f64::NAN),
+        c_res2.as_secs_f64(),
+        secs(c_jac2)
+    );
+    let _ = writeln!(csv, "{bp},{n},continuum_every_pair,{},,,,,,,,", secs(row.every_pair));
+    if let Some(d) = &row.base_pairs {
+        let d_nk = d.nk.unwrap();
+        let (res2, jac2) = row.base_pairs_two.map_or((f64::NAN, f64::NAN), |(r, j)| (r.as_secs_f64(), j.as_secs_f64()));
         let _ = writeln!(
             csv,
-            "{bp},{n},continuum_cutoff,{},{},{},{},{},{},{},{},{}",
-            c_res.as_secs_f64(),
-            secs(c_jac),
-            secs(c_eq),
-            c_nk.0.as_secs_f64(),
-            c_nk.1.as_secs_f64(),
-            c_nk.2,
-            c_err.unwrap_or(f64::NAN),
-            c_res2.as_secs_f64(),
-            secs(c_jac2)
+            "{bp},{n},base_pairs_cutoff,{},{},{},{},{},{},{},{res2},{jac2}",
+            d.residual.as_secs_f64(),
+            secs(d.jacobian),
+            secs(d.direct),
+            d_nk.0.as_secs_f64(),
+            d_nk.1.as_secs_f64(),
+            d_nk.2,
+            d.force_error.unwrap_or(f64::NAN)
         );
-        let _ = writeln!(csv, "{bp},{n},continuum_every_pair,{},,,,,,,,", secs(e_res));
-        if let Some((_, d_res, d_jac, d_eq, d_nk, d_err, _)) = &d {
-            let d_nk = d_nk.unwrap();
-            let (res2, jac2) = d2.map_or((f64::NAN, f64::NAN), |(r, j)| (r.as_secs_f64(), j.as_secs_f64()));
-            let _ = writeln!(
-                csv,
-                "{bp},{n},base_pairs_cutoff,{},{},{},{},{},{},{},{res2},{jac2}",
-                d_res.as_secs_f64(),
-                secs(*d_jac),
-                secs(*d_eq),
-                d_nk.0.as_secs_f64(),
-                d_nk.1.as_secs_f64(),
-                d_nk.2,
-                d_err.unwrap_or(f64::NAN)
-            );
-        }
-        if let Some((a_res, a_eq, a_nk)) = all {
-            let _ = writeln!(
-                csv,
-                "{bp},{n},base_pairs_all,{},,{},{},{},{},,,",
-                a_res.as_secs_f64(),
-                a_eq.as_secs_f64(),
-                a_nk.0.as_secs_f64(),
-                a_nk.1.as_secs_f64(),
-                a_nk.2
-            );
-        }
-        let lb = (bp as f64).log10();
-        series[0].1.push((lb, ms(c_res).log10()));
-        eq_series[0].1.push((lb, ms(c_nk.0).log10()));
-        eq_series[3].1.push((lb, ms(c_eq.unwrap()).log10()));
-        if let Some((_, d_res, _, d_eq, d_nk, ..)) = &d {
-            series[1].1.push((lb, ms(*d_res).log10()));
-            eq_series[1].1.push((lb, ms(d_nk.unwrap().0).log10()));
-            eq_series[4].1.push((lb, ms(d_eq.unwrap()).log10()));
-        }
-        if let Some((a_res, _, a_nk)) = all {
-            series[2].1.push((lb, ms(a_res).log10()));
-            eq_series[2].1.push((lb, ms(a_nk.0).log10()));
-        }
-        if let Some(t) = e_res {
-            series[3].1.push((lb, ms(t).log10()));
-        }
-        let (cr, ce, cn, cw) = (c_res.as_secs_f64(), secs(c_eq), c_nk.0.as_secs_f64(), c_nk.1.as_secs_f64());
-        if let Some((pbp, pr, pe, pn, pw)) = prev {
-            let d = (bp as f64 / pbp).log2();
-            scaling.push(format!("{pbp:.0} → {bp} bp: continuum residual ×{:.2}, equilibrium direct ×{:.2}, NK ×{:.2} (warm ×{:.2}) per doubling", (cr / pr).powf(1.0 / d), (ce / pe).powf(1.0 / d), (cn / pn).powf(1.0 / d), (cw / pw).powf(1.0 / d)));
-        }
-        prev = Some((bp as f64, cr, ce, cn, cw));
-        fit_points.push((bp as f64, [cr, ce, cn, cw]));
     }
-    // Least-squares slope of log t against log L over all lengths: the
-    // per-doubling factor of the whole range, less sensitive than one
-    // segment to a single extra Newton iteration or a noisy run.
+    if let Some((a_res, a_eq, a_nk)) = row.all_pairs {
+        let _ = writeln!(
+            csv,
+            "{bp},{n},base_pairs_all,{},,{},{},{},{},,,",
+            a_res.as_secs_f64(),
+            a_eq.as_secs_f64(),
+            a_nk.0.as_secs_f64(),
+            a_nk.1.as_secs_f64(),
+            a_nk.2
+        );
+    }
+}
+
+/// A named plot series of (log10 base pairs, log10 ms).
+type LogSeries = (&'static str, Vec<(f64, f64)>);
+
+/// Adds one length's points to the residual and equilibrium plots.
+fn push_points(series: &mut [LogSeries], eq_series: &mut [LogSeries], row: &LengthRow) {
+    let lb = (row.bp as f64).log10();
+    let c = &row.continuum;
+    series[0].1.push((lb, ms(c.residual).log10()));
+    eq_series[0].1.push((lb, ms(c.nk.unwrap().0).log10()));
+    eq_series[3].1.push((lb, ms(c.direct.unwrap()).log10()));
+    if let Some(d) = &row.base_pairs {
+        series[1].1.push((lb, ms(d.residual).log10()));
+        eq_series[1].1.push((lb, ms(d.nk.unwrap().0).log10()));
+        eq_series[4].1.push((lb, ms(d.direct.unwrap()).log10()));
+    }
+    if let Some((a_res, _, a_nk)) = row.all_pairs {
+        series[2].1.push((lb, ms(a_res).log10()));
+        eq_series[2].1.push((lb, ms(a_nk.0).log10()));
+    }
+    if let Some(t) = row.every_pair {
+        series[3].1.push((lb, ms(t).log10()));
+    }
+}
+
+/// The continuum's (residual, direct, NK cold, NK warm) seconds at each
+/// length, and the per-doubling factors: per segment, and by least squares
+/// of log t against log L over all lengths (less sensitive than one segment
+/// to a single extra Newton iteration or a noisy run).
+fn scaling_lines(fit_points: &[(f64, [f64; 4])]) -> Vec<String> {
+    let mut scaling = vec![];
+    for w in fit_points.windows(2) {
+        let ((pbp, [pr, pe, pn, pw]), (bp, [cr, ce, cn, cw])) = (w[0], w[1]);
+        let d = (bp / pbp).log2();
+        scaling.push(format!("{pbp:.0} → {bp:.0} bp: continuum residual ×{:.2}, equilibrium direct ×{:.2}, NK ×{:.2} (warm ×{:.2}) per doubling", (cr / pr).powf(1.0 / d), (ce / pe).powf(1.0 / d), (cn / pn).powf(1.0 / d), (cw / pw).powf(1.0 / d)));
+    }
     let slope = |k: usize| {
         let pts: Vec<(f64, f64)> = fit_points.iter().map(|(l, t)| (l.log2(), t[k].log2())).collect();
         let m = pts.len() as f64;
@@ -573,11 +725,11 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
         scaling.push(format!("least squares over {:.0}–{:.0} bp: continuum residual ×{:.2}, equilibrium direct ×{:.2}, NK ×{:.2} (warm ×{:.2}) per doubling",
             fit_points[0].0, fit_points.last().unwrap().0, slope(0), slope(1), slope(2), slope(3)));
     }
-    for l in ratios {
-        let _ = writeln!(out, "{l}");
-    }
-    let _ = writeln!(out, "{}", scaling.join("; "));
-    std::fs::write(dir.join("rod.csv"), &csv).unwrap();
+    scaling
+}
+
+/// The two plots of the rod table: time per residual and per equilibrium.
+fn rod_plots(dir: &std::path::Path, series: Vec<LogSeries>, eq_series: Vec<LogSeries>) {
     let colours = [
         plotters::style::RGBColor(0, 90, 200),
         plotters::style::RGBColor(200, 60, 0),
@@ -585,32 +737,66 @@ fn rod_table(out: &mut String, dir: &std::path::Path) {
         plotters::style::RGBColor(0, 150, 80),
         plotters::style::RGBColor(150, 0, 150),
     ];
-    let plot: Vec<_> = series
-        .into_iter()
-        .zip(colours)
-        .filter(|((_, v), _)| !v.is_empty())
-        .map(|((name, v), c)| (name, v, c))
-        .collect();
-    plot::line_plot(
-        &dir.join("rod_residual.svg"),
-        "time per residual (DNA rod, 0.1 M)",
-        "log10 base pairs",
-        "log10 ms",
-        &plot,
-    )
-    .unwrap();
-    let plot: Vec<_> = eq_series
-        .into_iter()
-        .zip(colours)
-        .filter(|((_, v), _)| !v.is_empty())
-        .map(|((name, v), c)| (name, v, c))
-        .collect();
-    plot::line_plot(
-        &dir.join("rod_equilibrium.svg"),
-        "time per equilibrium (DNA rod, 0.1 M)",
-        "log10 base pairs",
-        "log10 ms",
-        &plot,
-    )
-    .unwrap();
+    for (file, title, series) in [
+        ("rod_residual.svg", "time per residual (DNA rod, 0.1 M)", series),
+        ("rod_equilibrium.svg", "time per equilibrium (DNA rod, 0.1 M)", eq_series),
+    ] {
+        let plot: Vec<_> = series
+            .into_iter()
+            .zip(colours)
+            .filter(|((_, v), _)| !v.is_empty())
+            .map(|((name, v), c)| (name, v, c))
+            .collect();
+        plot::line_plot(&dir.join(file), title, "log10 base pairs", "log10 ms", &plot).unwrap();
+    }
+}
+
+/// The coupled-rod table (module docs): its header, one block of lines per
+/// length, the ratios and scaling, rod.csv and the two plots.
+fn rod_table(out: &mut String, dir: &std::path::Path) {
+    let _ = writeln!(out, "\ncoupled rod, continuum vs discrete base pairs (DNA scene: 0.1 M, ν = 1/l_B, 1 pN; h = 3.4 nm, Gauss(2); straight state at φ = 2)");
+    let _ = writeln!(out, "time per residual and Jacobian (medians of 21 and 9) and per equilibrium (medians of 3 direct, 9 NK, 3 NK all pairs): Newton at φ = 2.1 from the continuum's equilibrium at φ = 2 (a continuation corrector) to a scaled residual of 1e-8, the DNA scene default,");
+    let _ = writeln!(out, "  direct = sparse Newton of the continuation engine (exact Jacobian, full LU, symbolic analysis included); NK = Newton–Krylov (GMRES, central-difference products, preconditioner: LU of the Jacobian band |i − j| ≤ w, w = {} = one element's coupling for the continuum, twice that for base pairs, refreshed after > 10 GMRES iterations), cold (symbolic analysis, Jacobian and band LU included) and warm (band LU kept from a previous solve, as along a continuation);", 51);
+    let _ = writeln!(out, "cutoffs with cell lists, continuum 3e-5 and base pairs 1e-4 (each meeting 1e-4 force error); force error on a superhelix (radius 3, pitch 40 nm) against the same model with every pair: max |p − p_ref| over the stage force densities, relative to max |p_ref| (base pairs) or to the continuum's whole electrostatic force density (its p is the far zone only)");
+    let _ = writeln!(out, "all-pairs base pairs: direct = Newton on its residual with the cutoff model's Jacobian (its exact one is dense); NK = its own residual's products, preconditioner from the cutoff model's Jacobian");
+    let _ = writeln!(
+        out,
+        "{:>4} {:>6} {:>22} {:>10} {:>10} {:>11} {:>10} {:>10} {:>4} {:>8}",
+        "kbp", "n", "model", "residual", "Jacobian", "eq direct", "eq NK", "NK warm", "GMRES", "f error"
+    );
+    let mut csv = String::from("bp,n,model,residual_s,jacobian_s,equilibrium_direct_s,equilibrium_nk_s,equilibrium_nk_warm_s,krylov_iterations,force_error,residual_2threads_s,jacobian_2threads_s\n");
+    let mut series: Vec<LogSeries> = vec![
+        ("continuum, cutoff", vec![]),
+        ("base pairs, cutoff", vec![]),
+        ("base pairs, all pairs", vec![]),
+        ("continuum, every pair", vec![]),
+    ];
+    let mut eq_series: Vec<LogSeries> = vec![
+        ("continuum, NK", vec![]),
+        ("base pairs, NK", vec![]),
+        ("base pairs all pairs, NK", vec![]),
+        ("continuum, direct", vec![]),
+        ("base pairs, direct", vec![]),
+    ];
+    let mut ratios = vec![];
+    let mut fit_points: Vec<(f64, [f64; 4])> = vec![];
+    // 30 kbp: the continuum only (the base pairs' direct equilibrium alone
+    // would take ~15 s), to see the scaling past the 3 → 10 kbp step where
+    // the Jacobian and band LU (≈ 36 MB at 10 kbp) outgrow the 32 MB L3.
+    for bp in [1000usize, 3000, 10000, 30000] {
+        let row = measure_length(bp);
+        write_rows(out, &row);
+        ratios.push(ratio_line(&row));
+        write_csv(&mut csv, &row);
+        push_points(&mut series, &mut eq_series, &row);
+        let c = &row.continuum;
+        let (c_nk, c_eq) = (c.nk.unwrap(), secs(c.direct));
+        fit_points.push((bp as f64, [c.residual.as_secs_f64(), c_eq, c_nk.0.as_secs_f64(), c_nk.1.as_secs_f64()]));
+    }
+    for l in ratios {
+        let _ = writeln!(out, "{l}");
+    }
+    let _ = writeln!(out, "{}", scaling_lines(&fit_points).join("; "));
+    std::fs::write(dir.join("rod.csv"), &csv).unwrap();
+    rod_plots(dir, series, eq_series);
 }

@@ -14,6 +14,7 @@
 //! 2. the branch densely (100 loads), ANM vs Newton factorisations;
 //! 3. buckling, location, switch, post-buckled branch (AUTO's euler too);
 //! 4. the ANM's knobs (P, ε).
+//!
 //! Time: median of REPS interleaved repetitions. Writes target/bench/rod/
 //! {report.txt, tips.csv, dense.csv, post_buckling.csv, anm_knobs.csv,
 //! follower_work_precision.svg}.
@@ -25,8 +26,18 @@ mod auto07p;
 mod rod_band;
 #[cfg(feature = "sundials")]
 #[path = "../tests/support/sundials.rs"]
-#[allow(dead_code)]
 mod sundials;
+
+/// KINSOL's work for one run: (iterations, Jacobian evaluations, residual
+/// evaluations).
+type KinsolCounts = (i64, i64, i64);
+
+/// The tips at the four α from one KINSOL run, its counts and the times of
+/// every repetition.
+type KinsolRuns = (Vec<[f64; 3]>, KinsolCounts, Vec<Duration>);
+
+/// The reference tips of a scene at the given loads.
+type TipReference<'a> = dyn Fn(Scene, &[f64]) -> Vec<[f64; 3]> + 'a;
 
 /// SUNDIALS as a peer (`--features sundials`): natural-parameter
 /// continuation as a user without a continuation code would do it — α
@@ -36,7 +47,7 @@ mod sundials;
 /// started from the previous solution. Returns the tips at the four α,
 /// (KINSOL iterations, Jacobian evaluations, residual evaluations), time.
 #[cfg(feature = "sundials")]
-fn run_kinsol(rod: &Rod, tol: f64) -> Result<(Vec<[f64; 3]>, (i64, i64, i64), Duration), String> {
+fn run_kinsol(rod: &Rod, tol: f64) -> Result<(Vec<[f64; 3]>, KinsolCounts, Duration), String> {
     use rodkit::continuation::Problem;
     let t = Instant::now();
     let ctx = sundials::Context::new()?;
@@ -219,11 +230,41 @@ fn main() {
         env!("CARGO_PKG_VERSION")
     );
     let dense: Vec<f64> = (1..=100).map(|k| 0.1 * k as f64).collect();
-    // References: Gauss(4) × 64 at residual 1e-13, Newton, tips at every load used.
+    let references = reference_tips(&mut out, &dense);
+    let reference = |scene: Scene, loads: &[f64]| -> Vec<[f64; 3]> {
+        let all = &references.iter().find(|r| r.0 == scene).unwrap().1;
+        loads.iter().map(|&l| all[(l * 10.0).round() as usize - 1]).collect()
+    };
+    let setup = TipsSetup::new();
+    let runs = setup.run(&mut out);
+    let rows = setup.rows(&runs, &reference);
+    if cfg!(not(feature = "sundials")) {
+        let _ =
+            writeln!(out, "SUNDIALS rows need `--features sundials` (natural-parameter KINSOL continuation): skipped");
+    }
+    if !setup.auto_ok {
+        let _ = writeln!(out, "AUTO-07p not installed (apt-get install auto-07p): peer rows skipped");
+    }
+    let csv = write_tip_table(&mut out, &rows);
+    write_tip_summaries(&mut out, &rows, &setup);
+    section_dense(&mut out, &dir, &dense, &reference);
+    section_post_buckling(&mut out, &dir, setup.auto_ok);
+    section_anm_knobs(&mut out, &dir);
+    print!("{out}");
+    fs::write(dir.join("report.txt"), &out).unwrap();
+    fs::write(dir.join("tips.csv"), &csv).unwrap();
+    if let Err(e) = plot(&dir.join("follower_work_precision.svg"), &rows) {
+        eprintln!("plot failed: {e}");
+    }
+}
+
+/// References: Gauss(4) × 64 at residual 1e-12, Newton, tips at every load
+/// of `dense` (which holds every load used), per scene.
+fn reference_tips(out: &mut String, dense: &[f64]) -> Vec<(Scene, Vec<[f64; 3]>)> {
     let mut references = vec![];
     for scene in [Scene::Follower, Scene::Dead] {
         let fine = rod(scene, Scheme::Gauss(4), 64);
-        let (tips, _, _) = run(&fine, Engine::Newton, 1e-12, &dense);
+        let (tips, _, _) = run(&fine, Engine::Newton, 1e-12, dense);
         let _ = writeln!(
             out,
             "reference {scene:?}: Gauss(4) × 64, residual 1e-12: tips at α = 1, 2, 5, 10: {:?}",
@@ -231,136 +272,181 @@ fn main() {
         );
         references.push((scene, tips));
     }
-    let reference = |scene: Scene, loads: &[f64]| -> Vec<[f64; 3]> {
-        let all = &references.iter().find(|r| r.0 == scene).unwrap().1;
-        loads.iter().map(|&l| all[(l * 10.0).round() as usize - 1]).collect()
-    };
+    references
+}
 
-    let tol = 1e-10;
-    let configs: Vec<(Scheme, usize)> = vec![
-        (Scheme::Midpoint, 16),
-        (Scheme::Gauss(2), 4),
-        (Scheme::Gauss(4), 4),
-        (Scheme::Gauss(4), 8),
-        (Scheme::Gauss(4), 16),
-        (Scheme::Gauss(4), 32),
-        (Scheme::Gauss(2), 16),
-        (Scheme::Midpoint, 64),
-    ];
-    let engines = [
-        Engine::Anm { order: 20, epsilon: 1e-10, pade: false },
-        Engine::Anm { order: 20, epsilon: 1e-10, pade: true },
-        Engine::Newton,
-    ];
-    let scenes = [Scene::Follower, Scene::Dead];
-    let auto_ntst = [4usize, 8, 16];
-    let auto_ok = auto07p::available();
-    // Section 1: tips at α = 1, 2, 5, 10.
-    let key = |si: usize, ci: usize, ei: usize| (si * configs.len() + ci) * engines.len() + ei;
-    let mut times: Vec<Vec<Duration>> = vec![vec![]; scenes.len() * configs.len() * engines.len()];
-    let mut results: Vec<Option<(Vec<[f64; 3]>, Counts)>> = vec![None; times.len()];
-    let mut auto_times: Vec<Vec<Duration>> = vec![vec![]; auto_ntst.len()];
-    let mut auto_results: Vec<Option<auto07p::AutoRun>> = vec![None; auto_ntst.len()];
-    #[allow(unused_mut)]
-    let mut kinsol_results: Vec<Option<(Vec<[f64; 3]>, (i64, i64, i64), Vec<Duration>)>> =
-        vec![None; scenes.len() * configs.len()];
-    for _ in 0..REPS {
-        for (si, &scene) in scenes.iter().enumerate() {
-            for (ci, &(scheme, n)) in configs.iter().enumerate() {
-                let r = rod(scene, scheme, n);
-                for (ei, &engine) in engines.iter().enumerate() {
-                    let (tips, counts, t) = run(&r, engine, tol, &ALPHAS);
-                    times[key(si, ci, ei)].push(t);
-                    results[key(si, ci, ei)] = Some((tips, counts));
-                }
-                #[cfg(feature = "sundials")]
-                match run_kinsol(&r, tol) {
-                    Ok((tips, counts, t)) => {
-                        let entry = kinsol_results[si * configs.len() + ci].get_or_insert((tips, counts, vec![]));
-                        entry.2.push(t);
-                    }
-                    Err(e) => {
-                        let _ = writeln!(out, "KINSOL {scene:?} {scheme:?} × {n} failed: {e}");
-                    }
-                }
-            }
-        }
-        if auto_ok {
-            for (ai, &ntst) in auto_ntst.iter().enumerate() {
-                match auto07p::follower(ntst, tol) {
-                    Ok(run) => {
-                        auto_times[ai].push(run.wall);
-                        auto_results[ai] = Some(run);
-                    }
-                    Err(e) => {
-                        let _ = writeln!(out, "AUTO-07p NTST {ntst} failed: {e}");
-                    }
-                }
-            }
+/// Section 1's grid: scenes × discretisations × engines (and KINSOL), and
+/// AUTO-07p's meshes when it is installed; residual tolerance 1e-10.
+struct TipsSetup {
+    tol: f64,
+    configs: Vec<(Scheme, usize)>,
+    engines: [Engine; 3],
+    scenes: [Scene; 2],
+    auto_ntst: [usize; 3],
+    auto_ok: bool,
+}
+
+/// What section 1's interleaved repetitions measured, indexed by
+/// [`TipsSetup::key`] (KINSOL by scene and discretisation, AUTO by mesh).
+struct TipRuns {
+    times: Vec<Vec<Duration>>,
+    results: Vec<Option<(Vec<[f64; 3]>, Counts)>>,
+    auto_times: Vec<Vec<Duration>>,
+    auto_results: Vec<Option<auto07p::AutoRun>>,
+    kinsol_results: Vec<Option<KinsolRuns>>,
+}
+
+impl TipsSetup {
+    fn new() -> Self {
+        TipsSetup {
+            tol: 1e-10,
+            configs: vec![
+                (Scheme::Midpoint, 16),
+                (Scheme::Gauss(2), 4),
+                (Scheme::Gauss(4), 4),
+                (Scheme::Gauss(4), 8),
+                (Scheme::Gauss(4), 16),
+                (Scheme::Gauss(4), 32),
+                (Scheme::Gauss(2), 16),
+                (Scheme::Midpoint, 64),
+            ],
+            engines: [
+                Engine::Anm { order: 20, epsilon: 1e-10, pade: false },
+                Engine::Anm { order: 20, epsilon: 1e-10, pade: true },
+                Engine::Newton,
+            ],
+            scenes: [Scene::Follower, Scene::Dead],
+            auto_ntst: [4usize, 8, 16],
+            auto_ok: auto07p::available(),
         }
     }
-    let mut rows = vec![];
-    for (si, &scene) in scenes.iter().enumerate() {
-        for (ci, &(scheme, n)) in configs.iter().enumerate() {
-            let unknowns = rod(scene, scheme, n).unknowns();
-            for (ei, &engine) in engines.iter().enumerate() {
-                let k = key(si, ci, ei);
-                let (tips, counts) = results[k].clone().unwrap();
+
+    fn key(&self, si: usize, ci: usize, ei: usize) -> usize {
+        (si * self.configs.len() + ci) * self.engines.len() + ei
+    }
+
+    /// Section 1: tips at α = 1, 2, 5, 10, every engine, KINSOL and AUTO,
+    /// REPS interleaved repetitions (failures of the peers reported in
+    /// `out`).
+    fn run(&self, out: &mut String) -> TipRuns {
+        let (scenes, configs, engines, auto_ntst, tol) =
+            (&self.scenes, &self.configs, &self.engines, &self.auto_ntst, self.tol);
+        let mut times: Vec<Vec<Duration>> = vec![vec![]; scenes.len() * configs.len() * engines.len()];
+        let mut results: Vec<Option<(Vec<[f64; 3]>, Counts)>> = vec![None; times.len()];
+        let mut auto_times: Vec<Vec<Duration>> = vec![vec![]; auto_ntst.len()];
+        let mut auto_results: Vec<Option<auto07p::AutoRun>> = vec![None; auto_ntst.len()];
+        #[allow(unused_mut)] // filled only with the sundials feature
+        let mut kinsol_results: Vec<Option<KinsolRuns>> = vec![None; scenes.len() * configs.len()];
+        for _ in 0..REPS {
+            for (si, &scene) in scenes.iter().enumerate() {
+                for (ci, &(scheme, n)) in configs.iter().enumerate() {
+                    let r = rod(scene, scheme, n);
+                    for (ei, &engine) in engines.iter().enumerate() {
+                        let (tips, counts, t) = run(&r, engine, tol, &ALPHAS);
+                        times[self.key(si, ci, ei)].push(t);
+                        results[self.key(si, ci, ei)] = Some((tips, counts));
+                    }
+                    #[cfg(feature = "sundials")]
+                    match run_kinsol(&r, tol) {
+                        Ok((tips, counts, t)) => {
+                            let entry = kinsol_results[si * configs.len() + ci].get_or_insert((tips, counts, vec![]));
+                            entry.2.push(t);
+                        }
+                        Err(e) => {
+                            let _ = writeln!(out, "KINSOL {scene:?} {scheme:?} × {n} failed: {e}");
+                        }
+                    }
+                }
+            }
+            if self.auto_ok {
+                for (ai, &ntst) in auto_ntst.iter().enumerate() {
+                    match auto07p::follower(ntst, tol) {
+                        Ok(run) => {
+                            auto_times[ai].push(run.wall);
+                            auto_results[ai] = Some(run);
+                        }
+                        Err(e) => {
+                            let _ = writeln!(out, "AUTO-07p NTST {ntst} failed: {e}");
+                        }
+                    }
+                }
+            }
+        }
+        TipRuns { times, results, auto_times, auto_results, kinsol_results }
+    }
+
+    /// The table's rows: every engine and KINSOL per scene and
+    /// discretisation, then AUTO's meshes (medians, tip errors against the
+    /// reference).
+    fn rows(&self, runs: &TipRuns, reference: &TipReference<'_>) -> Vec<Row> {
+        let mut rows = vec![];
+        for (si, &scene) in self.scenes.iter().enumerate() {
+            for (ci, &(scheme, n)) in self.configs.iter().enumerate() {
+                let unknowns = rod(scene, scheme, n).unknowns();
+                for (ei, &engine) in self.engines.iter().enumerate() {
+                    let k = self.key(si, ci, ei);
+                    let (tips, counts) = runs.results[k].clone().unwrap();
+                    rows.push(Row {
+                        scene,
+                        method: engine.name(),
+                        disc: format!("{scheme:?} × {n}"),
+                        unknowns,
+                        time: median(runs.times[k].clone()),
+                        error: err(&tips, &reference(scene, &ALPHAS)),
+                        counts: Some(counts),
+                        auto_steps: None,
+                    });
+                }
+                if let Some((tips, (iters, jacs, res), times)) = &runs.kinsol_results[si * self.configs.len() + ci] {
+                    rows.push(Row {
+                        scene,
+                        method: "SUNDIALS KINSOL band".into(),
+                        disc: format!("{scheme:?} × {n}"),
+                        unknowns,
+                        time: median(times.clone()),
+                        error: err(tips, &reference(scene, &ALPHAS)),
+                        counts: Some(Counts {
+                            steps: 40,
+                            factorisations: *jacs as usize,
+                            solves: *iters as usize,
+                            residuals: *res as usize,
+                            jacobians: *jacs as usize,
+                            ..Default::default()
+                        }),
+                        auto_steps: None,
+                    });
+                }
+            }
+        }
+        for (ai, &ntst) in self.auto_ntst.iter().enumerate() {
+            if let Some(run) = &runs.auto_results[ai] {
+                let tips: Vec<[f64; 3]> =
+                    ALPHAS.iter().map(|&a| run.at_lambda(a).map(|p| p.tip_at(a)).unwrap_or([f64::NAN; 3])).collect();
                 rows.push(Row {
-                    scene,
-                    method: engine.name(),
-                    disc: format!("{scheme:?} × {n}"),
-                    unknowns,
-                    time: median(times[k].clone()),
-                    error: err(&tips, &reference(scene, &ALPHAS)),
-                    counts: Some(counts),
-                    auto_steps: None,
+                    scene: Scene::Follower,
+                    method: "AUTO-07p".into(),
+                    disc: format!("NTST {ntst} NCOL 4"),
+                    unknowns: 13 * (4 * ntst + 1),
+                    time: median(runs.auto_times[ai].clone()),
+                    error: err(&tips, &reference(Scene::Follower, &ALPHAS)),
+                    counts: None,
+                    auto_steps: Some((run.steps, run.newton_iterations)),
                 });
             }
-            if let Some((tips, (iters, jacs, res), times)) = &kinsol_results[si * configs.len() + ci] {
-                rows.push(Row {
-                    scene,
-                    method: "SUNDIALS KINSOL band".into(),
-                    disc: format!("{scheme:?} × {n}"),
-                    unknowns,
-                    time: median(times.clone()),
-                    error: err(tips, &reference(scene, &ALPHAS)),
-                    counts: Some(Counts {
-                        steps: 40,
-                        factorisations: *jacs as usize,
-                        solves: *iters as usize,
-                        residuals: *res as usize,
-                        jacobians: *jacs as usize,
-                        ..Default::default()
-                    }),
-                    auto_steps: None,
-                });
-            }
         }
+        rows
     }
-    for (ai, &ntst) in auto_ntst.iter().enumerate() {
-        if let Some(run) = &auto_results[ai] {
-            let tips: Vec<[f64; 3]> =
-                ALPHAS.iter().map(|&a| run.at_lambda(a).map(|p| p.tip_at(a)).unwrap_or([f64::NAN; 3])).collect();
-            rows.push(Row {
-                scene: Scene::Follower,
-                method: "AUTO-07p".into(),
-                disc: format!("NTST {ntst} NCOL 4"),
-                unknowns: 13 * (4 * ntst + 1),
-                time: median(auto_times[ai].clone()),
-                error: err(&tips, &reference(Scene::Follower, &ALPHAS)),
-                counts: None,
-                auto_steps: Some((run.steps, run.newton_iterations)),
-            });
-        }
-    }
-    if cfg!(not(feature = "sundials")) {
-        let _ =
-            writeln!(out, "SUNDIALS rows need `--features sundials` (natural-parameter KINSOL continuation): skipped");
-    }
-    if !auto_ok {
-        let _ = writeln!(out, "AUTO-07p not installed (apt-get install auto-07p): peer rows skipped");
-    }
+}
+
+/// AUTO-07p's row whose tip error is nearest to `e` (in log), among `autos`.
+fn nearest_auto(autos: &[&Row], e: f64) -> Option<Duration> {
+    autos.iter().min_by(|a, b| (a.error.ln() - e.ln()).abs().total_cmp(&(b.error.ln() - e.ln()).abs())).map(|r| r.time)
+}
+
+/// Section 1's table (one line per row, with the ratios to rodkit Newton,
+/// the factorisation ratio and the ratio to AUTO at the nearest tip error);
+/// returns tips.csv.
+fn write_tip_table(out: &mut String, rows: &[Row]) -> String {
     let _ = writeln!(out, "\n1. Tips at α = 1, 2, 5, 10 (one run to α = 10; rodkit delivers them as dense samples), residual tolerance 1e-10 (scaled), medians of {REPS} interleaved runs.");
     let _ = writeln!(out, "   Ratios: time / rodkit Newton's on the same discretisation; factorisations Newton / ANM; time / AUTO's at the nearest tip error.");
     let _ = writeln!(
@@ -383,15 +469,8 @@ fn main() {
     );
     let mut csv = String::from("scene,method,discretisation,unknowns,time_s,tip_error,steps,factorisations,jacobians,residuals,series_orders\n");
     let autos: Vec<&Row> = rows.iter().filter(|r| r.method == "AUTO-07p").collect();
-    let nearest_auto = |e: f64| {
-        autos
-            .iter()
-            .min_by(|a, b| (a.error.ln() - e.ln()).abs().total_cmp(&(b.error.ln() - e.ln()).abs()))
-            .map(|r| r.time)
-    };
-    for r in &rows {
+    for r in rows {
         let newton = rows.iter().find(|o| o.scene == r.scene && o.disc == r.disc && o.method == "rodkit Newton");
-        let anm = rows.iter().find(|o| o.scene == r.scene && o.disc == r.disc && o.method.starts_with("rodkit ANM"));
         let ratio = |base: Option<Duration>| {
             base.map_or("-".to_string(), |b| format!("{:.2}", r.time.as_secs_f64() / b.as_secs_f64()))
         };
@@ -412,7 +491,6 @@ fn main() {
             (true, Some(nc), Some(ac)) => format!("{:.1}", nc.factorisations as f64 / ac.factorisations as f64),
             _ => "-".into(),
         };
-        let _ = anm;
         let _ = writeln!(
             out,
             "{:<9} {:<26} {:<16} {:>6} {:>8.2}ms {:>9.1e} {:>6} {:>7} {:>7} {:>8} {:>7} {:>8} {:>9} {:>8}",
@@ -433,7 +511,7 @@ fn main() {
                 "-".into()
             },
             fact_ratio,
-            if r.scene == Scene::Follower { ratio(nearest_auto(r.error)) } else { "-".into() }
+            if r.scene == Scene::Follower { ratio(nearest_auto(&autos, r.error)) } else { "-".into() }
         );
         let _ = writeln!(
             csv,
@@ -453,7 +531,14 @@ fn main() {
     }
     let _ = writeln!(out, "(AUTO: follower only; 'factor.' is its Newton iteration count, each factorising its collocation matrix; tips moved to the exact α along AUTO's tangent.");
     let _ = writeln!(out, " KINSOL: natural-parameter continuation α += 0.25, band solver on rows reordered to a band; 'steps' = solves, 'factor.' = Jacobian evaluations)");
-    // Best rodkit against AUTO at the two accuracies the issue names.
+    csv
+}
+
+/// After section 1's table: the fastest rodkit against the fastest AUTO at
+/// the two accuracies the issue names, and the cost per unknown of the
+/// Gauss(4) rows against N.
+fn write_tip_summaries(out: &mut String, rows: &[Row], setup: &TipsSetup) {
+    let autos: Vec<&Row> = rows.iter().filter(|r| r.method == "AUTO-07p").collect();
     for target in [1e-6, 1e-8] {
         let best = rows
             .iter()
@@ -470,8 +555,8 @@ fn main() {
         }
     }
     // Cost against N (Gauss(4) rows): time per unknown.
-    for scene in scenes {
-        for engine in engines {
+    for scene in setup.scenes {
+        for engine in setup.engines {
             let pts: Vec<String> = rows
                 .iter()
                 .filter(|r| r.scene == scene && r.method == engine.name() && r.disc.starts_with("Gauss(4)"))
@@ -480,21 +565,12 @@ fn main() {
             let _ = writeln!(out, "cost vs N, {scene:?}, {}: {}", engine.name(), pts.join("; "));
         }
     }
-    section_dense(&mut out, &dir, &dense, &reference);
-    section_post_buckling(&mut out, &dir, auto_ok);
-    section_anm_knobs(&mut out, &dir);
-    print!("{out}");
-    fs::write(dir.join("report.txt"), &out).unwrap();
-    fs::write(dir.join("tips.csv"), &csv).unwrap();
-    if let Err(e) = plot(&dir.join("follower_work_precision.svg"), &rows) {
-        eprintln!("plot failed: {e}");
-    }
 }
 
 /// Section 2: the whole branch densely — 100 evenly spaced loads α = 0.1 …
 /// 10, each within the residual tolerance: ANM (series) against Newton
 /// (interpolant + correction), factorisations and time as ratios.
-fn section_dense(out: &mut String, dir: &Path, dense: &[f64], reference: &dyn Fn(Scene, &[f64]) -> Vec<[f64; 3]>) {
+fn section_dense(out: &mut String, dir: &Path, dense: &[f64], reference: &TipReference<'_>) {
     let _ = writeln!(
         out,
         "\n2. The branch densely: tips at 100 loads α = 0.1, 0.2, …, 10 in one run, residual 1e-10, medians of {REPS}"
@@ -572,57 +648,8 @@ fn section_dense(out: &mut String, dir: &Path, dense: &[f64], reference: &dyn Fn
 /// rotation ≈ 169°). Error: critical load against §2.6's extensible
 /// formula, post-buckled tips at Λ = 5, 10, 14 against Gauss(4) × 64.
 fn section_post_buckling(out: &mut String, dir: &Path, auto_ok: bool) {
-    let euler_rod = |scheme: Scheme, n: usize| {
-        let (ga, ea) = (1e4, 2.6e4);
-        let k = nalgebra::Matrix6::from_diagonal(&nalgebra::Vector6::new(2.0, 1.0, 1.0 / 1.3, ga, ga, ea));
-        let law = RodLaw::general(k, nalgebra::Vector3::zeros(), nalgebra::Vector3::new(0.0, 0.0, 1.0)).unwrap();
-        let loads = Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() };
-        Rod::new(law, 1.0, loads, Supports::Cantilever, scheme, n).unwrap()
-    };
-    let loads = [5.0, 10.0, 14.0];
-    let follow = |rod: &Rod, method: Method, tol: f64| -> (f64, Vec<[f64; 3]>, Counts, Duration) {
-        let t = Instant::now();
-        let opts = Options {
-            target_lambda: Some(3.0),
-            residual_tol: tol,
-            initial_step: 0.2,
-            max_step: 1.0,
-            detect_bifurcations: true,
-            bifurcation_tol: 1e-10,
-            ..Default::default()
-        };
-        let straight = rod.continue_branch(None, 0.0, true, &opts, method, |_| true).unwrap();
-        let bif = &straight.bifurcations[0];
-        let opts = Options {
-            target_lambda: Some(14.0),
-            residual_tol: tol,
-            max_step: 5.0,
-            max_steps: 2000,
-            samples: loads.to_vec(),
-            ..Default::default()
-        };
-        let b = rod.switch_branch(&straight, 0, 0, 0.05, &opts, method, |_| true).unwrap();
-        let elapsed = t.elapsed();
-        let mut c = straight.counts;
-        c.steps += b.counts.steps;
-        c.factorisations += b.counts.factorisations;
-        c.solves += b.counts.solves;
-        c.residuals += b.counts.residuals;
-        c.jacobians += b.counts.jacobians;
-        c.series_orders += b.counts.series_orders;
-        // The buckle may go either way: compare |x_tip| and z_tip.
-        let tips = b
-            .sample_states
-            .iter()
-            .map(|x| {
-                let p = rod.tip(x);
-                [p[0].hypot(p[1]), 0.0, p[2]]
-            })
-            .collect();
-        (bif.lambda, tips, c, elapsed)
-    };
     let fine = euler_rod(Scheme::Gauss(4), 64);
-    let (_, reference, _, _) = follow(&fine, Method::Newton, 1e-12);
+    let (_, reference, _, _) = follow_euler(&fine, Method::Newton, 1e-12);
     let pcr = auto07p::euler_critical_load(1.0, 1.0, 1e4, 2.6e4);
     let _ = writeln!(out, "\n3. Euler buckling and post-buckling (clamped–free, axial dead load, K_b1 = 2 K_b2): straight branch with detection, location, switch, post-buckled branch to Λ = 14; medians of {REPS}");
     let _ = writeln!(
@@ -639,7 +666,7 @@ fn section_post_buckling(out: &mut String, dir: &Path, auto_ok: bool) {
         let mut res = vec![None; 2];
         for _ in 0..REPS {
             for (k, &m) in methods.iter().enumerate() {
-                let (pc, tips, c, t) = follow(&r, m, 1e-10);
+                let (pc, tips, c, t) = follow_euler(&r, m, 1e-10);
                 times[k].push(t);
                 res[k] = Some((pc, tips, c));
             }
@@ -678,30 +705,93 @@ fn section_post_buckling(out: &mut String, dir: &Path, auto_ok: bool) {
         }
     }
     if auto_ok {
-        for ntst in [8usize, 16] {
-            let mut times = vec![];
-            let mut last = None;
-            for _ in 0..REPS {
-                match auto07p::euler(ntst, 1e-10) {
-                    Ok(run) => {
-                        times.push(run.wall);
-                        last = Some(run);
-                    }
-                    Err(e) => {
-                        let _ = writeln!(out, "AUTO-07p euler NTST {ntst} failed: {e}");
-                        break;
-                    }
-                }
-            }
-            if let Some(run) = last {
-                let bp = run.branch_points()[0].lambda;
-                let end = run.end_point().map(|p| (p.lambda, p.rotation_deg)).unwrap_or((f64::NAN, f64::NAN));
-                let _ = writeln!(out, "{:<16} {:<26} {:>7.2}ms {:>11.1e} {:>10} {:>7} {:>7} {:>8} {:>9}   (AUTO: to tip rotation 170° at Λ = {:.4}; ~{} Newton iterations)",
-                    format!("NTST {ntst} NCOL 4"), "AUTO-07p", ms(median(times)), (bp - pcr).abs() / pcr, "-", run.steps, "-", "-", "-", end.0, run.newton_iterations);
-            }
-        }
+        auto_post_buckling(out, pcr);
     }
     let _ = fs::write(dir.join("post_buckling.csv"), csv);
+}
+
+/// Section 3's rod: clamped–free, axial dead tip load, K_b1 = 2 K_b2,
+/// GA = 1e4, EA = 2.6e4.
+fn euler_rod(scheme: Scheme, n: usize) -> Rod {
+    let (ga, ea) = (1e4, 2.6e4);
+    let k = nalgebra::Matrix6::from_diagonal(&nalgebra::Vector6::new(2.0, 1.0, 1.0 / 1.3, ga, ga, ea));
+    let law = RodLaw::general(k, nalgebra::Vector3::zeros(), nalgebra::Vector3::new(0.0, 0.0, 1.0)).unwrap();
+    let loads = Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() };
+    Rod::new(law, 1.0, loads, Supports::Cantilever, scheme, n).unwrap()
+}
+
+/// Section 3's run: the straight branch with detection and location, the
+/// switch and the post-buckled branch to Λ = 14 with samples at Λ = 5, 10,
+/// 14. Returns the critical load, the sample tips (|x_tip|, 0, z_tip: the
+/// buckle may go either way), the summed counts and the wall time.
+fn follow_euler(rod: &Rod, method: Method, tol: f64) -> (f64, Vec<[f64; 3]>, Counts, Duration) {
+    let loads = [5.0, 10.0, 14.0];
+    let t = Instant::now();
+    let opts = Options {
+        target_lambda: Some(3.0),
+        residual_tol: tol,
+        initial_step: 0.2,
+        max_step: 1.0,
+        detect_bifurcations: true,
+        bifurcation_tol: 1e-10,
+        ..Default::default()
+    };
+    let straight = rod.continue_branch(None, 0.0, true, &opts, method, |_| true).unwrap();
+    let bif = &straight.bifurcations[0];
+    let opts = Options {
+        target_lambda: Some(14.0),
+        residual_tol: tol,
+        max_step: 5.0,
+        max_steps: 2000,
+        samples: loads.to_vec(),
+        ..Default::default()
+    };
+    let b = rod.switch_branch(&straight, 0, 0, 0.05, &opts, method, |_| true).unwrap();
+    let elapsed = t.elapsed();
+    let mut c = straight.counts;
+    c.steps += b.counts.steps;
+    c.factorisations += b.counts.factorisations;
+    c.solves += b.counts.solves;
+    c.residuals += b.counts.residuals;
+    c.jacobians += b.counts.jacobians;
+    c.series_orders += b.counts.series_orders;
+    // The buckle may go either way: compare |x_tip| and z_tip.
+    let tips = b
+        .sample_states
+        .iter()
+        .map(|x| {
+            let p = rod.tip(x);
+            [p[0].hypot(p[1]), 0.0, p[2]]
+        })
+        .collect();
+    (bif.lambda, tips, c, elapsed)
+}
+
+/// AUTO-07p's Euler runs (NTST 8 and 16, medians of REPS) as lines of
+/// section 3's table: its own location of the branch point and switch.
+fn auto_post_buckling(out: &mut String, pcr: f64) {
+    for ntst in [8usize, 16] {
+        let mut times = vec![];
+        let mut last = None;
+        for _ in 0..REPS {
+            match auto07p::euler(ntst, 1e-10) {
+                Ok(run) => {
+                    times.push(run.wall);
+                    last = Some(run);
+                }
+                Err(e) => {
+                    let _ = writeln!(out, "AUTO-07p euler NTST {ntst} failed: {e}");
+                    break;
+                }
+            }
+        }
+        if let Some(run) = last {
+            let bp = run.branch_points()[0].lambda;
+            let end = run.end_point().map(|p| (p.lambda, p.rotation_deg)).unwrap_or((f64::NAN, f64::NAN));
+            let _ = writeln!(out, "{:<16} {:<26} {:>7.2}ms {:>11.1e} {:>10} {:>7} {:>7} {:>8} {:>9}   (AUTO: to tip rotation 170° at Λ = {:.4}; ~{} Newton iterations)",
+                format!("NTST {ntst} NCOL 4"), "AUTO-07p", ms(median(times)), (bp - pcr).abs() / pcr, "-", run.steps, "-", "-", "-", end.0, run.newton_iterations);
+        }
+    }
 }
 
 /// The ANM's own knobs (order P, ε, Padé) on Gauss(4) × 8: what each buys —

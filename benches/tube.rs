@@ -316,17 +316,21 @@ struct Series {
     dashed: bool,
 }
 
-/// Log–log chart. `guides`: dashed horizontal (y) / vertical (x) lines.
-fn loglog(
-    path: &Path,
-    title: &str,
-    xlabel: &str,
-    ylabel: &str,
-    series: &[Series],
-    hlines: &[(f64, String)],
-    vlines: &[(f64, String)],
+/// The frame of a log–log chart: title, axis labels, dashed labelled guides
+/// (horizontal at y, vertical at x) and where the legend goes.
+struct LogLog<'a> {
+    title: &'a str,
+    xlabel: &'a str,
+    ylabel: &'a str,
+    hlines: Vec<(f64, String)>,
+    vlines: Vec<(f64, String)>,
     legend: SeriesLabelPosition,
-) -> Result<(), Box<dyn std::error::Error>> {
+}
+
+/// Log–log chart of `series` in the frame `frame`.
+fn loglog(path: &Path, frame: &LogLog, series: &[Series]) -> Result<(), Box<dyn std::error::Error>> {
+    let LogLog { title, xlabel, ylabel, hlines, vlines, legend } = frame;
+    let (title, xlabel, ylabel, legend) = (*title, *xlabel, *ylabel, legend.clone());
     let pts = series.iter().flat_map(|s| s.points.iter()).filter(|(x, y)| *x > 0.0 && *y > 0.0);
     let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, 0.0f64, f64::INFINITY, 0.0f64);
     for &(x, y) in pts {
@@ -557,144 +561,9 @@ fn section_work_precision(dir: &Path, report: &mut String, thin_time: f64) -> Ve
     let mut results = Vec::new();
     let mut csv = Vec::new();
     for (name, tube) in tubes {
-        let reference = tube.coupling_stiffness_at(128).unwrap().k;
-        let check = tube.coupling_stiffness_at(192).unwrap().k;
-        let ref_self = rel_err(&reference, &check);
-
-        // Accuracy first, then every grid and tolerance timed in one
-        // interleaved run, so drift on the shared machine hits them alike.
-        let ns: Vec<usize> = (4..=64).collect();
-        let tols: Vec<f64> = (4..=12).map(|e| 10f64.powi(-e)).collect();
-        let errs: Vec<f64> =
-            ns.iter().map(|&n| rel_err(&tube.coupling_stiffness_at(n).unwrap().k, &reference)).collect();
-        let ests: Vec<_> = tols.iter().map(|&tol| tube.coupling_stiffness(tol).unwrap()).collect();
-        let tube_ref = &tube;
-        let mut fs: Vec<Box<dyn FnMut(u64) + '_>> = Vec::new();
-        for &n in &ns {
-            fs.push(Box::new(move |b| {
-                for _ in 0..b {
-                    black_box(black_box(tube_ref).coupling_stiffness_at(black_box(n)).unwrap());
-                }
-            }));
-        }
-        for &tol in &tols {
-            fs.push(Box::new(move |b| {
-                for _ in 0..b {
-                    black_box(black_box(tube_ref).coupling_stiffness(black_box(tol)).unwrap());
-                }
-            }));
-        }
-        let mut refs: Vec<&mut dyn FnMut(u64)> = fs.iter_mut().map(|f| &mut **f as &mut dyn FnMut(u64)).collect();
-        let mut timings = bench(&mut refs, REPS, None).into_iter();
-        drop(refs);
-
-        let mut fixed = Vec::new();
-        for (&n, &err) in ns.iter().zip(&errs) {
-            let tm = timings.next().unwrap();
-            let (lus, evals) = grid_cost(n);
-            csv.push(format!(
-                "{name},fixed,{n},,{:e},{:e},{:e},{n},,{:e},{lus},{evals}",
-                tm.median(),
-                tm.min(),
-                tm.max(),
-                err
-            ));
-            fixed.push((n, tm, err));
-        }
-        let mut adaptive = Vec::new();
-        for (&tol, est) in tols.iter().zip(&ests) {
-            let tm = timings.next().unwrap();
-            let err = rel_err(&est.value.k, &reference);
-            let (lus, evals, _) = adaptive_cost(est.intervals);
-            csv.push(format!(
-                "{name},adaptive,,{tol:e},{:e},{:e},{:e},{},{:e},{:e},{lus},{evals}",
-                tm.median(),
-                tm.min(),
-                tm.max(),
-                est.intervals,
-                est.error_estimate,
-                err
-            ));
-            adaptive.push((tol, tm, est.intervals, est.error_estimate, err));
-        }
-
-        let _ = writeln!(report, "\n== 2. Thick K work–precision: {name}, τ0 = {TAU0}, compressible ==");
-        let _ = writeln!(
-            report,
-            "reference: 128 intervals, its own round-off |K128 − K192|/max|K| = {ref_self:.1e} (errors below it, marked *, are\n\
-             the reference's, not the grid's); error = max|K − Kref| / max|Kref|; thin K baseline {}",
-            fmt_time(thin_time)
-        );
-        let mark = |e: f64| if e < ref_self { format!("{}*", fmt_err(e)) } else { fmt_err(e) };
-        let mut tab = Table::new(&["n", "LU order", "ℂ̄ evals", "time/call", "±spread", "× thin K", "true error"]);
-        for (n, tm, err) in &fixed {
-            if *n <= 16 || n % 8 == 0 {
-                tab.row(vec![
-                    n.to_string(),
-                    (2 * (n + 1)).to_string(),
-                    (n + 1).to_string(),
-                    fmt_time(tm.median()),
-                    format!("{:.1}%", tm.spread_pct()),
-                    format!("{:.0}", tm.median() / thin_time),
-                    mark(*err),
-                ]);
-            }
-        }
-        let _ = writeln!(
-            report,
-            "fixed grid, coupling_stiffness_at(n) (n = 4..16 and every 8th; all n in the CSV):\n{}",
-            tab.render()
-        );
-        let mut tab = Table::new(&[
-            "rel_tol",
-            "intervals",
-            "LUs",
-            "ℂ̄ evals",
-            "time/call",
-            "±spread",
-            "× thin K",
-            "estimate",
-            "true error",
-            "est ≥ true",
-            "× cheapest fixed n meeting rel_tol",
-        ]);
-        for (tol, tm, n, est, err) in &adaptive {
-            let (lus, evals, _) = adaptive_cost(*n);
-            // The price of not knowing the answer: the cheapest grid whose
-            // true error meets rel_tol (undecidable below the reference's round-off).
-            let cheapest =
-                fixed.iter().filter(|(_, _, e)| e <= tol).map(|(_, t, _)| t.median()).fold(f64::INFINITY, f64::min);
-            tab.row(vec![
-                format!("{tol:.0e}"),
-                n.to_string(),
-                lus.to_string(),
-                evals.to_string(),
-                fmt_time(tm.median()),
-                format!("{:.1}%", tm.spread_pct()),
-                format!("{:.0}", tm.median() / thin_time),
-                fmt_err(*est),
-                mark(*err),
-                if *err < ref_self {
-                    "n/a*"
-                } else if est >= err {
-                    "yes"
-                } else {
-                    "NO"
-                }
-                .into(),
-                if cheapest.is_finite() && *tol >= ref_self {
-                    format!("{:.1}", tm.median() / cheapest)
-                } else {
-                    "–".into()
-                },
-            ]);
-        }
-        let _ = writeln!(
-            report,
-            "adaptive, coupling_stiffness(rel_tol) (LUs / ℂ̄ evals derived from the algorithm):\n{}",
-            tab.render()
-        );
-        results.push(WpResult { name, fixed, adaptive, ref_self });
+        let r = measure_work_precision(name, &tube, &mut csv);
+        report_work_precision(report, &r, thin_time);
+        results.push(r);
     }
     write_csv(
         dir,
@@ -702,7 +571,164 @@ fn section_work_precision(dir: &Path, report: &mut String, thin_time: f64) -> Ve
         "tube,method,n,rel_tol,median_s,min_s,max_s,intervals,estimate,true_error,lu_factorisations,cbar_evaluations",
         &csv,
     );
+    plot_work_precision(dir, &results);
+    results
+}
 
+/// One tube's work–precision: the true error of every fixed grid n = 4…64
+/// and of the adaptive K at rel_tol 1e-4…1e-12 against 128 intervals, then
+/// all of them timed in one interleaved run; their CSV lines into `csv`.
+fn measure_work_precision(name: &'static str, tube: &ThickTube, csv: &mut Vec<String>) -> WpResult {
+    let reference = tube.coupling_stiffness_at(128).unwrap().k;
+    let check = tube.coupling_stiffness_at(192).unwrap().k;
+    let ref_self = rel_err(&reference, &check);
+
+    // Accuracy first, then every grid and tolerance timed in one
+    // interleaved run, so drift on the shared machine hits them alike.
+    let ns: Vec<usize> = (4..=64).collect();
+    let tols: Vec<f64> = (4..=12).map(|e| 10f64.powi(-e)).collect();
+    let errs: Vec<f64> = ns.iter().map(|&n| rel_err(&tube.coupling_stiffness_at(n).unwrap().k, &reference)).collect();
+    let ests: Vec<_> = tols.iter().map(|&tol| tube.coupling_stiffness(tol).unwrap()).collect();
+    let tube_ref = tube;
+    let mut fs: Vec<Box<dyn FnMut(u64) + '_>> = Vec::new();
+    for &n in &ns {
+        fs.push(Box::new(move |b| {
+            for _ in 0..b {
+                black_box(black_box(tube_ref).coupling_stiffness_at(black_box(n)).unwrap());
+            }
+        }));
+    }
+    for &tol in &tols {
+        fs.push(Box::new(move |b| {
+            for _ in 0..b {
+                black_box(black_box(tube_ref).coupling_stiffness(black_box(tol)).unwrap());
+            }
+        }));
+    }
+    let mut refs: Vec<&mut dyn FnMut(u64)> = fs.iter_mut().map(|f| &mut **f as &mut dyn FnMut(u64)).collect();
+    let mut timings = bench(&mut refs, REPS, None).into_iter();
+    drop(refs);
+
+    let mut fixed = Vec::new();
+    for (&n, &err) in ns.iter().zip(&errs) {
+        let tm = timings.next().unwrap();
+        let (lus, evals) = grid_cost(n);
+        csv.push(format!(
+            "{name},fixed,{n},,{:e},{:e},{:e},{n},,{:e},{lus},{evals}",
+            tm.median(),
+            tm.min(),
+            tm.max(),
+            err
+        ));
+        fixed.push((n, tm, err));
+    }
+    let mut adaptive = Vec::new();
+    for (&tol, est) in tols.iter().zip(&ests) {
+        let tm = timings.next().unwrap();
+        let err = rel_err(&est.value.k, &reference);
+        let (lus, evals, _) = adaptive_cost(est.intervals);
+        csv.push(format!(
+            "{name},adaptive,,{tol:e},{:e},{:e},{:e},{},{:e},{:e},{lus},{evals}",
+            tm.median(),
+            tm.min(),
+            tm.max(),
+            est.intervals,
+            est.error_estimate,
+            err
+        ));
+        adaptive.push((tol, tm, est.intervals, est.error_estimate, err));
+    }
+
+    WpResult { name, fixed, adaptive, ref_self }
+}
+
+/// Section 2's two tables for one tube: the fixed grids and the adaptive
+/// tolerances, with costs, times and errors (marked * below the
+/// reference's own round-off).
+fn report_work_precision(report: &mut String, r: &WpResult, thin_time: f64) {
+    let WpResult { name, fixed, adaptive, ref_self } = r;
+    let ref_self = *ref_self;
+    let _ = writeln!(report, "\n== 2. Thick K work–precision: {name}, τ0 = {TAU0}, compressible ==");
+    let _ = writeln!(
+        report,
+        "reference: 128 intervals, its own round-off |K128 − K192|/max|K| = {ref_self:.1e} (errors below it, marked *, are\n\
+         the reference's, not the grid's); error = max|K − Kref| / max|Kref|; thin K baseline {}",
+        fmt_time(thin_time)
+    );
+    let mark = |e: f64| if e < ref_self { format!("{}*", fmt_err(e)) } else { fmt_err(e) };
+    let mut tab = Table::new(&["n", "LU order", "ℂ̄ evals", "time/call", "±spread", "× thin K", "true error"]);
+    for (n, tm, err) in fixed.iter() {
+        if *n <= 16 || n % 8 == 0 {
+            tab.row(vec![
+                n.to_string(),
+                (2 * (n + 1)).to_string(),
+                (n + 1).to_string(),
+                fmt_time(tm.median()),
+                format!("{:.1}%", tm.spread_pct()),
+                format!("{:.0}", tm.median() / thin_time),
+                mark(*err),
+            ]);
+        }
+    }
+    let _ = writeln!(
+        report,
+        "fixed grid, coupling_stiffness_at(n) (n = 4..16 and every 8th; all n in the CSV):\n{}",
+        tab.render()
+    );
+    let mut tab = Table::new(&[
+        "rel_tol",
+        "intervals",
+        "LUs",
+        "ℂ̄ evals",
+        "time/call",
+        "±spread",
+        "× thin K",
+        "estimate",
+        "true error",
+        "est ≥ true",
+        "× cheapest fixed n meeting rel_tol",
+    ]);
+    for (tol, tm, n, est, err) in adaptive.iter() {
+        let (lus, evals, _) = adaptive_cost(*n);
+        // The price of not knowing the answer: the cheapest grid whose
+        // true error meets rel_tol (undecidable below the reference's round-off).
+        let cheapest =
+            fixed.iter().filter(|(_, _, e)| e <= tol).map(|(_, t, _)| t.median()).fold(f64::INFINITY, f64::min);
+        tab.row(vec![
+            format!("{tol:.0e}"),
+            n.to_string(),
+            lus.to_string(),
+            evals.to_string(),
+            fmt_time(tm.median()),
+            format!("{:.1}%", tm.spread_pct()),
+            format!("{:.0}", tm.median() / thin_time),
+            fmt_err(*est),
+            mark(*err),
+            if *err < ref_self {
+                "n/a*"
+            } else if est >= err {
+                "yes"
+            } else {
+                "NO"
+            }
+            .into(),
+            if cheapest.is_finite() && *tol >= ref_self {
+                format!("{:.1}", tm.median() / cheapest)
+            } else {
+                "–".into()
+            },
+        ]);
+    }
+    let _ = writeln!(
+        report,
+        "adaptive, coupling_stiffness(rel_tol) (LUs / ℂ̄ evals derived from the algorithm):\n{}",
+        tab.render()
+    );
+}
+
+/// The work–precision plot of both tubes, fixed and adaptive, with the
+/// targets and the references' round-off as guides.
+fn plot_work_precision(dir: &Path, results: &[WpResult]) {
     let floor = 1e-17; // log plot: an exact match would be −∞
     let mut series = Vec::new();
     for (r, (c_fixed, c_adapt)) in results.iter().zip([(BLUE_, ORANGE_), (GREEN_, RED_)]) {
@@ -723,64 +749,49 @@ fn section_work_precision(dir: &Path, report: &mut String, thin_time: f64) -> Ve
             dashed: false,
         });
     }
-    loglog(
-        &dir.join("work_precision.svg"),
-        "Thick-tube K work–precision (vs 128-interval reference)",
-        "time per call [s] (median)",
-        "relative error  max|K − Kref| / max|Kref|",
-        &series,
-        &[
+    let frame = LogLog {
+        title: "Thick-tube K work–precision (vs 128-interval reference)",
+        xlabel: "time per call [s] (median)",
+        ylabel: "relative error  max|K − Kref| / max|Kref|",
+        hlines: vec![
             (1e-10, "target 1e-10".to_string()),
             (results[0].ref_self, format!("reference round-off, {}", results[0].name)),
             (results[1].ref_self, format!("reference round-off, {}", results[1].name)),
         ],
-        &[(200e-6, "target 200 µs".to_string())],
-        SeriesLabelPosition::UpperRight,
-    )
-    .expect("plot work_precision.svg");
-    results
+        vlines: vec![(200e-6, "target 200 µs".to_string())],
+        legend: SeriesLabelPosition::UpperRight,
+    };
+    loglog(&dir.join("work_precision.svg"), &frame, &series).expect("plot work_precision.svg");
 }
 
 // ------------------------------------------------------------ section 3 --
 
-fn section_thin_vs_thick(dir: &Path, report: &mut String) {
-    let r = 1.0;
-    let ratios = [1e-3, 2e-3, 5e-3, 1e-2, 2e-2, 5e-2, 0.1, 0.2, 0.5, 0.8];
-    let entries = [(0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2)];
-    let names = ["K_εε", "K_εψ", "K_εθ", "K_ψψ", "K_ψθ", "K_θθ"];
-    let thick_tol = 1e-10;
-    let mut tab = Table::new(&[
-        "t/R",
-        "K_εε",
-        "K_εψ",
-        "K_εθ",
-        "K_ψψ",
-        "K_ψθ",
-        "K_θθ",
-        "max normed",
-        "thin",
-        "thick 1e-10",
-        "n",
-        "× thin",
-        "thick@thin err",
-        "n",
-        "× thin",
-    ]);
-    let mut csv = Vec::new();
-    let mut err_series: Vec<Vec<(f64, f64)>> = vec![Vec::new(); 6];
-    let mut normed_series = Vec::new();
-    struct Case {
-        tr: f64,
-        thin: ThinTube,
-        tube: ThickTube,
-        per_entry: Vec<f64>,
-        normed: f64,
-        match_tol: f64,
-        n_accurate: usize,
-        n_match: usize,
-    }
-    let mut cases = Vec::new();
-    for &tr in &ratios {
+/// One wall thickness of section 3: the thin and thick tubes, the thin
+/// model's error per K entry and normed, and the thick model's grids at
+/// 1e-10 and at the thin model's accuracy.
+struct ThinThickCase {
+    tr: f64,
+    thin: ThinTube,
+    tube: ThickTube,
+    per_entry: Vec<f64>,
+    normed: f64,
+    match_tol: f64,
+    n_accurate: usize,
+    n_match: usize,
+}
+
+/// The K entries section 3 compares, (i, j) and their names.
+const K_ENTRIES: [(usize, usize); 6] = [(0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2)];
+const K_NAMES: [&str; 6] = ["K_εε", "K_εψ", "K_εθ", "K_ψψ", "K_ψθ", "K_θθ"];
+/// Section 3's accurate thick tolerance.
+const THICK_TOL: f64 = 1e-10;
+
+impl ThinThickCase {
+    /// The tube of mid radius 1 and thickness t/R = `tr`.
+    fn new(tr: f64) -> Self {
+        let r = 1.0;
+        let entries = K_ENTRIES;
+        let thick_tol = THICK_TOL;
         let t = tr * r;
         let a = r - t / 2.0;
         let thin = ThinTube::new(r, t, TAU0, helical_material().surface()).unwrap();
@@ -801,13 +812,16 @@ fn section_thin_vs_thick(dir: &Path, report: &mut String) {
         let match_tol = normed.clamp(1e-12, 0.5);
         let n_accurate = tube.coupling_stiffness(thick_tol).unwrap().intervals;
         let n_match = tube.coupling_stiffness(match_tol).unwrap().intervals;
-        cases.push(Case { tr, thin, tube, per_entry, normed, match_tol, n_accurate, n_match });
+        ThinThickCase { tr, thin, tube, per_entry, normed, match_tol, n_accurate, n_match }
     }
+}
 
-    // Time thin, thick at 1e-10 and thick at the matched tolerance for every
-    // t/R in one interleaved run.
+/// Thin K, thick at 1e-10 and thick at the matched tolerance for every case,
+/// timed in one interleaved run (three timings per case, in that order).
+fn time_thin_thick(cases: &[ThinThickCase]) -> Vec<Timing> {
+    let thick_tol = THICK_TOL;
     let mut fs: Vec<Box<dyn FnMut(u64) + '_>> = Vec::new();
-    for c in &cases {
+    for c in cases {
         let (thin, tube, match_tol) = (&c.thin, &c.tube, c.match_tol);
         fs.push(Box::new(move |b| {
             for _ in 0..b {
@@ -826,9 +840,35 @@ fn section_thin_vs_thick(dir: &Path, report: &mut String) {
         }));
     }
     let mut refs: Vec<&mut dyn FnMut(u64)> = fs.iter_mut().map(|f| &mut **f as &mut dyn FnMut(u64)).collect();
-    let timings = bench(&mut refs, REPS, None);
-    drop(refs);
+    bench(&mut refs, REPS, None)
+}
 
+fn section_thin_vs_thick(dir: &Path, report: &mut String) {
+    let ratios = [1e-3, 2e-3, 5e-3, 1e-2, 2e-2, 5e-2, 0.1, 0.2, 0.5, 0.8];
+    let mut tab = Table::new(&[
+        "t/R",
+        "K_εε",
+        "K_εψ",
+        "K_εθ",
+        "K_ψψ",
+        "K_ψθ",
+        "K_θθ",
+        "max normed",
+        "thin",
+        "thick 1e-10",
+        "n",
+        "× thin",
+        "thick@thin err",
+        "n",
+        "× thin",
+    ]);
+    let mut csv = Vec::new();
+    let mut err_series: Vec<Vec<(f64, f64)>> = vec![Vec::new(); 6];
+    let mut normed_series = Vec::new();
+    let cases: Vec<ThinThickCase> = ratios.iter().map(|&tr| ThinThickCase::new(tr)).collect();
+    // Time thin, thick at 1e-10 and thick at the matched tolerance for every
+    // t/R in one interleaved run.
+    let timings = time_thin_thick(&cases);
     for (c, tm) in cases.iter().zip(timings.chunks(3)) {
         let (t_thin, t_thick, t_match) = (tm[0].median(), tm[1].median(), tm[2].median());
         for (s, e) in err_series.iter_mut().zip(&c.per_entry) {
@@ -872,10 +912,16 @@ fn section_thin_vs_thick(dir: &Path, report: &mut String) {
     );
     let _ = writeln!(report, "{}", tab.render());
 
+    plot_thin_vs_thick(dir, err_series, normed_series);
+}
+
+/// Section 3's plot: the thin model's error per entry and normed against
+/// t/R, with the guide error = t/R.
+fn plot_thin_vs_thick(dir: &Path, err_series: Vec<Vec<(f64, f64)>>, normed_series: Vec<(f64, f64)>) {
     let colors = [BLUE_, ORANGE_, GREEN_, RED_, PURPLE_, BROWN_];
     let mut series: Vec<Series> = err_series
         .into_iter()
-        .zip(names.iter().zip(colors))
+        .zip(K_NAMES.iter().zip(colors))
         .map(|(points, (name, color))| Series {
             label: format!("|ΔK|/|K| {name}"),
             points,
@@ -888,7 +934,7 @@ fn section_thin_vs_thick(dir: &Path, report: &mut String) {
     series.push(Series {
         label: "max |ΔK_ij|/√(K_ii K_jj)".into(),
         points: normed_series,
-        color: BLACK.into(),
+        color: BLACK,
         line: true,
         marker: false,
         dashed: true,
@@ -901,17 +947,15 @@ fn section_thin_vs_thick(dir: &Path, report: &mut String) {
         marker: false,
         dashed: false,
     });
-    loglog(
-        &dir.join("thin_vs_thick.svg"),
-        "Thin closed form vs converged thick K (τ0 = 1.7, helical orthotropic wall)",
-        "wall thickness t/R",
-        "relative error of the thin-tube K entry",
-        &series,
-        &[],
-        &[],
-        SeriesLabelPosition::LowerRight,
-    )
-    .expect("plot thin_vs_thick.svg");
+    let frame = LogLog {
+        title: "Thin closed form vs converged thick K (τ0 = 1.7, helical orthotropic wall)",
+        xlabel: "wall thickness t/R",
+        ylabel: "relative error of the thin-tube K entry",
+        hlines: vec![],
+        vlines: vec![],
+        legend: SeriesLabelPosition::LowerRight,
+    };
+    loglog(&dir.join("thin_vs_thick.svg"), &frame, &series).expect("plot thin_vs_thick.svg");
 }
 
 // ------------------------------------------------------------------ main --

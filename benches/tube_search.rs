@@ -652,10 +652,8 @@ fn climb_score(o: &Outcome, outer: f64, fibre: bool) -> f64 {
             return dna_score(o, outer).max(-14.9);
         }
     }
-    if o.psi_start > 0.0 || (fibre && o.psi_start != 0.0) {
-        if o.slope_ratio.is_finite() {
-            return -20.0 + 5.0 * (1.0 - o.slope_ratio).clamp(0.0, 0.999);
-        }
+    if (o.psi_start > 0.0 || (fibre && o.psi_start != 0.0)) && o.slope_ratio.is_finite() {
+        return -20.0 + 5.0 * (1.0 - o.slope_ratio).clamp(0.0, 0.999);
     }
     -30.0
 }
@@ -671,9 +669,8 @@ fn dip_score(o: &Outcome) -> f64 {
 /// A candidate re-examined on finer grids.
 #[derive(Clone, Debug)]
 struct Check {
-    /// (label, λ of the ψ turn or None, λ of the outer-radius turn or None,
-    /// solved to, error) for each re-run.
-    runs: Vec<(String, Option<f64>, Option<f64>, f64, Option<String>)>,
+    /// Each re-run's findings.
+    runs: Vec<Rerun>,
     /// dT/dψ at fixed λ at the turn (positive: the torque-free state is
     /// torsionally stable there) and the torque at ψ itself (same branch).
     dtdpsi_turn: Option<(f64, f64)>,
@@ -681,6 +678,20 @@ struct Check {
     fine: Outcome,
     fine_curve: Curve,
     fibre: bool,
+}
+
+/// What one re-run of a candidate found.
+#[derive(Clone, Debug)]
+struct Rerun {
+    label: String,
+    /// λ of the ψ turn, if any.
+    psi_turn: Option<f64>,
+    /// λ of the outer-radius turn, if any.
+    radius_turn: Option<f64>,
+    /// The λ the sweep reached.
+    solved_to: f64,
+    /// Why it stopped early, if it did.
+    error: Option<String>,
 }
 
 fn torsional_stiffness(scene: &TubeScene, lam: f64, psi: f64, outer: f64) -> Option<(f64, f64)> {
@@ -748,13 +759,13 @@ fn confirm(p: &Params, coarse: &Outcome) -> Check {
             let c2 = trace(p, None, tol, &short);
             o = analyse(&c2, a, b);
         }
-        runs.push((
+        runs.push(Rerun {
             label,
-            o.reversal.as_ref().map(|r| r.turn.lam),
-            o.dips[1].as_ref().map(|d| d.turn.lam),
-            o.solved_to,
-            o.error.clone(),
-        ));
+            psi_turn: o.reversal.as_ref().map(|r| r.turn.lam),
+            radius_turn: o.dips[1].as_ref().map(|d| d.turn.lam),
+            solved_to: o.solved_to,
+            error: o.error.clone(),
+        });
         if k == 0 {
             fine = o;
             fine_curve = c;
@@ -785,8 +796,10 @@ fn confirmed(ch: &Check, twist: bool, coarse_jump: f64) -> bool {
     let lams: Vec<Option<f64>> = ch
         .runs
         .iter()
-        .filter(|r| !(r.3 < 1.02 && r.4.as_deref().is_some_and(|e| e.contains("MaterialInstability"))) || !ch.fibre)
-        .map(|r| if twist { r.1 } else { r.2 })
+        .filter(|r| {
+            !(r.solved_to < 1.02 && r.error.as_deref().is_some_and(|e| e.contains("MaterialInstability")) && ch.fibre)
+        })
+        .map(|r| if twist { r.psi_turn } else { r.radius_turn })
         .collect();
     let Some(Some(l0)) = lams.first().copied() else { return false };
     let agree = lams.len() >= 2 && lams.iter().all(|l| l.is_some_and(|l| (l - l0).abs() < 0.01));
@@ -856,7 +869,7 @@ fn print_case(tag: &str, p: &Params, o: &Outcome, check: Option<&Check>) {
     }
     print_dips(o, "      ");
     if let Some(ch) = check {
-        for (label, lt, lb, to, err) in &ch.runs {
+        for Rerun { label, psi_turn: lt, radius_turn: lb, solved_to: to, error: err } in &ch.runs {
             println!(
                 "      re-run {label}: ψ turn {} | outer-radius min {} | to λ {:.4}{}",
                 lt.map_or("none".into(), |l| format!("{l:.4}")),
@@ -1021,6 +1034,55 @@ fn report_class(
     seeds: &mut Vec<(String, Params)>,
 ) -> String {
     let n = found.len();
+    let stats = class_summary(class, found, secs);
+    let (complete, is_fibre) = (stats.complete, stats.is_fibre);
+    let (rev, dips) = (&stats.reversals, &stats.dips);
+    let picks = candidates(found, rev);
+    let confirmed = confirm_candidates(class, found, &picks);
+    let (best_rev, best_dip) = (confirmed.best_reversal, confirmed.best_dip);
+    let (n_conf_rev, n_conf_dip) = (confirmed.reversals, confirmed.dips);
+    // Local search towards the DNA-like target: from the best confirmed
+    // reversal, else from the sample whose twist comes closest to turning
+    // back early; for compressible SVK also from the best incompressible SVK
+    // case made compressible (Poisson ratios 0.97 of the way to the
+    // orthotropic incompressibility limit).
+    let iters = ((120.0 * scale.sqrt()).round() as usize).max(10);
+    let starts = climb_starts(class, found, best_rev, is_fibre, seeds);
+    let (best_climb, climbed) = dna_search(class, &starts, lams, iters, is_fibre);
+    let best_seed = match (best_climb, best_rev) {
+        (Some((_, p)), _) => Some(p),
+        (None, Some((i, _))) => Some(found[i].params.clone()),
+        _ => None,
+    };
+    if let Some(p) = best_seed {
+        seeds.push((class.to_string(), p));
+    }
+    if let Some(best) = best_dip {
+        dip_search(class, found, best, lams, iters);
+    }
+    write_class_csv(class, found, csv_dir);
+    format!(
+        "{class:18} n={n:5}  complete={complete:5}  reversals={:4} (confirmed {n_conf_rev} of those re-run)  outer-dips={:4} (confirmed {n_conf_dip})  inner-dips={:4}{climbed}",
+        rev.len(),
+        dips[1],
+        dips[0]
+    )
+}
+
+/// A class's coarse statistics (printed by [`class_summary`]).
+struct ClassStats<'a> {
+    complete: usize,
+    is_fibre: bool,
+    /// The ψ reversals in the sense that counts (any sense for fibres).
+    reversals: Vec<&'a Found>,
+    /// Deflate→inflate counts of the inner, outer and mid radius.
+    dips: Vec<usize>,
+}
+
+/// Prints a class's coarse statistics: samples, complete sweeps, early
+/// stops by cause, reversals and dips.
+fn class_summary<'a>(class: &str, found: &'a [Found], secs: f64) -> ClassStats<'a> {
+    let n = found.len();
     let complete = found.iter().filter(|f| f.outcome.error.is_none()).count();
     let empty = found.iter().filter(|f| f.outcome.psi_turns.is_empty() && f.outcome.solved_to.is_nan()).count();
     let mut errs: std::collections::BTreeMap<String, usize> = Default::default();
@@ -1045,8 +1107,13 @@ fn report_class(
     }
     println!("    deflate→inflate: inner radius {}, outer radius {}, mid radius {}", dips[0], dips[1], dips[2]);
 
-    // Candidates for confirmation: the best DNA-like, the earliest turns,
-    // the largest overwinding, and the largest dips.
+    ClassStats { complete, is_fibre, reversals: rev, dips }
+}
+
+/// Candidates for confirmation: the best DNA-like, the earliest turns, the
+/// largest overwinding, and the largest dips (index into `found`, why).
+fn candidates(found: &[Found], rev: &[&Found]) -> Vec<(usize, &'static str)> {
+    let rev = rev.to_vec();
     let mut picks: Vec<(usize, &'static str)> = vec![];
     let mut add = |list: &mut Vec<&Found>, key: &dyn Fn(&Found) -> f64, m: usize, why: &'static str| {
         let k = |f: &Found| {
@@ -1070,6 +1137,21 @@ fn report_class(
     add(&mut rev.clone(), &|f| f.outcome.reversal.as_ref().unwrap().peak * outer_of(f), 2, "largest overwinding");
     let mut dl: Vec<&Found> = found.iter().filter(|f| f.outcome.dips[1].is_some()).collect();
     add(&mut dl, &|f| dip_score(&f.outcome), 4, "outer-radius dip");
+    picks
+}
+
+/// What the confirmation runs found: the best confirmed reversal and dip
+/// (index, score) and how many of each were confirmed.
+struct Confirmed {
+    best_reversal: Option<(usize, f64)>,
+    best_dip: Option<(usize, f64)>,
+    reversals: usize,
+    dips: usize,
+}
+
+/// Re-runs the candidates on finer grids (in parallel) and prints each.
+fn confirm_candidates(class: &str, found: &[Found], picks: &[(usize, &'static str)]) -> Confirmed {
+    let outer_of = |f: &Found| f.params.radii().1;
     let checks: Vec<(usize, &'static str, Check)> = parallel(picks.len(), |k| {
         let f = &found[picks[k].0];
         (picks[k].0, picks[k].1, confirm(&f.params, &f.outcome))
@@ -1100,13 +1182,18 @@ fn report_class(
             }
         }
     }
-    // Local search towards the DNA-like target: from the best confirmed
-    // reversal, else from the sample whose twist comes closest to turning
-    // back early; for compressible SVK also from the best incompressible SVK
-    // case made compressible (Poisson ratios 0.97 of the way to the
-    // orthotropic incompressibility limit).
-    let iters = ((120.0 * scale.sqrt()).round() as usize).max(10);
-    let mut climbed = String::new();
+    Confirmed { best_reversal: best_rev, best_dip, reversals: n_conf_rev, dips: n_conf_dip }
+}
+
+/// Where the DNA-like local search starts (see [`report_class`]).
+fn climb_starts(
+    class: &str,
+    found: &[Found],
+    best_rev: Option<(usize, f64)>,
+    is_fibre: bool,
+    seeds: &[(String, Params)],
+) -> Vec<(String, Params)> {
+    let outer_of = |f: &Found| f.params.radii().1;
     let mut starts: Vec<(String, Params)> = vec![];
     match best_rev {
         Some((i, _)) => starts.push((format!("confirmed #{i}"), found[i].params.clone())),
@@ -1144,6 +1231,20 @@ fn report_class(
             }
         }
     }
+    starts
+}
+
+/// The DNA-like local search from each start, each result confirmed and
+/// printed; the best confirmed (score, params) and its summary for the
+/// class line.
+fn dna_search(
+    class: &str,
+    starts: &[(String, Params)],
+    lams: &[f64],
+    iters: usize,
+    is_fibre: bool,
+) -> (Option<(f64, Params)>, String) {
+    let mut climbed = String::new();
     let mut best_climb: Option<(f64, Params)> = None;
     for (k, (from, start)) in starts.iter().enumerate() {
         let s0 = climb_score(&coarse(start, lams), start.radii().1, is_fibre);
@@ -1166,26 +1267,25 @@ fn report_class(
             }
         }
     }
-    let best_seed = match (best_climb, best_rev) {
-        (Some((_, p)), _) => Some(p),
-        (None, Some((i, _))) => Some(found[i].params.clone()),
-        _ => None,
-    };
-    if let Some(p) = best_seed {
-        seeds.push((class.to_string(), p));
-    }
-    if let Some((i, s0)) = best_dip {
-        let f = &found[i];
-        let (p, o, s) = climb(&f.params, &|o, _| dip_score(o), lams, iters, seed(class, i) ^ 2);
-        let ch = confirm(&p, &o);
-        println!(
-            "  -- deflate→inflate local search from #{i} ({iters} steps): score {s0:.3} → {s:.3}; confirmed {}",
-            confirmed(&ch, false, o.max_jump)
-        );
-        print_case(&format!("{class} climbed from #{i}"), &p, &o, Some(&ch));
-        print_curve(&ch.fine_curve, 8);
-    }
-    // CSV of every coarse sample.
+    (best_climb, climbed)
+}
+
+/// The deflate→inflate local search from the best confirmed dip (its index
+/// in `found` and its score), confirmed and printed.
+fn dip_search(class: &str, found: &[Found], (i, s0): (usize, f64), lams: &[f64], iters: usize) {
+    let f = &found[i];
+    let (p, o, s) = climb(&f.params, &|o, _| dip_score(o), lams, iters, seed(class, i) ^ 2);
+    let ch = confirm(&p, &o);
+    println!(
+        "  -- deflate→inflate local search from #{i} ({iters} steps): score {s0:.3} → {s:.3}; confirmed {}",
+        confirmed(&ch, false, o.max_jump)
+    );
+    print_case(&format!("{class} climbed from #{i}"), &p, &o, Some(&ch));
+    print_curve(&ch.fine_curve, 8);
+}
+
+/// The CSV of every coarse sample of a class, `{csv_dir}/{class}.csv`.
+fn write_class_csv(class: &str, found: &[Found], csv_dir: &str) {
     let mut s = String::from("class,index,solved_to,error,psi_start,reversal_sense,turn_lam,peak_psi,peak_psiB,lam_zero,end_psi,rapidity,a_dip_lam,a_depth,a_rise,b_dip_lam,b_depth,b_rise,m_dip_lam,m_depth,m_rise,hoop_min,radial_min,params\n");
     for f in found {
         let o = &f.outcome;
@@ -1220,12 +1320,6 @@ fn report_class(
         );
     }
     let _ = std::fs::write(format!("{csv_dir}/{class}.csv"), s);
-    format!(
-        "{class:18} n={n:5}  complete={complete:5}  reversals={:4} (confirmed {n_conf_rev} of those re-run)  outer-dips={:4} (confirmed {n_conf_dip})  inner-dips={:4}{climbed}",
-        rev.len(),
-        dips[1],
-        dips[0]
-    )
 }
 
 // ---------------------------------------------------------------- probes --
@@ -1250,7 +1344,35 @@ fn fd_hessian(m: &dyn WallMaterial, radius: f64, x0: [f64; 4], h: f64) -> nalgeb
 /// Solver behaviour worth reporting.
 fn probes(seeds: &[(String, Params)]) {
     println!("\n=================== PROBES");
-    // 1. Spurious ErrMaterialInstability in fibre walls at tiny strain.
+    probe_fibre_activation();
+    probe_membrane_minimiser(seeds);
+    // 3. No stability check for incompressible laws or the membrane.
+    println!("  [3] note: FiniteTube::check_stability returns Ok for incompressible laws, and MembraneTube has no stability check;");
+    println!(
+        "      the membrane solves every point from rest, so a sweep can jump between branches (see 'max jump' above)."
+    );
+}
+
+/// The angle β(R) of a fibre family from the axis: the helix atan(τ0 R)
+/// with its hand, or fixed.
+fn fibre_angle(law: &FibreReinforced, f: &FibreFamily, r: f64) -> f64 {
+    match f.angle {
+        FibreAngle::Helix { hand } => hand * (law.intrinsic_twist * r).atan(),
+        FibreAngle::Fixed(b) => b,
+    }
+}
+
+/// I4 of a fibre family at radius r in the local modes x = (a, b, λ, γ):
+/// the squared stretch along the fibre, (sin β b + cos β γ)² + (cos β λ)².
+fn fibre_i4(law: &FibreReinforced, f: &FibreFamily, r: f64, x: [f64; 4]) -> f64 {
+    let (sn, cs) = fibre_angle(law, f, r).sin_cos();
+    (sn * x[1] + cs * x[3]).powi(2) + (cs * x[2]).powi(2)
+}
+
+/// Probe [1]: spurious ErrMaterialInstability in fibre walls at tiny
+/// strain — the traces on four grids, the difference Hessian at the state
+/// the n = 48 message names, and a scan through the fibres' activation.
+fn probe_fibre_activation() {
     let p = sample("hgo_helix", 16);
     println!("  [1] {}", p.describe());
     for iv in [16usize, 24, 32, 48] {
@@ -1273,12 +1395,7 @@ fn probes(seeds: &[(String, Params)]) {
             println!("      FD Hessian (h = {h:e}) at R = {r:.4}, (a, b, λ, γ) = {x0:?}: eigenvalues {:.3e} {:.3e} {:.3e} {:.3e}", e[0], e[1], e[2], e[3]);
         }
         for (k, f) in law.families.iter().enumerate() {
-            let beta = match f.angle {
-                FibreAngle::Helix { hand } => hand * (law.intrinsic_twist * r).atan(),
-                FibreAngle::Fixed(b) => b,
-            };
-            let (sn, cs) = beta.sin_cos();
-            let i4 = (sn * x0[1] + cs * x0[3]).powi(2) + (cs * x0[2]).powi(2);
+            let (beta, i4) = (fibre_angle(&law, f, r), fibre_i4(&law, f, r, x0));
             println!(
                 "      family #{k}: β(R) = {:.3} deg, I4 − 1 = {:.3e} at that state (k1 = {}, k2 = {})",
                 beta.to_degrees(),
@@ -1294,18 +1411,8 @@ fn probes(seeds: &[(String, Params)]) {
             let x = [x0[0], x0[1], x0[2], g];
             let ev = fd_hessian(&law, r, x, 1e-4).symmetric_eigenvalues();
             let min = ev.iter().copied().fold(f64::INFINITY, f64::min);
-            let i4s: Vec<String> = law
-                .families
-                .iter()
-                .map(|f| {
-                    let beta = match f.angle {
-                        FibreAngle::Helix { hand } => hand * (law.intrinsic_twist * r).atan(),
-                        FibreAngle::Fixed(b) => b,
-                    };
-                    let (sn, cs) = beta.sin_cos();
-                    format!("{:+.2e}", (sn * x[1] + cs * x[3]).powi(2) + (cs * x[2]).powi(2) - 1.0)
-                })
-                .collect();
+            let i4s: Vec<String> =
+                law.families.iter().map(|f| format!("{:+.2e}", fibre_i4(&law, f, r, x) - 1.0)).collect();
             let nh = fd_hessian(&law.matrix, r, x, 1e-4)
                 .symmetric_eigenvalues()
                 .iter()
@@ -1317,7 +1424,12 @@ fn probes(seeds: &[(String, Params)]) {
             );
         }
     }
-    // 2. Independent check of an incompressible SVK membrane reversal: minimise
+}
+
+/// Probe [2]: an independent check of an incompressible SVK membrane
+/// reversal by minimising the energy alone.
+fn probe_membrane_minimiser(seeds: &[(String, Params)]) {
+    // Independent check of an incompressible SVK membrane reversal: minimise
     // W(a = 1/(bλ), b, λ, γ = bRψ) over (b, ψ) at each λ (Newton on
     // central differences of the energy alone; no solver code).
     let mem = seeds
@@ -1382,9 +1494,4 @@ fn probes(seeds: &[(String, Params)]) {
             lams.len()
         );
     }
-    // 3. No stability check for incompressible laws or the membrane.
-    println!("  [3] note: FiniteTube::check_stability returns Ok for incompressible laws, and MembraneTube has no stability check;");
-    println!(
-        "      the membrane solves every point from rest, so a sweep can jump between branches (see 'max jump' above)."
-    );
 }

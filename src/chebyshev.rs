@@ -56,7 +56,7 @@ impl ChebyshevGrid {
         let theta = |j: usize| PI * j as f64 / n as f64;
         let inner = |j: usize| {
             let mut v = 1.0;
-            if n % 2 == 0 {
+            if n.is_multiple_of(2) {
                 for k in 1..n / 2 {
                     v -= 2.0 * (2.0 * k as f64 * theta(j)).cos() / (4 * k * k - 1) as f64;
                 }
@@ -68,7 +68,7 @@ impl ChebyshevGrid {
             }
             v
         };
-        let ends = if n % 2 == 0 { 1.0 / (n * n - 1) as f64 } else { 1.0 / (n * n) as f64 };
+        let ends = if n.is_multiple_of(2) { 1.0 / (n * n - 1) as f64 } else { 1.0 / (n * n) as f64 };
         w[0] = ends;
         w[n] = ends;
         for (j, wj) in w.iter_mut().enumerate().take(n).skip(1) {

@@ -540,7 +540,7 @@ mod tests {
 
     #[test]
     fn values_derivatives_and_degree_match_direct_evaluation() {
-        let tape = Tape::record(3, |v| kernel(v));
+        let tape = Tape::record(3, kernel);
         assert_eq!(tape.degree(), 3);
         assert_eq!(tape.dependencies(2), &[0]);
         let x = [0.7, -1.3, 2.1];
@@ -567,7 +567,7 @@ mod tests {
     /// and the full series summed at a = 0.3 reproduces f(X(0.3))).
     #[test]
     fn taylor_series_reproduces_the_composition() {
-        let tape = Tape::record(3, |v| kernel(v));
+        let tape = Tape::record(3, kernel);
         let x0 = [0.7, -1.3, 2.1];
         let xs = [[0.2, 0.1, -0.4], [0.05, -0.3, 0.1]];
         let max = 6;
@@ -606,7 +606,7 @@ mod tests {
     fn a_panicking_kernel_does_not_poison_recording() {
         let caught = std::panic::catch_unwind(|| Tape::record(3, |_| panic!("kernel bug")));
         assert!(caught.is_err());
-        let tape = Tape::record(3, |v| kernel(v));
+        let tape = Tape::record(3, kernel);
         let mut work = Vec::new();
         let mut out = [0.0; 3];
         tape.eval(&[1.0, 2.0, 3.0], &mut work, &mut out);

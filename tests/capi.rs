@@ -103,7 +103,9 @@ fn bad_inputs_get_statuses_naming_the_argument() {
     assert_eq!(unsafe { rodkit_thin_tube_spec_default(&mut unset) }, 0);
     assert!(unset.e1.is_nan() && unset.thickness.is_nan());
 
-    let cases: Vec<(Box<dyn Fn(&mut ThinTubeSpec)>, Status, &str)> = vec![
+    // (how the spec is spoiled, the status, a part of the message)
+    type Case = (Box<dyn Fn(&mut ThinTubeSpec)>, Status, &'static str);
+    let cases: Vec<Case> = vec![
         (Box::new(|s| s.e1 = f64::NAN), Status::ErrNotFinite, "`spec.e1` must be finite (got NaN)"),
         (Box::new(|s| s.thickness = -0.1), Status::ErrNotPositive, "`spec.thickness` must be positive (got -1e-1)"),
         (Box::new(|s| s.e2 = 0.0), Status::ErrNotPositive, "`spec.e2` must be positive (got 0e0)"),

@@ -411,8 +411,8 @@ fn strand_crossing_stops_the_branch_and_a_hard_core_prevents_it() {
 
 /// The buckling torques of the straight clamped rod under tension T and
 /// end moment M: the roots of the linearised problem K w'''' − iM w''' −
-/// T w'' = 0 (w = x + iy), w = w' = 0 at both ends — w = A + Bs + C e^{ik₊s}
-/// + D e^{ik₋s}, k± = (M ± √(M² − 4KT))/2K, and the 4×4 determinant of the
+/// T w'' = 0 (w = x + iy), w = w' = 0 at both ends — w = A + Bs + C e^{ik₊s} +
+/// D e^{ik₋s}, k± = (M ± √(M² − 4KT))/2K, and the 4×4 determinant of the
 /// end conditions, times e^{−i(k₊+k₋)L/2}, is imaginary: its sign changes,
 /// bisected, are the double buckling points (Greenhill's problem with
 /// clamped ends; independent of the rod solver).

@@ -16,7 +16,7 @@ fn circle() -> AssembledSystem {
         let (x1, x2, x3, l) = (v[0], v[1], v[2], v[3]);
         vec![x1 * x1 + l * l - 1.0, x2 - x1 * l, x3 - x1 * x2 * l]
     }
-    let tape = Arc::new(Tape::record(4, |v| kernel(v)));
+    let tape = Arc::new(Tape::record(4, kernel));
     let block = Block {
         tape,
         inputs: vec![Slot::Unknown(0), Slot::Unknown(1), Slot::Unknown(2), Slot::Lambda],
@@ -121,7 +121,7 @@ fn bifurcation_flips_the_bordered_determinant() {
         let (x, l) = (v[0], v[1]);
         vec![x * l - x * x * x]
     }
-    let tape = Arc::new(Tape::record(2, |v| kernel(v)));
+    let tape = Arc::new(Tape::record(2, kernel));
     let mut sys =
         AssembledSystem::new(1, vec![Block { tape, inputs: vec![Slot::Unknown(0), Slot::Lambda], rows: vec![0] }]);
     let opts = Options {
@@ -182,7 +182,7 @@ fn switch_at_a_located_pitchfork_follows_the_new_branch() {
         let y = x - l;
         vec![y * (l - 1.0) - y * y * y]
     }
-    let tape = Arc::new(Tape::record(2, |v| kernel(v)));
+    let tape = Arc::new(Tape::record(2, kernel));
     let mut sys =
         AssembledSystem::new(1, vec![Block { tape, inputs: vec![Slot::Unknown(0), Slot::Lambda], rows: vec![0] }]);
     let opts = Options {

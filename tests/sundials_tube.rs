@@ -10,7 +10,7 @@
 //!   r, s = σ_rr and the running resultants F(R) = 2π∫σ_zz r a dR,
 //!   T(R) = 2π∫σ_θz r² a dR, and the algebraic state a defined by
 //!   σ_rr(a, r/R, λ, rψ) − s = 0:
-//!     r' = a,  s' = (σ_θθ − s)·a/r,  F' = 2πσ_zz r a,  T' = 2πσ_θz r² a.
+//!   r' = a,  s' = (σ_θθ − s)·a/r,  F' = 2πσ_zz r a,  T' = 2πσ_θz r² a.
 //!   The consistent a at R = A comes from a scalar Newton on σ_rr(a) = −p.
 //! - Incompressible laws: r² = a_in² + (R² − A²)/λ is explicit, r' = R/(λr);
 //!   an ODE for s = σ_rr and the resultants, with σ̂ the multiplier-free

@@ -3,13 +3,16 @@
 use plotters::prelude::*;
 use std::path::Path;
 
+/// One line of a plot: its name, its points (x, y) and its colour.
+pub type Series<S> = (S, Vec<(f64, f64)>, RGBColor);
+
 /// Linear-axes line plot of named series.
 pub fn line_plot<S: AsRef<str>>(
     path: &Path,
     title: &str,
     xlabel: &str,
     ylabel: &str,
-    series: &[(S, Vec<(f64, f64)>, RGBColor)],
+    series: &[Series<S>],
 ) -> Result<(), Box<dyn std::error::Error>> {
     let all = series.iter().flat_map(|s| s.1.iter());
     let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);

@@ -8,6 +8,12 @@
 //! with the panic message) and routes errors to the one error channel, the
 //! thread-local last-error message of [`error`]. A unit test checks that no
 //! exported function bypasses the guard.
+//!
+//! # Safety
+//!
+//! Every `extern "C"` function has the same safety contract, stated once
+//! here and in c-api.md: pointers valid for the call, arrays of the stated
+//! lengths.
 #![allow(unsafe_code)]
 
 pub(crate) mod args;

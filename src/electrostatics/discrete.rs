@@ -15,14 +15,14 @@ pub fn base_pair_count(length: f64, spacing: f64) -> usize {
     ((length / spacing).round() as usize).max(1)
 }
 
+/// Point charges along a centreline: positions r_i, charges q_i and arc
+/// lengths s_i.
+pub type PointCharges = (Vec<[f64; 3]>, Vec<f64>, Vec<f64>);
+
 /// Charges at the midpoints s_i = (i + ½)·b of a spacing b (the number of
 /// base pairs N = round(L/b), b adjusted to L/N), q_i = λ(s_i)·b: the
 /// midpoint Riemann sum of the continuum integral.
-pub fn base_pairs(
-    curve: &dyn Centerline,
-    charge: &LineCharge,
-    spacing: f64,
-) -> Result<(Vec<[f64; 3]>, Vec<f64>, Vec<f64>)> {
+pub fn base_pairs(curve: &dyn Centerline, charge: &LineCharge, spacing: f64) -> Result<PointCharges> {
     error::positive("spacing", spacing)?;
     let l = curve.length();
     let n = base_pair_count(l, spacing);
@@ -34,22 +34,44 @@ pub fn base_pairs(
     Ok((r, q, s))
 }
 
+/// The pair sums' data: charges q_i at r_i, arc lengths s_i (periodic with
+/// `period` on a closed curve).
+struct Pairs<'a> {
+    r: &'a [[f64; 3]],
+    q: &'a [f64],
+    s: &'a [f64],
+    screening: &'a Screening,
+    period: Option<f64>,
+}
+
+impl Pairs<'_> {
+    /// q_j Φ(|r_i − r_j|), or None for a pair within the excluded arc
+    /// length |s_i − s_j| ≤ a (the same exclusion as the continuum's).
+    #[inline]
+    fn term(&self, i: usize, j: usize) -> Option<f64> {
+        let mut ds = (self.s[j] - self.s[i]).abs();
+        if let Some(p) = self.period {
+            ds = ds.min(p - ds);
+        }
+        if ds <= self.screening.a {
+            return None;
+        }
+        let d = distance(&self.r[i], &self.r[j]);
+        Some(self.q[j] * (-self.screening.kappa * d).exp() / d)
+    }
+}
+
 /// ½ Σ_{i≠j, |s_i − s_j| > a} q_i q_j Φ(|r_i − r_j|) (arc-length distance
 /// periodic on a closed curve of length `period`).
 pub fn energy(r: &[[f64; 3]], q: &[f64], s: &[f64], screening: &Screening, period: Option<f64>) -> f64 {
+    let pairs = Pairs { r, q, s, screening, period };
     let mut e = 0.0;
     for i in 0..r.len() {
         let mut row = 0.0;
         for j in i + 1..r.len() {
-            let mut ds = (s[j] - s[i]).abs();
-            if let Some(p) = period {
-                ds = ds.min(p - ds);
+            if let Some(t) = pairs.term(i, j) {
+                row += t;
             }
-            if ds <= screening.a {
-                continue;
-            }
-            let d = distance(&r[i], &r[j]);
-            row += q[j] * (-screening.kappa * d).exp() / d;
         }
         e += q[i] * row;
     }
@@ -103,26 +125,21 @@ pub fn energy_cutoff(
 ) -> (f64, usize) {
     let cells = CellList::new(r, rc);
     let n = r.len();
+    let pairs = Pairs { r, q, s, screening, period };
     let rows = |range: std::ops::Range<usize>| -> Vec<(f64, usize)> {
         let mut nb = Vec::new();
         range
             .map(|i| {
                 cells.neighbours_after(r, i, rc, &mut nb);
                 let mut row = 0.0;
-                let mut pairs = 0;
+                let mut count = 0;
                 for &j in &nb {
-                    let mut ds = (s[j] - s[i]).abs();
-                    if let Some(p) = period {
-                        ds = ds.min(p - ds);
+                    if let Some(t) = pairs.term(i, j) {
+                        row += t;
+                        count += 1;
                     }
-                    if ds <= screening.a {
-                        continue;
-                    }
-                    let d = distance(&r[i], &r[j]);
-                    row += q[j] * (-screening.kappa * d).exp() / d;
-                    pairs += 1;
                 }
-                (q[i] * row, pairs)
+                (q[i] * row, count)
             })
             .collect()
     };

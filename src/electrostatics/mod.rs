@@ -25,6 +25,7 @@
 //! * far zone |h| ≥ δ: Gauss–Legendre of the chosen order on panels that
 //!   break at the curve's nodes and at |h| = δ, 2δ, 4δ, … (the integrand
 //!   varies like 1/h there), and δ + 2^k/κ under strong screening.
+//!
 //! The outer integral over s uses the same rule on panels broken at the
 //! nodes and where the near zone changes shape (s = a, δ from each end),
 //! graded at a + 2^k/κ (a boundary layer of width 1/κ at high salt).
@@ -49,6 +50,7 @@ pub mod discrete;
 pub mod special;
 
 use crate::error::{self, Error, Result};
+use crate::geometry::vec3::{dot, sub};
 pub use crate::geometry::{Centerline, HermiteCurve};
 use crate::quadrature::{gauss_legendre, panels};
 use crate::status::Status;
@@ -225,7 +227,7 @@ fn energy_core(
             let w = half * wi;
             let (r, _, r2) = curve.eval(s);
             let lam = charge.at(s);
-            let c2 = r2[0] * r2[0] + r2[1] * r2[1] + r2[2] * r2[2];
+            let c2 = dot(r2, r2);
             // Near zone: the two sides (one-sided within δ of an end); its
             // dependence on the curvature: ∂near/∂c².
             let (left, right) = if closed { (delta, delta) } else { (s.min(delta), (l - s).min(delta)) };
@@ -237,9 +239,8 @@ fn energy_core(
             let mut grad_s = [0.0; 3];
             evaluations += inner_points.len();
             for &(t, wt) in &inner_points {
-                let (rt, _, _) = curve.eval(t);
-                let dv = [r[0] - rt[0], r[1] - rt[1], r[2] - rt[2]];
-                let d = (dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]).sqrt();
+                let dv = sub(r, curve.eval(t).0);
+                let d = dot(dv, dv).sqrt();
                 if d > 0.0 {
                     let (f, g) = phi(d);
                     let lt = charge.at(t).0;
@@ -482,9 +483,8 @@ pub fn force_density(
     let mut pts = Vec::new();
     FarZone::new(curve, delta, kappa, quad.cutoff, &gx, &gw).points_for(s, &r, &mut pts, &mut Vec::new());
     for (t, w) in pts {
-        let (rt, _, _) = curve.eval(t);
-        let dv = [r[0] - rt[0], r[1] - rt[1], r[2] - rt[2]];
-        let d = (dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]).sqrt();
+        let dv = sub(r, curve.eval(t).0);
+        let d = dot(dv, dv).sqrt();
         if d > 0.0 {
             let g = (-kappa * d).exp() * (1.0 + kappa * d) / (d * d * d);
             let c = w * charge.at(t).0 * g;
@@ -498,6 +498,10 @@ pub fn force_density(
     Ok(f)
 }
 
+/// An energy with its gradient with respect to the node positions and to
+/// the node tangents of a [`HermiteCurve`].
+pub type EnergyGradient = (Energy, Vec<[f64; 3]>, Vec<[f64; 3]>);
+
 /// The energy of a [`HermiteCurve`] and its gradient with respect to the
 /// node positions and node tangents (the exact derivative of the
 /// quadrature formula: minus it is the discrete electrostatic force).
@@ -506,7 +510,7 @@ pub fn energy_gradient(
     charge: &LineCharge,
     screening: &Screening,
     quad: &EnergyQuadrature,
-) -> Result<(Energy, Vec<[f64; 3]>, Vec<[f64; 3]>)> {
+) -> Result<EnergyGradient> {
     let m = curve.s.len();
     let mut gr = vec![[0.0; 3]; m];
     let mut gt = vec![[0.0; 3]; m];

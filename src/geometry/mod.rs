@@ -85,18 +85,24 @@ impl HermiteCurve {
     /// Hermite basis (h00, h10, h01, h11) at s.
     pub(crate) fn basis(&self, s: f64) -> (usize, f64, [f64; 4], [f64; 4]) {
         let (k, h, u) = self.locate(s);
-        (
-            k,
-            h,
-            [
-                2.0 * u * u * u - 3.0 * u * u + 1.0,
-                u * u * u - 2.0 * u * u + u,
-                -2.0 * u * u * u + 3.0 * u * u,
-                u * u * u - u * u,
-            ],
-            [12.0 * u - 6.0, 6.0 * u - 4.0, -12.0 * u + 6.0, 6.0 * u - 2.0],
-        )
+        (k, h, hermite_values(u), hermite_second_derivatives(u))
     }
+}
+
+/// The cubic Hermite basis (h00, h10, h01, h11) at u ∈ [0, 1]: weights of
+/// p0, h·m0, p1, h·m1.
+fn hermite_values(u: f64) -> [f64; 4] {
+    [
+        2.0 * u * u * u - 3.0 * u * u + 1.0,
+        u * u * u - 2.0 * u * u + u,
+        -2.0 * u * u * u + 3.0 * u * u,
+        u * u * u - u * u,
+    ]
+}
+
+/// The basis' second derivatives in u.
+fn hermite_second_derivatives(u: f64) -> [f64; 4] {
+    [12.0 * u - 6.0, 6.0 * u - 4.0, -12.0 * u + 6.0, 6.0 * u - 2.0]
 }
 
 impl Centerline for HermiteCurve {
@@ -108,15 +114,10 @@ impl Centerline for HermiteCurve {
     }
     fn eval(&self, s: f64) -> ([f64; 3], [f64; 3], [f64; 3]) {
         let (k, h, u) = self.locate(s);
-        let (h00, h10, h01, h11) = (
-            2.0 * u * u * u - 3.0 * u * u + 1.0,
-            u * u * u - 2.0 * u * u + u,
-            -2.0 * u * u * u + 3.0 * u * u,
-            u * u * u - u * u,
-        );
+        let [h00, h10, h01, h11] = hermite_values(u);
         let (d00, d10, d01, d11) =
             (6.0 * u * u - 6.0 * u, 3.0 * u * u - 4.0 * u + 1.0, -6.0 * u * u + 6.0 * u, 3.0 * u * u - 2.0 * u);
-        let (e00, e10, e01, e11) = (12.0 * u - 6.0, 6.0 * u - 4.0, -12.0 * u + 6.0, 6.0 * u - 2.0);
+        let [e00, e10, e01, e11] = hermite_second_derivatives(u);
         let mut out = ([0.0; 3], [0.0; 3], [0.0; 3]);
         for i in 0..3 {
             let (p0, p1, m0, m1) = (self.r[k][i], self.r[k + 1][i], h * self.t[k][i], h * self.t[k + 1][i]);

@@ -25,25 +25,30 @@ impl CellList {
         ((p[0] / size).floor() as i64, (p[1] / size).floor() as i64, (p[2] / size).floor() as i64)
     }
 
-    /// Indices of the points within `radius` (≤ the cell size) of `p`,
-    /// ascending.
-    pub fn neighbours_within(&self, r: &[[f64; 3]], p: &[f64; 3], radius: f64, out: &mut Vec<usize>) {
-        out.clear();
+    /// Every point in the 27 cells around `p` (its own and the neighbours,
+    /// cell by cell, each cell's points in index order).
+    fn visit_near(&self, p: &[f64; 3], mut visit: impl FnMut(usize)) {
         let (cx, cy, cz) = Self::key(p, self.size);
         for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
                     if let Some(list) = self.cells.get(&(cx + dx, cy + dy, cz + dz)) {
-                        for &j in list {
-                            let d2 = distance2(p, &r[j]);
-                            if d2 < radius * radius {
-                                out.push(j);
-                            }
-                        }
+                        list.iter().for_each(|&j| visit(j));
                     }
                 }
             }
         }
+    }
+
+    /// Indices of the points within `radius` (≤ the cell size) of `p`,
+    /// ascending.
+    pub fn neighbours_within(&self, r: &[[f64; 3]], p: &[f64; 3], radius: f64, out: &mut Vec<usize>) {
+        out.clear();
+        self.visit_near(p, |j| {
+            if distance2(p, &r[j]) < radius * radius {
+                out.push(j);
+            }
+        });
         out.sort_unstable();
     }
 
@@ -51,23 +56,11 @@ impl CellList {
     /// i, ascending.
     pub fn neighbours_after(&self, r: &[[f64; 3]], i: usize, radius: f64, out: &mut Vec<usize>) {
         out.clear();
-        let (cx, cy, cz) = Self::key(&r[i], self.size);
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                for dz in -1..=1 {
-                    if let Some(list) = self.cells.get(&(cx + dx, cy + dy, cz + dz)) {
-                        for &j in list {
-                            if j > i {
-                                let d2 = distance2(&r[i], &r[j]);
-                                if d2 < radius * radius {
-                                    out.push(j);
-                                }
-                            }
-                        }
-                    }
-                }
+        self.visit_near(&r[i], |j| {
+            if j > i && distance2(&r[i], &r[j]) < radius * radius {
+                out.push(j);
             }
-        }
+        });
         out.sort_unstable();
     }
 }

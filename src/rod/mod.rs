@@ -47,16 +47,7 @@ impl RodLaw {
         for (name, v) in [("bending", bending), ("twist", twist), ("shear", shear), ("stretch", stretch)] {
             error::positive(name, v)?;
         }
-        let moduli = Moduli {
-            bending1: bending,
-            bending2: bending,
-            twist,
-            shear1: shear,
-            shear2: shear,
-            stretch,
-            twist_stretch,
-            bend_shear,
-        };
+        let moduli = Moduli::symmetric(bending, twist, shear, stretch, twist_stretch, bend_shear);
         Self::from_moduli(&moduli, Vector3::zeros(), Vector3::new(0.0, 0.0, 1.0))
     }
 
@@ -79,14 +70,7 @@ impl RodLaw {
         }
         error::finite("twist_stretch", m.twist_stretch)?;
         error::finite("bend_shear", m.bend_shear)?;
-        let mut k = Matrix6::from_diagonal(&nalgebra::Vector6::new(
-            m.bending1, m.bending2, m.twist, m.shear1, m.shear2, m.stretch,
-        ));
-        for (i, j, v) in [(2, 5, m.twist_stretch), (0, 3, m.bend_shear), (1, 4, m.bend_shear)] {
-            k[(i, j)] = v;
-            k[(j, i)] = v;
-        }
-        Self::general(k, intrinsic_u, intrinsic_v)
+        Self::general(m.stiffness(), intrinsic_u, intrinsic_v)
     }
 
     /// Inextensible, unshearable rod with bending stiffnesses K1, K2 and
@@ -159,6 +143,39 @@ pub struct Moduli {
     pub stretch: f64,
     pub twist_stretch: f64,
     pub bend_shear: f64,
+}
+
+impl Moduli {
+    /// A section symmetric about its axis: equal bending stiffnesses and
+    /// equal shear stiffnesses about d1 and d2 (the hemitropic law of §2.2).
+    pub fn symmetric(bending: f64, twist: f64, shear: f64, stretch: f64, twist_stretch: f64, bend_shear: f64) -> Self {
+        Moduli {
+            bending1: bending,
+            bending2: bending,
+            twist,
+            shear1: shear,
+            shear2: shear,
+            stretch,
+            twist_stretch,
+            bend_shear,
+        }
+    }
+
+    /// The 6×6 stiffness K of these moduli, unchecked (see
+    /// [`RodLaw::from_moduli`] for the checks): diag(K1, K2, C, G1, G2, S)
+    /// in the order (u1, u2, u3, v1, v2, v3), g between u3 and v3, c2
+    /// between u1, v1 and between u2, v2.
+    pub fn stiffness(&self) -> Matrix6<f64> {
+        let m = self;
+        let mut k = Matrix6::from_diagonal(&nalgebra::Vector6::new(
+            m.bending1, m.bending2, m.twist, m.shear1, m.shear2, m.stretch,
+        ));
+        for (i, j, v) in [(2, 5, m.twist_stretch), (0, 3, m.bend_shear), (1, 4, m.bend_shear)] {
+            k[(i, j)] = v;
+            k[(j, i)] = v;
+        }
+        k
+    }
 }
 
 /// How a load follows the rod.

@@ -187,23 +187,11 @@ impl Rod {
     /// when no pair is that close.
     pub fn closest_approach(&self, x: &[f64]) -> Option<(f64, f64, f64)> {
         let d = self.diameter?;
-        let h = self.element_length();
-        let tab = self.tableau();
-        let mut pts: Vec<(f64, [f64; 3])> = Vec::new();
-        for i in 0..=self.elements {
-            let y = self.node_state(x, i);
-            pts.push((i as f64 * h, [y[0], y[1], y[2]]));
-            if i < self.elements {
-                for j in 0..self.scheme.stages() {
-                    let o = self.node(i) + 13 * (1 + j);
-                    pts.push(((i as f64 + tab.c[j]) * h, [x[o], x[o + 1], x[o + 2]]));
-                }
-            }
-        }
+        let pts = self.profile_offsets();
         // Pairs closer than the diameter only (cell lists, O(N)): farther
         // ones are no contact.
         let gap = 0.5 * std::f64::consts::PI * d;
-        let r: Vec<[f64; 3]> = pts.iter().map(|p| p.1).collect();
+        let r: Vec<[f64; 3]> = pts.iter().map(|&(_, o)| [x[o], x[o + 1], x[o + 2]]).collect();
         let s: Vec<f64> = pts.iter().map(|p| p.0).collect();
         crate::geometry::proximity::closest_pair_within(&r, &s, d, gap).map(|(dist, i, j)| (dist, s[i], s[j]))
     }
@@ -275,6 +263,24 @@ impl Rod {
         &x[self.node(i)..self.node(i) + 13]
     }
 
+    /// The rod's profile: (arc length, offset in x) of every node and stage
+    /// state in order along the rod, the nodes at s = i·h and the stages at
+    /// (i + c_j)·h.
+    pub fn profile_offsets(&self) -> Vec<(f64, usize)> {
+        let h = self.element_length();
+        let tab = self.tableau();
+        let mut out = Vec::with_capacity(self.unknowns() / 13);
+        for i in 0..=self.elements {
+            out.push((i as f64 * h, self.node(i)));
+            if i < self.elements {
+                for j in 0..self.scheme.stages() {
+                    out.push(((i as f64 + tab.c[j]) * h, self.stage_offset(i, j)));
+                }
+            }
+        }
+        out
+    }
+
     /// Tip position r(L).
     pub fn tip(&self, x: &[f64]) -> [f64; 3] {
         let y = self.node_state(x, self.elements);
@@ -289,20 +295,10 @@ impl Rod {
         if let Some(i) = self.end_cosine().or(self.end_angle().map(|(c, _)| c)) {
             x[i] = 1.0;
         }
-        let h = self.element_length();
         let stretch = self.law.intrinsic_v[2];
-        let tab = self.tableau();
-        for i in 0..=self.elements {
-            let at = |x: &mut Vec<f64>, off: usize, s: f64| {
-                x[off + 2] = stretch * s;
-                x[off + 3] = 1.0;
-            };
-            at(&mut x, self.node(i), i as f64 * h);
-            if i < self.elements {
-                for j in 0..self.scheme.stages() {
-                    at(&mut x, self.node(i) + 13 * (1 + j), (i as f64 + tab.c[j]) * h);
-                }
-            }
+        for (s, off) in self.profile_offsets() {
+            x[off + 2] = stretch * s;
+            x[off + 3] = 1.0;
         }
         x
     }
@@ -362,9 +358,7 @@ impl Rod {
             s[7 + i] = f;
             s[10 + i] = f * l;
         }
-        for i in 3..7 {
-            s[i] = 1.0;
-        }
+        s[3..7].fill(1.0);
         s
     }
 
@@ -380,15 +374,7 @@ impl Rod {
     /// (crate::charged::rod). Elements with equal stiffening share
     /// one recorded kernel.
     pub(crate) fn system_stiffened(&self, extra: &[Vec<f64>]) -> Result<AssembledSystem> {
-        if extra.len() != self.elements
-            || extra.iter().any(|e| e.len() != self.scheme.stages())
-            || self.scheme == Scheme::Midpoint
-        {
-            return Err(Error::new(
-                Status::ErrInvalidDimension,
-                "stiffening needs a Gauss scheme and one value per stage of every element",
-            ));
-        }
+        self.check_stiffening(extra)?;
         self.build(None, Some(extra))
     }
 
@@ -399,8 +385,21 @@ impl Rod {
         azimuth: f64,
         extra: &[Vec<f64>],
     ) -> Result<AssembledSystem> {
+        self.check_phase(node, azimuth)?;
+        self.check_stiffening(extra)?;
+        self.build(Some((node, azimuth)), Some(extra))
+    }
+
+    /// A phase condition's node is interior (1..=N) and its azimuth finite.
+    fn check_phase(&self, node: usize, azimuth: f64) -> Result<()> {
         error::count_in_range("phase node", node as i64, 1, self.elements as i64)?;
         error::finite("azimuth", azimuth)?;
+        Ok(())
+    }
+
+    /// Stiffening needs a Gauss scheme and one value per stage of every
+    /// element.
+    fn check_stiffening(&self, extra: &[Vec<f64>]) -> Result<()> {
         if extra.len() != self.elements
             || extra.iter().any(|e| e.len() != self.scheme.stages())
             || self.scheme == Scheme::Midpoint
@@ -410,7 +409,7 @@ impl Rod {
                 "stiffening needs a Gauss scheme and one value per stage of every element",
             ));
         }
-        self.build(Some((node, azimuth)), Some(extra))
+        Ok(())
     }
 
     /// The system with a phase condition for rotationally symmetric rods
@@ -423,18 +422,43 @@ impl Rod {
     /// the symmetric (straight) branch this makes the Jacobian regular where
     /// the symmetry would make it singular.
     pub fn system_with_phase(&self, node: usize, azimuth: f64) -> Result<AssembledSystem> {
-        error::count_in_range("phase node", node as i64, 1, self.elements as i64)?;
-        error::finite("azimuth", azimuth)?;
+        self.check_phase(node, azimuth)?;
         self.build(Some((node, azimuth)), None)
     }
 
+    /// The assembled cubic system: the element blocks, the boundary block,
+    /// the phase condition's block if any, and the scales.
     fn build(&self, phase: Option<(usize, f64)>, extra: Option<&[Vec<f64>]>) -> Result<AssembledSystem> {
+        let mut blocks = self.element_blocks(phase.is_some(), extra);
+        blocks.push(self.boundary_block());
+        let mu = self.unknowns();
+        if let Some((node, azimuth)) = phase {
+            let (s, c) = azimuth.sin_cos();
+            let tape = Arc::new(Tape::record(2, |v| vec![v[1] * c - v[0] * s]));
+            let at = self.node(node);
+            blocks.push(Block { tape, inputs: vec![Slot::Unknown(at), Slot::Unknown(at + 1)], rows: vec![mu] });
+        }
+        let n = self.unknowns() + phase.is_some() as usize;
+        let (equations, unknowns, lambda_scale) = self.scales(n);
+        let sys = AssembledSystem::new(n, blocks).with_scales(equations, unknowns, lambda_scale);
+        let degree = sys.degree();
+        if degree > 3 {
+            return Err(Error::new(Status::ErrInternal, format!("rod system has degree {degree} (> 3)")));
+        }
+        Ok(sys)
+    }
+
+    /// One block per element: its kernel (one recorded tape for a uniform
+    /// rod; with `extra` stiffening, one per distinct set of stage values) on
+    /// the element's node, stages and next node, Λ (and μ when `unfold`),
+    /// writing the stage rows at the stage slots and the update at the next
+    /// node's.
+    fn element_blocks(&self, unfold: bool, extra: Option<&[Vec<f64>]>) -> Vec<Block> {
         let data = self.rhs_data();
         let h = self.element_length();
         let bs = self.block_size();
         let stages = self.scheme.stages();
         let tab = self.tableau();
-        let unfold = phase.is_some();
         let extra_in = unfold as usize;
         let uniform: Vec<RhsData> = vec![data.clone(); stages.max(1)];
         let element = Arc::new(match self.scheme {
@@ -474,7 +498,12 @@ impl Rod {
             rows.extend((0..13).map(|k| base + bs + k));
             blocks.push(Block { tape: element.clone(), inputs, rows });
         }
-        // Boundary conditions in node 0's rows: 7 at s = 0, 6 at s = L.
+        blocks
+    }
+
+    /// The boundary conditions in node 0's rows (7 at s = 0, 6 at s = L),
+    /// and the end-rotation unknowns' equations in their own rows.
+    fn boundary_block(&self) -> Block {
         let (y0, yl) = (self.node(0), self.node(self.elements));
         let bc = Arc::new(self.boundary_tape());
         let mut inputs: Vec<Slot> = (0..13).map(|k| Slot::Unknown(y0 + k)).collect();
@@ -489,14 +518,18 @@ impl Rod {
             inputs.extend([Slot::Unknown(c), Slot::Unknown(s)]);
             rows.extend([c, s]);
         }
-        blocks.push(Block { tape: bc, inputs, rows });
-        if let Some((node, azimuth)) = phase {
-            let (s, c) = azimuth.sin_cos();
-            let tape = Arc::new(Tape::record(2, |v| vec![v[1] * c - v[0] * s]));
-            let at = self.node(node);
-            blocks.push(Block { tape, inputs: vec![Slot::Unknown(at), Slot::Unknown(at + 1)], rows: vec![mu] });
-        }
-        let n = self.unknowns() + extra_in;
+        Block { tape: bc, inputs, rows }
+    }
+
+    /// (equation scales, unknown scales, Λ's scale) of a system of `n`
+    /// unknowns: the state scales for the unknowns, h × the scale of y' for
+    /// element rows and the state scales for boundary rows; the end angle's
+    /// cosine and sine 1; μ a distributed couple (moment per length, K_b/L²)
+    /// with its phase row per length; a torque clamp's moment row and its Λ
+    /// (the end torque) moments.
+    fn scales(&self, n: usize) -> (Vec<f64>, Vec<f64>, f64) {
+        let h = self.element_length();
+        let mu = self.unknowns();
         let ss = self.state_scales();
         // μ is a distributed couple: moment per length, K_b/L².
         let cosine = self.end_cosine();
@@ -539,12 +572,7 @@ impl Rod {
         } else {
             1.0
         };
-        let sys = AssembledSystem::new(n, blocks).with_scales(equations, unknowns, lambda_scale);
-        let degree = sys.degree();
-        if degree > 3 {
-            return Err(Error::new(Status::ErrInternal, format!("rod system has degree {degree} (> 3)")));
-        }
-        Ok(sys)
+        (equations, unknowns, lambda_scale)
     }
 
     fn boundary_scales(&self) -> [f64; 13] {
@@ -583,6 +611,9 @@ impl Rod {
         s
     }
 
+    /// The 13 boundary conditions (7 at s = 0, 6 at s = L) and those of the
+    /// end-rotation unknowns, recorded on the inputs (y(0), y(L), Λ, then
+    /// c = cos(φ/2) for a twisted rod or (c, s) for a torqued one).
     fn boundary_tape(&self) -> Tape {
         let loads = self.loads;
         let supports = self.supports;
@@ -592,120 +623,160 @@ impl Rod {
             let yl = &v[13..26];
             let lambda = v[26];
             let mut out: Vec<Var> = Vec::with_capacity(13);
+            start_conditions(supports, y0, &mut out);
+            let end = End { y: yl, q: [yl[3], yl[4], yl[5], yl[6]], lambda };
             match supports {
-                Supports::Cantilever
-                | Supports::Clamped { .. }
-                | Supports::Twisted { .. }
-                | Supports::TwistedAtDistance { .. }
-                | Supports::Torqued { .. } => {
-                    out.extend_from_slice(&y0[0..3]);
-                    out.push(y0[3] - 1.0);
-                    out.extend_from_slice(&y0[4..7]);
-                }
-                Supports::Pinned => {
-                    out.extend_from_slice(&y0[0..3]);
-                    out.push(y0[10]);
-                    out.push(y0[11]);
-                    out.push(y0[6]);
-                    out.push(y0[3] * y0[3] + y0[4] * y0[4] + y0[5] * y0[5] + y0[6] * y0[6] - 1.0);
-                }
-            }
-            let ql = [yl[3], yl[4], yl[5], yl[6]];
-            match supports {
-                Supports::Cantilever => {
-                    let end = |l: Option<Load>, at: usize, out: &mut Vec<Var>| {
-                        let applied: [Option<Var>; 3] = match l {
-                            None => [None; 3],
-                            Some(Load { frame: Frame::Follower, vector }) => {
-                                vector.map(|c| (c != 0.0).then(|| lambda * c))
-                            }
-                            Some(Load { frame: Frame::Dead, vector }) => {
-                                let b = kinematics::to_body(&ql, &vector);
-                                [Some(b[0] * lambda), Some(b[1] * lambda), Some(b[2] * lambda)]
-                            }
-                        };
-                        for k in 0..3 {
-                            out.push(match applied[k] {
-                                Some(a) => yl[at + k] - a,
-                                None => yl[at + k],
-                            });
-                        }
-                    };
-                    end(loads.tip_force, 7, &mut out);
-                    end(loads.tip_moment, 10, &mut out);
-                }
+                Supports::Cantilever => end.free(&loads, &mut out),
                 Supports::Clamped { end_position, end_rotation, end_displacement } => {
-                    for k in 0..3 {
-                        let moved = if end_displacement[k] != 0.0 {
-                            lambda * end_displacement[k] + end_position[k]
-                        } else {
-                            Var::constant(end_position[k])
-                        };
-                        out.push(yl[k] - moved);
-                    }
-                    let conj = [end_rotation[0], -end_rotation[1], -end_rotation[2], -end_rotation[3]];
-                    let c = [
-                        Var::constant(conj[0]),
-                        Var::constant(conj[1]),
-                        Var::constant(conj[2]),
-                        Var::constant(conj[3]),
-                    ];
-                    let rel = kinematics::quat_mul(&c, &ql);
-                    out.extend_from_slice(&rel[1..4]);
+                    end.clamped(end_position, end_rotation, end_displacement, &mut out)
                 }
-                Supports::Twisted { .. } | Supports::TwistedAtDistance { .. } => {
-                    out.push(yl[0]);
-                    out.push(yl[1]);
-                    if let Supports::Twisted { tension } = supports {
-                        let rot = kinematics::rotation(&ql);
-                        let nz = rot[2][0] * yl[7] + rot[2][1] * yl[8] + rot[2][2] * yl[9];
-                        out.push(nz - tension);
-                    } else if let Supports::TwistedAtDistance { distance } = supports {
-                        out.push(yl[2] - distance);
-                    }
-                    // Vector part of q̄_t ∘ q(L), q_t = (c, 0, 0, Λ).
-                    let c = v[27];
-                    let zero = Var::constant(0.0);
-                    let conj = [c, zero, zero, -lambda];
-                    let rel = kinematics::quat_mul(&conj, &ql);
-                    out.extend_from_slice(&rel[1..4]);
-                    out.push(c * c + lambda * lambda - 1.0);
-                }
-                Supports::Torqued { tension } => {
-                    out.push(yl[0]);
-                    out.push(yl[1]);
-                    // The end section turns about e3 only (q(L) ∥ q_t below), so
-                    // R e3 = e3 and the spatial axial force and moment are the
-                    // body ones, n_b3 and m_b3. Written so: (R(q) m_b)_z would
-                    // also carry |q(L)|² (R is quadratic in q, exactly 1 at a
-                    // solution: Gauss collocation conserves |q|), and near a
-                    // solution the drift of |q| along the rod, pinned only at
-                    // s = 0, could then trade against m_b3 at a cost ∝ 1/M:
-                    // σ_min of the straight DNA rod fell as 1/M (0.004 at
-                    // buckling) and hid the buckling points' dips.
-                    out.push(yl[9] - tension);
-                    // Vector part of q̄_t ∘ q(L), q_t = (c, 0, 0, s).
-                    let (c, s) = (v[27], v[28]);
-                    let zero = Var::constant(0.0);
-                    let rel = kinematics::quat_mul(&[c, zero, zero, -s], &ql);
-                    out.extend_from_slice(&rel[1..4]);
-                    out.push(c * c + s * s - 1.0);
-                    // The end torque: m_b3(L) = Λ.
-                    out.push(yl[12] - lambda);
-                }
-                Supports::Pinned => {
-                    out.push(yl[0]);
-                    out.push(yl[1]);
-                    // Spatial axial force (R(q) n_b)_z = Λ P.
-                    let rot = kinematics::rotation(&ql);
-                    let nz = rot[2][0] * yl[7] + rot[2][1] * yl[8] + rot[2][2] * yl[9];
-                    let p = loads.tip_force.map_or(0.0, |l| l.vector[2]);
-                    out.push(if p != 0.0 { nz - lambda * p } else { nz });
-                    out.extend_from_slice(&yl[10..13]);
-                }
+                Supports::Twisted { .. } | Supports::TwistedAtDistance { .. } => end.turned(supports, v[27], &mut out),
+                Supports::Torqued { tension } => end.torqued(tension, (v[27], v[28]), &mut out),
+                Supports::Pinned => end.pinned(&loads, &mut out),
             }
             out
         })
+    }
+}
+
+/// The 7 conditions at s = 0: clamped at the origin along e3 (r = 0,
+/// q = (1, 0, 0, 0)), or for a ball joint r = 0, m_b1 = m_b2 = 0, no twist
+/// (q3 = 0) and |q|² = 1.
+fn start_conditions(supports: Supports, y0: &[Var], out: &mut Vec<Var>) {
+    match supports {
+        Supports::Cantilever
+        | Supports::Clamped { .. }
+        | Supports::Twisted { .. }
+        | Supports::TwistedAtDistance { .. }
+        | Supports::Torqued { .. } => {
+            out.extend_from_slice(&y0[0..3]);
+            out.push(y0[3] - 1.0);
+            out.extend_from_slice(&y0[4..7]);
+        }
+        Supports::Pinned => {
+            out.extend_from_slice(&y0[0..3]);
+            out.push(y0[10]);
+            out.push(y0[11]);
+            out.push(y0[6]);
+            out.push(y0[3] * y0[3] + y0[4] * y0[4] + y0[5] * y0[5] + y0[6] * y0[6] - 1.0);
+        }
+    }
+}
+
+/// The state at s = L on the tape: y(L), its quaternion q(L) and Λ; each
+/// support's conditions there (6, plus those of the end-rotation unknowns).
+struct End<'v> {
+    y: &'v [Var],
+    q: [Var; 4],
+    lambda: Var,
+}
+
+impl End<'_> {
+    /// Free end: n_b(L) and m_b(L) equal to Λ times the tip force and
+    /// moment (follower: body components as given; dead: turned into the
+    /// body frame by R(q)ᵀ).
+    fn free(&self, loads: &Loads, out: &mut Vec<Var>) {
+        let (yl, lambda) = (self.y, self.lambda);
+        let end = |l: Option<Load>, at: usize, out: &mut Vec<Var>| {
+            let applied: [Option<Var>; 3] = match l {
+                None => [None; 3],
+                Some(Load { frame: Frame::Follower, vector }) => vector.map(|c| (c != 0.0).then(|| lambda * c)),
+                Some(Load { frame: Frame::Dead, vector }) => {
+                    let b = kinematics::to_body(&self.q, &vector);
+                    [Some(b[0] * lambda), Some(b[1] * lambda), Some(b[2] * lambda)]
+                }
+            };
+            for k in 0..3 {
+                out.push(match applied[k] {
+                    Some(a) => yl[at + k] - a,
+                    None => yl[at + k],
+                });
+            }
+        };
+        end(loads.tip_force, 7, out);
+        end(loads.tip_moment, 10, out);
+    }
+
+    /// Clamped end: r(L) = end position + Λ·end displacement, and the vector
+    /// part of q̄_end ∘ q(L) zero.
+    fn clamped(&self, position: [f64; 3], rotation: [f64; 4], displacement: [f64; 3], out: &mut Vec<Var>) {
+        let (yl, lambda) = (self.y, self.lambda);
+        for k in 0..3 {
+            let moved = if displacement[k] != 0.0 {
+                lambda * displacement[k] + position[k]
+            } else {
+                Var::constant(position[k])
+            };
+            out.push(yl[k] - moved);
+        }
+        let conj = [rotation[0], -rotation[1], -rotation[2], -rotation[3]];
+        let c = [Var::constant(conj[0]), Var::constant(conj[1]), Var::constant(conj[2]), Var::constant(conj[3])];
+        let rel = kinematics::quat_mul(&c, &self.q);
+        out.extend_from_slice(&rel[1..4]);
+    }
+
+    /// Controlled end rotation ([`Supports::Twisted`], [`Supports::TwistedAtDistance`]):
+    /// on the axis, the spatial axial force equal to the tension (or r_z(L)
+    /// equal to the distance), the section turned about e3 by φ: vector part
+    /// of q̄_t ∘ q(L) zero with q_t = (c, 0, 0, Λ), and c² + Λ² = 1.
+    fn turned(&self, supports: Supports, c: Var, out: &mut Vec<Var>) {
+        let (yl, lambda, ql) = (self.y, self.lambda, &self.q);
+        out.push(yl[0]);
+        out.push(yl[1]);
+        if let Supports::Twisted { tension } = supports {
+            let rot = kinematics::rotation(ql);
+            let nz = rot[2][0] * yl[7] + rot[2][1] * yl[8] + rot[2][2] * yl[9];
+            out.push(nz - tension);
+        } else if let Supports::TwistedAtDistance { distance } = supports {
+            out.push(yl[2] - distance);
+        }
+        // Vector part of q̄_t ∘ q(L), q_t = (c, 0, 0, Λ).
+        let zero = Var::constant(0.0);
+        let conj = [c, zero, zero, -lambda];
+        let rel = kinematics::quat_mul(&conj, ql);
+        out.extend_from_slice(&rel[1..4]);
+        out.push(c * c + lambda * lambda - 1.0);
+    }
+
+    /// Controlled end moment ([`Supports::Torqued`]): on the axis, pulled by
+    /// the tension, the section turned about e3 by the free angle φ (q_t =
+    /// (c, 0, 0, s), c² + s² = 1) and the end torque m_b3(L) = Λ.
+    fn torqued(&self, tension: f64, (c, s): (Var, Var), out: &mut Vec<Var>) {
+        let (yl, lambda) = (self.y, self.lambda);
+        out.push(yl[0]);
+        out.push(yl[1]);
+        // The end section turns about e3 only (q(L) ∥ q_t below), so
+        // R e3 = e3 and the spatial axial force and moment are the
+        // body ones, n_b3 and m_b3. Written so: (R(q) m_b)_z would
+        // also carry |q(L)|² (R is quadratic in q, exactly 1 at a
+        // solution: Gauss collocation conserves |q|), and near a
+        // solution the drift of |q| along the rod, pinned only at
+        // s = 0, could then trade against m_b3 at a cost ∝ 1/M:
+        // σ_min of the straight DNA rod fell as 1/M (0.004 at
+        // buckling) and hid the buckling points' dips.
+        out.push(yl[9] - tension);
+        // Vector part of q̄_t ∘ q(L), q_t = (c, 0, 0, s).
+        let zero = Var::constant(0.0);
+        let rel = kinematics::quat_mul(&[c, zero, zero, -s], &self.q);
+        out.extend_from_slice(&rel[1..4]);
+        out.push(c * c + s * s - 1.0);
+        // The end torque: m_b3(L) = Λ.
+        out.push(yl[12] - lambda);
+    }
+
+    /// Ball joint at s = L: on the axis (r_x = r_y = 0), the spatial axial
+    /// force (R(q) n_b)_z = Λ P (P the dead tip force's axial component) and
+    /// m_b = 0.
+    fn pinned(&self, loads: &Loads, out: &mut Vec<Var>) {
+        let (yl, lambda) = (self.y, self.lambda);
+        out.push(yl[0]);
+        out.push(yl[1]);
+        // Spatial axial force (R(q) n_b)_z = Λ P.
+        let rot = kinematics::rotation(&self.q);
+        let nz = rot[2][0] * yl[7] + rot[2][1] * yl[8] + rot[2][2] * yl[9];
+        let p = loads.tip_force.map_or(0.0, |l| l.vector[2]);
+        out.push(if p != 0.0 { nz - lambda * p } else { nz });
+        out.extend_from_slice(&yl[10..13]);
     }
 }
 

@@ -14,6 +14,7 @@
 use super::kinematics::{rotation, strains};
 use super::model::Rod;
 use crate::error::{Error, Result};
+use crate::geometry::vec3::dot;
 use crate::geometry::{writhe::writhe, HermiteCurve};
 use crate::status::Status;
 
@@ -21,19 +22,7 @@ impl Rod {
     /// The states along the rod: (arc length, 13-vector) at every node and
     /// stage point, in order.
     fn profile<'a>(&self, x: &'a [f64]) -> Vec<(f64, &'a [f64])> {
-        let h = self.element_length();
-        let tab = self.tableau();
-        let mut out = Vec::new();
-        for i in 0..=self.elements {
-            out.push((i as f64 * h, self.node_state(x, i)));
-            if i < self.elements {
-                for j in 0..self.scheme.stages() {
-                    let o = self.node(i) + 13 * (1 + j);
-                    out.push(((i as f64 + tab.c[j]) * h, &x[o..o + 13]));
-                }
-            }
-        }
-        out
+        self.profile_offsets().into_iter().map(|(s, o)| (s, &x[o..o + 13])).collect()
     }
 
     /// Tw = (1/2π) ∫ u3 ds (turns).
@@ -56,7 +45,7 @@ impl Rod {
                 }
                 s => {
                     for j in 0..s {
-                        let o = self.node(i) + 13 * (1 + j);
+                        let o = self.stage_offset(i, j);
                         total += h * tab.b[j] * u3(&x[o..o + 13]);
                     }
                 }
@@ -82,7 +71,7 @@ impl Rod {
             }
             let rot = rotation(&q);
             let d3 = [rot[0][2] / n2, rot[1][2] / n2, rot[2][2] / n2];
-            let norm = (d3[0] * d3[0] + d3[1] * d3[1] + d3[2] * d3[2]).sqrt();
+            let norm = dot(d3, d3).sqrt();
             s.push(si);
             r.push([y[0], y[1], y[2]]);
             t.push([d3[0] / norm, d3[1] / norm, d3[2] / norm]);

@@ -194,6 +194,44 @@ pub struct FiniteTube<'m> {
     modulus: f64,
 }
 
+/// The fields of a solution at the nodes (see [`FiniteTube::fields`]).
+struct Fields {
+    lambda: f64,
+    psi: f64,
+    /// Deformed radius r and its derivative r' = dr/dR.
+    r: DVector<f64>,
+    dr: DVector<f64>,
+    /// Cauchy stress (multiplier-free for incompressible laws).
+    sigma: Vec<Matrix3<f64>>,
+}
+
+/// The chain rule from the local stress derivatives ∂σ/∂(a, b, λ, γ) at
+/// each node to the unknown radii r_k (a = Dr, b = r/R, γ = rψ).
+struct StressChain<'g> {
+    ds: Vec<[Matrix3<f64>; 4]>,
+    nodes: &'g DVector<f64>,
+    diff: &'g DMatrix<f64>,
+    psi: f64,
+}
+
+impl StressChain<'_> {
+    /// ∂(stress component c at node j)/∂r_k.
+    fn dsig_dr(&self, j: usize, c: (usize, usize), k: usize) -> f64 {
+        let (rr, d, ds) = (self.nodes, self.diff, &self.ds);
+        let db = if rr[j] > 0.0 {
+            if j == k {
+                1.0 / rr[j]
+            } else {
+                0.0
+            }
+        } else {
+            d[(j, k)]
+        };
+        let dg = if j == k { self.psi } else { 0.0 };
+        ds[j][0][c] * d[(j, k)] + ds[j][1][c] * db + ds[j][3][c] * dg
+    }
+}
+
 /// Unknowns of one solve and how to read them.
 struct Layout {
     n: usize,
@@ -213,13 +251,7 @@ impl<'m> FiniteTube<'m> {
                 format!("impossible tube: need 0 <= inner radius ({inner_radius:e}) < outer radius ({outer_radius:e})"),
             ));
         }
-        // Stress scale: the small-strain response at mid-wall (compressible
-        // laws) or the multiplier-free stress at rest (incompressible ones).
-        let rm = 0.5 * (inner_radius + outer_radius);
-        let h = 1e-6;
-        let c = Matrix3::identity() * (1.0 + 2.0 * h);
-        let modulus = (material.pk2(rm, &c).amax() / h).max(material.pk2(rm, &Matrix3::identity()).amax());
-        error::positive("material stiffness scale", modulus)?;
+        let modulus = stress_scale(material, 0.5 * (inner_radius + outer_radius))?;
         Ok(FiniteTube { inner_radius, outer_radius, material, modulus })
     }
 
@@ -294,11 +326,11 @@ impl<'m> FiniteTube<'m> {
 
     /// Newton from the free state, continued to the load (see [`Self::continue_to`]).
     fn solve_with_homotopy(&self, loading: &Loading, n: usize) -> Result<TubeState> {
-        let grid = self.grid(n, &[]);
-        let layout = self.layout(loading, &grid);
+        let mut grid = self.grid(n, &[]);
+        let mut layout = self.layout(loading, &grid);
         let mut x = self.initial_guess(&grid, &layout);
         let mut iterations = self.continue_to(&grid, &layout, &mut x, &loading.rest(), loading)?;
-        let (grid, layout) = self.resolve_switches(n, grid, layout, loading, &mut x, &mut iterations)?;
+        self.resolve_switches(n, &mut grid, &mut layout, loading, &mut x, &mut iterations)?;
         let mut state = self.state(&grid, &layout, loading, &x)?;
         state.newton_iterations = iterations;
         self.check_stability(&grid, &state)?;
@@ -314,25 +346,25 @@ impl<'m> FiniteTube<'m> {
     fn resolve_switches(
         &self,
         n: usize,
-        mut grid: PiecewiseGrid,
-        mut layout: Layout,
+        grid: &mut PiecewiseGrid,
+        layout: &mut Layout,
         loading: &Loading,
         x: &mut DVector<f64>,
         iterations: &mut usize,
-    ) -> Result<(PiecewiseGrid, Layout)> {
+    ) -> Result<()> {
         if self.material.switches() == 0 {
-            return Ok((grid, layout));
+            return Ok(());
         }
         let settle = 1e-9 * (self.outer_radius - self.inner_radius);
         for _ in 0..16 {
-            let found = self.switch_radii(&grid, &layout, loading, x);
+            let found = self.switch_radii(grid, layout, loading, x);
             let current = grid.breaks();
             if found.len() == current.len() && found.iter().zip(&current).all(|(a, b)| (a - b).abs() <= settle) {
-                return Ok((grid, layout));
+                return Ok(());
             }
             let new_grid = self.grid(n, &found);
             let new_layout = self.layout(loading, &new_grid);
-            let mut new_x = self.transfer(&grid, &layout, x, &new_grid, &new_layout);
+            let mut new_x = self.transfer(grid, layout, x, &new_grid, &new_layout);
             match self.newton(&new_grid, &new_layout, loading, &mut new_x) {
                 Ok(it) => *iterations += it,
                 Err(_) => {
@@ -340,7 +372,7 @@ impl<'m> FiniteTube<'m> {
                     *iterations += self.continue_to(&new_grid, &new_layout, &mut new_x, &loading.rest(), loading)?;
                 }
             }
-            (grid, layout, *x) = (new_grid, new_layout, new_x);
+            (*grid, *layout, *x) = (new_grid, new_layout, new_x);
         }
         Err(Error::new(
             Status::ErrNotConverged,
@@ -352,8 +384,9 @@ impl<'m> FiniteTube<'m> {
     /// solution `x`, ascending; a function that stays within 1e−9 of zero
     /// through the wall is ignored (its kink is below round-off in the stress).
     fn switch_radii(&self, grid: &PiecewiseGrid, layout: &Layout, loading: &Loading, x: &DVector<f64>) -> Vec<f64> {
-        let (lambda, psi) = self.prescribed(layout, loading, x);
-        let Some((r, dr, _)) = self.fields(grid, layout, x, lambda, psi) else { return grid.breaks() };
+        let Some(Fields { lambda, psi, r, dr, .. }) = self.fields(grid, layout, loading, x) else {
+            return grid.breaks();
+        };
         let g = |k: usize, big: f64| {
             let (rv, drv) = (grid.interpolate(&r, big), grid.interpolate(&dr, big));
             let hoop = if big > 0.0 { rv / big } else { drv };
@@ -438,32 +471,7 @@ impl<'m> FiniteTube<'m> {
         from: &Loading,
         to: &Loading,
     ) -> Result<usize> {
-        let (mut s_done, mut ds, mut iterations) = (0.0f64, 1.0f64, 0);
-        while s_done < 1.0 {
-            let s = (s_done + ds).min(1.0);
-            let mut trial = x.clone();
-            match self.newton(grid, layout, &from.lerp(to, s), &mut trial) {
-                Ok(it) => {
-                    iterations += it;
-                    *x = trial;
-                    s_done = s;
-                    ds = (2.0 * ds).min(1.0);
-                }
-                Err(e) => {
-                    ds *= 0.5;
-                    if ds < 1.0 / 256.0 {
-                        return Err(Error::new(
-                            e.status,
-                            format!(
-                                "finite-strain tube: no equilibrium reached at load fraction {s:.4} ({})",
-                                e.message
-                            ),
-                        ));
-                    }
-                }
-            }
-        }
-        Ok(iterations)
+        load_homotopy(x, from, to, "finite-strain tube", |loading, x| self.newton(grid, layout, loading, x))
     }
 
     /// A sequence of equilibria along `loadings` (all of the same kind, e.g.
@@ -477,21 +485,12 @@ impl<'m> FiniteTube<'m> {
         &self,
         loadings: &[Loading],
         opts: &SolveOptions,
-        mut progress: impl FnMut(usize, &TubeState) -> bool,
+        progress: impl FnMut(usize, &TubeState) -> bool,
     ) -> Result<Sweep> {
         let Some(last) = loadings.last() else {
             return Ok(Sweep { states: vec![], cancelled: false });
         };
-        for (i, l) in loadings.iter().enumerate() {
-            validate(l)?;
-            self.check_solid(l)?;
-            if !l.same_kind(last) {
-                return Err(Error::new(
-                    Status::ErrOutOfRange,
-                    format!("sweep loading {i} prescribes other quantities than the last one: a sweep varies values, not kinds"),
-                ));
-            }
-        }
+        validate_sweep(loadings, last, "last", |l| self.check_solid(l))?;
         let (n, estimate) = match opts.intervals {
             Some(n) => (n, 0.0),
             None => {
@@ -503,23 +502,17 @@ impl<'m> FiniteTube<'m> {
         let mut layout = self.layout(last, &grid);
         let mut x = self.initial_guess(&grid, &layout);
         let mut from = last.rest();
-        let mut states = Vec::with_capacity(loadings.len());
-        for (i, loading) in loadings.iter().enumerate() {
+        Sweep::run(loadings, progress, |loading| {
             let mut iterations = self.continue_to(&grid, &layout, &mut x, &from, loading)?;
             // Switch radii move along the sweep: the pieces follow them.
-            (grid, layout) = self.resolve_switches(n, grid, layout, loading, &mut x, &mut iterations)?;
+            self.resolve_switches(n, &mut grid, &mut layout, loading, &mut x, &mut iterations)?;
             let mut state = self.state(&grid, &layout, loading, &x)?;
             state.newton_iterations = iterations;
             state.error_estimate = estimate;
             self.check_stability(&grid, &state)?;
             from = *loading;
-            let go_on = progress(i, &state);
-            states.push(state);
-            if !go_on {
-                return Ok(Sweep { states, cancelled: true });
-            }
-        }
-        Ok(Sweep { states, cancelled: false })
+            Ok(state)
+        })
     }
 
     /// Chebyshev in ln R for a hollow tube (spectral even when A ≪ B). A
@@ -546,8 +539,7 @@ impl<'m> FiniteTube<'m> {
     fn layout(&self, loading: &Loading, grid: &PiecewiseGrid) -> Layout {
         let n = grid.nodes.len() - 1;
         let base = if self.material.incompressible() { 1 } else { 2 * (n + 1) };
-        let stretch = matches!(loading.axial, Axial::Force(_)).then_some(base);
-        let twist = matches!(loading.torsion, Torsion::Torque(_)).then_some(base + stretch.is_some() as usize);
+        let (stretch, twist) = load_unknowns(loading, base);
         Layout { n, stretch, twist }
     }
 
@@ -613,48 +605,61 @@ impl<'m> FiniteTube<'m> {
         x: &DVector<f64>,
         jac: &mut DMatrix<f64>,
     ) -> bool {
-        let (lambda, psi) = self.prescribed(layout, loading, x);
-        let Some((r, dr, sigma)) = self.fields(grid, layout, x, lambda, psi) else { return false };
-        let (n, m) = (layout.n, layout.n + 1);
-        let (rr, d, w) = (&grid.nodes, &grid.diff, &grid.weights);
-        let (mu, b_out, len) = (self.modulus, self.outer_radius, self.outer_radius - self.inner_radius);
-        let solid = rr[0] == 0.0; // a grid through the axis (not a pinhole)
-                                  // ds[j][q]: ∂σ/∂q at node j for q = (a, b, λ, γ).
-        let mut ds = Vec::with_capacity(m);
-        for j in 0..m {
+        let Some(fields) = self.fields(grid, layout, loading, x) else { return false };
+        let Some(ds) = self.stress_derivatives(grid, &fields) else { return false };
+        let chain = StressChain { ds, nodes: &grid.nodes, diff: &grid.diff, psi: fields.psi };
+        jac.fill(0.0);
+        self.collocation_rows(grid, layout, x, &fields, &chain, jac);
+        self.resultant_rows(grid, layout, loading, &fields, &chain, jac);
+        true
+    }
+
+    /// ∂σ/∂q at every node for the local deformation modes q = (a, b, λ, γ)
+    /// (a = r', b = r/R or r' on the axis, γ = rψ), by central differences
+    /// of the law with steps 1e−6·max(|q|, 1); None where a derivative is not
+    /// finite.
+    fn stress_derivatives(&self, grid: &PiecewiseGrid, f: &Fields) -> Option<Vec<[Matrix3<f64>; 4]>> {
+        let (rr, r, dr) = (&grid.nodes, &f.r, &f.dr);
+        let mut ds = Vec::with_capacity(rr.len());
+        for j in 0..rr.len() {
             let hoop = if rr[j] > 0.0 { r[j] / rr[j] } else { dr[j] };
-            let x0 = [dr[j], hoop, lambda, r[j] * psi];
+            let x0 = [dr[j], hoop, f.lambda, r[j] * f.psi];
             let mut dj = [Matrix3::zeros(); 4];
             for (q, dq) in dj.iter_mut().enumerate() {
                 let h = 1e-6 * x0[q].abs().max(1.0);
                 let at = |t: f64| {
                     let mut y = x0;
                     y[q] += t;
-                    self.material.cauchy(rr[j], &WallStrain { radial: y[0], hoop: y[1], axial: y[2], shear: y[3] })
+                    self.material.cauchy(rr[j], &WallStrain::from_modes(y))
                 };
                 *dq = (at(h) - at(-h)) / (2.0 * h);
             }
             if !dj.iter().all(|m| m.iter().all(|v| v.is_finite())) {
-                return false;
+                return None;
             }
             ds.push(dj);
         }
-        // ∂(stress component c at node j)/∂r_k.
-        let dsig_dr = |j: usize, c: (usize, usize), k: usize| {
-            let db = if rr[j] > 0.0 {
-                if j == k {
-                    1.0 / rr[j]
-                } else {
-                    0.0
-                }
-            } else {
-                d[(j, k)]
-            };
-            let dg = if j == k { psi } else { 0.0 };
-            ds[j][0][c] * d[(j, k)] + ds[j][1][c] * db + ds[j][3][c] * dg
-        };
-        let (rr_c, tt_c, zz_c, tz_c) = ((0, 0), (1, 1), (2, 2), (1, 2));
-        jac.fill(0.0);
+        Some(ds)
+    }
+
+    /// The constitutive rows (0..m) and equilibrium rows (m..2m) of the
+    /// Jacobian: the derivatives of the residual's collocation rows (see
+    /// [`Self::residual`]) with respect to r_k, s_k = σ_rr and λ, ψ.
+    fn collocation_rows(
+        &self,
+        grid: &PiecewiseGrid,
+        layout: &Layout,
+        x: &DVector<f64>,
+        f: &Fields,
+        chain: &StressChain,
+        jac: &mut DMatrix<f64>,
+    ) {
+        let (n, m) = (layout.n, layout.n + 1);
+        let (r, dr, sigma, ds) = (&f.r, &f.dr, &f.sigma, &chain.ds);
+        let d = &grid.diff;
+        let (mu, b_out, len) = (self.modulus, self.outer_radius, self.outer_radius - self.inner_radius);
+        let solid = grid.nodes[0] == 0.0; // a grid through the axis (not a pinhole)
+        let (rr_c, tt_c) = ((0, 0), (1, 1));
         let interfaces = grid.interfaces();
         let srr = x.rows(m, m);
         let dsrr = d * srr;
@@ -664,7 +669,7 @@ impl<'m> FiniteTube<'m> {
                 jac[(0, 0)] = 1.0 / b_out;
             } else {
                 for k in 0..m {
-                    jac[(j, k)] = dsig_dr(j, rr_c, k) / mu;
+                    jac[(j, k)] = chain.dsig_dr(j, rr_c, k) / mu;
                 }
                 jac[(j, m + j)] = -1.0 / mu;
                 if let Some(i) = layout.stretch {
@@ -692,7 +697,7 @@ impl<'m> FiniteTube<'m> {
                 let jump = sigma[j][(1, 1)] - srr[j];
                 for k in 0..m {
                     let dr_k = if j == k { dsrr[j] } else { 0.0 };
-                    jac[(row, k)] = (dr_k - dsig_dr(j, tt_c, k) * dr[j] - jump * d[(j, k)]) / mu;
+                    jac[(row, k)] = (dr_k - chain.dsig_dr(j, tt_c, k) * dr[j] - jump * d[(j, k)]) / mu;
                     jac[(row, m + k)] = r[j] * d[(j, k)] / mu;
                 }
                 jac[(row, m + j)] += dr[j] / mu;
@@ -704,13 +709,31 @@ impl<'m> FiniteTube<'m> {
                 }
             }
         }
-        // Resultant rows: F = 2π Σ w σ_zz r a, T = 2π Σ w σ_θz r² a.
+    }
+
+    /// The rows of the prescribed force and torque: F = 2π Σ w σ_zz r a
+    /// (with the cap pressures for closed ends), T = 2π Σ w σ_θz r² a,
+    /// differentiated in r_k (through σ, r and a = Dr) and in λ, ψ.
+    fn resultant_rows(
+        &self,
+        grid: &PiecewiseGrid,
+        layout: &Layout,
+        loading: &Loading,
+        f: &Fields,
+        chain: &StressChain,
+        jac: &mut DMatrix<f64>,
+    ) {
+        let (n, m) = (layout.n, layout.n + 1);
+        let (r, dr, sigma, ds) = (&f.r, &f.dr, &f.sigma, &chain.ds);
+        let (d, w) = (&grid.diff, &grid.weights);
+        let (mu, b_out) = (self.modulus, self.outer_radius);
+        let (zz_c, tz_c) = ((2, 2), (1, 2));
         let resultant_row = |i: usize, c: (usize, usize), power: i32, scale: f64, jac: &mut DMatrix<f64>| {
             for k in 0..m {
                 let mut v = 0.0;
                 for j in 0..m {
                     let rp = r[j].powi(power);
-                    v += w[j] * (dsig_dr(j, c, k) * rp * dr[j] + sigma[j][c] * rp * d[(j, k)]);
+                    v += w[j] * (chain.dsig_dr(j, c, k) * rp * dr[j] + sigma[j][c] * rp * d[(j, k)]);
                 }
                 v += w[k] * sigma[k][c] * power as f64 * r[k].powi(power - 1) * dr[k];
                 jac[(i, k)] = 2.0 * PI * v / scale;
@@ -735,33 +758,17 @@ impl<'m> FiniteTube<'m> {
         if let Some(i) = layout.twist {
             resultant_row(i, tz_c, 2, mu * PI * b_out * b_out * b_out, jac);
         }
-        true
     }
 
     fn prescribed(&self, layout: &Layout, loading: &Loading, x: &DVector<f64>) -> (f64, f64) {
-        let lambda = match (loading.axial, layout.stretch) {
-            (Axial::Stretch(l), _) => l,
-            (_, Some(i)) => x[i],
-            _ => unreachable!("force prescribed without a stretch unknown"),
-        };
-        let psi = match (loading.torsion, layout.twist) {
-            (Torsion::Twist(p), _) => p,
-            (_, Some(i)) => x[i],
-            _ => unreachable!("torque prescribed without a twist unknown"),
-        };
-        (lambda, psi)
+        stretch_and_twist(loading, layout.stretch, layout.twist, x)
     }
 
-    /// Deformed radius r, its derivative r' and the Cauchy stress at each
-    /// node; `None` outside the domain (r or r' ≤ 0, λ ≤ 0, non-finite).
-    fn fields(
-        &self,
-        grid: &PiecewiseGrid,
-        layout: &Layout,
-        x: &DVector<f64>,
-        lambda: f64,
-        psi: f64,
-    ) -> Option<(DVector<f64>, DVector<f64>, Vec<Matrix3<f64>>)> {
+    /// λ, ψ, the deformed radius r, its derivative r' and the Cauchy stress
+    /// at each node of the solution `x`; `None` outside the domain (r or
+    /// r' ≤ 0, λ ≤ 0, non-finite).
+    fn fields(&self, grid: &PiecewiseGrid, layout: &Layout, loading: &Loading, x: &DVector<f64>) -> Option<Fields> {
+        let (lambda, psi) = self.prescribed(layout, loading, x);
         if !(lambda > 0.0) {
             return None;
         }
@@ -794,7 +801,7 @@ impl<'m> FiniteTube<'m> {
             }
             sigma.push(s);
         }
-        Some((r, dr, sigma))
+        Some(Fields { lambda, psi, r, dr, sigma })
     }
 
     /// Radial stress through the wall for an incompressible law (the
@@ -831,8 +838,7 @@ impl<'m> FiniteTube<'m> {
         x: &DVector<f64>,
         f: &mut DVector<f64>,
     ) -> bool {
-        let (lambda, psi) = self.prescribed(layout, loading, x);
-        let Some((r, dr, sigma)) = self.fields(grid, layout, x, lambda, psi) else { return false };
+        let Some(Fields { r, dr, sigma, .. }) = self.fields(grid, layout, loading, x) else { return false };
         let (a_len, b) = (self.outer_radius - self.inner_radius, self.outer_radius);
         let mu = self.modulus;
         let n = layout.n;
@@ -918,8 +924,7 @@ impl<'m> FiniteTube<'m> {
     }
 
     fn state(&self, grid: &PiecewiseGrid, layout: &Layout, loading: &Loading, x: &DVector<f64>) -> Result<TubeState> {
-        let (lambda, psi) = self.prescribed(layout, loading, x);
-        let (r, dr, sigma) = self.fields(grid, layout, x, lambda, psi).ok_or_else(|| {
+        let Fields { lambda, psi, r, dr, sigma } = self.fields(grid, layout, loading, x).ok_or_else(|| {
             Error::new(Status::ErrNonFiniteResult, "finite-strain tube: converged state is outside the domain")
         })?;
         let n = layout.n;
@@ -985,7 +990,7 @@ impl<'m> FiniteTube<'m> {
             let big = p.reference_radius[j];
             let x0 = [dr[j], if big > 0.0 { r[j] / big } else { dr[j] }, state.stretch, r[j] * state.twist];
             let w = |x: &[f64; 4]| {
-                let strain = WallStrain { radial: x[0], hoop: x[1], axial: x[2], shear: x[3] };
+                let strain = WallStrain::from_modes(*x);
                 self.material.energy(big, &strain.right_cauchy_green())
             };
             // Differences must not straddle a switch of the law (a fibre
@@ -1026,7 +1031,7 @@ impl FiniteTube<'_> {
     fn stencil_step(&self, big: f64, x0: &[f64; 4]) -> Option<f64> {
         let switches = self.material.switches();
         let value = |k: usize, x: &[f64; 4]| {
-            let strain = WallStrain { radial: x[0], hoop: x[1], axial: x[2], shear: x[3] };
+            let strain = WallStrain::from_modes(*x);
             self.material.switch_value(k, big, &strain.right_cauchy_green())
         };
         let mut h = 1e-4;
@@ -1069,6 +1074,126 @@ pub(crate) fn validate(loading: &Loading) -> Result<()> {
     error::finite("inner_pressure", loading.inner_pressure)?;
     error::finite("outer_pressure", loading.outer_pressure)?;
     Ok(())
+}
+
+/// Every loading of a sweep valid (and passing the solver's own `check`) and
+/// of the same kind as `reference` (the `which` loading: "first" or "last"):
+/// a sweep varies values, not kinds.
+pub(crate) fn validate_sweep(
+    loadings: &[Loading],
+    reference: &Loading,
+    which: &str,
+    check: impl Fn(&Loading) -> Result<()>,
+) -> Result<()> {
+    for (i, l) in loadings.iter().enumerate() {
+        validate(l)?;
+        check(l)?;
+        if !l.same_kind(reference) {
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                format!("sweep loading {i} prescribes other quantities than the {which} one: a sweep varies values, not kinds"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+impl Sweep {
+    /// The states of `solve` at each loading in order; `progress(i, state)`
+    /// after each, and false from it stops the sweep cleanly (`cancelled`,
+    /// the states so far returned).
+    pub(crate) fn run(
+        loadings: &[Loading],
+        mut progress: impl FnMut(usize, &TubeState) -> bool,
+        mut solve: impl FnMut(&Loading) -> Result<TubeState>,
+    ) -> Result<Sweep> {
+        let mut states = Vec::with_capacity(loadings.len());
+        for (i, loading) in loadings.iter().enumerate() {
+            let state = solve(loading)?;
+            let go_on = progress(i, &state);
+            states.push(state);
+            if !go_on {
+                return Ok(Sweep { states, cancelled: true });
+            }
+        }
+        Ok(Sweep { states, cancelled: false })
+    }
+}
+
+/// From the solution `x` at the loading `from`, reach `to`: `newton(loading,
+/// x)` (returning its iterations) straight there, and on failure along the
+/// straight load path in bisected increments (load homotopy, at most 2⁸
+/// increments); `x` is updated. Returns the Newton iterations. `what` names
+/// the solver in the error.
+pub(crate) fn load_homotopy(
+    x: &mut DVector<f64>,
+    from: &Loading,
+    to: &Loading,
+    what: &str,
+    mut newton: impl FnMut(&Loading, &mut DVector<f64>) -> Result<usize>,
+) -> Result<usize> {
+    let (mut s_done, mut ds, mut iterations) = (0.0f64, 1.0f64, 0);
+    while s_done < 1.0 {
+        let s = (s_done + ds).min(1.0);
+        let mut trial = x.clone();
+        match newton(&from.lerp(to, s), &mut trial) {
+            Ok(it) => {
+                iterations += it;
+                *x = trial;
+                s_done = s;
+                ds = (2.0 * ds).min(1.0);
+            }
+            Err(e) => {
+                ds *= 0.5;
+                if ds < 1.0 / 256.0 {
+                    return Err(Error::new(
+                        e.status,
+                        format!("{what}: no equilibrium reached at load fraction {s:.4} ({})", e.message),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(iterations)
+}
+
+/// The positions of the unprescribed λ (force given) and ψ (torque given)
+/// among the unknowns, after `base` others.
+pub(crate) fn load_unknowns(loading: &Loading, base: usize) -> (Option<usize>, Option<usize>) {
+    let stretch = matches!(loading.axial, Axial::Force(_)).then_some(base);
+    let twist = matches!(loading.torsion, Torsion::Torque(_)).then_some(base + stretch.is_some() as usize);
+    (stretch, twist)
+}
+
+/// (λ, ψ): the prescribed values, or the unknowns at `stretch` and `twist`
+/// where the force or the torque is prescribed instead.
+pub(crate) fn stretch_and_twist(
+    loading: &Loading,
+    stretch: Option<usize>,
+    twist: Option<usize>,
+    x: &DVector<f64>,
+) -> (f64, f64) {
+    let lambda = match (loading.axial, stretch) {
+        (Axial::Stretch(l), _) => l,
+        (_, Some(i)) => x[i],
+        _ => unreachable!("force prescribed without a stretch unknown"),
+    };
+    let psi = match (loading.torsion, twist) {
+        (Torsion::Twist(p), _) => p,
+        (_, Some(i)) => x[i],
+        _ => unreachable!("torque prescribed without a twist unknown"),
+    };
+    (lambda, psi)
+}
+
+/// The stress scale that makes a tube's residual dimensionless: the
+/// small-strain response at `radius` (compressible laws) or the
+/// multiplier-free stress at rest (incompressible ones).
+pub(crate) fn stress_scale(material: &dyn WallMaterial, radius: f64) -> Result<f64> {
+    let h = 1e-6;
+    let c = Matrix3::identity() * (1.0 + 2.0 * h);
+    let modulus = (material.pk2(radius, &c).amax() / h).max(material.pk2(radius, &Matrix3::identity()).amax());
+    error::positive("material stiffness scale", modulus)
 }
 
 /// Largest change of the state's scalars between two grids, in the tube's

@@ -21,10 +21,21 @@
 use crate::error::{self, Error, Result};
 use crate::nonlinear::dense::{self as newton, NewtonOptions};
 use crate::status::Status;
-use crate::tube::finite::{Axial, Ends, Loading, Torsion, TubeState, WallProfile};
+use crate::tube::finite::{
+    load_homotopy, load_unknowns, stress_scale, stretch_and_twist, validate, validate_sweep, Axial, Ends, Loading,
+    Sweep, Torsion, TubeState, WallProfile,
+};
 use crate::tube::material::{WallMaterial, WallStrain};
 use nalgebra::{DVector, Matrix3};
 use std::f64::consts::PI;
+
+/// Positions of the unknowns [a (compressible only), b, λ?, ψ?]: λ where
+/// the force is prescribed, ψ where the torque is; `len` of them.
+struct Layout {
+    stretch: Option<usize>,
+    twist: Option<usize>,
+    len: usize,
+}
 
 /// A thin tube of mid radius R and wall thickness t made of `material`.
 pub struct MembraneTube<'m> {
@@ -44,25 +55,22 @@ impl<'m> MembraneTube<'m> {
                 format!("impossible tube: thickness {thickness:e} must be below twice the mid radius {mid_radius:e}"),
             ));
         }
-        let h = 1e-6;
-        let modulus = (material.pk2(mid_radius, &(Matrix3::identity() * (1.0 + 2.0 * h))).amax() / h)
-            .max(material.pk2(mid_radius, &Matrix3::identity()).amax());
-        error::positive("material stiffness scale", modulus)?;
+        let modulus = stress_scale(material, mid_radius)?;
         Ok(MembraneTube { mid_radius, thickness, material, modulus })
     }
 
     /// Equilibrium under `loading`, with the bracketing error estimate.
     pub fn solve(&self, loading: &Loading) -> Result<TubeState> {
-        crate::tube::finite::validate(loading)?;
+        validate(loading)?;
         let mut starts = self.rest_starts(loading);
         self.solve_from(&loading.rest(), &mut starts, loading)
     }
 
     /// The unknowns at rest for the mid radius and the two bracket radii.
     fn rest_starts(&self, loading: &Loading) -> [DVector<f64>; 3] {
-        let (_, twist_at, len) = self.layout(loading);
-        let mut x = DVector::from_element(len, 1.0);
-        if let Some(i) = twist_at {
+        let layout = self.layout(loading);
+        let mut x = DVector::from_element(layout.len, 1.0);
+        if let Some(i) = layout.twist {
             x[i] = 0.0;
         }
         [x.clone(), x.clone(), x]
@@ -85,11 +93,10 @@ impl<'m> MembraneTube<'m> {
     }
 
     /// Positions of the unknowns: [a (compressible only), b, λ?, ψ?].
-    fn layout(&self, loading: &Loading) -> (Option<usize>, Option<usize>, usize) {
+    fn layout(&self, loading: &Loading) -> Layout {
         let base = if self.material.incompressible() { 1 } else { 2 };
-        let stretch_at = matches!(loading.axial, Axial::Force(_)).then_some(base);
-        let twist_at = matches!(loading.torsion, Torsion::Torque(_)).then_some(base + stretch_at.is_some() as usize);
-        (stretch_at, twist_at, base + stretch_at.is_some() as usize + twist_at.is_some() as usize)
+        let (stretch, twist) = load_unknowns(loading, base);
+        Layout { stretch, twist, len: base + stretch.is_some() as usize + twist.is_some() as usize }
     }
 
     /// |(s(R − t/2) + s(R + t/2))/2 − s(R)| over the state's strain-like
@@ -125,57 +132,22 @@ impl<'m> MembraneTube<'m> {
     /// continued from the solution `x` at `from` along the straight load
     /// path (bisected on failure, as for the thick wall); `x` is updated.
     fn solve_at(&self, r0: f64, from: &Loading, x: &mut DVector<f64>, loading: &Loading) -> Result<TubeState> {
-        let (stretch_at, twist_at, len) = self.layout(loading);
-        let typical = DVector::from_fn(len, |k, _| if Some(k) == twist_at { 1.0 / r0 } else { 1.0 });
-        let (mut done, mut ds, mut iterations) = (0.0f64, 1.0f64, 0);
-        while done < 1.0 {
-            let s = (done + ds).min(1.0);
-            let part = from.lerp(loading, s);
-            let mut trial = x.clone();
-            let opts =
-                NewtonOptions { step_tol: 1e-13, residual_tol: 1e-13, max_iterations: 50, reuse_jacobian: false };
-            match newton::solve(&mut trial, &typical, &opts, |x, f| {
-                self.residual(r0, &part, stretch_at, twist_at, x, f)
-            }) {
-                Ok(rep) => {
-                    iterations += rep.iterations;
-                    *x = trial;
-                    done = s;
-                    ds = (2.0 * ds).min(1.0);
-                }
-                Err(e) => {
-                    ds *= 0.5;
-                    if ds < 1.0 / 256.0 {
-                        return Err(Error::new(
-                            e.status,
-                            format!("membrane tube: no equilibrium at load fraction {s:.4} ({})", e.message),
-                        ));
-                    }
-                }
-            }
-        }
-        let mut state = self.state(r0, loading, stretch_at, twist_at, x)?;
+        let layout = self.layout(loading);
+        let typical = DVector::from_fn(layout.len, |k, _| if Some(k) == layout.twist { 1.0 / r0 } else { 1.0 });
+        let opts = NewtonOptions { step_tol: 1e-13, residual_tol: 1e-13, max_iterations: 50, reuse_jacobian: false };
+        let iterations = load_homotopy(x, from, loading, "membrane tube", |part, trial| {
+            let report = newton::solve(trial, &typical, &opts, |x, f| self.residual(r0, part, &layout, x, f))?;
+            Ok(report.iterations)
+        })?;
+        let mut state = self.state(r0, loading, &layout, x)?;
         state.newton_iterations = iterations;
         Ok(state)
     }
 
     /// (a, b, λ, ψ) from the unknowns and the prescribed values.
-    fn kinematics(
-        &self,
-        loading: &Loading,
-        stretch_at: Option<usize>,
-        twist_at: Option<usize>,
-        x: &DVector<f64>,
-    ) -> [f64; 4] {
+    fn kinematics(&self, loading: &Loading, layout: &Layout, x: &DVector<f64>) -> [f64; 4] {
         let b = if self.material.incompressible() { x[0] } else { x[1] };
-        let lambda = match loading.axial {
-            Axial::Stretch(l) => l,
-            Axial::Force(_) => x[stretch_at.unwrap()],
-        };
-        let psi = match loading.torsion {
-            Torsion::Twist(p) => p,
-            Torsion::Torque(_) => x[twist_at.unwrap()],
-        };
+        let (lambda, psi) = stretch_and_twist(loading, layout.stretch, layout.twist, x);
         let a = if self.material.incompressible() { 1.0 / (b * lambda) } else { x[0] };
         [a, b, lambda, psi]
     }
@@ -210,16 +182,8 @@ impl<'m> MembraneTube<'m> {
         (wall, applied, torque)
     }
 
-    fn residual(
-        &self,
-        r0: f64,
-        loading: &Loading,
-        stretch_at: Option<usize>,
-        twist_at: Option<usize>,
-        x: &DVector<f64>,
-        f: &mut DVector<f64>,
-    ) -> bool {
-        let k = self.kinematics(loading, stretch_at, twist_at, x);
+    fn residual(&self, r0: f64, loading: &Loading, layout: &Layout, x: &DVector<f64>, f: &mut DVector<f64>) -> bool {
+        let k = self.kinematics(loading, layout, x);
         let Some(s) = self.stress(r0, k) else { return false };
         let [a, b, _, _] = k;
         let mu = self.modulus;
@@ -236,24 +200,17 @@ impl<'m> MembraneTube<'m> {
         }
         let (_, applied, torque) = self.resultants(r0, k, &s, loading);
         let force_scale = mu * 2.0 * PI * r0 * self.thickness;
-        if let (Axial::Force(target), Some(i)) = (loading.axial, stretch_at) {
+        if let (Axial::Force(target), Some(i)) = (loading.axial, layout.stretch) {
             f[i] = (applied - target) / force_scale;
         }
-        if let (Torsion::Torque(target), Some(i)) = (loading.torsion, twist_at) {
+        if let (Torsion::Torque(target), Some(i)) = (loading.torsion, layout.twist) {
             f[i] = (torque - target) / (force_scale * r0);
         }
         true
     }
 
-    fn state(
-        &self,
-        r0: f64,
-        loading: &Loading,
-        stretch_at: Option<usize>,
-        twist_at: Option<usize>,
-        x: &DVector<f64>,
-    ) -> Result<TubeState> {
-        let k = self.kinematics(loading, stretch_at, twist_at, x);
+    fn state(&self, r0: f64, loading: &Loading, layout: &Layout, x: &DVector<f64>) -> Result<TubeState> {
+        let k = self.kinematics(loading, layout, x);
         let s = self.stress(r0, k).ok_or_else(|| {
             Error::new(Status::ErrNonFiniteResult, "membrane tube: converged state is outside the domain")
         })?;
@@ -293,35 +250,17 @@ impl MembraneTube<'_> {
     /// previous one, so the sweep follows one branch of equilibria (solving
     /// each point from rest could land on another where several exist);
     /// `progress(i, state)` returning false stops the sweep cleanly.
-    pub fn sweep(
-        &self,
-        loadings: &[Loading],
-        mut progress: impl FnMut(usize, &TubeState) -> bool,
-    ) -> Result<crate::tube::finite::Sweep> {
-        let mut states = Vec::with_capacity(loadings.len());
+    pub fn sweep(&self, loadings: &[Loading], progress: impl FnMut(usize, &TubeState) -> bool) -> Result<Sweep> {
         let Some(first) = loadings.first() else {
-            return Ok(crate::tube::finite::Sweep { states, cancelled: false });
+            return Ok(Sweep { states: Vec::new(), cancelled: false });
         };
-        for (i, l) in loadings.iter().enumerate() {
-            crate::tube::finite::validate(l)?;
-            if !l.same_kind(first) {
-                return Err(Error::new(
-                    Status::ErrOutOfRange,
-                    format!("sweep loading {i} prescribes other quantities than the first one: a sweep varies values, not kinds"),
-                ));
-            }
-        }
+        validate_sweep(loadings, first, "first", |_| Ok(()))?;
         let mut starts = self.rest_starts(first);
         let mut from = first.rest();
-        for (i, l) in loadings.iter().enumerate() {
+        Sweep::run(loadings, progress, |l| {
             let s = self.solve_from(&from, &mut starts, l)?;
             from = *l;
-            let go_on = progress(i, &s);
-            states.push(s);
-            if !go_on {
-                return Ok(crate::tube::finite::Sweep { states, cancelled: true });
-            }
-        }
-        Ok(crate::tube::finite::Sweep { states, cancelled: false })
+            Ok(s)
+        })
     }
 }

@@ -175,6 +175,9 @@ pub(crate) mod voigt {
 impl Orthotropic {
     /// Validated constructor: moduli positive and the 6×6 compliance positive
     /// definite (Cholesky), so the strain energy is positive for every strain.
+    // The nine engineering constants of §1.1 in their conventional order, as
+    // the C API and the tests pass them: a parameter struct would be this
+    // struct itself, its fields named the same.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         e1: f64,

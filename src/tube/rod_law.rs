@@ -33,6 +33,7 @@
 
 use crate::chebyshev::ChebyshevGrid;
 use crate::error::{self, Error, Result};
+use crate::rod::Moduli;
 use crate::status::Status;
 use crate::tube::coupling::StretchTwist;
 use crate::tube::orthotropic::{voigt, Orthotropic};
@@ -60,17 +61,7 @@ impl RodStiffness {
         twist_stretch: f64,
         bend_shear: f64,
     ) -> Result<Self> {
-        let mut k = Matrix6::zeros();
-        k[(0, 0)] = bending;
-        k[(1, 1)] = bending;
-        k[(2, 2)] = twist;
-        k[(3, 3)] = shear;
-        k[(4, 4)] = shear;
-        k[(5, 5)] = stretch;
-        for (i, j, v) in [(2, 5, twist_stretch), (0, 3, bend_shear), (1, 4, bend_shear)] {
-            k[(i, j)] = v;
-            k[(j, i)] = v;
-        }
+        let k = Moduli::symmetric(bending, twist, shear, stretch, twist_stretch, bend_shear).stiffness();
         error::finite_result("rod stiffness", k.as_slice())?;
         if k.cholesky().is_none() {
             return Err(Error::new(

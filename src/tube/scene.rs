@@ -15,6 +15,10 @@ use crate::tube::rod_law::RodStiffness;
 use crate::tube::thick::{Compressibility, Estimated, ThickTube};
 
 /// The wall laws of §1.3, owned (enum dispatch keeps a scene `Send + Sync`).
+// SVK carries its 6×6 stiffness ℂ (the enum is 376 bytes, the other laws a few
+// words): a scene holds one law, built once and never copied in a loop, and
+// boxing the variant would change the public enum the C API and tests build.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq)]
 pub enum WallLaw {
     SaintVenantKirchhoff(SaintVenantKirchhoff),

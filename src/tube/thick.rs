@@ -55,6 +55,39 @@ pub struct Estimated<T> {
     pub error_estimate: f64,
 }
 
+/// The incompressible wall's displacement u = −εR/2 + D/R with the twist ψ
+/// (`dd` = D; D = 0 for a solid cylinder, regular at the axis).
+struct IncompressibleField {
+    eps: f64,
+    psi: f64,
+    dd: f64,
+}
+
+impl IncompressibleField {
+    /// Stress component `row` without the multiplier at radius r, σ̂ =
+    /// ℂ̄ (ε, u/R, u', ψR) with u/R = −ε/2 + D/R² and u' = −ε/2 − D/R².
+    fn hat(&self, c: &Matrix4<f64>, r: f64, row: usize) -> f64 {
+        let (eps, psi, dd) = (self.eps, self.psi, self.dd);
+        let w = if dd == 0.0 { 0.0 } else { dd / (r * r) };
+        let (hoop, radial) = (-0.5 * eps + w, -0.5 * eps - w);
+        c[(row, ZZ)] * eps + c[(row, TT)] * hoop + c[(row, RR)] * radial + c[(row, ZT)] * psi * r
+    }
+
+    /// (σ̂_ΘΘ − σ̂_RR)/R at the nodes (0 on the axis): equilibrium gives
+    /// σ_RR' = that, so its integral over the wall is the inner pressure p
+    /// (σ_RR(B) = 0), linear in D.
+    fn jump(&self, grid: &ChebyshevGrid, c: &[Matrix4<f64>]) -> DVector<f64> {
+        let r = &grid.nodes;
+        DVector::from_fn(r.len(), |j, _| {
+            if r[j] > 0.0 {
+                (self.hat(&c[j], r[j], TT) - self.hat(&c[j], r[j], RR)) / r[j]
+            } else {
+                0.0
+            }
+        })
+    }
+}
+
 /// Stiffness block excited by the tube kinematics, ordered (ZZ, ΘΘ, RR, ZΘ).
 fn tube_block(m: &Orthotropic, alpha: f64) -> Matrix4<f64> {
     let c = m.rotated_stiffness(alpha);
@@ -296,42 +329,20 @@ impl ThickTube {
             } else if inner == Inner::Displacement {
                 a * a * (eps_a + 0.5 * eps)
             } else {
-                let p_of = |d: f64| self.incompressible_pressure(grid, c, eps, psi, d);
+                let p_of = |dd: f64| grid.integrate(&IncompressibleField { eps, psi, dd }.jump(grid, c));
                 let (p0, p1) = (p_of(0.0), p_of(1.0));
                 -p0 / (p1 - p0)
             };
-            // Stresses without the multiplier: σ̂ = ℂ̄ (ε, u/R, u', ψR).
-            let hat = |j: usize, row: usize| {
-                let w = if dd == 0.0 { 0.0 } else { dd / (r[j] * r[j]) };
-                let (hoop, radial) = (-0.5 * eps + w, -0.5 * eps - w);
-                c[j][(row, ZZ)] * eps + c[j][(row, TT)] * hoop + c[j][(row, RR)] * radial + c[j][(row, ZT)] * psi * r[j]
-            };
+            let field = IncompressibleField { eps, psi, dd };
+            let hat = |j: usize, row: usize| field.hat(&c[j], r[j], row);
             // R σ_RR' = σ̂_ΘΘ − σ̂_RR; σ_RR(B) = 0 fixes the constant.
-            let jump = DVector::from_fn(n + 1, |j, _| if r[j] > 0.0 { (hat(j, TT) - hat(j, RR)) / r[j] } else { 0.0 });
-            let cum = grid.cumulative_integral(&jump);
+            let cum = grid.cumulative_integral(&field.jump(grid, c));
             let sigma_rr = cum.map(|v| v - cum[n]);
             // Multiplier p̂ = σ̂_RR − σ_RR; σ_ZZ = σ̂_ZZ − p̂.
             let szz = |j: usize| hat(j, ZZ) - (hat(j, RR) - sigma_rr[j]);
             out.push(self.resultants(grid, szz, |j| hat(j, ZT), -sigma_rr[0]));
         }
         Ok(out)
-    }
-
-    /// Inner pressure p = ∫(σ̂_ΘΘ − σ̂_RR)/R dR of the incompressible wall for
-    /// u = −εR/2 + D/R (linear in D).
-    fn incompressible_pressure(&self, grid: &ChebyshevGrid, c: &[Matrix4<f64>], eps: f64, psi: f64, dd: f64) -> f64 {
-        let r = &grid.nodes;
-        let jump = DVector::from_fn(r.len(), |j, _| {
-            let w = dd / (r[j] * r[j]);
-            let row = |k: usize| {
-                c[j][(k, ZZ)] * eps
-                    + c[j][(k, TT)] * (-0.5 * eps + w)
-                    + c[j][(k, RR)] * (-0.5 * eps - w)
-                    + c[j][(k, ZT)] * psi * r[j]
-            };
-            (row(TT) - row(RR)) / r[j]
-        });
-        grid.integrate(&jump)
     }
 
     /// (F, T, 2πA²p) = (2π∫σ_ZZ R dR, 2π∫τ_ZΘ R² dR, 2πA²p).

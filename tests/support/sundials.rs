@@ -920,6 +920,7 @@ unsafe extern "C" fn ida_residual(
     guarded(&mut data.panic, || residual(t, y, yp, r))
 }
 
+// The signature is IDA's (IDALsJacFn): ten arguments fixed by SUNDIALS.
 #[allow(clippy::too_many_arguments)]
 unsafe extern "C" fn ida_jacobian(
     t: f64,
@@ -952,6 +953,8 @@ unsafe extern "C" fn ida_jacobian(
 /// `id[i]` is 1 for a differential and 0 for an algebraic component (passed
 /// to `IDASetId`; it is what `IDA_YA_YDP_INIT` needs). Without a `jacobian`,
 /// IDA's difference-quotient Jacobian is used.
+// The arguments are IDA's own (IDAInit's t0, y0, y'0; IDASetId; the residual and
+// Jacobian callbacks; the options; the output times), one each, as the tests pass them.
 #[allow(clippy::too_many_arguments)]
 pub fn ida_solve(
     ctx: &Context,

@@ -44,30 +44,43 @@ impl FibreReinforced {
         m[THETA] = beta.sin();
         m
     }
+
+    /// A family's reference direction M at `radius` and its I4 − 1 =
+    /// M·CM − 1 (the fibre's squared stretch minus one).
+    fn fibre_strain(&self, family: &FibreFamily, radius: f64, c: &Matrix3<f64>) -> (Vector3<f64>, f64) {
+        let m = self.direction(family, radius);
+        let x = m.dot(&(c * m)) - 1.0;
+        (m, x)
+    }
+
+    /// The families in tension (I4 > 1: fibres carry no compression) with
+    /// their M and I4 − 1.
+    fn stretched<'a>(
+        &'a self,
+        radius: f64,
+        c: &'a Matrix3<f64>,
+    ) -> impl Iterator<Item = (&'a FibreFamily, Vector3<f64>, f64)> + 'a {
+        self.families.iter().filter_map(move |f| {
+            let (m, x) = self.fibre_strain(f, radius, c);
+            (x > 0.0).then_some((f, m, x))
+        })
+    }
 }
 
 impl WallMaterial for FibreReinforced {
     fn energy(&self, radius: f64, c: &Matrix3<f64>) -> f64 {
         let mut w = self.matrix.energy(radius, c);
-        for f in &self.families {
-            let m = self.direction(f, radius);
-            let x = m.dot(&(c * m)) - 1.0;
-            if x > 0.0 {
-                w += f.k1 / (2.0 * f.k2) * (f.k2 * x * x).exp_m1();
-            }
+        for (f, _, x) in self.stretched(radius, c) {
+            w += f.k1 / (2.0 * f.k2) * (f.k2 * x * x).exp_m1();
         }
         w
     }
 
     fn pk2(&self, radius: f64, c: &Matrix3<f64>) -> Matrix3<f64> {
         let mut s = self.matrix.pk2(radius, c);
-        for f in &self.families {
-            let m = self.direction(f, radius);
-            let x = m.dot(&(c * m)) - 1.0;
-            if x > 0.0 {
-                // S_f = 2 W_f'(I4) M⊗M, W_f' = k1 (I4 − 1) exp(k2 (I4 − 1)²).
-                s += m * m.transpose() * (2.0 * f.k1 * x * (f.k2 * x * x).exp());
-            }
+        for (f, m, x) in self.stretched(radius, c) {
+            // S_f = 2 W_f'(I4) M⊗M, W_f' = k1 (I4 − 1) exp(k2 (I4 − 1)²).
+            s += m * m.transpose() * (2.0 * f.k1 * x * (f.k2 * x * x).exp());
         }
         s
     }
@@ -82,8 +95,7 @@ impl WallMaterial for FibreReinforced {
     }
 
     fn switch_value(&self, k: usize, radius: f64, c: &Matrix3<f64>) -> f64 {
-        let m = self.direction(&self.families[k], radius);
-        m.dot(&(c * m)) - 1.0
+        self.fibre_strain(&self.families[k], radius, c).1
     }
 }
 

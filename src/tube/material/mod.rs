@@ -40,6 +40,12 @@ pub struct WallStrain {
 }
 
 impl WallStrain {
+    /// From the four local modes [a, b, λ, γ] (the order the wall solvers
+    /// difference them in).
+    pub fn from_modes(m: [f64; 4]) -> Self {
+        WallStrain { radial: m[0], hoop: m[1], axial: m[2], shear: m[3] }
+    }
+
     /// The undeformed state.
     pub fn identity() -> Self {
         WallStrain { radial: 1.0, hoop: 1.0, axial: 1.0, shear: 0.0 }

@@ -1,8 +1,10 @@
 //! rodkit: mechanics of elastic tubes and rods with a stable C ABI.
 //!
 //! The physics follows `../shared/spec/physics.md`; the C conventions
-//! `../shared/spec/c-api.md`. All code that opts out of the lint below lives in [`capi`], which is
-//! the only place allowed to opt out of the lint below.
+//! `../shared/spec/c-api.md`. The layout (one idea per module, models →
+//! engines → linear algebra, the C boundary on top) is mapped in the
+//! README's "Where things are". Unsafe code is denied everywhere except in
+//! [`capi`], the C boundary.
 #![deny(unsafe_code)]
 
 // Infrastructure.

@@ -70,12 +70,18 @@ fn median(mut v: Vec<Duration>) -> Duration {
     v[v.len() / 2]
 }
 
+/// The median time of `reps` calls of f, and its last result. The call
+/// goes through `black_box` both ways: the pair sums are pure (exp, sqrt),
+/// and without it the compiler moved the all-pairs energy out of the timed
+/// region (the 2026-11-25 figures of 0.37 / 3.7 / 35 ms at 1 / 3 / 10 kbp
+/// were ~13× too fast; the function itself takes 4–7 / 47–51 ms there).
 fn time<T>(reps: usize, mut f: impl FnMut() -> T) -> (T, Duration) {
     let mut times = vec![];
     let mut last = None;
     for _ in 0..reps {
+        let call = std::hint::black_box(&mut f);
         let t = Instant::now();
-        last = Some(f());
+        last = Some(std::hint::black_box(call()));
         times.push(t.elapsed());
     }
     (last.unwrap(), median(times))

@@ -298,7 +298,7 @@ impl BasePairSites {
             ns,
             &mut slots,
             |js, slot, parts: &mut (&mut [[f64; 3]], &mut [[f64; 9]])| {
-                this.stage_forces(js, w, &force, &blocks, parts.0, jacobian.then_some(&mut *parts.1), slot)
+                this.stage_forces(js, w, (&force, &blocks), parts.0, jacobian.then_some(&mut *parts.1), slot)
             },
             |js| (js.len(), if jacobian { this.partner_ptr[js.end] - this.partner_ptr[js.start] } else { 0 }),
             (p, out),
@@ -388,13 +388,11 @@ impl BasePairSites {
     /// (into `p`, indexed from js.start), and (Jacobian) ∂p_j/∂r_i over j's
     /// partners (into `out`, indexed from partner_ptr[js.start]), from every
     /// site's `force` and `blocks`; `slot` as in [`Self::site_forces`].
-    #[allow(clippy::too_many_arguments)]
     fn stage_forces(
         &self,
         js: std::ops::Range<usize>,
         w: &[f64],
-        force: &[[f64; 3]],
-        blocks: &[[f64; 9]],
+        (force, blocks): (&[[f64; 3]], &[[f64; 9]]),
         p: &mut [[f64; 3]],
         mut out: Option<&mut [[f64; 9]]>,
         slot: &mut [usize],

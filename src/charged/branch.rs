@@ -89,8 +89,7 @@ pub fn follow(
         }
         let steps_done = out.as_ref().map_or(0, |b| b.counts.steps);
         let seg_opts = Options { max_steps: opts.max_steps.saturating_sub(steps_done).max(1), ..opts.clone() };
-        let (segment, stale) =
-            follow_list(rod, charge, &mut problem, start, phase, &seg_opts, out.is_some(), &mut progress)?;
+        let (segment, stale) = follow_list(&mut problem, start, phase, &seg_opts, out.is_some(), &mut progress)?;
         let out = match out.as_mut() {
             Some(b) => {
                 b.append(segment);
@@ -134,10 +133,7 @@ fn reconverge(problem: &mut ChargedRod, x: &mut [f64], lambda: f64, opts: &Optio
 /// moving half the skin from where the list was built (returned stale: the
 /// list is rebuilt and the branch continued). A `resumed` segment's first
 /// record is the previous segment's last, already checked and reported.
-#[allow(clippy::too_many_arguments)]
 fn follow_list(
-    rod: &Rod,
-    charge: &RodCharge,
     problem: &mut ChargedRod,
     start: Start,
     phase: Option<(usize, f64)>,
@@ -145,6 +141,7 @@ fn follow_list(
     resumed: bool,
     progress: &mut dyn FnMut(&Record) -> bool,
 ) -> Result<(RodBranch, bool)> {
+    let (rod, charge) = (&problem.rod().clone(), &problem.charge().clone());
     let half_skin = 0.5 * charge.skin;
     let (reference, _) = rod.stage_points(start_x(&start));
     let offsets = rod.stage_offsets();
@@ -190,6 +187,7 @@ fn follow_list(
 /// rod's phase condition at the node of largest lateral displacement of
 /// the null direction, the first point taken at a fixed buckle amplitude
 /// ([`crate::rod::branch::switch`]).
+// The public entry point, as [`Rod::switch_branch`] with the charge.
 #[allow(clippy::too_many_arguments)]
 pub fn switch(
     rod: &Rod,

@@ -82,11 +82,11 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             return Ok(run.finish(Stop::StepTooSmall, State { x, lambda, tx: v.0, tl: v.1 }, last_a));
         }
         let (x1, l1) = run.ctx.tangent()?;
+        let here = State { x, lambda, tx: x1, tl: l1 };
         // The record of X0 (its determinant signs need this factorisation).
-        let mut rec = run.record(problem, &x, lambda, (&x1, l1), step_length, iterations, &mut observe);
+        let mut rec = run.record(problem, &here, step_length, iterations, &mut observe);
         rec.series_residual = series_residual;
         let go_on = run.push(rec, &mut progress);
-        let here = State { x, lambda, tx: x1, tl: l1 };
         if opts.detect_bifurcations && run.watch(problem, here.clone())? {
             // Locating moved the factorisation: restore this step's.
             run.ctx.factorise(problem, &here.x, lambda, (&v.0, v.1))?;
@@ -265,7 +265,7 @@ fn samples<P: SeriesProblem + ?Sized>(
         for t in all_roots(|t| curve.lambda(t) - target, a) {
             let mut xs = vec![0.0; here.x.len()];
             curve.evaluate(t, &mut xs, None);
-            run.sample(problem, xs, target, (&here.tx, here.tl), record, &mut refactorised, observe);
+            refactorised |= run.sample(problem, xs, (target, (&here.tx, here.tl)), record, observe);
         }
     }
     if refactorised {

@@ -59,7 +59,7 @@ pub fn continue_newton<P: Problem + ?Sized>(
     let first = if singular {
         run.singular_record(problem, &at.x, at.lambda, &mut observe)
     } else {
-        run.record(problem, &at.x, at.lambda, (&at.tx, at.tl), 0.0, first_iterations, &mut observe)
+        run.record(problem, &at, 0.0, first_iterations, &mut observe)
     };
     let residual = first.residual;
     let go_on = run.push(first, &mut progress);
@@ -105,7 +105,7 @@ pub fn continue_newton<P: Problem + ?Sized>(
         let next = State { x: xn, lambda: ln, tx: txn, tl: tln };
         let dx: Vec<f64> = at.x.iter().zip(&next.x).map(|(a, b)| b - a).collect();
         let step = run.ctx.scaling.norm(&dx, ln - at.lambda);
-        let rec = run.record(problem, &next.x, ln, (&next.tx, tln), step, iterations, &mut observe);
+        let rec = run.record(problem, &next, step, iterations, &mut observe);
         let go_on = run.push(rec, &mut progress);
         let refactorised = samples(&mut run, problem, &at, &next, step, &mut observe);
         if opts.detect_bifurcations {
@@ -223,7 +223,7 @@ fn samples<P: Problem + ?Sized>(
         for theta in all_roots(|t| lambda_at(t) - target, 1.0) {
             let mut xs = vec![0.0; at.x.len()];
             hermite(at, next, step, theta, &mut xs);
-            run.sample(problem, xs, target, (&next.tx, next.tl), record, &mut refactorised, observe);
+            refactorised |= run.sample(problem, xs, (target, (&next.tx, next.tl)), record, observe);
         }
     }
     refactorised

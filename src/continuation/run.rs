@@ -178,22 +178,21 @@ impl<'o> Run<'o> {
         }
     }
 
-    /// A record at (x, Λ) from the current factorisation (taken at that
-    /// point with a border close to the tangent t).
-    #[allow(clippy::too_many_arguments)]
+    /// A record at `at` from the current factorisation (taken at that point
+    /// with a border close to its tangent), reached by a step of arc length
+    /// `step` and `newton_iterations` corrections.
     pub fn record<P: Problem + ?Sized>(
         &mut self,
         problem: &mut P,
-        x: &[f64],
-        lambda: f64,
-        t: (&[f64], f64),
+        at: &State,
         step: f64,
         newton_iterations: usize,
         observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
     ) -> Record {
+        let (x, lambda) = (&at.x[..], at.lambda);
         let residual = self.ctx.residual_norm(problem, x, lambda);
         let ctx = &mut self.ctx;
-        let (bordered_det_sign, det_sign) = ctx.bordered.determinant_signs(&ctx.scaling, t.0, t.1);
+        let (bordered_det_sign, det_sign) = ctx.bordered.determinant_signs(&ctx.scaling, &at.tx, at.tl);
         let smallest_singular_value = (self.opts.track_singular || self.opts.detect_bifurcations)
             .then(|| ctx.bordered.signed_smallest_singular_value(&mut ctx.counts));
         Record {
@@ -299,20 +298,19 @@ impl<'o> Run<'o> {
 
     /// Dense output at `target` from the prediction `xs` (corrected on the
     /// current factorisation, tangent t): a sample in the step that starts
-    /// at record `record`, or a missed load. Sets `refactorised` when the
-    /// correction needed fresh factorisations.
-    #[allow(clippy::too_many_arguments)]
+    /// at record `record`, or a missed load. Returns whether the correction
+    /// needed fresh factorisations (the step's is gone).
     pub fn sample<P: Problem + ?Sized>(
         &mut self,
         problem: &mut P,
         mut xs: Vec<f64>,
-        target: f64,
-        t: (&[f64], f64),
+        (target, t): (f64, (&[f64], f64)),
         record: usize,
-        refactorised: &mut bool,
         observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
-    ) {
-        match deliver_sample(problem, &mut self.ctx, &mut xs, target, t, self.opts.residual_tol, refactorised) {
+    ) -> bool {
+        let mut refactorised = false;
+        let tol = self.opts.residual_tol;
+        match deliver_sample(problem, &mut self.ctx, &mut xs, target, t, tol, &mut refactorised) {
             Ok((iterations, residual)) => self.samples.push(Sample {
                 lambda: target,
                 record,
@@ -322,6 +320,7 @@ impl<'o> Run<'o> {
             }),
             Err(_) => self.missed.push(target),
         }
+        refactorised
     }
 
     /// The branch, stopped for `stop`, resumable from `at` (a point and

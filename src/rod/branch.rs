@@ -341,6 +341,9 @@ impl Rod {
 
     /// Leave `branch` at its bifurcation `index` along null direction
     /// `direction` ([`switch`]).
+    // The public entry point: the switch's independent inputs (branch,
+    // point, direction, first step, options, engine, callback), as the tests
+    // and the C boundary call it.
     #[allow(clippy::too_many_arguments)]
     pub fn switch_branch(
         &self,

@@ -23,43 +23,16 @@ fn ring_energy_writhe_and_validation() {
     assert_eq!(unsafe { rodkit_electrostatics_spec_default(spec.as_mut_ptr()) }, 0);
     let mut spec = unsafe { spec.assume_init() };
     let mut out = ElectrostaticEnergy::default();
+    // The energy of this ring through the C ABI, with arc lengths `s` (NULL
+    // allowed) and the closed flag.
+    let energy = |s: *const f64, closed: i32, spec: &ElectrostaticsSpec, out: &mut ElectrostaticEnergy| unsafe {
+        rodkit_curve_electrostatic_energy(s, xyz.as_ptr(), 3, tan.as_ptr(), 3, n as i64, closed, spec, out)
+    };
     // Unset fields are refused by name.
-    assert_eq!(
-        unsafe {
-            rodkit_curve_electrostatic_energy(
-                s.as_ptr(),
-                xyz.as_ptr(),
-                3,
-                tan.as_ptr(),
-                3,
-                n as i64,
-                1,
-                &spec,
-                &mut out,
-            )
-        },
-        Status::ErrNotFinite.code()
-    );
+    assert_eq!(energy(s.as_ptr(), 1, &spec, &mut out), Status::ErrNotFinite.code());
     assert!(last_error().contains("spec.line_charge"), "{}", last_error());
     (spec.line_charge, spec.kappa, spec.a, spec.near_width) = (1.0, 0.0, 0.02, 0.1);
-    assert_eq!(
-        unsafe {
-            rodkit_curve_electrostatic_energy(
-                s.as_ptr(),
-                xyz.as_ptr(),
-                3,
-                tan.as_ptr(),
-                3,
-                n as i64,
-                1,
-                &spec,
-                &mut out,
-            )
-        },
-        0,
-        "{}",
-        last_error()
-    );
+    assert_eq!(energy(s.as_ptr(), 1, &spec, &mut out), 0, "{}", last_error());
     // §3.5 Coulomb ring 2πR ln cot(a/4R), less the dropped near-zone term
     // 2πR·7δ⁴/(23040R⁴) (tests/electrostatics.rs), Hermite nodes adding O(h⁴).
     let exact =
@@ -96,56 +69,11 @@ fn ring_energy_writhe_and_validation() {
     // too few nodes, a zero tangent, a short leading dimension; nothing written.
     let before = out;
     spec.near_width = 0.01;
-    assert_eq!(
-        unsafe {
-            rodkit_curve_electrostatic_energy(
-                s.as_ptr(),
-                xyz.as_ptr(),
-                3,
-                tan.as_ptr(),
-                3,
-                n as i64,
-                1,
-                &spec,
-                &mut out,
-            )
-        },
-        Status::ErrOutOfRange.code()
-    );
+    assert_eq!(energy(s.as_ptr(), 1, &spec, &mut out), Status::ErrOutOfRange.code());
     assert!(last_error().contains("spec.near_width"), "{}", last_error());
     spec.near_width = 0.1;
-    assert_eq!(
-        unsafe {
-            rodkit_curve_electrostatic_energy(
-                std::ptr::null(),
-                xyz.as_ptr(),
-                3,
-                tan.as_ptr(),
-                3,
-                n as i64,
-                1,
-                &spec,
-                &mut out,
-            )
-        },
-        Status::ErrNullPointer.code()
-    );
-    assert_eq!(
-        unsafe {
-            rodkit_curve_electrostatic_energy(
-                s.as_ptr(),
-                xyz.as_ptr(),
-                3,
-                tan.as_ptr(),
-                3,
-                n as i64,
-                2,
-                &spec,
-                &mut out,
-            )
-        },
-        Status::ErrOutOfRange.code()
-    );
+    assert_eq!(energy(std::ptr::null(), 1, &spec, &mut out), Status::ErrNullPointer.code());
+    assert_eq!(energy(s.as_ptr(), 2, &spec, &mut out), Status::ErrOutOfRange.code());
     assert!(last_error().contains("closed"));
     assert!(unsafe { rodkit_curve_writhe(s.as_ptr(), xyz.as_ptr(), 3, tan.as_ptr(), 3, 1, 1, 8, &mut wr) } < 0);
     assert!(last_error().contains("nodes"));

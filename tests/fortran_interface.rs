@@ -357,6 +357,9 @@ fn parse_c_declarator(toks: &[Tok], what: &str, unsupported: &mut Vec<String>) -
     Some(CParam { name, ty })
 }
 
+// Over 120 lines: one pass over the header's items; this parser and its
+// hand-written module go when the module is generated from the header
+// (issue 20).
 fn parse_header(src: &str) -> CHeader {
     let mut h = CHeader::default();
     let text = strip_c_comments(src);
@@ -1473,6 +1476,7 @@ fn check_field(h: &CHeader, c: &CType, d: &FDecl) -> Result<(), String> {
 }
 
 /// Every difference between the header and the module, as readable lines.
+// Over 120 lines, as `parse_header` (issue 20 replaces both).
 fn compare(header_src: &str, module_src: &str) -> Vec<String> {
     let h = parse_header(header_src);
     let m = parse_module(module_src);

@@ -310,18 +310,11 @@ fn anm_high_order_takes_longer_steps() {
     }
 }
 
-/// Follower cantilever against our own planar-rod shooting reference
-/// (physics.md §2.6; independent code written here): the planar extensible,
-/// shearable rod in the x–z plane, tangent d3 = (sin θ, cos θ), d1 =
-/// (cos θ, −sin θ), θ' = m/K_b, r' = (n·d1/GA) d1 + (1 + n·d3/EA) d3,
-/// m' = −(r'_z n_x − r'_x n_z), with the constant spatial force n = α d1(L)
-/// (the follower force perpendicular to the tip tangent). Shooting on
-/// (θ(L), m(0)) with RK4 (20000 steps, error ~1e−15) and Newton, continued in
-/// α from 0; rodkit (Gauss(4) × 16, ANM) agrees within 1e−9 up to α = 10,
-/// where the tip has curled past 90°.
-#[test]
-fn follower_cantilever_against_planar_shooting() {
-    let (kb, ga, ea) = (1.0, 1e4, 2.6e4);
+/// The shooting reference of [`follower_cantilever_against_planar_shooting`]
+/// (its doc): continued in α by 0.25 to 10, the tips at every α (`dense`)
+/// and, at α = 1, 2, 5, 10, with the tip angle θ(L) (`reference`).
+#[allow(clippy::type_complexity)]
+fn planar_shooting(kb: f64, ga: f64, ea: f64) -> (Vec<(f64, [f64; 3], f64)>, Vec<(f64, [f64; 3])>) {
     let integrate = |alpha: f64, theta_l: f64, m0: f64| -> [f64; 4] {
         let n = [alpha * theta_l.cos(), -alpha * theta_l.sin()]; // (n_x, n_z) = α d1(L)
         let f = |y: [f64; 4]| -> [f64; 4] {
@@ -385,6 +378,22 @@ fn follower_cantilever_against_planar_shooting() {
             reference.push((alpha, [y[0], 0.0, y[1]], u[0]));
         }
     }
+    (reference, dense)
+}
+
+/// Follower cantilever against our own planar-rod shooting reference
+/// (physics.md §2.6; independent code written here): the planar extensible,
+/// shearable rod in the x–z plane, tangent d3 = (sin θ, cos θ), d1 =
+/// (cos θ, −sin θ), θ' = m/K_b, r' = (n·d1/GA) d1 + (1 + n·d3/EA) d3,
+/// m' = −(r'_z n_x − r'_x n_z), with the constant spatial force n = α d1(L)
+/// (the follower force perpendicular to the tip tangent). Shooting on
+/// (θ(L), m(0)) with RK4 (20000 steps, error ~1e−15) and Newton, continued in
+/// α from 0; rodkit (Gauss(4) × 16, ANM) agrees within 1e−9 up to α = 10,
+/// where the tip has curled past 90°.
+#[test]
+fn follower_cantilever_against_planar_shooting() {
+    let (kb, ga, ea) = (1.0, 1e4, 2.6e4);
+    let (reference, dense) = planar_shooting(kb, ga, ea);
     let law = RodLaw::isotropic(kb, 1.0 / 1.3, ga, ea).unwrap();
     let loads = Loads { tip_force: Some(Load::follower([1.0, 0.0, 0.0])), ..Default::default() };
     let rod = Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), 16).unwrap();

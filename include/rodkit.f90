@@ -87,6 +87,12 @@ module rodkit
     ! the material lost stability at the requested state (e.g. Saint
     ! Venant-Kirchhoff in strong compression)
     integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_MATERIAL_INSTABILITY = -11
+    ! the call would exceed its work bound (the message gives the estimated
+    ! cost and the bound); nothing was computed
+    integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_WORK_LIMIT = -12
+    ! the requested tolerance is below what the model or floating-point
+    ! round-off can reach (the message gives the best reachable)
+    integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_TOLERANCE_UNREACHABLE = -13
 
     ! -------------------------------------------------------------------------
     ! enum RodkitWinding: how a free tube (T = 0, p = 0) twists when pulled,

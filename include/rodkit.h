@@ -74,6 +74,10 @@ enum RodkitStatus
   RODKIT_STATUS_ERR_NON_FINITE_RESULT = -10,
   // the material lost stability at the requested state (e.g. Saint Venant-Kirchhoff in strong compression)
   RODKIT_STATUS_ERR_MATERIAL_INSTABILITY = -11,
+  // the call would exceed its work bound (the message gives the estimated cost and the bound); nothing was computed
+  RODKIT_STATUS_ERR_WORK_LIMIT = -12,
+  // the requested tolerance is below what the model or floating-point round-off can reach (the message gives the best reachable)
+  RODKIT_STATUS_ERR_TOLERANCE_UNREACHABLE = -13,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L

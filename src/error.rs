@@ -62,14 +62,25 @@ pub fn in_range(name: &str, value: f64, lo: f64, hi: f64) -> Result<f64> {
     }
 }
 
-/// An integer count or index must lie in [lo, hi].
+/// An integer count, order or index must lie in [lo, hi] (ErrOutOfRange).
 pub fn count_in_range(name: &str, value: i64, lo: i64, hi: i64) -> Result<i64> {
     if (lo..=hi).contains(&value) {
         Ok(value)
     } else {
+        Err(Error::new(Status::ErrOutOfRange, format!("argument `{name}` must lie in [{lo}, {hi}] (got {value})")))
+    }
+}
+
+/// An array's length, capacity or leading dimension must lie in [lo, hi]
+/// (ErrInvalidDimension: the array does not fit the problem).
+pub fn dimension(name: &str, value: i64, lo: i64, hi: i64) -> Result<i64> {
+    if (lo..=hi).contains(&value) {
+        Ok(value)
+    } else {
+        let want = if lo == hi { format!("{lo}") } else { format!("in [{lo}, {hi}]") };
         Err(Error::new(
             Status::ErrInvalidDimension,
-            format!("argument `{name}` must lie in [{lo}, {hi}] (got {value})"),
+            format!("argument `{name}` must be {want} (got {value}): the array does not fit the problem"),
         ))
     }
 }
@@ -103,7 +114,7 @@ mod tests {
         assert_eq!(e.status, Status::ErrOutOfRange);
         assert!(e.message.contains("`nu12`") && e.message.contains("3e0"), "{}", e.message);
 
-        let e = count_in_range("ldk", 2, 3, i64::MAX).unwrap_err();
+        let e = dimension("ldk", 2, 3, i64::MAX).unwrap_err();
         assert_eq!(e.status, Status::ErrInvalidDimension);
         assert!(e.message.contains("`ldk`") && e.message.contains("got 2"));
 

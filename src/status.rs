@@ -49,6 +49,10 @@ pub enum Status {
     ErrNonFiniteResult = -10,
     /// the material lost stability at the requested state (e.g. Saint Venant-Kirchhoff in strong compression)
     ErrMaterialInstability = -11,
+    /// the call would exceed its work bound (the message gives the estimated cost and the bound); nothing was computed
+    ErrWorkLimit = -12,
+    /// the requested tolerance is below what the model or floating-point round-off can reach (the message gives the best reachable)
+    ErrToleranceUnreachable = -13,
 }
 
 include!(concat!(env!("OUT_DIR"), "/status_messages.rs"));
@@ -108,7 +112,7 @@ mod tests {
             assert!(!s.message().is_empty() && !s.message().contains('\0'));
             assert_eq!(Status::from_code(s.code()), Some(*s));
         }
-        assert_eq!(Status::ALL.len(), 18);
+        assert_eq!(Status::ALL.len(), 20);
         assert_eq!(Status::from_code(-999), None);
     }
 }

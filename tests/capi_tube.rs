@@ -87,7 +87,8 @@ fn specs_are_validated_by_name() {
     assert!(msg.contains("material.shear_modulus"), "{msg}");
     let mut s = svk_spec();
     s.intervals = 2;
-    assert_eq!(new_tube(&s).unwrap_err().0, Status::ErrInvalidDimension.code());
+    // A count out of range is ErrOutOfRange (issue 17: -8 is for array lengths).
+    assert_eq!(new_tube(&s).unwrap_err().0, Status::ErrOutOfRange.code());
     assert_eq!(unsafe { rodkit_tube_new(ptr::null(), &mut ptr::null_mut()) }, Status::ErrNullPointer.code());
     unsafe { rodkit_tube_free(ptr::null_mut()) };
 }

@@ -99,7 +99,8 @@ fn same_model_reproduces_the_path_and_solvers_agree_on_base_pairs() {
 fn bad_points_are_statuses() {
     let run = small_run();
     let e = solve_point(&run, run.points.len(), &run.charge, EquilibriumSolver::Direct, 1e-10).unwrap_err();
-    assert_eq!(e.status, Status::ErrInvalidDimension, "{}", e.message);
+    // An index out of range is ErrOutOfRange (issue 17: -8 is for array lengths).
+    assert_eq!(e.status, Status::ErrOutOfRange, "{}", e.message);
     let e = solve_point(&run, 0, &run.charge, EquilibriumSolver::Direct, 0.0).unwrap_err();
     assert_eq!(e.status, Status::ErrNotPositive, "{}", e.message);
 }

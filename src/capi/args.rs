@@ -148,7 +148,7 @@ pub(crate) unsafe fn write_matrix(
     column_major: &[f64],
 ) -> Result<()> {
     debug_assert_eq!(column_major.len(), rows * cols);
-    error::count_in_range(ld_name, ld, rows as i64, i64::MAX / 64)?;
+    error::dimension(ld_name, ld, rows as i64, i64::MAX / 64)?;
     let len = ld as usize * cols.saturating_sub(1) + rows;
     let out = out_slice(name, ptr, len as i64)?;
     let ld = ld as usize;
@@ -162,7 +162,7 @@ pub(crate) unsafe fn write_matrix(
 /// i < nodes): ld ≥ 3, `nodes` the object's node count, and its size
 /// ld·(nodes − 1) + 3 representable.
 pub(crate) fn check_nodes(ld: i64, nodes: i64, want: usize) -> Result<()> {
-    error::count_in_range("ld", ld, 3, i64::MAX / 64)?;
+    error::dimension("ld", ld, 3, i64::MAX / 64)?;
     check_len("nodes", nodes, want as i64)?;
     // ld ≤ i64::MAX/64 times up to 2²⁰ nodes can overflow.
     ld.checked_mul(nodes - 1)
@@ -182,7 +182,7 @@ pub(crate) unsafe fn write_positions(xyz: *mut f64, ld: i64, positions: &[[f64; 
 
 /// A `capacity` argument: a count ≥ 0.
 pub(crate) fn capacity_arg(capacity: i64) -> Result<usize> {
-    Ok(error::count_in_range("capacity", capacity, 0, i64::MAX)? as usize)
+    Ok(error::dimension("capacity", capacity, 0, i64::MAX)? as usize)
 }
 
 /// The size-query/copy-out pattern: `*count` receives the number of

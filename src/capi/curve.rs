@@ -55,7 +55,7 @@ unsafe fn matrix_columns(name: &str, p: *const f64, ld: i64, nodes: usize) -> Re
     if p.is_null() {
         return Err(null_error(name));
     }
-    error::count_in_range(&format!("ld of {name}"), ld, 3, i64::MAX / 8)?;
+    error::dimension(&format!("ld of {name}"), ld, 3, i64::MAX / 8)?;
     let len = (ld as usize)
         .checked_mul(nodes - 1)
         .and_then(|v| v.checked_add(3))

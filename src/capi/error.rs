@@ -66,7 +66,7 @@ pub unsafe extern "C" fn rodkit_last_error_copy(buffer: *mut c_char, capacity: i
         if buffer.is_null() {
             return Err(null_error("buffer"));
         }
-        error::count_in_range("capacity", capacity, 1, i64::MAX)?;
+        error::dimension("capacity", capacity, 1, i64::MAX)?;
         LAST_ERROR.with(|m| {
             let bytes = m.borrow();
             let bytes = bytes.as_bytes();

@@ -74,7 +74,7 @@ pub unsafe extern "C" fn rodkit_rod_new_general(
     guard(|| {
         clear_handle(out);
         let spec = arg_ref("spec", spec)?;
-        error::count_in_range("ldk", ldk, 6, i64::MAX / 64)?;
+        error::dimension("ldk", ldk, 6, i64::MAX / 64)?;
         let a = in_array("stiffness", stiffness, ldk * 5 + 6)?;
         let k = Matrix6::from_fn(|i, j| a[i + j * ldk as usize]);
         let model = model_from(spec, Some(k)).map_err(|e| qualify_argument(e, "spec."))?;

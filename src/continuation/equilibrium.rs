@@ -75,7 +75,7 @@ pub fn damped_newton<P: Problem + ?Sized>(
     counts: &mut Counts,
 ) -> Result<(usize, f64)> {
     let n = problem.dim();
-    error::count_in_range("Newton state length", x.len() as i64, n as i64, n as i64)?;
+    error::dimension("Newton state length", x.len() as i64, n as i64, n as i64)?;
     let d = problem.equation_scales();
     let mut linear = SparseDirect::new(problem.pattern())?;
     let mut eq = AtFixed::new(problem, lambda);

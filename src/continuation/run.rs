@@ -60,8 +60,8 @@ impl Context {
 /// A resume or switch point: lengths and finiteness (a hand-built or
 /// deserialised Resume is user input).
 pub(crate) fn validate_resume(r: &Resume, n: usize) -> Result<()> {
-    error::count_in_range("resume point length", r.x.len() as i64, n as i64, n as i64)?;
-    error::count_in_range("resume tangent length", r.tangent_x.len() as i64, n as i64, n as i64)?;
+    error::dimension("resume point length", r.x.len() as i64, n as i64, n as i64)?;
+    error::dimension("resume tangent length", r.tangent_x.len() as i64, n as i64, n as i64)?;
     error::finite_result("resume point", &r.x)?;
     error::finite_result("resume tangent", &r.tangent_x)?;
     error::finite("resume lambda", r.lambda)?;
@@ -150,7 +150,7 @@ impl<'o> Run<'o> {
         lambda: f64,
     ) -> Result<(Vec<f64>, f64, usize)> {
         let n = problem.dim();
-        error::count_in_range("start point length", x.len() as i64, n as i64, n as i64)?;
+        error::dimension("start point length", x.len() as i64, n as i64, n as i64)?;
         let mut l = lambda;
         let anchor = x.clone();
         let (it, _) = correct(

@@ -345,7 +345,7 @@ pub fn solve<'a, E: SparseJacobian + ?Sized>(
     opts: &'a KrylovOptions,
 ) -> Result<KrylovReport> {
     let n = eq.dim();
-    crate::error::count_in_range("Newton–Krylov state length", x.len() as i64, n as i64, n as i64)?;
+    crate::error::dimension("Newton–Krylov state length", x.len() as i64, n as i64, n as i64)?;
     if pre.lu.dim() != n {
         return Err(Error::new(
             Status::ErrInvalidDimension,

@@ -162,7 +162,7 @@ where
     C: Convergence + ?Sized,
 {
     let n = eq.dim();
-    crate::error::count_in_range("Newton state length", x.len() as i64, n as i64, n as i64)?;
+    crate::error::dimension("Newton state length", x.len() as i64, n as i64, n as i64)?;
     let mut f = vec![0.0; n];
     let mut delta = vec![0.0; n];
     if !eq.residual(x, &mut f)? {

@@ -318,7 +318,7 @@ impl Rod {
         error::finite("lambda0", lambda0)?;
         let x = match x0 {
             Some(x) => {
-                error::count_in_range("state length", x.len() as i64, self.unknowns() as i64, self.unknowns() as i64)?;
+                error::dimension("state length", x.len() as i64, self.unknowns() as i64, self.unknowns() as i64)?;
                 error::finite_result("x0", x)?;
                 x.to_vec()
             }

@@ -85,11 +85,15 @@ pub fn energy(r: &[[f64; 3]], q: &[f64], s: &[f64], screening: &Screening, perio
 /// side — checked against the true error in tests). None for Coulomb
 /// (κ = 0: no cutoff is accurate) and when no r_c below `max` meets it.
 pub fn screening_cutoff(kappa: f64, a: f64, tolerance: f64, max: f64) -> Option<f64> {
-    if !(kappa > 0.0 && a > 0.0 && tolerance > 0.0 && tolerance < 1.0) {
+    // κa > 0, not only κ > 0: a denormal κ times a underflows to 0, where
+    // E1 is infinite (it panicked here, issue 17); a screening that weak is
+    // Coulomb for any length this library can integrate.
+    if !(kappa * a > 0.0 && tolerance > 0.0 && tolerance < 1.0 && max.is_finite()) {
         return None;
     }
     let target = tolerance * super::special::e1(kappa * a);
-    let tail = |r: f64| super::special::e1(kappa * r);
+    // E1(x) < e^{−x}/x underflows beyond x ≈ 700 (and κr may overflow).
+    let tail = |r: f64| if kappa * r > 700.0 { 0.0 } else { super::special::e1(kappa * r) };
     if tail(max) > target {
         return None;
     }

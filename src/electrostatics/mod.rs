@@ -184,6 +184,7 @@ fn energy_core(
     mut sink: Sink<'_>,
 ) -> Result<Energy> {
     validate(curve, screening, quad)?;
+    check_work(&energy_work(curve, screening, quad))?;
     let l = curve.length();
     let closed = curve.closed();
     let delta = quad.delta;
@@ -203,6 +204,13 @@ fn energy_core(
     let mut outer_breaks = nodes.clone();
     if !closed {
         outer_breaks.extend([screening.a, delta, l - delta, l - screening.a]);
+        // Near an end e(s) varies like ln(s/a) on [a, δ] (the one-sided
+        // near integral) and like ln(s/δ) beyond (the far side's length):
+        // both singular at s = 0, so panels graded geometrically from each
+        // end (a·2^k below δ, δ·2^k up to L/2). Without them one Gauss
+        // panel spanned [δ, first node] and a Coulomb segment of length
+        // 1e4 on 8 nodes came out 4.5e-5 off (issue 17).
+        outer_breaks.extend(end_grading(screening.a, delta, l));
         // Strong screening: within δ of an end, e(s) has a boundary layer
         // of width 1/κ next to s = a (the one-sided near integral starts
         // there): panels graded at a + 2^k/κ.
@@ -271,6 +279,98 @@ fn energy_core(
         return Err(Error::new(Status::ErrNonFiniteResult, "electrostatic energy is not finite"));
     }
     Ok(Energy { total, near: near_total, far: far_total, far_evaluations: evaluations })
+}
+
+/// Outer breaks graded geometrically toward both ends of an open curve of
+/// length `l`: a·2^k inside (a, δ) and δ·2^k inside (δ, L/2), mirrored.
+fn end_grading(a: f64, delta: f64, l: f64) -> Vec<f64> {
+    let mut b = Vec::new();
+    let mut x = 2.0 * a;
+    while x < delta {
+        b.extend([x, l - x]);
+        x *= 2.0;
+    }
+    let mut x = 2.0 * delta;
+    while x < 0.5 * l {
+        b.extend([x, l - x]);
+        x *= 2.0;
+    }
+    b
+}
+
+/// The work bound of one continuum evaluation ([`energy`],
+/// [`energy_gradient`], each step of [`energy_within`]): at most
+/// [`MAX_KERNEL_EVALUATIONS`] far-zone kernel evaluations (≈ 10–30 s at
+/// 10–30 ns each) and at most [`MAX_FAR_POINTS`] stored far-zone
+/// quadrature points (48 bytes each: ≈ 200 MB). Beyond either the call is
+/// refused with ErrWorkLimit before anything is allocated.
+pub const MAX_KERNEL_EVALUATIONS: f64 = 1e9;
+/// See [`MAX_KERNEL_EVALUATIONS`].
+pub const MAX_FAR_POINTS: f64 = 4e6;
+
+/// The size of one evaluation, computed up front from the panel counts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Work {
+    /// Stored far-zone quadrature points (global panels × order).
+    pub far_points: f64,
+    /// Outer quadrature points (outer panels × order).
+    pub outer_points: f64,
+    /// Far-zone kernel evaluations: outer points × (far points seen from
+    /// each; with a cutoff, those within r_c in arc length — exact for a
+    /// straight rod, an underestimate for a compact one — plus the local
+    /// window).
+    pub evaluations: f64,
+}
+
+/// The work of one [`energy`] evaluation at these settings (no allocation
+/// beyond the curve's break list).
+pub fn energy_work(curve: &dyn Centerline, screening: &Screening, quad: &EnergyQuadrature) -> Work {
+    let l = curve.length();
+    let delta = quad.delta;
+    let o = quad.order as f64;
+    let mut nodes = curve.breakpoints();
+    nodes.push(l);
+    let (mut global, mut last) = (0.0, 0.0);
+    for &b in &nodes {
+        if b > last {
+            global += ((b - last) / (2.0 * delta)).ceil().max(1.0);
+            last = b;
+        }
+    }
+    // Outer panels: the node intervals plus the end grading and the
+    // screening layer (≤ 2 log2 of the ratios each), as in energy_core.
+    let log2 = |r: f64| if r > 1.0 { r.log2().ceil() } else { 0.0 };
+    let mut outer = nodes.len() as f64;
+    if !curve.closed() {
+        outer += 4.0 + 2.0 * log2(delta / screening.a) + 2.0 * log2(0.5 * l / delta);
+        if screening.kappa > 0.0 {
+            outer += 2.0 * log2(4.0 * screening.kappa * delta);
+        }
+    }
+    // The local window: ≈ 4δ/(2δ) panels each side plus the grading.
+    let window = (10.0 + 2.0 * log2(4.0 * screening.kappa * delta)) * o;
+    let far_points = global * o;
+    let per_point = match quad.cutoff {
+        None => far_points,
+        Some(rc) => far_points.min(2.0 * rc / l * far_points + o),
+    };
+    let outer_points = outer * o;
+    Work { far_points, outer_points, evaluations: outer_points * (per_point + window) }
+}
+
+fn check_work(work: &Work) -> Result<()> {
+    if work.far_points > MAX_FAR_POINTS || work.evaluations > MAX_KERNEL_EVALUATIONS {
+        return Err(Error::new(
+            Status::ErrWorkLimit,
+            format!(
+                "the call would exceed its work bound: {:.2e} far-zone kernel evaluations on {:.2e} stored points \
+                 (bounds {MAX_KERNEL_EVALUATIONS:.0e} evaluations, {MAX_FAR_POINTS:.0e} points); the far zone is \
+                 paneled at ≤ 2δ, so the cost grows like (L/δ)²: raise the near-zone width or use fewer nodes",
+                work.evaluations, work.far_points
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The far-zone quadrature (t, weight) for any point s: t with
@@ -546,17 +646,46 @@ pub enum ElectrostaticModel {
 pub struct EnergyReport {
     pub energy: Energy,
     pub model: ElectrostaticModel,
-    /// Estimated relative error of `energy`: |E(fine) − E(coarse)|/|E| of
-    /// the last two resolutions (the returned value is the fine one, whose
-    /// error is normally far smaller), plus the cutoff's tail estimate.
+    /// Estimated relative error of `energy`: near-zone truncation (measured
+    /// by moving δ toward a, see [`energy_within`]) + quadrature (two Gauss
+    /// orders at the final δ) + the cutoff's tail + round-off.
     pub estimate: f64,
 }
 
-/// "Only what the scene requires" (physics.md §5): the cheapest continuum
-/// settings whose estimated relative error is within `tolerance` —
-/// starting coarse (δ = 4a, 3 Gauss points, cutoff for tolerance/10) and
-/// halving δ (down to 1.5a) while adding 2 Gauss points until two
-/// successive resolutions agree; no electrostatics for a zero charge.
+/// The kernel evaluations [`energy_within`] may spend over all its steps
+/// (the per-evaluation bounds [`MAX_KERNEL_EVALUATIONS`] and
+/// [`MAX_FAR_POINTS`] hold as well).
+pub const MAX_WITHIN_EVALUATIONS: f64 = 2e9;
+
+/// "Only what the scene requires" (physics.md §5): a continuum energy whose
+/// estimated relative error is within `tolerance`, no electrostatics for a
+/// zero charge.
+///
+/// The estimate has two measured parts.
+/// * Quadrature: at a fixed δ the Gauss order p is raised by 4 (from 6, up
+///   to 32) until |E(δ, p+4) − E(δ, p)| ≤ tol/4; the p+4 value is kept and
+///   that difference is its estimate q (Gauss converges geometrically, so
+///   it overestimates).
+/// * Near-zone truncation: the near-zone expansion drops terms whose
+///   integral over a < |h| < δ is T(x), x = δ − a, with T(0) = 0 (no near
+///   zone, nothing dropped) and |T| convex in x (it integrates |h|^p,
+///   p ≥ 2). For convex T, T(x/r) ≤ T(x)/r, hence
+///   |T(x/r)| ≤ |E(x) − E(x/r)|/(r − 1): two δ's give a bound, not a guess.
+///   It is counted twice (the bound assumes one sign and convexity), with
+///   both q's added to the difference: t = 2(|ΔE| + q + q')/(r − 1).
+///   δ starts at 4a — or larger while one evaluation would cost more than
+///   1e7 kernel evaluations (a ≪ L: the truncation is O(δ⁴) relative in
+///   the interior of a smooth curve and nothing on a straight one) — and
+///   x is divided by r = max(4, 4t/tol) until the sum is within tol. δ
+///   tends to a, where the model is the plain double integral: there is no
+///   floor below which the truncation goes unmeasured.
+///
+/// Refused: ErrWorkLimit when the next step would exceed
+/// [`MAX_WITHIN_EVALUATIONS`] over the call or an evaluation's own bound;
+/// ErrToleranceUnreachable when order 32 does not resolve the quadrature,
+/// or round-off (8ε·N^{1/4} for N kernel evaluations: nested sums of
+/// positive terms) plus the cutoff tail exceed tol/2. Both messages state
+/// the best estimate reached.
 pub fn energy_within(
     curve: &dyn Centerline,
     charge: &LineCharge,
@@ -571,26 +700,144 @@ pub fn energy_within(
             return Ok(EnergyReport { energy: zero, model: ElectrostaticModel::None, estimate: 0.0 });
         }
     }
+    error::positive("length", curve.length())?;
+    error::finite("kappa", screening.kappa)?;
+    error::positive("a", screening.a)?;
+    let a = screening.a;
     let l = curve.length();
     let max_delta = if curve.closed() { 0.5 * l } else { l };
-    let cutoff_tol = 0.1 * tolerance;
-    let cutoff = discrete::screening_cutoff(screening.kappa, screening.a, cutoff_tol, 1e6 * l.max(screening.a));
-    let cutoff_estimate = if cutoff.is_some() { cutoff_tol } else { 0.0 };
-    let mut delta = (4.0 * screening.a).min(0.45 * max_delta);
-    let mut order = 3;
-    let settings = |delta: f64, order: usize| EnergyQuadrature { delta, order, cutoff };
-    let mut coarse = energy(curve, charge, screening, &settings(delta, order))?;
-    for _ in 0..8 {
-        let (d2, o2) = ((0.5 * delta).max(1.5 * screening.a).min(delta), (order + 2).min(32));
-        let fine = energy(curve, charge, screening, &settings(d2, o2))?;
-        let estimate = (fine.total - coarse.total).abs() / fine.total.abs().max(f64::MIN_POSITIVE) + cutoff_estimate;
-        if estimate <= tolerance {
-            return Ok(EnergyReport { energy: fine, model: ElectrostaticModel::Continuum(settings(d2, o2)), estimate });
-        }
-        if d2 == delta && o2 == order {
-            break;
-        }
-        (delta, order, coarse) = (d2, o2, fine);
+    if !(a < max_delta) {
+        return Err(Error::new(
+            Status::ErrOutOfRange,
+            format!(
+                "argument `a` ({a:e}) must be below {} ({max_delta:e}): no pair is farther apart than a",
+                if curve.closed() { "L/2 on a closed curve" } else { "L" }
+            ),
+        ));
     }
-    Err(Error::new(Status::ErrNotConverged, format!("electrostatic energy: no setting reached the relative tolerance {tolerance:e} (last δ {delta:e}, order {order})")))
+    // The screening cutoff: its tail is measured, not assumed. The
+    // straight-line estimate of discrete::screening_cutoff is no bound for
+    // a coiled curve (more arc length per unit distance: a helix of radius
+    // 5 and pitch 10 dropped 3× the estimate, issue 17), so the steps run
+    // at the cutoff for 1e-3·tol and the result is the one at the cutoff
+    // for 1e-6·tol, whose remaining tail is bounded by ten times the line
+    // ratio E1(κr_wide)/E1(κr_c) of the measured difference.
+    let line_cutoff = |t: f64| discrete::screening_cutoff(screening.kappa, a, t, 1e6 * l.max(a));
+    let (cutoff, wide_cutoff) = (line_cutoff(1e-3 * tolerance), line_cutoff(1e-6 * tolerance));
+    let cutoff_estimate = 0.0;
+    let settings = |delta: f64, order: usize| EnergyQuadrature { delta, order, cutoff };
+    let roundoff = |e: &Energy| 8.0 * f64::EPSILON * (e.far_evaluations.max(1) as f64).powf(0.25);
+    let rel = |x: f64, y: f64| (x - y).abs() / x.abs().max(f64::MIN_POSITIVE);
+    // The largest δ allowed: strictly inside (a, max_delta).
+    let delta_cap = a + 0.5 * (max_delta - a);
+    let mut order = 6;
+    let mut delta0 = (4.0 * a).min(delta_cap);
+    while delta0 < delta_cap && energy_work(curve, screening, &settings(delta0, order + 4)).evaluations > 1e7 {
+        delta0 = (2.0 * delta0).min(delta_cap);
+    }
+    let spent = std::cell::Cell::new(0.0);
+    // The best result so far: (energy, settings, estimate).
+    let mut best: Option<(Energy, EnergyQuadrature, f64)> = None;
+    let best_text = |best: &Option<(Energy, EnergyQuadrature, f64)>| match best {
+        Some((e, q, est)) => format!(
+            "best reachable: estimate {est:.2e} (energy {:.15e} at δ {:e}, order {})",
+            e.total, q.delta, q.order
+        ),
+        None => "best reachable: none measured (a truncation estimate needs two near-zone widths)".to_string(),
+    };
+    let charge_work = |q: &EnergyQuadrature, best: &Option<(Energy, EnergyQuadrature, f64)>| -> Result<()> {
+        let w = energy_work(curve, screening, q);
+        if spent.get() + w.evaluations > MAX_WITHIN_EVALUATIONS
+            || w.evaluations > MAX_KERNEL_EVALUATIONS
+            || w.far_points > MAX_FAR_POINTS
+        {
+            return Err(Error::new(
+                Status::ErrWorkLimit,
+                format!(
+                    "the call would exceed its work bound: the next step (δ {:e}, order {}) costs {:.2e} kernel \
+                     evaluations on {:.2e} points after {:.2e} spent (bounds {MAX_WITHIN_EVALUATIONS:.0e} per \
+                     call, {MAX_KERNEL_EVALUATIONS:.0e} per step, {MAX_FAR_POINTS:.0e} points) for the relative \
+                     tolerance {tolerance:e}; {}",
+                    q.delta,
+                    q.order,
+                    w.evaluations,
+                    w.far_points,
+                    spent.get(),
+                    best_text(best)
+                ),
+            ));
+        }
+        spent.set(spent.get() + w.evaluations);
+        Ok(())
+    };
+    // (E at order p+4, q, p) at one δ, the order raised until resolved.
+    let resolved = |delta: f64,
+                        order: &mut usize,
+                        best: &Option<(Energy, EnergyQuadrature, f64)>|
+     -> Result<(Energy, f64)> {
+        charge_work(&settings(delta, *order), best)?;
+        let mut coarse = energy(curve, charge, screening, &settings(delta, *order))?;
+        loop {
+            let o2 = (*order + 4).min(32);
+            charge_work(&settings(delta, o2), best)?;
+            let fine = energy(curve, charge, screening, &settings(delta, o2))?;
+            let q = rel(fine.total, coarse.total);
+            if q <= 0.25 * tolerance || o2 == 32 {
+                return Ok((fine, q));
+            }
+            (*order, coarse) = (o2, fine);
+        }
+    };
+    let mut x = delta0 - a;
+    let mut prev: Option<(Energy, f64, f64)> = None;
+    loop {
+        let delta = a + x;
+        let (e, q) = resolved(delta, &mut order, &best)?;
+        let quad = settings(delta, (order + 4).min(32));
+        let floor = roundoff(&e) + cutoff_estimate;
+        let mut next_ratio = 4.0;
+        if let Some((ep, qp, xp)) = prev {
+            let r = xp / x;
+            let trunc = 2.0 * (rel(e.total, ep.total) + q + qp) / (r - 1.0);
+            let estimate = trunc + q + floor;
+            if best.as_ref().is_none_or(|b| estimate < b.2) {
+                best = Some((e, quad, estimate));
+            }
+            if estimate <= tolerance {
+                let (Some(rc), Some(wide)) = (cutoff, wide_cutoff) else {
+                    return Ok(EnergyReport { energy: e, model: ElectrostaticModel::Continuum(quad), estimate });
+                };
+                let wide_quad = EnergyQuadrature { cutoff: Some(wide), ..quad };
+                charge_work(&wide_quad, &best)?;
+                let ew = energy(curve, charge, screening, &wide_quad)?;
+                let e1 = |r: f64| if screening.kappa * r > 700.0 { 0.0 } else { special::e1(screening.kappa * r) };
+                let ratio = (10.0 * e1(wide) / e1(rc)).min(1.0);
+                let estimate = trunc + q + roundoff(&ew) + ratio * rel(ew.total, e.total);
+                if estimate <= tolerance {
+                    return Ok(EnergyReport { energy: ew, model: ElectrostaticModel::Continuum(wide_quad), estimate });
+                }
+            }
+            next_ratio = (4.0 * trunc / tolerance).clamp(4.0, 1e6);
+        }
+        if q > 0.25 * tolerance || floor > 0.5 * tolerance || x / next_ratio < 1e-12 * a {
+            let why = if q > 0.25 * tolerance {
+                format!("Gauss order 32 leaves a quadrature difference {q:.2e} at δ {delta:e}")
+            } else if floor > 0.5 * tolerance {
+                format!("round-off and cutoff tail {floor:.2e}")
+            } else {
+                "δ − a would fall below 1e-12·a".to_string()
+            };
+            let best = best.or(Some((e, quad, q + floor)));
+            return Err(Error::new(
+                Status::ErrToleranceUnreachable,
+                format!(
+                    "electrostatic energy: the relative tolerance {tolerance:e} is below what the model reaches \
+                     ({why}); {}",
+                    best_text(&best)
+                ),
+            ));
+        }
+        prev = Some((e, q, x));
+        x /= next_ratio;
+    }
 }

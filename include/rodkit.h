@@ -421,6 +421,38 @@ typedef struct RodkitDnaFit {
 // first (physical fields NaN = unset). Energies are in units of
 // 1/(4πε0εr) times the charge's units squared (k_BT·l_B per e² for a
 // charge in e per length).
+//
+// The curve: nodes i = 0 … nodes−1 with arc lengths s[i] (strictly
+// increasing, any start: the curve's arc length is s − s[0]), positions
+// and tangents as 3 × nodes column-major arrays with leading dimensions
+// (tangents are normalised here). Between two nodes the curve is the
+// cubic Hermite piece in arc length through both positions with the unit
+// tangents times the piece length as end derivatives: C¹ at the nodes,
+// its curvature jumps there (quadrature panels break at every node).
+// Checked on entry: every entry finite (ERR_NOT_FINITE naming `s[i]`,
+// `xyz[ld*i+k]`, `tangents[ld*i+k]`); s must be the arc length of the
+// positions — no chord longer than s[i+1] − s[i] by more than 1e-9
+// relative, each Hermite piece's own length within 1 % of
+// s[i+1] − s[i] (else ERR_OUT_OF_RANGE naming `s`); `closed` = 1 requires
+// the last node to repeat the first within 1e-9·L in position and 1e-6 in
+// unit tangent (else ERR_OUT_OF_RANGE naming `closed`).
+//
+// The energy, E = ½∫∫_{|s−t|>a} λ² Φ(|r(s) − r(t)|) ds dt with
+// Φ(d) = e^{−κd}/d, is split at |s − t| = δ (`spec.near_width`): for
+// a < |h| < δ the chord is expanded about s, d = |h|(1 − c²h²/24 + O(h³))
+// (c the curvature), and integrated analytically; beyond δ Gauss–Legendre
+// of `spec.order` points on panels. The dropped terms make the near zone
+// O(δ⁴) relative in the interior of a smooth curve (Coulomb ring:
+// 7δ⁴/(23040 R⁴ ln cot(a/4R)), 5e-6 for a helix of radius 5, pitch 10,
+// a = 1 at δ = 1.5) and O(δ³) within δ of an open curve's end; nothing on
+// a straight one. Work: the far zone is paneled at ≤ 2δ, so the cost
+// grows like (L/δ)².
+//
+// Work bounds (ERR_WORK_LIMIT, refused before anything is allocated, the
+// message states the cost and the bound): 1e9 far-zone kernel evaluations
+// and 4e6 stored quadrature points per continuum evaluation (about 10–30 s
+// and 200 MB), 2e9 kernel evaluations per `_within` call, 1e9 pair
+// evaluations for the base-pair sum.
 typedef struct RodkitElectrostaticsSpec {
   // Uniform line charge density λ.
   double line_charge;
@@ -455,7 +487,9 @@ typedef struct RodkitEnergyWithin {
   double near_width;
   int64_t order;
   double cutoff;
-  // Estimated relative error (two resolutions plus the cutoff's tail).
+  // Estimated relative error: near-zone truncation (measured from two
+  // near-zone widths) + quadrature (two Gauss orders) + the cutoff's
+  // tail (two cutoffs) + round-off.
   double estimate;
 } RodkitEnergyWithin;
 
@@ -979,8 +1013,20 @@ int32_t rodkit_dna_fit_thin_wall(double stretch,
 // Fill `spec` with defaults: λ, κ, a, δ NaN (unset), order 10.
 int32_t rodkit_electrostatics_spec_default(struct RodkitElectrostaticsSpec *spec);
 
-// The continuum electrostatic self-energy of the curve (nodes ≥ 2;
-// `closed` 1: the last node repeats the first and the curve is periodic).
+// The continuum electrostatic self-energy of the curve at the caller's
+// settings (`spec.near_width` δ, `spec.order`) — without an error
+// estimate: the result carries the near-zone truncation of its δ (see
+// RodkitElectrostaticsSpec: O(δ⁴) relative in the interior, O(δ³) at open ends) and
+// the quadrature error of its order. For an energy with a measured
+// error, use `rodkit_curve_electrostatic_energy_within`.
+// nodes 2…2²⁶; `closed` 1: the last node repeats the first and the curve
+// is periodic. Statuses: ERR_NULL_POINTER; ERR_NOT_FINITE (an entry of
+// s, xyz, tangents or a `spec` field); ERR_INVALID_DIMENSION (a leading
+// dimension < 3); ERR_OUT_OF_RANGE (nodes, `spec.order` outside 2…32,
+// `spec.near_width` not in (a, L) — (a, L/2) closed —, s not increasing
+// or not the arc length, `closed` not 0/1 or not closed, a zero tangent);
+// ERR_WORK_LIMIT (above the work bounds, e.g. a = 1e-6, δ = 2e-6 on a
+// length of 20); ERR_NON_FINITE_RESULT. Nothing is written on failure.
 int32_t rodkit_curve_electrostatic_energy(const double *s,
                                           const double *xyz,
                                           int64_t ldx,
@@ -994,6 +1040,10 @@ int32_t rodkit_curve_electrostatic_energy(const double *s,
 // The discrete base-pair energy of the same curve: charges λ·b at spacing
 // b (≈ `spacing`, adjusted to divide the length) at the midpoints, all
 // pairs with |s_i − s_j| > a (the thesis's comparison, O(N²)).
+// `spec.near_width` and `spec.order` are checked but unused. Statuses as
+// `rodkit_curve_electrostatic_energy`, and ERR_WORK_LIMIT when the
+// N(N − 1)/2 pairs exceed 1e9 (N = round(L/spacing): about 45 000
+// charges).
 int32_t rodkit_curve_base_pair_energy(const double *s,
                                       const double *xyz,
                                       int64_t ldx,
@@ -1019,9 +1069,24 @@ int32_t rodkit_curve_writhe(const double *s,
                             double *writhe_out);
 
 // Only what the scene requires: the energy of the curve within the
-// relative `tolerance` (1e-14…0.1) by the cheapest continuum settings
-// whose error estimate meets it, and which settings were used.
-// `spec.near_width` and `spec.order` are ignored (chosen here).
+// relative `tolerance` (1e-14…0.1), the settings used and the estimate
+// (`out->estimate` ≤ tolerance on success). `spec.near_width` and
+// `spec.order` are ignored (chosen here).
+// How: at each near-zone width δ the Gauss order is raised by 4 (6…32)
+// until two orders agree to tol/4; δ then moves toward a (δ − a divided
+// by r ≥ 4). The near-zone truncation T grows convexly from T = 0 at
+// δ = a, so |T(δ')| ≤ |E(δ) − E(δ')|/(r − 1): counted twice in the
+// estimate. Under screening, far pairs beyond a cutoff r_c are dropped and
+// the tail is measured against a wider cutoff, whose value is returned.
+// Measured (tests/electrostatics_estimates.rs): true error ≤ estimate ≤
+// tolerance for 1e-2…1e-12 on straight segments, Coulomb and
+// Debye–Hückel rings and a helix.
+// Statuses: those of `rodkit_curve_electrostatic_energy` (without
+// `spec.near_width`/`spec.order`); ERR_TOLERANCE_UNREACHABLE when the
+// tolerance is below what round-off (8ε·N^{1/4} for N kernel evaluations)
+// or Gauss order 32 reach; ERR_WORK_LIMIT when the next step would exceed
+// 2e9 kernel evaluations over the call (or an evaluation's bounds). Both
+// messages state the best estimate reached; `out` is not written then.
 int32_t rodkit_curve_electrostatic_energy_within(const double *s,
                                                  const double *xyz,
                                                  int64_t ldx,

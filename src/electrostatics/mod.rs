@@ -771,23 +771,21 @@ pub fn energy_within(
         Ok(())
     };
     // (E at order p+4, q, p) at one δ, the order raised until resolved.
-    let resolved = |delta: f64,
-                        order: &mut usize,
-                        best: &Option<(Energy, EnergyQuadrature, f64)>|
-     -> Result<(Energy, f64)> {
-        charge_work(&settings(delta, *order), best)?;
-        let mut coarse = energy(curve, charge, screening, &settings(delta, *order))?;
-        loop {
-            let o2 = (*order + 4).min(32);
-            charge_work(&settings(delta, o2), best)?;
-            let fine = energy(curve, charge, screening, &settings(delta, o2))?;
-            let q = rel(fine.total, coarse.total);
-            if q <= 0.25 * tolerance || o2 == 32 {
-                return Ok((fine, q));
+    let resolved =
+        |delta: f64, order: &mut usize, best: &Option<(Energy, EnergyQuadrature, f64)>| -> Result<(Energy, f64)> {
+            charge_work(&settings(delta, *order), best)?;
+            let mut coarse = energy(curve, charge, screening, &settings(delta, *order))?;
+            loop {
+                let o2 = (*order + 4).min(32);
+                charge_work(&settings(delta, o2), best)?;
+                let fine = energy(curve, charge, screening, &settings(delta, o2))?;
+                let q = rel(fine.total, coarse.total);
+                if q <= 0.25 * tolerance || o2 == 32 {
+                    return Ok((fine, q));
+                }
+                (*order, coarse) = (o2, fine);
             }
-            (*order, coarse) = (o2, fine);
-        }
-    };
+        };
     let mut x = delta0 - a;
     let mut prev: Option<(Energy, f64, f64)> = None;
     loop {

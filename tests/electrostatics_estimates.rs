@@ -249,3 +249,24 @@ fn energy_within_estimates_bound_the_true_error() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// Refusal where the tolerance is genuinely out of reach: 1e-14 on the
+/// Coulomb ring (R 1, a 0.1) is below round-off (8ε·N^{1/4} ≈ 3e-14 for
+/// N ≈ 1e5 kernel evaluations, nested sums of positive terms), so
+/// ERR_TOLERANCE_UNREACHABLE; the best energy the message reports must be
+/// within its stated estimate of the §3.5 closed form 2πR ln cot(a/4R).
+#[test]
+fn unreachable_tolerance_reports_an_honest_best() {
+    let ring = Circle { r: 1.0, nodes: 16 };
+    let exact = ring_reference(1.0, 0.0, 0.1);
+    let e = energy_within(&ring, &LineCharge::Uniform(1.0), &Screening { kappa: 0.0, a: 0.1 }, 1e-14).unwrap_err();
+    assert_eq!(e.status, Status::ErrToleranceUnreachable, "{}", e.message);
+    let number_after = |key: &str| -> f64 {
+        let rest = &e.message[e.message.find(key).unwrap_or_else(|| panic!("{key} in {}", e.message)) + key.len()..];
+        rest.split([' ', ')']).next().unwrap().parse().unwrap()
+    };
+    let (best, energy) = (number_after("best reachable: estimate "), number_after("(energy "));
+    let true_error = (energy - exact).abs() / exact;
+    println!("{}: true {true_error:e}", e.message);
+    assert!(true_error <= best && best > 1e-14 && best < 1e-12, "true {true_error:e}, best {best:e}");
+}

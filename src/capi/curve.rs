@@ -396,8 +396,8 @@ pub struct EnergyWithin {
 /// Debye–Hückel rings and a helix.
 /// Statuses: those of `rodkit_curve_electrostatic_energy` (without
 /// `spec.near_width`/`spec.order`); ERR_TOLERANCE_UNREACHABLE when the
-/// tolerance is below what round-off (8ε·N^{1/4} for N kernel evaluations)
-/// or Gauss order 32 reach; ERR_WORK_LIMIT when the next step would exceed
+/// tolerance is below what round-off (8ε·N^{1/4} for N kernel evaluations;
+/// ≈ 3e-14 on a ring of 16 nodes) or Gauss order 32 reach; ERR_WORK_LIMIT when the next step would exceed
 /// 2e9 kernel evaluations over the call (or an evaluation's bounds). Both
 /// messages state the best estimate reached; `out` is not written then.
 #[no_mangle]

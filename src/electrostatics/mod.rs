@@ -683,9 +683,10 @@ pub const MAX_WITHIN_EVALUATIONS: f64 = 2e9;
 /// Refused: ErrWorkLimit when the next step would exceed
 /// [`MAX_WITHIN_EVALUATIONS`] over the call or an evaluation's own bound;
 /// ErrToleranceUnreachable when order 32 does not resolve the quadrature,
-/// or round-off (8ε·N^{1/4} for N kernel evaluations: nested sums of
-/// positive terms) plus the cutoff tail exceed tol/2. Both messages state
-/// the best estimate reached.
+/// or when round-off (8ε·N^{1/4} for N kernel evaluations: nested sums of
+/// positive terms) is above tol/4 — the steps then aim at four times the
+/// round-off and the refusal reports the estimate reached there. Both
+/// messages state the best estimate reached (with its energy and δ).
 pub fn energy_within(
     curve: &dyn Centerline,
     charge: &LineCharge,
@@ -770,22 +771,38 @@ pub fn energy_within(
         spent.set(spent.get() + w.evaluations);
         Ok(())
     };
+    // What is aimed at: the tolerance, or — when round-off is above it —
+    // four times the round-off, so that a refusal reports the best the
+    // model reaches, not the first estimate measured.
+    let target = std::cell::Cell::new(tolerance);
+    let aim = |e: &Energy| target.set(target.get().max(4.0 * roundoff(e)));
     // (E at order p+4, q, p) at one δ, the order raised until resolved.
     let resolved =
         |delta: f64, order: &mut usize, best: &Option<(Energy, EnergyQuadrature, f64)>| -> Result<(Energy, f64)> {
             charge_work(&settings(delta, *order), best)?;
             let mut coarse = energy(curve, charge, screening, &settings(delta, *order))?;
+            aim(&coarse);
             loop {
                 let o2 = (*order + 4).min(32);
                 charge_work(&settings(delta, o2), best)?;
                 let fine = energy(curve, charge, screening, &settings(delta, o2))?;
+                aim(&fine);
                 let q = rel(fine.total, coarse.total);
-                if q <= 0.25 * tolerance || o2 == 32 {
+                if q <= 0.25 * target.get() || o2 == 32 {
                     return Ok((fine, q));
                 }
                 (*order, coarse) = (o2, fine);
             }
         };
+    let unreachable = |why: String, best: &Option<(Energy, EnergyQuadrature, f64)>| {
+        Error::new(
+            Status::ErrToleranceUnreachable,
+            format!(
+                "electrostatic energy: the relative tolerance {tolerance:e} is below what the model reaches ({why}); {}",
+                best_text(best)
+            ),
+        )
+    };
     let mut x = delta0 - a;
     let mut prev: Option<(Energy, f64, f64)> = None;
     loop {
@@ -797,43 +814,42 @@ pub fn energy_within(
         if let Some((ep, qp, xp)) = prev {
             let r = xp / x;
             let trunc = 2.0 * (rel(e.total, ep.total) + q + qp) / (r - 1.0);
-            let estimate = trunc + q + floor;
-            if best.as_ref().is_none_or(|b| estimate < b.2) {
-                best = Some((e, quad, estimate));
-            }
-            if estimate <= tolerance {
-                let (Some(rc), Some(wide)) = (cutoff, wide_cutoff) else {
-                    return Ok(EnergyReport { energy: e, model: ElectrostaticModel::Continuum(quad), estimate });
-                };
-                let wide_quad = EnergyQuadrature { cutoff: Some(wide), ..quad };
-                charge_work(&wide_quad, &best)?;
-                let ew = energy(curve, charge, screening, &wide_quad)?;
-                let e1 = |r: f64| if screening.kappa * r > 700.0 { 0.0 } else { special::e1(screening.kappa * r) };
-                let ratio = (10.0 * e1(wide) / e1(rc)).min(1.0);
-                let estimate = trunc + q + roundoff(&ew) + ratio * rel(ew.total, e.total);
-                if estimate <= tolerance {
-                    return Ok(EnergyReport { energy: ew, model: ElectrostaticModel::Continuum(wide_quad), estimate });
+            let mut estimate = trunc + q + floor;
+            let mut result = (e, quad);
+            if estimate <= target.get() {
+                if let (Some(rc), Some(wide)) = (cutoff, wide_cutoff) {
+                    let wide_quad = EnergyQuadrature { cutoff: Some(wide), ..quad };
+                    charge_work(&wide_quad, &best)?;
+                    let ew = energy(curve, charge, screening, &wide_quad)?;
+                    let e1 = |r: f64| if screening.kappa * r > 700.0 { 0.0 } else { special::e1(screening.kappa * r) };
+                    let ratio = (10.0 * e1(wide) / e1(rc)).min(1.0);
+                    estimate = trunc + q + roundoff(&ew) + ratio * rel(ew.total, e.total);
+                    result = (ew, wide_quad);
                 }
             }
-            next_ratio = (4.0 * trunc / tolerance).clamp(4.0, 1e6);
+            if best.as_ref().is_none_or(|b| estimate < b.2) {
+                best = Some((result.0, result.1, estimate));
+            }
+            if estimate <= tolerance {
+                let (energy, quad) = result;
+                return Ok(EnergyReport { energy, model: ElectrostaticModel::Continuum(quad), estimate });
+            }
+            if estimate <= target.get() {
+                let why = format!(
+                    "round-off {:.2e} for {} kernel evaluations",
+                    roundoff(&result.0),
+                    result.0.far_evaluations
+                );
+                return Err(unreachable(why, &best));
+            }
+            next_ratio = (4.0 * trunc / target.get()).clamp(4.0, 1e6);
         }
-        if q > 0.25 * tolerance || floor > 0.5 * tolerance || x / next_ratio < 1e-12 * a {
-            let why = if q > 0.25 * tolerance {
-                format!("Gauss order 32 leaves a quadrature difference {q:.2e} at δ {delta:e}")
-            } else if floor > 0.5 * tolerance {
-                format!("round-off and cutoff tail {floor:.2e}")
-            } else {
-                "δ − a would fall below 1e-12·a".to_string()
-            };
-            let best = best.or(Some((e, quad, q + floor)));
-            return Err(Error::new(
-                Status::ErrToleranceUnreachable,
-                format!(
-                    "electrostatic energy: the relative tolerance {tolerance:e} is below what the model reaches \
-                     ({why}); {}",
-                    best_text(&best)
-                ),
-            ));
+        if q > 0.25 * target.get() {
+            let why = format!("Gauss order 32 leaves a quadrature difference {q:.2e} at δ {delta:e}");
+            return Err(unreachable(why, &best));
+        }
+        if x / next_ratio < 1e-12 * a {
+            return Err(unreachable("δ − a would fall below 1e-12·a".to_string(), &best));
         }
         prev = Some((e, q, x));
         x /= next_ratio;

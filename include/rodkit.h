@@ -433,7 +433,8 @@ typedef struct RodkitDnaFit {
 // `xyz[ld*i+k]`, `tangents[ld*i+k]`); s must be the arc length of the
 // positions — no chord longer than s[i+1] − s[i] by more than 1e-9
 // relative, each Hermite piece's own length within 1 % of
-// s[i+1] − s[i] (else ERR_OUT_OF_RANGE naming `s`); `closed` = 1 requires
+// s[i+1] − s[i] (true arc lengths pass up to ≈ 1.7 rad of turning per
+// piece; else ERR_OUT_OF_RANGE naming `s`); `closed` = 1 requires
 // the last node to repeat the first within 1e-9·L in position and 1e-6 in
 // unit tangent (else ERR_OUT_OF_RANGE naming `closed`).
 //

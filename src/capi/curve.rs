@@ -28,7 +28,8 @@ use crate::status::Status;
 /// `xyz[ld*i+k]`, `tangents[ld*i+k]`); s must be the arc length of the
 /// positions — no chord longer than s[i+1] − s[i] by more than 1e-9
 /// relative, each Hermite piece's own length within 1 % of
-/// s[i+1] − s[i] (else ERR_OUT_OF_RANGE naming `s`); `closed` = 1 requires
+/// s[i+1] − s[i] (true arc lengths pass up to ≈ 1.7 rad of turning per
+/// piece; else ERR_OUT_OF_RANGE naming `s`); `closed` = 1 requires
 /// the last node to repeat the first within 1e-9·L in position and 1e-6 in
 /// unit tangent (else ERR_OUT_OF_RANGE naming `closed`).
 ///
@@ -121,6 +122,10 @@ const CLOSURE_TOLERANCE: (f64, f64) = (1e-9, 1e-6);
 /// own arc length (8-point Gauss–Legendre of its speed) must lie within
 /// 1 % of s_{i+1} − s_i (the energy integrates ds dt as if the speed were
 /// 1; a piece whose speed is off by more is not parametrised by arc length).
+/// A Hermite piece of a unit circle is short by 1.3e-7, 5.1e-4, 1.3e-3,
+/// 6.4e-3, 1.9e-2 of its arc at 0.1, 0.785, 1, 1.5, 2 rad (computed by the
+/// midpoint rule, 2e4 points): true arc lengths pass up to ≈ 1.7 rad of
+/// turning per piece.
 const ARC_TOLERANCE: (f64, f64) = (1e-9, 1e-2);
 
 unsafe fn curve_from(

@@ -3,7 +3,7 @@
 
 use super::args::{arg_mut, arg_ref, qualify_argument, write_matrix};
 use super::guard;
-use crate::error::Result;
+use crate::error::{self, Result};
 use crate::status::Status;
 use crate::tube::{OrthotropicSurface, ThinTube};
 
@@ -79,7 +79,9 @@ pub unsafe extern "C" fn rodkit_thin_tube_spec_default(spec: *mut ThinTubeSpec) 
 pub unsafe extern "C" fn rodkit_thin_tube_helix_angle(spec: *const ThinTubeSpec, alpha: *mut f64) -> i32 {
     guard(|| {
         let tube = thin_tube(arg_ref("spec", spec)?)?;
-        *arg_mut("alpha", alpha)? = tube.helix_angle();
+        let angle = tube.helix_angle();
+        error::finite_result("helix angle", &[angle])?;
+        *arg_mut("alpha", alpha)? = angle;
         Ok(Status::Ok)
     })
 }
@@ -106,7 +108,7 @@ pub unsafe extern "C" fn rodkit_thin_tube_coupling_stiffness(spec: *const ThinTu
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_thin_tube_stretch_twist(spec: *const ThinTubeSpec, s: *mut f64, lds: i64) -> i32 {
     guard(|| {
-        let law = thin_tube(arg_ref("spec", spec)?)?.coupling_stiffness()?.stretch_twist();
+        let law = thin_tube(arg_ref("spec", spec)?)?.coupling_stiffness()?.stretch_twist_checked()?;
         write_matrix("s", s, lds, "lds", 2, 2, law.matrix().as_slice())?;
         Ok(Status::Ok)
     })

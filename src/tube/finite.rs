@@ -518,7 +518,21 @@ impl<'m> FiniteTube<'m> {
         from: &Loading,
         to: &Loading,
     ) -> Result<usize> {
-        load_homotopy(x, from, to, "finite-strain tube", |loading, x| self.newton(grid, layout, loading, x))
+        load_homotopy(
+            x,
+            from,
+            to,
+            "finite-strain tube",
+            |loading, x| self.newton(grid, layout, loading, x),
+            |loading, x, s| {
+                let f = self.fields(grid, layout, loading, x)?;
+                (0..grid.nodes.len()).find_map(|j| {
+                    let big = grid.nodes[j];
+                    let hoop = if big > 0.0 { f.r[j] / big } else { f.dr[j] };
+                    limit_of_law(self.material, big, &[f.dr[j], hoop, f.lambda, f.r[j] * f.psi], s)
+                })
+            },
+        )
     }
 
     /// A sequence of equilibria along `loadings` (all of the same kind, e.g.
@@ -1051,25 +1065,7 @@ impl<'m> FiniteTube<'m> {
 /// (second differences of W, Cholesky); ErrMaterialInstability otherwise.
 /// Shared by the thick wall (every node) and the membrane (its one layer).
 pub(crate) fn local_stability(material: &dyn WallMaterial, big: f64, x0: &[f64; 4]) -> Result<()> {
-    let w = |x: &[f64; 4]| {
-        let strain = WallStrain::from_modes(*x);
-        material.energy(big, &strain.right_cauchy_green())
-    };
-    // Differences must not straddle a switch of the law (a fibre family
-    // turning on): across that kink the difference Hessian of a convex
-    // energy can be indefinite. Shrink the step until no stencil point
-    // changes a switch's sign; a point on the switch itself is left alone.
-    let Some(h) = stencil_step(material, big, x0) else { return Ok(()) };
-    let x0 = *x0;
-    let hess = nalgebra::Matrix4::from_fn(|k, l| {
-        let at = |dk: f64, dl: f64| {
-            let mut x = x0;
-            x[k] += dk;
-            x[l] += dl;
-            w(&x)
-        };
-        (at(h, h) - at(h, -h) - at(-h, h) + at(-h, -h)) / (4.0 * h * h)
-    });
+    let Some(hess) = local_hessian(material, big, x0) else { return Ok(()) };
     if hess.cholesky().is_none() {
         return Err(Error::new(
             Status::ErrMaterialInstability,
@@ -1083,6 +1079,80 @@ pub(crate) fn local_stability(material: &dyn WallMaterial, big: f64, x0: &[f64; 
     }
     Ok(())
 }
+
+/// Hessian of W in the local modes (a, b, λ, γ) at (R, x0), by second
+/// differences; None where no stencil avoids a switch of the law.
+fn local_hessian(material: &dyn WallMaterial, big: f64, x0: &[f64; 4]) -> Option<nalgebra::Matrix4<f64>> {
+    let w = |x: &[f64; 4]| {
+        let strain = WallStrain::from_modes(*x);
+        material.energy(big, &strain.right_cauchy_green())
+    };
+    // Differences must not straddle a switch of the law (a fibre family
+    // turning on): across that kink the difference Hessian of a convex
+    // energy can be indefinite. Shrink the step until no stencil point
+    // changes a switch's sign; a point on the switch itself is left alone.
+    let h = stencil_step(material, big, x0)?;
+    let x0 = *x0;
+    Some(nalgebra::Matrix4::from_fn(|k, l| {
+        let at = |dk: f64, dl: f64| {
+            let mut x = x0;
+            x[k] += dk;
+            x[l] += dl;
+            w(&x)
+        };
+        (at(h, h) - at(h, -h) - at(-h, h) + at(-h, -h)) / (4.0 * h * h)
+    }))
+}
+
+/// Smallest over largest eigenvalue of the local Hessian (negative when
+/// indefinite); None where it cannot be differenced.
+fn stiffness_ratio(material: &dyn WallMaterial, big: f64, x0: &[f64; 4]) -> Option<f64> {
+    let e = local_hessian(material, big, x0)?.symmetric_eigenvalues();
+    let (lo, hi) = (e.min(), e.amax());
+    (hi > 0.0 && lo.is_finite()).then_some(lo / hi)
+}
+
+/// A load path that stops (Newton fails) where the local stiffness of a
+/// compressible law has fallen below [`LIMIT_RATIO`] of its value at rest
+/// has met a limit of the law, not a solver weakness: Saint
+/// Venant-Kirchhoff's lateral Green strain cannot pass −1/2 (a radial
+/// stretch a → 0 at λ = √(1 + 1/ν) in uniaxial tension, where ∂²W/∂a² =
+/// a²C_rr → 0) and its compressive force has a maximum. Reported as
+/// ErrMaterialInstability with the last state reached (issue 17: it was
+/// ErrNotConverged).
+pub(crate) fn limit_of_law(material: &dyn WallMaterial, big: f64, x0: &[f64; 4], s: f64) -> Option<Error> {
+    if material.incompressible() {
+        return None;
+    }
+    let now = stiffness_ratio(material, big, x0)?;
+    let rest = stiffness_ratio(material, big, &[1.0, 1.0, 1.0, 0.0])?;
+    (now < LIMIT_RATIO * rest).then(|| {
+        Error::new(
+            Status::ErrMaterialInstability,
+            format!(
+                "the wall law reaches its limit on the way to this loading: past load fraction {s:.4} no equilibrium \
+                 was found, and there the wall's local stiffness is {:.1e} of its value at rest (R = {big:e}, \
+                 stretches radial {:.4}, hoop {:.4}, axial {:.4}, shear {:.4}). Saint Venant-Kirchhoff does this \
+                 past its stretch limit (a lateral stretch going to zero) or its compressive force maximum; use a \
+                 neo-Hookean law",
+                now / rest,
+                x0[0],
+                x0[1],
+                x0[2],
+                x0[3]
+            ),
+        )
+    })
+}
+
+/// See [`limit_of_law`]. Measured at the last state reached (SVK, isotropic
+/// and helical, t/R 0.1 and 0.8, membrane and thick): 2e−3…3e−2 before the
+/// stretch limit (λ = 3 asked), 3e−2…5e−2 before the compressive force
+/// maximum of a thin wall, negative where the path had already crossed
+/// unstable states; 0.15…0.9 where Newton failed for other reasons (fibre
+/// walls under outer pressure, strong inflation). Limits found with a ratio
+/// above 0.05 stay ErrNotConverged.
+pub(crate) const LIMIT_RATIO: f64 = 0.05;
 
 /// Step ≤ 1e−4 of the stability check's differences at (R, x0) such that
 /// no stencil point x0 ± h e_k ± h e_l changes the sign of a switching
@@ -1191,6 +1261,7 @@ pub(crate) fn load_homotopy(
     to: &Loading,
     what: &str,
     mut newton: impl FnMut(&Loading, &mut DVector<f64>) -> Result<usize>,
+    diagnose: impl Fn(&Loading, &DVector<f64>, f64) -> Option<Error>,
 ) -> Result<usize> {
     let (mut s_done, mut ds, mut iterations) = (0.0f64, 1.0f64, 0);
     while s_done < 1.0 {
@@ -1206,6 +1277,10 @@ pub(crate) fn load_homotopy(
             Err(e) => {
                 ds *= 0.5;
                 if ds < 1.0 / 256.0 {
+                    // Why the path stops, judged at the last state reached.
+                    if let Some(limit) = diagnose(&from.lerp(to, s_done), x, s_done) {
+                        return Err(limit);
+                    }
                     return Err(Error::new(
                         e.status,
                         format!("{what}: no equilibrium reached at load fraction {s:.4} ({})", e.message),

@@ -33,7 +33,7 @@ use crate::error::{self, Error, Result};
 use crate::nonlinear::dense::{self as newton, NewtonOptions};
 use crate::status::Status;
 use crate::tube::finite::{
-    load_homotopy, load_unknowns, local_stability, state_difference, stress_scale, stretch_and_twist, validate,
+    limit_of_law, load_homotopy, load_unknowns, local_stability, state_difference, stress_scale, stretch_and_twist, validate,
     validate_sweep, Axial, Ends, FiniteTube, Loading, Sweep, Torsion, TubeState, WallProfile,
 };
 use crate::tube::material::{WallMaterial, WallStrain};
@@ -154,10 +154,20 @@ impl<'m> MembraneTube<'m> {
         let layout = self.layout(loading);
         let typical = DVector::from_fn(layout.len, |k, _| if Some(k) == layout.twist { 1.0 / r0 } else { 1.0 });
         let opts = NewtonOptions { step_tol: 1e-13, residual_tol: 1e-13, max_iterations: 50, reuse_jacobian: false };
-        let iterations = load_homotopy(x, from, loading, "membrane tube", |part, trial| {
-            let report = newton::solve(trial, &typical, &opts, |x, f| self.residual(r0, part, &layout, x, f))?;
-            Ok(report.iterations)
-        })?;
+        let iterations = load_homotopy(
+            x,
+            from,
+            loading,
+            "membrane tube",
+            |part, trial| {
+                let report = newton::solve(trial, &typical, &opts, |x, f| self.residual(r0, part, &layout, x, f))?;
+                Ok(report.iterations)
+            },
+            |part, x, s| {
+                let [a, b, lambda, psi] = self.kinematics(part, &layout, x);
+                limit_of_law(self.material, r0, &[a, b, lambda, b * r0 * psi], s)
+            },
+        )?;
         let mut state = self.state(r0, loading, &layout, x)?;
         state.newton_iterations = iterations;
         Ok(state)

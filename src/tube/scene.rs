@@ -53,20 +53,27 @@ impl WallLaw {
             WallLaw::FibreReinforced(f) => {
                 check_nh(&f.matrix)?;
                 error::finite("intrinsic_twist", f.intrinsic_twist)?;
-                for fam in &f.families {
-                    error::positive("fibre_k1", fam.k1)?;
-                    error::positive("fibre_k2", fam.k2)?;
+                // Each family's fields by their C names, fibre1_… and
+                // fibre2_… (issue 17: both were reported as `fibre_k1`).
+                for (i, fam) in f.families.iter().enumerate() {
+                    let name = |field: &str| format!("fibre{}_{field}", i + 1);
+                    error::positive(&name("k1"), fam.k1)?;
+                    error::positive(&name("k2"), fam.k2)?;
                     match fam.angle {
                         crate::tube::material::fibre::FibreAngle::Helix { hand } => {
+                            error::finite(&name("hand"), hand)?;
                             if hand != 1.0 && hand != -1.0 {
                                 return Err(Error::new(
                                     Status::ErrOutOfRange,
-                                    format!("argument `fibre_hand` must be +1 or -1 (got {hand})"),
+                                    format!(
+                                        "argument `{}` is out of range: it must be +1 or -1 (got {hand:e})",
+                                        name("hand")
+                                    ),
                                 ));
                             }
                         }
                         crate::tube::material::fibre::FibreAngle::Fixed(a) => {
-                            error::finite("fibre_angle", a)?;
+                            error::finite(&name("angle"), a)?;
                         }
                     }
                 }
@@ -232,11 +239,13 @@ impl TubeScene {
     /// hemitropic rod of §2.2 (solid cylinders included).
     pub fn stretch_twist(&self) -> Result<StretchTwist> {
         if self.inner_radius > 0.0 {
-            return Ok(self.coupling_stiffness()?.value.stretch_twist());
+            return self.coupling_stiffness()?.value.stretch_twist_checked();
         }
         let (mat, comp, tau0) = self.law.small_strain()?;
         let tube = ThickTube::new(0.0, self.outer_radius, tau0, mat, comp)?;
-        Ok(tube.stretch_twist_estimated(self.rel_tol.max(1e-12))?.value)
+        let law = tube.stretch_twist_estimated(self.rel_tol.max(1e-12))?.value;
+        law.check()?;
+        Ok(law)
     }
 
     /// The section's 6×6 hemitropic rod law (u1, u2, u3, v1, v2, v3) ↔

@@ -250,7 +250,16 @@ impl ThickTube {
             if est <= rel_tol {
                 return Ok(Estimated { value: fine, intervals: n, error_estimate: est });
             }
-            if n >= 384 || roundoff > rel_tol {
+            if roundoff > rel_tol {
+                return Err(Error::new(
+                    Status::ErrToleranceUnreachable,
+                    format!(
+                        "thick-tube stretch-twist law: rel_tol {rel_tol:e} is below the round-off of this wall; the \
+                         best reachable is about {roundoff:.1e}"
+                    ),
+                ));
+            }
+            if n >= 384 {
                 return Err(Error::new(
                     Status::ErrNotConverged,
                     format!("thick-tube stretch-twist law: estimated error {est:e} above rel_tol {rel_tol:e} at {n} intervals"),

@@ -188,8 +188,15 @@ impl TubeScene {
         SolveOptions { rel_tol: self.rel_tol, intervals: self.intervals }
     }
 
-    /// The equilibrium under `loading` and the model that produced it.
+    /// The equilibrium under `loading` and the model that produced it; every
+    /// returned field is checked finite and physical (see [`check_state`]).
     pub fn solve(&self, loading: &Loading) -> Result<(TubeState, TubeModel)> {
+        let (state, model) = self.solve_unchecked(loading)?;
+        check_state(&state)?;
+        Ok((state, model))
+    }
+
+    fn solve_unchecked(&self, loading: &Loading) -> Result<(TubeState, TubeModel)> {
         match self.model {
             TubeModel::Thick => Ok((self.thick()?.solve(loading, &self.options())?, TubeModel::Thick)),
             TubeModel::Membrane => Ok((self.membrane()?.solve(loading)?, TubeModel::Membrane)),
@@ -255,4 +262,41 @@ impl TubeScene {
         let (mat, comp, tau0) = self.law.small_strain()?;
         ThickTube::new(self.inner_radius, self.outer_radius, tau0, mat, comp)?.rod_stiffness(self.rel_tol.max(1e-12))
     }
+}
+
+/// Issue 17, "no silent wrong answers": a state is returned only with every
+/// scalar and profile entry finite, a finite non-negative error estimate and
+/// deformed radii of the right sign and order (0 ≤ a < b).
+pub fn check_state(s: &TubeState) -> Result<()> {
+    let scalars = [
+        s.stretch,
+        s.twist,
+        s.wall_force,
+        s.applied_force,
+        s.torque,
+        s.inner_pressure,
+        s.outer_pressure,
+        s.deformed_inner_radius,
+        s.deformed_outer_radius,
+        s.error_estimate,
+    ];
+    error::finite_result("tube state", &scalars)?;
+    let p = &s.profile;
+    for column in [&p.reference_radius, &p.radius, &p.sigma_rr, &p.sigma_tt, &p.sigma_zz, &p.sigma_tz] {
+        error::finite_result("tube wall profile", column)?;
+    }
+    // A solid cylinder reports a deformed inner radius of 0, a tube a
+    // positive one: negative is never physical.
+    let radii_ok = s.deformed_inner_radius >= 0.0 && s.deformed_outer_radius > s.deformed_inner_radius;
+    if !(s.error_estimate >= 0.0 && s.stretch > 0.0 && radii_ok) {
+        return Err(Error::new(
+            Status::ErrMaterialInstability,
+            format!(
+                "tube state is not physical: stretch {:e}, deformed radii {:e} and {:e}, error estimate {:e} \
+                 (the section collapsed or inverted)",
+                s.stretch, s.deformed_inner_radius, s.deformed_outer_radius, s.error_estimate
+            ),
+        ));
+    }
+    Ok(())
 }

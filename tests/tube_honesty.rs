@@ -2,6 +2,9 @@
 //! the error it claims to bound, AUTO meets its tolerance, and a state that is
 //! not finite or not physical is a status, never OK.
 
+// Only the laws of the cases are used here (their geometry and model are
+// tests/tube_behaviour.rs's business).
+#[allow(dead_code)]
 #[path = "support/behaviour_cases.rs"]
 mod behaviour_cases;
 
@@ -14,8 +17,8 @@ use rodkit::tube::material::{FibreAngle, FibreFamily, FibreReinforced, NeoHookea
 use rodkit::tube::scene::{TubeModel, TubeScene, WallLaw};
 use rodkit::tube::Orthotropic;
 use rodkit::Status;
-use std::ffi::CStr;
 use std::f64::consts::PI;
+use std::ffi::CStr;
 use std::ptr;
 
 fn last_error() -> String {
@@ -58,15 +61,13 @@ fn helical() -> Orthotropic {
 /// compressible and incompressible, neo-Hookean both ways, fibre walls with
 /// fixed angles and with helical families.
 fn laws() -> Vec<(String, WallLaw)> {
-    let mut out: Vec<(String, WallLaw)> = behaviour_cases::cases().into_iter().map(|c| (c.name.into(), c.law)).collect();
+    let mut out: Vec<(String, WallLaw)> =
+        behaviour_cases::cases().into_iter().map(|c| (c.name.into(), c.law)).collect();
     let fam = |hand| FibreFamily { angle: FibreAngle::Helix { hand }, k1: 2.3, k2: 0.8 };
     out.extend([
         ("svk".into(), WallLaw::SaintVenantKirchhoff(SaintVenantKirchhoff::new(helical(), 1.7, false))),
         ("svk_inc".into(), WallLaw::SaintVenantKirchhoff(SaintVenantKirchhoff::new(helical(), 1.7, true))),
-        (
-            "nh".into(),
-            WallLaw::NeoHookean(NeoHookean { shear_modulus: 1.0, lame_lambda: 5.0, incompressible: false }),
-        ),
+        ("nh".into(), WallLaw::NeoHookean(NeoHookean { shear_modulus: 1.0, lame_lambda: 5.0, incompressible: false })),
         (
             "nh_inc".into(),
             WallLaw::NeoHookean(NeoHookean { shear_modulus: 1.0, lame_lambda: 0.0, incompressible: true }),
@@ -152,7 +153,8 @@ fn membrane_estimate_bounds_the_thick_wall_and_auto_meets_rel_tol() {
         for t in [1e-4, 1e-3, 1e-2, 0.1, 0.3, 0.5] {
             for (lname, l) in loadings(t) {
                 let what = format!("{name} {lname} t/R {t:e}");
-                let scene = |model, tol| TubeScene::new(r - t / 2.0, r + t / 2.0, law.clone(), model, tol, None).unwrap();
+                let scene =
+                    |model, tol| TubeScene::new(r - t / 2.0, r + t / 2.0, law.clone(), model, tol, None).unwrap();
                 let membrane = scene(TubeModel::Membrane, 1.0).solve(&l);
                 let Some(reference) = reference(&law, r, t, &l) else {
                     // No reference: the membrane may not claim an answer
@@ -163,7 +165,11 @@ fn membrane_estimate_bounds_the_thick_wall_and_auto_meets_rel_tol() {
                 if let Ok((m, _)) = &membrane {
                     // Less the reference's own error (its estimate, ≤ 1e−9).
                     let true_err = (measure(m, &reference, r + t / 2.0, mu) - reference.error_estimate).max(0.0);
-                    assert!(true_err <= m.error_estimate, "{what}: true {true_err:e} > estimate {:e}", m.error_estimate);
+                    assert!(
+                        true_err <= m.error_estimate,
+                        "{what}: true {true_err:e} > estimate {:e}",
+                        m.error_estimate
+                    );
                     worst = worst.max(true_err / m.error_estimate);
                     checked += 1;
                 }
@@ -207,7 +213,8 @@ fn auto_does_not_take_the_membrane_for_a_thick_fibre_wall() {
     let (auto, model) = scene.solve(&l).unwrap();
     assert_eq!(model, TubeModel::Thick);
     assert!((auto.twist - thick.twist).abs() * (r + t / 2.0) <= 1e-3, "{} vs {}", auto.twist, thick.twist);
-    let mem = TubeScene::new(r - t / 2.0, r + t / 2.0, law, TubeModel::Membrane, 1e-3, None).unwrap().solve(&l).unwrap().0;
+    let mem =
+        TubeScene::new(r - t / 2.0, r + t / 2.0, law, TubeModel::Membrane, 1e-3, None).unwrap().solve(&l).unwrap().0;
     let off = (mem.twist - thick.twist).abs() * (r + t / 2.0);
     assert!(off > 1e-3 && mem.error_estimate >= off, "membrane off by {off:e}, estimate {:e}", mem.error_estimate);
 }
@@ -224,13 +231,19 @@ fn thick_estimate_bounds_a_finer_grid() {
         for t in [1e-3, 0.1, 0.5] {
             for (lname, l) in loadings(t) {
                 let Some(fine) = reference(&law, r, t, &l) else { continue };
-                let scene = TubeScene::new(r - t / 2.0, r + t / 2.0, law.clone(), TubeModel::Thick, 1e-5, None).unwrap();
+                let scene =
+                    TubeScene::new(r - t / 2.0, r + t / 2.0, law.clone(), TubeModel::Thick, 1e-5, None).unwrap();
                 let (s, _) = scene.solve(&l).unwrap();
                 // The reference's own error (its estimate) is part of the
                 // comparison: at the 1e−12 level the difference is round-off.
                 let err = measure(&s, &fine, r + t / 2.0, mu);
                 let bound = s.error_estimate + fine.error_estimate;
-                assert!(err <= bound, "{name} {lname} t/R {t:e}: {err:e} > {:e} + {:e}", s.error_estimate, fine.error_estimate);
+                assert!(
+                    err <= bound,
+                    "{name} {lname} t/R {t:e}: {err:e} > {:e} + {:e}",
+                    s.error_estimate,
+                    fine.error_estimate
+                );
                 checked += 1;
             }
         }
@@ -270,7 +283,8 @@ fn round_off_floor_is_named_and_reachable() {
 #[test]
 fn svk_past_its_stretch_limit_is_material_instability() {
     let nu = 0.3;
-    let law = WallLaw::SaintVenantKirchhoff(SaintVenantKirchhoff::new(Orthotropic::isotropic(1.0, nu).unwrap(), 0.0, false));
+    let law =
+        WallLaw::SaintVenantKirchhoff(SaintVenantKirchhoff::new(Orthotropic::isotropic(1.0, nu).unwrap(), 0.0, false));
     let membrane = TubeScene::new(0.99, 1.01, law.clone(), TubeModel::Membrane, 1.0, None).unwrap();
     let lambda = 2.0;
     let (s, _) = membrane.solve(&Loading::torsion_free_stretch(lambda)).unwrap();
@@ -377,7 +391,10 @@ fn thin_tube_outputs_are_finite_or_a_status() {
                     let big = want.iter().fold(0.0f64, |m, w| m.max(w.abs()));
                     for (g, w) in v.iter().zip(want) {
                         assert!(g.is_finite(), "output {i} at E {e:e}: {v:?}");
-                        assert!((g / scale - w).abs() <= 1e-12 * big, "output {i} at E {e:e}: {g:e} vs {w:e}·{scale:e}");
+                        assert!(
+                            (g / scale - w).abs() <= 1e-12 * big,
+                            "output {i} at E {e:e}: {g:e} vs {w:e}·{scale:e}"
+                        );
                     }
                 }
                 Err(st) => {

@@ -26,7 +26,10 @@ pub struct TubeSpec {
     /// RodkitTubeModel (default RODKIT_TUBE_MODEL_AUTO).
     pub model: i32,
     /// Requested accuracy (default 1e−8): radii per B, λ, ψB, F per μπB²,
-    /// T per μπB³ for the thick model; the membrane's estimate likewise.
+    /// T per μπB³ for the thick model; the membrane's estimate is in the same
+    /// measure (twice its difference from the thick wall on a coarse grid,
+    /// plus that grid's own error), so AUTO takes the membrane only where it
+    /// meets rel_tol.
     pub rel_tol: f64,
     /// Fixed Chebyshev intervals for the thick model, 4…256; 0: adaptive.
     pub intervals: i64,

@@ -33,8 +33,8 @@ use crate::error::{self, Error, Result};
 use crate::nonlinear::dense::{self as newton, NewtonOptions};
 use crate::status::Status;
 use crate::tube::finite::{
-    limit_of_law, load_homotopy, load_unknowns, local_stability, state_difference, stress_scale, stretch_and_twist, validate,
-    validate_sweep, Axial, Ends, FiniteTube, Loading, Sweep, Torsion, TubeState, WallProfile,
+    limit_of_law, load_homotopy, load_unknowns, local_stability, state_difference, stress_scale, stretch_and_twist,
+    validate, validate_sweep, Axial, Ends, FiniteTube, Loading, Sweep, Torsion, TubeState, WallProfile,
 };
 use crate::tube::material::{WallMaterial, WallStrain};
 use nalgebra::{DVector, Matrix3};

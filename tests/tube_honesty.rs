@@ -408,7 +408,9 @@ fn thin_tube_outputs_are_finite_or_a_status() {
             }
         }
     }
-    assert!(refused > 0);
+    // Measured: with the condensation formed without overflow every output
+    // at these moduli is finite and matches the scaling (none refused).
+    assert_eq!(refused, 0);
     for got in thin_outputs(&thin_spec(1.0, 5.8e91)) {
         match got {
             Ok(v) => assert!(v.iter().all(|x| x.is_finite()), "{v:?}"),

@@ -151,8 +151,8 @@ impl StretchTwist {
     pub fn check(&self) -> Result<()> {
         let (s, g, c) = (self.stretch, self.coupling, self.twist);
         error::finite_result("stretch-twist law [S, g, C]", &[s, g, c])?;
-        // SC > g² compared as (g/√S)(g/√C) < 1 scaled, without overflow.
-        if !(s > 0.0 && c > 0.0 && (g / s.sqrt()) * (g / c.sqrt()) < 1.0) {
+        // SC > g² compared as |g|/(√S·√C) < 1, without overflow.
+        if !(s > 0.0 && c > 0.0 && g.abs() / (s.sqrt() * c.sqrt()) < 1.0) {
             return Err(Error::new(
                 Status::ErrNotPositiveDefinite,
                 format!(

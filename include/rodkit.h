@@ -927,7 +927,10 @@ typedef struct RodkitTubeSpec {
   // RodkitTubeModel (default RODKIT_TUBE_MODEL_AUTO).
   int32_t model;
   // Requested accuracy (default 1e−8): radii per B, λ, ψB, F per μπB²,
-  // T per μπB³ for the thick model; the membrane's estimate likewise.
+  // T per μπB³ for the thick model; the membrane's estimate is in the same
+  // measure (twice its difference from the thick wall on a coarse grid,
+  // plus that grid's own error), so AUTO takes the membrane only where it
+  // meets rel_tol.
   double rel_tol;
   // Fixed Chebyshev intervals for the thick model, 4…256; 0: adaptive.
   int64_t intervals;
@@ -1356,13 +1359,31 @@ int32_t rodkit_thin_tube_free_response(const struct RodkitThinTubeSpec *spec,
 
 // The section as a hemitropic rod (physics.md §2.2), thin-walled beam
 // theory: the symmetric positive-definite 6×6 stiffness K with
-// (m1, m2, m3, n1, n2, n3) = K (u − û, v − v̂) with û = 0, v̂ = e3 (the
-// straight unstressed tube), strains ordered (u1, u2, u3, v1, v2, v3):
-// bending K_b = πR³t·a, twist C, shear G = πRt·c (thin-tube shear
-// coefficient 1/2), stretch S, twist–stretch g (entries (3,6)) and
-// bend–shear c2 = −g/2 (entries (1,4), (2,5)); its (u3, v3) block is
-// rodkit_thin_tube_stretch_twist. `k` receives the matrix column-major with
-// leading dimension `ldk` ≥ 6.
+//
+//   (m1, m2, m3, n1, n2, n3) = K (u1, u2, u3, v1, v2, v3 − 1)
+//
+// in the rod's body frame (d1, d2 across the section, d3 along the tube
+// axis; the straight unstressed tube has u = 0, v = (0, 0, 1)):
+// u1, u2 bending curvatures and u3 twist per length (1/length; u3 is the ψ
+// of rodkit_thin_tube_coupling_stiffness); v1, v2 shear strains and v3 the
+// axial stretch (dimensionless; v3 − 1 is the axial strain ε); m1, m2
+// bending moments and m3 the torque (force·length); n1, n2 shear forces and
+// n3 the axial force (force). Entries, rows and columns numbered 1…6 in that
+// order, with R = `mid_radius`, t = `thickness`:
+//
+//   K11 = K22 = πR³t·a (bending),     K33 = 2πR³t·c (twist C),
+//   K44 = K55 = πRt·c (shear),        K66 = 2πRt·a (stretch S),
+//   K36 = K63 = 2πR²t·b (twist–stretch g),
+//   K14 = K41 = K25 = K52 = −πR²t·b = −g/2 (bend–shear), all others 0,
+//
+// where [a, b; b, c] (stress units) is the wall's in-surface stiffness
+// relating (σ_zz, σ_zθ) to (ε_zz, γ_zθ) (γ the engineering shear strain)
+// with the hoop stress zero: the plane-stress stiffness of (e1, e2, nu12,
+// g12) rotated to the helix angle atan(τ0·R) and the hoop strain condensed
+// out. The shear entries use the thin-tube shear coefficient 1/2. The
+// (u3, v3) block [[C, g], [g, S]] is rodkit_thin_tube_stretch_twist's
+// [[S, g], [g, C]] reordered. `k` receives the matrix column-major with
+// leading dimension `ldk` ≥ 6 (entries k[i + j·ldk], 0-based).
 int32_t rodkit_thin_tube_rod_stiffness(const struct RodkitThinTubeSpec *spec,
                                        double *k,
                                        int64_t ldk);
@@ -1438,9 +1459,16 @@ int32_t rodkit_tube_coupling_stiffness(const struct RodkitTube *tube,
 // `s` receives the 2×2 matrix column-major with leading dimension `lds` ≥ 2.
 int32_t rodkit_tube_stretch_twist(const struct RodkitTube *tube, double *s, int64_t lds);
 
-// The section as a hemitropic rod (physics.md §2.2): the 6×6 stiffness in
-// the order (u1, u2, u3, v1, v2, v3) ↔ (m1, m2, m3, n1, n2, n3), column-major
-// into `k` with leading dimension `ldk` ≥ 6. Stretch–twist block from the
+// The section as a hemitropic rod (physics.md §2.2): the symmetric 6×6
+// stiffness K with (m1, m2, m3, n1, n2, n3) = K (u1, u2, u3, v1, v2, v3 − 1)
+// in the rod's body frame (d3 along the tube axis): u1, u2 bending
+// curvatures, u3 twist per length (1/length); v1, v2 shear strains, v3 the
+// axial stretch (v3 − 1 the axial strain); m1, m2 bending moments, m3 the
+// torque; n1, n2 shear forces, n3 the axial force. Nonzero entries (1-based):
+// K11 = K22 bending, K33 twist C, K44 = K55 shear, K66 stretch S, K36 = K63
+// twist–stretch g, K14 = K41 = K25 = K52 bend–shear; see
+// rodkit_thin_tube_rod_stiffness for their thin-wall closed forms. Written
+// column-major into `k` with leading dimension `ldk` ≥ 6. Stretch–twist block from the
 // thick theory (as rodkit_tube_stretch_twist); bending and shear from
 // layer-wise thin-walled beam theory (exact Euler–Bernoulli bending; shear
 // with the thin-tube coefficient 1/2, low for thick walls). Needs a law with

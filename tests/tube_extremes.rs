@@ -52,11 +52,12 @@ fn wall_thickness_from_one_millionth_to_solid() {
         }
     }
     // At t/R = 1e−6 round-off (~ε·n·R/t) bounds the thick model's accuracy:
-    // a tighter tolerance is refused at once, naming the reason.
+    // a tighter tolerance is refused at once, naming the reason and the best
+    // reachable (issue 17: ErrToleranceUnreachable, not ErrNotConverged).
     let tiny = ThickTube::new(1.0 - 5e-7, 1.0 + 5e-7, 1.7, helical(), Compressibility::Compressible).unwrap();
     let e = tiny.coupling_stiffness(1e-11).unwrap_err();
-    assert_eq!(e.status, rodkit::Status::ErrNotConverged);
-    assert!(e.message.contains("round-off"), "{}", e.message);
+    assert_eq!(e.status, rodkit::Status::ErrToleranceUnreachable);
+    assert!(e.message.contains("round-off") && e.message.contains("best reachable"), "{}", e.message);
     // The solid cylinder is the limit of a small hole. For an anisotropic wall
     // the field near the axis goes like R^k with non-integer k; the solver
     // works in ln R with a 1e−6 pinhole, so it converges spectrally: the

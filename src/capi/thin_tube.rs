@@ -3,7 +3,7 @@
 
 use super::args::{arg_mut, arg_ref, qualify_argument, write_matrix};
 use super::guard;
-use crate::error::Result;
+use crate::error::{self, Result};
 use crate::status::Status;
 use crate::tube::{OrthotropicSurface, ThinTube};
 
@@ -79,7 +79,9 @@ pub unsafe extern "C" fn rodkit_thin_tube_spec_default(spec: *mut ThinTubeSpec) 
 pub unsafe extern "C" fn rodkit_thin_tube_helix_angle(spec: *const ThinTubeSpec, alpha: *mut f64) -> i32 {
     guard(|| {
         let tube = thin_tube(arg_ref("spec", spec)?)?;
-        *arg_mut("alpha", alpha)? = tube.helix_angle();
+        let angle = tube.helix_angle();
+        error::finite_result("helix angle", &[angle])?;
+        *arg_mut("alpha", alpha)? = angle;
         Ok(Status::Ok)
     })
 }
@@ -106,7 +108,7 @@ pub unsafe extern "C" fn rodkit_thin_tube_coupling_stiffness(spec: *const ThinTu
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_thin_tube_stretch_twist(spec: *const ThinTubeSpec, s: *mut f64, lds: i64) -> i32 {
     guard(|| {
-        let law = thin_tube(arg_ref("spec", spec)?)?.coupling_stiffness()?.stretch_twist();
+        let law = thin_tube(arg_ref("spec", spec)?)?.coupling_stiffness()?.stretch_twist_checked()?;
         write_matrix("s", s, lds, "lds", 2, 2, law.matrix().as_slice())?;
         Ok(Status::Ok)
     })
@@ -133,13 +135,31 @@ pub unsafe extern "C" fn rodkit_thin_tube_free_response(
 
 /// The section as a hemitropic rod (physics.md §2.2), thin-walled beam
 /// theory: the symmetric positive-definite 6×6 stiffness K with
-/// (m1, m2, m3, n1, n2, n3) = K (u − û, v − v̂) with û = 0, v̂ = e3 (the
-/// straight unstressed tube), strains ordered (u1, u2, u3, v1, v2, v3):
-/// bending K_b = πR³t·a, twist C, shear G = πRt·c (thin-tube shear
-/// coefficient 1/2), stretch S, twist–stretch g (entries (3,6)) and
-/// bend–shear c2 = −g/2 (entries (1,4), (2,5)); its (u3, v3) block is
-/// rodkit_thin_tube_stretch_twist. `k` receives the matrix column-major with
-/// leading dimension `ldk` ≥ 6.
+///
+///   (m1, m2, m3, n1, n2, n3) = K (u1, u2, u3, v1, v2, v3 − 1)
+///
+/// in the rod's body frame (d1, d2 across the section, d3 along the tube
+/// axis; the straight unstressed tube has u = 0, v = (0, 0, 1)):
+/// u1, u2 bending curvatures and u3 twist per length (1/length; u3 is the ψ
+/// of rodkit_thin_tube_coupling_stiffness); v1, v2 shear strains and v3 the
+/// axial stretch (dimensionless; v3 − 1 is the axial strain ε); m1, m2
+/// bending moments and m3 the torque (force·length); n1, n2 shear forces and
+/// n3 the axial force (force). Entries, rows and columns numbered 1…6 in that
+/// order, with R = `mid_radius`, t = `thickness`:
+///
+///   K11 = K22 = πR³t·a (bending),     K33 = 2πR³t·c (twist C),
+///   K44 = K55 = πRt·c (shear),        K66 = 2πRt·a (stretch S),
+///   K36 = K63 = 2πR²t·b (twist–stretch g),
+///   K14 = K41 = K25 = K52 = −πR²t·b = −g/2 (bend–shear), all others 0,
+///
+/// where [a, b; b, c] (stress units) is the wall's in-surface stiffness
+/// relating (σ_zz, σ_zθ) to (ε_zz, γ_zθ) (γ the engineering shear strain)
+/// with the hoop stress zero: the plane-stress stiffness of (e1, e2, nu12,
+/// g12) rotated to the helix angle atan(τ0·R) and the hoop strain condensed
+/// out. The shear entries use the thin-tube shear coefficient 1/2. The
+/// (u3, v3) block [[C, g], [g, S]] is rodkit_thin_tube_stretch_twist's
+/// [[S, g], [g, C]] reordered. `k` receives the matrix column-major with
+/// leading dimension `ldk` ≥ 6 (entries k[i + j·ldk], 0-based).
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_thin_tube_rod_stiffness(spec: *const ThinTubeSpec, k: *mut f64, ldk: i64) -> i32 {
     guard(|| {

@@ -26,7 +26,10 @@ pub struct TubeSpec {
     /// RodkitTubeModel (default RODKIT_TUBE_MODEL_AUTO).
     pub model: i32,
     /// Requested accuracy (default 1e−8): radii per B, λ, ψB, F per μπB²,
-    /// T per μπB³ for the thick model; the membrane's estimate likewise.
+    /// T per μπB³ for the thick model; the membrane's estimate is in the same
+    /// measure (twice its difference from the thick wall on a coarse grid,
+    /// plus that grid's own error), so AUTO takes the membrane only where it
+    /// meets rel_tol.
     pub rel_tol: f64,
     /// Fixed Chebyshev intervals for the thick model, 4…256; 0: adaptive.
     pub intervals: i64,
@@ -398,9 +401,16 @@ pub unsafe extern "C" fn rodkit_tube_stretch_twist(tube: *const Tube, s: *mut f6
     })
 }
 
-/// The section as a hemitropic rod (physics.md §2.2): the 6×6 stiffness in
-/// the order (u1, u2, u3, v1, v2, v3) ↔ (m1, m2, m3, n1, n2, n3), column-major
-/// into `k` with leading dimension `ldk` ≥ 6. Stretch–twist block from the
+/// The section as a hemitropic rod (physics.md §2.2): the symmetric 6×6
+/// stiffness K with (m1, m2, m3, n1, n2, n3) = K (u1, u2, u3, v1, v2, v3 − 1)
+/// in the rod's body frame (d3 along the tube axis): u1, u2 bending
+/// curvatures, u3 twist per length (1/length); v1, v2 shear strains, v3 the
+/// axial stretch (v3 − 1 the axial strain); m1, m2 bending moments, m3 the
+/// torque; n1, n2 shear forces, n3 the axial force. Nonzero entries (1-based):
+/// K11 = K22 bending, K33 twist C, K44 = K55 shear, K66 stretch S, K36 = K63
+/// twist–stretch g, K14 = K41 = K25 = K52 bend–shear; see
+/// rodkit_thin_tube_rod_stiffness for their thin-wall closed forms. Written
+/// column-major into `k` with leading dimension `ldk` ≥ 6. Stretch–twist block from the
 /// thick theory (as rodkit_tube_stretch_twist); bending and shear from
 /// layer-wise thin-walled beam theory (exact Euler–Bernoulli bending; shear
 /// with the thin-tube coefficient 1/2, low for thick walls). Needs a law with

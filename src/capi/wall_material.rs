@@ -136,7 +136,21 @@ pub(super) fn law(m: &WallMaterialSpec) -> Result<Law> {
         }
         WallLawKind::NeoHookean => Law::NeoHookean(nh()),
         WallLawKind::FibreReinforced => {
-            error::count_in_range("material.fibre_families", m.fibre_families, 0, 2)?;
+            if !(0..=2).contains(&m.fibre_families) {
+                return Err(Error::new(
+                    Status::ErrOutOfRange,
+                    format!(
+                        "argument `material.fibre_families` is out of range: it must be 0, 1 or 2 (got {})",
+                        m.fibre_families
+                    ),
+                ));
+            }
+            // A NaN hand is an unset number, not a hand out of range (-3,
+            // named), even where a fixed angle makes the hand unused.
+            let hands = [("material.fibre1_hand", m.fibre1_hand), ("material.fibre2_hand", m.fibre2_hand)];
+            for &(name, hand) in &hands[..m.fibre_families as usize] {
+                error::finite(name, hand)?;
+            }
             let fam = |k1: f64, k2: f64, angle: f64, hand: f64| FibreFamily {
                 angle: if angle.is_nan() { FibreAngle::Helix { hand } } else { FibreAngle::Fixed(angle) },
                 k1,

@@ -73,7 +73,7 @@ impl CouplingStiffness {
         if k.cholesky().is_none() {
             return Err(Error::new(
                 Status::ErrNotPositiveDefinite,
-                format!("coupling stiffness is not positive definite: {k}"),
+                format!("coupling stiffness is not positive definite: {k:e}"),
             ));
         }
         Ok(CouplingStiffness { k, intrinsic_twist })
@@ -86,15 +86,27 @@ impl CouplingStiffness {
         out
     }
 
-    /// Condense ε_θ out at p = 0 (Schur complement of K[2,2]).
+    /// Condense ε_θ out at p = 0 (Schur complement of K[2,2]). Each product
+    /// is formed as k_i3·(k_j3/k33) so that entries near 1e154 and above do
+    /// not overflow in k_i3·k_j3 (issue 17: −Inf was returned with OK for
+    /// moduli of 1e187…1e198).
     pub fn stretch_twist(&self) -> StretchTwist {
         let k = &self.k;
         let k33 = k[(2, 2)];
         StretchTwist {
-            stretch: k[(0, 0)] - k[(0, 2)] * k[(0, 2)] / k33,
-            coupling: k[(0, 1)] - k[(0, 2)] * k[(1, 2)] / k33,
-            twist: k[(1, 1)] - k[(1, 2)] * k[(1, 2)] / k33,
+            stretch: k[(0, 0)] - k[(0, 2)] * (k[(0, 2)] / k33),
+            coupling: k[(0, 1)] - k[(0, 2)] * (k[(1, 2)] / k33),
+            twist: k[(1, 1)] - k[(1, 2)] * (k[(1, 2)] / k33),
         }
+    }
+
+    /// [`Self::stretch_twist`], refused unless finite and positive definite
+    /// (S > 0, C > 0, SC > g², as the Schur complement of a positive-definite
+    /// K must be): what the C functions return.
+    pub fn stretch_twist_checked(&self) -> Result<StretchTwist> {
+        let law = self.stretch_twist();
+        law.check()?;
+        Ok(law)
     }
 
     /// Free-tube response: solve K e = (1, 0, 0).
@@ -116,6 +128,14 @@ impl CouplingStiffness {
         } else {
             Winding::Unwinds
         };
+        // Compliances of 1e−300 and below underflow to 0: a response of zero
+        // to a force is not a physical answer either.
+        if !(e[0] > 0.0) {
+            return Err(Error::new(
+                Status::ErrNonFiniteResult,
+                format!("free-tube response: axial compliance dε/dF = {:e} is not positive (underflow)", e[0]),
+            ));
+        }
         Ok(FreeTubeResponse { dstrain_dforce: e[0], dtwist_dforce: e[1], dhoop_dforce: e[2], winding })
     }
 }
@@ -124,5 +144,23 @@ impl StretchTwist {
     /// [[S, g], [g, C]].
     pub fn matrix(&self) -> Matrix2<f64> {
         Matrix2::new(self.stretch, self.coupling, self.coupling, self.twist)
+    }
+
+    /// Finite and positive definite, else ErrNonFiniteResult (overflow) or
+    /// ErrNotPositiveDefinite (round-off of constants many orders apart).
+    pub fn check(&self) -> Result<()> {
+        let (s, g, c) = (self.stretch, self.coupling, self.twist);
+        error::finite_result("stretch-twist law [S, g, C]", &[s, g, c])?;
+        // SC > g² compared as |g|/(√S·√C) < 1, without overflow.
+        if !(s > 0.0 && c > 0.0 && g.abs() / (s.sqrt() * c.sqrt()) < 1.0) {
+            return Err(Error::new(
+                Status::ErrNotPositiveDefinite,
+                format!(
+                    "stretch-twist law [S, g, C] = [{s:e}, {g:e}, {c:e}] is not positive definite: round-off of \
+                     constants too many orders of magnitude apart"
+                ),
+            ));
+        }
+        Ok(())
     }
 }

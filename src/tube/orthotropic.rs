@@ -172,6 +172,11 @@ pub(crate) mod voigt {
     pub(crate) const ZT: usize = 5;
 }
 
+/// Smallest ratio of two of the six moduli an [`Orthotropic`] accepts: the
+/// stiffness's condition number is at least the inverse, and at 1e12 the
+/// condensed laws keep ~4 significant digits.
+pub const MODULUS_RATIO_LIMIT: f64 = 1e-12;
+
 impl Orthotropic {
     /// Validated constructor: moduli positive and the 6×6 compliance positive
     /// definite (Cholesky), so the strain energy is positive for every strain.
@@ -196,12 +201,32 @@ impl Orthotropic {
         for (name, v) in [("nu12", nu12), ("nu13", nu13), ("nu23", nu23)] {
             error::finite(name, v)?;
         }
+        // Conditioning (issue 17): moduli more than 12 orders of magnitude
+        // apart leave a stiffness whose condensations keep ~4 digits at best,
+        // and a denormal one makes it singular (a tiny g13 panicked in the
+        // rod law). Refused by name, with both values.
+        let moduli = [("e1", e1), ("e2", e2), ("e3", e3), ("g12", g12), ("g13", g13), ("g23", g23)];
+        let (lo, hi) = (
+            moduli.iter().fold(moduli[0], |a, &b| if b.1 < a.1 { b } else { a }),
+            moduli.iter().fold(moduli[0], |a, &b| if b.1 > a.1 { b } else { a }),
+        );
+        if !(lo.1 >= MODULUS_RATIO_LIMIT * hi.1) || !lo.1.is_normal() || !(1.0 / lo.1).is_finite() {
+            return Err(Error::new(
+                Status::ErrNotPositiveDefinite,
+                format!(
+                    "argument `{}` = {:e} makes the material ill-conditioned: it is below {MODULUS_RATIO_LIMIT:e} \
+                     times the largest modulus ({} = {:e})",
+                    lo.0, lo.1, hi.0, hi.1
+                ),
+            ));
+        }
         let m = Orthotropic { e1, e2, e3, nu12, nu13, nu23, g12, g13, g23 };
         // Scale-free test: the compliance with rows/columns scaled by √E.
         let s = m.compliance();
         let d = nalgebra::Vector6::new(e1, e2, e3, g23, g13, g12).map(f64::sqrt);
         let scaled = Matrix6::from_fn(|i, j| s[(i, j)] * d[i] * d[j]);
-        if scaled.cholesky().is_none() {
+        let invertible = s.try_inverse().is_some_and(|c| c.iter().all(|v| v.is_finite()));
+        if !invertible || scaled.cholesky().is_none() {
             return Err(Error::new(
                 Status::ErrNotPositiveDefinite,
                 format!(

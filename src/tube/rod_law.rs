@@ -66,7 +66,7 @@ impl RodStiffness {
         if k.cholesky().is_none() {
             return Err(Error::new(
                 Status::ErrNotPositiveDefinite,
-                format!("rod stiffness is not positive definite: {k}"),
+                format!("rod stiffness is not positive definite: {k:e}"),
             ));
         }
         Ok(RodStiffness { k })
@@ -106,22 +106,32 @@ impl RodStiffness {
 
 /// Condense a symmetric stiffness onto the `keep` strains with the stresses
 /// of the others zero (Schur complement).
-fn condense(c: &DMatrix<f64>, keep: &[usize], free: &[usize]) -> Matrix2<f64> {
+/// A block that does not solve (singular to round-off: constants many orders
+/// of magnitude apart, or denormal) is ErrNotPositiveDefinite, not a panic
+/// (issue 17: a denormal g13 panicked here).
+fn condense(c: &DMatrix<f64>, keep: &[usize], free: &[usize]) -> Result<Matrix2<f64>> {
     let sub = |rows: &[usize], cols: &[usize]| DMatrix::from_fn(rows.len(), cols.len(), |i, j| c[(rows[i], cols[j])]);
     let (kk, kf, ff) = (sub(keep, keep), sub(keep, free), sub(free, free));
-    let schur = kk - &kf * ff.lu().solve(&kf.transpose()).expect("a positive-definite block is invertible");
-    Matrix2::new(
+    let solved = ff.lu().solve(&kf.transpose()).filter(|x| x.iter().all(|v| v.is_finite())).ok_or_else(|| {
+        Error::new(
+            Status::ErrNotPositiveDefinite,
+            "wall stiffness is singular to round-off: its constants span too many orders of magnitude",
+        )
+    })?;
+    let schur = kk - &kf * solved;
+    error::finite_result("condensed wall stiffness", schur.as_slice())?;
+    Ok(Matrix2::new(
         schur[(0, 0)],
         0.5 * (schur[(0, 1)] + schur[(1, 0)]),
         0.5 * (schur[(0, 1)] + schur[(1, 0)]),
         schur[(1, 1)],
-    )
+    ))
 }
 
 /// (a, b, c) of a wall layer at helix angle α: the law in (ε_zz, γ_zθ) with
 /// the radial, hoop and transverse-shear stresses zero (incompressible: the
 /// radial strain follows from tr ε = 0 and the multiplier takes σ_rr = 0).
-fn layer_moduli(material: &Orthotropic, alpha: f64, compressibility: Compressibility) -> Matrix2<f64> {
+fn layer_moduli(material: &Orthotropic, alpha: f64, compressibility: Compressibility) -> Result<Matrix2<f64>> {
     let c6 = material.rotated_stiffness(alpha);
     let c = DMatrix::from_fn(6, 6, |i, j| c6[(i, j)]);
     let (zz, tt, rr, zt) = (voigt::ZZ, voigt::TT, voigt::RR, voigt::ZT);
@@ -151,7 +161,7 @@ impl ThinTube {
         let q = self.material.rotated_stiffness(self.helix_angle());
         let c = DMatrix::from_fn(3, 3, |i, j| q[(i, j)]);
         // Surface axes (Z, Θ, ZΘ): keep Z and ZΘ, free Θ.
-        let m = condense(&c, &[0, 2], &[1]);
+        let m = condense(&c, &[0, 2], &[1])?;
         let (r, t) = (self.mid_radius, self.thickness);
         let (a, b, cc) = (m[(0, 0)], m[(0, 1)], m[(1, 1)]);
         RodStiffness::hemitropic(
@@ -175,25 +185,25 @@ impl ThickTube {
         error::in_range("rel_tol", rel_tol, 1e-14, 1.0)?;
         let st = self.stretch_twist_estimated(rel_tol)?;
         let (a, b) = (self.inner_radius, self.outer_radius);
-        let layered = |n: usize| {
+        let layered = |n: usize| -> Result<[f64; 3]> {
             // Clenshaw–Curtis on [A, B]: the moduli are analytic in R
             // (α = atan(τ0 R) has its poles at ±i/τ0).
             let grid = ChebyshevGrid::new(n, a, b);
             let mut out = [0.0; 3];
             for (j, &r) in grid.nodes.iter().enumerate() {
-                let m = layer_moduli(&self.material, (self.intrinsic_twist * r).atan(), self.compressibility);
+                let m = layer_moduli(&self.material, (self.intrinsic_twist * r).atan(), self.compressibility)?;
                 let w = PI * grid.weights[j];
                 out[0] += w * m[(0, 0)] * r.powi(3);
                 out[1] += w * m[(1, 1)] * r;
                 out[2] -= w * m[(0, 1)] * r * r;
             }
-            out
+            Ok(out)
         };
         let mut n = 8;
-        let mut coarse = layered(n);
+        let mut coarse = layered(n)?;
         loop {
             let fine_n = n * 2;
-            let fine = layered(fine_n);
+            let fine = layered(fine_n)?;
             // Scales: K_b, G, and √(K_b G) for the coupling.
             let scale = [fine[0].abs(), fine[1].abs(), (fine[0] * fine[1]).abs().sqrt()];
             let est = (0..3)
@@ -240,7 +250,16 @@ impl ThickTube {
             if est <= rel_tol {
                 return Ok(Estimated { value: fine, intervals: n, error_estimate: est });
             }
-            if n >= 384 || roundoff > rel_tol {
+            if roundoff > rel_tol {
+                return Err(Error::new(
+                    Status::ErrToleranceUnreachable,
+                    format!(
+                        "thick-tube stretch-twist law: rel_tol {rel_tol:e} is below the round-off of this wall; the \
+                         best reachable is about {roundoff:.1e}"
+                    ),
+                ));
+            }
+            if n >= 384 {
                 return Err(Error::new(
                     Status::ErrNotConverged,
                     format!("thick-tube stretch-twist law: estimated error {est:e} above rel_tol {rel_tol:e} at {n} intervals"),

@@ -53,20 +53,27 @@ impl WallLaw {
             WallLaw::FibreReinforced(f) => {
                 check_nh(&f.matrix)?;
                 error::finite("intrinsic_twist", f.intrinsic_twist)?;
-                for fam in &f.families {
-                    error::positive("fibre_k1", fam.k1)?;
-                    error::positive("fibre_k2", fam.k2)?;
+                // Each family's fields by their C names, fibre1_… and
+                // fibre2_… (issue 17: both were reported as `fibre_k1`).
+                for (i, fam) in f.families.iter().enumerate() {
+                    let name = |field: &str| format!("fibre{}_{field}", i + 1);
+                    error::positive(&name("k1"), fam.k1)?;
+                    error::positive(&name("k2"), fam.k2)?;
                     match fam.angle {
                         crate::tube::material::fibre::FibreAngle::Helix { hand } => {
+                            error::finite(&name("hand"), hand)?;
                             if hand != 1.0 && hand != -1.0 {
                                 return Err(Error::new(
                                     Status::ErrOutOfRange,
-                                    format!("argument `fibre_hand` must be +1 or -1 (got {hand})"),
+                                    format!(
+                                        "argument `{}` is out of range: it must be +1 or -1 (got {hand:e})",
+                                        name("hand")
+                                    ),
                                 ));
                             }
                         }
                         crate::tube::material::fibre::FibreAngle::Fixed(a) => {
-                            error::finite("fibre_angle", a)?;
+                            error::finite(&name("angle"), a)?;
                         }
                     }
                 }
@@ -181,8 +188,15 @@ impl TubeScene {
         SolveOptions { rel_tol: self.rel_tol, intervals: self.intervals }
     }
 
-    /// The equilibrium under `loading` and the model that produced it.
+    /// The equilibrium under `loading` and the model that produced it; every
+    /// returned field is checked finite and physical (see [`check_state`]).
     pub fn solve(&self, loading: &Loading) -> Result<(TubeState, TubeModel)> {
+        let (state, model) = self.solve_unchecked(loading)?;
+        check_state(&state)?;
+        Ok((state, model))
+    }
+
+    fn solve_unchecked(&self, loading: &Loading) -> Result<(TubeState, TubeModel)> {
         match self.model {
             TubeModel::Thick => Ok((self.thick()?.solve(loading, &self.options())?, TubeModel::Thick)),
             TubeModel::Membrane => Ok((self.membrane()?.solve(loading)?, TubeModel::Membrane)),
@@ -232,11 +246,13 @@ impl TubeScene {
     /// hemitropic rod of §2.2 (solid cylinders included).
     pub fn stretch_twist(&self) -> Result<StretchTwist> {
         if self.inner_radius > 0.0 {
-            return Ok(self.coupling_stiffness()?.value.stretch_twist());
+            return self.coupling_stiffness()?.value.stretch_twist_checked();
         }
         let (mat, comp, tau0) = self.law.small_strain()?;
         let tube = ThickTube::new(0.0, self.outer_radius, tau0, mat, comp)?;
-        Ok(tube.stretch_twist_estimated(self.rel_tol.max(1e-12))?.value)
+        let law = tube.stretch_twist_estimated(self.rel_tol.max(1e-12))?.value;
+        law.check()?;
+        Ok(law)
     }
 
     /// The section's 6×6 hemitropic rod law (u1, u2, u3, v1, v2, v3) ↔
@@ -246,4 +262,41 @@ impl TubeScene {
         let (mat, comp, tau0) = self.law.small_strain()?;
         ThickTube::new(self.inner_radius, self.outer_radius, tau0, mat, comp)?.rod_stiffness(self.rel_tol.max(1e-12))
     }
+}
+
+/// Issue 17, "no silent wrong answers": a state is returned only with every
+/// scalar and profile entry finite, a finite non-negative error estimate and
+/// deformed radii of the right sign and order (0 ≤ a < b).
+pub fn check_state(s: &TubeState) -> Result<()> {
+    let scalars = [
+        s.stretch,
+        s.twist,
+        s.wall_force,
+        s.applied_force,
+        s.torque,
+        s.inner_pressure,
+        s.outer_pressure,
+        s.deformed_inner_radius,
+        s.deformed_outer_radius,
+        s.error_estimate,
+    ];
+    error::finite_result("tube state", &scalars)?;
+    let p = &s.profile;
+    for column in [&p.reference_radius, &p.radius, &p.sigma_rr, &p.sigma_tt, &p.sigma_zz, &p.sigma_tz] {
+        error::finite_result("tube wall profile", column)?;
+    }
+    // A solid cylinder reports a deformed inner radius of 0, a tube a
+    // positive one: negative is never physical.
+    let radii_ok = s.deformed_inner_radius >= 0.0 && s.deformed_outer_radius > s.deformed_inner_radius;
+    if !(s.error_estimate >= 0.0 && s.stretch > 0.0 && radii_ok) {
+        return Err(Error::new(
+            Status::ErrMaterialInstability,
+            format!(
+                "tube state is not physical: stretch {:e}, deformed radii {:e} and {:e}, error estimate {:e} \
+                 (the section collapsed or inverted)",
+                s.stretch, s.deformed_inner_radius, s.deformed_outer_radius, s.error_estimate
+            ),
+        ));
+    }
+    Ok(())
 }

@@ -178,12 +178,22 @@ impl ThickTube {
             // intervals cannot help, say so now.
             let stuck = diff <= roundoff && roundoff > rel_tol;
             if est <= rel_tol || fine_n >= 384 || stuck {
+                if stuck {
+                    // Issue 17: not a failure to converge but a tolerance
+                    // below what round-off allows; say the best reachable.
+                    return Err(Error::new(
+                        Status::ErrToleranceUnreachable,
+                        format!(
+                            "thick-tube stiffness: rel_tol {rel_tol:e} is below the round-off of this thin wall; the \
+                             best reachable is about {est:.1e} (its thin-tube limit is the better model)"
+                        ),
+                    ));
+                }
                 if est > rel_tol {
                     return Err(Error::new(
                         Status::ErrNotConverged,
                         format!(
-                            "thick-tube stiffness: estimated error {est:e} above rel_tol {rel_tol:e} at {fine_n} intervals{}",
-                            if stuck { " (round-off of this thin wall; its thin-tube limit is the better model)" } else { "" }
+                            "thick-tube stiffness: estimated error {est:e} above rel_tol {rel_tol:e} at {fine_n} intervals"
                         ),
                     ));
                 }

@@ -240,8 +240,7 @@ fn success_leaves_the_error_channel_empty_after_a_failing_callback() {
     let mut loading = std::mem::MaybeUninit::<TubeLoading>::uninit();
     assert_eq!(unsafe { rodkit_tube_loading_default(loading.as_mut_ptr()) }, 0);
     let loading = unsafe { loading.assume_init() };
-    let loadings: Vec<TubeLoading> =
-        [1.0, 1.01, 1.02].iter().map(|&axial| TubeLoading { axial, ..loading }).collect();
+    let loadings: Vec<TubeLoading> = [1.0, 1.01, 1.02].iter().map(|&axial| TubeLoading { axial, ..loading }).collect();
     let mut states = [TubeState::default(); 3];
     let mut done = 0i64;
     let st = unsafe {

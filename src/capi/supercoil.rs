@@ -5,7 +5,7 @@
 //! the path (turns, extension, torque, twist, writhe) and the shapes.
 
 use super::args::{arg_mut, arg_ref, c_enum, check_nodes, copy_out, enum_arg, flag, free_handle, non_negative};
-use super::args::{qualify_argument, write_positions};
+use super::args::{finite_fields, qualify_argument, write_positions};
 use super::{guard, guard_value};
 use crate::charged::dna::{self, run_scene, DnaScene, SupercoilRun, SupercoilSettings};
 use crate::continuation::Stop;
@@ -162,6 +162,22 @@ pub unsafe extern "C" fn rodkit_dna_supercoil_spec_default(spec: *mut DnaSuperco
 c_enum!(EndControl, "a RodkitEndControl 1…2", [EndControl::Rotation, EndControl::Torque]);
 
 fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
+    // Every double field finite, named by its C field (issue 17).
+    finite_fields(&[
+        ("rise", s.rise),
+        ("tension", s.tension),
+        ("salt", s.salt),
+        ("charge_per_length", s.charge_per_length),
+        ("radius", s.radius),
+        ("bending_persistence", s.bending_persistence),
+        ("twist_persistence", s.twist_persistence),
+        ("temperature", s.temperature),
+        ("permittivity", s.permittivity),
+        ("cutoff_tolerance", s.cutoff_tolerance),
+        ("hard_core", s.hard_core),
+        ("max_turns", s.max_turns),
+        ("residual_tol", s.residual_tol),
+    ])?;
     error::count_in_range("base_pairs", s.base_pairs, 10, 1 << 24)?;
     error::count_in_range("elements", s.elements, 2, 1 << 18)?;
     error::count_in_range("stages", s.stages, 1, 4)?;

@@ -614,3 +614,22 @@ fn out_of_range_integers_say_so_with_the_range() {
     assert!(msg.contains("`options.anm_order` out of range") && msg.contains("[2, 60]"), "{msg}");
     unsafe { rodkit_rod_free(rod) };
 }
+
+/// Issue 17, found by tests/fuzz/fuzz_supercoil (seed 1, iteration 201): a
+/// denormal charge per length (4.9e-324) panicked inside the charged
+/// Jacobian (ERR_INTERNAL, "index out of bounds"). Now it is out of range by
+/// name (reference: the status vocabulary; 0 stays the uncharged rod).
+#[test]
+fn a_charge_whose_square_underflows_is_refused_by_name() {
+    use rodkit::capi::supercoil::{rodkit_dna_supercoil_run, rodkit_dna_supercoil_spec_default, DnaSupercoilSpec};
+    let mut sc = std::mem::MaybeUninit::<DnaSupercoilSpec>::uninit();
+    assert_eq!(unsafe { rodkit_dna_supercoil_spec_default(sc.as_mut_ptr()) }, 0);
+    let mut sc = unsafe { sc.assume_init() };
+    (sc.base_pairs, sc.elements, sc.max_steps, sc.max_turns) = (300, 16, 6, 2.0);
+    sc.charge_per_length = 4.9e-324;
+    let mut run = ptr::null_mut();
+    let st = unsafe { rodkit_dna_supercoil_run(&sc, &mut run) };
+    assert_eq!(st, Status::ErrOutOfRange.code(), "{}", last_error());
+    assert!(last_error().contains("`spec.charge_per_length` out of range"), "{}", last_error());
+    assert!(run.is_null());
+}

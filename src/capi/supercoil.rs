@@ -10,7 +10,7 @@ use super::{guard, guard_value};
 use crate::charged::dna::{self, run_scene, DnaScene, SupercoilRun, SupercoilSettings};
 use crate::continuation::Stop;
 use crate::electrostatics::discrete::base_pair_count;
-use crate::error::{self, Result};
+use crate::error::{self, Error, Result};
 use crate::status::Status;
 
 /// A supercoiling scene in nm, pN, mol/L. Call
@@ -178,6 +178,19 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
         ("max_turns", s.max_turns),
         ("residual_tol", s.residual_tol),
     ])?;
+    // A positive charge whose square underflows (λ² ∝ ν²) is neither the
+    // uncharged rod nor a computable charged one (issue 17: ν = 4.9e-324
+    // panicked in the charged Jacobian).
+    if s.charge_per_length > 0.0 && s.charge_per_length < 1e-145 {
+        return Err(Error::new(
+            Status::ErrOutOfRange,
+            format!(
+                "argument `charge_per_length` out of range: must be 0 or at least 1e-145 (its square must be a normal \
+                 double; got {:e})",
+                s.charge_per_length
+            ),
+        ));
+    }
     error::count_in_range("base_pairs", s.base_pairs, 10, 1 << 24)?;
     error::count_in_range("elements", s.elements, 2, 1 << 18)?;
     error::count_in_range("stages", s.stages, 1, 4)?;

@@ -62,8 +62,12 @@ pub unsafe extern "C" fn rodkit_rod_new(spec: *const RodSpec, out: *mut *mut Rod
 }
 
 /// As rodkit_rod_new with a general symmetric positive-definite 6×6
-/// stiffness (column-major, leading dimension `ldk` ≥ 6, order (u, v)) in
-/// place of the spec's moduli (bending1…bend_shear are ignored).
+/// stiffness K, (m, n) = K (u − û, v − v̂) in the symbols of RodkitRodSpec
+/// (column-major, leading dimension `ldk` ≥ 6, order (u1, u2, u3, v1, v2,
+/// v3)), in place of the spec's moduli (bending1…bend_shear are ignored).
+/// Entries must be finite (ERR_NOT_FINITE naming `stiffness[i + ldk·j]`);
+/// a condition number above 1e13 is refused (ERR_NOT_POSITIVE_DEFINITE,
+/// "ill-conditioned").
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_rod_new_general(
     spec: *const RodSpec,

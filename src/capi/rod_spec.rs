@@ -56,8 +56,19 @@ pub enum RodScheme {
 
 /// A rod: law, length, supports, loads (each multiplied by the load
 /// parameter Λ), discretisation. Initialise with `rodkit_rod_spec_default`.
-/// Stiffness order (u1, u2, u3, v1, v2, v3) ↔ (m1, m2, m3, n1, n2, n3):
-/// bending about d1, d2, twist, shear along d1, d2, stretch.
+///
+/// Symbols (physics.md §2.1): s is the arc length of the stress-free rod,
+/// r(s) the centreline, d1, d2, d3 the section's orthonormal directors (d1,
+/// d2 its principal axes, d3 its normal, e3 at s = 0); u = (u1, u2, u3) are
+/// the body components of the directors' rotation rate d_k' = u × d_k
+/// (bending about d1, d2 and twist), v = (v1, v2, v3) those of r' (shear
+/// along d1, d2 and stretch); m and n are the body components of the
+/// internal moment and force. The law is linear,
+/// (m, n) = K (u − û, v − v̂) with û, v̂ the intrinsic strains below, K the
+/// symmetric positive-definite 6×6 stiffness in the order
+/// (u1, u2, u3, v1, v2, v3) ↔ (m1, m2, m3, n1, n2, n3): diagonal bending1,
+/// bending2, twist, shear1, shear2, stretch; couplings twist_stretch and
+/// bend_shear.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct RodSpec {

@@ -108,7 +108,9 @@ FUZZ_ITERS ?= 20000
 FUZZ_SEED ?= 1
 FUZZ_CFLAGS := -std=c11 -O1 -g -Wall -Wextra -Werror -fsanitize=address,undefined -fno-omit-frame-pointer \
                -fno-sanitize-recover=undefined -I$(ROOT)/include
-FUZZ_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+# An allocation above 2 GiB is reported as a crash (a runaway size), not
+# left to take the machine's memory.
+FUZZ_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:max_allocation_size_mb=2048 UBSAN_OPTIONS=print_stacktrace=1 \
             RODKIT_FUZZ_KNOWN=$(ROOT)/tests/fuzz/known.txt
 # Iterations of `fuzz-quick` per target (the tube and supercoil calls solve
 # problems; the others are algebraic or cheap): about 35 s in all on one core.

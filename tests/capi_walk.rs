@@ -1197,6 +1197,50 @@ fn branch(w: &mut Walk, rod: *mut Rod, x: &[f64]) {
     w.scalar(func, "first_step", &|s| switch(rod, b, 0, 0, s, &o, &mut null_mut()));
     unsafe { rodkit_branch_free(b.cast_mut()) };
     unsafe { rodkit_branch_free(null_mut()) };
+    switch_valid(w);
+}
+
+/// rodkit_branch_switch with valid defaults: Greenhill's double point of a
+/// twisted Kirchhoff rod (as tests/capi_rod.rs), left along direction 0;
+/// the options walked through the switch too.
+fn switch_valid(w: &mut Walk) {
+    let mut s = rod_spec();
+    (s.kirchhoff, s.twist, s.supports, s.elements) = (1, 4.0, RodSupports::Twisted as i32, 8);
+    (s.tip_force_frame, s.tip_moment_frame, s.stages) = (0, 0, 4);
+    let mut rod = null_mut();
+    assert_eq!(unsafe { rodkit_rod_new(&s, &mut rod) }, 0, "{}", last_error());
+    let rod = rod as *const Rod;
+    let mut o = options();
+    (o.method, o.target_lambda, o.initial_step, o.max_step) = (ContinuationMethod::Newton as i32, 0.99, 0.2, 0.5);
+    (o.residual_tol, o.detect_bifurcations) = (1e-12, 1);
+    let mut b = null_mut();
+    let st = unsafe { rodkit_rod_continue(rod, null(), 0, 0.0, &o, None, null_mut(), &mut b) };
+    w.succeeds("rodkit_rod_continue greenhill".into(), st, &[]);
+    let mut info = BranchInfo::default();
+    unsafe { rodkit_branch_summary(b, &mut info) };
+    // Reference: tests/capi_rod.rs finds one double point on this branch.
+    assert_eq!(info.bifurcations, 1, "the walk's Greenhill branch must have its bifurcation");
+    let func = "rodkit_branch_switch";
+    (o.target_lambda, o.max_steps) = (1.5, 3);
+    let switch = |o: &ContinuationOptions, step: f64| unsafe {
+        let mut out = null_mut();
+        let st = rodkit_branch_switch(rod, b, 0, 0, step, o, None, null_mut(), &mut out);
+        rodkit_branch_free(out);
+        st
+    };
+    w.succeeds(format!("{func} valid"), switch(&o, 0.05), &[]);
+    let of: Vec<Field<ContinuationOptions>> =
+        vec![f!(residual_tol), f!(initial_step), f!(max_step), f!(lambda_max), i64f!(max_steps, &[-1])];
+    w.fields(func, "options.", &o, &of, &|o| switch(o, 0.05));
+    w.scalar(func, "first_step", &|step| switch(&o, step));
+    w.int_arg(func, "direction", &[2], Status::ErrOutOfRange, &|d| unsafe {
+        let mut out = null_mut();
+        let st = rodkit_branch_switch(rod, b, 0, d, 0.05, &o, None, null_mut(), &mut out);
+        rodkit_branch_free(out);
+        st
+    });
+    unsafe { rodkit_branch_free(b) };
+    unsafe { rodkit_rod_free(rod.cast_mut()) };
 }
 
 // ---------------------------------------------------------------- supercoil

@@ -48,9 +48,10 @@ static void fuzz_one(void) {
     }
     const double *sp = fuzz_below(5) == 0 ? NULL : s;
     /* Known crash (curve branch): an excluded distance `a` far below the
-     * curve's length makes the near zone allocate without bound (ASan:
-     * out-of-memory in realloc, seed 1 iteration 1329: a = 4.9e-324). */
-    if (spec.a > 0.0 && spec.a < 1e-9 && fuzz_in_list(fuzz_known, "rodkit_curve:unbounded-allocation")) {
+     * curve's length (~6.3 here) makes the calls allocate without bound
+     * (ASan: out-of-memory in realloc, seed 1 iteration 1329: a = 4.9e-324;
+     * 3.6 GB requested, seed 2 iteration 4628: a = 3.1e-8). */
+    if (spec.a > 0.0 && spec.a < 1e-5 && fuzz_in_list(fuzz_known, "rodkit_curve:unbounded-allocation")) {
         fuzz_known_hits++;
         return;
     }

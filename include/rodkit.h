@@ -496,8 +496,19 @@ typedef struct RodkitEnergyWithin {
 
 // A rod: law, length, supports, loads (each multiplied by the load
 // parameter Λ), discretisation. Initialise with `rodkit_rod_spec_default`.
-// Stiffness order (u1, u2, u3, v1, v2, v3) ↔ (m1, m2, m3, n1, n2, n3):
-// bending about d1, d2, twist, shear along d1, d2, stretch.
+//
+// Symbols (physics.md §2.1): s is the arc length of the stress-free rod,
+// r(s) the centreline, d1, d2, d3 the section's orthonormal directors (d1,
+// d2 its principal axes, d3 its normal, e3 at s = 0); u = (u1, u2, u3) are
+// the body components of the directors' rotation rate d_k' = u × d_k
+// (bending about d1, d2 and twist), v = (v1, v2, v3) those of r' (shear
+// along d1, d2 and stretch); m and n are the body components of the
+// internal moment and force. The law is linear,
+// (m, n) = K (u − û, v − v̂) with û, v̂ the intrinsic strains below, K the
+// symmetric positive-definite 6×6 stiffness in the order
+// (u1, u2, u3, v1, v2, v3) ↔ (m1, m2, m3, n1, n2, n3): diagonal bending1,
+// bending2, twist, shear1, shear2, stretch; couplings twist_stretch and
+// bend_shear.
 typedef struct RodkitRodSpec {
   // Length L > 0.
   double length;
@@ -1138,8 +1149,12 @@ int32_t rodkit_continuation_options_default(struct RodkitContinuationOptions *op
 int32_t rodkit_rod_new(const struct RodkitRodSpec *spec, struct RodkitRod **out);
 
 // As rodkit_rod_new with a general symmetric positive-definite 6×6
-// stiffness (column-major, leading dimension `ldk` ≥ 6, order (u, v)) in
-// place of the spec's moduli (bending1…bend_shear are ignored).
+// stiffness K, (m, n) = K (u − û, v − v̂) in the symbols of RodkitRodSpec
+// (column-major, leading dimension `ldk` ≥ 6, order (u1, u2, u3, v1, v2,
+// v3)), in place of the spec's moduli (bending1…bend_shear are ignored).
+// Entries must be finite (ERR_NOT_FINITE naming `stiffness[i + ldk·j]`);
+// a condition number above 1e13 is refused (ERR_NOT_POSITIVE_DEFINITE,
+// "ill-conditioned").
 int32_t rodkit_rod_new_general(const struct RodkitRodSpec *spec,
                                const double *stiffness,
                                int64_t ldk,

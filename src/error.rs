@@ -35,7 +35,7 @@ pub fn finite(name: &str, value: f64) -> Result<f64> {
     if value.is_finite() {
         Ok(value)
     } else {
-        Err(Error::new(Status::ErrNotFinite, format!("argument `{name}` must be finite (got {value})")))
+        Err(Error::new(Status::ErrNotFinite, format!("argument `{name}` must be finite (got {value:e})")))
     }
 }
 
@@ -57,7 +57,7 @@ pub fn in_range(name: &str, value: f64, lo: f64, hi: f64) -> Result<f64> {
     } else {
         Err(Error::new(
             Status::ErrOutOfRange,
-            format!("argument `{name}` must lie in [{lo:e}, {hi:e}] (got {value:e})"),
+            format!("argument `{name}` out of range: must lie in [{lo:e}, {hi:e}] (got {value:e})"),
         ))
     }
 }
@@ -67,7 +67,10 @@ pub fn count_in_range(name: &str, value: i64, lo: i64, hi: i64) -> Result<i64> {
     if (lo..=hi).contains(&value) {
         Ok(value)
     } else {
-        Err(Error::new(Status::ErrOutOfRange, format!("argument `{name}` must lie in [{lo}, {hi}] (got {value})")))
+        Err(Error::new(
+            Status::ErrOutOfRange,
+            format!("argument `{name}` out of range: must lie in [{lo}, {hi}] (got {value})"),
+        ))
     }
 }
 
@@ -91,7 +94,7 @@ pub fn finite_result(what: &str, values: &[f64]) -> Result<()> {
         None => Ok(()),
         Some(i) => Err(Error::new(
             Status::ErrNonFiniteResult,
-            format!("{what}: entry {i} is not finite ({}); the inputs are out of the representable range", values[i]),
+            format!("{what}: entry {i} is not finite ({:e}); the inputs are out of the representable range", values[i]),
         )),
     }
 }

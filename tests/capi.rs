@@ -202,6 +202,85 @@ fn error_channel_is_thread_local() {
     }
 }
 
+/// The header promises an empty message after a successful call, even when
+/// a callback inside it made a failing rodkit call (issue 17: the inner
+/// call's message survived a successful `rodkit_tube_sweep` and
+/// `rodkit_rod_continue`). Reference: the header's words.
+#[test]
+fn success_leaves_the_error_channel_empty_after_a_failing_callback() {
+    use rodkit::capi::branch::{rodkit_branch_free, rodkit_rod_continue, BranchProgress};
+    use rodkit::capi::continuation::{rodkit_continuation_options_default, ContinuationOptions};
+    use rodkit::capi::rod::{rodkit_rod_free, rodkit_rod_new};
+    use rodkit::capi::rod_spec::{rodkit_rod_spec_default, LoadFrame, RodSpec};
+    use rodkit::capi::tube::*;
+    use rodkit::capi::wall_material::WallLawKind;
+    use std::ffi::c_void;
+
+    /// Makes a failing call (NULL `minor`) and lets the run go on.
+    unsafe extern "C" fn failing_tube_callback(_: *const Progress, _: *mut c_void) -> i32 {
+        let mut v = 0;
+        assert_eq!(rodkit_version(&mut v, ptr::null_mut(), &mut v), Status::ErrNullPointer.code());
+        0
+    }
+    unsafe extern "C" fn failing_branch_callback(_: *const BranchProgress, _: *mut c_void) -> i32 {
+        let mut v = 0;
+        assert_eq!(rodkit_version(&mut v, ptr::null_mut(), &mut v), Status::ErrNullPointer.code());
+        0
+    }
+
+    // A neo-Hookean tube stretched in three states.
+    let mut spec = std::mem::MaybeUninit::<TubeSpec>::uninit();
+    assert_eq!(unsafe { rodkit_tube_spec_default(spec.as_mut_ptr()) }, 0);
+    let mut spec = unsafe { spec.assume_init() };
+    (spec.inner_radius, spec.outer_radius) = (1.0, 1.2);
+    spec.material.law = WallLawKind::NeoHookean as i32;
+    (spec.material.shear_modulus, spec.material.lame_lambda) = (1.0, 2.0);
+    let mut tube = ptr::null_mut();
+    assert_eq!(unsafe { rodkit_tube_new(&spec, &mut tube) }, 0, "{}", last_error());
+    let mut loading = std::mem::MaybeUninit::<TubeLoading>::uninit();
+    assert_eq!(unsafe { rodkit_tube_loading_default(loading.as_mut_ptr()) }, 0);
+    let loading = unsafe { loading.assume_init() };
+    let loadings: Vec<TubeLoading> = [1.0, 1.01, 1.02].iter().map(|&axial| TubeLoading { axial, ..loading }).collect();
+    let mut states = [TubeState::default(); 3];
+    let mut done = 0i64;
+    let st = unsafe {
+        rodkit_tube_sweep(
+            tube,
+            loadings.as_ptr(),
+            3,
+            states.as_mut_ptr(),
+            Some(failing_tube_callback),
+            ptr::null_mut(),
+            &mut done,
+        )
+    };
+    assert_eq!((st, done), (0, 3));
+    assert_eq!(last_error(), "", "rodkit_tube_sweep succeeded: the channel must be empty");
+    unsafe { rodkit_tube_free(tube) };
+
+    // A cantilever under a follower moment, three steps.
+    let mut rs = std::mem::MaybeUninit::<RodSpec>::uninit();
+    assert_eq!(unsafe { rodkit_rod_spec_default(rs.as_mut_ptr()) }, 0);
+    let mut rs = unsafe { rs.assume_init() };
+    rs.length = 1.0;
+    (rs.bending1, rs.bending2, rs.twist, rs.shear1, rs.shear2, rs.stretch) = (1.0, 1.0, 1.0, 1e4, 1e4, 1e4);
+    (rs.tip_moment_frame, rs.tip_moment_x, rs.elements) = (LoadFrame::Follower as i32, 1.0, 2);
+    let mut rod = ptr::null_mut();
+    assert_eq!(unsafe { rodkit_rod_new(&rs, &mut rod) }, 0, "{}", last_error());
+    let mut o = std::mem::MaybeUninit::<ContinuationOptions>::uninit();
+    assert_eq!(unsafe { rodkit_continuation_options_default(o.as_mut_ptr()) }, 0);
+    let mut o = unsafe { o.assume_init() };
+    o.target_lambda = 0.5;
+    let mut b = ptr::null_mut();
+    let st = unsafe {
+        rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, Some(failing_branch_callback), ptr::null_mut(), &mut b)
+    };
+    assert_eq!(st, 0);
+    assert_eq!(last_error(), "", "rodkit_rod_continue succeeded: the channel must be empty");
+    unsafe { rodkit_branch_free(b) };
+    unsafe { rodkit_rod_free(rod) };
+}
+
 /// c-api.md: the committed header must equal a fresh cbindgen generation.
 #[test]
 fn header_is_current() {

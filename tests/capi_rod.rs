@@ -494,3 +494,142 @@ fn scaling_override() {
     assert!(last_error().contains("options.scaling[3]"), "{}", last_error());
     unsafe { rodkit_rod_free(rod) };
 }
+
+/// Issue 17: a length of DBL_MAX gave `rodkit_rod_straight_state` status OK
+/// with infinite entries. Now the rod is refused by name, its scales being
+/// unrepresentable (reference: the header's promise that no non-finite
+/// result leaves with status OK).
+#[test]
+fn a_length_whose_scales_overflow_is_refused_by_name() {
+    let s = RodSpec { length: f64::MAX, ..spec() };
+    let (st, msg) = new_rod(&s).unwrap_err();
+    assert_eq!(st, Status::ErrOutOfRange.code(), "{msg}");
+    assert!(msg.contains("`spec.length`") && msg.contains("out of range"), "{msg}");
+    assert!(msg.len() < 300, "{msg}");
+    // The largest accepted lengths still give a finite straight state.
+    let rod = new_rod(&RodSpec { length: 1e100, ..spec() }).unwrap();
+    let mut n = 0;
+    assert_eq!(unsafe { rodkit_rod_unknowns(rod, &mut n) }, 0);
+    let mut x = vec![f64::NAN; n as usize];
+    assert_eq!(unsafe { rodkit_rod_straight_state(rod, x.as_mut_ptr(), n) }, 0);
+    assert!(x.iter().all(|v| v.is_finite()));
+    unsafe { rodkit_rod_free(rod) };
+}
+
+/// Issue 17: a clamped rod with `end_x` NaN returned ERR_NON_FINITE_RESULT
+/// naming "end_position"; a NaN argument is ERR_NOT_FINITE naming the C
+/// field (reference: the status vocabulary of src/status.rs). The same for
+/// the continuation options, the supercoiling spec and the DNA fit.
+#[test]
+fn non_finite_fields_are_not_finite_arguments_named_by_c_field() {
+    let mut s = spec();
+    s.supports = RodSupports::Clamped as i32;
+    s.tip_moment_frame = LoadFrame::None as i32;
+    (s.end_x, s.end_y, s.end_z) = (f64::NAN, 0.0, 0.9);
+    let (st, msg) = new_rod(&s).unwrap_err();
+    assert_eq!((st, msg.contains("`spec.end_x`")), (Status::ErrNotFinite.code(), true), "{msg}");
+    s.end_x = 0.0;
+    s.end_q2 = f64::INFINITY;
+    let (st, msg) = new_rod(&s).unwrap_err();
+    assert_eq!((st, msg.contains("`spec.end_q2`")), (Status::ErrNotFinite.code(), true), "{msg}");
+
+    let rod = new_rod(&spec()).unwrap();
+    let mut b = ptr::null_mut();
+    for (field, set) in [
+        ("options.residual_tol", (|o: &mut ContinuationOptions| o.residual_tol = f64::NAN) as fn(&mut _)),
+        ("options.max_step", |o| o.max_step = f64::INFINITY),
+        ("options.target_lambda", |o| o.target_lambda = f64::NEG_INFINITY),
+    ] {
+        let mut o = options();
+        set(&mut o);
+        let st = unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) };
+        assert_eq!(st, Status::ErrNotFinite.code(), "{field}: {}", last_error());
+        assert!(last_error().contains(&format!("`{field}`")), "{}", last_error());
+    }
+    unsafe { rodkit_rod_free(rod) };
+
+    use rodkit::capi::dna_fit::{rodkit_dna_fit_thin_wall, DnaFit};
+    use rodkit::capi::supercoil::{rodkit_dna_supercoil_run, rodkit_dna_supercoil_spec_default, DnaSupercoilSpec};
+    let mut sc = std::mem::MaybeUninit::<DnaSupercoilSpec>::uninit();
+    assert_eq!(unsafe { rodkit_dna_supercoil_spec_default(sc.as_mut_ptr()) }, 0);
+    let mut sc = unsafe { sc.assume_init() };
+    sc.max_turns = f64::NAN;
+    let mut run = ptr::null_mut();
+    assert_eq!(unsafe { rodkit_dna_supercoil_run(&sc, &mut run) }, Status::ErrNotFinite.code());
+    assert!(last_error().contains("`spec.max_turns`"), "{}", last_error());
+    let mut fit = std::mem::MaybeUninit::<DnaFit>::uninit();
+    let pi = std::f64::consts::PI;
+    let st =
+        unsafe { rodkit_dna_fit_thin_wall(f64::INFINITY, 440.0, -90.0, 1.0, pi / 3.0, 0.4, 0.3, fit.as_mut_ptr()) };
+    assert_eq!(st, Status::ErrNotFinite.code(), "{}", last_error());
+    assert!(last_error().contains("`stretch`"), "{}", last_error());
+}
+
+/// Issue 17: a general stiffness refused for its condition number was
+/// reported as "not positive definite" with the whole matrix printed
+/// (~1 kB). Now a short message saying what it is, numbers in {:e} style.
+/// Reference: diag(1, 1, 1, 1, 1, 3.2e-14) has condition number 3.125e13.
+#[test]
+fn an_ill_conditioned_stiffness_gets_a_short_message() {
+    let mut k = [0.0; 36];
+    for (i, d) in [1.0, 1.0, 1.0, 1.0, 1.0, 3.2e-14].iter().enumerate() {
+        k[7 * i] = *d;
+    }
+    let mut r = ptr::null_mut();
+    let st = unsafe { rodkit_rod_new_general(&spec(), k.as_ptr(), 6, &mut r) };
+    let msg = last_error();
+    assert_eq!(st, Status::ErrNotPositiveDefinite.code(), "{msg}");
+    assert!(msg.contains("ill-conditioned") && msg.contains("condition number 3.1e13 > 1e13"), "{msg}");
+    assert!(msg.len() < 200 && !msg.contains('│') && !msg.contains('┌'), "{msg}");
+    // A NaN entry is the caller's argument, named with its index.
+    k[7] = f64::NAN;
+    let st = unsafe { rodkit_rod_new_general(&spec(), k.as_ptr(), 6, &mut r) };
+    assert_eq!(st, Status::ErrNotFinite.code(), "{}", last_error());
+    assert!(last_error().contains("`stiffness[7]`"), "{}", last_error());
+}
+
+/// Issue 17: integers out of range are ERR_OUT_OF_RANGE saying "out of
+/// range" and the valid range (reference: the status vocabulary).
+#[test]
+fn out_of_range_integers_say_so_with_the_range() {
+    for (set, field, range) in [
+        ((|s: &mut RodSpec| s.elements = 0) as fn(&mut RodSpec), "`spec.elements`", "[1, 262144]"),
+        (|s| s.stages = 5, "`spec.stages`", "[2, 4]"),
+        (|s| s.scheme = 3, "`spec.scheme`", "RodkitRodScheme 1…2"),
+        (|s| s.kirchhoff = 2, "`spec.kirchhoff`", "0 or 1"),
+    ] {
+        let mut s = spec();
+        set(&mut s);
+        let (st, msg) = new_rod(&s).unwrap_err();
+        assert_eq!(st, Status::ErrOutOfRange.code(), "{msg}");
+        assert!(msg.contains(field) && msg.contains("out of range") && msg.contains(range), "{msg}");
+    }
+    let rod = new_rod(&spec()).unwrap();
+    let mut o = options();
+    o.anm_order = 61;
+    let mut b = ptr::null_mut();
+    let st = unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) };
+    assert_eq!(st, Status::ErrOutOfRange.code());
+    let msg = last_error();
+    assert!(msg.contains("`options.anm_order` out of range") && msg.contains("[2, 60]"), "{msg}");
+    unsafe { rodkit_rod_free(rod) };
+}
+
+/// Issue 17, found by tests/fuzz/fuzz_supercoil (seed 1, iteration 201): a
+/// denormal charge per length (4.9e-324) panicked inside the charged
+/// Jacobian (ERR_INTERNAL, "index out of bounds"). Now it is out of range by
+/// name (reference: the status vocabulary; 0 stays the uncharged rod).
+#[test]
+fn a_charge_whose_square_underflows_is_refused_by_name() {
+    use rodkit::capi::supercoil::{rodkit_dna_supercoil_run, rodkit_dna_supercoil_spec_default, DnaSupercoilSpec};
+    let mut sc = std::mem::MaybeUninit::<DnaSupercoilSpec>::uninit();
+    assert_eq!(unsafe { rodkit_dna_supercoil_spec_default(sc.as_mut_ptr()) }, 0);
+    let mut sc = unsafe { sc.assume_init() };
+    (sc.base_pairs, sc.elements, sc.max_steps, sc.max_turns) = (300, 16, 6, 2.0);
+    sc.charge_per_length = 4.9e-324;
+    let mut run = ptr::null_mut();
+    let st = unsafe { rodkit_dna_supercoil_run(&sc, &mut run) };
+    assert_eq!(st, Status::ErrOutOfRange.code(), "{}", last_error());
+    assert!(last_error().contains("`spec.charge_per_length` out of range"), "{}", last_error());
+    assert!(run.is_null());
+}

@@ -36,10 +36,16 @@ pub(crate) fn null_error(name: &str) -> Error {
     Error::new(Status::ErrNullPointer, format!("argument `{name}` is NULL"))
 }
 
-/// `argument \`name\` must be <what> (got v)`: an argument outside the values
-/// it may take.
+/// `argument \`name\` out of range: must be <what> (got v)`: an argument
+/// outside the values it may take (`what` states them).
 pub(crate) fn must_be(name: &str, what: &str, v: impl Display) -> Error {
-    Error::new(Status::ErrOutOfRange, format!("argument `{name}` must be {what} (got {v})"))
+    Error::new(Status::ErrOutOfRange, format!("argument `{name}` out of range: must be {what} (got {v})"))
+}
+
+/// Every one of the named doubles must be finite (ERR_NOT_FINITE naming the
+/// first that is not, by its C field name).
+pub(crate) fn finite_fields(fields: &[(&str, f64)]) -> Result<()> {
+    fields.iter().try_for_each(|&(name, v)| error::finite(name, v).map(drop))
 }
 
 /// A 0/1 switch.
@@ -118,7 +124,9 @@ pub(crate) unsafe fn in_array<'a>(name: &str, p: *const f64, n: i64) -> Result<&
 /// As [`in_array`].
 pub(crate) unsafe fn in_slice<'a>(name: &str, p: *const f64, n: i64) -> Result<&'a [f64]> {
     let s = in_array(name, p, n)?;
-    error::finite_result(name, s).map_err(|e| Error::new(Status::ErrNotFinite, e.message))?;
+    if let Some(i) = s.iter().position(|v| !v.is_finite()) {
+        error::finite(&format!("{name}[{i}]"), s[i])?;
+    }
     Ok(s)
 }
 
@@ -255,11 +263,17 @@ mod tests {
         let e = flag("spec.kirchhoff", 2).unwrap_err();
         assert_eq!(
             (e.status, e.message.as_str()),
-            (Status::ErrOutOfRange, "argument `spec.kirchhoff` must be 0 or 1 (got 2)")
+            (Status::ErrOutOfRange, "argument `spec.kirchhoff` out of range: must be 0 or 1 (got 2)")
         );
         assert_eq!(enum_arg::<Two>("t", 2), Ok(Two::B));
-        assert_eq!(enum_arg::<Two>("t", 3).unwrap_err().message, "argument `t` must be a Two 1…2 (got 3)");
-        assert_eq!(non_negative("kappa", -0.5).unwrap_err().message, "argument `kappa` must be ≥ 0 (got -5e-1)");
+        assert_eq!(
+            enum_arg::<Two>("t", 3).unwrap_err().message,
+            "argument `t` out of range: must be a Two 1…2 (got 3)"
+        );
+        assert_eq!(
+            non_negative("kappa", -0.5).unwrap_err().message,
+            "argument `kappa` out of range: must be ≥ 0 (got -5e-1)"
+        );
     }
 
     /// The size query, a truncated copy and a full one, by hand: 3 items.

@@ -141,6 +141,8 @@ pub unsafe extern "C" fn rodkit_rod_continue(
     guard(|| {
         clear_handle(out);
         let rod = arg_ref("rod", rod)?;
+        // A NULL `out` is refused before any work (a continuation can be long).
+        arg_mut("out", out)?;
         let (opts, method, increasing) = options_of(rod, options)?;
         let x0 = if x0.is_null() {
             None
@@ -168,6 +170,8 @@ pub unsafe extern "C" fn rodkit_branch_resume(
     guard(|| {
         clear_handle(out);
         let rod = arg_ref("rod", rod)?;
+        // A NULL `out` is refused before any work (a continuation can be long).
+        arg_mut("out", out)?;
         let from = same_rod(rod, arg_ref("branch", branch)?)?;
         let (opts, method, _) = options_of(rod, options)?;
         let b = with_progress(&rod.model, progress, user_data, |cb| {
@@ -198,9 +202,12 @@ pub unsafe extern "C" fn rodkit_branch_switch(
     guard(|| {
         clear_handle(out);
         let rod = arg_ref("rod", rod)?;
+        // A NULL `out` is refused before any work (a continuation can be long).
+        arg_mut("out", out)?;
         let from = same_rod(rod, arg_ref("branch", branch)?)?;
         error::count_in_range("index", index, 0, i64::MAX)?;
         error::count_in_range("direction", direction, 0, i64::MAX)?;
+        error::finite("first_step", first_step)?;
         let (opts, method, _) = options_of(rod, options)?;
         let b = with_progress(&rod.model, progress, user_data, |cb| {
             rod.model.switch_branch(&from.branch, index as usize, direction as usize, first_step, &opts, method, cb)

@@ -2,7 +2,7 @@
 //! tolerances, steps, bifurcations, dense output, scaling), its defaults
 //! and its translation into the continuation engines' options.
 
-use super::args::{arg_mut, c_enum, check_len, enum_arg, flag, in_slice};
+use super::args::{arg_mut, c_enum, check_len, enum_arg, finite_fields, flag, in_slice};
 use super::guard;
 use crate::continuation::anm::AnmOptions;
 use crate::continuation::{Options, Scaling};
@@ -80,12 +80,7 @@ c_enum!(ContinuationMethod, "a RodkitContinuationMethod 1…2", [ContinuationMet
 fn method_from(o: &ContinuationOptions) -> Result<Method> {
     Ok(match enum_arg::<ContinuationMethod>("method", o.method)? {
         ContinuationMethod::Anm => {
-            if !(2..=60).contains(&o.anm_order) {
-                return Err(Error::new(
-                    Status::ErrOutOfRange,
-                    format!("argument `anm_order` must lie in [2, 60] (got {})", o.anm_order),
-                ));
-            }
+            error::count_in_range("anm_order", o.anm_order, 2, 60)?;
             error::in_range("anm_epsilon", o.anm_epsilon, 1e-15, 1e-1)?;
             let pade = flag("anm_pade", o.anm_pade)?;
             Method::Anm(AnmOptions { order: o.anm_order as usize, epsilon: o.anm_epsilon, pade })
@@ -134,9 +129,25 @@ unsafe fn samples_from(o: &ContinuationOptions) -> Result<Vec<f64>> {
 /// # Safety
 /// The options' `scaling` and `samples` must be NULL or valid for their counts.
 pub(super) unsafe fn options_from(o: &ContinuationOptions, unknowns: usize) -> Result<(Options, Method, bool)> {
+    // Every double field finite (issue 17: ERR_NOT_FINITE naming the C
+    // field, here rather than in the engines, which do not know the C
+    // names); target_lambda NaN means "no target", an infinity is refused.
+    finite_fields(&[
+        ("lambda_min", o.lambda_min),
+        ("lambda_max", o.lambda_max),
+        ("residual_tol", o.residual_tol),
+        ("initial_step", o.initial_step),
+        ("min_step", o.min_step),
+        ("max_step", o.max_step),
+        ("bifurcation_tol", o.bifurcation_tol),
+    ])?;
+    if o.method == ContinuationMethod::Anm as i32 {
+        finite_fields(&[("anm_epsilon", o.anm_epsilon)])?;
+    }
+    if o.target_lambda.is_infinite() {
+        finite_fields(&[("target_lambda", o.target_lambda)])?;
+    }
     let method = method_from(o)?;
-    error::finite("lambda_min", o.lambda_min)?;
-    error::finite("lambda_max", o.lambda_max)?;
     if o.lambda_min >= o.lambda_max {
         return Err(Error::new(
             Status::ErrOutOfRange,

@@ -1,6 +1,6 @@
 //! C ABI of the DNA wall fit (physics.md §1.5, `rodkit::tube::dna`).
 
-use super::args::arg_mut;
+use super::args::{arg_mut, finite_fields};
 use super::guard;
 use super::thin_tube::ThinTubeSpec;
 use crate::status::Status;
@@ -58,6 +58,16 @@ pub unsafe extern "C" fn rodkit_dna_fit_thin_wall(
 ) -> i32 {
     guard(|| {
         let out = arg_mut("out", out)?;
+        // Every argument finite, named (issue 17), before the fit's own checks.
+        finite_fields(&[
+            ("stretch", stretch),
+            ("twist", twist),
+            ("coupling", coupling),
+            ("mid_radius", mid_radius),
+            ("helix_angle", helix_angle),
+            ("thickness", thickness),
+            ("nu12", nu12),
+        ])?;
         let targets = DnaTargets::new(stretch, twist, coupling)?;
         let fit = fit_thin_wall(targets, mid_radius, helix_angle, thickness, nu12)?;
         let m = fit.material;

@@ -49,9 +49,16 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// Runs `body` for an exported fallible function: clears the last error,
 /// catches panics, records the message of a failure, returns the status code.
+/// A success (status ≥ 0) leaves the channel empty even when a callback run
+/// inside `body` made a failing rodkit call on this thread (the header
+/// promises the empty string after every successful call).
 pub(crate) fn guard(body: impl FnOnce() -> Result<Status>) -> i32 {
     error::clear_last_error();
-    guard_preserving_error(body)
+    let code = guard_preserving_error(body);
+    if code >= 0 {
+        error::clear_last_error();
+    }
+    code
 }
 
 /// [`guard`] without clearing the last error on entry: for the accessor that

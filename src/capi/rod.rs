@@ -62,8 +62,12 @@ pub unsafe extern "C" fn rodkit_rod_new(spec: *const RodSpec, out: *mut *mut Rod
 }
 
 /// As rodkit_rod_new with a general symmetric positive-definite 6×6
-/// stiffness (column-major, leading dimension `ldk` ≥ 6, order (u, v)) in
-/// place of the spec's moduli (bending1…bend_shear are ignored).
+/// stiffness K, (m, n) = K (u − û, v − v̂) in the symbols of RodkitRodSpec
+/// (column-major, leading dimension `ldk` ≥ 6, order (u1, u2, u3, v1, v2,
+/// v3)), in place of the spec's moduli (bending1…bend_shear are ignored).
+/// Entries must be finite (ERR_NOT_FINITE naming `stiffness[i + ldk·j]`);
+/// a condition number above 1e13 is refused (ERR_NOT_POSITIVE_DEFINITE,
+/// "ill-conditioned").
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_rod_new_general(
     spec: *const RodSpec,
@@ -77,6 +81,11 @@ pub unsafe extern "C" fn rodkit_rod_new_general(
         error::dimension("ldk", ldk, 6, i64::MAX / 64)?;
         let a = in_array("stiffness", stiffness, ldk * 5 + 6)?;
         let k = Matrix6::from_fn(|i, j| a[i + j * ldk as usize]);
+        // The 36 entries read (the padding rows are not): a NaN or an
+        // infinity is the caller's argument, named with its index.
+        if let Some(i) = (0..36).find(|&i| !k[i].is_finite()) {
+            error::finite(&format!("stiffness[{}]", i % 6 + (i / 6) * ldk as usize), k[i])?;
+        }
         let model = model_from(spec, Some(k)).map_err(|e| qualify_argument(e, "spec."))?;
         store_rod(model, out)
     })
@@ -105,7 +114,11 @@ pub unsafe extern "C" fn rodkit_rod_straight_state(rod: *const Rod, x: *mut f64,
         let want = rod.model.unknowns() as i64;
         check_len("n", n, want)?;
         let x = out_slice("x", x, n)?;
-        x.copy_from_slice(&rod.model.straight_state());
+        // rodkit_rod_new refuses lengths whose scales overflow; this keeps
+        // any other overflow from leaving as OK with infinite entries.
+        let state = rod.model.straight_state();
+        error::finite_result("straight state", &state)?;
+        x.copy_from_slice(&state);
         Ok(Status::Ok)
     })
 }

@@ -2,9 +2,9 @@
 //! discretisation as a flat C struct, its defaults, and its translation
 //! into the rod model (physics.md §2) with every field checked by name.
 
-use super::args::{arg_mut, c_enum, enum_arg, flag};
+use super::args::{arg_mut, c_enum, enum_arg, finite_fields, flag};
 use super::guard;
-use crate::error::{self, Result};
+use crate::error::{self, Error, Result};
 use crate::rod::model::{Rod as Model, Supports};
 use crate::rod::scheme::Scheme;
 use crate::rod::{Frame, Load, Loads, Moduli, RodLaw};
@@ -56,8 +56,19 @@ pub enum RodScheme {
 
 /// A rod: law, length, supports, loads (each multiplied by the load
 /// parameter Λ), discretisation. Initialise with `rodkit_rod_spec_default`.
-/// Stiffness order (u1, u2, u3, v1, v2, v3) ↔ (m1, m2, m3, n1, n2, n3):
-/// bending about d1, d2, twist, shear along d1, d2, stretch.
+///
+/// Symbols (physics.md §2.1): s is the arc length of the stress-free rod,
+/// r(s) the centreline, d1, d2, d3 the section's orthonormal directors (d1,
+/// d2 its principal axes, d3 its normal, e3 at s = 0); u = (u1, u2, u3) are
+/// the body components of the directors' rotation rate d_k' = u × d_k
+/// (bending about d1, d2 and twist), v = (v1, v2, v3) those of r' (shear
+/// along d1, d2 and stretch); m and n are the body components of the
+/// internal moment and force. The law is linear,
+/// (m, n) = K (u − û, v − v̂) with û, v̂ the intrinsic strains below, K the
+/// symmetric positive-definite 6×6 stiffness in the order
+/// (u1, u2, u3, v1, v2, v3) ↔ (m1, m2, m3, n1, n2, n3): diagonal bending1,
+/// bending2, twist, shear1, shear2, stretch; couplings twist_stretch and
+/// bend_shear.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct RodSpec {
@@ -225,10 +236,73 @@ fn loads_from(s: &RodSpec) -> Result<Loads> {
     })
 }
 
+/// Every double of the spec the rod uses must be finite: a NaN or an
+/// infinity is ERR_NOT_FINITE naming its C field (issue 17), before any
+/// check that would report it under another name or status. Fields the
+/// configuration ignores (the moduli a Kirchhoff or general law does not
+/// read, the clamped end of another support, the vector of an absent load)
+/// are not read.
+fn check_finite(s: &RodSpec, general: bool) -> Result<()> {
+    finite_fields(&[("length", s.length), ("diameter", s.diameter)])?;
+    if !general {
+        finite_fields(&[("bending1", s.bending1), ("bending2", s.bending2), ("twist", s.twist)])?;
+        if s.kirchhoff != 1 {
+            finite_fields(&[
+                ("shear1", s.shear1),
+                ("shear2", s.shear2),
+                ("stretch", s.stretch),
+                ("twist_stretch", s.twist_stretch),
+                ("bend_shear", s.bend_shear),
+            ])?;
+        }
+    }
+    match s.supports {
+        x if x == RodSupports::Clamped as i32 => finite_fields(&[
+            ("end_x", s.end_x),
+            ("end_y", s.end_y),
+            ("end_z", s.end_z),
+            ("end_q0", s.end_q0),
+            ("end_q1", s.end_q1),
+            ("end_q2", s.end_q2),
+            ("end_q3", s.end_q3),
+            ("end_dx", s.end_dx),
+            ("end_dy", s.end_dy),
+            ("end_dz", s.end_dz),
+        ]),
+        x if x == RodSupports::Twisted as i32 || x == RodSupports::Torqued as i32 => {
+            finite_fields(&[("end_tension", s.end_tension)])
+        }
+        _ => Ok(()),
+    }
+}
+
+/// The rod's scales (positions L·|v̂|, moments K_b/L, forces K_b/L²: the
+/// continuation measures its steps and tolerances in them) must be finite
+/// and normal, else the length is out of range (issue 17: a length of
+/// DBL_MAX gave a straight state with infinite entries and status OK).
+fn check_scales(law: &RodLaw, length: f64) -> Result<()> {
+    let kb = law.bending();
+    let scales = [length * law.intrinsic_v.norm().max(1.0), kb / length, kb / (length * length)];
+    if scales.iter().all(|v| v.is_finite() && v.abs() >= f64::MIN_POSITIVE) {
+        return Ok(());
+    }
+    Err(Error::new(
+        Status::ErrOutOfRange,
+        format!(
+            "argument `length` out of range (got {length:e}): the rod's scales L·|v̂| = {:e}, K_b/L = {:e}, K_b/L² = {:e} \
+             must be finite and normal doubles",
+            scales[0], scales[1], scales[2]
+        ),
+    ))
+}
+
 /// The rod model of a spec (field names unqualified: the caller adds
 /// `spec.`), with `general` in place of the spec's moduli when given.
 pub(super) fn model_from(s: &RodSpec, general: Option<Matrix6<f64>>) -> Result<Model> {
+    check_finite(s, general.is_some())?;
     let law = law_from(s, general)?;
+    error::positive("length", s.length)?;
+    check_scales(&law, s.length)?;
     let supports = supports_from(s)?;
     let loads = loads_from(s)?;
     let scheme = match enum_arg::<RodScheme>("scheme", s.scheme)? {
@@ -238,7 +312,7 @@ pub(super) fn model_from(s: &RodSpec, general: Option<Matrix6<f64>>) -> Result<M
             Scheme::Gauss(s.stages as usize)
         }
     };
-    error::count_in_range("elements", s.elements, 1, 1 << 20)?;
+    error::count_in_range("elements", s.elements, 1, 1 << 18)?;
     let model = Model::new(law, s.length, loads, supports, scheme, s.elements as usize)?;
     if s.diameter == 0.0 {
         Ok(model)

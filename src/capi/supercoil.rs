@@ -5,12 +5,12 @@
 //! the path (turns, extension, torque, twist, writhe) and the shapes.
 
 use super::args::{arg_mut, arg_ref, c_enum, check_nodes, copy_out, enum_arg, flag, free_handle, non_negative};
-use super::args::{qualify_argument, write_positions};
+use super::args::{finite_fields, qualify_argument, write_positions};
 use super::{guard, guard_value};
 use crate::charged::dna::{self, run_scene, DnaScene, SupercoilRun, SupercoilSettings};
 use crate::continuation::Stop;
 use crate::electrostatics::discrete::base_pair_count;
-use crate::error::{self, Result};
+use crate::error::{self, Error, Result};
 use crate::status::Status;
 
 /// A supercoiling scene in nm, pN, mol/L. Call
@@ -162,6 +162,35 @@ pub unsafe extern "C" fn rodkit_dna_supercoil_spec_default(spec: *mut DnaSuperco
 c_enum!(EndControl, "a RodkitEndControl 1…2", [EndControl::Rotation, EndControl::Torque]);
 
 fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
+    // Every double field finite, named by its C field (issue 17).
+    finite_fields(&[
+        ("rise", s.rise),
+        ("tension", s.tension),
+        ("salt", s.salt),
+        ("charge_per_length", s.charge_per_length),
+        ("radius", s.radius),
+        ("bending_persistence", s.bending_persistence),
+        ("twist_persistence", s.twist_persistence),
+        ("temperature", s.temperature),
+        ("permittivity", s.permittivity),
+        ("cutoff_tolerance", s.cutoff_tolerance),
+        ("hard_core", s.hard_core),
+        ("max_turns", s.max_turns),
+        ("residual_tol", s.residual_tol),
+    ])?;
+    // A positive charge whose square underflows (λ² ∝ ν²) is neither the
+    // uncharged rod nor a computable charged one (issue 17: ν = 4.9e-324
+    // panicked in the charged Jacobian).
+    if s.charge_per_length > 0.0 && s.charge_per_length < 1e-145 {
+        return Err(Error::new(
+            Status::ErrOutOfRange,
+            format!(
+                "argument `charge_per_length` out of range: must be 0 or at least 1e-145 (its square must be a normal \
+                 double; got {:e})",
+                s.charge_per_length
+            ),
+        ));
+    }
     error::count_in_range("base_pairs", s.base_pairs, 10, 1 << 24)?;
     error::count_in_range("elements", s.elements, 2, 1 << 18)?;
     error::count_in_range("stages", s.stages, 1, 4)?;

@@ -264,13 +264,20 @@ pub fn switch<M: Followed + ?Sized>(
     let bif = branch.bifurcations.get(index).ok_or_else(|| {
         Error::new(
             Status::ErrOutOfRange,
-            format!("bifurcation index {index} out of range (the branch has {})", branch.bifurcations.len()),
+            format!(
+                "argument `index` out of range: must lie in [0, {}) (the branch has {} bifurcations; got {index})",
+                branch.bifurcations.len(),
+                branch.bifurcations.len()
+            ),
         )
     })?;
     let (nx, nl) = bif.null_vectors.get(direction).ok_or_else(|| {
         Error::new(
             Status::ErrOutOfRange,
-            format!("direction {direction} out of range (the point has {} null directions)", bif.null_vectors.len()),
+            format!(
+                "argument `direction` out of range: must lie in [0, {}) (the point's null directions; got {direction})",
+                bif.null_vectors.len()
+            ),
         )
     })?;
     error::positive("first_step", first_step)?;

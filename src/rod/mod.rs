@@ -90,18 +90,40 @@ impl RodLaw {
     pub fn general(stiffness: Matrix6<f64>, intrinsic_u: Vector3<f64>, intrinsic_v: Vector3<f64>) -> Result<Self> {
         error::finite_result("stiffness", stiffness.as_slice())?;
         error::finite_result("intrinsic strains", &[intrinsic_u.as_slice(), intrinsic_v.as_slice()].concat())?;
-        if (stiffness - stiffness.transpose()).amax() > 1e-12 * stiffness.amax() {
-            return Err(Error::new(Status::ErrOutOfRange, "rod stiffness must be symmetric"));
+        let asym = stiffness - stiffness.transpose();
+        if asym.amax() > 1e-12 * stiffness.amax() {
+            let (i, j) = asym.iamax_full();
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                format!(
+                    "rod stiffness must be symmetric: K({i},{j}) = {:e} but K({j},{i}) = {:e} (0-based)",
+                    stiffness[(i, j)],
+                    stiffness[(j, i)]
+                ),
+            ));
         }
         // Positive definite with a condition number a double can carry:
         // Cholesky alone accepts a singular (semi-definite) K whose rounding
-        // leaves a tiny positive pivot, e.g. g² = C·S exactly.
+        // leaves a tiny positive pivot, e.g. g² = C·S exactly. The messages
+        // stay short (issue 17: the matrix itself was printed, ~1 kB): the
+        // caller has it.
         let eig = stiffness.symmetric_eigenvalues();
         let (lo, hi) = (eig.min(), eig.max());
-        if !(lo > 1e-13 * hi) || stiffness.cholesky().is_none() {
+        if !(lo > 0.0) || !(hi > 0.0) || stiffness.cholesky().is_none() {
             return Err(Error::new(
                 Status::ErrNotPositiveDefinite,
-                format!("rod stiffness is not positive definite (eigenvalues from {lo:e} to {hi:e}; condition number above 1e13 is refused): {stiffness}"),
+                format!("rod stiffness is not positive definite: eigenvalues from {lo:.3e} to {hi:.3e}"),
+            ));
+        }
+        if !(lo > 1e-13 * hi) {
+            // Still ErrNotPositiveDefinite: at this condition number round-off
+            // cannot tell K from a semi-definite matrix.
+            return Err(Error::new(
+                Status::ErrNotPositiveDefinite,
+                format!(
+                    "rod stiffness ill-conditioned: condition number {:.1e} > 1e13 (eigenvalues from {lo:.3e} to {hi:.3e})",
+                    hi / lo
+                ),
             ));
         }
         Ok(RodLaw { stiffness, intrinsic_u, intrinsic_v, kirchhoff: false })

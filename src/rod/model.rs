@@ -116,7 +116,7 @@ impl Rod {
                 if (norm - 1.0).abs() > 1e-12 {
                     return Err(Error::new(
                         Status::ErrOutOfRange,
-                        format!("end_rotation must be a unit quaternion (|q| = {norm})"),
+                        format!("end_rotation must be a unit quaternion (|q| = {norm:e})"),
                     ));
                 }
                 if loads.tip_force.is_some() || loads.tip_moment.is_some() {

@@ -99,6 +99,15 @@ pub fn finite_result(what: &str, values: &[f64]) -> Result<()> {
     }
 }
 
+/// "eigenvalues from λ_min to λ_max" of a symmetric matrix: what a message
+/// about a stiffness that is not positive definite says instead of printing
+/// the matrix (the caller has it; issue 17 found 1–5 kB messages).
+pub fn eigen_range(eigenvalues: &[f64]) -> String {
+    let lo = eigenvalues.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = eigenvalues.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    format!("eigenvalues from {lo:.3e} to {hi:.3e}")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -124,5 +133,6 @@ mod tests {
         assert_eq!(positive("x", 2.0), Ok(2.0));
         assert_eq!(in_range("x", 1.0, -1.0, 1.0), Ok(1.0));
         assert!(finite_result("k", &[1.0, f64::INFINITY]).is_err());
+        assert_eq!(eigen_range(&[2.0, -0.5, 1e300]), "eigenvalues from -5.000e-1 to 1.000e300");
     }
 }

@@ -69,7 +69,7 @@ fn specs_are_validated_by_name() {
     let mut unset = svk_spec();
     unset.material.e2 = f64::NAN;
     assert_eq!(new_tube(&unset).unwrap_err().0, Status::ErrNotFinite.code());
-    assert!(last_error().contains("`material.e2`"), "{}", last_error());
+    assert!(last_error().contains("`spec.material.e2`"), "{}", last_error());
     let mut s = svk_spec();
     s.material.law = 7;
     let (st, msg) = new_tube(&s).unwrap_err();

@@ -457,7 +457,7 @@ fn tiny_shear_moduli_are_refused_by_name() {
             }
             let (st, msg) = new_tube(&s).unwrap_err();
             assert_eq!(st, Status::ErrNotPositiveDefinite.code(), "{field} = {v:e}: {msg}");
-            assert!(msg.contains(&format!("`material.{field}`")), "{msg}");
+            assert!(msg.contains(&format!("`spec.material.{field}`")), "{msg}");
         }
     }
     // Just inside the limit (1.5e−12 of e1) the tube is built and a membrane
@@ -500,21 +500,21 @@ fn fibre_fields_are_named_exactly() {
     s.material.fibre2_k1 = -1.0;
     let (st, msg) = new_tube(&s).unwrap_err();
     assert_eq!(st, Status::ErrNotPositive.code());
-    assert!(msg.contains("`material.fibre2_k1`"), "{msg}");
+    assert!(msg.contains("`spec.material.fibre2_k1`"), "{msg}");
     let mut s = fibre_spec();
     s.material.fibre1_k2 = 0.0;
-    assert!(new_tube(&s).unwrap_err().1.contains("`material.fibre1_k2`"));
+    assert!(new_tube(&s).unwrap_err().1.contains("`spec.material.fibre1_k2`"));
     let mut s = fibre_spec();
     s.material.fibre2_angle = f64::NAN; // helical: the hand is used
     s.material.fibre2_hand = 1e308;
     let (st, msg) = new_tube(&s).unwrap_err();
     assert_eq!(st, Status::ErrOutOfRange.code(), "{msg}");
-    assert!(msg.contains("`material.fibre2_hand`") && msg.contains("1e308") && msg.len() < 200, "{msg}");
+    assert!(msg.contains("`spec.material.fibre2_hand`") && msg.contains("1e308") && msg.len() < 200, "{msg}");
     let mut s = fibre_spec();
     s.material.fibre1_hand = f64::NAN;
     let (st, msg) = new_tube(&s).unwrap_err();
     assert_eq!(st, Status::ErrNotFinite.code(), "{msg}");
-    assert!(msg.contains("`material.fibre1_hand`"), "{msg}");
+    assert!(msg.contains("`spec.material.fibre1_hand`"), "{msg}");
     for n in [-1, 3, 1 << 40] {
         let mut s = fibre_spec();
         s.material.fibre_families = n;

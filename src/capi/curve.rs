@@ -87,11 +87,11 @@ pub unsafe extern "C" fn rodkit_electrostatics_spec_default(spec: *mut Electrost
 
 /// The 3 × nodes columns of a column-major array with leading dimension
 /// `ld`; a non-finite entry is ERR_NOT_FINITE naming it as `name[ld*i+k]`.
-unsafe fn matrix_columns(name: &str, p: *const f64, ld: i64, nodes: usize) -> Result<Vec<[f64; 3]>> {
+unsafe fn matrix_columns(name: &str, p: *const f64, ld_name: &str, ld: i64, nodes: usize) -> Result<Vec<[f64; 3]>> {
     if p.is_null() {
         return Err(null_error(name));
     }
-    error::dimension(&format!("ld of {name}"), ld, 3, i64::MAX / 8)?;
+    error::dimension(ld_name, ld, 3, i64::MAX / 8)?;
     let len = (ld as usize)
         .checked_mul(nodes - 1)
         .and_then(|v| v.checked_add(3))
@@ -151,8 +151,8 @@ unsafe fn curve_from(
     }
     // Any start: the curve's own arc length is s − s[0].
     let s: Vec<f64> = s.iter().map(|v| v - s[0]).collect();
-    let r = matrix_columns("xyz", xyz, ldx, n)?;
-    let mut t = matrix_columns("tangents", tangents, ldt, n)?;
+    let r = matrix_columns("xyz", xyz, "ldx", ldx, n)?;
+    let mut t = matrix_columns("tangents", tangents, "ldt", ldt, n)?;
     for (i, v) in t.iter_mut().enumerate() {
         let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
         // Finite columns: the norm is never NaN.
@@ -360,7 +360,7 @@ pub unsafe extern "C" fn rodkit_curve_writhe(
     guard(|| {
         let curve = curve_from(s, xyz, ldx, tangents, ldt, nodes, closed)?;
         error::count_in_range("order", order, 2, 32)?;
-        let out = arg_mut("writhe", writhe_out)?;
+        let out = arg_mut("writhe_out", writhe_out)?;
         *out = writhe(&curve, order as usize)?;
         Ok(Status::Ok)
     })

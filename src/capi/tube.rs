@@ -123,22 +123,22 @@ c_enum!(AxialControl, "0 (stretch) or 1 (force)", [AxialControl::Stretch, AxialC
 c_enum!(TorsionControl, "0 (twist) or 1 (torque)", [TorsionControl::Twist, TorsionControl::Torque]);
 
 fn loading(l: &TubeLoading) -> Result<Loading> {
-    let axial = match enum_arg::<AxialControl>("loading.axial_control", l.axial_control)? {
+    let axial = match enum_arg::<AxialControl>("axial_control", l.axial_control)? {
         AxialControl::Stretch => Axial::Stretch(l.axial),
         AxialControl::Force => Axial::Force(l.axial),
     };
-    let torsion = match enum_arg::<TorsionControl>("loading.torsion_control", l.torsion_control)? {
+    let torsion = match enum_arg::<TorsionControl>("torsion_control", l.torsion_control)? {
         TorsionControl::Twist => Torsion::Twist(l.torsion),
         TorsionControl::Torque => Torsion::Torque(l.torsion),
     };
-    let ends = if flag("loading.closed_ends", l.closed_ends)? { Ends::Closed } else { Ends::Open };
+    let ends = if flag("closed_ends", l.closed_ends)? { Ends::Closed } else { Ends::Open };
     match axial {
-        Axial::Stretch(v) => error::positive("loading.axial", v)?,
-        Axial::Force(v) => error::finite("loading.axial", v)?,
+        Axial::Stretch(v) => error::positive("axial", v)?,
+        Axial::Force(v) => error::finite("axial", v)?,
     };
-    error::finite("loading.torsion", l.torsion)?;
-    error::finite("loading.inner_pressure", l.inner_pressure)?;
-    error::finite("loading.outer_pressure", l.outer_pressure)?;
+    error::finite("torsion", l.torsion)?;
+    error::finite("inner_pressure", l.inner_pressure)?;
+    error::finite("outer_pressure", l.outer_pressure)?;
     Ok(Loading { axial, torsion, inner_pressure: l.inner_pressure, outer_pressure: l.outer_pressure, ends })
 }
 
@@ -208,9 +208,15 @@ pub unsafe extern "C" fn rodkit_tube_new(spec: *const TubeSpec, out: *mut *mut T
             0 => None,
             n => Some(error::count_in_range("spec.intervals", n, 4, 256)? as usize),
         };
-        let scene =
-            TubeScene::new(spec.inner_radius, spec.outer_radius, law(&spec.material)?, model, spec.rel_tol, intervals)
-                .map_err(|e| qualify_argument(e, "spec."))?;
+        let scene = TubeScene::new(
+            spec.inner_radius,
+            spec.outer_radius,
+            law(&spec.material).map_err(|e| qualify_argument(e, "spec."))?,
+            model,
+            spec.rel_tol,
+            intervals,
+        )
+        .map_err(|e| qualify_argument(e, "spec."))?;
         *out = Box::into_raw(Box::new(Tube { scene }));
         Ok(Status::Ok)
     })
@@ -227,7 +233,7 @@ pub unsafe extern "C" fn rodkit_tube_free(tube: *mut Tube) {
 pub unsafe extern "C" fn rodkit_tube_solve(tube: *const Tube, loading: *const TubeLoading, out: *mut TubeState) -> i32 {
     guard(|| {
         let tube = arg_ref("tube", tube)?;
-        let l = self::loading(arg_ref("loading", loading)?)?;
+        let l = self::loading(arg_ref("loading", loading)?).map_err(|e| qualify_argument(e, "loading."))?;
         let out = arg_mut("out", out)?;
         let (s, model) = tube.scene.solve(&l)?;
         *out = state(&s, model);
@@ -255,7 +261,7 @@ pub unsafe extern "C" fn rodkit_tube_profile(
 ) -> i32 {
     guard(|| {
         let tube = arg_ref("tube", tube)?;
-        let l = self::loading(arg_ref("loading", loading)?)?;
+        let l = self::loading(arg_ref("loading", loading)?).map_err(|e| qualify_argument(e, "loading."))?;
         let count = arg_mut("count", count)?;
         let capacity = capacity_arg(capacity)?;
         let (s, _) = tube.scene.solve(&l)?;
@@ -312,7 +318,7 @@ pub unsafe extern "C" fn rodkit_tube_sweep(
     }
     guard(|| {
         let tube = arg_ref("tube", tube)?;
-        error::count_in_range("count", count, 1, 1 << 40)?;
+        error::dimension("count", count, 1, 1 << 40)?;
         if loadings.is_null() {
             return Err(null_error("loadings"));
         }

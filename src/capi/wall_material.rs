@@ -84,7 +84,7 @@ impl CEnum for WallLawKind {
         Error::new(
             Status::ErrOutOfRange,
             format!(
-                "argument `{name}` must be a RodkitWallLawKind (1 SVK, 2 neo-Hookean, 3 fibre-reinforced; got {v})"
+                "argument `{name}` out of range: must be a RodkitWallLawKind (1 SVK, 2 neo-Hookean, 3 fibre-reinforced; got {v})"
             ),
         )
     }
@@ -140,7 +140,7 @@ pub(super) fn law(m: &WallMaterialSpec) -> Result<Law> {
                 return Err(Error::new(
                     Status::ErrOutOfRange,
                     format!(
-                        "argument `material.fibre_families` is out of range: it must be 0, 1 or 2 (got {})",
+                        "argument `material.fibre_families` out of range: must be 0, 1 or 2 (got {})",
                         m.fibre_families
                     ),
                 ));

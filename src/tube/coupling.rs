@@ -68,12 +68,22 @@ impl CouplingStiffness {
         error::finite_result("coupling stiffness", k.as_slice())?;
         let scale = k.amax();
         if (k - k.transpose()).amax() > 1e-12 * scale {
-            return Err(Error::new(Status::ErrInternal, format!("coupling stiffness is not symmetric: {k}")));
+            return Err(Error::new(
+                Status::ErrInternal,
+                format!(
+                    "coupling stiffness is not symmetric: largest asymmetry {:.3e} for entries up to {scale:.3e}",
+                    (k - k.transpose()).amax()
+                ),
+            ));
         }
         if k.cholesky().is_none() {
             return Err(Error::new(
                 Status::ErrNotPositiveDefinite,
-                format!("coupling stiffness is not positive definite: {k:e}"),
+                // Short (issue 17: the printed matrix made a 1–5 kB message).
+                format!(
+                    "coupling stiffness is not positive definite: {}",
+                    crate::error::eigen_range(k.symmetric_eigenvalues().as_slice())
+                ),
             ));
         }
         Ok(CouplingStiffness { k, intrinsic_twist })

@@ -66,7 +66,11 @@ impl RodStiffness {
         if k.cholesky().is_none() {
             return Err(Error::new(
                 Status::ErrNotPositiveDefinite,
-                format!("rod stiffness is not positive definite: {k:e}"),
+                // Short (issue 17: the printed 6×6 matrix made a 1 kB message).
+                format!(
+                    "rod stiffness is not positive definite: {}",
+                    error::eigen_range(k.symmetric_eigenvalues().as_slice())
+                ),
             ));
         }
         Ok(RodStiffness { k })

@@ -73,6 +73,21 @@ impl Nodes {
             )
         }
     }
+    fn writhe(&self, order: i64, out: &mut f64) -> i32 {
+        unsafe {
+            rodkit_curve_writhe(
+                self.s.as_ptr(),
+                self.xyz.as_ptr(),
+                3,
+                self.tan.as_ptr(),
+                3,
+                self.n(),
+                self.closed,
+                order,
+                out,
+            )
+        }
+    }
     fn base_pairs(&self, spec: &ElectrostaticsSpec, spacing: f64, out: &mut f64) -> i32 {
         unsafe {
             rodkit_curve_base_pair_energy(
@@ -153,6 +168,22 @@ fn unbounded_work_is_refused_with_its_cost() {
     assert_eq!(many.within(&spec(0.0, 1e-6, f64::NAN, 10), 1e-6, &mut w), Status::ErrWorkLimit.code());
     let msg = last_error();
     assert!(msg.contains("kernel evaluations") && msg.contains("best reachable"), "{msg}");
+}
+
+/// The writhe is O((nodes · order)²): a ring on 20 001 nodes at order 32
+/// costs ½(2e4·32)(2.004e4·32) = 2.05e11 kernel evaluations (minutes to
+/// hours) and is refused up front with ERR_WORK_LIMIT stating the cost;
+/// on 129 nodes it runs and gives the planar circle's writhe, 0 (Fuller:
+/// a plane curve has Wr = 0), to 1e-12.
+#[test]
+fn writhe_work_is_bounded() {
+    let mut w = f64::NAN;
+    assert_eq!(Nodes::ring(1.0, 20_001).writhe(32, &mut w), Status::ErrWorkLimit.code());
+    let msg = last_error();
+    assert!(msg.contains("2.05e11 kernel evaluations") && msg.contains("1e9"), "{msg}");
+    assert!(w.is_nan(), "nothing written on failure");
+    assert_eq!(Nodes::ring(1.0, 129).writhe(8, &mut w), 0, "{}", last_error());
+    assert!(w.abs() < 1e-12, "planar ring writhe {w:e}");
 }
 
 /// What used to run away now returns the right number: `_within` at

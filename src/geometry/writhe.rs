@@ -11,8 +11,35 @@
 
 use super::vec3::{cross, dot, sub};
 use super::Centerline;
-use crate::error::{self, Result};
+use crate::error::{self, Error, Result};
 use crate::quadrature::{gauss_legendre, panels};
+use crate::status::Status;
+
+/// The kernel evaluations one [`writhe`] may spend (≈ 10–30 s at 10–30 ns
+/// each, the bound of one continuum energy evaluation): the cost grows
+/// like (nodes · order)², so a caller's 10⁵ nodes at order 32 would run
+/// for hours (issue 17: every call whose cost depends on inputs is sized
+/// first).
+pub const MAX_WRITHE_EVALUATIONS: f64 = 1e9;
+
+/// Refuses with ErrWorkLimit, stating the cost, a writhe whose curve–curve
+/// integral would exceed [`MAX_WRITHE_EVALUATIONS`]: (outer panels · p) ×
+/// (inner panels · p) / 2, the inner panels being the nodes plus the
+/// geometric grading at t = s (≈ 2 log2(10⁶) = 40).
+fn check_work(outer_panels: usize, nodes: usize, order: usize) -> Result<()> {
+    let p = order as f64;
+    let evaluations = 0.5 * (outer_panels as f64 * p) * ((nodes as f64 + 40.0) * p);
+    if evaluations > MAX_WRITHE_EVALUATIONS {
+        return Err(Error::new(
+            Status::ErrWorkLimit,
+            format!(
+                "writhe: the call would exceed its work bound: {evaluations:.2e} kernel evaluations on {nodes} nodes \
+                 at order {order} (bound {MAX_WRITHE_EVALUATIONS:.0e}); lower `order` or use fewer nodes"
+            ),
+        ));
+    }
+    Ok(())
+}
 
 /// The Gauss integrand for points p, q with tangents tp, tq (0 at p = q).
 fn kernel(p: [f64; 3], tp: [f64; 3], q: [f64; 3], tq: [f64; 3]) -> f64 {
@@ -52,6 +79,7 @@ pub fn writhe(curve: &dyn Centerline, order: usize) -> Result<f64> {
     let finest = 1e-6 * l;
     let closed = curve.closed();
     let outer = graded_panels(0.0, l, &nodes, (!closed, !closed), finest);
+    check_work(outer.len(), nodes.len(), order)?;
     let mut total = 0.0;
     // Node breaks for the inner panels (shifted by a period when closed).
     let shifted: Vec<f64> = nodes.iter().flat_map(|&b| [b, b + l]).collect();

@@ -724,31 +724,76 @@ pub fn energy_within(
     // for 1e-6·tol, whose remaining tail is bounded by ten times the line
     // ratio E1(κr_wide)/E1(κr_c) of the measured difference.
     let line_cutoff = |t: f64| discrete::screening_cutoff(screening.kappa, a, t, 1e6 * l.max(a));
-    let (cutoff, wide_cutoff) = (line_cutoff(1e-3 * tolerance), line_cutoff(1e-6 * tolerance));
-    let cutoff_estimate = 0.0;
-    let settings = |delta: f64, order: usize| EnergyQuadrature { delta, order, cutoff };
-    let roundoff = |e: &Energy| 8.0 * f64::EPSILON * (e.far_evaluations.max(1) as f64).powf(0.25);
-    let rel = |x: f64, y: f64| (x - y).abs() / x.abs().max(f64::MIN_POSITIVE);
+    let search = Within {
+        curve,
+        charge,
+        screening,
+        tolerance,
+        cutoff: line_cutoff(1e-3 * tolerance),
+        wide_cutoff: line_cutoff(1e-6 * tolerance),
+        spent: 0.0,
+        target: tolerance,
+        best: None,
+    };
     // The largest δ allowed: strictly inside (a, max_delta).
     let delta_cap = a + 0.5 * (max_delta - a);
-    let mut order = 6;
+    let order = 6;
     let mut delta0 = (4.0 * a).min(delta_cap);
-    while delta0 < delta_cap && energy_work(curve, screening, &settings(delta0, order + 4)).evaluations > 1e7 {
+    while delta0 < delta_cap && energy_work(curve, screening, &search.settings(delta0, order + 4)).evaluations > 1e7 {
         delta0 = (2.0 * delta0).min(delta_cap);
     }
-    let spent = std::cell::Cell::new(0.0);
-    // The best result so far: (energy, settings, estimate).
-    let mut best: Option<(Energy, EnergyQuadrature, f64)> = None;
-    let best_text = |best: &Option<(Energy, EnergyQuadrature, f64)>| match best {
-        Some((e, q, est)) => format!(
-            "best reachable: estimate {est:.2e} (energy {:.15e} at δ {:e}, order {})",
-            e.total, q.delta, q.order
-        ),
-        None => "best reachable: none measured (a truncation estimate needs two near-zone widths)".to_string(),
-    };
-    let charge_work = |q: &EnergyQuadrature, best: &Option<(Energy, EnergyQuadrature, f64)>| -> Result<()> {
-        let w = energy_work(curve, screening, q);
-        if spent.get() + w.evaluations > MAX_WITHIN_EVALUATIONS
+    search.run(delta0, order)
+}
+
+/// Round-off of an energy summed over N kernel evaluations: 8ε·N^{1/4}
+/// (nested sums of positive terms).
+fn roundoff(e: &Energy) -> f64 {
+    8.0 * f64::EPSILON * (e.far_evaluations.max(1) as f64).powf(0.25)
+}
+
+/// |x − y|/|x|.
+fn rel(x: f64, y: f64) -> f64 {
+    (x - y).abs() / x.abs().max(f64::MIN_POSITIVE)
+}
+
+/// The state of one [`energy_within`] search.
+struct Within<'c> {
+    curve: &'c dyn Centerline,
+    charge: &'c LineCharge,
+    screening: &'c Screening,
+    tolerance: f64,
+    /// The cutoff the steps run at, and the wider one of the result.
+    cutoff: Option<f64>,
+    wide_cutoff: Option<f64>,
+    /// Kernel evaluations spent so far.
+    spent: f64,
+    /// What is aimed at: the tolerance, or — when round-off is above it —
+    /// four times the round-off, so that a refusal reports the best the
+    /// model reaches, not the first estimate measured.
+    target: f64,
+    /// The best result so far: (energy, settings, estimate).
+    best: Option<(Energy, EnergyQuadrature, f64)>,
+}
+
+impl Within<'_> {
+    fn settings(&self, delta: f64, order: usize) -> EnergyQuadrature {
+        EnergyQuadrature { delta, order, cutoff: self.cutoff }
+    }
+
+    fn best_text(&self) -> String {
+        match &self.best {
+            Some((e, q, est)) => format!(
+                "best reachable: estimate {est:.2e} (energy {:.15e} at δ {:e}, order {})",
+                e.total, q.delta, q.order
+            ),
+            None => "best reachable: none measured (a truncation estimate needs two near-zone widths)".to_string(),
+        }
+    }
+
+    /// The energy at `q`, its work checked against the bounds first.
+    fn energy(&mut self, q: &EnergyQuadrature) -> Result<Energy> {
+        let w = energy_work(self.curve, self.screening, q);
+        if self.spent + w.evaluations > MAX_WITHIN_EVALUATIONS
             || w.evaluations > MAX_KERNEL_EVALUATIONS
             || w.far_points > MAX_FAR_POINTS
         {
@@ -758,100 +803,117 @@ pub fn energy_within(
                     "the call would exceed its work bound: the next step (δ {:e}, order {}) costs {:.2e} kernel \
                      evaluations on {:.2e} points after {:.2e} spent (bounds {MAX_WITHIN_EVALUATIONS:.0e} per \
                      call, {MAX_KERNEL_EVALUATIONS:.0e} per step, {MAX_FAR_POINTS:.0e} points) for the relative \
-                     tolerance {tolerance:e}; {}",
+                     tolerance {:e}; {}",
                     q.delta,
                     q.order,
                     w.evaluations,
                     w.far_points,
-                    spent.get(),
-                    best_text(best)
+                    self.spent,
+                    self.tolerance,
+                    self.best_text()
                 ),
             ));
         }
-        spent.set(spent.get() + w.evaluations);
-        Ok(())
-    };
-    // What is aimed at: the tolerance, or — when round-off is above it —
-    // four times the round-off, so that a refusal reports the best the
-    // model reaches, not the first estimate measured.
-    let target = std::cell::Cell::new(tolerance);
-    let aim = |e: &Energy| target.set(target.get().max(4.0 * roundoff(e)));
-    // (E at order p+4, q, p) at one δ, the order raised until resolved.
-    let resolved =
-        |delta: f64, order: &mut usize, best: &Option<(Energy, EnergyQuadrature, f64)>| -> Result<(Energy, f64)> {
-            charge_work(&settings(delta, *order), best)?;
-            let mut coarse = energy(curve, charge, screening, &settings(delta, *order))?;
-            aim(&coarse);
-            loop {
-                let o2 = (*order + 4).min(32);
-                charge_work(&settings(delta, o2), best)?;
-                let fine = energy(curve, charge, screening, &settings(delta, o2))?;
-                aim(&fine);
-                let q = rel(fine.total, coarse.total);
-                if q <= 0.25 * target.get() || o2 == 32 {
-                    return Ok((fine, q));
-                }
-                (*order, coarse) = (o2, fine);
+        self.spent += w.evaluations;
+        energy(self.curve, self.charge, self.screening, q)
+    }
+
+    /// [`Self::energy`], raising the target to four times its round-off.
+    fn aimed_energy(&mut self, q: &EnergyQuadrature) -> Result<Energy> {
+        let e = self.energy(q)?;
+        self.target = self.target.max(4.0 * roundoff(&e));
+        Ok(e)
+    }
+
+    /// (E at order p+4, q) at one δ, the order raised by 4 until the
+    /// difference q of the last two orders is within a quarter of the target.
+    fn resolved(&mut self, delta: f64, order: &mut usize) -> Result<(Energy, f64)> {
+        let mut coarse = self.aimed_energy(&self.settings(delta, *order))?;
+        loop {
+            let o2 = (*order + 4).min(32);
+            let fine = self.aimed_energy(&self.settings(delta, o2))?;
+            let q = rel(fine.total, coarse.total);
+            if q <= 0.25 * self.target || o2 == 32 {
+                return Ok((fine, q));
             }
-        };
-    let unreachable = |why: String, best: &Option<(Energy, EnergyQuadrature, f64)>| {
+            (*order, coarse) = (o2, fine);
+        }
+    }
+
+    fn unreachable(&self, why: String) -> Error {
         Error::new(
             Status::ErrToleranceUnreachable,
             format!(
-                "electrostatic energy: the relative tolerance {tolerance:e} is below what the model reaches ({why}); {}",
-                best_text(best)
+                "electrostatic energy: the relative tolerance {:e} is below what the model reaches ({why}); {}",
+                self.tolerance,
+                self.best_text()
             ),
         )
-    };
-    let mut x = delta0 - a;
-    let mut prev: Option<(Energy, f64, f64)> = None;
-    loop {
-        let delta = a + x;
-        let (e, q) = resolved(delta, &mut order, &best)?;
-        let quad = settings(delta, (order + 4).min(32));
-        let floor = roundoff(&e) + cutoff_estimate;
-        let mut next_ratio = 4.0;
-        if let Some((ep, qp, xp)) = prev {
-            let r = xp / x;
-            let trunc = 2.0 * (rel(e.total, ep.total) + q + qp) / (r - 1.0);
-            let mut estimate = trunc + q + floor;
-            let mut result = (e, quad);
-            if estimate <= target.get() {
-                if let (Some(rc), Some(wide)) = (cutoff, wide_cutoff) {
-                    let wide_quad = EnergyQuadrature { cutoff: Some(wide), ..quad };
-                    charge_work(&wide_quad, &best)?;
-                    let ew = energy(curve, charge, screening, &wide_quad)?;
-                    let e1 = |r: f64| if screening.kappa * r > 700.0 { 0.0 } else { special::e1(screening.kappa * r) };
-                    let ratio = (10.0 * e1(wide) / e1(rc)).min(1.0);
-                    estimate = trunc + q + roundoff(&ew) + ratio * rel(ew.total, e.total);
-                    result = (ew, wide_quad);
+    }
+
+    /// The result at the wide cutoff once the steps' estimate meets the
+    /// target: its estimate adds the remaining tail, ten times the line
+    /// ratio E1(κr_wide)/E1(κr_c) of the measured difference.
+    fn widened(&mut self, e: Energy, quad: EnergyQuadrature, estimate: f64, trunc_and_q: f64) -> Result<Reached> {
+        let (Some(rc), Some(wide)) = (self.cutoff, self.wide_cutoff) else {
+            return Ok((e, quad, estimate));
+        };
+        let wide_quad = EnergyQuadrature { cutoff: Some(wide), ..quad };
+        let ew = self.energy(&wide_quad)?;
+        let kappa = self.screening.kappa;
+        let e1 = |r: f64| if kappa * r > 700.0 { 0.0 } else { special::e1(kappa * r) };
+        let ratio = (10.0 * e1(wide) / e1(rc)).min(1.0);
+        let estimate = trunc_and_q + roundoff(&ew) + ratio * rel(ew.total, e.total);
+        Ok((ew, wide_quad, estimate))
+    }
+
+    /// δ = a + x, x divided by r ≥ 4 each step until the estimate meets the
+    /// tolerance (see [`energy_within`]).
+    fn run(mut self, delta0: f64, mut order: usize) -> Result<EnergyReport> {
+        let a = self.screening.a;
+        let mut x = delta0 - a;
+        let mut prev: Option<(Energy, f64, f64)> = None;
+        loop {
+            let delta = a + x;
+            let (e, q) = self.resolved(delta, &mut order)?;
+            let quad = self.settings(delta, (order + 4).min(32));
+            let mut next_ratio = 4.0;
+            if let Some((ep, qp, xp)) = prev {
+                let r = xp / x;
+                let trunc = 2.0 * (rel(e.total, ep.total) + q + qp) / (r - 1.0);
+                let mut result = (e, quad, trunc + q + roundoff(&e));
+                if result.2 <= self.target {
+                    result = self.widened(e, quad, result.2, trunc + q)?;
                 }
+                let (energy, quad, estimate) = result;
+                if self.best.as_ref().is_none_or(|b| estimate < b.2) {
+                    self.best = Some(result);
+                }
+                if estimate <= self.tolerance {
+                    return Ok(EnergyReport { energy, model: ElectrostaticModel::Continuum(quad), estimate });
+                }
+                if estimate <= self.target {
+                    let why = format!(
+                        "round-off {:.2e} for {} kernel evaluations",
+                        roundoff(&energy),
+                        energy.far_evaluations
+                    );
+                    return Err(self.unreachable(why));
+                }
+                next_ratio = (4.0 * trunc / self.target).clamp(4.0, 1e6);
             }
-            if best.as_ref().is_none_or(|b| estimate < b.2) {
-                best = Some((result.0, result.1, estimate));
+            if q > 0.25 * self.target {
+                let why = format!("Gauss order 32 leaves a quadrature difference {q:.2e} at δ {delta:e}");
+                return Err(self.unreachable(why));
             }
-            if estimate <= tolerance {
-                let (energy, quad) = result;
-                return Ok(EnergyReport { energy, model: ElectrostaticModel::Continuum(quad), estimate });
+            if x / next_ratio < 1e-12 * a {
+                return Err(self.unreachable("δ − a would fall below 1e-12·a".to_string()));
             }
-            if estimate <= target.get() {
-                let why = format!(
-                    "round-off {:.2e} for {} kernel evaluations",
-                    roundoff(&result.0),
-                    result.0.far_evaluations
-                );
-                return Err(unreachable(why, &best));
-            }
-            next_ratio = (4.0 * trunc / target.get()).clamp(4.0, 1e6);
+            prev = Some((e, q, x));
+            x /= next_ratio;
         }
-        if q > 0.25 * target.get() {
-            let why = format!("Gauss order 32 leaves a quadrature difference {q:.2e} at δ {delta:e}");
-            return Err(unreachable(why, &best));
-        }
-        if x / next_ratio < 1e-12 * a {
-            return Err(unreachable("δ − a would fall below 1e-12·a".to_string(), &best));
-        }
-        prev = Some((e, q, x));
-        x /= next_ratio;
     }
 }
+
+/// An energy reached, its settings and its estimate.
+type Reached = (Energy, EnergyQuadrature, f64);

@@ -662,8 +662,10 @@ pub const MAX_WITHIN_EVALUATIONS: f64 = 2e9;
 /// zero charge.
 ///
 /// The estimate has two measured parts.
-/// * Quadrature: at a fixed δ the Gauss order p is raised by 4 (from 6, up
-///   to 32) until |E(δ, p+4) − E(δ, p)| ≤ tol/4; the p+4 value is kept and
+/// * Quadrature: at a fixed δ the Gauss order p is raised by 4 (from 3 at
+///   tolerances ≥ 1e-5, from 6 below: half the time at loose tolerances
+///   with every estimate still bounding, tests/electrostatics_estimates.rs;
+///   up to 32) until |E(δ, p+4) − E(δ, p)| ≤ tol/4; the p+4 value is kept and
 ///   that difference is its estimate q (Gauss converges geometrically, so
 ///   it overestimates).
 /// * Near-zone truncation: the near-zone expansion drops terms whose
@@ -737,7 +739,7 @@ pub fn energy_within(
     };
     // The largest δ allowed: strictly inside (a, max_delta).
     let delta_cap = a + 0.5 * (max_delta - a);
-    let order = 6;
+    let order = if tolerance >= 1e-5 { 3 } else { 6 };
     let mut delta0 = (4.0 * a).min(delta_cap);
     while delta0 < delta_cap && energy_work(curve, screening, &search.settings(delta0, order + 4)).evaluations > 1e7 {
         delta0 = (2.0 * delta0).min(delta_cap);

@@ -3,24 +3,137 @@
 //! continued in the end rotation from the straight rod through its first
 //! buckling point along the buckled branch (100 elements of Gauss(2),
 //! cutoff 1e-4; steps from RODKIT_SUPERCOIL_STEPS, default 120; salts
-//! from RODKIT_SUPERCOIL_SALTS, e.g. "0.1", default both). Writes
+//! from RODKIT_SUPERCOIL_SALTS, e.g. "0.1", default both; the buckled
+//! branch stops past RODKIT_SUPERCOIL_TURNS turns, default 12). Writes
 //! target/bench/supercoil/{path_<salt>M.csv, extension.svg, torque.svg,
 //! twist_writhe.svg, report.txt}: the curves users compare with
 //! magnetic-tweezers experiments (extension and torque vs turns) and the
 //! twist/writhe partition, with the buckling point, the work and the time.
+//! Also the run's profile (issue 18): per branch the steps, rejections,
+//! factorisations (bifurcation location's apart), pair lists, the time by
+//! kind of work, the Jacobian's size and LU fill at the start, the
+//! buckling point and the last point (report.txt), and the step history
+//! (steps_<salt>M.csv: arc length, Newton iterations and σ_min per point).
 
 #[path = "support/plot.rs"]
 mod plot;
 use plot::line_plot;
 use plotters::prelude::{RGBColor, BLUE, RED};
-use rodkit::charged::dna::{run_scene, DnaScene, SupercoilSettings};
+use rodkit::charged::dna::{run_scene, DnaScene, SupercoilRun, SupercoilSettings};
+use rodkit::charged::rod::ChargedRod;
+use rodkit::continuation::tangent::Bordered;
+use rodkit::continuation::{Counts, Problem, Scaling};
+use rodkit::linalg::band::BandLu;
 use std::fmt::Write as _;
 use std::path::Path;
+
+/// The bordered tangent at a state (x with μ under a phase condition),
+/// bordered as the continuation does (W·t, t its tangent there): unknowns,
+/// nnz of B, half-bandwidth, entries outside the rod's own band, pairs
+/// listed, L + U, the column order, the first factorisation's time (with
+/// the ordering's choice: a pair-list rebuild pays it) and the steady one
+/// (best of 3); and for scale the same Jacobian's rod band alone
+/// ([`BandLu`], the far pairs dropped: Newton–Krylov's preconditioner).
+fn lu_size(r: &SupercoilRun, phase: Option<(usize, f64)>, x: &[f64], param: f64) -> String {
+    let mut p = ChargedRod::new(&r.rod, &r.charge, phase, x).unwrap();
+    let n = p.dim();
+    let pat = p.pattern().clone();
+    let band = p.local_band();
+    let (mut hb, mut far) = (0, 0);
+    for j in 0..n {
+        for &i in &pat.row_idx[pat.col_ptr[j]..pat.col_ptr[j + 1]] {
+            let d = i.abs_diff(j);
+            // Not the boundary corner blocks (a clamped rod's end conditions)
+            // nor the last unknowns (c = cos φ/2, μ), which reach across.
+            if (i.min(j) < band && i.max(j) + band >= n) || i.max(j) >= r.rod.unknowns() {
+                continue;
+            }
+            hb = hb.max(d);
+            far += usize::from(d > band);
+        }
+    }
+    let scaling = Scaling::of(&p);
+    let mut b = Bordered::new(&pat).unwrap();
+    let mut counts = Counts::default();
+    let e_lambda = vec![0.0; n];
+    b.factorise_at(&mut p, x, param, (&e_lambda, 1.0), &scaling, &mut counts).unwrap();
+    let (tx, tl) = b.tangent(&scaling, &mut counts).unwrap();
+    let mut fresh = Bordered::new(&pat).unwrap();
+    let mut c1 = Counts::default();
+    fresh.factorise_at(&mut p, x, param, (&tx, tl), &scaling, &mut c1).unwrap();
+    let first = c1.times.factorisations.as_secs_f64();
+    let steady = (0..3)
+        .map(|_| {
+            let mut c = Counts::default();
+            fresh.factorise_at(&mut p, x, param, (&tx, tl), &scaling, &mut c).unwrap();
+            c.times.factorisations.as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min);
+    let (mut jx, mut jl) = (vec![0.0; pat.nnz()], vec![0.0; n]);
+    p.jacobian(x, param, &mut jx, &mut jl);
+    let mut band_lu = BandLu::new(&pat, band, p.border()).unwrap();
+    let band_time = (0..3)
+        .map(|_| {
+            let t = std::time::Instant::now();
+            let _ = band_lu.factorise(&jx);
+            t.elapsed().as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min);
+    format!(
+        "n {n}, nnz(B) {}, half-band {hb} (rod band {band}, {far} entries outside it), {} pairs, L+U {} ({:.1}× nnz, {}); \
+         factorisation {:.1} ms (the first, with the ordering's choice, {:.1} ms); the rod band alone: nnz {}, L+U {}, {:.1} ms",
+        fresh.nnz(),
+        p.pairs(),
+        fresh.fill(),
+        fresh.fill() as f64 / fresh.nnz() as f64,
+        if fresh.natural_order() { "natural order" } else { "COLAMD" },
+        1e3 * steady,
+        1e3 * first,
+        band_lu.kept().0,
+        band_lu.fill(),
+        1e3 * band_time
+    )
+}
+
+/// One branch's work and time.
+fn profile_line(name: &str, c: &Counts, newton: usize, points: usize, lists: usize) -> String {
+    let t = &c.times;
+    let ms = |d: std::time::Duration| d.as_secs_f64();
+    let per = |v: usize| v as f64 / c.steps.max(1) as f64;
+    format!(
+        "  {name}: {} steps ({} rejected), {} points, {} factorisations ({:.2}/step; {} in {} bifurcation locations), \
+         {} corrector iterations on accepted points ({:.2}/point), {} solves ({} σ_min monitor), {} residuals, {} Jacobians, {} pair lists ({:.1} steps/list)\n    \
+         time: residual {:.2} s, Jacobian {:.2} s, LU factorisation {:.2} s, solves {:.2} s, σ_min monitor {:.2} s, setup (pair lists, patterns) {:.2} s; location (inclusive) {:.2} s",
+        c.steps,
+        c.rejected_steps,
+        points,
+        c.factorisations,
+        per(c.factorisations),
+        c.location_factorisations,
+        c.locations,
+        newton,
+        newton as f64 / points.max(1) as f64,
+        c.solves,
+        c.monitor_solves,
+        c.residuals,
+        c.jacobians,
+        lists,
+        c.steps as f64 / lists.max(1) as f64,
+        ms(t.residuals),
+        ms(t.jacobians),
+        ms(t.factorisations),
+        ms(t.solves),
+        ms(t.monitor),
+        ms(t.setup),
+        ms(t.location),
+    )
+}
 
 fn main() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench/supercoil");
     std::fs::create_dir_all(&dir).unwrap();
     let steps: usize = std::env::var("RODKIT_SUPERCOIL_STEPS").ok().and_then(|v| v.parse().ok()).unwrap_or(120);
+    let max_turns: f64 = std::env::var("RODKIT_SUPERCOIL_TURNS").ok().and_then(|v| v.parse().ok()).unwrap_or(12.0);
     let mut report = String::new();
     let (mut ext, mut tor, mut tw) = (vec![], vec![], vec![]);
     let salts: Vec<f64> = std::env::var("RODKIT_SUPERCOIL_SALTS")
@@ -31,7 +144,7 @@ fn main() {
             continue;
         }
         let scene = DnaScene { salt, ..Default::default() };
-        let settings = SupercoilSettings { elements: 100, max_steps: steps, ..Default::default() };
+        let settings = SupercoilSettings { elements: 100, max_steps: steps, max_turns, ..Default::default() };
         let r = run_scene(&scene, &settings).unwrap();
         let two_pi = 2.0 * std::f64::consts::PI;
         let steps_done: usize = r.straight.counts.steps + r.buckled.as_ref().map_or(0, |b| b.counts.steps);
@@ -45,6 +158,71 @@ fn main() {
         let _ = writeln!(report, "{salt} M: Debye length {:.3} nm, λ² = {:.4} pN, cutoff {:?}; buckling at {:.4} turns, torque {:.3} pN nm; {} points, {} steps, {} factorisations, {:.1} s; last point {:.4} turns, z {:.2} nm, M {:.3} pN nm, Wr {:.4}; crossing {:?}; worst |Tw + Wr − turns| {:.1e}",
             1.0 / scene.kappa(), r.charge.line_charge.powi(2), r.charge.cutoff(r.rod.length), r.buckling.map_or(f64::NAN, |b| b.0 / two_pi), r.buckling.map_or(f64::NAN, |b| b.1),
             r.points.len(), steps_done, facts, r.seconds, last.turns, last.extension, last.torque, last.writhe, r.buckled.as_ref().and_then(|b| b.contact), worst_lk);
+        // The profile: per branch, then the total against the wall clock.
+        let mut total = Counts::default();
+        let mut steps_csv = String::from("branch,record,turns,step,newton_iterations,sigma_min,det_sign\n");
+        let mut k = 0;
+        for (name, b) in [("straight", Some(&r.straight)), ("buckled", r.buckled.as_ref())] {
+            let Some(b) = b else { continue };
+            let newton: usize = b.records.iter().map(|rec| rec.newton_iterations).sum();
+            let _ = writeln!(report, "{}", profile_line(name, &b.counts, newton, b.records.len(), b.pair_lists));
+            total.add(&b.counts);
+            for (i, rec) in b.records.iter().enumerate() {
+                let _ = writeln!(
+                    steps_csv,
+                    "{name},{i},{},{},{},{},{}",
+                    r.points[k].observables.turns,
+                    rec.step,
+                    rec.newton_iterations,
+                    rec.smallest_singular_value.unwrap_or(f64::NAN),
+                    rec.det_sign
+                );
+                k += 1;
+            }
+        }
+        let t = &total.times;
+        let kernels = (t.residuals + t.jacobians + t.factorisations + t.solves + t.monitor + t.setup).as_secs_f64();
+        let _ = writeln!(
+            report,
+            "  total {:.2} s: kernels {:.2} s ({:.0} %: residual {:.0} %, Jacobian {:.0} %, LU {:.0} %, solves {:.0} %, σ_min monitor {:.0} %, setup {:.0} %), \
+             observables (writhe) {:.2} s ({:.0} %), other {:.2} s; bifurcation location {:.0} % (inclusive)",
+            r.seconds,
+            kernels,
+            100.0 * kernels / r.seconds,
+            100.0 * t.residuals.as_secs_f64() / r.seconds,
+            100.0 * t.jacobians.as_secs_f64() / r.seconds,
+            100.0 * t.factorisations.as_secs_f64() / r.seconds,
+            100.0 * t.solves.as_secs_f64() / r.seconds,
+            100.0 * t.monitor.as_secs_f64() / r.seconds,
+            100.0 * t.setup.as_secs_f64() / r.seconds,
+            r.observables_seconds,
+            100.0 * r.observables_seconds / r.seconds,
+            r.seconds - kernels - r.observables_seconds,
+            100.0 * t.location.as_secs_f64() / r.seconds,
+        );
+        let _ = writeln!(
+            report,
+            "  Jacobian at the start: {}",
+            lu_size(&r, None, &r.straight.states[0], r.straight.records[0].lambda)
+        );
+        if let Some(b) = r.buckled.as_ref() {
+            let i = 1.min(b.records.len() - 1);
+            let (x, rec) = (&b.states[i], &b.records[i]);
+            let _ = writeln!(report, "  at buckling (phase condition): {}", lu_size(&r, b.phase, x, rec.lambda));
+            // Along the branch (the LU's cost follows the pairs).
+            let stride = (b.records.len() / 6).max(1);
+            for i in (stride..b.records.len() - 1).step_by(stride) {
+                let turns = r.points[r.straight.records.len() + i].observables.turns;
+                let _ = writeln!(
+                    report,
+                    "  buckled point {i} ({turns:.3} turns): {}",
+                    lu_size(&r, b.phase, &b.states[i], b.records[i].lambda)
+                );
+            }
+            let (x, rec) = (b.states.last().unwrap(), b.records.last().unwrap());
+            let _ = writeln!(report, "  at the last point: {}", lu_size(&r, b.phase, x, rec.lambda));
+        }
+        std::fs::write(dir.join(format!("steps_{salt}M.csv")), steps_csv).unwrap();
         let mut csv = String::from("turns,extension_nm,torque_pN_nm,tension_pN,twist,writhe,branch\n");
         for p in &r.points {
             let o = p.observables;

@@ -83,7 +83,9 @@ pub fn follow(
 ) -> Result<RodBranch> {
     let mut out: Option<RodBranch> = None;
     loop {
+        let built = std::time::Instant::now();
         let mut problem = ChargedRod::new(rod, charge, phase, start_x(&start))?;
+        let setup = built.elapsed();
         if let (Start::Resume(r), Some(out)) = (&mut start, out.as_mut()) {
             reconverge(&mut problem, &mut r.x, r.lambda, opts, out)?;
         }
@@ -97,6 +99,7 @@ pub fn follow(
             }
             None => out.insert(segment),
         };
+        out.counts.times.setup += setup;
         if out.contact.is_some() || !(stale && out.counts.steps < opts.max_steps) {
             break;
         }

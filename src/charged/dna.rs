@@ -273,6 +273,9 @@ pub struct SupercoilRun {
     pub straight: ChargedBranch,
     pub buckled: Option<ChargedBranch>,
     pub seconds: f64,
+    /// Of which the observables of the points (the writhe above all;
+    /// the branches' own work and times are in their counts).
+    pub observables_seconds: f64,
 }
 
 /// Run a scene: the straight branch from φ = 0 in chunks of a quarter of
@@ -297,7 +300,9 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
     let straight = straight_path(&rod, &charge, scene.tension, settings)?;
     let mut turns = Turns { torque: settings.control == EndControl::Torque, phi: 0.0 };
     let (mut points, mut states) = (Vec::new(), Vec::new());
+    let observing = std::time::Instant::now();
     turns.path(&rod, &straight, 0, &mut points, &mut states)?;
+    let mut observables_seconds = observing.elapsed().as_secs_f64();
     let mut buckling = None;
     let mut buckled = None;
     if let Some(bif) = straight.bifurcations.first() {
@@ -306,7 +311,9 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
         buckling = Some((phi_b, m[2]));
         let b = buckled_path(&rod, &charge, &straight, settings, turns)?;
         turns.phi = phi_b;
+        let observing = std::time::Instant::now();
         turns.path(&rod, &b, 1, &mut points, &mut states)?;
+        observables_seconds += observing.elapsed().as_secs_f64();
         buckled = Some(b);
     }
     Ok(SupercoilRun {
@@ -319,6 +326,7 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
         straight,
         buckled,
         seconds: start.elapsed().as_secs_f64(),
+        observables_seconds,
     })
 }
 

@@ -25,6 +25,7 @@ struct Arclength<'a, P: ?Sized> {
     v: (&'a [f64], f64),
     dx: Vec<f64>,
     residuals: usize,
+    residual_time: std::time::Duration,
 }
 
 impl<P: Problem + ?Sized> Equations for Arclength<'_, P> {
@@ -34,7 +35,9 @@ impl<P: Problem + ?Sized> Equations for Arclength<'_, P> {
 
     fn residual(&mut self, x: &[f64], f: &mut [f64]) -> Result<bool> {
         let n = self.dx.len();
+        let t = std::time::Instant::now();
         self.problem.residual(&x[..n], x[n], &mut f[..n]);
+        self.residual_time += t.elapsed();
         self.residuals += 1;
         for i in 0..n {
             self.dx[i] = x[i] - self.anchor.0[i];
@@ -131,7 +134,15 @@ pub(crate) fn correct<P: Problem + ?Sized>(
     let mut xl = x.to_vec();
     xl.push(*lambda);
     let Context { scaling, eq: equation_scales, bordered, counts } = ctx;
-    let mut eq = Arclength { problem, scaling, anchor: plane.anchor, v, dx: vec![0.0; n], residuals: 0 };
+    let mut eq = Arclength {
+        problem,
+        scaling,
+        anchor: plane.anchor,
+        v,
+        dx: vec![0.0; n],
+        residuals: 0,
+        residual_time: Default::default(),
+    };
     let mut linear = BorderedStep { bordered, chord: reuse, counts: Counts::default() };
     let mut test = ResidualTest::new(with_free_border(equation_scales), tol, "Newton correction");
     test.non_finite = Status::ErrNotConverged;
@@ -139,6 +150,7 @@ pub(crate) fn correct<P: Problem + ?Sized>(
     let max_iterations = if reuse { 20 } else { 12 };
     let result = nonlinear::solve(&mut eq, &mut xl, &mut linear, &mut FullStep::new(n + 1), &mut test, max_iterations);
     counts.residuals += eq.residuals;
+    counts.times.residuals += eq.residual_time;
     counts.add(&linear.counts);
     x.copy_from_slice(&xl[..n]);
     *lambda = xl[n];

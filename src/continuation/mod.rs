@@ -236,6 +236,7 @@ impl Default for Options {
 pub struct Counts {
     pub steps: usize,
     pub factorisations: usize,
+    /// Solves with the factors (the σ_min monitor's included).
     pub solves: usize,
     pub residuals: usize,
     pub jacobians: usize,
@@ -243,6 +244,50 @@ pub struct Counts {
     pub series_orders: usize,
     /// ANM steps taken on the Padé approximant (longer than the series').
     pub pade_steps: usize,
+    /// Newton continuation: corrector failures (the step halved and
+    /// retried); their factorisations are in `factorisations`.
+    pub rejected_steps: usize,
+    /// Bifurcation locations run (each a search along the branch) and the
+    /// factorisations they took (part of `factorisations`).
+    pub locations: usize,
+    pub location_factorisations: usize,
+    /// Solves of the σ_min monitor (part of `solves`).
+    pub monitor_solves: usize,
+    /// Where the time went (wall clock).
+    pub times: Times,
+}
+
+/// Wall-clock time of a run by kind of work (issue 18's profile). The
+/// first five are disjoint kernels; `location` is inclusive (its
+/// corrections' residuals, Jacobians, factorisations and monitor are also
+/// in those), and `setup` is what a caller adds for building problems (a
+/// charged rod's pair lists and patterns). Not compared by the tests:
+/// [`Counts`] equality includes them, so compare the counts' fields.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Times {
+    pub residuals: std::time::Duration,
+    pub jacobians: std::time::Duration,
+    /// Numeric LU factorisations (with the first one's ordering choice).
+    pub factorisations: std::time::Duration,
+    pub solves: std::time::Duration,
+    /// σ_min estimates (inverse iteration with the factors).
+    pub monitor: std::time::Duration,
+    /// Bifurcation location (inclusive).
+    pub location: std::time::Duration,
+    /// Problem construction reported by the caller (pair lists, patterns).
+    pub setup: std::time::Duration,
+}
+
+impl Times {
+    pub fn add(&mut self, o: &Times) {
+        self.residuals += o.residuals;
+        self.jacobians += o.jacobians;
+        self.factorisations += o.factorisations;
+        self.solves += o.solves;
+        self.monitor += o.monitor;
+        self.location += o.location;
+        self.setup += o.setup;
+    }
 }
 
 impl Counts {
@@ -255,6 +300,11 @@ impl Counts {
         self.jacobians += other.jacobians;
         self.series_orders += other.series_orders;
         self.pade_steps += other.pade_steps;
+        self.rejected_steps += other.rejected_steps;
+        self.locations += other.locations;
+        self.location_factorisations += other.location_factorisations;
+        self.monitor_solves += other.monitor_solves;
+        self.times.add(&other.times);
     }
 
     /// Add a nonlinear solve's work.

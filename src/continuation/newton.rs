@@ -170,7 +170,12 @@ fn predict_correct<P: Problem + ?Sized>(
         let plane = Plane::new((&anchor, ln), (&at.tx, at.tl));
         match correct(problem, &mut run.ctx, &mut xn, &mut ln, plane, run.opts.residual_tol, false) {
             Ok((it, _)) => return Some((xn, ln, it)),
-            Err(_) => {
+            Err(e) => {
+                run.ctx.counts.rejected_steps += 1;
+                if std::env::var_os("RODKIT_TRACE_REJECTIONS").is_some() {
+                    // Issue 18's profile: why steps fail (stderr, opt-in).
+                    eprintln!("rodkit: step {ds:.4e} from Λ = {:.6} rejected: {}", at.lambda, e.message);
+                }
                 *ds *= 0.5;
                 if *ds < run.opts.min_step {
                     return None;

@@ -51,7 +51,9 @@ impl Context {
     /// max |R_i| / e_i at (x, Λ) (one residual).
     pub fn residual_norm<P: Problem + ?Sized>(&mut self, problem: &mut P, x: &[f64], lambda: f64) -> f64 {
         let mut r = vec![0.0; x.len()];
+        let t = std::time::Instant::now();
         problem.residual(x, lambda, &mut r);
+        self.counts.times.residuals += t.elapsed();
         self.counts.residuals += 1;
         scaled_max_norm(&r, &self.eq)
     }
@@ -131,9 +133,12 @@ impl<'o> Run<'o> {
     pub fn new<P: Problem + ?Sized>(problem: &P, opts: &'o Options) -> Result<Self> {
         validate(problem, opts)?;
         let scaling = opts.scaling.clone().unwrap_or_else(|| Scaling::of(problem));
+        let t = std::time::Instant::now();
+        let mut ctx = Context::new(problem, scaling)?;
+        ctx.counts.times.setup += t.elapsed();
         Ok(Run {
             opts,
-            ctx: Context::new(problem, scaling)?,
+            ctx,
             records: Vec::new(),
             bifurcations: Vec::new(),
             history: Vec::new(),
@@ -252,10 +257,19 @@ impl<'o> Run<'o> {
             self.history.remove(0);
         }
         let before = self.ctx.bordered.factorisations();
-        if let Some(b) = self.detect(problem)? {
+        let (t, counted) = (std::time::Instant::now(), self.ctx.counts.factorisations);
+        let found = self.detect(problem)?;
+        if let Some(b) = found {
             self.bifurcations.push(b);
         }
-        Ok(self.ctx.bordered.factorisations() != before)
+        let located = self.ctx.bordered.factorisations() != before;
+        if located {
+            // Only a search factorises: its work is the location's.
+            self.ctx.counts.locations += 1;
+            self.ctx.counts.location_factorisations += self.ctx.counts.factorisations - counted;
+            self.ctx.counts.times.location += t.elapsed();
+        }
+        Ok(located)
     }
 
     fn detect<P: Problem + ?Sized>(&mut self, problem: &mut P) -> Result<Option<Bifurcation>> {

@@ -16,6 +16,7 @@ use crate::error::{Error, Result};
 use crate::linalg::bordered::BorderedLu;
 use crate::linalg::Pattern;
 use crate::status::Status;
+use std::time::Instant;
 
 pub struct Bordered {
     n: usize,
@@ -53,7 +54,9 @@ impl Bordered {
         scaling: &Scaling,
         counts: &mut Counts,
     ) -> Result<()> {
+        let t = Instant::now();
         problem.jacobian(x, lambda, &mut self.jx, &mut self.jl);
+        counts.times.jacobians += t.elapsed();
         counts.jacobians += 1;
         self.factorise_border(vx, vl, scaling, counts)
     }
@@ -66,14 +69,19 @@ impl Bordered {
         }
         self.border_x.copy_from_slice(vx);
         self.border_l = vl;
-        self.lu.factorise(&self.jx, &self.jl, &self.row, vl / (scaling.lambda * scaling.lambda))?;
+        let t = Instant::now();
+        let result = self.lu.factorise(&self.jx, &self.jl, &self.row, vl / (scaling.lambda * scaling.lambda));
+        counts.times.factorisations += t.elapsed();
+        result?;
         counts.factorisations += 1;
         Ok(())
     }
 
     /// Solve B z = rhs in place (rhs has n + 1 entries).
     pub fn solve(&mut self, rhs: &mut [f64], counts: &mut Counts) {
+        let t = Instant::now();
         self.lu.solve(rhs);
+        counts.times.solves += t.elapsed();
         counts.solves += 1;
     }
 
@@ -129,19 +137,46 @@ impl Bordered {
 
     /// Smallest singular value of the (scaled) bordered tangent.
     pub fn smallest_singular_value(&mut self, counts: &mut Counts) -> f64 {
-        self.lu.smallest_singular_value(&mut counts.solves)
+        let (t, before) = (Instant::now(), counts.solves);
+        let sigma = self.lu.smallest_singular_value(&mut counts.solves);
+        counts.monitor_solves += counts.solves - before;
+        counts.times.monitor += t.elapsed();
+        sigma
     }
 
     /// The k smallest singular values (ascending) and right singular
     /// vectors, to 1e-10 (the null vectors of a located point).
     pub fn smallest_singular_vectors(&mut self, k: usize, counts: &mut Counts) -> (Vec<f64>, Vec<Vec<f64>>) {
-        self.lu.smallest_singular_vectors(k, 1e-10, 30, &mut counts.solves)
+        let (t, before) = (Instant::now(), counts.solves);
+        let out = self.lu.smallest_singular_vectors(k, 1e-10, 30, &mut counts.solves);
+        counts.monitor_solves += counts.solves - before;
+        counts.times.monitor += t.elapsed();
+        out
     }
 
     /// σ_min signed by the alignment of its singular vectors: it changes
     /// sign at every bifurcation, double ones included.
     pub fn signed_smallest_singular_value(&mut self, counts: &mut Counts) -> f64 {
-        self.lu.signed_smallest_singular_value(&mut counts.solves)
+        let (t, before) = (Instant::now(), counts.solves);
+        let sigma = self.lu.signed_smallest_singular_value(&mut counts.solves);
+        counts.monitor_solves += counts.solves - before;
+        counts.times.monitor += t.elapsed();
+        sigma
+    }
+
+    /// Entries of L + U of the last factorisation (0 before the first).
+    pub fn fill(&self) -> usize {
+        self.lu.fill()
+    }
+
+    /// Entries of B (the Jacobian's pattern with the dense border).
+    pub fn nnz(&self) -> usize {
+        self.lu.nnz()
+    }
+
+    /// Whether the LU keeps the natural column order (else COLAMD's).
+    pub fn natural_order(&self) -> bool {
+        self.lu.natural_order()
     }
 
     pub fn factorisations(&self) -> usize {

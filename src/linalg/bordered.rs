@@ -104,6 +104,22 @@ impl BorderedLu {
         self.lu.negative_pivots()
     }
 
+    /// Entries of L + U of the last factorisation (0 before the first).
+    pub fn fill(&self) -> usize {
+        self.lu.fill()
+    }
+
+    /// Whether the columns are factorised in their natural order (chosen
+    /// on the first matrix), not COLAMD's.
+    pub fn natural_order(&self) -> bool {
+        self.lu.natural_order()
+    }
+
+    /// Entries of B (A's pattern with the dense border).
+    pub fn nnz(&self) -> usize {
+        self.lu.pattern().nnz()
+    }
+
     /// Numeric factorisations so far.
     pub fn factorisations(&self) -> usize {
         self.lu.factorisations

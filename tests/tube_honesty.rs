@@ -12,12 +12,13 @@ use rodkit::capi::error::rodkit_last_error_message;
 use rodkit::capi::thin_tube::*;
 use rodkit::capi::tube::*;
 use rodkit::capi::wall_material::*;
-use rodkit::tube::finite::{Axial, Ends, FiniteTube, Loading, SolveOptions, Torsion, TubeState};
+use rodkit::tube::finite::{
+    state_difference, stress_scale, Axial, Ends, FiniteTube, Loading, SolveOptions, Torsion, TubeState,
+};
 use rodkit::tube::material::{FibreAngle, FibreFamily, FibreReinforced, NeoHookean, SaintVenantKirchhoff};
 use rodkit::tube::scene::{TubeModel, TubeScene, WallLaw};
 use rodkit::tube::Orthotropic;
 use rodkit::Status;
-use std::f64::consts::PI;
 use std::ffi::CStr;
 use std::ptr;
 
@@ -25,32 +26,13 @@ fn last_error() -> String {
     unsafe { CStr::from_ptr(rodkit_last_error_message()) }.to_string_lossy().into_owned()
 }
 
-/// The thick model's error measure (rodkit::tube::finite::TubeState docs):
-/// radii per B, λ, ψB, F per μπB², T per μπB³, μ the law's small-strain
-/// stress scale at the mid radius (as `finite::stress_scale`).
-fn measure(a: &TubeState, b: &TubeState, outer: f64, modulus: f64) -> f64 {
-    let force = modulus * PI * outer * outer;
-    [
-        (a.deformed_inner_radius - b.deformed_inner_radius) / outer,
-        (a.deformed_outer_radius - b.deformed_outer_radius) / outer,
-        a.stretch - b.stretch,
-        (a.twist - b.twist) * outer,
-        (a.wall_force - b.wall_force) / force,
-        (a.torque - b.torque) / (force * outer),
-    ]
-    .iter()
-    .fold(0.0, |m: f64, v| m.max(v.abs()))
-}
-
+/// The thick model's error measure and its stress scale are the library's
+/// own definitions (`finite::state_difference`: radii per B, λ, ψB, F per
+/// μπB², T per μπB³; `finite::stress_scale`: the law's small-strain stress
+/// at the mid radius): the test compares states in the units the estimates
+/// are stated in.
 fn modulus(law: &WallLaw, r: f64) -> f64 {
-    let m: &dyn rodkit::tube::material::WallMaterial = match law {
-        WallLaw::SaintVenantKirchhoff(m) => m,
-        WallLaw::NeoHookean(m) => m,
-        WallLaw::FibreReinforced(m) => m,
-    };
-    let h = 1e-6;
-    let c = nalgebra::Matrix3::identity() * (1.0 + 2.0 * h);
-    (m.pk2(r, &c).amax() / h).max(m.pk2(r, &nalgebra::Matrix3::identity()).amax())
+    stress_scale(law.as_material(), r).unwrap()
 }
 
 fn helical() -> Orthotropic {
@@ -164,7 +146,8 @@ fn membrane_estimate_bounds_the_thick_wall_and_auto_meets_rel_tol() {
                 };
                 if let Ok((m, _)) = &membrane {
                     // Less the reference's own error (its estimate, ≤ 1e−9).
-                    let true_err = (measure(m, &reference, r + t / 2.0, mu) - reference.error_estimate).max(0.0);
+                    let true_err =
+                        (state_difference(m, &reference, r + t / 2.0, mu) - reference.error_estimate).max(0.0);
                     assert!(
                         true_err <= m.error_estimate,
                         "{what}: true {true_err:e} > estimate {:e}",
@@ -176,7 +159,8 @@ fn membrane_estimate_bounds_the_thick_wall_and_auto_meets_rel_tol() {
                 for tol in [1e-3, 1e-6] {
                     match scene(TubeModel::Auto, tol).solve(&l) {
                         Ok((s, model)) => {
-                            let err = (measure(&s, &reference, r + t / 2.0, mu) - reference.error_estimate).max(0.0);
+                            let err =
+                                (state_difference(&s, &reference, r + t / 2.0, mu) - reference.error_estimate).max(0.0);
                             assert!(err <= tol, "{what}: AUTO ({model:?}) at rel_tol {tol:e} is off by {err:e}");
                             if let Ok((m, _)) = &membrane {
                                 // AUTO takes the membrane only where its estimate meets rel_tol.
@@ -236,7 +220,7 @@ fn thick_estimate_bounds_a_finer_grid() {
                 let (s, _) = scene.solve(&l).unwrap();
                 // The reference's own error (its estimate) is part of the
                 // comparison: at the 1e−12 level the difference is round-off.
-                let err = measure(&s, &fine, r + t / 2.0, mu);
+                let err = state_difference(&s, &fine, r + t / 2.0, mu);
                 let bound = s.error_estimate + fine.error_estimate;
                 assert!(
                     err <= bound,
@@ -325,7 +309,7 @@ fn membrane_under_strong_pressure_is_physical_or_a_status() {
                     assert!(s.deformed_inner_radius > 0.0 && s.deformed_outer_radius > s.deformed_inner_radius);
                     assert!(s.error_estimate.is_finite());
                     let thick = reference(&law, 1.0, 0.2, &l).expect("a thick reference where the membrane answered");
-                    let err = measure(&s, &thick, 1.1, modulus(&law, 1.0));
+                    let err = state_difference(&s, &thick, 1.1, modulus(&law, 1.0));
                     assert!(err <= s.error_estimate, "p {p_in} / {p_out}: {err:e} > {:e}", s.error_estimate);
                 }
                 Err(e) => {

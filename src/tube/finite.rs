@@ -1352,7 +1352,7 @@ pub(crate) fn stretch_and_twist(
 /// The stress scale that makes a tube's residual dimensionless: the
 /// small-strain response at `radius` (compressible laws) or the
 /// multiplier-free stress at rest (incompressible ones).
-pub(crate) fn stress_scale(material: &dyn WallMaterial, radius: f64) -> Result<f64> {
+pub fn stress_scale(material: &dyn WallMaterial, radius: f64) -> Result<f64> {
     let h = 1e-6;
     let c = Matrix3::identity() * (1.0 + 2.0 * h);
     let modulus = (material.pk2(radius, &c).amax() / h).max(material.pk2(radius, &Matrix3::identity()).amax());
@@ -1363,7 +1363,7 @@ pub(crate) fn stress_scale(material: &dyn WallMaterial, radius: f64) -> Result<f
 /// own scales: radii per B, stretch, twist × B, force per μπB², torque per
 /// μπB³ (so a state near rest is not judged by the relative change of tiny
 /// resultants).
-pub(crate) fn state_difference(a: &TubeState, b: &TubeState, outer: f64, modulus: f64) -> f64 {
+pub fn state_difference(a: &TubeState, b: &TubeState, outer: f64, modulus: f64) -> f64 {
     let force = modulus * PI * outer * outer;
     let pairs = [
         (a.deformed_inner_radius - b.deformed_inner_radius) / outer,

@@ -82,7 +82,8 @@ impl WallLaw {
         }
     }
 
-    fn as_material(&self) -> &dyn WallMaterial {
+    /// The law as the material the wall solvers take.
+    pub fn as_material(&self) -> &dyn WallMaterial {
         match self {
             WallLaw::SaintVenantKirchhoff(m) => m,
             WallLaw::NeoHookean(m) => m,

@@ -123,6 +123,8 @@ pub(super) fn status_of(stop: Stop) -> Status {
         Stop::MaxSteps => Status::InfoStepLimit,
         Stop::Cancelled => Status::InfoCancelled,
         Stop::StepTooSmall => Status::InfoStepTooSmall,
+        // Not asked for through the C API (rod branches run to their end).
+        Stop::Bifurcation => Status::Ok,
     }
 }
 
@@ -133,6 +135,7 @@ pub(super) fn stop_code(stop: Stop) -> BranchStop {
         Stop::MaxSteps => BranchStop::MaxSteps,
         Stop::Cancelled => BranchStop::Cancelled,
         Stop::StepTooSmall => BranchStop::StepTooSmall,
+        Stop::Bifurcation => BranchStop::Target,
     }
 }
 

@@ -169,6 +169,7 @@ pub(super) unsafe fn options_from(o: &ContinuationOptions, unknowns: usize) -> R
         bifurcation_tol: o.bifurcation_tol,
         scaling: scaling_from(o, unknowns)?,
         samples: samples_from(o)?,
+        ..Options::default()
     };
     Ok((opts, method, flag("increasing", o.increasing)?))
 }

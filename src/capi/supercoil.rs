@@ -227,6 +227,7 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
             EndControl::Rotation => dna::EndControl::Rotation,
             EndControl::Torque => dna::EndControl::Torque,
         },
+        engine: dna::Engine::default(),
     };
     Ok((scene, settings))
 }

@@ -689,6 +689,10 @@ impl ChargedRod {
 }
 
 impl Problem for ChargedRod {
+    fn trailing(&self) -> usize {
+        self.border()
+    }
+
     fn dim(&self) -> usize {
         self.n
     }

@@ -51,6 +51,12 @@ pub trait Problem {
     fn unknown_scales(&self) -> (Vec<f64>, f64) {
         (vec![1.0; self.dim()], 1.0)
     }
+    /// How many of the last unknowns are multipliers or parameters whose
+    /// equations reach across the Jacobian (a phase condition's μ): a
+    /// reordering of the factorisation keeps them last. Default 0.
+    fn trailing(&self) -> usize {
+        0
+    }
 }
 
 /// Taylor coefficients of R along X(a) = Σ a^k X_k (the cubic ANM).
@@ -178,6 +184,9 @@ pub enum Stop {
     /// The step length fell below its minimum (a fold it could not pass, a
     /// singular tangent, …): the records so far are valid.
     StepTooSmall,
+    /// A bifurcation was located and [`Options::stop_at_bifurcation`]
+    /// asked to stop there (the last record is the first past it).
+    Bifurcation,
 }
 
 /// Options common to both engines. Tolerances are relative to the scales
@@ -210,7 +219,30 @@ pub struct Options {
     /// the step's factorisation; Newton continuation interpolates between
     /// its points (cubic Hermite) and corrects.
     pub samples: Vec<f64>,
+    /// Newton continuation: chord corrections — the corrector starts on
+    /// the factorisation already in hand (the last point's tangent) and
+    /// refactorises only when an iteration does not halve the residual;
+    /// the step is then sized for [`CHORD_AIM`] iterations instead of 3.
+    /// One factorisation a step (the tangent's) instead of one per
+    /// iteration: worth it where a factorisation costs many residuals (a
+    /// charged rod's pair couplings); the points are converged to the same
+    /// `residual_tol`.
+    pub chord: bool,
+    /// Stop after the first located bifurcation ([`Stop::Bifurcation`]):
+    /// a caller that leaves the branch there need not pay for the ones
+    /// beyond (the straight DNA rod's crowded double points).
+    pub stop_at_bifurcation: bool,
+    /// Newton continuation: predict by extrapolating the cubic Hermite
+    /// interpolant of the last two points and their tangents (error
+    /// O(ds⁴)) instead of the Euler step along the tangent (O(ds²)):
+    /// longer steps where the branch curves smoothly in the state — a
+    /// plectoneme's end loop travelling along the rod.
+    pub hermite_predictor: bool,
 }
+
+/// The corrector iterations a chord step is sized for (each a residual and
+/// a solve; a fresh factorisation only when the contraction is poor).
+pub const CHORD_AIM: f64 = 6.0;
 
 impl Default for Options {
     fn default() -> Self {
@@ -227,6 +259,9 @@ impl Default for Options {
             bifurcation_tol: 1e-10,
             scaling: None,
             samples: Vec::new(),
+            chord: false,
+            stop_at_bifurcation: false,
+            hermite_predictor: false,
         }
     }
 }

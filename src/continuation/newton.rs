@@ -8,7 +8,7 @@
 use super::bifurcation::State;
 use super::corrector::{correct, Plane};
 use super::run::{resume_step, validate_resume, Run};
-use super::{Branch, Options, Problem, Record, Resume, Sample, Stop};
+use super::{Branch, Options, Problem, Record, Resume, Sample, Stop, CHORD_AIM};
 use crate::error::Result;
 use crate::roots::all_roots;
 
@@ -76,8 +76,12 @@ pub fn continue_newton<P: Problem + ?Sized>(
     if opts.target_lambda == Some(at.lambda) {
         return Ok(run.finish(Stop::Target, at, ds));
     }
+    // The point before `at` and the arc length between them (the Hermite
+    // predictor's).
+    let mut previous: Option<(State, f64)> = None;
     for _ in 0..opts.max_steps {
-        let Some((mut xn, mut ln, iterations)) = predict_correct(&mut run, problem, &at, &mut ds) else {
+        let before = previous.as_ref().filter(|_| opts.hermite_predictor);
+        let Some((mut xn, mut ln, iterations)) = predict_correct(&mut run, problem, &at, before, &mut ds) else {
             return Ok(run.finish(Stop::StepTooSmall, at, ds));
         };
         run.ctx.counts.steps += 1;
@@ -113,10 +117,14 @@ pub fn continue_newton<P: Problem + ?Sized>(
                 run.ctx.factorise(problem, &next.x, ln, (&next.tx, tln))?;
             }
             run.watch(problem, next.clone())?;
+            if opts.stop_at_bifurcation && !run.bifurcations.is_empty() {
+                return Ok(run.finish(Stop::Bifurcation, next, ds));
+            }
         }
-        at = next;
-        // Aim at three corrector iterations.
-        let factor = (3.0 / iterations.max(1) as f64).sqrt().clamp(0.5, 2.0);
+        previous = Some((std::mem::replace(&mut at, next), step));
+        // Aim at three corrector iterations (Newton), CHORD_AIM (chord).
+        let aim = if opts.chord { CHORD_AIM } else { 3.0 };
+        let factor = (aim / iterations.max(1) as f64).sqrt().clamp(0.5, 2.0);
         ds = (ds * factor).clamp(opts.min_step, opts.max_step);
         if let Some(stop) = stop {
             return Ok(run.finish(stop, at, ds));
@@ -161,14 +169,25 @@ fn predict_correct<P: Problem + ?Sized>(
     run: &mut Run,
     problem: &mut P,
     at: &State,
+    previous: Option<&(State, f64)>,
     ds: &mut f64,
 ) -> Option<(Vec<f64>, f64, usize)> {
+    let mut xn = vec![0.0; at.x.len()];
     loop {
-        let mut xn: Vec<f64> = at.x.iter().zip(&at.tx).map(|(a, t)| a + *ds * t).collect();
-        let mut ln = at.lambda + *ds * at.tl;
+        let mut ln = match previous {
+            // Extrapolated to arc length ds past `at` (θ = 1 + ds/h), the
+            // steps not yet long enough for θ > 3 (the cubic's wild side).
+            Some((before, h)) if *h > 0.0 && *ds <= 2.0 * h => hermite(before, at, *h, 1.0 + *ds / h, &mut xn),
+            _ => {
+                for ((o, a), t) in xn.iter_mut().zip(&at.x).zip(&at.tx) {
+                    *o = a + *ds * t;
+                }
+                at.lambda + *ds * at.tl
+            }
+        };
         let anchor = xn.clone();
         let plane = Plane::new((&anchor, ln), (&at.tx, at.tl));
-        match correct(problem, &mut run.ctx, &mut xn, &mut ln, plane, run.opts.residual_tol, false) {
+        match correct(problem, &mut run.ctx, &mut xn, &mut ln, plane, run.opts.residual_tol, run.opts.chord) {
             Ok((it, _)) => return Some((xn, ln, it)),
             Err(e) => {
                 run.ctx.counts.rejected_steps += 1;

@@ -27,7 +27,7 @@ impl Context {
     /// both).
     pub fn new<P: Problem + ?Sized>(problem: &P, scaling: Scaling) -> Result<Self> {
         let eq = problem.equation_scales();
-        let mut bordered = Bordered::new(problem.pattern())?;
+        let mut bordered = Bordered::with_trailing(problem.pattern(), problem.trailing())?;
         bordered.set_monitor_scales(&eq, &scaling);
         Ok(Context { scaling, eq, bordered, counts: Counts::default() })
     }

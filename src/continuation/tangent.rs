@@ -32,10 +32,16 @@ pub struct Bordered {
 
 impl Bordered {
     pub fn new(pattern: &Pattern) -> Result<Self> {
+        Self::with_trailing(pattern, 0)
+    }
+
+    /// As [`Bordered::new`] for a problem whose last `trailing` unknowns
+    /// reach across its Jacobian ([`super::Problem::trailing`]).
+    pub fn with_trailing(pattern: &Pattern, trailing: usize) -> Result<Self> {
         let n = pattern.n;
         Ok(Bordered {
             n,
-            lu: BorderedLu::new(pattern)?,
+            lu: BorderedLu::with_trailing(pattern, trailing)?,
             jx: vec![0.0; pattern.nnz()],
             jl: vec![0.0; n],
             row: vec![0.0; n],

@@ -35,6 +35,13 @@ pub struct BorderedLu {
 impl BorderedLu {
     /// For A with `pattern` (n×n): B is (n + 1)×(n + 1).
     pub fn new(pattern: &Pattern) -> Result<Self> {
+        Self::with_trailing(pattern, 0)
+    }
+
+    /// As [`BorderedLu::new`], A's last `trailing` unknowns being
+    /// multipliers whose rows and columns reach across it (ordered last
+    /// with the border by any reordering: [`SparseLu::with_trailing`]).
+    pub fn with_trailing(pattern: &Pattern, trailing: usize) -> Result<Self> {
         let n = pattern.n;
         let mut entries: Vec<(usize, usize)> = Vec::with_capacity(pattern.nnz() + 2 * n + 1);
         for j in 0..n {
@@ -56,7 +63,7 @@ impl BorderedLu {
         let values = vec![0.0; big.nnz()];
         Ok(BorderedLu {
             n,
-            lu: SparseLu::new(big)?,
+            lu: SparseLu::with_trailing(big, trailing + 1)?,
             values,
             map,
             last_col,

@@ -15,6 +15,7 @@ pub mod band;
 pub mod bordered;
 pub mod dense;
 pub mod gmres;
+pub mod ordering;
 pub mod sparse;
 
 pub use sparse::{Pattern, SparseLu};

@@ -14,12 +14,17 @@
 //! kind of work, the Jacobian's size and LU fill at the start, the
 //! buckling point and the last point (report.txt), and the step history
 //! (steps_<salt>M.csv: arc length, Newton iterations and σ_min per point).
+//! Each salt is run twice in one process, with the engine up to issue 18
+//! (`Engine::Newton`) and the default (`Engine::HermiteChord`): time,
+//! steps and factorisations as ratios, and the largest distance of the new
+//! path from the baseline's (RODKIT_SUPERCOIL_BASELINE=0 skips the
+//! baseline).
 
 #[path = "support/plot.rs"]
 mod plot;
 use plot::line_plot;
 use plotters::prelude::{RGBColor, BLUE, RED};
-use rodkit::charged::dna::{run_scene, DnaScene, SupercoilRun, SupercoilSettings};
+use rodkit::charged::dna::{run_scene, DnaScene, Engine, SupercoilRun, SupercoilSettings};
 use rodkit::charged::rod::ChargedRod;
 use rodkit::continuation::tangent::Bordered;
 use rodkit::continuation::{Counts, Problem, Scaling};
@@ -86,7 +91,7 @@ fn lu_size(r: &SupercoilRun, phase: Option<(usize, f64)>, x: &[f64], param: f64)
         p.pairs(),
         fresh.fill(),
         fresh.fill() as f64 / fresh.nnz() as f64,
-        if fresh.natural_order() { "natural order" } else { "COLAMD" },
+        if fresh.natural_order() { "natural order" } else { "RCM or COLAMD order" },
         1e3 * steady,
         1e3 * first,
         band_lu.kept().0,
@@ -129,6 +134,47 @@ fn profile_line(name: &str, c: &Counts, newton: usize, points: usize, lists: usi
     )
 }
 
+/// The largest distance of `new`'s points from `reference`'s path, as
+/// (torque, extension) relative to the reference's buckling torque and
+/// contour length: each point against the nearest point of the polyline
+/// through the reference's points of the same branch, in (turns, M/M_b,
+/// z/L) — the paths fold back in turns, so "at equal turns" is "on the
+/// same curve". The polyline's chord error (O(h²) with the reference's
+/// step h) is part of the figure: a reference with small steps keeps it
+/// below the tolerance.
+fn path_deviation(new: &SupercoilRun, reference: &SupercoilRun) -> (f64, f64) {
+    let mb = reference.buckling.map_or(1.0, |b| b.1.abs()).max(1e-300);
+    let l = reference.scene.length();
+    let key = |p: &rodkit::charged::dna::PathPoint| {
+        [p.observables.turns, p.observables.torque / mb, p.observables.extension / l]
+    };
+    let (mut worst_m, mut worst_z) = (0.0f64, 0.0f64);
+    for p in &new.points {
+        let q = key(p);
+        let mut best = (f64::INFINITY, 0.0, 0.0);
+        for w in reference.points.windows(2).filter(|w| w[0].branch == p.branch && w[1].branch == p.branch) {
+            let (a, b) = (key(&w[0]), key(&w[1]));
+            let ab: Vec<f64> = (0..3).map(|i| b[i] - a[i]).collect();
+            let len2: f64 = ab.iter().map(|v| v * v).sum();
+            let t = if len2 > 0.0 {
+                ((0..3).map(|i| (q[i] - a[i]) * ab[i]).sum::<f64>() / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let c: Vec<f64> = (0..3).map(|i| a[i] + t * ab[i]).collect();
+            let d2: f64 = (0..3).map(|i| (q[i] - c[i]).powi(2)).sum();
+            if d2 < best.0 {
+                best = (d2, (q[1] - c[1]).abs(), (q[2] - c[2]).abs());
+            }
+        }
+        if best.0.is_finite() {
+            worst_m = worst_m.max(best.1);
+            worst_z = worst_z.max(best.2);
+        }
+    }
+    (worst_m, worst_z)
+}
+
 fn main() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench/supercoil");
     std::fs::create_dir_all(&dir).unwrap();
@@ -145,7 +191,40 @@ fn main() {
         }
         let scene = DnaScene { salt, ..Default::default() };
         let settings = SupercoilSettings { elements: 100, max_steps: steps, max_turns, ..Default::default() };
+        // Before and after in one process (issue 18): the engine up to
+        // issue 18 (Euler predictor, Newton corrector; RODKIT_SUPERCOIL_BASELINE=0
+        // skips it) and the default one.
+        let baseline = (std::env::var("RODKIT_SUPERCOIL_BASELINE").as_deref() != Ok("0"))
+            .then(|| run_scene(&scene, &SupercoilSettings { engine: Engine::Newton, ..settings.clone() }).unwrap());
         let r = run_scene(&scene, &settings).unwrap();
+        if let Some(b) = &baseline {
+            let work = |r: &SupercoilRun| {
+                let steps = r.straight.counts.steps + r.buckled.as_ref().map_or(0, |b| b.counts.steps);
+                let facts =
+                    r.straight.counts.factorisations + r.buckled.as_ref().map_or(0, |b| b.counts.factorisations);
+                (steps, facts)
+            };
+            let ((s0, f0), (s1, f1)) = (work(b), work(&r));
+            let (dm, dz) = path_deviation(&r, b);
+            let last = |r: &SupercoilRun| r.points.last().map_or(f64::NAN, |p| p.observables.turns);
+            let _ = writeln!(
+                report,
+                "{salt} M, engine {:?} against {:?} (same process): {:.1} s vs {:.1} s ({:.2}× faster), {s1} vs {s0} steps, \
+                 {f1} vs {f0} factorisations ({:.2} vs {:.2} a step); last point {:.3} vs {:.3} turns; \
+                 largest distance from the baseline's path: torque {:.1e} of M_b, extension {:.1e} of L",
+                settings.engine,
+                Engine::Newton,
+                r.seconds,
+                b.seconds,
+                b.seconds / r.seconds,
+                f1 as f64 / s1.max(1) as f64,
+                f0 as f64 / s0.max(1) as f64,
+                last(&r),
+                last(b),
+                dm,
+                dz
+            );
+        }
         let two_pi = 2.0 * std::f64::consts::PI;
         let steps_done: usize = r.straight.counts.steps + r.buckled.as_ref().map_or(0, |b| b.counts.steps);
         let facts: usize = r.straight.counts.factorisations + r.buckled.as_ref().map_or(0, |b| b.counts.factorisations);

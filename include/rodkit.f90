@@ -43,7 +43,7 @@ module rodkit
     integer(c_int32_t), parameter :: RODKIT_VERSION_MINOR = 1
     integer(c_int32_t), parameter :: RODKIT_VERSION_PATCH = 0
     character(len=*), parameter :: RODKIT_VERSION_STRING = "0.1.0"
-    integer(c_int32_t), parameter :: RODKIT_ABI_VERSION = 1
+    integer(c_int32_t), parameter :: RODKIT_ABI_VERSION = 2
 
     ! -------------------------------------------------------------------------
     ! enum RodkitStatus: status returned by every fallible rodkit function.
@@ -494,6 +494,9 @@ module rodkit
         real(c_double) :: cutoff_off
         real(c_double) :: seconds
         integer(c_int64_t) :: base_pair_charges
+        real(c_double) :: hard_core
+        integer(c_int32_t) :: hard_core_switched
+        real(c_double) :: hard_core_switched_turns
     end type rodkit_supercoil_info
 
     ! RodkitSupercoilPoint (see rodkit.h).

@@ -29,7 +29,7 @@
 #define RODKIT_VERSION_MINOR 1
 #define RODKIT_VERSION_PATCH 0
 #define RODKIT_VERSION_STRING "0.1.0"
-#define RODKIT_ABI_VERSION 1
+#define RODKIT_ABI_VERSION 2
 
 
 // Status returned by every fallible rodkit function (as `int32_t`).
@@ -759,7 +759,12 @@ typedef struct RodkitDnaSupercoilSpec {
   int64_t stages;
   // Screening cutoff's relative energy tolerance; 0: every pair.
   double cutoff_tolerance;
-  // Hard-core stiffness k_hc (pN/nm⁴) below 2.5a; 0: none.
+  // Hard-core stiffness k_hc (pN/nm⁴) below 2.5a. 0 (the default):
+  // none until the buckled branch's strands cross (axes closer than
+  // 2a), then switched on by itself at k_hc = 4 k_BT/a⁵ from the point
+  // before the crossing (the summary's `hard_core_switched_turns` says
+  // where); < 0: none, the run stops at a crossing with
+  // RODKIT_STATUS_INFO_STRAND_CROSSING.
   double hard_core;
   int64_t threads;
   double max_turns;
@@ -808,6 +813,12 @@ typedef struct RodkitSupercoilInfo {
   // The model used: 0 the continuum line charge, else the number of
   // point charges of the discrete base-pair model.
   int64_t base_pair_charges;
+  // The hard core the path ended with: k_hc (pN/nm⁴), 0 none; and
+  // whether the scene switched it on by itself (spec `hard_core` 0 and
+  // the strands crossed), from which turns.
+  double hard_core;
+  int32_t hard_core_switched;
+  double hard_core_switched_turns;
 } RodkitSupercoilInfo;
 
 // One point of the path.

@@ -1795,8 +1795,8 @@ fn checker_catches_drift_in_the_module() {
         ),
         (
             "wrong version value",
-            mutate(&f, "RODKIT_ABI_VERSION = 1", "RODKIT_ABI_VERSION = 2"),
-            "RODKIT_ABI_VERSION: C value 1",
+            mutate(&f, "RODKIT_ABI_VERSION = 2", "RODKIT_ABI_VERSION = 3"),
+            "RODKIT_ABI_VERSION: C value 2",
         ),
         (
             "enumerator missing",
@@ -1900,7 +1900,7 @@ fn checker_catches_drift_in_the_header() {
         ),
         ("new enumerator", mutate(&h, "  RODKIT_WINDING_OVERWINDS = 1,\n", "  RODKIT_WINDING_OVERWINDS = 1,\n  RODKIT_WINDING_BOTH = 2,\n"), "RODKIT_WINDING_BOTH: no parameter"),
         ("enumerator renumbered", mutate(&h, "RODKIT_STATUS_ERR_NOT_CONVERGED = -9", "RODKIT_STATUS_ERR_NOT_CONVERGED = -19"), "C value -19"),
-        ("new macro", mutate(&h, "#define RODKIT_ABI_VERSION 1", "#define RODKIT_ABI_VERSION 1\n#define RODKIT_MAX_NODES 4096"), "RODKIT_MAX_NODES: no parameter"),
+        ("new macro", mutate(&h, "#define RODKIT_ABI_VERSION 2", "#define RODKIT_ABI_VERSION 2\n#define RODKIT_MAX_NODES 4096"), "RODKIT_MAX_NODES: no parameter"),
         ("version string", mutate(&h, "#define RODKIT_VERSION_STRING \"0.1.0\"", "#define RODKIT_VERSION_STRING \"0.2.0\""), "RODKIT_VERSION_STRING: C value \"0.2.0\""),
         (
             "new struct field",

@@ -41,7 +41,12 @@ pub struct DnaSupercoilSpec {
     pub stages: i64,
     /// Screening cutoff's relative energy tolerance; 0: every pair.
     pub cutoff_tolerance: f64,
-    /// Hard-core stiffness k_hc (pN/nm⁴) below 2.5a; 0: none.
+    /// Hard-core stiffness k_hc (pN/nm⁴) below 2.5a. 0 (the default):
+    /// none until the buckled branch's strands cross (axes closer than
+    /// 2a), then switched on by itself at k_hc = 4 k_BT/a⁵ from the point
+    /// before the crossing (the summary's `hard_core_switched_turns` says
+    /// where); < 0: none, the run stops at a crossing with
+    /// RODKIT_STATUS_INFO_STRAND_CROSSING.
     pub hard_core: f64,
     pub threads: i64,
     pub max_turns: f64,
@@ -103,6 +108,12 @@ pub struct SupercoilInfo {
     /// The model used: 0 the continuum line charge, else the number of
     /// point charges of the discrete base-pair model.
     pub base_pair_charges: i64,
+    /// The hard core the path ended with: k_hc (pN/nm⁴), 0 none; and
+    /// whether the scene switched it on by itself (spec `hard_core` 0 and
+    /// the strands crossed), from which turns.
+    pub hard_core: f64,
+    pub hard_core_switched: i32,
+    pub hard_core_switched_turns: f64,
 }
 
 /// One point of the path.
@@ -196,10 +207,9 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
     error::count_in_range("stages", s.stages, 1, 4)?;
     error::count_in_range("threads", s.threads, 1, 256)?;
     error::count_in_range("max_steps", s.max_steps, 1, 1 << 24)?;
-    for (n, v) in [("cutoff_tolerance", s.cutoff_tolerance), ("hard_core", s.hard_core)] {
-        error::finite(n, v)?;
-        non_negative(n, v)?;
-    }
+    error::finite("cutoff_tolerance", s.cutoff_tolerance)?;
+    non_negative("cutoff_tolerance", s.cutoff_tolerance)?;
+    error::finite("hard_core", s.hard_core)?;
     let scene = DnaScene {
         base_pairs: s.base_pairs as usize,
         rise: s.rise,
@@ -218,6 +228,7 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
         stages: s.stages as usize,
         cutoff_tolerance: (s.cutoff_tolerance > 0.0).then_some(s.cutoff_tolerance),
         hard_core: (s.hard_core > 0.0).then_some(s.hard_core),
+        hard_core_auto: s.hard_core == 0.0,
         threads: s.threads as usize,
         max_turns: s.max_turns,
         max_steps: s.max_steps as usize,
@@ -299,6 +310,11 @@ pub unsafe extern "C" fn rodkit_supercoil_summary(run: *const Supercoil, info: *
             i.factorisations += b.counts.factorisations as i64;
             i.residuals += b.counts.residuals as i64;
             i.pair_lists += b.pair_lists as i64;
+        }
+        i.hard_core = r.charge.hard_core.unwrap_or(0.0);
+        if let Some(sw) = r.hard_core_switch {
+            i.hard_core_switched = 1;
+            i.hard_core_switched_turns = r.points[i.straight_points as usize + sw.record].observables.turns;
         }
         if let Some(c) = r.buckled.as_ref().and_then(|b| b.contact) {
             i.crossing = 1;

@@ -15,7 +15,7 @@ use super::rod::{ChargedRod, RodCharge};
 use crate::continuation::corrector::{correct, Plane};
 use crate::continuation::newton::{continue_newton, Start};
 use crate::continuation::run::Context;
-use crate::continuation::{Options, Problem, Record, Scaling};
+use crate::continuation::{Options, Problem, Record, Resume, Scaling};
 use crate::error::Result;
 use crate::geometry::proximity::closest_pair_within;
 use crate::geometry::vec3::distance;
@@ -76,12 +76,55 @@ fn start_x(start: &Start) -> &[f64] {
 pub fn follow(
     rod: &Rod,
     charge: &RodCharge,
+    start: Start,
+    phase: Option<(usize, f64)>,
+    opts: &Options,
+    progress: impl FnMut(&Record) -> bool,
+) -> Result<RodBranch> {
+    follow_into(rod, charge, start, phase, opts, progress, None)
+}
+
+/// Continue `branch` from its record `record` (its later records dropped)
+/// with another charge model — a hard core switched on where the strands
+/// crossed: the point is re-converged at its Λ on the new model (it
+/// replaces the record) and the branch followed on from it, leaving along
+/// the secant of the dropped step (the new model's tangent is computed
+/// there, oriented by it). `opts.max_steps` counts the branch's steps
+/// before too.
+pub fn continue_with(
+    rod: &Rod,
+    charge: &RodCharge,
+    mut branch: RodBranch,
+    record: usize,
+    opts: &Options,
+    progress: impl FnMut(&Record) -> bool,
+) -> Result<RodBranch> {
+    let k = record.min(branch.records.len().saturating_sub(1));
+    let (x, lambda) = (branch.states[k].clone(), branch.records[k].lambda);
+    let (tangent_x, tangent_lambda) = match branch.states.get(k + 1) {
+        Some(next) => (next.iter().zip(&x).map(|(b, a)| b - a).collect(), branch.records[k + 1].lambda - lambda),
+        None => (branch.resume.tangent_x.clone(), branch.resume.tangent_lambda),
+    };
+    let step = branch.records.get(k + 1).map_or(branch.resume.step, |r| r.step);
+    branch.records.truncate(k + 1);
+    branch.states.truncate(k + 1);
+    branch.contact = None;
+    let start = Start::Resume(Resume { x, lambda, tangent_x, tangent_lambda, step });
+    let phase = branch.phase;
+    follow_into(rod, charge, start, phase, opts, progress, Some(branch))
+}
+
+/// [`follow`], appending to `out` when given (its last record is the
+/// start, re-converged on this model when it is not within tolerance).
+fn follow_into(
+    rod: &Rod,
+    charge: &RodCharge,
     mut start: Start,
     phase: Option<(usize, f64)>,
     opts: &Options,
     mut progress: impl FnMut(&Record) -> bool,
+    mut out: Option<RodBranch>,
 ) -> Result<RodBranch> {
-    let mut out: Option<RodBranch> = None;
     loop {
         let built = std::time::Instant::now();
         let mut problem = ChargedRod::new(rod, charge, phase, start_x(&start))?;

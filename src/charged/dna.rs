@@ -5,7 +5,7 @@
 //! plectoneme — and the observables users compare with magnetic-tweezers
 //! experiments ([`Observables`]).
 
-use super::branch::{follow, switch, ChargedBranch};
+use super::branch::{continue_with, follow, switch, ChargedBranch};
 use super::rod::RodCharge;
 use crate::continuation::newton::Start;
 use crate::continuation::{Options, Stop};
@@ -220,6 +220,11 @@ pub struct SupercoilSettings {
     pub base_pairs: bool,
     /// End rotation (default) or end torque as the continuation parameter.
     pub control: EndControl,
+    /// Switch the hard core on by itself ([`auto_hard_core`]) when the
+    /// buckled branch's strands cross without one (`hard_core` None), and
+    /// go on from the point before the crossing; the run says so
+    /// ([`SupercoilRun::hard_core_switch`]). Off: the branch stops there.
+    pub hard_core_auto: bool,
     /// How the buckled branch is followed (the straight one always takes
     /// Newton steps with the Euler predictor: there the Jacobian changes
     /// fast with φ and a factorisation is cheap).
@@ -261,6 +266,7 @@ impl Default for SupercoilSettings {
             residual_tol: 1e-8,
             base_pairs: false,
             control: EndControl::Rotation,
+            hard_core_auto: true,
             engine: Engine::default(),
         }
     }
@@ -297,6 +303,10 @@ pub struct SupercoilRun {
     /// Of which the observables of the points (the writhe above all;
     /// the branches' own work and times are in their counts).
     pub observables_seconds: f64,
+    /// The hard core the scene switched on by itself, where
+    /// ([`SupercoilSettings::hard_core_auto`]); `charge` is then the model
+    /// with it.
+    pub hard_core_switch: Option<HardCoreSwitch>,
 }
 
 /// Run a scene: the straight branch from φ = 0 in chunks of a quarter of
@@ -326,11 +336,16 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
     let mut observables_seconds = observing.elapsed().as_secs_f64();
     let mut buckling = None;
     let mut buckled = None;
+    let mut hard_core_switch = None;
     if let Some(bif) = straight.bifurcations.first() {
         let (_, m) = rod.spatial_force_moment(&bif.x, rod.elements);
         let phi_b = turns.follow(&rod, &bif.x, bif.lambda);
         buckling = Some((phi_b, m[2]));
-        let b = buckled_path(&rod, &charge, &straight, settings, turns)?;
+        let (b, switched) = buckled_path(&rod, &charge, &straight, settings, turns, scene.kt())?;
+        if let Some(sw) = switched {
+            charge.hard_core = Some(sw.stiffness);
+        }
+        hard_core_switch = switched;
         turns.phi = phi_b;
         let observing = std::time::Instant::now();
         turns.path(&rod, &b, 1, &mut points, &mut states)?;
@@ -348,6 +363,7 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
         buckled,
         seconds: start.elapsed().as_secs_f64(),
         observables_seconds,
+        hard_core_switch,
     })
 }
 
@@ -478,7 +494,8 @@ fn buckled_path(
     straight: &ChargedBranch,
     settings: &SupercoilSettings,
     mut turns: Turns,
-) -> Result<ChargedBranch> {
+    kt: f64,
+) -> Result<(ChargedBranch, Option<HardCoreSwitch>)> {
     let max_phi = 2.0 * std::f64::consts::PI * settings.max_turns;
     let opts = Options {
         residual_tol: settings.residual_tol,
@@ -493,8 +510,44 @@ fn buckled_path(
         ..Default::default()
     };
     let n = rod.unknowns();
-    switch(rod, charge, straight, 0, 0, 0.02, &opts, |rec| {
+    let mut progress = |rec: &crate::continuation::Record| {
         let phi = turns.follow(rod, &rec.outputs[..n], rec.lambda);
         !turns.torque || (phi > 0.0 && phi < max_phi)
-    })
+    };
+    let b = switch(rod, charge, straight, 0, 0, 0.02, &opts, &mut progress)?;
+    match (b.contact, settings.hard_core_auto && charge.hard_core.is_none()) {
+        // The strands met: the scene needs the hard core (the optimal
+        // superhelix is tighter than 2a). From the last point before the
+        // crossing, with it switched on.
+        (Some(c), true) if c.record > 0 => {
+            let stiffness = auto_hard_core(charge.screening.a, kt);
+            let with_core = RodCharge { hard_core: Some(stiffness), ..charge.clone() };
+            let turns_at = b.records[c.record - 1].lambda;
+            let b = continue_with(rod, &with_core, b, c.record - 1, &opts, &mut progress)?;
+            Ok((b, Some(HardCoreSwitch { record: c.record - 1, parameter: turns_at, stiffness })))
+        }
+        _ => Ok((b, None)),
+    }
+}
+
+/// The hard core a scene switches on by itself: P = k_hc (2.5a − d)³ with
+/// k_hc = 4 k_BT / a⁵ (16.5 pN/nm⁴ at a = 1 nm). At d = 2a it pushes with
+/// 3k_hc(a/2)² = 3 k_BT/a² per length² — the order of the contact force
+/// density τ/R² ≈ 10 pN nm / (1 nm)² that a plectoneme's torque exerts on
+/// its strands — so the axes stay near 2a instead of passing through each
+/// other, and the pair stays a smooth (C²) part of the energy.
+pub fn auto_hard_core(a: f64, kt: f64) -> f64 {
+    4.0 * kt / a.powi(5)
+}
+
+/// Where a scene switched its hard core on by itself.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HardCoreSwitch {
+    /// The buckled branch's record from which the hard core acts (the last
+    /// point before the strands crossed; it was re-converged with it).
+    pub record: usize,
+    /// Its continuation parameter (φ, or M under a torque clamp).
+    pub parameter: f64,
+    /// k_hc (pN/nm⁴).
+    pub stiffness: f64,
 }

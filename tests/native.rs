@@ -614,6 +614,19 @@ fn fortran_dna_supercoil_driver() {
     assert_eq!(got["gmres_iterations"], p.linear_iterations as f64);
     assert!(rel(got["direct_torque_pN_nm"], got["base_pair_torque_pN_nm"]) < 1e-9, "{out}");
     assert!(rel(got["direct_tip_z_nm"], got["base_pair_extension_nm"]) < 1e-9, "{out}");
+    // Stopped by the Fortran callback after 15 points, then resumed: the
+    // uninterrupted path's end (bitwise on the buckled branch, 1e-8 if
+    // stopped on the straight one: tests/supercoil_resume.rs says why),
+    // every point told once, in order.
+    assert_eq!((got["cancel_status"], got["cancelled_stop"], got["cancelled_points"]), (2.0, 1.0, 15.0), "{out}");
+    assert_eq!((got["resumed_stop"], got["resumed_points"]), (0.0, r.points.len() as f64), "{out}");
+    assert_eq!((got["told_points"], got["told_in_order"]), (r.points.len() as f64, 1.0), "{out}");
+    let tol = if got["cancelled_branch"] == 1.0 { 1e-15 } else { 1e-8 };
+    assert!(
+        rel(got["resumed_last_extension_nm"], last.extension) < tol
+            && rel(got["resumed_last_torque_pN_nm"], last.torque) < tol,
+        "{out}"
+    );
     assert_eq!(run("f_dna_supercoil_static", &[]), out);
 }
 

@@ -374,7 +374,9 @@ typedef struct RodkitBranch RodkitBranch;
 // A discretised rod.
 typedef struct RodkitRod RodkitRod;
 
-// An opaque computed path.
+// An opaque computed path. Immutable except through
+// rodkit_supercoil_resume, which extends it in place; a handle may move
+// between threads but is not to be used from two at once.
 typedef struct RodkitSupercoil RodkitSupercoil;
 
 // Opaque tube handle (rodkit_tube_new / rodkit_tube_free). Immutable after

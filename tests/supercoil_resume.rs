@@ -187,3 +187,29 @@ fn a_panicking_callback_unwinds_to_the_caller() {
     let msg = err.downcast_ref::<String>().cloned().unwrap_or_default();
     assert!(msg.contains("deliberate panic at point 2"), "{msg}");
 }
+
+/// Under a torque clamp (EndControl::Torque: the end torque is the
+/// parameter, the turns read from each state and followed by continuity):
+/// stopped on the buckled branch and resumed, the uninterrupted path
+/// bitwise, the turns continuing across the stop (300 bp, 30 elements, 20
+/// steps).
+#[test]
+fn torque_clamp_stopped_on_the_buckled_branch_resumes_bitwise() {
+    let (scene, settings) = scene();
+    let settings = SupercoilSettings { control: dna::EndControl::Torque, max_steps: 20, ..settings };
+    let r = dna::run_scene(&scene, &settings).unwrap();
+    let straight = r.points.iter().filter(|p| p.branch == 0).count();
+    let k = straight + 6;
+    assert!(r.points.len() > k + 3, "{} points, {straight} straight", r.points.len());
+    let mut run = dna::run_scene_with(&scene, &settings, |p| p.index != k).unwrap();
+    assert!(matches!(run.resume_at, Some(ResumeAt::Buckled { .. })), "{:?}", run.resume_at);
+    let mut told = vec![];
+    dna::resume(&mut run, |p| {
+        told.push((p.index, p.phi));
+        true
+    })
+    .unwrap();
+    assert!(run.points == r.points, "not bitwise: worst {:.1e}", worst(&run.points, &r.points));
+    let expected: Vec<(usize, f64)> = r.points.iter().enumerate().skip(k + 1).map(|(i, p)| (i, p.phi)).collect();
+    assert_eq!(told, expected, "the resumed points told with the run's turns");
+}

@@ -124,7 +124,9 @@ pub struct SupercoilPoint {
     pub residual: f64,
 }
 
-/// An opaque computed path.
+/// An opaque computed path. Immutable except through
+/// rodkit_supercoil_resume, which extends it in place; a handle may move
+/// between threads but is not to be used from two at once.
 pub struct Supercoil {
     pub(super) run: SupercoilRun,
 }

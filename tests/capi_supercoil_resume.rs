@@ -176,3 +176,39 @@ fn new_entry_points_refuse_null() {
     assert_eq!(unsafe { rodkit_dna_supercoil_run_with(&s, None, null_mut(), null_mut()) }, null_status);
     assert!(last_error().contains("out"), "{}", last_error());
 }
+
+/// RodkitBranchProgress's appended fields under the rod continuation (the
+/// callback type it shares with the supercoiling run): branch −1 and NaN
+/// turns, extension and torque; the original fields as before (points
+/// 1, 2, …, the record's Λ).
+#[test]
+fn rod_continuation_fills_the_appended_fields_as_documented() {
+    use rodkit::capi::branch::{rodkit_branch_free, rodkit_rod_continue};
+    use rodkit::capi::continuation::{rodkit_continuation_options_default, ContinuationOptions};
+    use rodkit::capi::rod::{rodkit_rod_free, rodkit_rod_new};
+    use rodkit::capi::rod_spec::{rodkit_rod_spec_default, LoadFrame, RodSpec};
+    let mut rs = std::mem::MaybeUninit::<RodSpec>::uninit();
+    assert_eq!(unsafe { rodkit_rod_spec_default(rs.as_mut_ptr()) }, 0);
+    let mut rs = unsafe { rs.assume_init() };
+    rs.length = 1.0;
+    (rs.bending1, rs.bending2, rs.twist, rs.shear1, rs.shear2, rs.stretch) = (1.0, 1.0, 1.0, 1e4, 1e4, 1e4);
+    (rs.tip_moment_frame, rs.tip_moment_x, rs.elements) = (LoadFrame::Follower as i32, 1.0, 2);
+    let mut rod = null_mut();
+    assert_eq!(unsafe { rodkit_rod_new(&rs, &mut rod) }, 0, "{}", last_error());
+    let mut o = std::mem::MaybeUninit::<ContinuationOptions>::uninit();
+    assert_eq!(unsafe { rodkit_continuation_options_default(o.as_mut_ptr()) }, 0);
+    let mut o = unsafe { o.assume_init() };
+    o.target_lambda = 0.5;
+    let mut seen = Seen { told: vec![], stop_at: 0, answer: 0 };
+    let mut b = null_mut();
+    let ud = &mut seen as *mut Seen as *mut c_void;
+    assert_eq!(unsafe { rodkit_rod_continue(rod, null(), 0, 0.0, &o, Some(watch), ud, &mut b) }, 0);
+    assert!(seen.told.len() >= 2);
+    for (i, t) in seen.told.iter().enumerate() {
+        assert_eq!((t.points, t.branch), (i as i64 + 1, -1));
+        assert!(t.turns.is_nan() && t.extension.is_nan() && t.torque.is_nan() && t.lambda.is_finite());
+    }
+    assert_eq!(seen.told.last().unwrap().lambda, 0.5);
+    unsafe { rodkit_branch_free(b) };
+    unsafe { rodkit_rod_free(rod) };
+}

@@ -1343,7 +1343,8 @@ int32_t rodkit_dna_supercoil_run(const struct RodkitDnaSupercoilSpec *spec,
 // `tip_rotation`, and `branch` (0 straight, 1 buckled), `turns`,
 // `extension`, `torque`. A non-zero return stops the run after that
 // point: RODKIT_STATUS_INFO_CANCELLED with the path so far in `*out`
-// (rodkit_supercoil_resume continues it). The callback must not unwind
+// (rodkit_supercoil_resume continues it; a stop asked at the path's last
+// point changes nothing: the run has ended). The callback must not unwind
 // into rodkit (no C++ throw, no longjmp); it may call rodkit functions on
 // other handles. Other statuses as rodkit_dna_supercoil_run.
 int32_t rodkit_dna_supercoil_run_with(const struct RodkitDnaSupercoilSpec *spec,

@@ -4,10 +4,37 @@
 ! last point re-solved with discrete base-pair charges (the thesis's
 ! comparison) by Newton-Krylov and by the direct sparse Newton. Exercises
 ! the supercoil handle, its accessors and rodkit_supercoil_solve_point
-! through the module's bind(c) types. Prints "name = value" lines.
+! through the module's bind(c) types. Then the same run stopped by a
+! Fortran progress callback after 15 points (RODKIT_STATUS_INFO_CANCELLED,
+! the path so far) and resumed to its end (issue 18). Prints "name = value"
+! lines.
+module supercoil_progress
+    use, intrinsic :: iso_c_binding
+    use rodkit, only: rodkit_branch_progress
+    implicit none
+contains
+    ! state(1) counts the points told, state(2): stop after that many (0:
+    ! never), state(3) receives the branch of the last point told, state(4)
+    ! drops to 0 if progress%points ever differs from the count (told out of
+    ! order or twice).
+    function stop_after(progress, user_data) result(stop_now) bind(c)
+        type(rodkit_branch_progress), intent(in) :: progress
+        type(c_ptr), value :: user_data
+        integer(c_int32_t) :: stop_now
+        integer(c_int64_t), pointer :: state(:)
+        call c_f_pointer(user_data, state, [4])
+        state(1) = state(1) + 1
+        state(3) = progress%branch
+        if (progress%points /= state(1)) state(4) = 0
+        stop_now = 0
+        if (state(1) == state(2)) stop_now = 1
+    end function stop_after
+end module supercoil_progress
+
 program dna_supercoil
     use, intrinsic :: iso_c_binding
     use rodkit
+    use supercoil_progress
     implicit none
     type(rodkit_dna_supercoil_spec) :: spec
     type(rodkit_supercoil_info) :: info
@@ -17,7 +44,9 @@ program dna_supercoil
     real(c_double), allocatable :: xyz(:, :)
     type(c_ptr) :: run
     integer(c_int64_t) :: count, last
-    integer(c_int32_t) :: status
+    integer(c_int32_t) :: status, stop
+    integer(c_int64_t), target :: state(4)
+    type(c_ptr) :: stopped
 
     status = rodkit_dna_supercoil_spec_default(spec)
     call check(status, 'rodkit_dna_supercoil_spec_default')
@@ -59,6 +88,37 @@ program dna_supercoil
     print '(a, i0)', 'gmres_iterations = ', nk%linear_iterations
     print '(a, i0)', 'preconditioner_band = ', nk%preconditioner_band
     call rodkit_supercoil_free(run)
+
+    ! The same run, stopped by the callback after 15 points, then resumed.
+    state = [0_c_int64_t, 15_c_int64_t, -1_c_int64_t, 1_c_int64_t]
+    status = rodkit_dna_supercoil_run_with(spec, c_funloc(stop_after), c_loc(state), stopped)
+    call check(status, 'rodkit_dna_supercoil_run_with')
+    print '(a, i0)', 'cancel_status = ', status
+    status = rodkit_supercoil_stop(stopped, stop)
+    call check(status, 'rodkit_supercoil_stop')
+    print '(a, i0)', 'cancelled_stop = ', stop
+    status = rodkit_supercoil_summary(stopped, info)
+    call check(status, 'rodkit_supercoil_summary')
+    print '(a, i0)', 'cancelled_points = ', info%points
+    print '(a, i0)', 'cancelled_branch = ', state(3)
+    state(2) = 0
+    status = rodkit_supercoil_resume(stopped, c_funloc(stop_after), c_loc(state))
+    call check(status, 'rodkit_supercoil_resume')
+    status = rodkit_supercoil_stop(stopped, stop)
+    call check(status, 'rodkit_supercoil_stop')
+    print '(a, i0)', 'resumed_stop = ', stop
+    status = rodkit_supercoil_summary(stopped, info)
+    call check(status, 'rodkit_supercoil_summary')
+    deallocate (points)
+    allocate (points(info%points))
+    status = rodkit_supercoil_points(stopped, points, info%points, count)
+    call check(status, 'rodkit_supercoil_points')
+    print '(a, i0)', 'resumed_points = ', count
+    print '(a, i0)', 'told_points = ', state(1)
+    print '(a, i0)', 'told_in_order = ', state(4)
+    print '(a, es24.16)', 'resumed_last_extension_nm = ', points(count)%extension
+    print '(a, es24.16)', 'resumed_last_torque_pN_nm = ', points(count)%torque
+    call rodkit_supercoil_free(stopped)
 
 contains
     subroutine check(status, what)

@@ -151,6 +151,10 @@ module rodkit
     integer(c_int32_t), parameter :: RODKIT_END_CONTROL_ROTATION = 1
     integer(c_int32_t), parameter :: RODKIT_END_CONTROL_TORQUE = 2
 
+    ! RodkitSupercoilStop (rodkit_supercoil_stop).
+    integer(c_int32_t), parameter :: RODKIT_SUPERCOIL_STOP_FINISHED = 0
+    integer(c_int32_t), parameter :: RODKIT_SUPERCOIL_STOP_CANCELLED = 1
+
 
     ! -------------------------------------------------------------------------
     ! RodkitThinTubeSpec: a thin helically reinforced tube in its stress-free
@@ -366,6 +370,11 @@ module rodkit
         real(c_double) :: lambda
         real(c_double) :: residual
         real(c_double) :: tip_rotation
+        ! Appended for the supercoiling run (-1 and NaN for a rod continuation).
+        integer(c_int32_t) :: branch
+        real(c_double) :: turns
+        real(c_double) :: extension
+        real(c_double) :: torque
     end type rodkit_branch_progress
 
     ! RodkitBranchRecord (see rodkit.h).
@@ -1132,6 +1141,39 @@ module rodkit
             type(c_ptr), intent(out) :: out
             integer(c_int32_t) :: status
         end function rodkit_dna_supercoil_run
+
+        ! progress: c_funloc of a bind(c) function taking
+        ! (type(rodkit_branch_progress), intent(in) and type(c_ptr), value)
+        ! and returning integer(c_int32_t) (non-zero stops the run:
+        ! RODKIT_STATUS_INFO_CANCELLED, the path so far in out), or
+        ! c_null_funptr.
+        function rodkit_dna_supercoil_run_with(spec, progress, user_data, out) result(status) &
+                bind(c, name="rodkit_dna_supercoil_run_with")
+            import :: c_funptr, c_int32_t, c_ptr, rodkit_dna_supercoil_spec
+            type(rodkit_dna_supercoil_spec), intent(in) :: spec
+            type(c_funptr), value :: progress
+            type(c_ptr), value :: user_data
+            type(c_ptr), intent(out) :: out
+            integer(c_int32_t) :: status
+        end function rodkit_dna_supercoil_run_with
+
+        ! Continue, in place, a run its callback stopped.
+        function rodkit_supercoil_resume(run, progress, user_data) result(status) &
+                bind(c, name="rodkit_supercoil_resume")
+            import :: c_funptr, c_int32_t, c_ptr
+            type(c_ptr), value :: run
+            type(c_funptr), value :: progress
+            type(c_ptr), value :: user_data
+            integer(c_int32_t) :: status
+        end function rodkit_supercoil_resume
+
+        function rodkit_supercoil_stop(run, stop) result(status) &
+                bind(c, name="rodkit_supercoil_stop")
+            import :: c_int32_t, c_ptr
+            type(c_ptr), value :: run
+            integer(c_int32_t), intent(out) :: stop
+            integer(c_int32_t) :: status
+        end function rodkit_supercoil_stop
 
         subroutine rodkit_supercoil_free(run) &
                 bind(c, name="rodkit_supercoil_free")

@@ -349,13 +349,34 @@ typedef int32_t RodkitEndControl;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// Why a supercoiling run returned (`rodkit_supercoil_stop`).
+enum RodkitSupercoilStop
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // The path went to its end (the run's status says how).
+  RODKIT_SUPERCOIL_STOP_FINISHED = 0,
+  // The progress callback stopped it: rodkit_supercoil_resume goes on.
+  RODKIT_SUPERCOIL_STOP_CANCELLED = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum RodkitSupercoilStop RodkitSupercoilStop;
+#else
+typedef int32_t RodkitSupercoilStop;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // A branch: the records, why it stopped, where to resume, and the work done.
 typedef struct RodkitBranch RodkitBranch;
 
 // A discretised rod.
 typedef struct RodkitRod RodkitRod;
 
-// An opaque computed path.
+// An opaque computed path. Immutable except through
+// rodkit_supercoil_resume, which extends it in place; a handle may move
+// between threads but is not to be used from two at once.
 typedef struct RodkitSupercoil RodkitSupercoil;
 
 // Opaque tube handle (rodkit_tube_new / rodkit_tube_free). Immutable after
@@ -638,6 +659,16 @@ typedef struct RodkitBranchProgress {
   double residual;
   // Angle (radians) between the tip tangent and e3 at the point.
   double tip_rotation;
+  // Appended for the supercoiling run (rodkit_dna_supercoil_run_with,
+  // rodkit_supercoil_resume; the fields above keep their place and
+  // meaning: `points` counts the run's points, `lambda` is its
+  // continuation parameter). The path's branch: 0 straight, 1 buckled;
+  // −1 for a rod continuation, which sets the three values below NaN.
+  int32_t branch;
+  // End rotation (turns), extension z(L) (nm), end torque M_z(L) (pN nm).
+  double turns;
+  double extension;
+  double torque;
 } RodkitBranchProgress;
 
 // Branch progress callback: return 0 to continue, non-zero to stop
@@ -1315,6 +1346,41 @@ int32_t rodkit_dna_supercoil_spec_default(struct RodkitDnaSupercoilSpec *spec);
 // when it could not go on; the path so far is in the handle in each case.
 int32_t rodkit_dna_supercoil_run(const struct RodkitDnaSupercoilSpec *spec,
                                  struct RodkitSupercoil **out);
+
+// rodkit_dna_supercoil_run with a progress callback (NULL: none), told
+// after each converged point of the path, in order, once: `points` (the
+// run's points so far), `lambda` (the continuation parameter: φ in
+// radians, or the end torque under a torque clamp), `residual`,
+// `tip_rotation`, and `branch` (0 straight, 1 buckled), `turns`,
+// `extension`, `torque`. A non-zero return stops the run after that
+// point: RODKIT_STATUS_INFO_CANCELLED with the path so far in `*out`
+// (rodkit_supercoil_resume continues it; a stop asked at the path's last
+// point changes nothing: the run has ended). The callback must not unwind
+// into rodkit (no C++ throw, no longjmp); it may call rodkit functions on
+// other handles. Other statuses as rodkit_dna_supercoil_run.
+int32_t rodkit_dna_supercoil_run_with(const struct RodkitDnaSupercoilSpec *spec,
+                                      RodkitBranchCallback progress,
+                                      void *user_data,
+                                      struct RodkitSupercoil **out);
+
+// Continue, in place, a run its progress callback stopped, with the spec
+// it was run with, to the same end as the uninterrupted run (its points,
+// then the new ones; the buckled branch resumes with its own tangent,
+// step and pair list and gives the uninterrupted run's numbers; a run
+// stopped on the straight branch resumes by the continuation's resume,
+// its tangent recomputed there: the points then agree to the Newton
+// tolerance, not bitwise). `progress` as for
+// rodkit_dna_supercoil_run_with (its `points` go on counting), and may
+// stop the run again (RODKIT_STATUS_INFO_CANCELLED); it must not use
+// `run`. Returns the status of rodkit_dna_supercoil_run_with for the
+// resumed run; a finished run is left as it is and returns its status.
+// On a failure the handle stays valid and resumable.
+int32_t rodkit_supercoil_resume(struct RodkitSupercoil *run,
+                                RodkitBranchCallback progress,
+                                void *user_data);
+
+// Why the run returned: a RodkitSupercoilStop into `*stop`.
+int32_t rodkit_supercoil_stop(const struct RodkitSupercoil *run, int32_t *stop);
 
 // Free a handle (NULL is ignored).
 void rodkit_supercoil_free(struct RodkitSupercoil *run);

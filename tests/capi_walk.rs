@@ -1155,6 +1155,20 @@ fn supercoil(w: &mut Walk) {
     w.fields(func, "spec.", &spec, &sf, &|s| run(s, &mut null_mut()));
     w.null(func, "spec", run(null(), &mut null_mut()));
     w.null(func, "out", unsafe { rodkit_dna_supercoil_run(&spec, null_mut()) });
+    // The same with a progress callback (NULL: none).
+    let func = "rodkit_dna_supercoil_run_with";
+    let run_with = |s: *const DnaSupercoilSpec, out: *mut *mut Supercoil| unsafe {
+        let st = rodkit_dna_supercoil_run_with(s, None, null_mut(), out);
+        if !out.is_null() {
+            rodkit_supercoil_free(*out);
+        }
+        st
+    };
+    let mut out = null_mut();
+    w.succeeds(format!("{func} valid"), run_with(&spec, &mut out), &[]);
+    w.fields(func, "spec.", &spec, &sf, &|s| run_with(s, &mut null_mut()));
+    w.null(func, "spec", run_with(null(), &mut null_mut()));
+    w.null(func, "out", unsafe { rodkit_dna_supercoil_run_with(&spec, None, null_mut(), null_mut()) });
 
     let mut r = null_mut();
     assert!(unsafe { rodkit_dna_supercoil_run(&spec, &mut r) } >= 0, "{}", last_error());
@@ -1165,6 +1179,19 @@ fn supercoil(w: &mut Walk) {
     w.succeeds(format!("{func} valid"), st, &[info.kappa, info.bjerrum_length, info.line_charge_squared]);
     w.null(func, "run", unsafe { rodkit_supercoil_summary(null(), &mut info) });
     w.null(func, "info", unsafe { rodkit_supercoil_summary(r, null_mut()) });
+
+    let func = "rodkit_supercoil_stop";
+    let mut stop = -1;
+    let st = unsafe { rodkit_supercoil_stop(r, &mut stop) };
+    w.succeeds(format!("{func} valid"), st, &[stop as f64]);
+    w.null(func, "run", unsafe { rodkit_supercoil_stop(null(), &mut stop) });
+    w.null(func, "stop", unsafe { rodkit_supercoil_stop(r, null_mut()) });
+
+    let func = "rodkit_supercoil_resume";
+    // A finished run: its status, unchanged.
+    let st = unsafe { rodkit_supercoil_resume(r.cast_mut(), None, null_mut()) };
+    w.succeeds(format!("{func} valid"), st, &[]);
+    w.null(func, "run", unsafe { rodkit_supercoil_resume(null_mut(), None, null_mut()) });
 
     let func = "rodkit_supercoil_points";
     let mut count = 0i64;

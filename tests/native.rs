@@ -208,8 +208,15 @@ fn c_drivers_are_clean_under_valgrind() {
         "c_artery_shared",
         "c_rod_buckling_shared",
         "c_dna_supercoil_shared",
+        "c_dna_supercoil_resume_shared",
     ] {
-        let args: &[String] = if exe == "c_dna_supercoil_shared" { &dna_args } else { &[] };
+        // c_dna_supercoil_resume: 60 bp, 8 elements, 4 steps, stopped after 3 points.
+        let resume_args: Vec<String> = ["60", "8", "4", "3"].iter().map(|s| s.to_string()).collect();
+        let args: &[String] = match exe {
+            "c_dna_supercoil_shared" => &dna_args,
+            "c_dna_supercoil_resume_shared" => &resume_args,
+            _ => &[],
+        };
         let out = Command::new("valgrind")
             .args([
                 "-q",
@@ -614,7 +621,50 @@ fn fortran_dna_supercoil_driver() {
     assert_eq!(got["gmres_iterations"], p.linear_iterations as f64);
     assert!(rel(got["direct_torque_pN_nm"], got["base_pair_torque_pN_nm"]) < 1e-9, "{out}");
     assert!(rel(got["direct_tip_z_nm"], got["base_pair_extension_nm"]) < 1e-9, "{out}");
+    // Stopped by the Fortran callback after 15 points, then resumed: the
+    // uninterrupted path's end (bitwise on the buckled branch, 1e-8 if
+    // stopped on the straight one: tests/supercoil_resume.rs says why),
+    // every point told once, in order.
+    assert_eq!((got["cancel_status"], got["cancelled_stop"], got["cancelled_points"]), (2.0, 1.0, 15.0), "{out}");
+    assert_eq!((got["resumed_stop"], got["resumed_points"]), (0.0, r.points.len() as f64), "{out}");
+    assert_eq!((got["told_points"], got["told_in_order"]), (r.points.len() as f64, 1.0), "{out}");
+    let tol = if got["cancelled_branch"] == 1.0 { 1e-15 } else { 1e-8 };
+    assert!(
+        rel(got["resumed_last_extension_nm"], last.extension) < tol
+            && rel(got["resumed_last_torque_pN_nm"], last.torque) < tol,
+        "{out}"
+    );
     assert_eq!(run("f_dna_supercoil_static", &[]), out);
+}
+
+/// The C driver of the supercoiling run's progress and resume (issue 18):
+/// stopped by its C callback after 20 points (on the buckled branch of the
+/// 300 bp scene, 30 elements, 25 steps), INFO_CANCELLED with the path so
+/// far, resumed to the uninterrupted run's path bitwise (its status, its
+/// points; tests/supercoil_resume.rs says why bitwise), every point told
+/// once, in order; stopped after 4 points (on the straight branch) within
+/// 1e-8 (the Newton tolerance; why: tests/supercoil_resume.rs). The
+/// uninterrupted run is the driver's own `rodkit_dna_supercoil_run`; its
+/// point count is the Rust API's. The static build prints the same.
+#[test]
+fn c_dna_supercoil_resume_driver() {
+    use rodkit::charged::dna::{run_scene, DnaScene, SupercoilSettings};
+    let scene = DnaScene { base_pairs: 300, ..Default::default() };
+    let settings = SupercoilSettings { elements: 30, max_steps: 25, max_turns: 2.5, ..Default::default() };
+    let r = run_scene(&scene, &settings).unwrap();
+    for (k, branch, tol) in [("20", 1.0, 0.0), ("4", 0.0, 1e-8)] {
+        let out = run("c_dna_supercoil_resume_shared", &["300", "30", "25", k]);
+        let got = values(&out);
+        let k: f64 = k.parse().unwrap();
+        assert_eq!((got["cancel_status"], got["cancelled_stop"]), (2.0, 1.0), "{out}");
+        assert_eq!((got["cancelled_points"], got["cancelled_branch"]), (k, branch), "{out}");
+        assert_eq!((got["resumed_stop"], got["resumed_status"]), (0.0, got["uninterrupted_status"]), "{out}");
+        let n = r.points.len() as f64;
+        assert_eq!((got["uninterrupted_points"], got["resumed_points"], got["told_points"]), (n, n, n), "{out}");
+        assert_eq!(got["told_in_order"], 1.0, "{out}");
+        assert!(got["worst_relative_difference"] <= tol, "{out}");
+        assert_eq!(run("c_dna_supercoil_resume_static", &["300", "30", "25", &format!("{k}")]), out);
+    }
 }
 
 /// The C DNA-supercoiling driver on a small scene (300 bp, 40 elements, 20

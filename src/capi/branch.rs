@@ -27,6 +27,16 @@ pub struct BranchProgress {
     pub residual: f64,
     /// Angle (radians) between the tip tangent and e3 at the point.
     pub tip_rotation: f64,
+    /// Appended for the supercoiling run (rodkit_dna_supercoil_run_with,
+    /// rodkit_supercoil_resume; the fields above keep their place and
+    /// meaning: `points` counts the run's points, `lambda` is its
+    /// continuation parameter). The path's branch: 0 straight, 1 buckled;
+    /// −1 for a rod continuation, which sets the three values below NaN.
+    pub branch: i32,
+    /// End rotation (turns), extension z(L) (nm), end torque M_z(L) (pN nm).
+    pub turns: f64,
+    pub extension: f64,
+    pub torque: f64,
 }
 
 /// Branch progress callback: return 0 to continue, non-zero to stop
@@ -61,7 +71,18 @@ unsafe fn with_progress<T>(
                 // The branch's records carry the state as their outputs.
                 let tip_rotation =
                     if r.outputs.len() >= model.unknowns() { model.tip_rotation(&r.outputs) } else { f64::NAN };
-                cb(&BranchProgress { points, lambda: r.lambda, residual: r.residual, tip_rotation }, user_data) == 0
+                let nan = f64::NAN;
+                let p = BranchProgress {
+                    points,
+                    lambda: r.lambda,
+                    residual: r.residual,
+                    tip_rotation,
+                    branch: -1,
+                    turns: nan,
+                    extension: nan,
+                    torque: nan,
+                };
+                cb(&p, user_data) == 0
             }
             None => true,
         }

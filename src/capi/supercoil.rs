@@ -6,12 +6,14 @@
 
 use super::args::{arg_mut, arg_ref, c_enum, check_nodes, copy_out, enum_arg, flag, free_handle, non_negative};
 use super::args::{finite_fields, qualify_argument, write_positions};
+use super::branch::{BranchCallback, BranchProgress};
 use super::{guard, guard_value};
-use crate::charged::dna::{self, run_scene, DnaScene, SupercoilRun, SupercoilSettings};
+use crate::charged::dna::{self, run_scene_with, DnaScene, PointProgress, RunStop, SupercoilRun, SupercoilSettings};
 use crate::continuation::Stop;
 use crate::electrostatics::discrete::base_pair_count;
 use crate::error::{self, Error, Result};
 use crate::status::Status;
+use std::ffi::c_void;
 
 /// A supercoiling scene in nm, pN, mol/L. Call
 /// `rodkit_dna_supercoil_spec_default` first: 1 kbp, 1 pN, 0.1 M, ν = 1/l_B
@@ -133,7 +135,9 @@ pub struct SupercoilPoint {
     pub residual: f64,
 }
 
-/// An opaque computed path.
+/// An opaque computed path. Immutable except through
+/// rodkit_supercoil_resume, which extends it in place; a handle may move
+/// between threads but is not to be used from two at once.
 pub struct Supercoil {
     pub(super) run: SupercoilRun,
 }
@@ -250,22 +254,125 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
 /// when it could not go on; the path so far is in the handle in each case.
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_dna_supercoil_run(spec: *const DnaSupercoilSpec, out: *mut *mut Supercoil) -> i32 {
+    // Guarded inside; the guard here keeps every export's body guarded.
+    guard_value(Status::ErrInternal.code(), || rodkit_dna_supercoil_run_with(spec, None, std::ptr::null_mut(), out))
+}
+
+/// Why a supercoiling run returned (`rodkit_supercoil_stop`).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SupercoilStop {
+    /// The path went to its end (the run's status says how).
+    Finished = 0,
+    /// The progress callback stopped it: rodkit_supercoil_resume goes on.
+    Cancelled = 1,
+}
+
+/// The status of a run: its stop's.
+fn run_status(run: &SupercoilRun) -> Status {
+    if run.stop == RunStop::Cancelled {
+        return Status::InfoCancelled;
+    }
+    match &run.buckled {
+        Some(b) if b.contact.is_some() => Status::InfoStrandCrossing,
+        Some(b) => match b.stop {
+            Stop::MaxSteps => Status::InfoStepLimit,
+            Stop::StepTooSmall => Status::InfoStepTooSmall,
+            _ => Status::Ok,
+        },
+        None => Status::Ok,
+    }
+}
+
+/// The run's progress closure forwarding each point to the C callback:
+/// `points` counts the run's points, `lambda` is the continuation
+/// parameter (φ in radians, or the end torque under a torque clamp).
+///
+/// # Safety
+/// `cb`, when given, must be callable with `user_data`.
+unsafe fn forward(cb: BranchCallback, user_data: *mut c_void) -> impl FnMut(&PointProgress) -> bool {
+    move |p: &PointProgress| match cb {
+        Some(cb) => {
+            let told = BranchProgress {
+                points: p.index as i64 + 1,
+                lambda: p.parameter,
+                residual: p.residual,
+                tip_rotation: p.tip_rotation,
+                branch: p.branch as i32,
+                turns: p.turns,
+                extension: p.extension,
+                torque: p.torque,
+            };
+            cb(&told, user_data) == 0
+        }
+        None => true,
+    }
+}
+
+/// rodkit_dna_supercoil_run with a progress callback (NULL: none), told
+/// after each converged point of the path, in order, once: `points` (the
+/// run's points so far), `lambda` (the continuation parameter: φ in
+/// radians, or the end torque under a torque clamp), `residual`,
+/// `tip_rotation`, and `branch` (0 straight, 1 buckled), `turns`,
+/// `extension`, `torque`. A non-zero return stops the run after that
+/// point: RODKIT_STATUS_INFO_CANCELLED with the path so far in `*out`
+/// (rodkit_supercoil_resume continues it; a stop asked at the path's last
+/// point changes nothing: the run has ended). The callback must not unwind
+/// into rodkit (no C++ throw, no longjmp); it may call rodkit functions on
+/// other handles. Other statuses as rodkit_dna_supercoil_run.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_dna_supercoil_run_with(
+    spec: *const DnaSupercoilSpec,
+    progress: BranchCallback,
+    user_data: *mut c_void,
+    out: *mut *mut Supercoil,
+) -> i32 {
     guard(|| {
         let out = arg_mut("out", out)?;
         *out = std::ptr::null_mut();
         let (scene, settings) = scene_of(arg_ref("spec", spec)?).map_err(|e| qualify_argument(e, "spec."))?;
-        let run = run_scene(&scene, &settings)?;
-        let status = match &run.buckled {
-            Some(b) if b.contact.is_some() => Status::InfoStrandCrossing,
-            Some(b) => match b.stop {
-                Stop::MaxSteps => Status::InfoStepLimit,
-                Stop::StepTooSmall => Status::InfoStepTooSmall,
-                _ => Status::Ok,
-            },
-            None => Status::Ok,
-        };
+        let run = run_scene_with(&scene, &settings, forward(progress, user_data))?;
+        let status = run_status(&run);
         *out = Box::into_raw(Box::new(Supercoil { run }));
         Ok(status)
+    })
+}
+
+/// Continue, in place, a run its progress callback stopped, with the spec
+/// it was run with, to the same end as the uninterrupted run (its points,
+/// then the new ones; the buckled branch resumes with its own tangent,
+/// step and pair list and gives the uninterrupted run's numbers; a run
+/// stopped on the straight branch resumes by the continuation's resume,
+/// its tangent recomputed there: the points then agree to the Newton
+/// tolerance, not bitwise). `progress` as for
+/// rodkit_dna_supercoil_run_with (its `points` go on counting), and may
+/// stop the run again (RODKIT_STATUS_INFO_CANCELLED); it must not use
+/// `run`. Returns the status of rodkit_dna_supercoil_run_with for the
+/// resumed run; a finished run is left as it is and returns its status.
+/// On a failure the handle stays valid and resumable.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_supercoil_resume(
+    run: *mut Supercoil,
+    progress: BranchCallback,
+    user_data: *mut c_void,
+) -> i32 {
+    guard(|| {
+        let r = &mut arg_mut("run", run)?.run;
+        dna::resume(r, forward(progress, user_data))?;
+        Ok(run_status(r))
+    })
+}
+
+/// Why the run returned: a RodkitSupercoilStop into `*stop`.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_supercoil_stop(run: *const Supercoil, stop: *mut i32) -> i32 {
+    guard(|| {
+        let r = &arg_ref("run", run)?.run;
+        *arg_mut("stop", stop)? = match r.stop {
+            RunStop::Finished => SupercoilStop::Finished,
+            RunStop::Cancelled => SupercoilStop::Cancelled,
+        } as i32;
+        Ok(Status::Ok)
     })
 }
 

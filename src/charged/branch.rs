@@ -15,7 +15,7 @@ use super::rod::{ChargedRod, RodCharge};
 use crate::continuation::corrector::{correct, Plane};
 use crate::continuation::newton::{continue_newton, Start};
 use crate::continuation::run::Context;
-use crate::continuation::{Options, Problem, Record, Resume, Scaling};
+use crate::continuation::{Options, Problem, Record, Resume, Scaling, Stop};
 use crate::error::Result;
 use crate::geometry::proximity::closest_pair_within;
 use crate::geometry::vec3::distance;
@@ -38,6 +38,8 @@ pub fn strand_crossing(rod: &Rod, charge: &RodCharge, x: &[f64]) -> Option<(f64,
 pub struct Charged<'a> {
     pub rod: &'a Rod,
     pub charge: &'a RodCharge,
+    /// The anchor of the last pair list of the last branch followed.
+    pub last_anchor: std::cell::RefCell<Option<ListAnchor>>,
 }
 
 impl Followed for Charged<'_> {
@@ -58,7 +60,9 @@ impl Followed for Charged<'_> {
         opts: &Options,
         progress: &mut dyn FnMut(&Record) -> bool,
     ) -> Result<RodBranch> {
-        follow(self.rod, self.charge, start, phase, opts, progress)
+        let (b, anchor) = follow_on(self.rod, self.charge, start, None, phase, opts, progress)?;
+        *self.last_anchor.borrow_mut() = Some(anchor);
+        Ok(b)
     }
 }
 
@@ -72,7 +76,9 @@ fn start_x(start: &Start) -> &[f64] {
 /// Follow a branch of the charged rod from `start` (with the rod's phase
 /// condition when given), rebuilding the pair list as the shape moves:
 /// each list's segment is a branch continued from the previous one's
-/// resume point, appended to it.
+/// resume point, appended to it. `progress` is told every record once, in
+/// order (a point that ends a list's segment is told when the next list
+/// has re-converged it; a strand crossing is told, then the branch stops).
 pub fn follow(
     rod: &Rod,
     charge: &RodCharge,
@@ -81,16 +87,17 @@ pub fn follow(
     opts: &Options,
     progress: impl FnMut(&Record) -> bool,
 ) -> Result<RodBranch> {
-    follow_into(rod, charge, start, phase, opts, progress, None)
+    Ok(follow_on(rod, charge, start, None, phase, opts, progress)?.0)
 }
 
 /// Continue `branch` from its record `record` (its later records dropped)
 /// with another charge model — a hard core switched on where the strands
 /// crossed: the point is re-converged at its Λ on the new model (it
-/// replaces the record) and the branch followed on from it, leaving along
-/// the secant of the dropped step (the new model's tangent is computed
-/// there, oriented by it). `opts.max_steps` counts the branch's steps
-/// before too.
+/// replaces the record and is told to `progress` again; the dropped
+/// records were told already) and the branch followed on from it, leaving
+/// along the secant of the dropped step (the new model's tangent is
+/// computed there, oriented by it). `opts.max_steps` counts the branch's
+/// steps before too. Returns the branch and its last list's anchor.
 pub fn continue_with(
     rod: &Rod,
     charge: &RodCharge,
@@ -98,7 +105,7 @@ pub fn continue_with(
     record: usize,
     opts: &Options,
     progress: impl FnMut(&Record) -> bool,
-) -> Result<RodBranch> {
+) -> Result<(RodBranch, ListAnchor)> {
     let k = record.min(branch.records.len().saturating_sub(1));
     let (x, lambda) = (branch.states[k].clone(), branch.records[k].lambda);
     let (tangent_x, tangent_lambda) = match branch.states.get(k + 1) {
@@ -111,30 +118,63 @@ pub fn continue_with(
     branch.contact = None;
     let start = Start::Resume(Resume { x, lambda, tangent_x, tangent_lambda, step });
     let phase = branch.phase;
-    follow_into(rod, charge, start, phase, opts, progress, Some(branch))
+    follow_on_into(rod, charge, start, None, phase, opts, progress, Some(branch))
 }
 
-/// [`follow`], appending to `out` when given (its last record is the
+/// Where a charged branch's last pair list was built: the state it was
+/// built about, and the state its stages' displacements are measured from
+/// (the same, or that point re-converged on the list).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ListAnchor {
+    pub built: Vec<f64>,
+    pub reference: Vec<f64>,
+}
+
+/// [`follow`] with the first pair list built and measured from `anchor`
+/// (None: the start); returns the branch and its last list's anchor. A
+/// branch resumed with the anchor its stopped part returned continues on
+/// the same list as the uninterrupted branch (the same pairs in the same
+/// order, rebuilt at the same points).
+pub fn follow_on(
+    rod: &Rod,
+    charge: &RodCharge,
+    start: Start,
+    anchor: Option<&ListAnchor>,
+    phase: Option<(usize, f64)>,
+    opts: &Options,
+    progress: impl FnMut(&Record) -> bool,
+) -> Result<(RodBranch, ListAnchor)> {
+    follow_on_into(rod, charge, start, anchor, phase, opts, progress, None)
+}
+
+/// [`follow_on`], appending to `out` when given (its last record is the
 /// start, re-converged on this model when it is not within tolerance).
-fn follow_into(
+#[allow(clippy::too_many_arguments)]
+fn follow_on_into(
     rod: &Rod,
     charge: &RodCharge,
     mut start: Start,
+    anchor: Option<&ListAnchor>,
     phase: Option<(usize, f64)>,
     opts: &Options,
     mut progress: impl FnMut(&Record) -> bool,
     mut out: Option<RodBranch>,
-) -> Result<RodBranch> {
+) -> Result<(RodBranch, ListAnchor)> {
+    let x0 = start_x(&start).to_vec();
+    let mut anchor = anchor.cloned().unwrap_or(ListAnchor { built: x0.clone(), reference: x0 });
     loop {
         let built = std::time::Instant::now();
-        let mut problem = ChargedRod::new(rod, charge, phase, start_x(&start))?;
+        let mut problem = ChargedRod::new(rod, charge, phase, &anchor.built)?;
         let setup = built.elapsed();
         if let (Start::Resume(r), Some(out)) = (&mut start, out.as_mut()) {
             reconverge(&mut problem, &mut r.x, r.lambda, opts, out)?;
+            anchor.reference = r.x.clone();
         }
         let steps_done = out.as_ref().map_or(0, |b| b.counts.steps);
         let seg_opts = Options { max_steps: opts.max_steps.saturating_sub(steps_done).max(1), ..opts.clone() };
-        let (segment, stale) = follow_list(&mut problem, start, phase, &seg_opts, out.is_some(), &mut progress)?;
+        let resumed = out.is_some();
+        let (segment, stale) =
+            follow_list(&mut problem, start, &anchor.reference, phase, &seg_opts, resumed, &mut progress)?;
         let out = match out.as_mut() {
             Some(b) => {
                 b.append(segment);
@@ -144,11 +184,22 @@ fn follow_into(
         };
         out.counts.times.setup += setup;
         if out.contact.is_some() || !(stale && out.counts.steps < opts.max_steps) {
+            if stale && out.contact.is_none() {
+                // The step limit on a stale list (the branch's stop: the
+                // limit, not the list's): its last point, not re-converged
+                // on a next list, is told now.
+                out.stop = Stop::MaxSteps;
+                let mut last = out.records.last().expect("a record").clone();
+                last.outputs = [&out.states.last().expect("a state")[..], &[0.0]].concat();
+                progress(&last);
+            }
             break;
         }
         start = Start::Resume(out.resume.clone());
+        let x = start_x(&start).to_vec();
+        anchor = ListAnchor { built: x.clone(), reference: x };
     }
-    Ok(out.expect("at least one segment"))
+    Ok((out.expect("at least one segment"), anchor))
 }
 
 /// A point reached on the previous pair list (the last of `out`),
@@ -178,10 +229,13 @@ fn reconverge(problem: &mut ChargedRod, x: &mut [f64], lambda: f64, opts: &Optio
 /// the end, a strand crossing (the branch's contact; it stops), or a stage
 /// moving half the skin from where the list was built (returned stale: the
 /// list is rebuilt and the branch continued). A `resumed` segment's first
-/// record is the previous segment's last, already checked and reported.
+/// record is the previous segment's last, already checked, re-converged on
+/// this list and told to `progress` now. Stages' displacements are
+/// measured from `reference`.
 fn follow_list(
     problem: &mut ChargedRod,
     start: Start,
+    reference: &[f64],
     phase: Option<(usize, f64)>,
     opts: &Options,
     resumed: bool,
@@ -189,7 +243,7 @@ fn follow_list(
 ) -> Result<(RodBranch, bool)> {
     let (rod, charge) = (&problem.rod().clone(), &problem.charge().clone());
     let half_skin = 0.5 * charge.skin;
-    let (reference, _) = rod.stage_points(start_x(&start));
+    let (reference, _) = rod.stage_points(reference);
     let offsets = rod.stage_offsets();
     // The largest distance a stage has moved from where the list was built.
     let moved = |x: &[f64]| -> f64 {
@@ -209,10 +263,11 @@ fn follow_list(
         let k = index;
         index += 1;
         if resumed && k == 0 {
-            return true;
+            return progress(rec);
         }
         if let Some((distance, s1, s2)) = strand_crossing(rod, charge, x) {
             crossing = Some(Contact { record: k, distance, s1, s2 });
+            progress(rec);
             return false;
         }
         if local && *rec.outputs.last().expect("displacement") > half_skin {
@@ -243,7 +298,26 @@ pub fn switch(
     direction: usize,
     first_step: f64,
     opts: &Options,
-    mut progress: impl FnMut(&Record) -> bool,
+    progress: impl FnMut(&Record) -> bool,
 ) -> Result<RodBranch> {
-    branch::switch(&Charged { rod, charge }, branch, index, direction, first_step, opts, &mut progress)
+    Ok(switch_on(rod, charge, branch, index, direction, first_step, opts, progress)?.0)
+}
+
+/// [`switch`], also returning the anchor of the new branch's last pair
+/// list ([`follow_on`]: where a stopped branch resumes on the same list).
+#[allow(clippy::too_many_arguments)]
+pub fn switch_on(
+    rod: &Rod,
+    charge: &RodCharge,
+    branch: &RodBranch,
+    index: usize,
+    direction: usize,
+    first_step: f64,
+    opts: &Options,
+    mut progress: impl FnMut(&Record) -> bool,
+) -> Result<(RodBranch, ListAnchor)> {
+    let model = Charged { rod, charge, last_anchor: Default::default() };
+    let b = branch::switch(&model, branch, index, direction, first_step, opts, &mut progress)?;
+    let anchor = model.last_anchor.into_inner().expect("a switch follows a branch");
+    Ok((b, anchor))
 }

@@ -5,10 +5,10 @@
 //! plectoneme — and the observables users compare with magnetic-tweezers
 //! experiments ([`Observables`]).
 
-use super::branch::{continue_with, follow, switch, ChargedBranch};
-use super::rod::RodCharge;
+use super::branch::{continue_with, follow_on, switch_on, ChargedBranch, ListAnchor};
+use super::rod::{ChargedRod, RodCharge};
 use crate::continuation::newton::Start;
-use crate::continuation::{Options, Stop};
+use crate::continuation::{Options, Problem, Record, Stop};
 use crate::error::{self, Error, Result};
 use crate::rod::model::{unwrap_rotation, Rod, Supports};
 use crate::status::Status;
@@ -307,6 +307,61 @@ pub struct SupercoilRun {
     /// ([`SupercoilSettings::hard_core_auto`]); `charge` is then the model
     /// with it.
     pub hard_core_switch: Option<HardCoreSwitch>,
+    /// The settings it was run with ([`resume`] goes on with them).
+    pub settings: SupercoilSettings,
+    /// Whether the run went to its end or its progress callback stopped it.
+    pub stop: RunStop,
+    /// Where a cancelled run goes on ([`resume`]); None once finished.
+    pub resume_at: Option<ResumeAt>,
+}
+
+/// Why a run returned.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum RunStop {
+    /// The path went to its end: the straight branch without a buckling
+    /// point, or the buckled branch's own stop (`buckled.stop`, a strand
+    /// crossing in `buckled.contact`).
+    #[default]
+    Finished,
+    /// The progress callback asked to stop after the last point; the run
+    /// holds the path so far and [`resume`] continues it.
+    Cancelled,
+}
+
+/// Where a cancelled run goes on.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ResumeAt {
+    /// The straight branch's chunk `chunk` (0: the first, large steps)
+    /// towards φ = `target`, `steps` taken in it, on the pair list of
+    /// `anchor` (None: the chunk starts at the branch's resume point).
+    Straight { chunk: usize, target: f64, steps: usize, anchor: Option<ListAnchor> },
+    /// The straight branch is done: the buckled branch starts.
+    Buckling,
+    /// The buckled branch goes on from its resume point, on the pair list
+    /// of `anchor`.
+    Buckled { anchor: ListAnchor },
+}
+
+/// What the progress callback of [`run_scene_with`] and [`resume`] is
+/// told after each converged point of the path (the point as the run keeps
+/// it; the writhe and twist are computed once the branch returns).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointProgress {
+    /// The point's index in the run's points (a resumed run goes on counting).
+    pub index: usize,
+    /// 0: the straight branch, 1: the buckled one.
+    pub branch: usize,
+    /// End rotation φ (rad) and its turns, the continuation parameter Λ.
+    pub phi: f64,
+    pub turns: f64,
+    pub parameter: f64,
+    /// Extension z(L) (nm), end torque M_z(L) (pN nm), axial force (pN).
+    pub extension: f64,
+    pub torque: f64,
+    pub tension: f64,
+    pub residual: f64,
+    /// Angle (radians) between the tip tangent and e3.
+    pub tip_rotation: f64,
 }
 
 /// Run a scene: the straight branch from φ = 0 in chunks of a quarter of
@@ -318,6 +373,17 @@ pub struct SupercoilRun {
 /// straight line) and the turns read from each state, followed by
 /// continuity.
 pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<SupercoilRun> {
+    run_scene_with(scene, settings, |_| true)
+}
+
+/// [`run_scene`] telling `progress` each point of the path once, in order;
+/// when it returns false the run stops after that point and is returned
+/// with `stop` = [`RunStop::Cancelled`] ([`resume`] continues it).
+pub fn run_scene_with(
+    scene: &DnaScene,
+    settings: &SupercoilSettings,
+    mut progress: impl FnMut(&PointProgress) -> bool,
+) -> Result<SupercoilRun> {
     let start = std::time::Instant::now();
     let rod = scene.rod_controlled(settings.elements, settings.stages, settings.control)?;
     let mut charge = scene.charge();
@@ -328,43 +394,177 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
     error::positive("max_turns", settings.max_turns)?;
     error::count_in_range("max_steps", settings.max_steps as i64, 1, 1 << 24)?;
     error::positive("residual_tol", settings.residual_tol)?;
-    let straight = straight_path(&rod, &charge, scene.tension, settings)?;
-    let mut turns = Turns { torque: settings.control == EndControl::Torque, phi: 0.0 };
-    let (mut points, mut states) = (Vec::new(), Vec::new());
-    let observing = std::time::Instant::now();
-    turns.path(&rod, &straight, 0, &mut points, &mut states)?;
-    let mut observables_seconds = observing.elapsed().as_secs_f64();
-    let mut buckling = None;
-    let mut buckled = None;
-    let mut hard_core_switch = None;
-    if let Some(bif) = straight.bifurcations.first() {
-        let (_, m) = rod.spatial_force_moment(&bif.x, rod.elements);
-        let phi_b = turns.follow(&rod, &bif.x, bif.lambda);
-        buckling = Some((phi_b, m[2]));
-        let (b, switched) = buckled_path(&rod, &charge, &straight, settings, turns, scene.kt())?;
-        if let Some(sw) = switched {
-            charge.hard_core = Some(sw.stiffness);
-        }
-        hard_core_switch = switched;
-        turns.phi = phi_b;
-        let observing = std::time::Instant::now();
-        turns.path(&rod, &b, 1, &mut points, &mut states)?;
-        observables_seconds += observing.elapsed().as_secs_f64();
-        buckled = Some(b);
-    }
-    Ok(SupercoilRun {
+    let torque = settings.control == EndControl::Torque;
+    let mut tell = Reporter { rod: &rod, turns: Turns { torque, phi: 0.0 }, index: 0, branch: 0, user: &mut progress };
+    let (straight, at) = straight_path(&rod, &charge, scene.tension, settings, None, &mut tell)?;
+    let mut run = SupercoilRun {
         scene: scene.clone(),
         rod,
         charge,
-        points,
-        states,
-        buckling,
+        points: Vec::new(),
+        states: Vec::new(),
+        buckling: None,
         straight,
-        buckled,
-        seconds: start.elapsed().as_secs_f64(),
-        observables_seconds,
-        hard_core_switch,
-    })
+        buckled: None,
+        seconds: 0.0,
+        observables_seconds: 0.0,
+        settings: settings.clone(),
+        stop: RunStop::Finished,
+        resume_at: None,
+        hard_core_switch: None,
+    };
+    run.extend_points()?;
+    if let Some(at) = at {
+        return Ok(run.cancelled_at(at, start));
+    }
+    if !run.straight.bifurcations.is_empty() {
+        run.go_on(ResumeAt::Buckling, &mut progress)?;
+    }
+    run.seconds = start.elapsed().as_secs_f64();
+    Ok(run)
+}
+
+/// Continue a run its progress callback stopped ([`RunStop::Cancelled`];
+/// a finished run is left as it is) with the settings it was run with, to
+/// the same end as the uninterrupted run: in the straight phase the
+/// straight branch resumed from its last point in the same chunk (the
+/// engine's resume: the tangent recomputed there), in the buckled phase
+/// the buckled branch resumed from its last point with its phase
+/// condition, its tangent and step, on the same pair list. `progress` is
+/// told the new points, their indices going on from the run's; it may stop
+/// the run again. The run's `seconds` add up. On an error the run stays
+/// valid, resumable from the last phase boundary or stop it reached.
+pub fn resume(run: &mut SupercoilRun, mut progress: impl FnMut(&PointProgress) -> bool) -> Result<()> {
+    let Some(at) = run.resume_at.clone() else {
+        return Ok(());
+    };
+    let start = std::time::Instant::now();
+    let result = run.go_on(at, &mut progress);
+    run.seconds += start.elapsed().as_secs_f64();
+    result
+}
+
+impl SupercoilRun {
+    /// The run stopped by its callback at `at`.
+    fn cancelled_at(mut self, at: ResumeAt, start: std::time::Instant) -> Self {
+        self.stop = RunStop::Cancelled;
+        self.resume_at = Some(at);
+        self.seconds = start.elapsed().as_secs_f64();
+        self
+    }
+
+    /// Where the run goes on (None: it is finished).
+    fn stopped_at(&mut self, at: Option<ResumeAt>) {
+        self.stop = if at.is_some() { RunStop::Cancelled } else { RunStop::Finished };
+        self.resume_at = at;
+    }
+
+    /// Follow the path from `at` to its end or the callback's stop; the
+    /// branches change only when a part of them is complete.
+    fn go_on(&mut self, mut at: ResumeAt, progress: &mut dyn FnMut(&PointProgress) -> bool) -> Result<()> {
+        let settings = &self.settings.clone();
+        let torque = settings.control == EndControl::Torque;
+        let phi = self.points.last().map_or(0.0, |p| p.phi);
+        let (rod, charge) = (&self.rod.clone(), &self.charge.clone());
+        let mut tell =
+            Reporter { rod, turns: Turns { torque, phi }, index: self.points.len(), branch: 0, user: progress };
+        if let ResumeAt::Straight { chunk, target, steps, anchor } = at {
+            let from = Some((self.straight.clone(), chunk, target, steps, anchor));
+            let (straight, stopped) = straight_path(rod, charge, self.scene.tension, settings, from, &mut tell)?;
+            self.straight = straight;
+            let buckles = !self.straight.bifurcations.is_empty();
+            // Not stopped: on to the buckled branch (a phase boundary).
+            let more = stopped.is_none() && buckles;
+            self.stopped_at(if more { Some(ResumeAt::Buckling) } else { stopped });
+            self.extend_points()?;
+            if !more {
+                return Ok(());
+            }
+            at = ResumeAt::Buckling;
+        }
+        let anchor = match at {
+            ResumeAt::Buckled { anchor } => Some(anchor),
+            _ => {
+                let bif = self.straight.bifurcations.first().expect("a buckling point");
+                let (_, m) = rod.spatial_force_moment(&bif.x, rod.elements);
+                let phi = self.points.last().map_or(0.0, |p| p.phi);
+                let phi_b = Turns { torque, phi }.follow(rod, &bif.x, bif.lambda);
+                self.buckling = Some((phi_b, m[2]));
+                None
+            }
+        };
+        let phi = self.points.last().filter(|p| p.branch == 1).map_or(self.buckling.expect("buckling").0, |p| p.phi);
+        (tell.turns.phi, tell.branch) = (phi, 1);
+        let from = self.buckled.as_ref().zip(anchor);
+        let kt = self.scene.kt();
+        let (b, anchor, switched) =
+            buckled_path(rod, charge, &self.straight, settings, Turns { torque, phi }, from, &mut tell, kt)?;
+        if let Some(sw) = switched {
+            self.charge.hard_core = Some(sw.stiffness);
+            self.hard_core_switch = Some(sw);
+        }
+        match self.buckled.as_mut() {
+            Some(prev) => prev.append(b),
+            None => self.buckled = Some(b),
+        }
+        self.stopped_at(anchor.map(|anchor| ResumeAt::Buckled { anchor }));
+        self.extend_points()
+    }
+
+    /// The path points of the branches' records not yet in `points`.
+    fn extend_points(&mut self) -> Result<()> {
+        let observing = std::time::Instant::now();
+        let torque = self.rod.torqued();
+        let ns = self.straight.records.len();
+        if self.points.len() < ns {
+            let mut turns = Turns { torque, phi: self.points.last().map_or(0.0, |p| p.phi) };
+            let from = self.points.len();
+            turns.path(&self.rod, &self.straight, 0, from, &mut self.points, &mut self.states)?;
+        }
+        if let Some(b) = &self.buckled {
+            let from = self.points.len() - ns;
+            let phi =
+                if from == 0 { self.buckling.expect("buckling").0 } else { self.points.last().expect("a point").phi };
+            let mut turns = Turns { torque, phi };
+            turns.path(&self.rod, b, 1, from, &mut self.points, &mut self.states)?;
+        }
+        self.observables_seconds += observing.elapsed().as_secs_f64();
+        Ok(())
+    }
+}
+
+/// Tells the progress callback each point of a path as it converges.
+struct Reporter<'a> {
+    rod: &'a Rod,
+    /// φ followed along the points told.
+    turns: Turns,
+    index: usize,
+    branch: usize,
+    user: &'a mut dyn FnMut(&PointProgress) -> bool,
+}
+
+impl Reporter<'_> {
+    /// Tell the point of record `rec` (outputs: the state first): whether to go on.
+    fn tell(&mut self, rec: &Record) -> bool {
+        let rod = self.rod;
+        let x = &rec.outputs[..rod.unknowns()];
+        let phi = self.turns.follow(rod, x, rec.lambda);
+        let (n, m) = rod.spatial_force_moment(x, rod.elements);
+        let p = PointProgress {
+            index: self.index,
+            branch: self.branch,
+            phi,
+            turns: phi / (2.0 * std::f64::consts::PI),
+            parameter: rec.lambda,
+            extension: rod.tip(x)[2],
+            torque: m[2],
+            tension: n[2],
+            residual: rec.residual,
+            tip_rotation: rod.tip_rotation(x),
+        };
+        self.index += 1;
+        (self.user)(&p)
+    }
 }
 
 /// The end rotation φ along a path: Λ itself under rotation control, or a
@@ -387,18 +587,20 @@ impl Turns {
         self.phi
     }
 
-    /// The path points of `b` (the rod's unknowns of each state: a phase
-    /// condition's μ dropped) into `points` and `states`.
+    /// The path points of `b`'s records from `from` on (the rod's unknowns
+    /// of each state: a phase condition's μ dropped) into `points` and
+    /// `states`.
     fn path(
         &mut self,
         rod: &Rod,
         b: &ChargedBranch,
         branch: usize,
+        from: usize,
         points: &mut Vec<PathPoint>,
         states: &mut Vec<Vec<f64>>,
     ) -> Result<()> {
         let n = rod.unknowns();
-        for (r, x) in b.records.iter().zip(&b.states) {
+        for (r, x) in b.records.iter().zip(&b.states).skip(from) {
             let phi = self.follow(rod, &x[..n], r.lambda);
             let observables = observables(rod, &x[..n], phi)?;
             points.push(PathPoint { phi, parameter: r.lambda, observables, branch, residual: r.residual });
@@ -413,7 +615,17 @@ impl Turns {
 /// located (at most 3φ_G). Under torque control the targets are in M =
 /// Cφ/L (the straight rod's torque: electrostatics exerts none on a
 /// straight line).
-fn straight_path(rod: &Rod, charge: &RodCharge, tension: f64, settings: &SupercoilSettings) -> Result<ChargedBranch> {
+/// `from`: a stopped straight branch and where it stopped (chunk, target,
+/// steps taken in it, anchor: [`ResumeAt::Straight`]). Returns the branch
+/// and, when `tell` stopped it before the path's end, where it goes on.
+fn straight_path(
+    rod: &Rod,
+    charge: &RodCharge,
+    tension: f64,
+    settings: &SupercoilSettings,
+    from: Option<(ChargedBranch, usize, f64, usize, Option<ListAnchor>)>,
+    tell: &mut Reporter,
+) -> Result<(ChargedBranch, Option<ResumeAt>)> {
     let kb = rod.law.bending();
     let c = rod.law.stiffness[(2, 2)];
     let phi_g = 2.0 * (kb * tension.max(kb / (rod.length * rod.length))).sqrt() * rod.length / c;
@@ -454,32 +666,65 @@ fn straight_path(rod: &Rod, charge: &RodCharge, tension: f64, settings: &Superco
         stop_at_bifurcation: true,
         ..Default::default()
     };
-    let mut straight: Option<ChargedBranch> = None;
-    let mut target = 0.95 * phi_1;
+    let (mut straight, mut index, mut target, mut steps, mut anchor) = match from {
+        Some((b, index, target, steps, anchor)) => (Some(b), index, target, steps, anchor),
+        None => (None, 0, 0.95 * phi_1, 0, None),
+    };
+    if index > 0 {
+        opts.max_step = fine_step;
+        opts.initial_step = fine_step;
+    }
+    let mut stopped = false;
     while target <= 3.0 * phi_g + 0.5 * chunk {
         opts.target_lambda = Some(per_phi * target);
+        // The chunk's steps: a resumed chunk has taken `steps` of them.
+        opts.max_steps = settings.max_steps - steps;
         let start = match &straight {
             None => Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
             Some(prev) => Start::Resume(prev.resume.clone()),
         };
-        let next = follow(rod, charge, start, None, &opts, |_| true)?;
-        let b = match straight.take() {
+        // A chunk continuing the branch starts at its last point, told.
+        let mut first = straight.is_some();
+        let told = |r: &Record| {
+            if std::mem::take(&mut first) {
+                return true;
+            }
+            let go = tell.tell(r);
+            stopped |= !go;
+            go
+        };
+        let (next, list) = follow_on(rod, charge, start, anchor.take().as_ref(), None, &opts, told)?;
+        steps += next.records.len() - 1;
+        let mut b = match straight.take() {
             Some(mut prev) => {
                 prev.append(next);
                 prev
             }
             None => next,
         };
-        let (found, stop) = (!b.bifurcations.is_empty(), b.stop);
-        straight = Some(b);
-        if found || stop != Stop::Target {
-            break;
+        if stopped && b.stop == Stop::Cancelled && steps >= settings.max_steps {
+            // Stopped at the chunk's last step: the uninterrupted chunk ends there.
+            b.stop = Stop::MaxSteps;
         }
+        let (found, stop) = (!b.bifurcations.is_empty(), b.stop);
+        if stopped && stop == Stop::Cancelled && b.contact.is_none() {
+            return Ok((b, Some(ResumeAt::Straight { chunk: index, target, steps, anchor: Some(list) })));
+        }
+        if found || stop != Stop::Target {
+            return Ok((b, (stopped && found).then_some(ResumeAt::Buckling)));
+        }
+        straight = Some(b);
         target += chunk;
+        index += 1;
+        steps = 0;
         opts.max_step = fine_step;
         opts.initial_step = fine_step;
+        if stopped {
+            let at = ResumeAt::Straight { chunk: index, target, steps, anchor: None };
+            return Ok((straight.expect("a chunk"), Some(at)));
+        }
     }
-    Ok(straight.expect("at least one chunk"))
+    Ok((straight.expect("at least one chunk"), None))
 }
 
 /// The buckled branch from the straight one's first buckling point (phase
@@ -488,14 +733,24 @@ fn straight_path(rod: &Rod, charge: &RodCharge, tension: f64, settings: &Superco
 /// stops at the λ range; a torque clamp's turns are checked on each point
 /// (its M has no such bound: the torque falls after buckling, then stays on
 /// the plateau).
+///
+/// `from`: a stopped buckled branch and its last pair list's anchor; it is
+/// resumed from its last point with its tangent and step (the
+/// uninterrupted branch's own, not recomputed) and its continuation
+/// returned (to append). Returns the branch and, when `tell` stopped it
+/// before its end, its last pair list's anchor.
+// The path's pieces, as the run holds them (no struct would group them).
+#[allow(clippy::too_many_arguments)]
 fn buckled_path(
     rod: &Rod,
     charge: &RodCharge,
     straight: &ChargedBranch,
     settings: &SupercoilSettings,
     mut turns: Turns,
+    from: Option<(&ChargedBranch, ListAnchor)>,
+    tell: &mut Reporter,
     kt: f64,
-) -> Result<(ChargedBranch, Option<HardCoreSwitch>)> {
+) -> Result<(ChargedBranch, Option<ListAnchor>, Option<HardCoreSwitch>)> {
     let max_phi = 2.0 * std::f64::consts::PI * settings.max_turns;
     let opts = Options {
         residual_tol: settings.residual_tol,
@@ -510,24 +765,54 @@ fn buckled_path(
         ..Default::default()
     };
     let n = rod.unknowns();
-    let mut progress = |rec: &crate::continuation::Record| {
+    let mut stopped = false;
+    // A resumed branch's first record is the point it stopped at, told.
+    let mut first = from.is_some();
+    let mut check = |rec: &Record| {
+        if std::mem::take(&mut first) {
+            return true;
+        }
         let phi = turns.follow(rod, &rec.outputs[..n], rec.lambda);
-        !turns.torque || (phi > 0.0 && phi < max_phi)
+        let within = !turns.torque || (phi > 0.0 && phi < max_phi);
+        let go = tell.tell(rec);
+        stopped = within && !go;
+        within && go
     };
-    let b = switch(rod, charge, straight, 0, 0, 0.02, &opts, &mut progress)?;
-    match (b.contact, settings.hard_core_auto && charge.hard_core.is_none()) {
-        // The strands met: the scene needs the hard core (the optimal
-        // superhelix is tighter than 2a). From the last point before the
-        // crossing, with it switched on.
-        (Some(c), true) if c.record > 0 => {
+    let done = from.as_ref().map_or(0, |(prev, _)| prev.records.len() - 1);
+    let (mut b, mut anchor) = match from {
+        None => switch_on(rod, charge, straight, 0, 0, 0.02, &opts, &mut check)?,
+        Some((prev, anchor)) => {
+            let opts = Options { max_steps: settings.max_steps - done, ..opts.clone() };
+            let start = Start::Switch(prev.resume.clone());
+            let (next, anchor) = follow_on(rod, charge, start, Some(&anchor), prev.phase, &opts, &mut check)?;
+            // As the switch checks its branch: μ stays at zero.
+            let mu_scale = ChargedRod::new(rod, charge, prev.phase, &anchor.built)?.unknown_scales().0;
+            rod.check_unfolding(&next.states, *mu_scale.last().expect("μ"))?;
+            (next, anchor)
+        }
+    };
+    // The strands met: the scene needs the hard core (the optimal
+    // superhelix is tighter than 2a). From the last point before the
+    // crossing, with it switched on (the crossing point, told, is dropped;
+    // the point before it, re-converged, is told again).
+    let mut switched = None;
+    if let (Some(c), true) = (b.contact, settings.hard_core_auto && charge.hard_core.is_none()) {
+        if c.record > 0 {
             let stiffness = auto_hard_core(charge.screening.a, kt);
             let with_core = RodCharge { hard_core: Some(stiffness), ..charge.clone() };
-            let turns_at = b.records[c.record - 1].lambda;
-            let b = continue_with(rod, &with_core, b, c.record - 1, &opts, &mut progress)?;
-            Ok((b, Some(HardCoreSwitch { record: c.record - 1, parameter: turns_at, stiffness })))
+            let parameter = b.records[c.record - 1].lambda;
+            let opts = Options { max_steps: settings.max_steps - done, ..opts.clone() };
+            (b, anchor) = continue_with(rod, &with_core, b, c.record - 1, &opts, &mut check)?;
+            switched = Some(HardCoreSwitch { record: done + c.record - 1, parameter, stiffness });
         }
-        _ => Ok((b, None)),
     }
+    let steps = done + b.records.len() - 1;
+    if stopped && b.stop == Stop::Cancelled && b.contact.is_none() && steps >= settings.max_steps {
+        // Stopped at the last step: the uninterrupted branch ends there.
+        b.stop = Stop::MaxSteps;
+    }
+    let go_on = stopped && b.stop == Stop::Cancelled && b.contact.is_none();
+    Ok((b, go_on.then_some(anchor), switched))
 }
 
 /// The hard core a scene switches on by itself: P = k_hc (2.5a − d)³ with

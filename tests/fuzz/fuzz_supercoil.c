@@ -15,6 +15,42 @@ static const struct fuzz_field eq_fields[] = {
     FUZZ_I(RodkitEquilibriumSpec, solver), FUZZ_F(RodkitEquilibriumSpec, residual_tol),
 };
 
+/* Progress callback: stops after *(int64_t *)user_data points (0: never);
+ * a point told must be finite where the supercoiling run defines it. */
+static int32_t stop_after(const RodkitBranchProgress *p, void *user_data) {
+    int64_t *left = user_data;
+    double v[] = {p->lambda, p->residual, p->tip_rotation, p->turns, p->extension, p->torque};
+    fuzz_finite("rodkit_dna_supercoil_run_with", "progress", v, 6);
+    if (p->branch != 0 && p->branch != 1) fuzz_violation("rodkit_dna_supercoil_run_with", "progress", "branch");
+    return *left > 0 && --*left == 0;
+}
+
+/* Runs the spec, half the time stopped by the callback after a random
+ * number of points and resumed: a stop is INFO_CANCELLED with a Cancelled
+ * run, its resume neither cancelled nor failed where the run succeeds. */
+static int32_t run_spec(const RodkitDnaSupercoilSpec *s, RodkitSupercoil **run) {
+    if (fuzz_below(2) == 0) return rodkit_dna_supercoil_run(s, run);
+    int64_t left = 1 + fuzz_below(4);
+    const char *fn = "rodkit_dna_supercoil_run_with";
+    int32_t st = fuzz_status(fn, rodkit_dna_supercoil_run_with(s, stop_after, &left, run));
+    if (st != RODKIT_STATUS_INFO_CANCELLED) return st;
+    int32_t stop = -1;
+    if (fuzz_status("rodkit_supercoil_stop", rodkit_supercoil_stop(*run, &stop)) >= 0 &&
+        stop != RODKIT_SUPERCOIL_STOP_CANCELLED)
+        fuzz_violation("rodkit_supercoil_stop", "stop", "a cancelled run not reported Cancelled");
+    left = 0;
+    st = fuzz_status("rodkit_supercoil_resume", rodkit_supercoil_resume(*run, stop_after, &left));
+    if (st == RODKIT_STATUS_INFO_CANCELLED)
+        fuzz_violation("rodkit_supercoil_resume", "stop", "cancelled by a callback that never stops");
+    if (st >= 0 && rodkit_supercoil_stop(*run, &stop) >= 0 && stop != RODKIT_SUPERCOIL_STOP_FINISHED)
+        fuzz_violation("rodkit_supercoil_stop", "stop", "a resumed run not reported Finished");
+    if (st < 0) { /* the handle stays valid after a failed resume: freed here */
+        rodkit_supercoil_free(*run);
+        *run = NULL;
+    }
+    return st;
+}
+
 static void fuzz_one(void) {
     RodkitDnaSupercoilSpec s;
     rodkit_dna_supercoil_spec_default(&s);
@@ -33,7 +69,7 @@ static void fuzz_one(void) {
                 (long long)s.threads, s.max_turns, (long long)s.max_steps, s.residual_tol, s.discrete_base_pairs,
                 s.end_control);
     RodkitSupercoil *run = (RodkitSupercoil *)&s;
-    if (fuzz_status("rodkit_dna_supercoil_run", rodkit_dna_supercoil_run(&s, &run)) < 0) {
+    if (fuzz_status("rodkit_dna_supercoil_run", run_spec(&s, &run)) < 0) {
         if (run) fuzz_violation("rodkit_dna_supercoil_run", "handle-on-failure", "*out not NULL after a failure");
         return;
     }

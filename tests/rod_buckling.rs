@@ -628,6 +628,7 @@ fn non_planar_symmetric_branch_with_phase_condition() {
             tangent_x: vec![],
             tangent_lambda: 0.0,
             step: 0.0,
+            previous: None,
         },
         phase: None,
         contact: None,

@@ -116,7 +116,7 @@ pub fn continue_with(
     branch.records.truncate(k + 1);
     branch.states.truncate(k + 1);
     branch.contact = None;
-    let start = Start::Resume(Resume { x, lambda, tangent_x, tangent_lambda, step });
+    let start = Start::Resume(Resume { x, lambda, tangent_x, tangent_lambda, step, previous: None });
     let phase = branch.phase;
     follow_on_into(rod, charge, start, None, phase, opts, progress, Some(branch))
 }

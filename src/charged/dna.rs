@@ -783,7 +783,14 @@ fn buckled_path(
         None => switch_on(rod, charge, straight, 0, 0, 0.02, &opts, &mut check)?,
         Some((prev, anchor)) => {
             let opts = Options { max_steps: settings.max_steps - done, ..opts.clone() };
-            let start = Start::Switch(prev.resume.clone());
+            // With the point before it (the Hermite predictor's history) the
+            // engine's resume re-factorises as the uninterrupted run had
+            // (bordered by that point's tangent): the same tangent, steps
+            // and chord iterations. Without it, the stored tangent as is.
+            let start = match prev.resume.previous {
+                Some(_) => Start::Resume(prev.resume.clone()),
+                None => Start::Switch(prev.resume.clone()),
+            };
             let (next, anchor) = follow_on(rod, charge, start, Some(&anchor), prev.phase, &opts, &mut check)?;
             // As the switch checks its branch: μ stays at zero.
             let mu_scale = ChargedRod::new(rod, charge, prev.phase, &anchor.built)?.unknown_scales().0;

@@ -79,7 +79,7 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             if run.records.is_empty() {
                 return Err(e);
             }
-            return Ok(run.finish(Stop::StepTooSmall, State { x, lambda, tx: v.0, tl: v.1 }, last_a));
+            return Ok(run.finish(Stop::StepTooSmall, State { x, lambda, tx: v.0, tl: v.1 }, last_a, None));
         }
         let (x1, l1) = run.ctx.tangent()?;
         let here = State { x, lambda, tx: x1, tl: l1 };
@@ -99,12 +99,12 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             (step == opts.max_steps).then_some(Stop::MaxSteps)
         };
         if let Some(stop) = stop {
-            return Ok(run.finish(stop, here, last_a));
+            return Ok(run.finish(stop, here, last_a, None));
         }
         expansion.compute(&mut run, problem, &here);
         let a = expansion.radius(&run, anm);
         if !(a >= opts.min_step) {
-            return Ok(run.finish(Stop::StepTooSmall, here, a));
+            return Ok(run.finish(Stop::StepTooSmall, here, a, None));
         }
         // Padé: a longer step where the rational form stays within ε.
         let (a, denominator) = match anm.pade && a < opts.max_step {
@@ -125,7 +125,7 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
         samples(&mut run, problem, &curve, a, &here, &v, &mut observe)?;
         let end = match end_point(&mut run, problem, &curve, a, &here, &v)? {
             End::Reached(end) => end,
-            End::Stopped(stop, a) => return Ok(run.finish(stop, here, a)),
+            End::Stopped(stop, a) => return Ok(run.finish(stop, here, a, None)),
         };
         run.ctx.counts.steps += 1;
         let tnorm = run.ctx.scaling.norm(&end.tangent[..end.x.len()], end.tangent[end.x.len()]);

@@ -67,7 +67,9 @@ impl<P: Problem + ?Sized> LinearSolve<Arclength<'_, P>> for BorderedStep<'_> {
         delta: &mut [f64],
     ) -> Result<LinearStep> {
         let n = x.len() - 1;
-        let fresh = !self.chord || it.norm > 0.5 * it.previous;
+        // A chord step needs a factorisation in hand (none at a switch's
+        // start, or after a failed one).
+        let fresh = !self.chord || it.norm > 0.5 * it.previous || !self.bordered.factorised();
         if fresh {
             self.bordered.factorise_at(eq.problem, &x[..n], x[n], eq.v, eq.scaling, &mut self.counts)?;
         }

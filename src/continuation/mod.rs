@@ -116,6 +116,12 @@ pub struct Resume {
     pub tangent_lambda: f64,
     /// The last step length (arc length in ⟨·,·⟩_W).
     pub step: f64,
+    /// The point before this one (its `step`: the arc length between
+    /// them), when the engine keeps one: Newton continuation's Hermite
+    /// predictor extrapolates from both, and a resume factorises here with
+    /// its tangent as the border, as the uninterrupted run did — so a
+    /// resumed branch takes the same steps (bitwise on the same problem).
+    pub previous: Option<Box<Resume>>,
 }
 
 /// One converged point of a branch.

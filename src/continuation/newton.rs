@@ -55,7 +55,7 @@ pub fn continue_newton<P: Problem + ?Sized>(
     mut progress: impl FnMut(&Record) -> bool,
 ) -> Result<Branch> {
     let mut run = Run::new(problem, opts)?;
-    let (mut at, mut ds, first_iterations, singular) = begin(&mut run, problem, start)?;
+    let (mut at, mut ds, first_iterations, singular, mut previous) = begin(&mut run, problem, start)?;
     let first = if singular {
         run.singular_record(problem, &at.x, at.lambda, &mut observe)
     } else {
@@ -71,18 +71,15 @@ pub fn continue_newton<P: Problem + ?Sized>(
         run.samples.push(Sample { lambda: target, record: 0, outputs, residual, newton_iterations: 0 });
     }
     if !go_on {
-        return Ok(run.finish(Stop::Cancelled, at, ds));
+        return Ok(run.finish(Stop::Cancelled, at, ds, previous));
     }
     if opts.target_lambda == Some(at.lambda) {
-        return Ok(run.finish(Stop::Target, at, ds));
+        return Ok(run.finish(Stop::Target, at, ds, previous));
     }
-    // The point before `at` and the arc length between them (the Hermite
-    // predictor's).
-    let mut previous: Option<(State, f64)> = None;
     for _ in 0..opts.max_steps {
         let before = previous.as_ref().filter(|_| opts.hermite_predictor);
         let Some((mut xn, mut ln, iterations)) = predict_correct(&mut run, problem, &at, before, &mut ds) else {
-            return Ok(run.finish(Stop::StepTooSmall, at, ds));
+            return Ok(run.finish(Stop::StepTooSmall, at, ds, previous));
         };
         run.ctx.counts.steps += 1;
         // Target Λ crossed: interpolate and correct at fixed Λ.
@@ -90,21 +87,21 @@ pub fn continue_newton<P: Problem + ?Sized>(
         if let Some(target) = opts.target_lambda {
             if (ln - target) * (at.lambda - target) <= 0.0 && ln != at.lambda {
                 let Some(xt) = at_target(&mut run, problem, &at, &xn, ln, target) else {
-                    return Ok(run.finish(Stop::StepTooSmall, at, ds));
+                    return Ok(run.finish(Stop::StepTooSmall, at, ds, previous));
                 };
                 (xn, ln) = (xt, target);
                 stop = Some(Stop::Target);
             }
         }
         if stop.is_none() && !(ln >= opts.lambda_range.0 && ln <= opts.lambda_range.1) {
-            return Ok(run.finish(Stop::LambdaRange, at, ds));
+            return Ok(run.finish(Stop::LambdaRange, at, ds, previous));
         }
         // The tangent at the new point (one factorisation; its determinant
         // signs go into the record). An exactly singular matrix there ends
         // the branch with its records.
         let tangent = run.ctx.factorise(problem, &xn, ln, (&at.tx, at.tl)).and_then(|_| run.ctx.tangent());
         let Ok((txn, tln)) = tangent else {
-            return Ok(run.finish(Stop::StepTooSmall, at, ds));
+            return Ok(run.finish(Stop::StepTooSmall, at, ds, previous));
         };
         let next = State { x: xn, lambda: ln, tx: txn, tl: tln };
         let dx: Vec<f64> = at.x.iter().zip(&next.x).map(|(a, b)| b - a).collect();
@@ -118,7 +115,7 @@ pub fn continue_newton<P: Problem + ?Sized>(
             }
             run.watch(problem, next.clone())?;
             if opts.stop_at_bifurcation && !run.bifurcations.is_empty() {
-                return Ok(run.finish(Stop::Bifurcation, next, ds));
+                return Ok(run.finish(Stop::Bifurcation, next, ds, Some((at, step))));
             }
         }
         previous = Some((std::mem::replace(&mut at, next), step));
@@ -127,19 +124,28 @@ pub fn continue_newton<P: Problem + ?Sized>(
         let factor = (aim / iterations.max(1) as f64).sqrt().clamp(0.5, 2.0);
         ds = (ds * factor).clamp(opts.min_step, opts.max_step);
         if let Some(stop) = stop {
-            return Ok(run.finish(stop, at, ds));
+            return Ok(run.finish(stop, at, ds, previous));
         }
         if !go_on {
-            return Ok(run.finish(Stop::Cancelled, at, ds));
+            return Ok(run.finish(Stop::Cancelled, at, ds, previous));
         }
     }
-    Ok(run.finish(Stop::MaxSteps, at, ds))
+    Ok(run.finish(Stop::MaxSteps, at, ds, previous))
 }
 
+/// The point before a start and the arc length between them (the Hermite
+/// predictor's history).
+type Previous = Option<(State, f64)>;
+
 /// The first point, its tangent and step, the Newton iterations that
-/// corrected it, and whether it is singular (a switch, or a resume at a
-/// bifurcation point): there the given tangent is kept.
-fn begin<P: Problem + ?Sized>(run: &mut Run, problem: &mut P, start: Start) -> Result<(State, f64, usize, bool)> {
+/// corrected it, whether it is singular (a switch, or a resume at a
+/// bifurcation point: there the given tangent is kept), and the point
+/// before it (a resume's).
+fn begin<P: Problem + ?Sized>(
+    run: &mut Run,
+    problem: &mut P,
+    start: Start,
+) -> Result<(State, f64, usize, bool, Previous)> {
     let opts = run.opts;
     match start {
         Start::Point { x, lambda, increasing } => {
@@ -147,18 +153,22 @@ fn begin<P: Problem + ?Sized>(run: &mut Run, problem: &mut P, start: Start) -> R
             let e_lambda = vec![0.0; x.len()];
             run.ctx.factorise(problem, &x, l, (&e_lambda, if increasing { 1.0 } else { -1.0 }))?;
             let (tx, tl) = run.ctx.tangent()?;
-            Ok((State { x, lambda: l, tx, tl }, opts.initial_step, it, false))
+            Ok((State { x, lambda: l, tx, tl }, opts.initial_step, it, false, None))
         }
         Start::Resume(r) => {
             let regular = run.factorise_resume(problem, &r)?;
             let step = resume_step(r.step, opts);
             let (tx, tl) = if regular { run.ctx.tangent()? } else { (r.tangent_x, r.tangent_lambda) };
-            Ok((State { x: r.x, lambda: r.lambda, tx, tl }, step, 0, !regular))
+            let previous = r
+                .previous
+                .filter(|p| p.x.len() == r.x.len())
+                .map(|p| (State { x: p.x, lambda: p.lambda, tx: p.tangent_x, tl: p.tangent_lambda }, p.step));
+            Ok((State { x: r.x, lambda: r.lambda, tx, tl }, step, 0, !regular, previous))
         }
         Start::Switch(r) => {
             validate_resume(&r, problem.dim())?;
             let step = resume_step(r.step, opts);
-            Ok((State { x: r.x, lambda: r.lambda, tx: r.tangent_x, tl: r.tangent_lambda }, step, 0, true))
+            Ok((State { x: r.x, lambda: r.lambda, tx: r.tangent_x, tl: r.tangent_lambda }, step, 0, true, None))
         }
     }
 }

@@ -176,7 +176,10 @@ impl<'o> Run<'o> {
     /// bifurcation point, to be left as a switch is).
     pub fn factorise_resume<P: Problem + ?Sized>(&mut self, problem: &mut P, r: &Resume) -> Result<bool> {
         validate_resume(r, problem.dim())?;
-        match self.ctx.factorise(problem, &r.x, r.lambda, (&r.tangent_x, r.tangent_lambda)) {
+        // Bordered by the previous point's tangent when there is one: the
+        // factorisation the uninterrupted run had here.
+        let border = r.previous.as_deref().filter(|p| p.tangent_x.len() == r.x.len()).unwrap_or(r);
+        match self.ctx.factorise(problem, &r.x, r.lambda, (&border.tangent_x, border.tangent_lambda)) {
             Ok(()) => Ok(true),
             Err(e) if e.status == Status::ErrNotConverged => Ok(false),
             Err(e) => Err(e),
@@ -339,12 +342,22 @@ impl<'o> Run<'o> {
 
     /// The branch, stopped for `stop`, resumable from `at` (a point and
     /// its tangent) with step `step`.
-    pub fn finish(self, stop: super::Stop, at: State, step: f64) -> Branch {
+    pub fn finish(self, stop: super::Stop, at: State, step: f64, previous: Option<(State, f64)>) -> Branch {
+        let previous = previous.map(|(p, h)| {
+            Box::new(Resume {
+                x: p.x,
+                lambda: p.lambda,
+                tangent_x: p.tx,
+                tangent_lambda: p.tl,
+                step: h,
+                previous: None,
+            })
+        });
         Branch {
             records: self.records,
             bifurcations: self.bifurcations,
             stop,
-            resume: Resume { x: at.x, lambda: at.lambda, tangent_x: at.tx, tangent_lambda: at.tl, step },
+            resume: Resume { x: at.x, lambda: at.lambda, tangent_x: at.tx, tangent_lambda: at.tl, step, previous },
             counts: self.ctx.counts,
             samples: self.samples,
             missed_samples: self.missed,

@@ -83,6 +83,12 @@ impl Bordered {
         Ok(())
     }
 
+    /// Whether a factorisation is in hand (the last one succeeded): a
+    /// chord correction starts on it, else factorises.
+    pub fn factorised(&self) -> bool {
+        self.lu.factorised()
+    }
+
     /// Solve B z = rhs in place (rhs has n + 1 entries).
     pub fn solve(&mut self, rhs: &mut [f64], counts: &mut Counts) {
         let t = Instant::now();

@@ -95,6 +95,11 @@ impl BorderedLu {
         self.lu.factorise(&self.values)
     }
 
+    /// Whether the last factorisation succeeded.
+    pub fn factorised(&self) -> bool {
+        self.lu.factorised()
+    }
+
     /// Solve B z = rhs in place (n + 1 entries).
     pub fn solve(&mut self, rhs: &mut [f64]) {
         self.lu.solve(rhs);

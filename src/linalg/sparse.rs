@@ -252,6 +252,11 @@ impl SparseLu {
         &self.pattern
     }
 
+    /// Whether the last factorisation succeeded (solves need one).
+    pub fn factorised(&self) -> bool {
+        self.factorised
+    }
+
     /// Whether the factors are on usize indices (their L + U could exceed
     /// the u32 range), not u32.
     pub fn wide_indices(&self) -> bool {

@@ -422,6 +422,7 @@ impl Rod {
             x,
             lambda: l,
             step,
+            previous: None,
         })
     }
 

@@ -245,6 +245,9 @@ pub enum Engine {
     /// (Newton), 1.9 a step.
     #[default]
     HermiteChord,
+    /// The Hermite predictor with Newton corrections (a factorisation per
+    /// iteration).
+    Hermite,
 }
 
 impl Default for SupercoilSettings {
@@ -761,7 +764,7 @@ fn buckled_path(
         // A factorisation of the plectoneme's bordered tangent costs tens of
         // residuals: one a step (issue 18).
         chord: settings.engine == Engine::HermiteChord,
-        hermite_predictor: settings.engine == Engine::HermiteChord,
+        hermite_predictor: settings.engine != Engine::Newton,
         ..Default::default()
     };
     let n = rod.unknowns();

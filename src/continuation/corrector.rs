@@ -69,14 +69,21 @@ impl<P: Problem + ?Sized> LinearSolve<Arclength<'_, P>> for BorderedStep<'_> {
         let n = x.len() - 1;
         // A chord step needs a factorisation in hand (none at a switch's
         // start, or after a failed one).
-        let fresh = !self.chord || it.norm > 0.5 * it.previous || !self.bordered.factorised();
+        let rate: f64 = std::env::var("RODKIT_CHORD_RATE").ok().and_then(|v| v.parse().ok()).unwrap_or(0.5);
+        let fresh = !self.chord || it.norm > rate * it.previous || !self.bordered.factorised();
         if fresh {
             self.bordered.factorise_at(eq.problem, &x[..n], x[n], eq.v, eq.scaling, &mut self.counts)?;
         }
         for (d, v) in delta.iter_mut().zip(f) {
             *d = -v;
         }
-        self.bordered.solve(delta, &mut self.counts);
+        if fresh {
+            self.bordered.solve(delta, &mut self.counts);
+        } else {
+            // A kept factorisation, bordered by an older tangent: solved
+            // with this plane's border.
+            self.bordered.solve_with_border(delta, eq.v, eq.scaling, &mut self.counts);
+        }
         Ok(LinearStep { eta: 0.0, fresh })
     }
 }
@@ -148,8 +155,8 @@ pub(crate) fn correct<P: Problem + ?Sized>(
     let mut linear = BorderedStep { bordered, chord: reuse, counts: Counts::default() };
     let mut test = ResidualTest::new(with_free_border(equation_scales), tol, "Newton correction");
     test.non_finite = Status::ErrNotConverged;
-    test.stall = Stall::AfterFresh;
-    let max_iterations = if reuse { 20 } else { 12 };
+    test.stall = if reuse { Stall::TwiceAfterFresh } else { Stall::AfterFresh };
+    let max_iterations = if reuse { std::env::var("RODKIT_CHORD_MAX").ok().and_then(|v| v.parse().ok()).unwrap_or(20) } else { 12 };
     let result = nonlinear::solve(&mut eq, &mut xl, &mut linear, &mut FullStep::new(n + 1), &mut test, max_iterations);
     counts.residuals += eq.residuals;
     counts.times.residuals += eq.residual_time;

@@ -28,6 +28,12 @@ pub struct Bordered {
     /// The border used in the last factorisation.
     border_x: Vec<f64>,
     border_l: f64,
+    /// B⁻¹ e_{n+1} of the current factorisation (computed on demand: a
+    /// solve with another border by Sherman–Morrison), and whether it is.
+    last_column: Vec<f64>,
+    last_column_known: bool,
+    /// Scratch: the other border's row.
+    other_row: Vec<f64>,
 }
 
 impl Bordered {
@@ -47,6 +53,9 @@ impl Bordered {
             row: vec![0.0; n],
             border_x: vec![0.0; n],
             border_l: 0.0,
+            last_column: vec![0.0; n + 1],
+            last_column_known: false,
+            other_row: vec![0.0; n + 1],
         })
     }
 
@@ -75,6 +84,7 @@ impl Bordered {
         }
         self.border_x.copy_from_slice(vx);
         self.border_l = vl;
+        self.last_column_known = false;
         let t = Instant::now();
         let result = self.lu.factorise(&self.jx, &self.jl, &self.row, vl / (scaling.lambda * scaling.lambda));
         counts.times.factorisations += t.elapsed();
@@ -87,6 +97,51 @@ impl Bordered {
     /// chord correction starts on it, else factorises.
     pub fn factorised(&self) -> bool {
         self.lu.factorised()
+    }
+
+    /// Solve B' z = rhs in place, B' the factorised matrix with its border
+    /// row replaced by that of `v` (W·v, as [`Bordered::factorise_border`]
+    /// writes it): B' = B + e_{n+1} dᵀ, d the rows' difference, so
+    /// z = y − w (dᵀy)/(1 + dᵀw) with y = B⁻¹rhs and w = B⁻¹e_{n+1}
+    /// (Sherman–Morrison; w is one more solve, kept for the factorisation).
+    /// The chord corrector's step on the last point's factorisation: its
+    /// border is the tangent of the point before, the corrector's plane
+    /// the new tangent's — a difference of the order of the step that
+    /// slowed the chord iterations as much as the Jacobian's change did.
+    /// Falls back to B when 1 + dᵀw is not safely away from zero.
+    pub fn solve_with_border(&mut self, rhs: &mut [f64], v: (&[f64], f64), scaling: &Scaling, counts: &mut Counts) {
+        let n = self.n;
+        let mean = 1.0 / n.max(1) as f64;
+        let mut differs = v.1 != self.border_l;
+        for j in 0..n {
+            self.other_row[j] = mean * v.0[j] / (scaling.x[j] * scaling.x[j]) - self.row[j];
+            differs |= v.0[j] != self.border_x[j];
+        }
+        self.other_row[n] = (v.1 - self.border_l) / (scaling.lambda * scaling.lambda);
+        if !differs {
+            return self.solve(rhs, counts);
+        }
+        if !self.last_column_known {
+            self.last_column.fill(0.0);
+            self.last_column[n] = 1.0;
+            let t = Instant::now();
+            self.lu.solve(&mut self.last_column);
+            counts.times.solves += t.elapsed();
+            counts.solves += 1;
+            self.last_column_known = true;
+        }
+        self.solve(rhs, counts);
+        let d = &self.other_row;
+        let dw: f64 = d.iter().zip(&self.last_column).map(|(a, b)| a * b).sum();
+        let dy: f64 = d.iter().zip(rhs.iter()).map(|(a, b)| a * b).sum();
+        let denominator = 1.0 + dw;
+        if !(denominator.abs() > 1e-8 && denominator.is_finite()) {
+            return;
+        }
+        let c = dy / denominator;
+        for (z, w) in rhs.iter_mut().zip(&self.last_column) {
+            *z -= c * w;
+        }
     }
 
     /// Solve B z = rhs in place (rhs has n + 1 entries).

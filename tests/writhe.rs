@@ -500,3 +500,13 @@ fn measure_dna_states() {
         );
     }
 }
+
+/// Profile helper (run with --ignored): 200 evaluations on the DNA-like
+/// 12-turn plectoneme at tol 1e-6.
+#[test]
+#[ignore]
+fn profile_dna_like() {
+    let c = plectoneme_curve(100, &DNA);
+    let (v, t) = min_time(&|| (0..200).map(|_| writhe_within(&c, 1e-6).unwrap().value).sum::<f64>(), 1);
+    println!("{v} {:.2} ms each", t / 200.0);
+}

@@ -574,22 +574,36 @@ fn kernel_w(p: &[f64; 3], tp: &[f64; 3], q: &[f64; 3], tq: &[f64; 3]) -> f64 {
     (c[0] * d[0] + c[1] * d[1] + c[2] * d[2]) / (r2 * r2.sqrt())
 }
 
-/// A far pair from the tables: one accumulator per t point (independent
-/// lanes the compiler can vectorise).
+/// A far pair from the tables, dispatched on the t side's order so that
+/// the inner loop has a fixed length (unrolled, two points a vector).
 fn far_pair(tables: &Tables, i: usize, j: usize, s: &Side, t: &Side) -> f64 {
     let (qs, qt) = (s.q, t.q);
     let a = &tables[qs - 1][6 * qs * i..6 * qs * (i + 1)];
     let b = &tables[qt - 1][6 * qt * j..6 * qt * (j + 1)];
-    let (bx, rest) = b.split_at(qt);
-    let (by, rest) = rest.split_at(qt);
-    let (bz, rest) = rest.split_at(qt);
-    let (ux, rest) = rest.split_at(qt);
-    let (uy, uz) = rest.split_at(qt);
-    let mut acc = [0.0f64; FAR_ORDER];
+    match qt {
+        1 => far_block::<1>(a, qs, b),
+        2 => far_block::<2>(a, qs, b),
+        3 => far_block::<3>(a, qs, b),
+        4 => far_block::<4>(a, qs, b),
+        5 => far_block::<5>(a, qs, b),
+        6 => far_block::<6>(a, qs, b),
+        7 => far_block::<7>(a, qs, b),
+        _ => far_block::<8>(a, qs, b),
+    }
+}
+
+/// The q_s × QT kernel sum of a far pair: `a` holds the s side's qs points
+/// and `b` the t side's QT (component after component), one accumulator
+/// per t point.
+#[inline(always)]
+fn far_block<const QT: usize>(a: &[f64], qs: usize, b: &[f64]) -> f64 {
+    let col = |k: usize| -> &[f64; QT] { b[k * QT..(k + 1) * QT].try_into().expect("table block") };
+    let (bx, by, bz, ux, uy, uz) = (col(0), col(1), col(2), col(3), col(4), col(5));
+    let mut acc = [0.0f64; QT];
     for k in 0..qs {
         let (px, py, pz) = (a[k], a[qs + k], a[2 * qs + k]);
         let (tx, ty, tz) = (a[3 * qs + k], a[4 * qs + k], a[5 * qs + k]);
-        for l in 0..qt {
+        for l in 0..QT {
             let (dx, dy, dz) = (px - bx[l], py - by[l], pz - bz[l]);
             let r2 = dx * dx + dy * dy + dz * dz;
             let (cx, cy, cz) = (ty * uz[l] - tz * uy[l], tz * ux[l] - tx * uz[l], tx * uy[l] - ty * ux[l]);
@@ -599,9 +613,16 @@ fn far_pair(tables: &Tables, i: usize, j: usize, s: &Side, t: &Side) -> f64 {
     acc.iter().sum()
 }
 
-/// A near pair by direct evaluation on pieces (t side buffered on the stack).
-fn near_pair<P: Pieces>(pc: &P, rules: &Rules, x: &Segment, y: &Segment, s: &Side, t: &Side) -> f64 {
-    let mut buf = [([0.0; 3], [0.0; 3]); NEAR_ORDER * MAX_PIECES];
+/// A near pair by direct evaluation on pieces, the t side's points kept
+/// in `buf` (the caller's, reused: ≥ NEAR_ORDER · MAX_PIECES long).
+fn near_pair<P: Pieces>(
+    pc: &P,
+    rules: &Rules,
+    (x, y): (&Segment, &Segment),
+    s: &Side,
+    t: &Side,
+    buf: &mut [([f64; 3], [f64; 3])],
+) -> f64 {
     let mut n = 0;
     let (tx, tw) = rules.get(t.q);
     let ht = (y.u1 - y.u0) / t.m as f64;
@@ -919,8 +940,9 @@ fn within_on<P: Pieces>(pc: &P, closed: bool, tol: f64) -> Result<(f64, f64, f64
     let lower = CORNER_ORDER - CORNER_STEP;
     let corner_cost = 3.0 * n as f64 * ((CORNER_ORDER.pow(2) + lower.pow(2)) as f64);
     check_stage("the near pairs", near_cost + corner_cost, n, tol)?;
+    let mut buf = vec![([0.0; 3], [0.0; 3]); NEAR_ORDER * MAX_PIECES];
     for w in &near {
-        total += near_pair(pc, &rules, &w.x, &w.y, &w.s, &w.t);
+        total += near_pair(pc, &rules, (&w.x, &w.y), &w.s, &w.t, &mut buf);
     }
     evals += near_cost + corner_cost;
     // Self and adjacent pairs at CORNER_ORDER, estimated against a lower order.
@@ -1076,10 +1098,11 @@ mod tests {
                     }
                     let mag = 4.0 * x.radius * y.radius / (d * d);
                     let full = Side { q: 16, m: 1, err: 0.0 };
-                    let reference = near_pair(&pc, &rules, x, y, &full, &full);
+                    let mut buf = vec![([0.0; 3], [0.0; 3]); NEAR_ORDER * MAX_PIECES];
+                    let reference = near_pair(&pc, &rules, (x, y), &full, &full, &mut buf);
                     for q in 2..=6 {
                         let sd = Side { q, m: 1, err: 0.0 };
-                        let err = (near_pair(&pc, &rules, x, y, &sd, &sd) - reference).abs();
+                        let err = (near_pair(&pc, &rules, (x, y), &sd, &sd, &mut buf) - reference).abs();
                         let model = mag * (rho2(x.coef, d).powi(-(q as i32)) + rho2(y.coef, d).powi(-(q as i32)));
                         let floor = 1e-14 * (mag + reference.abs());
                         assert!(err <= MODEL_FACTOR * model + floor, "pair {i} {j} q {q}: {err:e} vs model {model:e}");

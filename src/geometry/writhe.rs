@@ -8,6 +8,15 @@
 //! rays along its end tangents (the clamp axes), r(0) + σ r̂'(0), σ ≤ 0,
 //! and r(L) + σ r̂'(L), σ ≥ 0; the ray integrals are mapped to finite
 //! intervals (σ = ℓu/(1 − u)), exact as the rays go to infinity.
+//!
+//! Two rules: [`writhe`], Gauss of a fixed order on every panel pair (its
+//! error falls only like order^−3.5 on a C¹ curve: where s and t straddle
+//! a node beside the diagonal the integrand is bounded but not smooth),
+//! and [`writhe_within`], to a tolerance with an error estimate: pairs of
+//! smooth pieces at orders chosen by their separation, Duffy's map at the
+//! nodes, the rays in closed form — about 10× cheaper than `writhe` at
+//! order 4 on a rod's centreline and 1e4× more accurate (issue 18,
+//! benches/README.md).
 
 use super::vec3::{cross, dot, sub};
 use super::Centerline;
@@ -69,7 +78,8 @@ fn graded_panels(lo: f64, hi: f64, breaks: &[f64], grade: (bool, bool), finest: 
 }
 
 /// Writhe of `curve` (closed, or open and closed by rays along its end
-/// tangents), Gauss–Legendre of `order` points per panel.
+/// tangents), Gauss–Legendre of `order` points per panel (the C API's
+/// rule; [`writhe_within`] is faster and converges).
 pub fn writhe(curve: &dyn Centerline, order: usize) -> Result<f64> {
     error::count_in_range("order", order as i64, 2, 32)?;
     let l = curve.length();
@@ -202,10 +212,13 @@ pub const MIN_WRITHE_TOLERANCE: f64 = 1e-13;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WritheEstimate {
     pub value: f64,
-    /// Sum of the modelled errors of every panel pair (far and near pairs:
-    /// Gauss on a function analytic in the Bernstein ellipse the pair's
-    /// separation allows), plus |rule − lower rule| on the adjacent and self
-    /// pairs and the rays.
+    /// Sum of the absolute modelled errors of every pair of pieces (the
+    /// model of the private `side`, its constant measured), plus
+    /// |rule − lower rule| on the adjacent and self pairs and the rays
+    /// touching the ends (an estimate of the lower rule: a floor of
+    /// ~1e-8–1e-6 on coarse curves whatever `tol`). Conservative: on the
+    /// test plectonemes and rod states the true error was 1e2–1e5 times
+    /// smaller (benches/README.md, 2026-11-25).
     pub estimate: f64,
     pub evaluations: f64,
 }
@@ -988,7 +1001,7 @@ fn within_on<P: Pieces>(pc: &P, closed: bool, tol: f64) -> Result<(f64, f64, f64
 /// (between its breakpoints; a [`HermiteCurve`](super::HermiteCurve)'s cubics are evaluated
 /// from their coefficients). Each non-adjacent pair is integrated by
 /// tensor Gauss with orders chosen a priori per side from the pair's
-/// separation (see [`side`]) so that its modelled error stays below
+/// separation (the private `side`) so that its modelled error stays below
 /// 4π tol / (2 · number of pairs): far pairs from tables of each piece's
 /// Gauss points (2–4 points a side on a rod), near ones by direct
 /// evaluation, cut into parts when one would need more than NEAR_ORDER

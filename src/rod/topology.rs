@@ -7,9 +7,9 @@
 //! * Tw = (1/2π) ∫ d1'·d2 ds = (1/2π) ∫ u3 ds (Kirchhoff rods: r' = d3),
 //!   integrated with the collocation's own weights on the stage values —
 //!   the scheme applied to θ' = u3, so accurate at its order 2s.
-//! * Wr by the Gauss double integral ([`crate::geometry::writhe`]) on
-//!   the C¹ cubic Hermite centreline through every node and stage point
-//!   with tangents d3 (O(h⁴)).
+//! * Wr by the Gauss double integral ([`crate::geometry::writhe`]: at a
+//!   fixed order, or to a tolerance) on the C¹ cubic Hermite centreline
+//!   through every node and stage point with tangents d3 (O(h⁴)).
 
 use super::kinematics::{rotation, strains};
 use super::model::Rod;

@@ -29,18 +29,17 @@ pub struct Observables {
     pub writhe: f64,
 }
 
-/// Gauss points per panel of the writhe in [`observables`]: on the 1 kbp
-/// scene's buckled states (100 elements) |Tw + Wr − turns| was 2.6e-6 and
-/// 1.0e-6 with 4, 2.1e-7 and 6.7e-7 with 8 at 3.7× the time; along the
-/// 0.1 M plectoneme it grows with the writhe to 1.1e-4 at 12 turns (Wr
-/// 10.6: 1e-5 of it). The quadrature converges only algebraically (error
-/// ~ order⁻³·⁵): the Hermite centreline is C¹ at the nodes, and where s and
-/// t straddle a node next to the diagonal the integrand is a bounded but
-/// non-smooth function of ((s − n)/(t − n)) that the panels do not grade
-/// towards (grading there, or a C² centreline from the rod's curvatures,
-/// would restore fast convergence). The writhe is evaluated at every point
-/// of a path, and at order 8 took 75 % of a run.
-pub const WRITHE_ORDER: usize = 4;
+/// Tolerance (turns) of the writhe in [`observables`]
+/// ([`crate::geometry::writhe::writhe_within`]: panel pairs by separation,
+/// Duffy's map at the Hermite centreline's C¹ nodes, closed-form rays).
+/// Measured on the 1 kbp scene's states (100 elements, 301 profile points;
+/// tests/writhe.rs `measure_dna_states`, benches/README.md 2026-11-25):
+/// ≤ 4e-10 from a 1e-10 reference, ~4 ms a state, where the former
+/// Gauss(4) rule erred by 3.7e-6 in 46 ms (order 8: 3.3e-7 in 170 ms); on
+/// a DNA-like 12-turn plectoneme through 301 points (Wr −6.6) 1e-11 from
+/// Fuller's independent value, the old rule 2.1e-5. The writhe is then no
+/// longer what limits |Tw + Wr − turns| (the states' own ~1e-6 is).
+pub const WRITHE_TOLERANCE: f64 = 1e-6;
 
 /// The observables of state `x` at end rotation `phi`.
 pub fn observables(rod: &Rod, x: &[f64], phi: f64) -> Result<Observables> {
@@ -51,7 +50,7 @@ pub fn observables(rod: &Rod, x: &[f64], phi: f64) -> Result<Observables> {
         torque: m[2],
         tension: n[2],
         twist: rod.twist(x),
-        writhe: rod.writhe(x, WRITHE_ORDER)?,
+        writhe: rod.writhe_within(x, WRITHE_TOLERANCE)?.value,
     })
 }
 

@@ -23,6 +23,11 @@ pub trait Centerline {
     /// Arc lengths where the curve is only C¹ (element nodes), ascending,
     /// inside (0, L); quadrature panels break there.
     fn breakpoints(&self) -> Vec<f64>;
+    /// The curve as a [`HermiteCurve`] when it is one: the writhe then
+    /// evaluates its cubics from their coefficients.
+    fn as_hermite(&self) -> Option<&HermiteCurve> {
+        None
+    }
 }
 
 /// A C¹ centreline through nodes: cubic Hermite in arc length from node
@@ -129,6 +134,9 @@ impl Centerline for HermiteCurve {
     }
     fn breakpoints(&self) -> Vec<f64> {
         self.s[1..self.s.len() - 1].to_vec()
+    }
+    fn as_hermite(&self) -> Option<&HermiteCurve> {
+        Some(self)
     }
 }
 

@@ -7,15 +7,16 @@
 //! * Tw = (1/2π) ∫ d1'·d2 ds = (1/2π) ∫ u3 ds (Kirchhoff rods: r' = d3),
 //!   integrated with the collocation's own weights on the stage values —
 //!   the scheme applied to θ' = u3, so accurate at its order 2s.
-//! * Wr by the Gauss double integral ([`crate::geometry::writhe`]) on
-//!   the C¹ cubic Hermite centreline through every node and stage point
-//!   with tangents d3 (O(h⁴)).
+//! * Wr by the Gauss double integral ([`crate::geometry::writhe`]: at a
+//!   fixed order, or to a tolerance) on the C¹ cubic Hermite centreline
+//!   through every node and stage point with tangents d3 (O(h⁴)).
 
 use super::kinematics::{rotation, strains};
 use super::model::Rod;
 use crate::error::{Error, Result};
 use crate::geometry::vec3::dot;
-use crate::geometry::{writhe::writhe, HermiteCurve};
+use crate::geometry::writhe::{writhe, writhe_within, WritheEstimate};
+use crate::geometry::HermiteCurve;
 use crate::status::Status;
 
 impl Rod {
@@ -54,8 +55,21 @@ impl Rod {
         total / (2.0 * std::f64::consts::PI)
     }
 
-    /// Wr of the centreline closed by rays along the end tangents (turns).
+    /// Wr of the centreline closed by rays along the end tangents (turns),
+    /// Gauss–Legendre of `order` points per panel ([`writhe`]).
     pub fn writhe(&self, x: &[f64], order: usize) -> Result<f64> {
+        writhe(&self.centerline(x)?, order)
+    }
+
+    /// Wr of the centreline closed by rays along the end tangents (turns)
+    /// to about `tol`, with an error estimate ([`writhe_within`]).
+    pub fn writhe_within(&self, x: &[f64], tol: f64) -> Result<WritheEstimate> {
+        writhe_within(&self.centerline(x)?, tol)
+    }
+
+    /// The C¹ cubic Hermite centreline through every node and stage point
+    /// with tangents d3.
+    fn centerline(&self, x: &[f64]) -> Result<HermiteCurve> {
         let pts = self.profile(x);
         let mut s = Vec::with_capacity(pts.len());
         let mut r = Vec::with_capacity(pts.len());
@@ -76,7 +90,6 @@ impl Rod {
             r.push([y[0], y[1], y[2]]);
             t.push([d3[0] / norm, d3[1] / norm, d3[2] / norm]);
         }
-        let curve = HermiteCurve::new(s, r, t, false)?;
-        writhe(&curve, order)
+        HermiteCurve::new(s, r, t, false)
     }
 }

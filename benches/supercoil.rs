@@ -15,7 +15,7 @@
 //! buckling point and the last point (report.txt), and the step history
 //! (steps_<salt>M.csv: arc length, Newton iterations and σ_min per point).
 //! Each salt is run twice in one process, with the engine up to issue 18
-//! (`Engine::Newton`) and the default (`Engine::HermiteChord`): time,
+//! (`Engine::Newton`) and the default (`Engine::Hermite`): time,
 //! steps and factorisations as ratios, and the largest distance of the new
 //! path from the baseline's (RODKIT_SUPERCOIL_BASELINE=0 skips the
 //! baseline).

@@ -263,3 +263,66 @@ fn nan_residual_is_never_converged() {
     assert!(b.records.iter().all(|r| r.residual.is_finite() && r.residual <= 1e-12 && r.lambda <= 0.5));
     assert!(b.records.last().unwrap().lambda > 0.3, "stopped early at {}", b.records.last().unwrap().lambda);
 }
+
+/// The Newton engine's variants (issue 18): the Hermite predictor, chord
+/// corrections (with the plane's border by Sherman–Morrison), both — each
+/// stays on the closed-form branch (the unit circle) through the fold to
+/// the same tolerance as the plain engine; the Hermite predictor's
+/// O(ds⁴) prediction takes fewer steps than Euler's O(ds²) over the same
+/// arc, and chord corrections fewer factorisations a step. A branch
+/// stopped half-way and resumed (its `Resume` carries the point before)
+/// takes bitwise the uninterrupted branch's steps.
+#[test]
+fn hermite_predictor_and_chord_corrections_stay_on_the_branch() {
+    let base = Options {
+        max_steps: 2000,
+        residual_tol: 1e-12,
+        initial_step: 0.05,
+        max_step: 0.5,
+        lambda_range: (-0.5, 2.0),
+        ..Default::default()
+    };
+    let start = || Start::Point { x: vec![1.0, 0.0, 0.0], lambda: 0.0, increasing: true };
+    let run = |opts: &Options| continue_newton(&mut circle(), start(), opts, |x, _| x.to_vec(), |_| true).unwrap();
+    let plain = run(&base);
+    let mut per_step = vec![];
+    for (hermite_predictor, chord) in [(false, false), (true, false), (false, true), (true, true)] {
+        let opts = Options { hermite_predictor, chord, ..base.clone() };
+        let b = run(&opts);
+        let name = format!("hermite {hermite_predictor}, chord {chord}");
+        assert_eq!(b.stop, Stop::LambdaRange, "{name}");
+        let last = b.records.last().unwrap();
+        assert!(last.outputs[0] < -0.5 && last.lambda < 0.0, "{name}: ended at {:?}", last.outputs);
+        for r in &b.records {
+            assert!(on_circle(&r.outputs, r.lambda) < 1e-11, "{name}: off the branch at Λ {}", r.lambda);
+        }
+        per_step.push((b.counts.steps, b.counts.factorisations as f64 / b.counts.steps as f64));
+        println!("{name}: {} steps, {:.2} factorisations a step", b.counts.steps, per_step.last().unwrap().1);
+    }
+    assert_eq!(per_step[0].0, plain.counts.steps);
+    assert!(per_step[1].0 < per_step[0].0, "Hermite {:?} vs Euler {:?}", per_step[1], per_step[0]);
+    assert!(per_step[2].1 < per_step[0].1, "chord {:?} vs Newton {:?}", per_step[2], per_step[0]);
+    // Stopped after 7 records and resumed: the same records, bitwise.
+    let opts = Options { hermite_predictor: true, chord: true, ..base.clone() };
+    let whole = run(&opts);
+    let mut told = 0;
+    let first = continue_newton(
+        &mut circle(),
+        start(),
+        &opts,
+        |x, _| x.to_vec(),
+        |_| {
+            told += 1;
+            told < 7
+        },
+    )
+    .unwrap();
+    assert_eq!(first.stop, Stop::Cancelled);
+    assert!(first.resume.previous.is_some(), "the resume keeps the point before");
+    let rest = continue_newton(&mut circle(), Start::Resume(first.resume.clone()), &opts, |x, _| x.to_vec(), |_| true)
+        .unwrap();
+    let joined: Vec<_> =
+        first.records.iter().chain(&rest.records[1..]).map(|r| (r.lambda, r.outputs.clone())).collect();
+    let reference: Vec<_> = whole.records.iter().map(|r| (r.lambda, r.outputs.clone())).collect();
+    assert_eq!(joined, reference, "a resumed branch takes the uninterrupted one's steps");
+}

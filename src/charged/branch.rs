@@ -34,6 +34,17 @@ pub fn strand_crossing(rod: &Rod, charge: &RodCharge, x: &[f64]) -> Option<(f64,
     closest_pair_within(&r, &s, 2.0 * a, std::f64::consts::PI * a).map(|(d, i, j)| (d, s[i], s[j]))
 }
 
+/// Whether no pair of stage points that a hard core would push apart
+/// (farther apart along the rod than (π/2)·2.5a) is within its range
+/// 2.5a: there the hard core exerts nothing, and a state of the rod
+/// without one is also a state with one.
+pub fn hard_core_idle(rod: &Rod, charge: &RodCharge, x: &[f64]) -> bool {
+    let a = charge.screening.a;
+    let (r, s) = rod.stage_points(x);
+    let range = super::rod::HARD_CORE_RANGE * a;
+    closest_pair_within(&r, &s, range, 0.5 * std::f64::consts::PI * range).is_none()
+}
+
 /// The charged rod as a [`Followed`] model.
 pub struct Charged<'a> {
     pub rod: &'a Rod,

@@ -5,7 +5,7 @@
 //! plectoneme — and the observables users compare with magnetic-tweezers
 //! experiments ([`Observables`]).
 
-use super::branch::{continue_with, follow_on, switch_on, ChargedBranch, ListAnchor};
+use super::branch::{continue_with, follow_on, hard_core_idle, switch_on, ChargedBranch, ListAnchor};
 use super::rod::{ChargedRod, RodCharge};
 use crate::continuation::newton::Start;
 use crate::continuation::{Options, Problem, Record, Stop};
@@ -237,15 +237,13 @@ pub enum Engine {
     /// Euler predictor, Newton corrector with a factorisation per
     /// iteration, steps sized for 3 iterations: the engine up to issue 18.
     Newton,
-    /// Cubic Hermite extrapolation from the last two points
-    /// ([`Options::hermite_predictor`]), chord corrector on the last
-    /// tangent's factorisation ([`Options::chord`]). On the 300 bp scene
-    /// to 2.2 turns: 126 steps and 244 factorisations against 126 and 535
-    /// (Newton), 1.9 a step.
+    /// Cubic Hermite extrapolation from the last two points and their
+    /// tangents ([`Options::hermite_predictor`]), Newton corrector. On the
+    /// 1 kbp scene's unstable leg (400 steps from buckling) 1.53 turns of
+    /// path in 59 s against Newton's 0.6 turns in 24 s per 120 steps; on
+    /// 300 bp at 0.01 M to 3 turns 66 steps and 13.8 s against 132 and
+    /// 29.6 s.
     #[default]
-    HermiteChord,
-    /// The Hermite predictor with Newton corrections (a factorisation per
-    /// iteration).
     Hermite,
 }
 
@@ -760,10 +758,7 @@ fn buckled_path(
         max_step: 2.0,
         max_steps: settings.max_steps,
         lambda_range: if turns.torque { (0.0, f64::MAX) } else { (0.0, max_phi) },
-        // A factorisation of the plectoneme's bordered tangent costs tens of
-        // residuals: one a step (issue 18).
-        chord: settings.engine == Engine::HermiteChord,
-        hermite_predictor: settings.engine != Engine::Newton,
+        hermite_predictor: settings.engine == Engine::Hermite,
         ..Default::default()
     };
     let n = rod.unknowns();
@@ -801,19 +796,19 @@ fn buckled_path(
         }
     };
     // The strands met: the scene needs the hard core (the optimal
-    // superhelix is tighter than 2a). From the last point before the
-    // crossing, with it switched on (the crossing point, told, is dropped;
-    // the point before it, re-converged, is told again).
+    // superhelix is tighter than 2a). Switched on from the last point
+    // where it exerts nothing (no pair within its range: that point is an
+    // equilibrium with it too), the branch goes on; the points after it,
+    // told already, are dropped, and it is told again.
     let mut switched = None;
     if let (Some(c), true) = (b.contact, settings.hard_core_auto && charge.hard_core.is_none()) {
-        if c.record > 0 {
-            let stiffness = auto_hard_core(charge.screening.a, kt);
-            let with_core = RodCharge { hard_core: Some(stiffness), ..charge.clone() };
-            let parameter = b.records[c.record - 1].lambda;
-            let opts = Options { max_steps: settings.max_steps - done, ..opts.clone() };
-            (b, anchor) = continue_with(rod, &with_core, b, c.record - 1, &opts, &mut check)?;
-            switched = Some(HardCoreSwitch { record: done + c.record - 1, parameter, stiffness });
-        }
+        let k = (0..c.record).rev().find(|&k| hard_core_idle(rod, charge, &b.states[k])).unwrap_or(0);
+        let stiffness = auto_hard_core(charge.screening.a, kt);
+        let with_core = RodCharge { hard_core: Some(stiffness), ..charge.clone() };
+        let parameter = b.records[k].lambda;
+        let opts = Options { max_steps: settings.max_steps - done, ..opts.clone() };
+        (b, anchor) = continue_with(rod, &with_core, b, k, &opts, &mut check)?;
+        switched = Some(HardCoreSwitch { record: done + k, parameter, stiffness });
     }
     let steps = done + b.records.len() - 1;
     if stopped && b.stop == Stop::Cancelled && b.contact.is_none() && steps >= settings.max_steps {
@@ -837,8 +832,9 @@ pub fn auto_hard_core(a: f64, kt: f64) -> f64 {
 /// Where a scene switched its hard core on by itself.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HardCoreSwitch {
-    /// The buckled branch's record from which the hard core acts (the last
-    /// point before the strands crossed; it was re-converged with it).
+    /// The buckled branch's record from which the hard core acts: the last
+    /// point before the strands crossed where no pair was within its range
+    /// (an equilibrium with and without it).
     pub record: usize,
     /// Its continuation parameter (φ, or M under a torque clamp).
     pub parameter: f64,

@@ -69,8 +69,7 @@ impl<P: Problem + ?Sized> LinearSolve<Arclength<'_, P>> for BorderedStep<'_> {
         let n = x.len() - 1;
         // A chord step needs a factorisation in hand (none at a switch's
         // start, or after a failed one).
-        let rate: f64 = std::env::var("RODKIT_CHORD_RATE").ok().and_then(|v| v.parse().ok()).unwrap_or(0.5);
-        let fresh = !self.chord || it.norm > rate * it.previous || !self.bordered.factorised();
+        let fresh = !self.chord || it.norm > 0.5 * it.previous || !self.bordered.factorised();
         if fresh {
             self.bordered.factorise_at(eq.problem, &x[..n], x[n], eq.v, eq.scaling, &mut self.counts)?;
         }
@@ -156,7 +155,7 @@ pub(crate) fn correct<P: Problem + ?Sized>(
     let mut test = ResidualTest::new(with_free_border(equation_scales), tol, "Newton correction");
     test.non_finite = Status::ErrNotConverged;
     test.stall = if reuse { Stall::TwiceAfterFresh } else { Stall::AfterFresh };
-    let max_iterations = if reuse { std::env::var("RODKIT_CHORD_MAX").ok().and_then(|v| v.parse().ok()).unwrap_or(20) } else { 12 };
+    let max_iterations = if reuse { 20 } else { 12 };
     let result = nonlinear::solve(&mut eq, &mut xl, &mut linear, &mut FullStep::new(n + 1), &mut test, max_iterations);
     counts.residuals += eq.residuals;
     counts.times.residuals += eq.residual_time;

@@ -226,13 +226,16 @@ pub struct Options {
     /// its points (cubic Hermite) and corrects.
     pub samples: Vec<f64>,
     /// Newton continuation: chord corrections — the corrector starts on
-    /// the factorisation already in hand (the last point's tangent) and
+    /// the factorisation already in hand (the last point's tangent, solved
+    /// with the corrector plane's border by Sherman–Morrison) and
     /// refactorises only when an iteration does not halve the residual;
     /// the step is then sized for [`CHORD_AIM`] iterations instead of 3.
-    /// One factorisation a step (the tangent's) instead of one per
-    /// iteration: worth it where a factorisation costs many residuals (a
-    /// charged rod's pair couplings); the points are converged to the same
-    /// `residual_tol`.
+    /// About one factorisation a step where the Jacobian changes slowly
+    /// along the branch (the circle of tests/continuation.rs: 1.0 against
+    /// 4.0). Not on the charged rod's buckled branch: there the Jacobian
+    /// changes within a step (4 factorisations a step either way on the 1
+    /// kbp DNA scene), and at 0.01 M on 300 bp the chord's first step
+    /// after a branch switch converged onto the spurious straight family.
     pub chord: bool,
     /// Stop after the first located bifurcation ([`Stop::Bifurcation`]):
     /// a caller that leaves the branch there need not pay for the ones

@@ -1,0 +1,212 @@
+//! The equilibrium curve of a supercoiling path (issue 18, deliverable 4;
+//! src/charged/coexistence.rs): the energy G = E_elastic + E_es − F z(L) of
+//! every point at fixed end rotation and force, the stability marks, the
+//! coexistence of the straight rod and the plectoneme, and the lowest
+//! curve — on 300 bp at 1 pN, 0.1 M (40 elements of Gauss(2), to 1.7
+//! turns: the path runs ~5 s in release, once per test binary).
+//!
+//! Run: `cargo test --release --test supercoil_energy -- --nocapture`
+//! (with `--features sundials` for the KINSOL re-solves).
+
+use std::f64::consts::TAU;
+use std::sync::OnceLock;
+
+use rodkit::charged::coexistence::{
+    equilibrium_curve, path_energies, state_energy, CurvePoint, EquilibriumCurve, JumpKind, Kind,
+};
+use rodkit::charged::dna::{run_scene, DnaScene, SupercoilRun, SupercoilSettings};
+
+/// The 300 bp path and its curve, computed once.
+fn scene() -> &'static (SupercoilRun, EquilibriumCurve) {
+    static RUN: OnceLock<(SupercoilRun, EquilibriumCurve)> = OnceLock::new();
+    RUN.get_or_init(|| {
+        let scene = DnaScene { base_pairs: 300, ..Default::default() };
+        let settings = SupercoilSettings { elements: 40, max_turns: 1.7, max_steps: 300, ..Default::default() };
+        let clock = std::time::Instant::now();
+        let run = run_scene(&scene, &settings).unwrap();
+        let ran = clock.elapsed().as_secs_f64();
+        let curve = equilibrium_curve(&run).unwrap();
+        println!(
+            "300 bp path: {} points in {ran:.2} s, curve in {:.3} s",
+            run.points.len(),
+            clock.elapsed().as_secs_f64() - ran
+        );
+        (run, curve)
+    })
+}
+
+/// Cubic Hermite of G through two points with G' = M (the test's own, not
+/// the library's interpolant): (G, M) at φ.
+fn hermite(p0: &CurvePoint, p1: &CurvePoint, phi: f64) -> (f64, f64) {
+    let h = p1.phi - p0.phi;
+    let t = (phi - p0.phi) / h;
+    let (t2, t3) = (t * t, t * t * t);
+    let g = (2.0 * t3 - 3.0 * t2 + 1.0) * p0.energy
+        + (t3 - 2.0 * t2 + t) * h * p0.torque
+        + (3.0 * t2 - 2.0 * t3) * p1.energy
+        + (t3 - t2) * h * p1.torque;
+    let m = (6.0 * t2 - 6.0 * t) * (p0.energy - p1.energy) / h
+        + (3.0 * t2 - 4.0 * t + 1.0) * p0.torque
+        + (3.0 * t2 - 2.0 * t) * p1.torque;
+    (g, m)
+}
+
+/// The stable stretches of the path (consecutive stable points of one
+/// branch, monotone in φ), found from the points' kinds alone.
+fn stable_stretches(points: &[CurvePoint]) -> Vec<Vec<usize>> {
+    let stable = |p: &CurvePoint| matches!(p.kind, Kind::Lowest | Kind::Metastable);
+    let mut out: Vec<Vec<usize>> = Vec::new();
+    for (k, p) in points.iter().enumerate() {
+        let extends = out.last().is_some_and(|s| {
+            let j = *s.last().unwrap();
+            let monotone = s.len() < 2 || (p.phi - points[j].phi) * (points[j].phi - points[s[s.len() - 2]].phi) > 0.0;
+            j + 1 == k && points[j].branch == p.branch && monotone
+        });
+        match (stable(p), extends) {
+            (true, true) => out.last_mut().unwrap().push(k),
+            (true, false) => out.push(vec![k]),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// G of a stretch at φ by the test's Hermite, None outside its nodes.
+fn stretch_energy(points: &[CurvePoint], s: &[usize], phi: f64) -> Option<f64> {
+    s.windows(2).find_map(|w| {
+        let (a, b) = (&points[w[0]], &points[w[1]]);
+        (phi >= a.phi.min(b.phi) && phi <= a.phi.max(b.phi)).then(|| hermite(a, b, phi).0)
+    })
+}
+
+/// ∫ M dφ over the step k → k+1 by quadratics in a chord parameter t
+/// (distance in (φ, M L/C)) through three neighbouring points of the same
+/// branch, integrated exactly (Gauss 3): a third-order reference for the
+/// step's energy change, used to estimate the trapezoid rule's error.
+fn quadratic_work(points: &[CurvePoint], k: usize, torque_per_radian: f64, left: bool) -> Option<f64> {
+    let same = |a: usize, b: usize| b < points.len() && points[a].branch == points[b].branch;
+    let trio = if left && k >= 1 && same(k - 1, k) && same(k, k + 1) {
+        [k - 1, k, k + 1]
+    } else if !left && same(k, k + 1) && same(k, k + 2) {
+        [k, k + 1, k + 2]
+    } else {
+        return None;
+    };
+    let mut t = [0.0; 3];
+    for i in 1..3 {
+        let (a, b) = (&points[trio[i - 1]], &points[trio[i]]);
+        t[i] = t[i - 1] + (b.phi - a.phi).hypot((b.torque - a.torque) / torque_per_radian);
+    }
+    let lagrange = |v: [f64; 3], x: f64, derivative: bool| -> f64 {
+        (0..3)
+            .map(|i| {
+                let others: Vec<usize> = (0..3).filter(|&j| j != i).collect();
+                let den: f64 = others.iter().map(|&j| t[i] - t[j]).product();
+                let num = if derivative {
+                    (x - t[others[0]]) + (x - t[others[1]])
+                } else {
+                    others.iter().map(|&j| x - t[j]).product()
+                };
+                v[i] * num / den
+            })
+            .sum()
+    };
+    let phi = [points[trio[0]].phi, points[trio[1]].phi, points[trio[2]].phi];
+    let m = [points[trio[0]].torque, points[trio[1]].torque, points[trio[2]].torque];
+    let (i0, i1) = if trio[0] == k { (0, 1) } else { (1, 2) };
+    let (a, b) = (t[i0], t[i1]);
+    let gauss = [(-(0.6f64).sqrt(), 5.0 / 9.0), (0.0, 8.0 / 9.0), ((0.6f64).sqrt(), 5.0 / 9.0)];
+    Some(
+        gauss
+            .iter()
+            .map(|&(x, w)| {
+                let s = 0.5 * (a + b) + 0.5 * (b - a) * x;
+                w * lagrange(m, s, false) * lagrange(phi, s, true)
+            })
+            .sum::<f64>()
+            * 0.5
+            * (b - a),
+    )
+}
+
+/// (a) dG/dφ = M at fixed force (the work theorem; Maddocks 1987): between
+/// neighbouring points of either branch, G_{k+1} − G_k against the
+/// trapezoid ½(M_k + M_{k+1})(φ_{k+1} − φ_k). Tolerance per step: 3× the
+/// trapezoid's own error, estimated by the third-order quadratures of
+/// `quadratic_work` through the trios on either side (the larger
+/// |trapezoid − quadratic|), plus 2e-5 of the step's work
+/// (the collocation is not exactly variational: O(h⁴), measured within
+/// 2e-5 in tests/charged_rod.rs `end_torque_is_the_derivative_of_the_energy`),
+/// plus 1e-9 pN nm (energies of ~150 pN nm summed over ~10⁴ pairs).
+/// Also the straight rod's energy against its closed form Cφ²/2L − F Δz
+/// (twist energy at u3 = φ/L, electrostatics of a straight line fixed):
+/// within 1e-6 of Cφ²/2L (measured 4e-7: the straight states' lateral
+/// residue next to the buckling point, Δz ≈ −1e-4 nm).
+#[test]
+fn energy_derivative_is_the_torque_along_both_branches() {
+    let (run, curve) = scene();
+    let p = &curve.points;
+    let c = run.scene.twist_persistence * run.scene.kt();
+    let (l, f) = (run.scene.length(), run.scene.tension);
+    let torque_per_radian = c / l;
+    let (mut worst, mut steps) = (0.0f64, 0);
+    for k in 0..p.len() - 1 {
+        if p[k].branch != p[k + 1].branch {
+            continue;
+        }
+        let de = p[k + 1].energy - p[k].energy;
+        let trapezoid = 0.5 * (p[k].torque + p[k + 1].torque) * (p[k + 1].phi - p[k].phi);
+        // Both neighbouring trios where they exist: their spread is the
+        // data's own resolution of the step (large next to a fold).
+        let qs: Vec<f64> = [true, false].iter().filter_map(|&l| quadratic_work(p, k, torque_per_radian, l)).collect();
+        assert!(!qs.is_empty(), "three points on the branch");
+        let q = qs[0];
+        let spread = qs.iter().map(|q| (trapezoid - q).abs()).fold(0.0, f64::max);
+        let tol = 3.0 * spread + 2e-5 * trapezoid.abs() + 1e-9;
+        let err = (de - trapezoid).abs();
+        worst = worst.max(err / tol);
+        steps += 1;
+        assert!(
+            err <= tol,
+            "step {k} (branch {}, {:.5} turns): ΔG {de} vs ∫M dφ {trapezoid} (quadratic {q}), tolerance {tol:e}",
+            p[k].branch,
+            p[k].turns
+        );
+    }
+    println!("{steps} steps: worst |ΔG − M̄Δφ| / tolerance {worst:.3}");
+    for q in p.iter().filter(|q| q.branch == 0) {
+        let closed = c * q.phi * q.phi / (2.0 * l) - f * (q.extension - p[0].extension);
+        let err = (q.energy - p[0].energy - closed).abs();
+        assert!(err <= 1e-6 * closed.max(1.0), "straight {:.5} turns: G − G0 {} vs {closed}", q.turns, q.energy - p[0].energy);
+    }
+}
+
+/// The energy of a state does not depend on the pair list it is evaluated
+/// with: [`path_energies`] (lists reused while no stage moved half the
+/// skin) against [`state_energy`] (a list built at each state): equal
+/// within 1e-12 of |G| (the same pairs within the cutoff; measured
+/// bitwise equal). The cutoff itself (1e-4 here) against every pair: the
+/// defined estimator says pairs beyond r_c carry the fraction 1e-4 of a
+/// straight line's electrostatic energy E_es(0) (src/electrostatics/
+/// discrete.rs `screening_cutoff`): the offset stays below 2e-4 E_es(0),
+/// and its spread over the path — what differences of G, hence the
+/// coexistence, see — below 1e-4 E_es(0).
+#[test]
+fn path_energy_does_not_depend_on_the_pair_list() {
+    let (run, curve) = scene();
+    let reused = path_energies(run).unwrap();
+    for (k, x) in run.states.iter().enumerate().step_by(3) {
+        let own = state_energy(run, x).unwrap();
+        assert!((own - reused[k]).abs() <= 1e-12 * own.abs(), "point {k}: {own} vs {}", reused[k]);
+        assert_eq!(curve.points[k].energy, reused[k]);
+    }
+    let mut all = run.clone();
+    all.charge.cutoff_tolerance = None;
+    let every = path_energies(&all).unwrap();
+    let e_es0 = reused[0] + run.scene.tension * run.points[0].observables.extension;
+    let offsets: Vec<f64> = every.iter().zip(&reused).map(|(a, b)| a - b).collect();
+    let (lo, hi) = offsets.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &d| (l.min(d), h.max(d)));
+    println!("cutoff 1e-4 vs every pair: offset {lo:e} .. {hi:e} pN nm (E_es of the straight rod {e_es0:.3})");
+    assert!(lo.abs().max(hi.abs()) <= 2e-4 * e_es0, "offset {lo:e} .. {hi:e}");
+    assert!(hi - lo <= 1e-4 * e_es0, "spread {:e}", hi - lo);
+}

@@ -8,6 +8,10 @@
 //! Run: `cargo test --release --test supercoil_energy -- --nocapture`
 //! (with `--features sundials` for the KINSOL re-solves).
 
+#[cfg(feature = "sundials")]
+#[path = "support/sundials.rs"]
+mod sundials;
+
 use std::f64::consts::TAU;
 use std::sync::OnceLock;
 
@@ -376,4 +380,147 @@ fn coexistence_satisfies_the_equal_area_rule_and_the_two_phase_picture() {
         p[leg.last].turns
     );
     assert!((predicted - measured).abs() <= tol, "overshoot {predicted} vs {measured}, tolerance {tol}");
+}
+
+/// (d) The lowest curve (each stable point Lowest or Metastable by the
+/// library's interpolation): exactly one jump, a crossing from the straight
+/// rod to the plectoneme at the coexistence turns; below it every lowest
+/// point is straight, above it buckled; along it the energy rises (its
+/// slope is the torque, positive here) and the extension does not grow
+/// with the turns (the straight rod's 102 nm, the plectoneme shortening);
+/// at the jump the extension and the torque drop. And the marks against
+/// the test's own interpolation of the stable stretches: a Lowest point is
+/// not above any other stable stretch at its turns, a Metastable one is
+/// above at least one (no tolerance: the smallest margins are printed).
+#[test]
+fn lowest_curve_has_one_jump_and_is_lowest() {
+    let (_, curve) = scene();
+    let c = curve.coexistence.unwrap();
+    assert_eq!(curve.jumps.len(), 1, "jumps {:?}", curve.jumps);
+    let j = curve.jumps[0];
+    assert_eq!(j.kind, JumpKind::Crossing);
+    assert!((j.phi - c.phi).abs() <= 1e-12 * c.phi);
+    assert!(curve.legs[j.from].branch == 0 && curve.legs[j.to].branch == 1);
+    let lowest = curve.lowest();
+    for w in lowest.windows(2) {
+        assert!(w[1].energy > w[0].energy, "G falls from {:.5} to {:.5} turns", w[0].turns, w[1].turns);
+        assert!(w[1].extension <= w[0].extension, "z grows from {:.5} to {:.5} turns", w[0].turns, w[1].turns);
+    }
+    for q in &lowest {
+        assert_eq!(q.branch, usize::from(q.phi > c.phi), "{:.5} turns on branch {}", q.turns, q.branch);
+    }
+    assert!(c.extension_plectoneme < c.extension_straight && c.torque_plectoneme < c.torque_straight);
+    let p = &curve.points;
+    let stretches = stable_stretches(p);
+    let (mut lowest_margin, mut meta_margin) = (f64::INFINITY, f64::INFINITY);
+    for (i, s) in stretches.iter().enumerate() {
+        for &k in s {
+            let others: Vec<f64> = stretches
+                .iter()
+                .enumerate()
+                .filter(|&(o, _)| o != i)
+                .filter_map(|(_, t)| stretch_energy(p, t, p[k].phi))
+                .collect();
+            let below = others.iter().copied().fold(f64::INFINITY, f64::min);
+            match p[k].kind {
+                Kind::Lowest => {
+                    lowest_margin = lowest_margin.min(below - p[k].energy);
+                    assert!(p[k].energy <= below, "Lowest {:.5} turns: G {} above {below}", p[k].turns, p[k].energy);
+                }
+                Kind::Metastable => {
+                    meta_margin = meta_margin.min(p[k].energy - below);
+                    assert!(p[k].energy > below, "Metastable {:.5} turns: G {} not above {below}", p[k].turns, p[k].energy);
+                }
+                _ => unreachable!("stretches hold stable points"),
+            }
+        }
+    }
+    let counts = |k: Kind| p.iter().filter(|q| q.kind == k).count();
+    println!(
+        "{} lowest, {} metastable, {} unstable points; margins: lowest {lowest_margin:e}, metastable {meta_margin:e} pN nm",
+        counts(Kind::Lowest),
+        counts(Kind::Metastable),
+        counts(Kind::Unstable)
+    );
+}
+
+/// The Hermite interpolant's error bound at φ between nodes k and k+1 of a
+/// stretch: h⁴/384 · |G⁗| with G⁗ = M‴ from the third divided difference
+/// of the torque over four nodes around the interval (the cubic Hermite's
+/// remainder, e.g. Burden & Faires, Numerical Analysis, Thm 3.9).
+#[cfg(feature = "sundials")]
+fn hermite_bound(p: &[CurvePoint], nodes: &[usize], k: usize) -> f64 {
+    let i = nodes.iter().position(|&n| n == k).unwrap();
+    let lo = i.saturating_sub(1).min(nodes.len().saturating_sub(4));
+    let w: Vec<&CurvePoint> = nodes[lo..(lo + 4).min(nodes.len())].iter().map(|&n| &p[n]).collect();
+    if w.len() < 4 {
+        return f64::INFINITY;
+    }
+    let d1: Vec<f64> = w.windows(2).map(|a| (a[1].torque - a[0].torque) / (a[1].phi - a[0].phi)).collect();
+    let d2: Vec<f64> = (0..2).map(|j| (d1[j + 1] - d1[j]) / (w[j + 2].phi - w[j].phi)).collect();
+    let d3 = (d2[1] - d2[0]) / (w[3].phi - w[0].phi);
+    let h = p[nodes[i + 1]].phi - p[k].phi;
+    h.powi(4) / 384.0 * (6.0 * d3).abs()
+}
+
+/// (b) KINSOL (exact Newton on the same discrete residual, dense LU,
+/// tests/support/sundials.rs, to a scaled residual 1e-11) re-solves, at the
+/// coexistence turns φ_c, the straight rod, the plectoneme and the unstable
+/// buckled state between them, each from the path's nearest node of its
+/// stretch (the buckled ones with the branch's phase condition). Their
+/// energies (1), each on a pair list built at the re-solved state, against
+/// the path's Hermite interpolation at φ_c (the library's leg for the
+/// stable ones, the test's for the unstable stretch): within 3× the
+/// Hermite remainder bound of `hermite_bound` + 1e-7 |G| (the path's states
+/// are solved to a scaled residual 1e-8 next to the buckling point's
+/// near-singular Jacobian: its straight states' energies sit up to 4e-7 of
+/// Cφ²/2L off the closed form, test (a); KINSOL's to 1e-11). The two
+/// stable ones then agree with
+/// each other to the sum of their tolerances: the coexistence itself,
+/// re-solved.
+#[cfg(feature = "sundials")]
+#[test]
+fn kinsol_energies_at_the_coexistence_turns() {
+    use rodkit::charged::rod::ChargedRod;
+    let ctx = sundials::Context::new().unwrap();
+    let (run, curve) = scene();
+    let c = curve.coexistence.unwrap();
+    let p = &curve.points;
+    let ns = run.straight.records.len();
+    let b = run.buckled.as_ref().unwrap();
+    // The stretches holding φ_c: straight, plectoneme (stable), and the
+    // unstable buckled leg (consecutive unstable buckled points, monotone).
+    let straight: Vec<usize> = (curve.legs[c.straight_leg].first..=curve.legs[c.straight_leg].last + 1).collect();
+    let plectoneme: Vec<usize> = (curve.legs[c.plectoneme_leg].first..=curve.legs[c.plectoneme_leg].last).collect();
+    let unstable: Vec<usize> = (ns..p.len()).filter(|&k| p[k].negative_modes == Some(1)).collect();
+    let mut stable_energies = Vec::new();
+    for (name, nodes) in [("straight", &straight), ("plectoneme", &plectoneme), ("unstable", &unstable)] {
+        let k = nodes
+            .windows(2)
+            .find(|w| c.phi >= p[w[0]].phi.min(p[w[1]].phi) && c.phi <= p[w[0]].phi.max(p[w[1]].phi))
+            .map(|w| w[0])
+            .expect("φ_c inside the stretch");
+        let next = nodes[nodes.iter().position(|&n| n == k).unwrap() + 1];
+        let near = if (p[k].phi - c.phi).abs() <= (p[next].phi - c.phi).abs() { k } else { next };
+        let (x, phase) = if near < ns { (run.states[near].clone(), None) } else { (b.states[near - ns].clone(), b.phase) };
+        let mut problem = ChargedRod::new(&run.rod, &run.charge, phase, &x).unwrap();
+        let root = sundials::kinsol_problem_root(&ctx, &mut problem, c.phi, &x);
+        assert!(problem.displacement(&root) <= 0.5 * run.charge.skin, "{name}: moved past the list's skin");
+        let g = state_energy(run, &root).unwrap();
+        let path = hermite(&p[k], &p[next], c.phi).0;
+        let tol = 3.0 * hermite_bound(p, nodes, k) + 1e-7 * path.abs();
+        println!(
+            "{name}: from {:.5} turns, KINSOL G {g:.8} vs path {path:.8} at {:.5} turns: {:e} (tolerance {tol:e})",
+            p[near].turns,
+            c.turns,
+            g - path
+        );
+        assert!((g - path).abs() <= tol, "{name}: {g} vs {path}");
+        if name != "unstable" {
+            stable_energies.push((g, tol));
+        }
+    }
+    let ((gs, ts), (gp, tp)) = (stable_energies[0], stable_energies[1]);
+    println!("re-solved coexistence: G_s − G_p = {:e} pN nm (tolerance {:e})", gs - gp, ts + tp);
+    assert!((gs - gp).abs() <= ts + tp);
 }

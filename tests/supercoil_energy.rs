@@ -181,7 +181,12 @@ fn energy_derivative_is_the_torque_along_both_branches() {
     for q in p.iter().filter(|q| q.branch == 0) {
         let closed = c * q.phi * q.phi / (2.0 * l) - f * (q.extension - p[0].extension);
         let err = (q.energy - p[0].energy - closed).abs();
-        assert!(err <= 1e-6 * closed.max(1.0), "straight {:.5} turns: G − G0 {} vs {closed}", q.turns, q.energy - p[0].energy);
+        assert!(
+            err <= 1e-6 * closed.max(1.0),
+            "straight {:.5} turns: G − G0 {} vs {closed}",
+            q.turns,
+            q.energy - p[0].energy
+        );
     }
 }
 
@@ -250,11 +255,7 @@ fn stability_marks_agree_with_the_energies() {
     let mut runs = marks.clone();
     runs.dedup();
     assert_eq!(runs, vec![0, 1, 0], "buckled marks");
-    println!(
-        "buckled branch: folds at {:.5} and {:.5} turns, marks {runs:?}",
-        p[folds[0]].turns,
-        p[folds[1]].turns
-    );
+    println!("buckled branch: folds at {:.5} and {:.5} turns, marks {runs:?}", p[folds[0]].turns, p[folds[1]].turns);
     let stretches = stable_stretches(p);
     let mut margin = f64::INFINITY;
     for u in p.iter().filter(|q| q.kind == Kind::Unstable) {
@@ -429,7 +430,12 @@ fn lowest_curve_has_one_jump_and_is_lowest() {
                 }
                 Kind::Metastable => {
                     meta_margin = meta_margin.min(p[k].energy - below);
-                    assert!(p[k].energy > below, "Metastable {:.5} turns: G {} not above {below}", p[k].turns, p[k].energy);
+                    assert!(
+                        p[k].energy > below,
+                        "Metastable {:.5} turns: G {} not above {below}",
+                        p[k].turns,
+                        p[k].energy
+                    );
                 }
                 _ => unreachable!("stretches hold stable points"),
             }
@@ -502,7 +508,8 @@ fn kinsol_energies_at_the_coexistence_turns() {
             .expect("φ_c inside the stretch");
         let next = nodes[nodes.iter().position(|&n| n == k).unwrap() + 1];
         let near = if (p[k].phi - c.phi).abs() <= (p[next].phi - c.phi).abs() { k } else { next };
-        let (x, phase) = if near < ns { (run.states[near].clone(), None) } else { (b.states[near - ns].clone(), b.phase) };
+        let (x, phase) =
+            if near < ns { (run.states[near].clone(), None) } else { (b.states[near - ns].clone(), b.phase) };
         let mut problem = ChargedRod::new(&run.rod, &run.charge, phase, &x).unwrap();
         let root = sundials::kinsol_problem_root(&ctx, &mut problem, c.phi, &x);
         assert!(problem.displacement(&root) <= 0.5 * run.charge.skin, "{name}: moved past the list's skin");

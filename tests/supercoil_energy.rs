@@ -531,3 +531,23 @@ fn kinsol_energies_at_the_coexistence_turns() {
     println!("re-solved coexistence: G_s − G_p = {:e} pN nm (tolerance {:e})", gs - gp, ts + tp);
     assert!((gs - gp).abs() <= ts + tp);
 }
+
+/// No coexistence point is made up: a run stopped on the buckled branch's
+/// unstable leg (30 steps: before the fold at 1.107 turns where the
+/// plectoneme becomes stable) has stable legs that do not overlap the
+/// straight rod's in turns (the supercritical first leg lies past the
+/// buckling point), and a run stopped before buckling (3 steps) has no
+/// buckled branch: None, with the reason.
+#[test]
+fn no_coexistence_without_an_overlapping_stable_plectoneme() {
+    let scene = DnaScene { base_pairs: 300, ..Default::default() };
+    for (steps, reason) in [(30, "do not overlap"), (3, "no buckled branch")] {
+        let settings = SupercoilSettings { elements: 40, max_turns: 1.7, max_steps: steps, ..Default::default() };
+        let run = run_scene(&scene, &settings).unwrap();
+        let curve = equilibrium_curve(&run).unwrap();
+        println!("{steps} steps: {:?}", curve.note);
+        assert!(curve.coexistence.is_none());
+        assert!(curve.note.as_deref().unwrap().contains(reason), "{:?}", curve.note);
+        assert!(curve.jumps.iter().all(|j| j.kind != JumpKind::Crossing));
+    }
+}

@@ -37,7 +37,7 @@
 //!   when it leaves towards smaller φ (subcritical: it lies where the
 //!   straight rod is stable and is the barrier between it and the buckled
 //!   states), with none when it leaves towards larger φ (supercritical);
-//! - at a fold in φ the count changes by one, and (Maddocks 1987, §4: the
+//! - at a fold in φ the count changes by one, and (Maddocks 1987: the
 //!   critical eigenvalue σ ∝ −dμ/dλ near a fold of the distinguished
 //!   diagram, here μ = M, λ = φ) the leg with dM/dφ < 0 next to the fold is
 //!   the more stable one. Derivation: with E_xx x' + E_xφ φ' = 0 along the
@@ -581,8 +581,14 @@ fn coexistence(curve: &EquilibriumCurve) -> std::result::Result<Coexistence, Str
         .iter()
         .find(|j| j.kind == JumpKind::Crossing && curve.legs[j.from].branch == 0 && curve.legs[j.to].branch == 1)
         .ok_or_else(|| {
+            let crossed = straight.iter().any(|&a| buckled.iter().any(|&b| !crossings(curve, a, b).is_empty()));
             format!(
-                "no crossing of the straight and buckled energies where their stable legs overlap ({:.4}–{:.4} turns)",
+                "{} where their stable legs overlap ({:.4}–{:.4} turns)",
+                if crossed {
+                    "the straight and buckled energies cross only above another stable state"
+                } else {
+                    "no crossing of the straight and buckled energies"
+                },
                 turns(s.0.max(b.0)),
                 turns(s.1.min(b.1))
             )

@@ -11,6 +11,7 @@
 mod assembly;
 mod base_pairs;
 pub mod branch;
+pub mod coexistence;
 pub mod dna;
 pub mod equilibrium;
 pub mod rod;

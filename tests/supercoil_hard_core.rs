@@ -1,0 +1,115 @@
+//! The supercoiling scene switches its hard core on by itself (issue 18,
+//! deliverable 3): at 2 pN and 0.1 M the optimal superhelix puts the
+//! strands' axes closer than 2a, so without a hard core the buckled branch
+//! stops at a strand crossing; with `hard_core_auto` (the default) the
+//! scene switches it on from the last point where it exerts nothing and
+//! goes on, and says so. At low salt (0.01 M) the strands stay apart and
+//! the scene does not pay for it. References: a brute-force closest
+//! approach over all stage pairs (independent of the library's proximity
+//! search), and the run with the switch off (the same path up to the
+//! switch, then a crossing).
+
+use rodkit::capi::supercoil::*;
+use rodkit::charged::dna::{self, auto_hard_core, DnaScene, SupercoilRun, SupercoilSettings};
+use rodkit::charged::rod::HARD_CORE_RANGE;
+
+/// The closest approach of stage points farther apart along the rod than
+/// `gap`, by brute force over all pairs.
+fn closest(run: &SupercoilRun, x: &[f64], gap: f64) -> f64 {
+    let (r, s) = run.rod.stage_points(x);
+    let mut best = f64::INFINITY;
+    for i in 0..r.len() {
+        for j in i + 1..r.len() {
+            if (s[j] - s[i]).abs() > gap {
+                let d =
+                    ((r[i][0] - r[j][0]).powi(2) + (r[i][1] - r[j][1]).powi(2) + (r[i][2] - r[j][2]).powi(2)).sqrt();
+                best = best.min(d);
+            }
+        }
+    }
+    best
+}
+
+fn scene(tension: f64, salt: f64) -> (DnaScene, SupercoilSettings) {
+    let scene = DnaScene { base_pairs: 300, tension, salt, ..Default::default() };
+    (scene, SupercoilSettings { elements: 40, max_steps: 110, max_turns: 3.0, ..Default::default() })
+}
+
+/// 2 pN, 0.1 M: the switch happens, at a point where no pair is within
+/// the hard core's range 2.5a (so it is an equilibrium with and without
+/// it: the runs with and without the switch agree there bitwise), the
+/// branch goes on past the crossing of the run without it, and no two
+/// strands come closer than 2a anywhere on the path.
+#[test]
+fn hard_core_switches_on_where_the_strands_would_cross() {
+    let (scene, settings) = scene(2.0, 0.1);
+    let a = scene.radius;
+    let off = dna::run_scene(&scene, &SupercoilSettings { hard_core_auto: false, ..settings.clone() }).unwrap();
+    let boff = off.buckled.as_ref().unwrap();
+    println!(
+        "without: {} buckled records, stop {:?}, last {:.3} turns",
+        boff.records.len(),
+        boff.stop,
+        off.points.last().unwrap().observables.turns
+    );
+    let crossing = boff.contact.expect("without a hard core the strands cross");
+    assert!(off.hard_core_switch.is_none() && off.charge.hard_core.is_none());
+    let on = dna::run_scene(&scene, &settings).unwrap();
+    let sw = on.hard_core_switch.expect("the scene switched its hard core on");
+    println!(
+        "crossing at buckled record {} ({:.3} nm); switch at record {} (φ {:.4}), k_hc {}",
+        crossing.record, crossing.distance, sw.record, sw.parameter, sw.stiffness
+    );
+    assert_eq!(on.charge.hard_core, Some(auto_hard_core(a, scene.kt())));
+    assert_eq!(sw.stiffness, 4.0 * scene.kt() / a.powi(5));
+    assert!(sw.record < crossing.record);
+    let (bon, boff) = (on.buckled.as_ref().unwrap(), off.buckled.as_ref().unwrap());
+    // Up to the switch the runs are the same computation.
+    assert_eq!(bon.states[..=sw.record], boff.states[..=sw.record]);
+    // The switch point: no pair within 2.5a beyond the hard core's gap.
+    let hard_gap = 0.5 * std::f64::consts::PI * HARD_CORE_RANGE * a;
+    assert!(closest(&on, &bon.states[sw.record], hard_gap) >= HARD_CORE_RANGE * a);
+    // On past the crossing, never closer than 2a (the crossing's gap πa).
+    assert!(bon.contact.is_none() && bon.records.len() > crossing.record + 10, "{} records", bon.records.len());
+    let worst = on.states.iter().map(|x| closest(&on, x, std::f64::consts::PI * a)).fold(f64::INFINITY, f64::min);
+    println!("closest approach along the switched path: {worst:.4} nm (2a = {})", 2.0 * a);
+    assert!(worst >= 2.0 * a, "{worst}");
+    // The summary says so (C).
+    let mut spec = std::mem::MaybeUninit::<DnaSupercoilSpec>::uninit();
+    assert_eq!(unsafe { rodkit_dna_supercoil_spec_default(spec.as_mut_ptr()) }, 0);
+    let mut s = unsafe { spec.assume_init() };
+    (s.base_pairs, s.tension, s.elements, s.max_steps, s.max_turns) = (300, 2.0, 40, 110, 3.0);
+    let mut run = std::ptr::null_mut();
+    assert!(unsafe { rodkit_dna_supercoil_run(&s, &mut run) } >= 0);
+    let mut info = SupercoilInfo::default();
+    assert_eq!(unsafe { rodkit_supercoil_summary(run, &mut info) }, 0);
+    assert_eq!((info.hard_core_switched, info.hard_core, info.crossing), (1, sw.stiffness, 0));
+    let turns = on.points[on.straight.records.len() + sw.record].observables.turns;
+    assert_eq!(info.hard_core_switched_turns, turns);
+    unsafe { rodkit_supercoil_free(run) };
+    // hard_core < 0 in C: none, the run stops at the crossing.
+    s.hard_core = -1.0;
+    assert_eq!(unsafe { rodkit_dna_supercoil_run(&s, &mut run) }, rodkit::Status::InfoStrandCrossing.code());
+    assert_eq!(unsafe { rodkit_supercoil_summary(run, &mut info) }, 0);
+    assert_eq!((info.hard_core_switched, info.hard_core, info.crossing), (0, 0.0, 1));
+    unsafe { rodkit_supercoil_free(run) };
+}
+
+/// 0.01 M (Debye length 3 nm): the screened repulsion keeps the strands
+/// apart; no switch, no hard core in the model the run reports.
+#[test]
+fn low_salt_does_not_pay_for_a_hard_core() {
+    let (scene, settings) = scene(2.0, 0.01);
+    let run = dna::run_scene(&scene, &settings).unwrap();
+    assert!(run.hard_core_switch.is_none() && run.charge.hard_core.is_none());
+    let b = run.buckled.as_ref().expect("buckled");
+    assert!(b.contact.is_none());
+    let worst =
+        run.states.iter().map(|x| closest(&run, x, std::f64::consts::PI * scene.radius)).fold(f64::INFINITY, f64::min);
+    println!(
+        "0.01 M: {} points to {:.3} turns, closest approach {worst:.3} nm",
+        run.points.len(),
+        run.points.last().unwrap().observables.turns
+    );
+    assert!(worst >= 2.0 * scene.radius);
+}

@@ -141,7 +141,7 @@ pub(crate) fn correct<P: Problem + ?Sized>(
     };
     let mut xl = x.to_vec();
     xl.push(*lambda);
-    let Context { scaling, eq: equation_scales, bordered, counts } = ctx;
+    let Context { scaling, eq: equation_scales, bordered, counts, patient } = ctx;
     let mut eq = Arclength {
         problem,
         scaling,
@@ -154,7 +154,7 @@ pub(crate) fn correct<P: Problem + ?Sized>(
     let mut linear = BorderedStep { bordered, chord: reuse, counts: Counts::default() };
     let mut test = ResidualTest::new(with_free_border(equation_scales), tol, "Newton correction");
     test.non_finite = Status::ErrNotConverged;
-    test.stall = if reuse { Stall::TwiceAfterFresh } else { Stall::AfterFresh };
+    test.stall = if reuse || *patient { Stall::TwiceAfterFresh } else { Stall::AfterFresh };
     let max_iterations = if reuse { 20 } else { 12 };
     let result = nonlinear::solve(&mut eq, &mut xl, &mut linear, &mut FullStep::new(n + 1), &mut test, max_iterations);
     counts.residuals += eq.residuals;

@@ -247,6 +247,11 @@ pub struct Options {
     /// longer steps where the branch curves smoothly in the state — a
     /// plectoneme's end loop travelling along the rod.
     pub hermite_predictor: bool,
+    /// The LU's column order, taken on the first factorisation without
+    /// trying the others (None: chosen by fill; [`Branch::column_order`]
+    /// says which was taken): a branch continued on a new pattern of the
+    /// same problem (a charged rod's next pair list) keeps its order.
+    pub column_order: Option<crate::linalg::sparse::ColumnOrder>,
 }
 
 /// The corrector iterations a chord step is sized for (each a residual and
@@ -271,6 +276,7 @@ impl Default for Options {
             chord: false,
             stop_at_bifurcation: false,
             hermite_predictor: false,
+            column_order: None,
         }
     }
 }
@@ -374,4 +380,6 @@ pub struct Branch {
     /// Requested loads the branch crossed but where no point within the
     /// tolerance was found (the correction did not converge).
     pub missed_samples: Vec<f64>,
+    /// The column order the LU took ([`Options::column_order`]).
+    pub column_order: crate::linalg::sparse::ColumnOrder,
 }

@@ -141,6 +141,9 @@ impl<'o> Run<'o> {
         let t = std::time::Instant::now();
         let mut ctx = Context::new(problem, scaling)?;
         ctx.patient = opts.hermite_predictor;
+        if let Some(order) = opts.column_order {
+            ctx.bordered.prefer(order);
+        }
         ctx.counts.times.setup += t.elapsed();
         Ok(Run {
             opts,
@@ -367,6 +370,7 @@ impl<'o> Run<'o> {
             counts: self.ctx.counts,
             samples: self.samples,
             missed_samples: self.missed,
+            column_order: self.ctx.bordered.column_order(),
         }
     }
 }

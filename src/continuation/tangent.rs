@@ -93,6 +93,16 @@ impl Bordered {
         Ok(())
     }
 
+    /// See [`crate::linalg::sparse::SparseLu::prefer`].
+    pub fn prefer(&mut self, order: crate::linalg::sparse::ColumnOrder) {
+        self.lu.prefer(order);
+    }
+
+    /// The column order its factorisations take.
+    pub fn column_order(&self) -> crate::linalg::sparse::ColumnOrder {
+        self.lu.column_order()
+    }
+
     /// Whether a factorisation is in hand (the last one succeeded): a
     /// chord correction starts on it, else factorises.
     pub fn factorised(&self) -> bool {

@@ -95,6 +95,16 @@ impl BorderedLu {
         self.lu.factorise(&self.values)
     }
 
+    /// See [`SparseLu::prefer`].
+    pub fn prefer(&mut self, order: super::sparse::ColumnOrder) {
+        self.lu.prefer(order);
+    }
+
+    /// See [`SparseLu::column_order`].
+    pub fn column_order(&self) -> super::sparse::ColumnOrder {
+        self.lu.column_order()
+    }
+
     /// Whether the last factorisation succeeded.
     pub fn factorised(&self) -> bool {
         self.lu.factorised()

@@ -209,12 +209,28 @@ pub struct SparseLu {
     /// Whether the column ordering has been chosen (on the first matrix).
     ordered: bool,
     /// The last unknowns whose rows and columns reach across the matrix
-    /// (borders, multipliers): ordered last by [`SparseLu::first_order`].
+    /// (borders, multipliers): ordered last by a reordering.
     trailing: usize,
+    /// The order to take on the first matrix without trying the others
+    /// (None: choose by fill), and the one taken.
+    preferred: Option<ColumnOrder>,
+    chosen: ColumnOrder,
     /// Numeric factorisations done (the cost unit of a continuation).
     pub factorisations: usize,
     /// Solves done (each with one right-hand side).
     pub solves: usize,
+}
+
+/// A column order of the LU, by kind (the permutation itself is the
+/// pattern's): what a sequence of patterns of one problem — a charged rod's
+/// pair lists — can carry from one to the next instead of trying the
+/// orders on each (the trials cost 5–10 factorisations of a plectoneme).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ColumnOrder {
+    Natural,
+    /// Reverse Cuthill–McKee ([`super::ordering`]).
+    Rcm,
+    Colamd,
 }
 
 /// The largest L + U that the u32 factors may hold.
@@ -245,11 +261,34 @@ impl SparseLu {
     fn indexed(pattern: Pattern, wide: bool) -> Result<Self> {
         let factors =
             if wide { Indexed::Wide(Factors::new(&pattern)) } else { Indexed::Narrow(Factors::new(&pattern)) };
-        Ok(SparseLu { pattern, factors, factorised: false, ordered: false, trailing: 0, factorisations: 0, solves: 0 })
+        Ok(SparseLu {
+            pattern,
+            factors,
+            factorised: false,
+            ordered: false,
+            trailing: 0,
+            preferred: None,
+            chosen: ColumnOrder::Natural,
+            factorisations: 0,
+            solves: 0,
+        })
     }
 
     pub fn pattern(&self) -> &Pattern {
         &self.pattern
+    }
+
+    /// Take `order` on the first matrix instead of choosing by fill (a
+    /// preference given after the first factorisation changes nothing).
+    /// A natural preference still tries the others when it fills more
+    /// than 8×, as the choice would.
+    pub fn prefer(&mut self, order: ColumnOrder) {
+        self.preferred = Some(order);
+    }
+
+    /// The column order taken (Natural before the first factorisation).
+    pub fn column_order(&self) -> ColumnOrder {
+        self.chosen
     }
 
     /// Whether the last factorisation succeeded (solves need one).
@@ -325,30 +364,55 @@ impl SparseLu {
     /// ordering is already in place.
     fn choose_ordering(&mut self, values: &[f64]) -> bool {
         self.ordered = true;
+        let preferred = match self.preferred {
+            Some(ColumnOrder::Rcm) => {
+                Some((ColumnOrder::Rcm, super::ordering::reverse_cuthill_mckee(&self.pattern, self.trailing)))
+            }
+            Some(ColumnOrder::Colamd) => {
+                with_factors!(&self.factors, f => f.colamd()).map(|p| (ColumnOrder::Colamd, p))
+            }
+            _ => None,
+        };
+        if let Some((kind, perm)) = preferred {
+            if self.wide_indices() || fill_bound(&self.pattern, Some(&perm)) < NARROW_LIMIT {
+                with_factors!(&mut self.factors, f => f.set_col_perm(&perm));
+                self.chosen = kind;
+                return false;
+            }
+        }
+        self.choose_by_fill(values)
+    }
+
+    /// [`SparseLu::choose_ordering`] by trial factorisations.
+    fn choose_by_fill(&mut self, values: &[f64]) -> bool {
         let n = self.pattern.n;
         let identity: Vec<usize> = (0..n).collect();
         with_factors!(&mut self.factors, f => f.set_col_perm(&identity));
         let natural = with_factors!(&mut self.factors, f => f.numeric(values).ok().map(|_| f.fill()));
         let limit = 8 * self.pattern.nnz();
+        self.chosen = ColumnOrder::Natural;
         if natural.is_some_and(|fill| fill <= limit) {
             return true;
         }
-        let mut best = (natural, identity);
+        let mut best = (natural, identity, ColumnOrder::Natural);
         // Reverse Cuthill–McKee first (a band again, whatever the shape),
         // COLAMD only if that still fills too much.
         let rcm = super::ordering::reverse_cuthill_mckee(&self.pattern, self.trailing);
         if let Some(fill) = self.try_order(values, &rcm, best.0) {
-            best = (Some(fill), rcm);
+            best = (Some(fill), rcm, ColumnOrder::Rcm);
             if fill <= limit {
+                self.chosen = ColumnOrder::Rcm;
                 return true;
             }
         }
         if let Some(colamd) = with_factors!(&self.factors, f => f.colamd()) {
             if self.try_order(values, &colamd, best.0).is_some() {
+                self.chosen = ColumnOrder::Colamd;
                 return true;
             }
         }
-        let (_, order) = best;
+        let (_, order, kind) = best;
+        self.chosen = kind;
         with_factors!(&mut self.factors, f => f.set_col_perm(&order));
         false
     }

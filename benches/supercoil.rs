@@ -85,13 +85,13 @@ fn lu_size(r: &SupercoilRun, phase: Option<(usize, f64)>, x: &[f64], param: f64)
         })
         .fold(f64::INFINITY, f64::min);
     format!(
-        "n {n}, nnz(B) {}, half-band {hb} (rod band {band}, {far} entries outside it), {} pairs, L+U {} ({:.1}× nnz, {}); \
+        "n {n}, nnz(B) {}, half-band {hb} (rod band {band}, {far} entries outside it), {} pairs, L+U {} ({:.1}× nnz, {:?} order); \
          factorisation {:.1} ms (the first, with the ordering's choice, {:.1} ms); the rod band alone: nnz {}, L+U {}, {:.1} ms",
         fresh.nnz(),
         p.pairs(),
         fresh.fill(),
         fresh.fill() as f64 / fresh.nnz() as f64,
-        if fresh.natural_order() { "natural order" } else { "RCM or COLAMD order" },
+        fresh.column_order(),
         1e3 * steady,
         1e3 * first,
         band_lu.kept().0,

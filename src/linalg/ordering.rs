@@ -166,32 +166,32 @@ pub fn reverse_cuthill_mckee(pattern: &Pattern, trailing: usize) -> Vec<usize> {
     perm
 }
 
-/// The half-bandwidth of `pattern` (off the dense rows/columns) with its
-/// columns and rows both ordered by `perm` (None: natural), the last
-/// `trailing` left out.
-pub fn half_bandwidth(pattern: &Pattern, perm: Option<&[usize]>, trailing: usize) -> usize {
-    let n = pattern.n;
-    let (_, _, dense) = adjacency(pattern, trailing);
-    let mut pos: Vec<usize> = (0..n).collect();
-    if let Some(p) = perm {
-        for (k, &j) in p.iter().enumerate() {
-            pos[j] = k;
-        }
-    }
-    let mut b = 0;
-    for j in 0..n {
-        for &i in &pattern.row_idx[pattern.col_ptr[j]..pattern.col_ptr[j + 1]] {
-            if !dense[i] && !dense[j] {
-                b = b.max(pos[i].abs_diff(pos[j]));
-            }
-        }
-    }
-    b
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The half-bandwidth of `pattern` (off the dense rows/columns) with its
+    /// columns and rows both ordered by `perm` (None: natural), the last
+    /// `trailing` left out.
+    fn half_bandwidth(pattern: &Pattern, perm: Option<&[usize]>, trailing: usize) -> usize {
+        let n = pattern.n;
+        let (_, _, dense) = adjacency(pattern, trailing);
+        let mut pos: Vec<usize> = (0..n).collect();
+        if let Some(p) = perm {
+            for (k, &j) in p.iter().enumerate() {
+                pos[j] = k;
+            }
+        }
+        let mut b = 0;
+        for j in 0..n {
+            for &i in &pattern.row_idx[pattern.col_ptr[j]..pattern.col_ptr[j + 1]] {
+                if !dense[i] && !dense[j] {
+                    b = b.max(pos[i].abs_diff(pos[j]));
+                }
+            }
+        }
+        b
+    }
 
     /// A "ladder" of two chains of m nodes, chain A in natural order
     /// 0..m, chain B in m..2m with node m + k coupled to A's node m − 1 − k

@@ -124,10 +124,6 @@ impl<I: faer::Index> Factors<I> {
         self.lu.l_factor_unsorted().compute_nnz() + self.lu.u_factor_unsorted().compute_nnz()
     }
 
-    fn col_perm(&self) -> Vec<usize> {
-        self.col_perm_fwd.iter().map(|i| i.zx()).collect()
-    }
-
     fn set_col_perm(&mut self, fwd: &[usize]) {
         self.col_perm_fwd = fwd.iter().map(|&i| I::truncate(i)).collect();
         let mut inv = vec![I::truncate(0); fwd.len()];
@@ -314,7 +310,7 @@ impl SparseLu {
     /// Whether the columns are factorised in their natural order (chosen
     /// on the first matrix), not RCM's or COLAMD's.
     pub fn natural_order(&self) -> bool {
-        with_factors!(&self.factors, f => f.col_perm()).iter().enumerate().all(|(i, &j)| i == j)
+        self.chosen == ColumnOrder::Natural
     }
 
     /// Numeric factorisation of the matrix with `values` in pattern order.

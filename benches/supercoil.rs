@@ -15,10 +15,12 @@
 //! buckling point and the last point (report.txt), and the step history
 //! (steps_<salt>M.csv: arc length, Newton iterations and σ_min per point).
 //! Each salt is run twice in one process, with the engine up to issue 18
-//! (`Engine::Newton`) and the default (`Engine::Hermite`): time,
-//! steps and factorisations as ratios, and the largest distance of the new
-//! path from the baseline's (RODKIT_SUPERCOIL_BASELINE=0 skips the
-//! baseline).
+//! (`Engine::Newton`, every factorisation simplicial) and the default
+//! (`Engine::Hermite`, Newton corrections by block elimination on a
+//! supernodal LU where the Jacobian is wide): time, steps and
+//! factorisations as ratios, and the largest distance of the new path from
+//! the baseline's (RODKIT_SUPERCOIL_BASELINE=0 skips the baseline, =lu
+//! runs the default engine with the simplicial LU as the baseline).
 
 #[path = "support/plot.rs"]
 mod plot;
@@ -29,6 +31,7 @@ use rodkit::charged::rod::ChargedRod;
 use rodkit::continuation::tangent::Bordered;
 use rodkit::continuation::{Counts, Problem, Scaling};
 use rodkit::linalg::band::BandLu;
+use rodkit::linalg::LuKind;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -74,6 +77,15 @@ fn lu_size(r: &SupercoilRun, phase: Option<(usize, f64)>, x: &[f64], param: f64)
             c.times.factorisations.as_secs_f64()
         })
         .fold(f64::INFINITY, f64::min);
+    let how = if fresh.block_elimination() { "block elimination on A's supernodal LU" } else { "B's simplicial LU" };
+    // A record's factorisation (simplicial: its determinant signs).
+    let exact = (0..3)
+        .map(|_| {
+            let mut c = Counts::default();
+            fresh.factorise_exact_at(&mut p, x, param, (&tx, tl), &scaling, &mut c).unwrap();
+            c.times.factorisations.as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min);
     let (mut jx, mut jl) = (vec![0.0; pat.nnz()], vec![0.0; n]);
     p.jacobian(x, param, &mut jx, &mut jl);
     let mut band_lu = BandLu::new(&pat, band, p.border()).unwrap();
@@ -86,7 +98,8 @@ fn lu_size(r: &SupercoilRun, phase: Option<(usize, f64)>, x: &[f64], param: f64)
         .fold(f64::INFINITY, f64::min);
     format!(
         "n {n}, nnz(B) {}, half-band {hb} (rod band {band}, {far} entries outside it), {} pairs, L+U {} ({:.1}× nnz, {:?} order); \
-         factorisation {:.1} ms (the first, with the ordering's choice, {:.1} ms); the rod band alone: nnz {}, L+U {}, {:.1} ms",
+         factorisation by {how} {:.1} ms (the first, with the ordering's choice, {:.1} ms), a record's (simplicial) {:.1} ms; \
+         the rod band alone: nnz {}, L+U {}, {:.1} ms",
         fresh.nnz(),
         p.pairs(),
         fresh.fill(),
@@ -94,6 +107,7 @@ fn lu_size(r: &SupercoilRun, phase: Option<(usize, f64)>, x: &[f64], param: f64)
         fresh.column_order(),
         1e3 * steady,
         1e3 * first,
+        1e3 * exact,
         band_lu.kept().0,
         band_lu.fill(),
         1e3 * band_time
@@ -106,7 +120,7 @@ fn profile_line(name: &str, c: &Counts, newton: usize, points: usize, lists: usi
     let ms = |d: std::time::Duration| d.as_secs_f64();
     let per = |v: usize| v as f64 / c.steps.max(1) as f64;
     format!(
-        "  {name}: {} steps ({} rejected), {} points, {} factorisations ({:.2}/step; {} in {} bifurcation locations), \
+        "  {name}: {} steps ({} rejected), {} points, {} factorisations ({:.2}/step; {} in {} bifurcation locations; {} by block elimination, {:.2} s), \
          {} corrector iterations on accepted points ({:.2}/point), {} solves ({} σ_min monitor), {} residuals, {} Jacobians, {} pair lists ({:.1} steps/list)\n    \
          time: residual {:.2} s, Jacobian {:.2} s, LU factorisation {:.2} s, solves {:.2} s, σ_min monitor {:.2} s, setup (pair lists, patterns) {:.2} s; location (inclusive) {:.2} s",
         c.steps,
@@ -116,6 +130,8 @@ fn profile_line(name: &str, c: &Counts, newton: usize, points: usize, lists: usi
         per(c.factorisations),
         c.location_factorisations,
         c.locations,
+        c.block_eliminations,
+        ms(c.block_time),
         newton,
         newton as f64 / points.max(1) as f64,
         c.solves,
@@ -192,10 +208,21 @@ fn main() {
         let scene = DnaScene { salt, ..Default::default() };
         let settings = SupercoilSettings { elements: 100, max_steps: steps, max_turns, ..Default::default() };
         // Before and after in one process (issue 18): the engine up to
-        // issue 18 (Euler predictor, Newton corrector; RODKIT_SUPERCOIL_BASELINE=0
-        // skips it) and the default one.
-        let baseline = (std::env::var("RODKIT_SUPERCOIL_BASELINE").as_deref() != Ok("0"))
-            .then(|| run_scene(&scene, &SupercoilSettings { engine: Engine::Newton, ..settings.clone() }).unwrap());
+        // issue 18 (Euler predictor, Newton corrector, simplicial LU of
+        // the bordered Jacobian throughout) and the default one.
+        // RODKIT_SUPERCOIL_BASELINE=0 skips the baseline, =lu takes the
+        // default engine with the simplicial LU throughout (the LU's own
+        // share).
+        let baseline_settings = match std::env::var("RODKIT_SUPERCOIL_BASELINE").as_deref() {
+            Ok("0") => None,
+            Ok("lu") => Some(SupercoilSettings { lu_kind: Some(LuKind::Simplicial), ..settings.clone() }),
+            _ => Some(SupercoilSettings {
+                engine: Engine::Newton,
+                lu_kind: Some(LuKind::Simplicial),
+                ..settings.clone()
+            }),
+        };
+        let baseline = baseline_settings.as_ref().map(|b| run_scene(&scene, b).unwrap());
         let r = run_scene(&scene, &settings).unwrap();
         if let Some(b) = &baseline {
             let work = |r: &SupercoilRun| {
@@ -209,11 +236,13 @@ fn main() {
             let last = |r: &SupercoilRun| r.points.last().map_or(f64::NAN, |p| p.observables.turns);
             let _ = writeln!(
                 report,
-                "{salt} M, engine {:?} against {:?} (same process): {:.1} s vs {:.1} s ({:.2}× faster), {s1} vs {s0} steps, \
+                "{salt} M, engine {:?} (LU {:?}) against {:?} (LU {:?}) (same process): {:.1} s vs {:.1} s ({:.2}× faster), {s1} vs {s0} steps, \
                  {f1} vs {f0} factorisations ({:.2} vs {:.2} a step); last point {:.3} vs {:.3} turns; \
                  largest distance from the baseline's path: torque {:.1e} of M_b, extension {:.1e} of L",
                 settings.engine,
-                Engine::Newton,
+                settings.lu_kind,
+                baseline_settings.as_ref().map(|b| b.engine),
+                baseline_settings.as_ref().and_then(|b| b.lu_kind),
                 r.seconds,
                 b.seconds,
                 b.seconds / r.seconds,

@@ -243,6 +243,7 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
             EndControl::Torque => dna::EndControl::Torque,
         },
         engine: dna::Engine::default(),
+        lu_kind: None,
     };
     Ok((scene, settings))
 }

@@ -236,10 +236,7 @@ fn reconverge(problem: &mut ChargedRod, x: &mut [f64], lambda: f64, opts: &Optio
         return Ok(());
     }
     let scaling = opts.scaling.clone().unwrap_or_else(|| Scaling::of(problem));
-    let mut ctx = Context::new(problem, scaling)?;
-    if let Some(order) = opts.column_order {
-        ctx.bordered.prefer(order);
-    }
+    let mut ctx = Context::with_options(problem, scaling, opts)?;
     let anchor = x.to_vec();
     let mut l = lambda;
     let result = correct(problem, &mut ctx, x, &mut l, Plane::fixed(&anchor, lambda), opts.residual_tol, false);

@@ -228,6 +228,10 @@ pub struct SupercoilSettings {
     /// Newton steps with the Euler predictor: there the Jacobian changes
     /// fast with φ and a factorisation is cheap).
     pub engine: Engine,
+    /// How the Newton corrections factorise (None: by structure —
+    /// block elimination on a supernodal LU once a plectoneme's far pairs
+    /// widen the Jacobian; see [`Options::lu_kind`]).
+    pub lu_kind: Option<crate::linalg::LuKind>,
 }
 
 /// The predictor–corrector of the buckled branch (issue 18). Both give
@@ -268,6 +272,7 @@ impl Default for SupercoilSettings {
             control: EndControl::Rotation,
             hard_core_auto: true,
             engine: Engine::default(),
+            lu_kind: None,
         }
     }
 }
@@ -664,6 +669,7 @@ fn straight_path(
         // The buckled branch leaves at the first point: the crowded double
         // points beyond it cost 5 of the 6 locations (issue 18's profile).
         stop_at_bifurcation: true,
+        lu_kind: settings.lu_kind,
         ..Default::default()
     };
     let (mut straight, mut index, mut target, mut steps, mut anchor) = match from {
@@ -759,6 +765,7 @@ fn buckled_path(
         max_steps: settings.max_steps,
         lambda_range: if turns.torque { (0.0, f64::MAX) } else { (0.0, max_phi) },
         hermite_predictor: settings.engine == Engine::Hermite,
+        lu_kind: settings.lu_kind,
         ..Default::default()
     };
     let n = rod.unknowns();

@@ -75,7 +75,7 @@ pub(crate) fn locate<P: Problem + ?Sized>(
         let anchor = x.clone();
         let plane = Plane::new((&anchor, l), (&left.tx, left.tl));
         correct(problem, ctx, &mut x, &mut l, plane, residual_tol, false)?;
-        ctx.factorise(problem, &x, l, (&left.tx, left.tl))?;
+        ctx.factorise_for_solves(problem, &x, l, (&left.tx, left.tl))?;
         let sigma = ctx.bordered.signed_smallest_singular_value(&mut ctx.counts);
         Ok((x, l, sigma))
     };

@@ -252,6 +252,12 @@ pub struct Options {
     /// says which was taken): a branch continued on a new pattern of the
     /// same problem (a charged rod's next pair list) keeps its order.
     pub column_order: Option<crate::linalg::sparse::ColumnOrder>,
+    /// How the Newton corrections factorise (None: by the pattern's
+    /// structure, [`crate::linalg::LuKind`] — supernodal block elimination
+    /// for a plectoneme's Jacobian; Some(Simplicial): B's own simplicial
+    /// LU throughout, as before issue 18's third step). Records are
+    /// factorised simplicially either way (their determinant signs).
+    pub lu_kind: Option<crate::linalg::LuKind>,
 }
 
 /// The corrector iterations a chord step is sized for (each a residual and
@@ -277,6 +283,7 @@ impl Default for Options {
             stop_at_bifurcation: false,
             hermite_predictor: false,
             column_order: None,
+            lu_kind: None,
         }
     }
 }
@@ -303,6 +310,11 @@ pub struct Counts {
     pub location_factorisations: usize,
     /// Solves of the σ_min monitor (part of `solves`).
     pub monitor_solves: usize,
+    /// Factorisations by block elimination on a supernodal LU (part of
+    /// `factorisations`; [`Options::lu_kind`]) and the time they took
+    /// (part of `times.factorisations`): the rest are simplicial.
+    pub block_eliminations: usize,
+    pub block_time: std::time::Duration,
     /// Where the time went (wall clock).
     pub times: Times,
 }
@@ -354,6 +366,8 @@ impl Counts {
         self.locations += other.locations;
         self.location_factorisations += other.location_factorisations;
         self.monitor_solves += other.monitor_solves;
+        self.block_eliminations += other.block_eliminations;
+        self.block_time += other.block_time;
         self.times.add(&other.times);
     }
 

@@ -37,8 +37,36 @@ impl Context {
         Ok(Context { scaling, eq, bordered, counts: Counts::default(), patient: false })
     }
 
-    /// Evaluate the Jacobian at (x, Λ), border it with v and factorise.
+    /// As [`Context::new`], its LU taking the options' column order and
+    /// kind ([`Options::column_order`], [`Options::lu_kind`]).
+    pub fn with_options<P: Problem + ?Sized>(problem: &P, scaling: Scaling, opts: &Options) -> Result<Self> {
+        let mut ctx = Context::new(problem, scaling)?;
+        if let Some(order) = opts.column_order {
+            ctx.bordered.prefer(order);
+        }
+        if let Some(kind) = opts.lu_kind {
+            ctx.bordered.prefer_kind(kind);
+        }
+        Ok(ctx)
+    }
+
+    /// Evaluate the Jacobian at (x, Λ), border it with v and factorise:
+    /// the factorisation of a point (its tangent, its record's
+    /// determinant signs and pivots, a resume), simplicial whatever the
+    /// pattern ([`Bordered::factorise_exact_at`]).
     pub fn factorise<P: Problem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &[f64],
+        lambda: f64,
+        v: (&[f64], f64),
+    ) -> Result<()> {
+        self.bordered.factorise_exact_at(problem, x, lambda, v, &self.scaling, &mut self.counts)
+    }
+
+    /// As [`Context::factorise`] for solves only (the pattern's fastest
+    /// kind): the trial points of a bifurcation's location.
+    pub fn factorise_for_solves<P: Problem + ?Sized>(
         &mut self,
         problem: &mut P,
         x: &[f64],
@@ -139,11 +167,8 @@ impl<'o> Run<'o> {
         validate(problem, opts)?;
         let scaling = opts.scaling.clone().unwrap_or_else(|| Scaling::of(problem));
         let t = std::time::Instant::now();
-        let mut ctx = Context::new(problem, scaling)?;
+        let mut ctx = Context::with_options(problem, scaling, opts)?;
         ctx.patient = opts.hermite_predictor;
-        if let Some(order) = opts.column_order {
-            ctx.bordered.prefer(order);
-        }
         ctx.counts.times.setup += t.elapsed();
         Ok(Run {
             opts,

@@ -59,25 +59,56 @@ impl Bordered {
         })
     }
 
-    /// Evaluate the Jacobian at (x, Λ), border it with W·v and factorise.
+    /// Evaluate the Jacobian at (x, Λ), border it with W·v and factorise
+    /// for solves (a Newton correction: the pattern's fastest kind,
+    /// [`crate::linalg::LuKind`]).
     pub fn factorise_at<P: Problem + ?Sized>(
         &mut self,
         problem: &mut P,
         x: &[f64],
         lambda: f64,
-        (vx, vl): (&[f64], f64),
+        v: (&[f64], f64),
         scaling: &Scaling,
         counts: &mut Counts,
     ) -> Result<()> {
+        self.evaluate(problem, x, lambda, counts);
+        self.factorise_as(v, scaling, counts, false)
+    }
+
+    /// As [`Bordered::factorise_at`], for a point whose determinant signs
+    /// and pivots are read (a record, a resume): simplicial factors.
+    pub fn factorise_exact_at<P: Problem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &[f64],
+        lambda: f64,
+        v: (&[f64], f64),
+        scaling: &Scaling,
+        counts: &mut Counts,
+    ) -> Result<()> {
+        self.evaluate(problem, x, lambda, counts);
+        self.factorise_as(v, scaling, counts, true)
+    }
+
+    fn evaluate<P: Problem + ?Sized>(&mut self, problem: &mut P, x: &[f64], lambda: f64, counts: &mut Counts) {
         let t = Instant::now();
         problem.jacobian(x, lambda, &mut self.jx, &mut self.jl);
         counts.times.jacobians += t.elapsed();
         counts.jacobians += 1;
-        self.factorise_border(vx, vl, scaling, counts)
     }
 
-    /// Re-factorise the current Jacobian with another border.
+    /// Re-factorise the current Jacobian with another border (for solves).
     pub fn factorise_border(&mut self, vx: &[f64], vl: f64, scaling: &Scaling, counts: &mut Counts) -> Result<()> {
+        self.factorise_as((vx, vl), scaling, counts, false)
+    }
+
+    fn factorise_as(
+        &mut self,
+        (vx, vl): (&[f64], f64),
+        scaling: &Scaling,
+        counts: &mut Counts,
+        exact: bool,
+    ) -> Result<()> {
         let mean = 1.0 / self.n.max(1) as f64;
         for j in 0..self.n {
             self.row[j] = mean * vx[j] / (scaling.x[j] * scaling.x[j]);
@@ -86,16 +117,37 @@ impl Bordered {
         self.border_l = vl;
         self.last_column_known = false;
         let t = Instant::now();
-        let result = self.lu.factorise(&self.jx, &self.jl, &self.row, vl / (scaling.lambda * scaling.lambda));
-        counts.times.factorisations += t.elapsed();
+        let corner = vl / (scaling.lambda * scaling.lambda);
+        let result = if exact {
+            self.lu.factorise_exact(&self.jx, &self.jl, &self.row, corner)
+        } else {
+            self.lu.factorise(&self.jx, &self.jl, &self.row, corner)
+        };
+        let dt = t.elapsed();
+        counts.times.factorisations += dt;
         result?;
         counts.factorisations += 1;
+        if self.lu.block_elimination() {
+            counts.block_eliminations += 1;
+            counts.block_time += dt;
+        }
         Ok(())
     }
 
     /// See [`crate::linalg::sparse::SparseLu::prefer`].
     pub fn prefer(&mut self, order: crate::linalg::sparse::ColumnOrder) {
         self.lu.prefer(order);
+    }
+
+    /// Whether the last factorisation is a block elimination on the
+    /// Jacobian's supernodal LU ([`crate::linalg::bordered::BorderedLu::block_elimination`]).
+    pub fn block_elimination(&self) -> bool {
+        self.lu.block_elimination()
+    }
+
+    /// See [`crate::linalg::bordered::BorderedLu::prefer_kind`].
+    pub fn prefer_kind(&mut self, kind: crate::linalg::LuKind) {
+        self.lu.prefer_kind(kind);
     }
 
     /// The column order its factorisations take.
@@ -180,13 +232,13 @@ impl Bordered {
 
     /// Negative pivots of the factorised bordered tangent (see
     /// [`crate::linalg::SparseLu::negative_pivots`]).
-    pub fn negative_pivots(&self) -> usize {
+    pub fn negative_pivots(&mut self) -> usize {
         self.lu.negative_pivots()
     }
 
     /// (sign det B, sign det R_x) for the current factorisation and the
     /// tangent t computed from it.
-    pub fn determinant_signs(&self, scaling: &Scaling, tx: &[f64], tl: f64) -> (f64, f64) {
+    pub fn determinant_signs(&mut self, scaling: &Scaling, tx: &[f64], tl: f64) -> (f64, f64) {
         let sign_b = self.lu.determinant_sign();
         let vt = scaling.dot(tx, tl, &self.border_x, self.border_l);
         let sign_j = sign_b * (tl * vt).signum();

@@ -4,8 +4,10 @@
 //! * [`sparse`]: square sparsity patterns and their LU (faer), the ordering
 //!   and symbolic analysis done once per pattern;
 //! * [`bordered`]: a sparse matrix bordered by one dense row and column (a
-//!   continuation's tangent, a phase condition), its LU, determinant sign,
-//!   negative pivots and smallest singular values;
+//!   continuation's tangent, a phase condition), its LU — its own, or block
+//!   elimination on the inner matrix's supernodal LU refined against it
+//!   (`bordering`) —, determinant sign, negative pivots and smallest
+//!   singular values;
 //! * [`band`]: the LU of a matrix's band plus its boundary corners — the
 //!   lagged preconditioner of a rod's Newton–Krylov solves;
 //! * [`gmres`]: restarted, right-preconditioned GMRES(m) on any operator;
@@ -13,9 +15,11 @@
 
 pub mod band;
 pub mod bordered;
+mod bordering;
 pub mod dense;
 pub mod gmres;
 pub mod ordering;
 pub mod sparse;
+mod supernodal;
 
-pub use sparse::{Pattern, SparseLu};
+pub use sparse::{LuKind, Pattern, SparseLu};

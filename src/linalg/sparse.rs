@@ -7,8 +7,14 @@
 //! faer's simplicial left-looking LU with partial pivoting is used directly
 //! (rather than its high-level `Lu`) because the continuation needs the sign
 //! of the determinant, which takes U's diagonal and the permutations' parity.
+//! Patterns whose factors are wide (a charged rod's plectoneme: ~250
+//! entries per column) are factorised for solves by faer's supernodal LU
+//! ([`super::supernodal`], ~3.5× faster there); their determinant comes
+//! from a simplicial factorisation of the same matrix, on request
+//! ([`LuKind`], [`SparseLu::factorise_exact`]).
 //! Everything runs with `Par::Seq`: rodkit starts no threads unless asked.
 
+use super::supernodal::Supernodal;
 use crate::error::{Error, Result};
 use crate::status::Status;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
@@ -63,6 +69,13 @@ impl Pattern {
             for k in self.col_ptr[j]..self.col_ptr[j + 1] {
                 y[self.row_idx[k]] += values[k] * x[j];
             }
+        }
+    }
+
+    /// y = Aᵀ x for values in pattern order.
+    pub fn mul_vec_transpose(&self, values: &[f64], x: &[f64], y: &mut [f64]) {
+        for (j, yj) in y.iter_mut().enumerate().take(self.n) {
+            *yj = (self.col_ptr[j]..self.col_ptr[j + 1]).map(|k| values[k] * x[self.row_idx[k]]).sum();
         }
     }
 }
@@ -122,6 +135,10 @@ impl<I: faer::Index> Factors<I> {
 
     fn fill(&self) -> usize {
         self.lu.l_factor_unsorted().compute_nnz() + self.lu.u_factor_unsorted().compute_nnz()
+    }
+
+    fn col_perm(&self) -> Vec<usize> {
+        self.col_perm_fwd.iter().map(|i| i.zx()).collect()
     }
 
     fn set_col_perm(&mut self, fwd: &[usize]) {
@@ -211,6 +228,22 @@ pub struct SparseLu {
     /// (None: choose by fill), and the one taken.
     preferred: Option<ColumnOrder>,
     chosen: ColumnOrder,
+    /// The factorisation kind to take without the structural choice
+    /// (None: [`SparseLu::choose_kind`]), whether the choice is made, and
+    /// the supernodal factors when it took them.
+    preferred_kind: Option<LuKind>,
+    kind_chosen: bool,
+    supernodal: Option<Supernodal<usize>>,
+    /// Whether the supernodal factors hold the last matrix (solves use
+    /// them), else the simplicial ones do.
+    fast: bool,
+    /// Whether the simplicial factors hold the last matrix (the source of
+    /// the determinant and the pivots), its values (their input when a
+    /// determinant is asked of supernodal factors) and the simplicial
+    /// factors' fill when last computed.
+    exact: bool,
+    values: Vec<f64>,
+    simplicial_fill: usize,
     /// Numeric factorisations done (the cost unit of a continuation).
     pub factorisations: usize,
     /// Solves done (each with one right-hand side).
@@ -228,6 +261,24 @@ pub enum ColumnOrder {
     Rcm,
     Colamd,
 }
+
+/// How a matrix is factorised: faer's simplicial LU (column by column;
+/// the determinant and pivots are read off U's diagonal) or its supernodal
+/// LU (dense blocks; solves only — a determinant asked of it comes from a
+/// simplicial factorisation of the same matrix).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LuKind {
+    Simplicial,
+    Supernodal,
+}
+
+/// The supernodal LU is taken when the Cholesky factor of AᵀA in the
+/// chosen column order has at least this many entries per column (half
+/// of George and Ng's bound on L + U per column): measured on this
+/// machine (issue 18), a rod's band (Gauss(2–4), ~20–60 per column) is
+/// factorised faster simplicially, a charged rod's plectoneme (RCM order,
+/// ~200–400 per column) ~4× faster by supernodes.
+pub const SUPERNODAL_COUNTS_PER_COLUMN: usize = 100;
 
 /// The largest L + U that the u32 factors may hold.
 const NARROW_LIMIT: u128 = u32::MAX as u128;
@@ -265,6 +316,13 @@ impl SparseLu {
             trailing: 0,
             preferred: None,
             chosen: ColumnOrder::Natural,
+            preferred_kind: None,
+            kind_chosen: false,
+            supernodal: None,
+            fast: false,
+            exact: false,
+            values: Vec::new(),
+            simplicial_fill: 0,
             factorisations: 0,
             solves: 0,
         })
@@ -287,6 +345,22 @@ impl SparseLu {
         self.chosen
     }
 
+    /// Factorise every matrix the way `kind` says instead of choosing by
+    /// structure (given after the first factorisation it changes nothing).
+    pub fn prefer_kind(&mut self, kind: LuKind) {
+        self.preferred_kind = Some(kind);
+    }
+
+    /// The factorisation kind of the last matrix (Simplicial before the
+    /// first).
+    pub fn kind(&self) -> LuKind {
+        if self.fast {
+            LuKind::Supernodal
+        } else {
+            LuKind::Simplicial
+        }
+    }
+
     /// Whether the last factorisation succeeded (solves need one).
     pub fn factorised(&self) -> bool {
         self.factorised
@@ -298,10 +372,14 @@ impl SparseLu {
         matches!(self.factors, Indexed::Wide(_))
     }
 
-    /// Entries of L + U of the last factorisation (0 before the first).
+    /// Entries of L + U of the last simplicial factorisation (0 before
+    /// the first): of the last matrix unless the factors are supernodal
+    /// (whose dense blocks hold explicit zeros besides; 0 when no
+    /// simplicial factorisation of the pattern was done, as with a
+    /// preferred column order).
     pub fn fill(&self) -> usize {
         if self.factorised {
-            with_factors!(&self.factors, f => f.fill())
+            self.simplicial_fill
         } else {
             0
         }
@@ -313,23 +391,66 @@ impl SparseLu {
         self.chosen == ColumnOrder::Natural
     }
 
-    /// Numeric factorisation of the matrix with `values` in pattern order.
+    /// Numeric factorisation of the matrix with `values` in pattern order,
+    /// of the kind chosen for the pattern ([`LuKind`]): the factorisation
+    /// of solves (Newton corrections).
     /// A (numerically) singular matrix is ErrNotConverged: a continuation
     /// treats it as a failed step, not a number.
     pub fn factorise(&mut self, values: &[f64]) -> Result<()> {
+        self.factorise_as(values, false)
+    }
+
+    /// As [`SparseLu::factorise`], always simplicial: the factorisation of
+    /// a point whose determinant sign and pivots are read (a
+    /// continuation's record), which supernodal factors would have to
+    /// repeat. Solves use it until the next factorisation.
+    pub fn factorise_exact(&mut self, values: &[f64]) -> Result<()> {
+        self.factorise_as(values, true)
+    }
+
+    fn factorise_as(&mut self, values: &[f64], exact: bool) -> Result<()> {
         assert_eq!(values.len(), self.pattern.nnz(), "values do not match the pattern");
-        let n = self.pattern.n;
         self.factorised = false;
         if let Some(k) = values.iter().position(|v| !v.is_finite()) {
             return Err(Error::new(Status::ErrNonFiniteResult, format!("sparse LU: matrix entry {k} is not finite")));
         }
         let in_place = !self.ordered && self.choose_ordering(values);
+        if !self.kind_chosen {
+            self.choose_kind();
+        }
+        self.exact = in_place;
+        self.fast = false;
+        if let Some(sn) = self.supernodal.as_mut().filter(|_| !exact) {
+            // Supernodal factors even when the ordering's trial left
+            // simplicial ones of this matrix in place: every matrix of a
+            // pattern is factorised one way (a resumed run repeats the
+            // uninterrupted one bitwise).
+            sn.numeric(values, &self.pattern)?;
+            if in_place {
+                self.simplicial_fill = with_factors!(&self.factors, f => f.fill());
+            }
+            self.values.clear();
+            self.values.extend_from_slice(values);
+            self.factorisations += 1;
+            self.fast = true;
+            self.factorised = true;
+            return Ok(());
+        }
         if !in_place {
             with_factors!(&mut self.factors, f => f.numeric(values))?;
+            self.exact = true;
         }
+        self.simplicial_fill = with_factors!(&self.factors, f => f.fill());
         self.factorisations += 1;
-        // A zero or non-finite pivot is a singular matrix.
-        for j in 0..n {
+        self.check_pivots()?;
+        self.factorised = true;
+        Ok(())
+    }
+
+    /// A zero or non-finite pivot of the simplicial factors is a singular
+    /// matrix.
+    fn check_pivots(&self) -> Result<()> {
+        for j in 0..self.pattern.n {
             let d = with_factors!(&self.factors, f => f.diagonal(j));
             if !(d.is_finite() && d != 0.0) {
                 return Err(Error::new(
@@ -338,7 +459,45 @@ impl SparseLu {
                 ));
             }
         }
-        self.factorised = true;
+        Ok(())
+    }
+
+    /// Supernodal or simplicial, by structure (deterministic: one pattern
+    /// and order, one kind): supernodal when the Cholesky factor of AᵀA in
+    /// the chosen order has at least [`SUPERNODAL_COUNTS_PER_COLUMN`]
+    /// entries per column (George–Ng's bound, [`george_ng_bound`], at
+    /// least twice that per column). Measured: a plain rod's band 39–52
+    /// (Gauss(2–4), 2–16 k unknowns), a 1 kbp charged rod 155 (straight)
+    /// to 265 (plectoneme).
+    fn choose_kind(&mut self) {
+        self.kind_chosen = true;
+        let n = self.pattern.n;
+        let perm = with_factors!(&self.factors, f => f.col_perm());
+        let forced = match self.preferred_kind {
+            Some(LuKind::Simplicial) => return,
+            Some(LuKind::Supernodal) => true,
+            None => false,
+        };
+        // A dense row makes the AᵀA factor dense (the bound ~n²): its
+        // supernodes would be one dense LU of the whole matrix.
+        let (low, high) = (2 * SUPERNODAL_COUNTS_PER_COLUMN * n, (n as u128) * (n as u128) / 2);
+        if forced || george_ng_bound(&self.pattern, Some(&perm)).is_some_and(|b| b >= low as u128 && b < high) {
+            self.supernodal = Supernodal::new(&self.pattern, &perm);
+        }
+    }
+
+    /// Make the simplicial factors hold the last matrix (a determinant or
+    /// the pivots asked of supernodal factors).
+    fn ensure_exact(&mut self) -> Result<()> {
+        if !self.exact {
+            let values = std::mem::take(&mut self.values);
+            let result = with_factors!(&mut self.factors, f => f.numeric(&values));
+            self.values = values;
+            result?;
+            self.simplicial_fill = with_factors!(&self.factors, f => f.fill());
+            self.check_pivots()?;
+            self.exact = true;
+        }
         Ok(())
     }
 
@@ -407,8 +566,9 @@ impl SparseLu {
                 return true;
             }
         }
-        let (_, order, kind) = best;
+        let (fill, order, kind) = best;
         self.chosen = kind;
+        self.simplicial_fill = fill.unwrap_or(0);
         with_factors!(&mut self.factors, f => f.set_col_perm(&order));
         false
     }
@@ -438,13 +598,22 @@ impl SparseLu {
 
     fn solve_with(&mut self, b: &mut [f64], transpose: bool) {
         assert!(self.factorised, "solve before a successful factorisation");
-        with_factors!(&mut self.factors, f => f.solve_with(b, transpose));
+        match self.supernodal.as_mut().filter(|_| self.fast) {
+            Some(sn) => sn.solve_with(b, transpose),
+            None => with_factors!(&mut self.factors, f => f.solve_with(b, transpose)),
+        }
         self.solves += 1;
     }
 
-    /// Sign of det A (±1) and log|det A| of the last factorisation.
-    pub fn determinant_sign_and_log(&self) -> (f64, f64) {
+    /// Sign of det A (±1) and log|det A| of the last factorisation (with
+    /// supernodal factors, from a simplicial factorisation of the same
+    /// matrix, done on the first request: (0, −∞) if that one finds it
+    /// singular).
+    pub fn determinant_sign_and_log(&mut self) -> (f64, f64) {
         assert!(self.factorised, "determinant before a successful factorisation");
+        if self.ensure_exact().is_err() {
+            return (0.0, f64::NEG_INFINITY);
+        }
         let (mut sign, mut log) = (with_factors!(&self.factors, f => f.permutation_parity()), 0.0);
         for j in 0..self.pattern.n {
             let d = with_factors!(&self.factors, f => f.diagonal(j));
@@ -457,8 +626,11 @@ impl SparseLu {
     /// Negative diagonal entries of U (the pivots). With row pivoting the
     /// count itself depends on the pivot order; its parity times the
     /// permutations' parity is sign det.
-    pub fn negative_pivots(&self) -> usize {
+    pub fn negative_pivots(&mut self) -> usize {
         assert!(self.factorised, "pivots before a successful factorisation");
+        if self.ensure_exact().is_err() {
+            return 0;
+        }
         (0..self.pattern.n).filter(|&j| with_factors!(&self.factors, f => f.diagonal(j)) < 0.0).count()
     }
 }
@@ -490,21 +662,7 @@ fn george_ng_bound(pattern: &Pattern, perm: Option<&[usize]>) -> Option<u128> {
         return Some(0);
     }
     // Aᵀ in compressed columns (A's rows).
-    let mut t_ptr = vec![0usize; n + 1];
-    for &i in &pattern.row_idx {
-        t_ptr[i + 1] += 1;
-    }
-    for k in 0..n {
-        t_ptr[k + 1] += t_ptr[k];
-    }
-    let mut next = t_ptr.clone();
-    let mut t_idx = vec![0usize; pattern.nnz()];
-    for j in 0..n {
-        for &i in &pattern.row_idx[pattern.col_ptr[j]..pattern.col_ptr[j + 1]] {
-            t_idx[next[i]] = j;
-            next[i] += 1;
-        }
-    }
+    let (t_ptr, t_idx, _) = super::supernodal::transpose(pattern);
     let (fwd, inv) = match perm {
         Some(p) => {
             let mut inv = vec![0usize; n];
@@ -644,6 +802,103 @@ mod tests {
         // A singular matrix is a status.
         let zeros = vec![0.0; pattern.nnz()];
         assert_eq!(lu.factorise(&zeros).unwrap_err().status, Status::ErrNotConverged);
+    }
+
+    /// The supernodal factors against nalgebra's dense LU (the reference)
+    /// on a random block band with far entries and a dense border (a
+    /// charged rod's bordered Jacobian in miniature): solves and transposed
+    /// solves to rounding, the determinant (from the simplicial
+    /// factorisation done on request) exact in sign and to 1e-9 in log;
+    /// factorise_exact switches the solves to simplicial factors with the
+    /// same answer; a singular matrix is a status with either kind; two
+    /// LUs of one pattern give bitwise equal solves (no history in the
+    /// factors).
+    #[test]
+    fn supernodal_factors_match_dense_lu() {
+        let n = 120;
+        let mut seed = 4242u64;
+        let far: Vec<(usize, usize)> = (0..200).map(|k| ((k * 37 + 11) % n, (k * 53 + 7) % n)).collect();
+        let pattern = Pattern::from_entries(
+            n,
+            (0..n)
+                .flat_map(|i| (i.saturating_sub(6)..(i + 7).min(n)).map(move |j| (i, j)))
+                .chain(far.iter().copied())
+                .chain((0..n).flat_map(|i| [(n - 1, i), (i, n - 1)])),
+        );
+        let mut lu = SparseLu::with_trailing(pattern.clone(), 1).unwrap();
+        lu.prefer_kind(LuKind::Supernodal);
+        let mut twin = SparseLu::with_trailing(pattern.clone(), 1).unwrap();
+        twin.prefer_kind(LuKind::Supernodal);
+        for trial in 0..3 {
+            let values = random_values(&pattern, &mut seed);
+            let mut dense = DMatrix::zeros(n, n);
+            for j in 0..n {
+                for k in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
+                    dense[(pattern.row_idx[k], j)] = values[k];
+                }
+            }
+            lu.factorise(&values).unwrap();
+            assert_eq!(lu.kind(), LuKind::Supernodal);
+            let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
+            let mut x = b.clone();
+            lu.solve(&mut x);
+            let y = &dense * nalgebra::DVector::from_vec(x.clone());
+            let res = y.iter().zip(&b).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+            assert!(res < 1e-11, "trial {trial}: residual {res:e}");
+            let mut xt = b.clone();
+            lu.solve_transpose(&mut xt);
+            let yt = dense.transpose() * nalgebra::DVector::from_vec(xt);
+            assert!(yt.iter().zip(&b).all(|(a, b)| (a - b).abs() < 1e-11));
+            let det = dense.clone().lu().determinant();
+            let (sign, log) = lu.determinant_sign_and_log();
+            assert_eq!(sign, det.signum(), "trial {trial}");
+            assert!((log - det.abs().ln()).abs() < 1e-9);
+            // Solves still on the supernodal factors after the determinant.
+            let mut again = b.clone();
+            lu.solve(&mut again);
+            assert_eq!(again, x);
+            twin.factorise(&values).unwrap();
+            let mut xw = b.clone();
+            twin.solve(&mut xw);
+            assert_eq!(xw, x, "trial {trial}: two LUs of one pattern differ");
+            lu.factorise_exact(&values).unwrap();
+            assert_eq!(lu.kind(), LuKind::Simplicial);
+            let mut xe = b.clone();
+            lu.solve(&mut xe);
+            assert!(xe.iter().zip(&x).all(|(a, b)| (a - b).abs() < 1e-10 * (1.0 + b.abs())));
+            assert_eq!(lu.determinant_sign_and_log().0, det.signum());
+        }
+        let zeros = vec![0.0; pattern.nnz()];
+        assert_eq!(lu.factorise(&zeros).unwrap_err().status, Status::ErrNotConverged);
+    }
+
+    /// The kind chosen by structure: a narrow band (half-width 3, ~10
+    /// AᵀA-factor entries per column) stays simplicial, a wide one
+    /// (half-width 120, ~240 per column, a plectoneme's) goes supernodal;
+    /// both solve to rounding.
+    #[test]
+    fn lu_kind_is_chosen_by_structure() {
+        let n = 2000;
+        let band = |b: usize| {
+            Pattern::from_entries(
+                n,
+                (0..n).flat_map(move |i| (i.saturating_sub(b)..(i + b + 1).min(n)).map(move |j| (i, j))),
+            )
+        };
+        for (b, kind) in [(3, LuKind::Simplicial), (120, LuKind::Supernodal)] {
+            let pattern = band(b);
+            let values = random_values(&pattern, &mut 31u64);
+            let mut lu = SparseLu::new(pattern.clone()).unwrap();
+            lu.factorise(&values).unwrap();
+            assert_eq!(lu.kind(), kind, "half-width {b}");
+            let rhs: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).cos()).collect();
+            let mut x = rhs.clone();
+            lu.solve(&mut x);
+            let mut y = vec![0.0; n];
+            pattern.mul_vec(&values, &x, &mut y);
+            let res = y.iter().zip(&rhs).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+            assert!(res < 1e-9, "half-width {b}: residual {res:e}");
+        }
     }
 
     /// The ordering choice: an arrowhead matrix (dense first row and column)

@@ -303,7 +303,7 @@ pub fn switch<M: Followed + ?Sized>(
     };
     let mu_scale = sys.unknown_scales().0.last().copied().unwrap_or(1.0);
     let mut counts = Counts::default();
-    let resume = rod.amplitude_start(&mut sys, scaling, &start, phase_condition, opts.residual_tol, &mut counts)?;
+    let resume = rod.amplitude_start(&mut sys, scaling, &start, phase_condition, opts, &mut counts)?;
     let mut b = model.follow(Start::Resume(resume), phase, opts, progress)?;
     b.counts.add(&counts);
     rod.check_unfolding(&b.states, mu_scale)?;
@@ -398,10 +398,11 @@ impl Rod {
         scaling: Scaling,
         start: &Resume,
         (node, azimuth): (usize, f64),
-        residual_tol: f64,
+        opts: &Options,
         counts: &mut Counts,
     ) -> Result<Resume> {
-        let mut ctx = Context::new(problem, scaling)?;
+        let residual_tol = opts.residual_tol;
+        let mut ctx = Context::with_options(problem, scaling, opts)?;
         let mut e = vec![0.0; start.x.len()];
         let at = self.node(node);
         e[at] = azimuth.cos();

@@ -4,7 +4,9 @@
 //! buckling point along the buckled branch (100 elements of Gauss(2),
 //! cutoff 1e-4; steps from RODKIT_SUPERCOIL_STEPS, default 120; salts
 //! from RODKIT_SUPERCOIL_SALTS, e.g. "0.1", default both; the buckled
-//! branch stops past RODKIT_SUPERCOIL_TURNS turns, default 12). Writes
+//! branch stops past RODKIT_SUPERCOIL_TURNS turns, default 12; the Newton
+//! iterations its steps aim at from RODKIT_SUPERCOIL_AIM, default 3:
+//! `SupercoilSettings::corrector_aim`). Writes
 //! target/bench/supercoil/{path_<salt>M.csv, extension.svg, torque.svg,
 //! twist_writhe.svg, report.txt}: the curves users compare with
 //! magnetic-tweezers experiments (extension and torque vs turns) and the
@@ -206,7 +208,9 @@ fn main() {
             continue;
         }
         let scene = DnaScene { salt, ..Default::default() };
-        let settings = SupercoilSettings { elements: 100, max_steps: steps, max_turns, ..Default::default() };
+        let aim: f64 = std::env::var("RODKIT_SUPERCOIL_AIM").ok().and_then(|v| v.parse().ok()).unwrap_or(3.0);
+        let settings =
+            SupercoilSettings { elements: 100, max_steps: steps, max_turns, corrector_aim: aim, ..Default::default() };
         // Before and after in one process (issue 18): the engine up to
         // issue 18 (Euler predictor, Newton corrector, simplicial LU of
         // the bordered Jacobian throughout) and the default one.

@@ -65,3 +65,19 @@ fn block_elimination_gives_the_simplicial_path() {
         }
     }
 }
+
+/// The corrector's aim is an iteration count the corrector can reach
+/// (1–12, its iteration limit): outside, the run is refused with a status
+/// naming it, before any work.
+#[test]
+fn corrector_aim_out_of_range_is_refused() {
+    let scene = DnaScene { base_pairs: 300, ..Default::default() };
+    use rodkit::status::Status;
+    for (aim, status) in [(0.5, Status::ErrOutOfRange), (13.0, Status::ErrOutOfRange), (f64::NAN, Status::ErrNotFinite)]
+    {
+        let settings = SupercoilSettings { elements: 30, max_steps: 5, corrector_aim: aim, ..Default::default() };
+        let err = dna::run_scene(&scene, &settings).unwrap_err();
+        assert_eq!(err.status, status, "aim {aim}: {err:?}");
+        assert!(err.message.contains("corrector_aim"), "aim {aim}: {}", err.message);
+    }
+}

@@ -244,6 +244,7 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
         },
         engine: dna::Engine::default(),
         lu_kind: None,
+        corrector_aim: 3.0,
     };
     Ok((scene, settings))
 }

@@ -232,6 +232,21 @@ pub struct SupercoilSettings {
     /// block elimination on a supernodal LU once a plectoneme's far pairs
     /// widen the Jacobian; see [`Options::lu_kind`]).
     pub lu_kind: Option<crate::linalg::LuKind>,
+    /// The Newton iterations a step of the buckled branch is sized for
+    /// ([`Options::corrector_aim`], 1–12; default 3). A step costs its
+    /// record's simplicial factorisation (its determinant signs: ~75 ms at
+    /// 5–12 turns of the 1 kbp scene, 100 elements) and a block
+    /// elimination per correction (~22 ms), so aiming higher makes the
+    /// steps longer, fewer and the run faster — measured on that scene at
+    /// 0.1 M, 0 → 12 turns (benches/README.md, 2026-11-26): aim 3, 572
+    /// buckled steps, 113 s; 4, 345 steps, 78 s; 5, 271 steps, 70.5 s. Not
+    /// the default: with aim 5 a step can carry a stage past the Verlet
+    /// skin, and the re-convergence of a point on the next pair list at
+    /// fixed φ then failed near a fold (the 300 bp scene of
+    /// tests/capi_supercoil_resume.rs, 30 elements), and the coarser points
+    /// missed a coexistence crossing that aim 3 finds
+    /// (tests/supercoil_energy.rs).
+    pub corrector_aim: f64,
 }
 
 /// The predictor–corrector of the buckled branch (issue 18). Both give
@@ -273,6 +288,7 @@ impl Default for SupercoilSettings {
             hard_core_auto: true,
             engine: Engine::default(),
             lu_kind: None,
+            corrector_aim: 3.0,
         }
     }
 }
@@ -765,6 +781,7 @@ fn buckled_path(
         max_steps: settings.max_steps,
         lambda_range: if turns.torque { (0.0, f64::MAX) } else { (0.0, max_phi) },
         hermite_predictor: settings.engine == Engine::Hermite,
+        corrector_aim: settings.corrector_aim,
         lu_kind: settings.lu_kind,
         ..Default::default()
     };

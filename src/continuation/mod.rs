@@ -258,6 +258,12 @@ pub struct Options {
     /// LU throughout, as before issue 18's third step). Records are
     /// factorised simplicially either way (their determinant signs).
     pub lu_kind: Option<crate::linalg::LuKind>,
+    /// The Newton corrector iterations a step is sized for (3: each step
+    /// grows or shrinks by √(aim / iterations), within [0.5, 2]). More
+    /// pays where a point's own factorisation costs several corrections'
+    /// (a charged rod's record, simplicial, against block eliminations:
+    /// [`crate::charged::dna::SupercoilSettings::corrector_aim`]).
+    pub corrector_aim: f64,
 }
 
 /// The corrector iterations a chord step is sized for (each a residual and
@@ -284,6 +290,7 @@ impl Default for Options {
             hermite_predictor: false,
             column_order: None,
             lu_kind: None,
+            corrector_aim: 3.0,
         }
     }
 }

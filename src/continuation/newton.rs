@@ -119,8 +119,8 @@ pub fn continue_newton<P: Problem + ?Sized>(
             }
         }
         previous = Some((std::mem::replace(&mut at, next), step));
-        // Aim at three corrector iterations (Newton), CHORD_AIM (chord).
-        let aim = if opts.chord { CHORD_AIM } else { 3.0 };
+        // Aim at `corrector_aim` corrector iterations (Newton), CHORD_AIM (chord).
+        let aim = if opts.chord { CHORD_AIM } else { opts.corrector_aim };
         let factor = (aim / iterations.max(1) as f64).sqrt().clamp(0.5, 2.0);
         ds = (ds * factor).clamp(opts.min_step, opts.max_step);
         if let Some(stop) = stop {

@@ -121,6 +121,8 @@ pub(crate) fn validate<P: Problem + ?Sized>(problem: &P, opts: &Options) -> Resu
     error::positive("initial_step", opts.initial_step)?;
     error::positive("min_step", opts.min_step)?;
     error::positive("max_step", opts.max_step)?;
+    // The corrector takes at most 12 iterations (20 chord).
+    error::in_range("corrector_aim", opts.corrector_aim, 1.0, 12.0)?;
     if !(opts.min_step <= opts.initial_step && opts.initial_step <= opts.max_step) {
         return Err(Error::new(
             Status::ErrOutOfRange,

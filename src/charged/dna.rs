@@ -240,12 +240,14 @@ pub struct SupercoilSettings {
     /// steps longer, fewer and the run faster — measured on that scene at
     /// 0.1 M, 0 → 12 turns (benches/README.md, 2026-11-26): aim 3, 572
     /// buckled steps, 113 s; 4, 345 steps, 78 s; 5, 271 steps, 70.5 s. Not
-    /// the default: with aim 5 a step can carry a stage past the Verlet
-    /// skin, and the re-convergence of a point on the next pair list at
-    /// fixed φ then failed near a fold (the 300 bp scene of
-    /// tests/capi_supercoil_resume.rs, 30 elements), and the coarser points
-    /// missed a coexistence crossing that aim 3 finds
-    /// (tests/supercoil_energy.rs).
+    /// the default: with aim 5 a step can carry stages well past the Verlet
+    /// skin, so the point converged on the old pair list is far from an
+    /// equilibrium with the new one (scaled residual 0.64 on the 300 bp
+    /// scene of tests/capi_supercoil_resume.rs, 30 elements, at 1.17
+    /// turns) and its re-convergence fails, ending the run; and the coarser
+    /// points missed a coexistence crossing that aim 3 finds
+    /// (tests/supercoil_energy.rs). Steps bounded by the skin would lift
+    /// the first limit.
     pub corrector_aim: f64,
 }
 

@@ -81,3 +81,36 @@ fn corrector_aim_out_of_range_is_refused() {
         assert!(err.message.contains("corrector_aim"), "aim {aim}: {}", err.message);
     }
 }
+
+/// Long steps (`corrector_aim` 5) on the 300 bp scene: at 1.17 turns a
+/// step carries stages well past the Verlet skin, and the point converged
+/// on the old pair list no longer re-converges on the list rebuilt there
+/// (scaled residual 0.64: the run used to end with ErrNotConverged). The
+/// branch takes that step again from the point before, with half the step,
+/// and goes on. Reference: every point's residual re-evaluated on a pair
+/// list built at its own state (an independent list, `ChargedRod::new`
+/// there) is within the run's tolerance (1e-8, 10× margin for the list's
+/// different rounding), and the path reaches past the fold at 1.107 turns
+/// on the buckled branch as the aim-3 run does.
+#[test]
+fn a_step_past_the_skin_is_taken_again() {
+    use rodkit::charged::rod::ChargedRod;
+    use rodkit::continuation::Problem;
+    let scene = DnaScene { base_pairs: 300, ..Default::default() };
+    let settings =
+        SupercoilSettings { elements: 30, max_steps: 25, max_turns: 2.5, corrector_aim: 5.0, ..Default::default() };
+    let run = dna::run_scene(&scene, &settings).unwrap();
+    let b = run.buckled.as_ref().unwrap();
+    assert_eq!(b.records.len(), 26, "the buckled branch's 25 steps");
+    assert!(b.counts.rejected_steps > 0);
+    for (k, (rec, x)) in b.records.iter().zip(&b.states).enumerate() {
+        let mut problem = ChargedRod::new(&run.rod, &run.charge, b.phase, x).unwrap();
+        let mut r = vec![0.0; x.len()];
+        problem.residual(x, rec.lambda, &mut r);
+        let res = rodkit::nonlinear::scaled_max_norm(&r, &problem.equation_scales());
+        assert!(res <= 1e-7, "buckled point {k} (φ {:.4}): residual {res:e} on its own list", rec.lambda);
+    }
+    let ns = run.straight.records.len();
+    let reached = run.points.iter().skip(ns).map(|p| p.observables.turns).fold(f64::INFINITY, f64::min);
+    assert!(reached < 1.11, "the buckled branch reached {reached} turns, not the fold at 1.107");
+}

@@ -181,6 +181,9 @@ fn follow_on_into(
     let x0 = start_x(&start).to_vec();
     let mut anchor =
         anchor.cloned().unwrap_or(ListAnchor { built: x0.clone(), reference: x0, order: opts.column_order });
+    // Whether the next segment's start is told (a point reached on the
+    // last list), or was told already (a step taken again from it).
+    let mut tell_start = true;
     loop {
         let built = std::time::Instant::now();
         let mut problem = ChargedRod::new(rod, charge, phase, &anchor.built)?;
@@ -191,13 +194,31 @@ fn follow_on_into(
             column_order: anchor.order,
             ..opts.clone()
         };
-        if let (Start::Resume(r), Some(out)) = (&mut start, out.as_mut()) {
-            reconverge(&mut problem, &mut r.x, r.lambda, &seg_opts, out)?;
-            anchor.reference = r.x.clone();
+        if let (Start::Resume(r), Some(b)) = (&mut start, out.as_mut()) {
+            match reconverge(&mut problem, &mut r.x, r.lambda, &seg_opts, b) {
+                Ok(()) => anchor.reference = r.x.clone(),
+                // The point does not re-converge on this list: taken
+                // again from the point before, on a list built there.
+                Err(e) => {
+                    if !retake(b) {
+                        return Err(e);
+                    }
+                    start = Start::Resume(b.resume.clone());
+                    let x = start_x(&start).to_vec();
+                    anchor = ListAnchor { built: x.clone(), reference: x, order: anchor.order };
+                    tell_start = false;
+                    continue;
+                }
+            }
         }
-        let resumed = out.is_some();
+        let first = match (out.is_some(), tell_start) {
+            (false, _) => SegmentStart::Branch,
+            (true, true) => SegmentStart::Reached,
+            (true, false) => SegmentStart::Told,
+        };
         let (segment, stale, order) =
-            follow_list(&mut problem, start, &anchor.reference, phase, &seg_opts, resumed, &mut progress)?;
+            follow_list(&mut problem, start, &anchor.reference, phase, &seg_opts, first, &mut progress)?;
+        tell_start = true;
         anchor.order = Some(order);
         let out = match out.as_mut() {
             Some(b) => {
@@ -252,9 +273,8 @@ fn reconverge(problem: &mut ChargedRod, x: &mut [f64], lambda: f64, opts: &Optio
 /// The segment of a branch on one pair list: Newton continuation until
 /// the end, a strand crossing (the branch's contact; it stops), or a stage
 /// moving half the skin from where the list was built (returned stale: the
-/// list is rebuilt and the branch continued). A `resumed` segment's first
-/// record is the previous segment's last, already checked, re-converged on
-/// this list and told to `progress` now. Stages' displacements are
+/// list is rebuilt and the branch continued). The first record is told
+/// as `first` says. Stages' displacements are
 /// measured from `reference`.
 fn follow_list(
     problem: &mut ChargedRod,
@@ -262,7 +282,7 @@ fn follow_list(
     reference: &[f64],
     phase: Option<(usize, f64)>,
     opts: &Options,
-    resumed: bool,
+    first: SegmentStart,
     progress: &mut dyn FnMut(&Record) -> bool,
 ) -> Result<(RodBranch, bool, ColumnOrder)> {
     let (rod, charge) = (&problem.rod().clone(), &problem.charge().clone());
@@ -286,8 +306,10 @@ fn follow_list(
         let x = &rec.outputs[..rec.outputs.len() - 1];
         let k = index;
         index += 1;
-        if resumed && k == 0 {
-            return progress(rec);
+        match (first, k) {
+            (SegmentStart::Reached, 0) => return progress(rec),
+            (SegmentStart::Told, 0) => return true,
+            _ => {}
         }
         if let Some((distance, s1, s2)) = strand_crossing(rod, charge, x) {
             crossing = Some(Contact { record: k, distance, s1, s2 });
@@ -305,6 +327,46 @@ fn follow_list(
     segment.contact = crossing;
     segment.pair_lists = 1;
     Ok((segment, stale, order))
+}
+
+/// What a segment's first record is, for `progress`.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum SegmentStart {
+    /// The branch's start: checked and told as any point.
+    Branch,
+    /// The previous segment's last point, reached on its list: checked
+    /// there, told now (re-converged on this list).
+    Reached,
+    /// A point told already (a step taken again from it, [`retake`]).
+    Told,
+}
+
+/// A branch whose last point, reached on its pair list by a step that
+/// carried stages past the list's skin, does not re-converge on the list
+/// rebuilt there (far from an equilibrium with the pairs the old list
+/// lacked: long steps, `Options::corrector_aim` 5, issue 18): the point is
+/// dropped and the branch resumes from the point before (told already;
+/// within half the skin of its list, so all its pairs were listed) with
+/// half the step, on a list built there. The dropped step counts as a
+/// rejected one. Returns whether it was done (the point before is known).
+fn retake(segment: &mut RodBranch) -> bool {
+    let Some(previous) = segment.resume.previous.take() else {
+        return false;
+    };
+    if segment.records.len() < 2 {
+        segment.resume.previous = Some(previous);
+        return false;
+    }
+    segment.records.pop();
+    segment.states.pop();
+    // A rejected step, not a step of the branch (steps = records − 1,
+    // which the step limit and a resume count on).
+    segment.counts.steps -= 1;
+    segment.counts.rejected_steps += 1;
+    let mut r = *previous;
+    r.step *= 0.5;
+    segment.resume = r;
+    true
 }
 
 /// Leave `branch` at its bifurcation `index` along null direction

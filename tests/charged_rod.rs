@@ -500,7 +500,15 @@ fn dna_scene_finds_the_first_buckling_point() {
 #[test]
 fn torque_clamp_follows_the_rotation_controlled_path() {
     let scene = DnaScene { base_pairs: 300, ..Default::default() };
-    let base = dna::SupercoilSettings { elements: 40, max_steps: 60, max_turns: 2.2, ..Default::default() };
+    // Steps aimed at 3 Newton iterations: the torque-clamp points dense
+    // enough to compare (~20 before the plateau's minimum).
+    let base = dna::SupercoilSettings {
+        elements: 40,
+        max_steps: 60,
+        max_turns: 2.2,
+        corrector_aim: 3.0,
+        ..Default::default()
+    };
     // The reference path by the Euler-predictor engine: its shorter steps
     // keep the 4-point interpolation below (the reference's own error) at
     // ~1e-4 rad; the Hermite engine's points are 2× farther apart.

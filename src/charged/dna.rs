@@ -232,22 +232,23 @@ pub struct SupercoilSettings {
     /// block elimination on a supernodal LU once a plectoneme's far pairs
     /// widen the Jacobian; see [`Options::lu_kind`]).
     pub lu_kind: Option<crate::linalg::LuKind>,
-    /// The Newton iterations a step of the buckled branch is sized for
-    /// ([`Options::corrector_aim`], 1–12; default 3). A step costs its
-    /// record's simplicial factorisation (its determinant signs: ~75 ms at
-    /// 5–12 turns of the 1 kbp scene, 100 elements) and a block
-    /// elimination per correction (~22 ms), so aiming higher makes the
-    /// steps longer, fewer and the run faster — measured on that scene at
-    /// 0.1 M, 0 → 12 turns (benches/README.md, 2026-11-26): aim 3, 572
-    /// buckled steps, 113 s; 4, 345 steps, 78 s; 5, 271 steps, 70.5 s. Not
-    /// the default: with aim 5 a step can carry stages well past the Verlet
-    /// skin, so the point converged on the old pair list is far from an
-    /// equilibrium with the new one (scaled residual 0.64 on the 300 bp
-    /// scene of tests/capi_supercoil_resume.rs, 30 elements, at 1.17
-    /// turns) and its re-convergence fails, ending the run; and the coarser
-    /// points missed a coexistence crossing that aim 3 finds
-    /// (tests/supercoil_energy.rs). Steps bounded by the skin would lift
-    /// the first limit.
+    /// The Newton iterations a step of the buckled branch is sized for by
+    /// the Hermite engine ([`Options::corrector_aim`], 1–12; `Engine::Newton`
+    /// keeps 3, as before issue 18). A step costs its record's simplicial
+    /// factorisation (its determinant signs: ~75 ms at 5–12 turns of the
+    /// 1 kbp scene, 100 elements) and a block elimination per correction
+    /// (~22 ms), so aiming higher makes the steps longer and fewer —
+    /// measured on that scene at 0.1 M, 0 → 12 turns (benches/README.md,
+    /// 2026-11-26): aim 3 (the default), 572 buckled steps, 113 s; 4, 345
+    /// steps, 78 s; 5, 271 steps, 70.5 s (~25 points a turn). A step that
+    /// carries stages so far past the Verlet skin that its point does not
+    /// re-converge on the next pair list is taken again, shorter
+    /// ([`crate::charged::branch`]). Not the default: with aim 5 the
+    /// branch after the hard core's switch (300 bp, 2 pN, 0.1 M,
+    /// tests/supercoil_hard_core.rs) jumped onto the spurious straight
+    /// family (the run refuses it: μ left zero), and analyses that
+    /// interpolate the path (the torque-clamp comparison, a coexistence
+    /// premise) want denser points.
     pub corrector_aim: f64,
 }
 
@@ -783,7 +784,7 @@ fn buckled_path(
         max_steps: settings.max_steps,
         lambda_range: if turns.torque { (0.0, f64::MAX) } else { (0.0, max_phi) },
         hermite_predictor: settings.engine == Engine::Hermite,
-        corrector_aim: settings.corrector_aim,
+        corrector_aim: if settings.engine == Engine::Hermite { settings.corrector_aim } else { 3.0 },
         lu_kind: settings.lu_kind,
         ..Default::default()
     };

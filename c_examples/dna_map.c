@@ -28,7 +28,7 @@
  *   --elements N      default 170 per kbp (at least 20)
  *   --steps N         continuation steps per branch (default 600)
  */
-#define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>

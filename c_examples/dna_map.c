@@ -25,8 +25,16 @@
  *   --salts a,b,..    mol/L   (default 0.01,0.05,0.1,0.2)
  *   --bp N            base pairs (default 1000)
  *   --turns T         the buckled branch stops past T turns (default 12)
- *   --elements N      default 170 per kbp (at least 20)
- *   --steps N         continuation steps per branch (default 600)
+ *   --elements N      default 100 per kbp (at least 20): the supercoil bench's
+ *                     mesh, which takes the 1 kbp, 1 pN, 0.1 M curve to 12
+ *                     turns in 621 points, 200 s (170, the library's default,
+ *                     stopped at 7.1 turns after 600 steps and 785 s)
+ *   --steps N         continuation steps per branch (default 1000)
+ * The plateau torque and slope are measured on the plectonemic leg from
+ * coexistence to the run's end: past the turns where the plectoneme has
+ * taken most of the rod (1 kbp, 1 pN, 0.1 M: ~9 turns) the torque rises
+ * and the extension flattens, which the leg's torque range (min, max in
+ * summary.csv) shows; --turns ends the curves earlier.
  */
 #define _XOPEN_SOURCE 700
 #include <errno.h>
@@ -333,7 +341,7 @@ static void print_table(const Curve *cs, int n) {
 int main(int argc, char **argv) {
     double forces[MAX_VALUES] = {0.5, 1.0, 2.0}, salts[MAX_VALUES] = {0.01, 0.05, 0.1, 0.2};
     int nf = 3, ns = 4;
-    long long bp = 1000, elements = 0, steps = 600;
+    long long bp = 1000, elements = 0, steps = 1000;
     double turns = 12.0;
     const char *dir = "rodkit-out/dna_map";
     for (int i = 1; i < argc; ++i) {
@@ -351,7 +359,7 @@ int main(int argc, char **argv) {
         ++i;
         if (nf <= 0 || ns <= 0) { fprintf(stderr, "bad list after %s\n", a); return 2; }
     }
-    if (elements <= 0) elements = (170 * bp + 500) / 1000 < 20 ? 20 : (170 * bp + 500) / 1000;
+    if (elements <= 0) elements = (100 * bp + 500) / 1000 < 20 ? 20 : (100 * bp + 500) / 1000;
     if (make_dirs(dir) != 0) { perror(dir); return 1; }
     int n = nf * ns;
     Curve *cs = calloc((size_t)n, sizeof *cs);

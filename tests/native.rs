@@ -620,6 +620,26 @@ fn fortran_dna_supercoil_driver() {
     );
     assert_eq!(got["gmres_iterations"], p.linear_iterations as f64);
     assert!(rel(got["direct_torque_pN_nm"], got["base_pair_torque_pN_nm"]) < 1e-9, "{out}");
+    // The curve's summary and energies through the Fortran types: the
+    // Rust summary and energies of the same run (same arithmetic, 1e-12).
+    let s = rodkit::charged::summary::summarise(&r).unwrap();
+    let energies = rodkit::charged::coexistence::path_energies(&r).unwrap();
+    assert_eq!(got["curve_instability_finding"], 1.0, "{out}");
+    assert!(rel(got["curve_instability_turns"], s.instability.value.unwrap().turns) < 1e-12, "{out}");
+    let code = |f: rodkit::charged::summary::Finding| {
+        use rodkit::charged::summary::Finding::*;
+        match f {
+            Found => 1.0,
+            Unverified => 2.0,
+            Undetermined => 3.0,
+            NotReached => 4.0,
+        }
+    };
+    assert_eq!(got["curve_coexistence_finding"], code(s.coexistence.finding), "{out}");
+    assert_eq!(got["curve_superhelix_finding"], code(s.superhelix.finding), "{out}");
+    assert_eq!(got["curve_points"], r.points.len() as f64);
+    assert!(rel(got["curve_last_energy_pN_nm"], *energies.last().unwrap()) < 1e-12, "{out}");
+    assert_eq!(got["curve_last_branch"], r.points.last().unwrap().branch as f64);
     assert!(rel(got["direct_tip_z_nm"], got["base_pair_extension_nm"]) < 1e-9, "{out}");
     // Stopped by the Fortran callback after 15 points, then resumed: the
     // uninterrupted path's end (bitwise on the buckled branch, 1e-8 if

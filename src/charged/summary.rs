@@ -176,6 +176,14 @@ pub fn summarise_with(run: &SupercoilRun, curve: Option<&EquilibriumCurve>) -> C
         },
         (finding, _) => Summarised::without(finding),
     };
+    // Distinct, increasing φ at the nodes keeps every number finite; a
+    // non-finite one (a state gone bad) is reported as undetermined.
+    let plateau = match plateau.value {
+        Some(p) if ![p.torque, p.torque_min, p.torque_max, p.slope].iter().all(|v| v.is_finite()) => {
+            Summarised::without(Finding::Undetermined)
+        }
+        _ => plateau,
+    };
     CurveSummary { instability, coexistence, plateau, superhelix: superhelix_of(run), note }
 }
 

@@ -195,7 +195,8 @@ fn c_drivers_are_clean_under_valgrind() {
     // c_rod_buckling exercises the rod and branch handles (two branches,
     // switching, records, positions): ~30 s under valgrind.
     // c_dna_supercoil on a tiny scene (60 bp, 8 elements, 4 steps) covers
-    // the supercoil handle, its points and positions.
+    // the supercoil handle, its points and positions; c_dna_map the curve
+    // summary and points.
     let dir = std::env::temp_dir().join(format!("rodkit-vg-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let (csv, vtk) = (dir.join("v.csv").display().to_string(), dir.join("v.vtk").display().to_string());
@@ -209,12 +210,23 @@ fn c_drivers_are_clean_under_valgrind() {
         "c_rod_buckling_shared",
         "c_dna_supercoil_shared",
         "c_dna_supercoil_resume_shared",
+        "c_dna_map_shared",
     ] {
         // c_dna_supercoil_resume: 60 bp, 8 elements, 4 steps, stopped after 3 points.
         let resume_args: Vec<String> = ["60", "8", "4", "3"].iter().map(|s| s.to_string()).collect();
+        // c_dna_map: one curve of 150 bp, 12 elements, 20 steps (buckled,
+        // summarised, written as CSV and SVG).
+        let map_dir = dir.join("map").display().to_string();
+        let map_args: Vec<String> =
+            ["--bp", "150", "--elements", "12", "--steps", "20", "--turns", "1.5", "--forces", "1", "--salts", "0.1"]
+                .iter()
+                .map(|s| s.to_string())
+                .chain([map_dir])
+                .collect();
         let args: &[String] = match exe {
             "c_dna_supercoil_shared" => &dna_args,
             "c_dna_supercoil_resume_shared" => &resume_args,
+            "c_dna_map_shared" => &map_args,
             _ => &[],
         };
         let out = Command::new("valgrind")

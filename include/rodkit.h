@@ -1511,7 +1511,8 @@ int32_t rodkit_supercoil_positions(const struct RodkitSupercoil *run,
 
 // The summary of the run (its equilibrium curve is computed here: the
 // energies of every point). Statuses: 0, or a failure of that computation
-// (its message in rodkit_last_error_message).
+// (its message in rodkit_last_error_message), RODKIT_STATUS_ERR_NON_FINITE_RESULT
+// when a point's energy is not finite.
 int32_t rodkit_supercoil_curve_summary(const struct RodkitSupercoil *run,
                                        struct RodkitSupercoilCurveInfo *out);
 
@@ -1519,7 +1520,8 @@ int32_t rodkit_supercoil_curve_summary(const struct RodkitSupercoil *run,
 // receives their number, that of rodkit_supercoil_points;
 // RODKIT_STATUS_INFO_TRUNCATED when they did not fit). Rotation control
 // only: a torque-clamp run gives RODKIT_STATUS_ERR_OUT_OF_RANGE (its
-// stability is not determined).
+// stability is not determined), RODKIT_STATUS_ERR_NON_FINITE_RESULT when a
+// point's energy is not finite.
 int32_t rodkit_supercoil_curve_points(const struct RodkitSupercoil *run,
                                       struct RodkitSupercoilCurvePoint *points,
                                       int64_t capacity,

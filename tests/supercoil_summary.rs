@@ -267,3 +267,54 @@ fn nothing_made_up_before_the_plectoneme() {
     assert_ne!(s.coexistence.finding, Finding::Found);
     assert!(s.coexistence.value.is_none() && s.plateau.value.is_none() && s.note.is_some());
 }
+
+/// 300 bp at 2 pN, 0.1 M to 2.2 turns (40 elements): the buckled branch's
+/// stability becomes undetermined (a bifurcation on it), so the
+/// coexistence is Undetermined — no number, a note saying why — and the
+/// plateau is Unverified: measured on the branch's last leg increasing in
+/// turns, beyond the instability. Reference: the test's own walk back from
+/// the last point while φ decreases, and its own trapezoid φ-average and
+/// least-squares slope over those points (relative 1e-12: the same sums in
+/// another order).
+#[test]
+fn undetermined_stability_gives_an_unverified_plateau() {
+    let scene = DnaScene { base_pairs: BASE_PAIRS, tension: 2.0, ..Default::default() };
+    let settings = SupercoilSettings { elements: ELEMENTS, max_turns: 2.2, max_steps: MAX_STEPS, ..Default::default() };
+    let run = dna::run_scene(&scene, &settings).unwrap();
+    let curve = equilibrium_curve(&run).unwrap();
+    let s = summarise_with(&run, Some(&curve));
+    println!("2 pN: coexistence {:?}, note {:?}", s.coexistence.finding, s.note);
+    assert_eq!(s.coexistence.finding, Finding::Undetermined);
+    assert!(s.coexistence.value.is_none() && s.note.as_deref().unwrap().contains("undetermined"));
+    assert!(curve.points.iter().any(|p| p.negative_modes.is_none()));
+    assert_eq!(s.plateau.finding, Finding::Unverified);
+    let p = s.plateau.value.unwrap();
+    let (phi_b, _) = run.buckling.unwrap();
+    let pts = &run.points;
+    let mut k = pts.len() - 1;
+    while pts[k - 1].branch == 1 && pts[k - 1].phi < pts[k].phi {
+        k -= 1;
+    }
+    let leg: Vec<_> = pts[k..].iter().filter(|q| q.phi >= phi_b).collect();
+    assert_eq!(leg.len(), p.nodes);
+    let work: f64 =
+        leg.windows(2).map(|w| 0.5 * (w[0].observables.torque + w[1].observables.torque) * (w[1].phi - w[0].phi)).sum();
+    let mean = work / (leg[leg.len() - 1].phi - leg[0].phi);
+    let n = leg.len() as f64;
+    let (mx, my) =
+        leg.iter().fold((0.0, 0.0), |(a, b), q| (a + q.observables.turns / n, b + q.observables.extension / n));
+    let (sxy, sxx) = leg.iter().fold((0.0, 0.0), |(a, b), q| {
+        let dx = q.observables.turns - mx;
+        (a + dx * (q.observables.extension - my), b + dx * dx)
+    });
+    println!(
+        "unverified plateau {:.5} (reference {mean:.5}), slope {:.4} (reference {:.4}), {} nodes",
+        p.torque,
+        p.slope,
+        sxy / sxx,
+        p.nodes
+    );
+    assert!((p.torque - mean).abs() <= 1e-12 * mean.abs());
+    assert!((p.slope - sxy / sxx).abs() <= 1e-12 * p.slope.abs());
+    assert_eq!(p.turns_from, leg[0].observables.turns);
+}

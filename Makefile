@@ -1,7 +1,8 @@
 # rodkit: the library, its C / C++ / Fortran drivers, the tests, the install.
 #
 #   make run      build the library (release) and run every driver on its
-#                 bundled default input, printing the results
+#                 bundled default input, printing the results; then a small
+#                 force x salt DNA map (CSV + SVG in rodkit-out/dna_map)
 #   make test     every test: Rust, C, C++, Fortran, valgrind, SUNDIALS, and
 #                 the quick fuzz run (fuzz-quick)
 #   make fuzz     the fuzz targets of tests/fuzz/ (ASan + UBSan), longer:
@@ -34,7 +35,7 @@ FFLAGS := -std=f2008 -O2 -g -Wall -Wextra -J$(BUILD)/fmod -I$(BUILD)/fmod
 SHARED := -L$(LIBDIR) -lrodkit -Wl,-rpath,$(LIBDIR)
 STATIC := $(LIBDIR)/librodkit.a $(STATIC_LIBS)
 
-C_DRIVERS := tube_stiffness bad_input artery dna_tube rod_buckling dna_supercoil dna_supercoil_resume
+C_DRIVERS := tube_stiffness bad_input artery dna_tube rod_buckling dna_supercoil dna_supercoil_resume dna_map
 F_DRIVERS := tube_stiffness stretch_sweep follower_cantilever charged_curve dna_supercoil
 EXES := $(foreach d,$(C_DRIVERS),$(BUILD)/c_$(d)_shared $(BUILD)/c_$(d)_static) \
         $(BUILD)/cpp_tube_stiffness $(BUILD)/c_rod_sundials_shared \
@@ -83,7 +84,14 @@ $(BUILD)/f_%_static: $(ROOT)/fortran_examples/%.f90 $(BUILD)/rodkit_mod.o $(LIBS
 	$(FC) $(FFLAGS) $< $(BUILD)/rodkit_mod.o $(STATIC) -o $@
 
 # The main job: every driver on its bundled default input (run from the
-# repository root, where the default input paths point).
+# repository root, where the default input paths point), then the DNA
+# force x salt map (c_examples/dna_map.c) on a small subset: 300 bp, 1 and
+# 2 pN x 0.05 and 0.1 M, to 2.2 turns (~31 s on the 2-core machine); its
+# CSV and SVG files go to $(DNA_MAP_OUT). The full map (1 kbp, 3 forces x
+# 4 salts, to 12 turns) is `target/release/native/c_dna_map_shared` without
+# options (README: "The force x salt map").
+DNA_MAP_SUBSET ?= --bp 300 --forces 1,2 --salts 0.05,0.1 --turns 2.2 --elements 40 --steps 300
+DNA_MAP_OUT ?= rodkit-out/dna_map
 run: deps lib
 	@$(MAKE) --no-print-directory -s drivers
 	@cd $(ROOT) && for exe in c_tube_stiffness_shared c_tube_stiffness_static cpp_tube_stiffness \
@@ -91,6 +99,8 @@ run: deps lib
 	    f_stretch_sweep_shared c_rod_buckling_shared f_follower_cantilever_shared c_rod_sundials_shared \
 	    f_charged_curve_shared c_dna_supercoil_shared c_dna_supercoil_resume_shared f_dna_supercoil_shared; do \
 	  echo "=== $$exe"; $(BUILD)/$$exe || exit 1; done
+	@echo "=== c_dna_map_shared $(DNA_MAP_SUBSET) $(DNA_MAP_OUT)"
+	@cd $(ROOT) && $(BUILD)/c_dna_map_shared $(DNA_MAP_SUBSET) $(DNA_MAP_OUT)
 
 # All tests in one cargo invocation: the Rust suites, the drivers (built here
 # by tests/native.rs through this Makefile, compared with the Rust results,

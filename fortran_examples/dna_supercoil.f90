@@ -6,8 +6,9 @@
 ! the supercoil handle, its accessors and rodkit_supercoil_solve_point
 ! through the module's bind(c) types. Then the same run stopped by a
 ! Fortran progress callback after 15 points (RODKIT_STATUS_INFO_CANCELLED,
-! the path so far) and resumed to its end (issue 18). Prints "name = value"
-! lines.
+! the path so far) and resumed to its end (issue 18), after the curve's
+! summary and energies (rodkit_supercoil_curve_summary/_points). Prints
+! "name = value" lines.
 module supercoil_progress
     use, intrinsic :: iso_c_binding
     use rodkit, only: rodkit_branch_progress
@@ -47,6 +48,8 @@ program dna_supercoil
     integer(c_int32_t) :: status, stop
     integer(c_int64_t), target :: state(4)
     type(c_ptr) :: stopped
+    type(rodkit_supercoil_curve_info) :: curve
+    type(rodkit_supercoil_curve_point), allocatable :: curve_points(:)
 
     status = rodkit_dna_supercoil_spec_default(spec)
     call check(status, 'rodkit_dna_supercoil_spec_default')
@@ -87,6 +90,20 @@ program dna_supercoil
     print '(a, i0)', 'newton_krylov_iterations = ', nk%newton_iterations
     print '(a, i0)', 'gmres_iterations = ', nk%linear_iterations
     print '(a, i0)', 'preconditioner_band = ', nk%preconditioner_band
+
+    ! The equilibrium curve's summary and points (issue 18, deliverables 4-5).
+    status = rodkit_supercoil_curve_summary(run, curve)
+    call check(status, 'rodkit_supercoil_curve_summary')
+    allocate (curve_points(info%points))
+    status = rodkit_supercoil_curve_points(run, curve_points, info%points, count)
+    call check(status, 'rodkit_supercoil_curve_points')
+    print '(a, i0)', 'curve_instability_finding = ', curve%instability_finding
+    print '(a, es24.16)', 'curve_instability_turns = ', curve%instability_turns
+    print '(a, i0)', 'curve_coexistence_finding = ', curve%coexistence_finding
+    print '(a, i0)', 'curve_superhelix_finding = ', curve%superhelix_finding
+    print '(a, i0)', 'curve_points = ', count
+    print '(a, es24.16)', 'curve_last_energy_pN_nm = ', curve_points(count)%energy
+    print '(a, i0)', 'curve_last_branch = ', curve_points(count)%branch
     call rodkit_supercoil_free(run)
 
     ! The same run, stopped by the callback after 15 points, then resumed.

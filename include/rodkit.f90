@@ -155,6 +155,18 @@ module rodkit
     integer(c_int32_t), parameter :: RODKIT_SUPERCOIL_STOP_FINISHED = 0
     integer(c_int32_t), parameter :: RODKIT_SUPERCOIL_STOP_CANCELLED = 1
 
+    ! RodkitSummaryFinding (rodkit_supercoil_curve_summary).
+    integer(c_int32_t), parameter :: RODKIT_SUMMARY_FINDING_FOUND = 1
+    integer(c_int32_t), parameter :: RODKIT_SUMMARY_FINDING_UNVERIFIED = 2
+    integer(c_int32_t), parameter :: RODKIT_SUMMARY_FINDING_UNDETERMINED = 3
+    integer(c_int32_t), parameter :: RODKIT_SUMMARY_FINDING_NOT_REACHED = 4
+
+    ! RodkitStabilityKind (rodkit_supercoil_curve_points).
+    integer(c_int32_t), parameter :: RODKIT_STABILITY_KIND_LOWEST = 1
+    integer(c_int32_t), parameter :: RODKIT_STABILITY_KIND_METASTABLE = 2
+    integer(c_int32_t), parameter :: RODKIT_STABILITY_KIND_UNSTABLE = 3
+    integer(c_int32_t), parameter :: RODKIT_STABILITY_KIND_UNDETERMINED = 4
+
 
     ! -------------------------------------------------------------------------
     ! RodkitThinTubeSpec: a thin helically reinforced tube in its stress-free
@@ -519,6 +531,45 @@ module rodkit
         integer(c_int32_t) :: branch
         real(c_double) :: residual
     end type rodkit_supercoil_point
+
+    ! RodkitSupercoilCurveInfo (see rodkit.h).
+    type, bind(c) :: rodkit_supercoil_curve_info
+        integer(c_int32_t) :: instability_finding
+        real(c_double) :: instability_turns
+        real(c_double) :: instability_torque
+        integer(c_int32_t) :: coexistence_finding
+        real(c_double) :: coexistence_turns
+        real(c_double) :: coexistence_torque_straight
+        real(c_double) :: coexistence_torque_plectoneme
+        real(c_double) :: coexistence_extension_straight
+        real(c_double) :: coexistence_extension_plectoneme
+        real(c_double) :: coexistence_extension_jump
+        integer(c_int32_t) :: plateau_finding
+        real(c_double) :: plateau_torque
+        real(c_double) :: plateau_torque_min
+        real(c_double) :: plateau_torque_max
+        real(c_double) :: slope
+        real(c_double) :: plateau_turns_from
+        real(c_double) :: plateau_turns_to
+        integer(c_int64_t) :: plateau_nodes
+        integer(c_int32_t) :: superhelix_finding
+        real(c_double) :: superhelix_radius
+        real(c_double) :: strand_distance
+        real(c_double) :: strand_s1
+        real(c_double) :: strand_s2
+        real(c_double) :: superhelix_turns
+    end type rodkit_supercoil_curve_info
+
+    ! RodkitSupercoilCurvePoint (see rodkit.h).
+    type, bind(c) :: rodkit_supercoil_curve_point
+        real(c_double) :: turns
+        real(c_double) :: extension
+        real(c_double) :: torque
+        real(c_double) :: energy
+        integer(c_int32_t) :: kind
+        integer(c_int64_t) :: negative_modes
+        integer(c_int32_t) :: branch
+    end type rodkit_supercoil_curve_point
 
     ! RodkitEquilibriumSpec (see rodkit.h).
     type, bind(c) :: rodkit_equilibrium_spec
@@ -1209,6 +1260,24 @@ module rodkit
             integer(c_int64_t), value :: nodes
             integer(c_int32_t) :: status
         end function rodkit_supercoil_positions
+
+        function rodkit_supercoil_curve_summary(run, out) result(status) &
+                bind(c, name="rodkit_supercoil_curve_summary")
+            import :: c_int32_t, c_ptr, rodkit_supercoil_curve_info
+            type(c_ptr), value :: run
+            type(rodkit_supercoil_curve_info), intent(out) :: out
+            integer(c_int32_t) :: status
+        end function rodkit_supercoil_curve_summary
+
+        function rodkit_supercoil_curve_points(run, points, capacity, count) result(status) &
+                bind(c, name="rodkit_supercoil_curve_points")
+            import :: c_int32_t, c_int64_t, c_ptr, rodkit_supercoil_curve_point
+            type(c_ptr), value :: run
+            type(rodkit_supercoil_curve_point), intent(inout) :: points(*)
+            integer(c_int64_t), value :: capacity
+            integer(c_int64_t), intent(out) :: count
+            integer(c_int32_t) :: status
+        end function rodkit_supercoil_curve_points
 
         function rodkit_equilibrium_spec_default(spec) result(status) &
                 bind(c, name="rodkit_equilibrium_spec_default")

@@ -368,6 +368,55 @@ typedef int32_t RodkitSupercoilStop;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// Whether a quantity of RodkitSupercoilCurveInfo was determined.
+enum RodkitSummaryFinding
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // Determined by the equilibrium curve; its fields hold it.
+  RODKIT_SUMMARY_FINDING_FOUND = 1,
+  // Measured on the computed branch whose stability could not be
+  // decided (a bifurcation on the buckled branch): its fields hold the
+  // branch's numbers, not known to be what an experiment sees.
+  RODKIT_SUMMARY_FINDING_UNVERIFIED = 2,
+  // Stability unknown where it would be decided (or a torque-clamp
+  // run); its fields are 0.
+  RODKIT_SUMMARY_FINDING_UNDETERMINED = 3,
+  // The run ended before it exists; its fields are 0.
+  RODKIT_SUMMARY_FINDING_NOT_REACHED = 4,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum RodkitSummaryFinding RodkitSummaryFinding;
+#else
+typedef int32_t RodkitSummaryFinding;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// The stability of a point of the path at fixed end rotation.
+enum RodkitStabilityKind
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // Stable and the lowest state at its turns (the default curve).
+  RODKIT_STABILITY_KIND_LOWEST = 1,
+  // Stable, but another stable state at the same turns is lower.
+  RODKIT_STABILITY_KIND_METASTABLE = 2,
+  // A saddle (at least one negative mode).
+  RODKIT_STABILITY_KIND_UNSTABLE = 3,
+  // The stability rules do not decide.
+  RODKIT_STABILITY_KIND_UNDETERMINED = 4,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum RodkitStabilityKind RodkitStabilityKind;
+#else
+typedef int32_t RodkitStabilityKind;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // A branch: the records, why it stopped, where to resume, and the work done.
 typedef struct RodkitBranch RodkitBranch;
 
@@ -866,6 +915,63 @@ typedef struct RodkitSupercoilPoint {
   int32_t branch;
   double residual;
 } RodkitSupercoilPoint;
+
+// The summary of one curve. Every `*_finding` is a RodkitSummaryFinding;
+// the fields after it hold numbers only when it is FOUND or UNVERIFIED,
+// and are 0 otherwise (never NaN).
+typedef struct RodkitSupercoilCurveInfo {
+  // The straight rod's first buckling point (the instability): turns, torque (pN nm).
+  int32_t instability_finding;
+  double instability_turns;
+  double instability_torque;
+  // Where the straight rod's and the plectoneme's energies cross (both
+  // stable): turns, both torques (the straight rod's overshoots), both
+  // extensions (nm) and the jump z_straight − z_plectoneme.
+  int32_t coexistence_finding;
+  double coexistence_turns;
+  double coexistence_torque_straight;
+  double coexistence_torque_plectoneme;
+  double coexistence_extension_straight;
+  double coexistence_extension_plectoneme;
+  double coexistence_extension_jump;
+  // On the plectonemic leg beyond coexistence (FOUND), or on the buckled
+  // branch's last leg beyond the instability (UNVERIFIED): the
+  // φ-averaged torque (1/Δφ)∫M dφ, its min and max over the leg, the
+  // least-squares slope dz/dn (nm per turn), the leg's turns and nodes.
+  int32_t plateau_finding;
+  double plateau_torque;
+  double plateau_torque_min;
+  double plateau_torque_max;
+  double slope;
+  double plateau_turns_from;
+  double plateau_turns_to;
+  int64_t plateau_nodes;
+  // At the run's last point (on the buckled branch): half the closest
+  // approach of distinct strands (nm), the approach itself, the pair's
+  // arc lengths (nm), and the point's turns.
+  int32_t superhelix_finding;
+  double superhelix_radius;
+  double strand_distance;
+  double strand_s1;
+  double strand_s2;
+  double superhelix_turns;
+} RodkitSupercoilCurveInfo;
+
+// One point of the equilibrium curve (the order of rodkit_supercoil_points).
+typedef struct RodkitSupercoilCurvePoint {
+  // Turns, extension (nm), torque (pN nm) as rodkit_supercoil_points.
+  double turns;
+  double extension;
+  double torque;
+  // G = E_elastic + E_electrostatic + E_hard_core − F z(L) (pN nm); dG/dφ = torque.
+  double energy;
+  // RodkitStabilityKind.
+  int32_t kind;
+  // Negative modes of G at fixed end rotation; −1: undetermined.
+  int64_t negative_modes;
+  // 0: straight branch, 1: buckled branch.
+  int32_t branch;
+} RodkitSupercoilCurvePoint;
 
 // A point of a path re-solved under another electrostatic model or with
 // another solver (the scene, its salt, charge, radius, hard core and
@@ -1402,6 +1508,24 @@ int32_t rodkit_supercoil_positions(const struct RodkitSupercoil *run,
                                    double *xyz,
                                    int64_t ld,
                                    int64_t nodes);
+
+// The summary of the run (its equilibrium curve is computed here: the
+// energies of every point). Statuses: 0, or a failure of that computation
+// (its message in rodkit_last_error_message), RODKIT_STATUS_ERR_NON_FINITE_RESULT
+// when a point's energy is not finite.
+int32_t rodkit_supercoil_curve_summary(const struct RodkitSupercoil *run,
+                                       struct RodkitSupercoilCurveInfo *out);
+
+// Copy the equilibrium curve's points (at most `capacity`; `*count`
+// receives their number, that of rodkit_supercoil_points;
+// RODKIT_STATUS_INFO_TRUNCATED when they did not fit). Rotation control
+// only: a torque-clamp run gives RODKIT_STATUS_ERR_OUT_OF_RANGE (its
+// stability is not determined), RODKIT_STATUS_ERR_NON_FINITE_RESULT when a
+// point's energy is not finite.
+int32_t rodkit_supercoil_curve_points(const struct RodkitSupercoil *run,
+                                      struct RodkitSupercoilCurvePoint *points,
+                                      int64_t capacity,
+                                      int64_t *count);
 
 // Fill `spec` with the defaults above.
 int32_t rodkit_equilibrium_spec_default(struct RodkitEquilibriumSpec *spec);

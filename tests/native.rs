@@ -195,7 +195,8 @@ fn c_drivers_are_clean_under_valgrind() {
     // c_rod_buckling exercises the rod and branch handles (two branches,
     // switching, records, positions): ~30 s under valgrind.
     // c_dna_supercoil on a tiny scene (60 bp, 8 elements, 4 steps) covers
-    // the supercoil handle, its points and positions.
+    // the supercoil handle, its points and positions; c_dna_map the curve
+    // summary and points.
     let dir = std::env::temp_dir().join(format!("rodkit-vg-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let (csv, vtk) = (dir.join("v.csv").display().to_string(), dir.join("v.vtk").display().to_string());
@@ -209,12 +210,23 @@ fn c_drivers_are_clean_under_valgrind() {
         "c_rod_buckling_shared",
         "c_dna_supercoil_shared",
         "c_dna_supercoil_resume_shared",
+        "c_dna_map_shared",
     ] {
         // c_dna_supercoil_resume: 60 bp, 8 elements, 4 steps, stopped after 3 points.
         let resume_args: Vec<String> = ["60", "8", "4", "3"].iter().map(|s| s.to_string()).collect();
+        // c_dna_map: one curve of 150 bp, 12 elements, 20 steps (buckled,
+        // summarised, written as CSV and SVG).
+        let map_dir = dir.join("map").display().to_string();
+        let map_args: Vec<String> =
+            ["--bp", "150", "--elements", "12", "--steps", "20", "--turns", "1.5", "--forces", "1", "--salts", "0.1"]
+                .iter()
+                .map(|s| s.to_string())
+                .chain([map_dir])
+                .collect();
         let args: &[String] = match exe {
             "c_dna_supercoil_shared" => &dna_args,
             "c_dna_supercoil_resume_shared" => &resume_args,
+            "c_dna_map_shared" => &map_args,
             _ => &[],
         };
         let out = Command::new("valgrind")
@@ -620,6 +632,26 @@ fn fortran_dna_supercoil_driver() {
     );
     assert_eq!(got["gmres_iterations"], p.linear_iterations as f64);
     assert!(rel(got["direct_torque_pN_nm"], got["base_pair_torque_pN_nm"]) < 1e-9, "{out}");
+    // The curve's summary and energies through the Fortran types: the
+    // Rust summary and energies of the same run (same arithmetic, 1e-12).
+    let s = rodkit::charged::summary::summarise(&r).unwrap();
+    let energies = rodkit::charged::coexistence::path_energies(&r).unwrap();
+    assert_eq!(got["curve_instability_finding"], 1.0, "{out}");
+    assert!(rel(got["curve_instability_turns"], s.instability.value.unwrap().turns) < 1e-12, "{out}");
+    let code = |f: rodkit::charged::summary::Finding| {
+        use rodkit::charged::summary::Finding::*;
+        match f {
+            Found => 1.0,
+            Unverified => 2.0,
+            Undetermined => 3.0,
+            NotReached => 4.0,
+        }
+    };
+    assert_eq!(got["curve_coexistence_finding"], code(s.coexistence.finding), "{out}");
+    assert_eq!(got["curve_superhelix_finding"], code(s.superhelix.finding), "{out}");
+    assert_eq!(got["curve_points"], r.points.len() as f64);
+    assert!(rel(got["curve_last_energy_pN_nm"], *energies.last().unwrap()) < 1e-12, "{out}");
+    assert_eq!(got["curve_last_branch"], r.points.last().unwrap().branch as f64);
     assert!(rel(got["direct_tip_z_nm"], got["base_pair_extension_nm"]) < 1e-9, "{out}");
     // Stopped by the Fortran callback after 15 points, then resumed: the
     // uninterrupted path's end (bitwise on the buckled branch, 1e-8 if
@@ -755,5 +787,86 @@ fn c_dna_supercoil_driver() {
         rel(got_t["buckling_turns"], got["buckling_turns"]) < 1e-6 && rel(got_t["buckling_torque_pN_nm"], m_b) < 1e-6,
         "{out_t}"
     );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The force × salt map driver (c_examples/dna_map.c, issue 18 deliverable
+/// 5) on a small map: 300 bp, 1 pN × 0.1 and 0.05 M, to 1.7 turns (40
+/// elements, 300 steps; ~12 s). It writes its files into the one folder
+/// given: one CSV per curve with every path point (the count of the Rust
+/// run of the same scene), summary.csv with one row per curve and the
+/// SVG families (parsed as XML: one polyline per curve). The 1 pN, 0.1 M
+/// row equals the Rust summary of the same scene (tests/supercoil_summary.rs
+/// checks that summary against independent references) to the CSV's 10
+/// significant digits (relative 1e-9); cells of quantities not determined
+/// are empty, never numbers.
+#[test]
+fn c_dna_map_driver() {
+    use rodkit::charged::dna::{run_scene, DnaScene, SupercoilSettings};
+    use rodkit::charged::summary::{summarise, Finding};
+    let dir = std::env::temp_dir().join(format!("rodkit-dna-map-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out_dir = dir.join("nested/map");
+    let args =
+        ["--bp", "300", "--forces", "1", "--salts", "0.1,0.05", "--turns", "1.7", "--elements", "40", "--steps", "300"];
+    let mut all: Vec<&str> = args.to_vec();
+    all.push(out_dir.to_str().unwrap());
+    let out = run("c_dna_map_shared", &all);
+    let got = values(&out);
+    assert_eq!((got["curves"], got["failed_curves"]), (2.0, 0.0), "{out}");
+    assert!(out.contains(&format!("{}/", out_dir.canonicalize().unwrap().display())), "{out}");
+    let summary = std::fs::read_to_string(out_dir.join("summary.csv")).unwrap();
+    let mut lines = summary.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let rows: Vec<BTreeMap<&str, &str>> =
+        lines.map(|l| header.iter().copied().zip(l.split(',')).collect::<BTreeMap<_, _>>()).collect();
+    assert_eq!(rows.len(), 2);
+    for r in &rows {
+        assert_eq!(r.len(), header.len(), "a short row: {r:?}");
+    }
+    let row = rows.iter().find(|r| r["salt_M"] == "0.1").expect("the 0.1 M row");
+    let scene = DnaScene { base_pairs: 300, tension: 1.0, salt: 0.1, ..Default::default() };
+    let settings = SupercoilSettings { elements: 40, max_turns: 1.7, max_steps: 300, ..Default::default() };
+    let run_ = run_scene(&scene, &settings).unwrap();
+    let s = summarise(&run_).unwrap();
+    let num = |k: &str| row[k].parse::<f64>().unwrap_or_else(|_| panic!("{k} = {:?}", row[k]));
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs().max(1e-12);
+    assert_eq!(num("points"), run_.points.len() as f64);
+    let i = s.instability.value.unwrap();
+    assert!(row["instability_finding"] == "found" && close(num("instability_turns"), i.turns));
+    assert!(close(num("instability_torque_pN_nm"), i.torque));
+    let c = s.coexistence.value.unwrap();
+    assert!(row["coexistence_finding"] == "found" && close(num("coexistence_turns"), c.turns));
+    assert!(close(num("coexistence_torque_straight_pN_nm"), c.torque_straight));
+    assert!(close(num("coexistence_extension_jump_nm"), c.extension_jump));
+    let p = s.plateau.value.unwrap();
+    assert_eq!(row["plateau_finding"], "found");
+    assert!(close(num("plateau_torque_pN_nm"), p.torque) && close(num("slope_nm_per_turn"), p.slope));
+    assert!(close(num("superhelix_radius_nm"), s.superhelix.value.unwrap().radius));
+    // Findings without numbers leave their cells empty.
+    for r in &rows {
+        for (f, cells) in [
+            ("coexistence_finding", &["coexistence_turns", "coexistence_torque_plectoneme_pN_nm"][..]),
+            ("plateau_finding", &["plateau_torque_pN_nm", "slope_nm_per_turn"][..]),
+            ("superhelix_finding", &["superhelix_radius_nm"][..]),
+        ] {
+            let has = matches!(r[f], "found" | "unverified");
+            assert!(["found", "unverified", "undetermined", "not_reached"].contains(&r[f]), "{f} = {}", r[f]);
+            for k in cells {
+                assert_eq!(r[k].is_empty(), !has, "{k} with {f} = {}", r[f]);
+            }
+        }
+    }
+    assert_eq!(s.coexistence.finding, Finding::Found);
+    // One CSV per curve, every point (the 0.1 M one: the Rust run's count).
+    let curve = std::fs::read_to_string(out_dir.join("curve_F1_S0.1.csv")).unwrap();
+    assert_eq!(curve.lines().count() - 1, run_.points.len());
+    assert!(curve.lines().next().unwrap().contains("energy_pN_nm") && curve.contains(",lowest,"));
+    assert!(out_dir.join("curve_F1_S0.05.csv").exists());
+    for svg in ["extension_vs_turns.svg", "torque_vs_turns.svg"] {
+        let text = std::fs::read_to_string(out_dir.join(svg)).unwrap();
+        assert!(text.starts_with("<svg") && text.trim_end().ends_with("</svg>"));
+        assert_eq!(text.matches("<polyline").count(), 2, "{svg}");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -34,6 +34,7 @@ pub mod rod;
 pub mod branch;
 pub mod branch_record;
 pub mod supercoil;
+pub mod supercoil_curve;
 
 pub mod equilibrium;
 pub mod thin_tube;
@@ -112,6 +113,7 @@ mod tests {
             include_str!("branch_record.rs"),
             include_str!("branch.rs"),
             include_str!("supercoil.rs"),
+            include_str!("supercoil_curve.rs"),
             include_str!("equilibrium.rs"),
             include_str!("thin_tube.rs"),
             include_str!("wall_material.rs"),

@@ -5,8 +5,10 @@
 //! comparison) — as a continuation problem with an exact sparse Jacobian;
 //! its branches with pair lists rebuilt as the shape moves ([`branch`]);
 //! single equilibria re-solved under another model or solver
-//! ([`equilibrium`]); and the DNA supercoiling scene ([`dna`]). The field of
-//! a centreline itself is [`crate::electrostatics`].
+//! ([`equilibrium`]); the DNA supercoiling scene ([`dna`]), its equilibrium
+//! curve ([`coexistence`]) and a curve's summary for a force × salt map
+//! ([`summary`]). The field of a centreline itself is
+//! [`crate::electrostatics`].
 
 mod assembly;
 mod base_pairs;
@@ -15,3 +17,4 @@ pub mod coexistence;
 pub mod dna;
 pub mod equilibrium;
 pub mod rod;
+pub mod summary;

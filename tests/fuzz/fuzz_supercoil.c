@@ -115,6 +115,33 @@ static void fuzz_one(void) {
         }
         fuzz_guard(fn, "xyz", xyz, len);
     }
+    /* The equilibrium curve's summary and points (issue 18): every double
+     * finite, every finding one of the four, no point past the capacity. */
+    RodkitSupercoilCurveInfo ci;
+    if (fuzz_status("rodkit_supercoil_curve_summary", rodkit_supercoil_curve_summary(run, &ci)) >= 0) {
+        double c[] = {ci.instability_turns, ci.instability_torque, ci.coexistence_turns, ci.coexistence_torque_straight,
+                      ci.coexistence_torque_plectoneme, ci.coexistence_extension_straight,
+                      ci.coexistence_extension_plectoneme, ci.coexistence_extension_jump, ci.plateau_torque,
+                      ci.plateau_torque_min, ci.plateau_torque_max, ci.slope, ci.plateau_turns_from, ci.plateau_turns_to,
+                      ci.superhelix_radius, ci.strand_distance, ci.strand_s1, ci.strand_s2, ci.superhelix_turns};
+        fuzz_finite("rodkit_supercoil_curve_summary", "summary", c, FUZZ_COUNT(c));
+        int32_t f[] = {ci.instability_finding, ci.coexistence_finding, ci.plateau_finding, ci.superhelix_finding};
+        for (size_t i = 0; i < FUZZ_COUNT(f); i++)
+            if (f[i] < RODKIT_SUMMARY_FINDING_FOUND || f[i] > RODKIT_SUMMARY_FINDING_NOT_REACHED)
+                fuzz_violation("rodkit_supercoil_curve_summary", "finding", "a finding outside RodkitSummaryFinding");
+    }
+    RodkitSupercoilCurvePoint *cp = calloc((size_t)info.points + 1, sizeof *cp);
+    memset(&cp[cap], 0x5a, sizeof *cp);
+    if (fuzz_status("rodkit_supercoil_curve_points", rodkit_supercoil_curve_points(run, cp, cap, &count)) >= 0)
+        for (int64_t i = 0; i < cap; i++) {
+            double p[] = {cp[i].turns, cp[i].extension, cp[i].torque, cp[i].energy};
+            fuzz_finite("rodkit_supercoil_curve_points", "point", p, 4);
+        }
+    unsigned char cpat[sizeof *cp];
+    memset(cpat, 0x5a, sizeof cpat);
+    if (memcmp(&cp[cap], cpat, sizeof cpat) != 0)
+        fuzz_violation("rodkit_supercoil_curve_points", "overflow", "points written past capacity");
+    free(cp);
     rodkit_supercoil_free(run);
 }
 

@@ -20,6 +20,7 @@
  */
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "rodkit.h"
 
@@ -100,20 +101,37 @@ int main(int argc, char **argv) {
     if ((st = rodkit_equilibrium_spec_default(&es)) < 0) return fail(st, "rodkit_equilibrium_spec_default");
     es.discrete_base_pairs = !spec.discrete_base_pairs;
     es.cutoff_tolerance = spec.cutoff_tolerance;
+    /* 1e-9, not the default 1e-10: Newton-Krylov's central-difference
+     * products leave the other model's residual a rounding floor near
+     * 1e-10 (this scene's last point stalled at 1.15e-10 and the solve
+     * failed), and the shift between the models (nm) needs far less. */
+    es.residual_tol = 1e-9;
     RodkitEquilibrium eq[2];
+    memset(eq, 0, sizeof eq);
     const int32_t solvers[2] = {RODKIT_EQUILIBRIUM_SOLVER_NEWTON_KRYLOV, RODKIT_EQUILIBRIUM_SOLVER_DIRECT};
+    int32_t direct_status = 0;
     for (int k = 0; k < 2; ++k) {
         es.solver = solvers[k];
-        if ((st = rodkit_supercoil_solve_point(run, count - 1, &es, &eq[k], k == 0 ? xyz : NULL, 3, info.nodes)) < 0)
-            return fail(st, "rodkit_supercoil_solve_point");
+        st = rodkit_supercoil_solve_point(run, count - 1, &es, &eq[k], k == 0 ? xyz : NULL, 3, info.nodes);
+        if (st < 0 && k == 0) return fail(st, "rodkit_supercoil_solve_point");
+        /* The direct solver's damped Newton can stall where Newton-Krylov
+         * converges (the default scene's last point with base pairs: at a
+         * scaled residual of 4.4e-7): reported, not fatal. */
+        if (st < 0) {
+            direct_status = st;
+            printf("# the direct solver failed: %s (%d): %s\n", rodkit_status_string(st), (int)st, rodkit_last_error_message());
+        }
     }
     printf("# last point under the %s model: Newton-Krylov %lld Newton / %lld GMRES iterations (preconditioner band %lld), direct %lld factorisations\n",
            es.discrete_base_pairs ? "base-pair" : "continuum", (long long)eq[0].newton_iterations, (long long)eq[0].linear_iterations,
            (long long)eq[0].preconditioner_band, (long long)eq[1].factorisations);
-    printf("seconds_newton_krylov = %.4g\nseconds_direct = %.4g\n", eq[0].seconds, eq[1].seconds);
+    printf("seconds_newton_krylov = %.4g\n", eq[0].seconds);
     printf("other_model_torque_pN_nm = %.15g\nother_model_extension_nm = %.15g\nother_model_shift_nm = %.6g\n", eq[0].torque,
            eq[0].extension, eq[0].shift);
-    printf("direct_torque_pN_nm = %.15g\nsolver_torque_difference = %.3e\n", eq[1].torque, eq[0].torque - eq[1].torque);
+    printf("direct_status = %d\n", (int)direct_status);
+    if (direct_status == 0)
+        printf("seconds_direct = %.4g\ndirect_torque_pN_nm = %.15g\nsolver_torque_difference = %.3e\n", eq[1].seconds, eq[1].torque,
+               eq[0].torque - eq[1].torque);
     printf("other_model_tip_z_nm = %.15g\n", xyz[3 * (info.nodes - 1) + 2]);
 
     FILE *csv = fopen(csv_path, "w");

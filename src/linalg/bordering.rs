@@ -59,7 +59,11 @@ impl BlockElimination {
         let n = pattern.n;
         Ok(BlockElimination {
             n,
-            a: SparseLu::with_trailing(pattern.clone(), trailing)?,
+            a: {
+                let mut a = SparseLu::with_trailing(pattern.clone(), trailing)?;
+                a.allow_supernodal();
+                a
+            },
             c: vec![0.0; n],
             r: vec![0.0; n],
             d: 0.0,

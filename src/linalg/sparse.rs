@@ -232,6 +232,7 @@ pub struct SparseLu {
     /// (None: [`SparseLu::choose_kind`]), whether the choice is made, and
     /// the supernodal factors when it took them.
     preferred_kind: Option<LuKind>,
+    by_structure: bool,
     kind_chosen: bool,
     supernodal: Option<Supernodal<usize>>,
     /// Whether the supernodal factors hold the last matrix (solves use
@@ -244,6 +245,10 @@ pub struct SparseLu {
     exact: bool,
     values: Vec<f64>,
     simplicial_fill: usize,
+    /// ‖A‖∞ and ‖A‖₁ of the last supernodal matrix, and the scratch of
+    /// its solves' refinement (the right-hand side, the residual).
+    norms: (f64, f64),
+    refine: (Vec<f64>, Vec<f64>),
     /// Numeric factorisations done (the cost unit of a continuation).
     pub factorisations: usize,
     /// Solves done (each with one right-hand side).
@@ -317,12 +322,15 @@ impl SparseLu {
             preferred: None,
             chosen: ColumnOrder::Natural,
             preferred_kind: None,
+            by_structure: false,
             kind_chosen: false,
             supernodal: None,
             fast: false,
             exact: false,
             values: Vec::new(),
             simplicial_fill: 0,
+            norms: (0.0, 0.0),
+            refine: (Vec::new(), Vec::new()),
             factorisations: 0,
             solves: 0,
         })
@@ -349,6 +357,17 @@ impl SparseLu {
     /// structure (given after the first factorisation it changes nothing).
     pub fn prefer_kind(&mut self, kind: LuKind) {
         self.preferred_kind = Some(kind);
+    }
+
+    /// Choose the kind by structure ([`SparseLu::choose_kind`]) instead
+    /// of simplicial always (the default). Taken by the continuation's
+    /// block elimination, whose solves are refined against the bordered
+    /// matrix and whose paths are tested against the simplicial ones
+    /// (tests/supercoil_lu.rs); the other users (direct equilibrium
+    /// solves, preconditioners) keep the simplicial LU they were measured
+    /// and tested with.
+    pub fn allow_supernodal(&mut self) {
+        self.by_structure = true;
     }
 
     /// The factorisation kind of the last matrix (Simplicial before the
@@ -431,6 +450,7 @@ impl SparseLu {
             }
             self.values.clear();
             self.values.extend_from_slice(values);
+            self.norms = norms(&self.pattern, values);
             self.factorisations += 1;
             self.fast = true;
             self.factorised = true;
@@ -476,6 +496,7 @@ impl SparseLu {
         let forced = match self.preferred_kind {
             Some(LuKind::Simplicial) => return,
             Some(LuKind::Supernodal) => true,
+            None if !self.by_structure => return,
             None => false,
         };
         // A dense row makes the AᵀA factor dense (the bound ~n²): its
@@ -598,11 +619,48 @@ impl SparseLu {
 
     fn solve_with(&mut self, b: &mut [f64], transpose: bool) {
         assert!(self.factorised, "solve before a successful factorisation");
-        match self.supernodal.as_mut().filter(|_| self.fast) {
-            Some(sn) => sn.solve_with(b, transpose),
-            None => with_factors!(&mut self.factors, f => f.solve_with(b, transpose)),
+        if self.fast {
+            self.refined_solve(b, transpose);
+        } else {
+            with_factors!(&mut self.factors, f => f.solve_with(b, transpose));
         }
         self.solves += 1;
+    }
+
+    /// A solve on the supernodal factors, refined against A until the
+    /// residual is at rounding level (‖b − Ax‖∞ ≤ 1e-14 (‖A‖‖x‖∞ +
+    /// ‖b‖∞)), at most three times (faer's supernodal LU pivots within
+    /// each supernode's front: cheap insurance, one solve and one product
+    /// each, against a factor less accurate than the simplicial one).
+    fn refined_solve(&mut self, b: &mut [f64], transpose: bool) {
+        let Some(sn) = self.supernodal.as_mut() else { return };
+        let (rhs, res) = &mut self.refine;
+        rhs.clear();
+        rhs.extend_from_slice(b);
+        res.resize(b.len(), 0.0);
+        sn.solve_with(b, transpose);
+        let norm = if transpose { self.norms.1 } else { self.norms.0 };
+        let b_norm = rhs.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for _ in 0..3 {
+            if transpose {
+                self.pattern.mul_vec_transpose(&self.values, b, res);
+            } else {
+                self.pattern.mul_vec(&self.values, b, res);
+            }
+            let mut worst = 0.0f64;
+            for (r, f) in res.iter_mut().zip(rhs.iter()) {
+                *r = f - *r;
+                worst = worst.max(r.abs());
+            }
+            let x_norm = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            if !worst.is_finite() || worst <= 1e-14 * (norm * x_norm + b_norm) {
+                return;
+            }
+            sn.solve_with(res, transpose);
+            for (x, d) in b.iter_mut().zip(res.iter()) {
+                *x += d;
+            }
+        }
     }
 
     /// Sign of det A (±1) and log|det A| of the last factorisation (with
@@ -724,6 +782,21 @@ fn profile_bound(pattern: &Pattern, perm: Option<&[usize]>) -> u128 {
         *col = c;
     }
     (0..n).map(|j| (last_row[j] - j + 1) as u128 + (last_col_of_row[last_row[j]] - j + 1) as u128).sum()
+}
+
+/// (‖A‖∞, ‖A‖₁): the largest row and column sums of |entries|.
+fn norms(pattern: &Pattern, values: &[f64]) -> (f64, f64) {
+    let mut rows = vec![0.0f64; pattern.n];
+    let mut col_max = 0.0f64;
+    for j in 0..pattern.n {
+        let mut col = 0.0;
+        for k in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
+            rows[pattern.row_idx[k]] += values[k].abs();
+            col += values[k].abs();
+        }
+        col_max = col_max.max(col);
+    }
+    (rows.into_iter().fold(0.0, f64::max), col_max)
 }
 
 /// +1 for an even permutation, −1 for an odd one (cycle count).
@@ -889,8 +962,12 @@ mod tests {
             let pattern = band(b);
             let values = random_values(&pattern, &mut 31u64);
             let mut lu = SparseLu::new(pattern.clone()).unwrap();
+            lu.allow_supernodal();
             lu.factorise(&values).unwrap();
             assert_eq!(lu.kind(), kind, "half-width {b}");
+            let mut plain = SparseLu::new(pattern.clone()).unwrap();
+            plain.factorise(&values).unwrap();
+            assert_eq!(plain.kind(), LuKind::Simplicial, "simplicial unless allowed");
             let rhs: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).cos()).collect();
             let mut x = rhs.clone();
             lu.solve(&mut x);

@@ -40,8 +40,9 @@ pub struct BorderedLu {
     /// zero crossings.
     row_scale: Vec<f64>,
     col_scale: Vec<f64>,
-    /// A's pattern and trailing count (for the block elimination's LU).
-    inner: Pattern,
+    /// A's pattern (moved into the block elimination's LU on the first
+    /// matrix) and trailing count.
+    inner: Option<Pattern>,
     trailing: usize,
     fast: Fast,
     /// Whether the last factorisation is the block elimination's (solves
@@ -95,7 +96,7 @@ impl BorderedLu {
             last_row,
             row_scale: vec![1.0; n + 1],
             col_scale: vec![1.0; n + 1],
-            inner: pattern.clone(),
+            inner: Some(pattern.clone()),
             trailing,
             fast: Fast::Undecided,
             blocks_active: false,
@@ -136,7 +137,7 @@ impl BorderedLu {
     /// Block elimination when A alone takes supernodal factors (tried on
     /// its first matrix), else B's LU for good.
     fn first_blocks(&mut self, a: &[f64]) -> Fast {
-        let Ok(mut blocks) = BlockElimination::new(&self.inner, self.trailing) else {
+        let Some(Ok(mut blocks)) = self.inner.take().map(|p| BlockElimination::new(p, self.trailing)) else {
             return Fast::Whole;
         };
         if let Some(order) = self.preferred {

@@ -22,7 +22,7 @@
 //! (simplicial) and solves with that — never a less accurate answer.
 
 use super::dense::dot;
-use super::sparse::{Pattern, SparseLu};
+use super::sparse::{norms, refine, Pattern, SparseLu};
 use crate::error::{Error, Result};
 use crate::status::Status;
 
@@ -46,21 +46,20 @@ pub(super) struct BlockElimination {
     schur: f64,
     /// ‖B‖∞ of the factorised matrix.
     norm: f64,
-    /// Scratch: the right-hand side, the residual, the correction.
+    /// Scratch: the right-hand side, the residual (the correction).
     f: Vec<f64>,
     res: Vec<f64>,
-    dz: Vec<f64>,
 }
 
 impl BlockElimination {
     /// For A with `pattern` (its last `trailing` unknowns reaching across
     /// it).
-    pub(super) fn new(pattern: &Pattern, trailing: usize) -> Result<Self> {
+    pub(super) fn new(pattern: Pattern, trailing: usize) -> Result<Self> {
         let n = pattern.n;
         Ok(BlockElimination {
             n,
             a: {
-                let mut a = SparseLu::with_trailing(pattern.clone(), trailing)?;
+                let mut a = SparseLu::with_trailing(pattern, trailing)?;
                 a.allow_supernodal();
                 a
             },
@@ -74,7 +73,6 @@ impl BlockElimination {
             norm: 0.0,
             f: vec![0.0; n + 1],
             res: vec![0.0; n + 1],
-            dz: vec![0.0; n + 1],
         })
     }
 
@@ -86,14 +84,8 @@ impl BlockElimination {
         self.c.copy_from_slice(c);
         self.r.copy_from_slice(r);
         self.d = d;
-        // ‖B‖∞, the largest row sum of |entries| (rows summed in `res`).
-        self.res.fill(0.0);
-        for j in 0..pattern.n {
-            for k in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
-                self.res[pattern.row_idx[k]] += values[k].abs();
-            }
-        }
-        self.norm = max_abs(&self.res);
+        // ‖B‖∞ (its row sums in the residual's scratch).
+        self.norm = norms(pattern, values, &mut self.res).0;
         self.y.copy_from_slice(c);
         self.a.solve(&mut self.y);
         self.w_known = false;
@@ -118,33 +110,18 @@ impl BlockElimination {
         }
         self.f.copy_from_slice(rhs);
         self.block(rhs, transpose);
-        let f_norm = max_abs(&self.f);
-        for _ in 0..=MAX_REFINEMENTS {
-            if transpose {
-                pattern.mul_vec_transpose(values, rhs, &mut self.res);
-            } else {
-                pattern.mul_vec(values, rhs, &mut self.res);
-            }
-            for (e, f) in self.res.iter_mut().zip(&self.f) {
-                *e = f - *e;
-            }
-            let residual = max_abs(&self.res);
-            if !residual.is_finite() {
-                break;
-            }
-            if residual <= RESIDUAL_TOL * (self.norm * max_abs(rhs) + f_norm) {
-                return Ok(());
-            }
-            let mut dz = std::mem::take(&mut self.dz);
-            dz.copy_from_slice(&self.res);
-            self.block(&mut dz, transpose);
-            for (z, d) in rhs.iter_mut().zip(&dz) {
-                *z += d;
-            }
-            self.dz = dz;
+        let (f, mut res) = (std::mem::take(&mut self.f), std::mem::take(&mut self.res));
+        let bound = (self.norm, RESIDUAL_TOL, MAX_REFINEMENTS);
+        let refined = refine((pattern, values, transpose), bound, &f, rhs, &mut res, |d| self.block(d, transpose));
+        if !refined {
+            rhs.copy_from_slice(&f);
         }
-        rhs.copy_from_slice(&self.f);
-        Err(Error::new(Status::ErrNotConverged, "bordered LU: block elimination did not refine to rounding level"))
+        (self.f, self.res) = (f, res);
+        if refined {
+            Ok(())
+        } else {
+            Err(Error::new(Status::ErrNotConverged, "bordered LU: block elimination did not refine to rounding level"))
+        }
     }
 
     /// One block-elimination solve in place (no refinement).
@@ -165,8 +142,4 @@ impl BlockElimination {
         }
         v[n] = zn;
     }
-}
-
-fn max_abs(v: &[f64]) -> f64 {
-    v.iter().fold(0.0, |m, x| m.max(x.abs()))
 }

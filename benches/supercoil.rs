@@ -6,7 +6,12 @@
 //! from RODKIT_SUPERCOIL_SALTS, e.g. "0.1", default both; the buckled
 //! branch stops past RODKIT_SUPERCOIL_TURNS turns, default 12; the Newton
 //! iterations its steps aim at from RODKIT_SUPERCOIL_AIM, default 3:
-//! `SupercoilSettings::corrector_aim`). Writes
+//! `SupercoilSettings::corrector_aim`; the scene from RODKIT_SUPERCOIL_BP
+//! (length, default 1000), RODKIT_SUPERCOIL_FORCE (pN, default the
+//! scene's 1), RODKIT_SUPERCOIL_ELEMENTS (default 100 per kbp) and
+//! RODKIT_SUPERCOIL_DISCRETE=1, the discrete base-pair charges;
+//! RODKIT_SUPERCOIL_THREADS, default 1: with 2 the records' signs are
+//! taken on a second thread, `Options::overlap_records`). Writes
 //! target/bench/supercoil/{path_<salt>M.csv, extension.svg, torque.svg,
 //! twist_writhe.svg, report.txt}: the curves users compare with
 //! magnetic-tweezers experiments (extension and torque vs turns) and the
@@ -22,7 +27,8 @@
 //! supernodal LU where the Jacobian is wide): time, steps and
 //! factorisations as ratios, and the largest distance of the new path from
 //! the baseline's (RODKIT_SUPERCOIL_BASELINE=0 skips the baseline, =lu
-//! runs the default engine with the simplicial LU as the baseline).
+//! runs the default engine with the simplicial LU as the baseline,
+//! =serial the same settings on one thread).
 
 #[path = "support/plot.rs"]
 mod plot;
@@ -122,7 +128,7 @@ fn profile_line(name: &str, c: &Counts, newton: usize, points: usize, lists: usi
     let ms = |d: std::time::Duration| d.as_secs_f64();
     let per = |v: usize| v as f64 / c.steps.max(1) as f64;
     format!(
-        "  {name}: {} steps ({} rejected), {} points, {} factorisations ({:.2}/step; {} in {} bifurcation locations; {} by block elimination, {:.2} s), \
+        "  {name}: {} steps ({} rejected), {} points, {} factorisations ({:.2}/step; {} in {} bifurcation locations; {} by block elimination, {:.2} s; {:.2} s on the records' thread), \
          {} corrector iterations on accepted points ({:.2}/point), {} solves ({} σ_min monitor), {} residuals, {} Jacobians, {} pair lists ({:.1} steps/list)\n    \
          time: residual {:.2} s, Jacobian {:.2} s, LU factorisation {:.2} s, solves {:.2} s, σ_min monitor {:.2} s, setup (pair lists, patterns) {:.2} s; location (inclusive) {:.2} s",
         c.steps,
@@ -134,6 +140,7 @@ fn profile_line(name: &str, c: &Counts, newton: usize, points: usize, lists: usi
         c.locations,
         c.block_eliminations,
         ms(c.block_time),
+        ms(t.overlapped),
         newton,
         newton as f64 / points.max(1) as f64,
         c.solves,
@@ -207,10 +214,32 @@ fn main() {
         if !salts.contains(&salt) {
             continue;
         }
-        let scene = DnaScene { salt, ..Default::default() };
-        let aim: f64 = std::env::var("RODKIT_SUPERCOIL_AIM").ok().and_then(|v| v.parse().ok()).unwrap_or(3.0);
-        let settings =
-            SupercoilSettings { elements: 100, max_steps: steps, max_turns, corrector_aim: aim, ..Default::default() };
+        let knob = |name: &str| std::env::var(name).ok().and_then(|v| v.parse::<f64>().ok());
+        // The scene (issue 18's other targets): length in base pairs,
+        // tension (pN), elements (default 100 per kbp, 3.4 nm), and the
+        // discrete base-pair charges instead of the line charge.
+        let defaults = DnaScene::default();
+        let bp = knob("RODKIT_SUPERCOIL_BP").map_or(1000, |v| v as usize);
+        let tension = knob("RODKIT_SUPERCOIL_FORCE").unwrap_or(defaults.tension);
+        let elements = knob("RODKIT_SUPERCOIL_ELEMENTS").map_or((bp as f64 / 10.0).round() as usize, |v| v as usize);
+        let discrete = knob("RODKIT_SUPERCOIL_DISCRETE").is_some_and(|v| v != 0.0);
+        let scene = DnaScene { salt, base_pairs: bp, tension, ..defaults };
+        let aim = knob("RODKIT_SUPERCOIL_AIM").unwrap_or(3.0);
+        let threads = knob("RODKIT_SUPERCOIL_THREADS").map_or(1, |v| v as usize);
+        let settings = SupercoilSettings {
+            elements,
+            threads,
+            max_steps: steps,
+            max_turns,
+            corrector_aim: aim,
+            base_pairs: discrete,
+            ..Default::default()
+        };
+        let _ = writeln!(
+            report,
+            "scene: {bp} bp, {tension} pN, {salt} M, {elements} elements, {} charges",
+            if discrete { "base-pair" } else { "line" }
+        );
         // Before and after in one process (issue 18): the engine up to
         // issue 18 (Euler predictor, Newton corrector, simplicial LU of
         // the bordered Jacobian throughout) and the default one.
@@ -220,6 +249,7 @@ fn main() {
         let baseline_settings = match std::env::var("RODKIT_SUPERCOIL_BASELINE").as_deref() {
             Ok("0") => None,
             Ok("lu") => Some(SupercoilSettings { lu_kind: Some(LuKind::Simplicial), ..settings.clone() }),
+            Ok("serial") => Some(SupercoilSettings { threads: 1, ..settings.clone() }),
             _ => Some(SupercoilSettings {
                 engine: Engine::Newton,
                 lu_kind: Some(LuKind::Simplicial),

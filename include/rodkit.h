@@ -846,6 +846,11 @@ typedef struct RodkitDnaSupercoilSpec {
   // where); < 0: none, the run stops at a crossing with
   // RODKIT_STATUS_INFO_STRAND_CROSSING.
   double hard_core;
+  // Threads (1…256) for the pair forces; with 2 or more the buckled
+  // branch's records also take their determinant signs on a second
+  // thread while the next step is corrected (the same signs, stops and
+  // steps; the points equal to rounding). The progress callback is
+  // always called on the calling thread.
   int64_t threads;
   double max_turns;
   int64_t max_steps;

@@ -326,3 +326,66 @@ fn hermite_predictor_and_chord_corrections_stay_on_the_branch() {
     let reference: Vec<_> = whole.records.iter().map(|r| (r.lambda, r.outputs.clone())).collect();
     assert_eq!(joined, reference, "a resumed branch takes the uninterrupted one's steps");
 }
+
+/// Records' signs on a second thread (`Options::overlap_records`) against
+/// the same run on one thread (the reference): the circle through its fold
+/// (det R_x = 2x1 flips once there; reference: the closed form) with every
+/// way a run ends — past the Λ range, at a target, at the step limit, and
+/// stopped by the callback after record k (the step corrected meanwhile is
+/// dropped: the same records and resume point). Same records (Λ, outputs
+/// to 1e-12: the tangents differ only by rounding; signs and pivots
+/// equal), same stop, same resume point to 1e-12.
+#[test]
+fn signs_on_a_second_thread_give_the_one_thread_run() {
+    let base = Options {
+        max_steps: 400,
+        residual_tol: 1e-12,
+        initial_step: 0.05,
+        max_step: 0.2,
+        lambda_range: (-0.5, 2.0),
+        ..Default::default()
+    };
+    let cases = [
+        ("range", base.clone(), usize::MAX),
+        ("target", Options { target_lambda: Some(0.9), ..base.clone() }, usize::MAX),
+        ("max steps", Options { max_steps: 7, ..base.clone() }, usize::MAX),
+        ("cancelled", base.clone(), 9),
+    ];
+    for (name, opts, stop_after) in cases {
+        let run = |overlap_records: bool| {
+            let mut sys = circle();
+            let start = Start::Point { x: vec![1.0, 0.0, 0.0], lambda: 0.0, increasing: true };
+            let opts = Options { overlap_records, ..opts.clone() };
+            let mut told = 0;
+            let b = continue_newton(&mut sys, start, &opts, |x, _| x.to_vec(), |_| {
+                told += 1;
+                told <= stop_after
+            })
+            .unwrap();
+            (b, told)
+        };
+        let ((one, told1), (two, told2)) = (run(false), run(true));
+        assert_eq!((one.stop, one.records.len(), told1), (two.stop, two.records.len(), told2), "{name}");
+        assert_eq!(one.counts.times.overlapped, std::time::Duration::ZERO, "{name}");
+        for (k, (a, b)) in one.records.iter().zip(&two.records).enumerate() {
+            assert!((a.lambda - b.lambda).abs() < 1e-12, "{name} record {k}: Λ {} vs {}", a.lambda, b.lambda);
+            for (p, q) in a.outputs.iter().zip(&b.outputs) {
+                assert!((p - q).abs() < 1e-12, "{name} record {k}: {p} vs {q}");
+            }
+            assert_eq!(
+                (a.det_sign, a.bordered_det_sign, a.negative_pivots),
+                (b.det_sign, b.bordered_det_sign, b.negative_pivots),
+                "{name} record {k}"
+            );
+        }
+        let (r1, r2) = (&one.resume, &two.resume);
+        assert!((r1.lambda - r2.lambda).abs() < 1e-12 && (r1.step - r2.step).abs() < 1e-12, "{name}: resume");
+    }
+    // The reference itself: one flip of det R_x on the whole arc.
+    let mut sys = circle();
+    let start = Start::Point { x: vec![1.0, 0.0, 0.0], lambda: 0.0, increasing: true };
+    let opts = Options { overlap_records: true, ..base };
+    let b = continue_newton(&mut sys, start, &opts, |x, _| x.to_vec(), |_| true).unwrap();
+    assert!(b.counts.times.overlapped > std::time::Duration::ZERO, "no record's signs on the second thread");
+    assert_eq!(b.records.windows(2).filter(|w| w[0].det_sign != w[1].det_sign).count(), 1);
+}

@@ -13,7 +13,7 @@
 
 use super::rod::{ChargedRod, RodCharge};
 use crate::continuation::corrector::{correct, Plane};
-use crate::continuation::newton::{continue_newton, Start};
+use crate::continuation::newton::{continue_newton_hinted, Start};
 use crate::continuation::run::Context;
 use crate::continuation::{Options, Problem, Record, Resume, Scaling, Stop};
 use crate::error::Result;
@@ -302,26 +302,36 @@ fn follow_list(
         o.push(moved(x));
         o
     };
-    let b = continue_newton(problem, start, opts, observe, |rec| {
-        let x = &rec.outputs[..rec.outputs.len() - 1];
-        let k = index;
-        index += 1;
-        match (first, k) {
-            (SegmentStart::Reached, 0) => return progress(rec),
-            (SegmentStart::Told, 0) => return true,
-            _ => {}
-        }
-        if let Some((distance, s1, s2)) = strand_crossing(rod, charge, x) {
-            crossing = Some(Contact { record: k, distance, s1, s2 });
-            progress(rec);
-            return false;
-        }
-        if local && *rec.outputs.last().expect("displacement") > half_skin {
-            stale = true;
-            return false;
-        }
-        progress(rec)
-    })?;
+    // A stale list ends the segment: told at once, not after a step that
+    // would be dropped (records' signs on a second thread).
+    let will_stop = |rec: &Record| local && *rec.outputs.last().expect("displacement") > half_skin;
+    let b = continue_newton_hinted(
+        problem,
+        start,
+        opts,
+        observe,
+        |rec| {
+            let x = &rec.outputs[..rec.outputs.len() - 1];
+            let k = index;
+            index += 1;
+            match (first, k) {
+                (SegmentStart::Reached, 0) => return progress(rec),
+                (SegmentStart::Told, 0) => return true,
+                _ => {}
+            }
+            if let Some((distance, s1, s2)) = strand_crossing(rod, charge, x) {
+                crossing = Some(Contact { record: k, distance, s1, s2 });
+                progress(rec);
+                return false;
+            }
+            if local && *rec.outputs.last().expect("displacement") > half_skin {
+                stale = true;
+                return false;
+            }
+            progress(rec)
+        },
+        will_stop,
+    )?;
     let order = b.column_order;
     let mut segment = RodBranch::from_engine(b, phase, 1);
     segment.contact = crossing;

@@ -207,6 +207,11 @@ pub struct SupercoilSettings {
     pub cutoff_tolerance: Option<f64>,
     /// Hard-core stiffness (pN/nm⁴), None: none.
     pub hard_core: Option<f64>,
+    /// Threads for the pair forces; with 2 or more, the buckled branch's
+    /// records also take their determinant signs on a second thread while
+    /// the next step is corrected ([`Options::overlap_records`]). Results
+    /// are the same signs, stops and steps; the paths equal to rounding
+    /// (the tangents then come from the block elimination).
     pub threads: usize,
     /// The buckled branch stops past this many turns (or when turns fall
     /// to zero), at the step limit, or at a strand crossing.
@@ -786,6 +791,7 @@ fn buckled_path(
         hermite_predictor: settings.engine == Engine::Hermite,
         corrector_aim: if settings.engine == Engine::Hermite { settings.corrector_aim } else { 3.0 },
         lu_kind: settings.lu_kind,
+        overlap_records: settings.threads >= 2,
         ..Default::default()
     };
     let n = rod.unknowns();

@@ -25,6 +25,7 @@ pub mod bifurcation;
 pub mod corrector;
 pub mod equilibrium;
 pub mod newton;
+mod overlap;
 mod pade;
 pub(crate) mod run;
 pub mod system;
@@ -264,6 +265,16 @@ pub struct Options {
     /// (a charged rod's record, simplicial, against block eliminations:
     /// [`crate::charged::dna::SupercoilSettings::corrector_aim`]).
     pub corrector_aim: f64,
+    /// Newton continuation without bifurcation detection, σ_min tracking
+    /// or samples: each point is factorised for solves only (the pattern's
+    /// fastest kind, block elimination on a supernodal LU where it takes
+    /// one) and its record's determinant signs and pivots — B's own
+    /// simplicial LU — are taken on a second thread while the next step
+    /// is corrected; the record is told (and may stop the run) once the
+    /// next step is done, whose point is then dropped. Same signs and
+    /// pivots as on one thread; the tangents come from the fast
+    /// factorisation (equal to rounding). Worth it with a core to spare.
+    pub overlap_records: bool,
 }
 
 /// The corrector iterations a chord step is sized for (each a residual and
@@ -291,6 +302,7 @@ impl Default for Options {
             column_order: None,
             lu_kind: None,
             corrector_aim: 3.0,
+            overlap_records: false,
         }
     }
 }
@@ -343,6 +355,10 @@ pub struct Times {
     pub monitor: std::time::Duration,
     /// Bifurcation location (inclusive).
     pub location: std::time::Duration,
+    /// Records' factorisations on a second thread
+    /// ([`Options::overlap_records`]): they overlap the rest and are not
+    /// part of its wall clock.
+    pub overlapped: std::time::Duration,
     /// Problem construction reported by the caller (pair lists, patterns).
     pub setup: std::time::Duration,
 }
@@ -355,6 +371,7 @@ impl Times {
         self.solves += o.solves;
         self.monitor += o.monitor;
         self.location += o.location;
+        self.overlapped += o.overlapped;
         self.setup += o.setup;
     }
 }

@@ -7,6 +7,7 @@
 
 use super::bifurcation::State;
 use super::corrector::{correct, Plane};
+use super::overlap::Overlap;
 use super::run::{resume_step, validate_resume, Run};
 use super::{Branch, Options, Problem, Record, Resume, Sample, Stop, CHORD_AIM};
 use crate::error::Result;
@@ -51,18 +52,52 @@ pub fn continue_newton<P: Problem + ?Sized>(
     problem: &mut P,
     start: Start,
     opts: &Options,
+    observe: impl FnMut(&[f64], f64) -> Vec<f64>,
+    progress: impl FnMut(&Record) -> bool,
+) -> Result<Branch> {
+    continue_newton_hinted(problem, start, opts, observe, progress, |_| false)
+}
+
+/// As [`continue_newton`], with `will_stop(record)`: asked of each new
+/// point's record before its determinant signs are in (0, 0, no pivots)
+/// whether `progress` will stop the run there. With
+/// [`Options::overlap_records`] a record is otherwise told after the next
+/// step is corrected, and a stop it asks for drops that step: a caller
+/// that stops often (a charged rod's stale pair list, every few steps)
+/// says so here and the record is told at once. Only a hint: the run
+/// stops where `progress` says either way.
+pub fn continue_newton_hinted<P: Problem + ?Sized>(
+    problem: &mut P,
+    start: Start,
+    opts: &Options,
     mut observe: impl FnMut(&[f64], f64) -> Vec<f64>,
     mut progress: impl FnMut(&Record) -> bool,
+    mut will_stop: impl FnMut(&Record) -> bool,
 ) -> Result<Branch> {
     let mut run = Run::new(problem, opts)?;
     let (mut at, mut ds, first_iterations, singular, mut previous) = begin(&mut run, problem, start)?;
-    let first = if singular {
-        run.singular_record(problem, &at.x, at.lambda, &mut observe)
-    } else {
-        run.record(problem, &at, 0.0, first_iterations, &mut observe)
+    // Records whose signs are taken on a second thread are told one step
+    // late: the step after them is corrected meanwhile. The first too: B's
+    // own LU then never factorises (a new pattern's first factorisation
+    // chooses its column order, the cost of several).
+    let mut overlap = run.overlapping().then(Overlap::default);
+    let (residual, go_on) = match overlap.as_mut() {
+        Some(o) if !singular => {
+            let rec = run.unsigned_record(problem, &at, 0.0, first_iterations, &mut observe);
+            let orientation = run.ctx.bordered.orientation(&run.ctx.scaling, &at.tx, at.tl);
+            let residual = rec.residual;
+            o.start(&run.ctx.bordered, rec, orientation)?;
+            (residual, true)
+        }
+        _ => {
+            let first = if singular {
+                run.singular_record(problem, &at.x, at.lambda, &mut observe)
+            } else {
+                run.record(problem, &at, 0.0, first_iterations, &mut observe)
+            };
+            (first.residual, run.push(first, &mut progress))
+        }
     };
-    let residual = first.residual;
-    let go_on = run.push(first, &mut progress);
     if opts.detect_bifurcations {
         run.watch(problem, at.clone())?;
     }
@@ -74,11 +109,19 @@ pub fn continue_newton<P: Problem + ?Sized>(
         return Ok(run.finish(Stop::Cancelled, at, ds, previous));
     }
     if opts.target_lambda == Some(at.lambda) {
+        tell_waiting(&mut overlap, &mut run, &mut progress);
         return Ok(run.finish(Stop::Target, at, ds, previous));
     }
     for _ in 0..opts.max_steps {
         let before = previous.as_ref().filter(|_| opts.hermite_predictor);
-        let Some((mut xn, mut ln, iterations)) = predict_correct(&mut run, problem, &at, before, &mut ds) else {
+        let ds_told = ds;
+        let corrected = predict_correct(&mut run, problem, &at, before, &mut ds);
+        // The last point's record, told now: a stop it asks for drops this
+        // step's point (the run ends where it would have on one thread).
+        if !tell_waiting(&mut overlap, &mut run, &mut progress) {
+            return Ok(run.finish(Stop::Cancelled, at, ds_told, previous));
+        }
+        let Some((mut xn, mut ln, iterations)) = corrected else {
             return Ok(run.finish(Stop::StepTooSmall, at, ds, previous));
         };
         run.ctx.counts.steps += 1;
@@ -99,16 +142,27 @@ pub fn continue_newton<P: Problem + ?Sized>(
         // The tangent at the new point (one factorisation; its determinant
         // signs go into the record). An exactly singular matrix there ends
         // the branch with its records.
-        let tangent = run.ctx.factorise(problem, &xn, ln, (&at.tx, at.tl)).and_then(|_| run.ctx.tangent());
+        let tangent = run.factorise_point(problem, &xn, ln, (&at.tx, at.tl)).and_then(|_| run.ctx.tangent());
         let Ok((txn, tln)) = tangent else {
             return Ok(run.finish(Stop::StepTooSmall, at, ds, previous));
         };
         let next = State { x: xn, lambda: ln, tx: txn, tl: tln };
         let dx: Vec<f64> = at.x.iter().zip(&next.x).map(|(a, b)| b - a).collect();
         let step = run.ctx.scaling.norm(&dx, ln - at.lambda);
-        let rec = run.record(problem, &next, step, iterations, &mut observe);
-        let go_on = run.push(rec, &mut progress);
-        let refactorised = samples(&mut run, problem, &at, &next, step, &mut observe);
+        let go_on = match overlap.as_mut() {
+            Some(o) => {
+                let rec = run.unsigned_record(problem, &next, step, iterations, &mut observe);
+                let orientation = run.ctx.bordered.orientation(&run.ctx.scaling, &next.tx, next.tl);
+                let now = will_stop(&rec);
+                o.start(&run.ctx.bordered, rec, orientation)?;
+                !now || tell_waiting(&mut overlap, &mut run, &mut progress)
+            }
+            None => {
+                let rec = run.record(problem, &next, step, iterations, &mut observe);
+                run.push(rec, &mut progress)
+            }
+        };
+        let refactorised = !opts.samples.is_empty() && samples(&mut run, problem, &at, &next, step, &mut observe);
         if opts.detect_bifurcations {
             if refactorised {
                 run.ctx.factorise(problem, &next.x, ln, (&next.tx, tln))?;
@@ -124,13 +178,24 @@ pub fn continue_newton<P: Problem + ?Sized>(
         let factor = (aim / iterations.max(1) as f64).sqrt().clamp(0.5, 2.0);
         ds = (ds * factor).clamp(opts.min_step, opts.max_step);
         if let Some(stop) = stop {
+            tell_waiting(&mut overlap, &mut run, &mut progress);
             return Ok(run.finish(stop, at, ds, previous));
         }
         if !go_on {
             return Ok(run.finish(Stop::Cancelled, at, ds, previous));
         }
     }
-    Ok(run.finish(Stop::MaxSteps, at, ds, previous))
+    let stop = if tell_waiting(&mut overlap, &mut run, &mut progress) { Stop::MaxSteps } else { Stop::Cancelled };
+    Ok(run.finish(stop, at, ds, previous))
+}
+
+/// Tell the record waiting for its signs, if any ([`Overlap`]): false
+/// when the callback asks to stop.
+fn tell_waiting(overlap: &mut Option<Overlap>, run: &mut Run, progress: &mut impl FnMut(&Record) -> bool) -> bool {
+    match overlap.as_mut().and_then(|o| o.finish(&mut run.ctx.counts)) {
+        Some(rec) => run.push(rec, progress),
+        None => true,
+    }
 }
 
 /// The point before a start and the arc length between them (the Hermite
@@ -151,7 +216,7 @@ fn begin<P: Problem + ?Sized>(
         Start::Point { x, lambda, increasing } => {
             let (x, l, it) = run.corrected_start(problem, x, lambda)?;
             let e_lambda = vec![0.0; x.len()];
-            run.ctx.factorise(problem, &x, l, (&e_lambda, if increasing { 1.0 } else { -1.0 }))?;
+            run.factorise_point(problem, &x, l, (&e_lambda, if increasing { 1.0 } else { -1.0 }))?;
             let (tx, tl) = run.ctx.tangent()?;
             Ok((State { x, lambda: l, tx, tl }, opts.initial_step, it, false, None))
         }

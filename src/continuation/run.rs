@@ -215,7 +215,7 @@ impl<'o> Run<'o> {
         // Bordered by the previous point's tangent when there is one: the
         // factorisation the uninterrupted run had here.
         let border = r.previous.as_deref().filter(|p| p.tangent_x.len() == r.x.len()).unwrap_or(r);
-        match self.ctx.factorise(problem, &r.x, r.lambda, (&border.tangent_x, border.tangent_lambda)) {
+        match self.factorise_point(problem, &r.x, r.lambda, (&border.tangent_x, border.tangent_lambda)) {
             Ok(()) => Ok(true),
             Err(e) if e.status == Status::ErrNotConverged => Ok(false),
             Err(e) => Err(e),
@@ -233,10 +233,27 @@ impl<'o> Run<'o> {
         newton_iterations: usize,
         observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
     ) -> Record {
+        let mut rec = self.unsigned_record(problem, at, step, newton_iterations, observe);
+        let ctx = &mut self.ctx;
+        (rec.bordered_det_sign, rec.det_sign) = ctx.bordered.determinant_signs(&ctx.scaling, &at.tx, at.tl);
+        rec.negative_pivots = Some(ctx.bordered.negative_pivots());
+        rec
+    }
+
+    /// As [`Run::record`] without the determinant signs and pivots (0, 0,
+    /// None): [`super::overlap::Overlap`] takes them on a second thread.
+    /// The σ_min monitor, when on, is taken here.
+    pub fn unsigned_record<P: Problem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        at: &State,
+        step: f64,
+        newton_iterations: usize,
+        observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
+    ) -> Record {
         let (x, lambda) = (&at.x[..], at.lambda);
         let residual = self.ctx.residual_norm(problem, x, lambda);
         let ctx = &mut self.ctx;
-        let (bordered_det_sign, det_sign) = ctx.bordered.determinant_signs(&ctx.scaling, &at.tx, at.tl);
         let smallest_singular_value = (self.opts.track_singular || self.opts.detect_bifurcations)
             .then(|| ctx.bordered.signed_smallest_singular_value(&mut ctx.counts));
         Record {
@@ -244,12 +261,38 @@ impl<'o> Run<'o> {
             outputs: observe(x, lambda),
             residual,
             step,
-            det_sign,
-            bordered_det_sign,
+            det_sign: 0.0,
+            bordered_det_sign: 0.0,
             smallest_singular_value,
-            negative_pivots: Some(ctx.bordered.negative_pivots()),
+            negative_pivots: None,
             newton_iterations,
             series_residual: None,
+        }
+    }
+
+    /// Whether records take their signs on a second thread
+    /// ([`super::Options::overlap_records`]; not with the monitor,
+    /// bifurcation detection or samples, which read a point's
+    /// factorisation before the next step).
+    pub fn overlapping(&self) -> bool {
+        let o = self.opts;
+        o.overlap_records && !o.track_singular && !o.detect_bifurcations && o.samples.is_empty()
+    }
+
+    /// Factorise at a new point for its tangent and record: for solves
+    /// (the pattern's fastest kind) when its record's signs are taken on
+    /// a second thread, else simplicial (its signs read here).
+    pub fn factorise_point<P: Problem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &[f64],
+        lambda: f64,
+        v: (&[f64], f64),
+    ) -> Result<()> {
+        if self.overlapping() {
+            self.ctx.factorise_for_solves(problem, x, lambda, v)
+        } else {
+            self.ctx.factorise(problem, x, lambda, v)
         }
     }
 

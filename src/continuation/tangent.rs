@@ -240,9 +240,27 @@ impl Bordered {
     /// tangent t computed from it.
     pub fn determinant_signs(&mut self, scaling: &Scaling, tx: &[f64], tl: f64) -> (f64, f64) {
         let sign_b = self.lu.determinant_sign();
-        let vt = scaling.dot(tx, tl, &self.border_x, self.border_l);
-        let sign_j = sign_b * (tl * vt).signum();
-        (sign_b, if tl == 0.0 { 0.0 } else { sign_j })
+        (sign_b, sign_b * self.orientation(scaling, tx, tl))
+    }
+
+    /// sign(t_Λ ⟨v, t⟩_W) for the current factorisation's border v and
+    /// the tangent t computed from it (0 when t_Λ = 0): sign det R_x =
+    /// sign det B times this.
+    pub fn orientation(&self, scaling: &Scaling, tx: &[f64], tl: f64) -> f64 {
+        if tl == 0.0 {
+            return 0.0;
+        }
+        (tl * scaling.dot(tx, tl, &self.border_x, self.border_l)).signum()
+    }
+
+    /// B's entries of the current matrix (see [`BorderedLu::values`]).
+    pub fn values(&self) -> &[f64] {
+        self.lu.values()
+    }
+
+    /// See [`BorderedLu::exact_twin`].
+    pub fn exact_twin(&self) -> Result<crate::linalg::SparseLu> {
+        self.lu.exact_twin()
     }
 
     /// Scale the singular-value monitor by the problem's equation scales

@@ -263,6 +263,28 @@ impl BorderedLu {
         self.lu.negative_pivots()
     }
 
+    /// B's entries of the last matrix, in its pattern's order.
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
+    /// A simplicial LU of B's pattern in B's column order (the preferred
+    /// one; else that of B's own LU once it has factorised; else chosen on
+    /// its first matrix): the determinant sign and pivots of
+    /// [`BorderedLu::values`] taken elsewhere — on a second thread while
+    /// this one goes on ([`crate::continuation::Options::overlap_records`])
+    /// — exactly as [`BorderedLu::determinant_sign`] takes them here.
+    pub fn exact_twin(&self) -> Result<SparseLu> {
+        let mut lu = SparseLu::with_trailing(self.lu.pattern().clone(), self.trailing + 1)?;
+        lu.prefer_kind(LuKind::Simplicial);
+        if let Some(order) = self.preferred {
+            lu.prefer(order);
+        } else if self.lu.factorisations > 0 {
+            lu.prefer(self.lu.column_order());
+        }
+        Ok(lu)
+    }
+
     /// Whether the last factorisation is a block elimination on A's
     /// supernodal LU ([`super::bordering`]).
     pub fn block_elimination(&self) -> bool {

@@ -264,6 +264,12 @@ pub struct Options {
     /// (a charged rod's record, simplicial, against block eliminations:
     /// [`crate::charged::dna::SupercoilSettings::corrector_aim`]).
     pub corrector_aim: f64,
+    /// How often a point of a charged rod's branch followed with a phase
+    /// condition that left μ = 0 is taken again, each time from the point
+    /// before with half the step, before the branch ends there
+    /// ([`crate::charged::branch`]; the plain rod's switch refuses such a
+    /// branch instead, [`crate::rod::branch::switch`]).
+    pub unfolding_retakes: usize,
 }
 
 /// The corrector iterations a chord step is sized for (each a residual and
@@ -291,6 +297,7 @@ impl Default for Options {
             column_order: None,
             lu_kind: None,
             corrector_aim: 3.0,
+            unfolding_retakes: 4,
         }
     }
 }

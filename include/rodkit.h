@@ -1490,7 +1490,8 @@ int32_t rodkit_dna_supercoil_run_with(const struct RodkitDnaSupercoilSpec *spec,
 // rodkit_dna_supercoil_run_with (its `points` go on counting), and may
 // stop the run again (RODKIT_STATUS_INFO_CANCELLED); it must not use
 // `run`. Returns the status of rodkit_dna_supercoil_run_with for the
-// resumed run; a finished run is left as it is and returns its status.
+// resumed run; a finished run (or one that failed partway,
+// RODKIT_SUPERCOIL_STOP_FAILED) is left as it is and returns its status.
 // On a failure the handle stays valid and resumable.
 int32_t rodkit_supercoil_resume(struct RodkitSupercoil *run,
                                 RodkitBranchCallback progress,

@@ -363,7 +363,8 @@ pub unsafe extern "C" fn rodkit_dna_supercoil_run_with(
 /// rodkit_dna_supercoil_run_with (its `points` go on counting), and may
 /// stop the run again (RODKIT_STATUS_INFO_CANCELLED); it must not use
 /// `run`. Returns the status of rodkit_dna_supercoil_run_with for the
-/// resumed run; a finished run is left as it is and returns its status.
+/// resumed run; a finished run (or one that failed partway,
+/// RODKIT_SUPERCOIL_STOP_FAILED) is left as it is and returns its status.
 /// On a failure the handle stays valid and resumable.
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_supercoil_resume(

@@ -257,8 +257,11 @@ pub struct SupercoilSettings {
     /// family: straight state, any μ) is taken again from the point before,
     /// halving the step each time (4: down to 1/16 of the step), before the
     /// run ends there with the path so far ([`RunStop::Failed`]). With
-    /// corrector aim 5 the 300 bp, 2 pN, 0.1 M scene's branch after the
-    /// hard core's switch needed it (tests/supercoil_hard_core.rs).
+    /// corrector aim 5 the 300 bp, 2 pN, 0.1 M scene's buckled branch needed
+    /// one retake at its point 51 (tests/supercoil_hard_core.rs); the 1 kbp,
+    /// 1 pN, 0.01 M one (100 elements, aim 3) two at its point 667, next to
+    /// the straight rod, where it had slid onto that family and the run,
+    /// after 339 s, returned only the error.
     pub unfolding_retakes: usize,
 }
 
@@ -364,8 +367,8 @@ pub enum RunStop {
     Cancelled,
     /// The buckled branch failed partway with `status` (its message:
     /// `buckled.failure`, [`SupercoilRun::failure`]): a point kept leaving
-    /// μ = 0 however short the step
-    /// ([`SupercoilSettings::unfolding_retakes`]; ErrNotConverged), or a correction failed. The run holds the path up
+    /// μ = 0 however short the step ([`SupercoilSettings::unfolding_retakes`];
+    /// ErrNotConverged), or a correction failed. The run holds the path up
     /// to its last good point; it cannot be resumed.
     Failed { status: Status },
 }

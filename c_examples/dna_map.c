@@ -140,6 +140,16 @@ static void run_curve(const RodkitDnaSupercoilSpec *spec, Curve *c) {
                 rodkit_last_error_message());
         return;
     }
+    if (c->status == RODKIT_STATUS_INFO_FAILED_PARTWAY) {
+        /* The branch failed partway (e.g. it kept sliding onto the spurious
+         * straight family): the curve up to its last good point is kept and
+         * summarised, its status (7) says it is partial. */
+        char why[512];
+        int32_t error = 0;
+        rodkit_supercoil_failure(run, &error, why, sizeof why, NULL);
+        fprintf(stderr, "  F = %g pN, c = %g M: failed partway (%s), the curve so far is kept: %s\n", c->force,
+                c->salt, rodkit_status_string(error), why);
+    }
     int32_t st = rodkit_supercoil_summary(run, &c->info);
     if (st >= 0) {
         c->points = c->info.points;

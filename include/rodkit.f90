@@ -64,6 +64,9 @@ module rodkit
     ! followed further (the branch so far is valid)
     integer(c_int32_t), parameter :: RODKIT_STATUS_INFO_STEP_TOO_SMALL = 5
     integer(c_int32_t), parameter :: RODKIT_STATUS_INFO_STRAND_CROSSING = 6
+    ! the computation failed partway and kept its results up to the last
+    ! good point (the handle's failure report gives the error and its message)
+    integer(c_int32_t), parameter :: RODKIT_STATUS_INFO_FAILED_PARTWAY = 7
     ! internal error (a bug in rodkit: a panic was caught at the C boundary)
     integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_INTERNAL = -1
     ! a required pointer argument is NULL
@@ -154,6 +157,7 @@ module rodkit
     ! RodkitSupercoilStop (rodkit_supercoil_stop).
     integer(c_int32_t), parameter :: RODKIT_SUPERCOIL_STOP_FINISHED = 0
     integer(c_int32_t), parameter :: RODKIT_SUPERCOIL_STOP_CANCELLED = 1
+    integer(c_int32_t), parameter :: RODKIT_SUPERCOIL_STOP_FAILED = 2
 
     ! RodkitSummaryFinding (rodkit_supercoil_curve_summary).
     integer(c_int32_t), parameter :: RODKIT_SUMMARY_FINDING_FOUND = 1
@@ -1225,6 +1229,24 @@ module rodkit
             integer(c_int32_t), intent(out) :: stop
             integer(c_int32_t) :: status
         end function rodkit_supercoil_stop
+
+        ! Why a run failed partway (RODKIT_SUPERCOIL_STOP_FAILED): `error`
+        ! receives the error's negative status (0 when the run did not fail)
+        ! and `buffer` (capacity >= 1 bytes) its message, always
+        ! NUL-terminated (empty when it did not fail); `length` the full
+        ! message length in bytes. RODKIT_STATUS_INFO_TRUNCATED when the
+        ! message was cut to capacity - 1 bytes. A character(len=n,
+        ! kind=c_char) scalar may be passed as `buffer`.
+        function rodkit_supercoil_failure(run, error, buffer, capacity, length) result(status) &
+                bind(c, name="rodkit_supercoil_failure")
+            import :: c_int32_t, c_int64_t, c_char, c_ptr
+            type(c_ptr), value :: run
+            integer(c_int32_t), intent(out) :: error
+            character(kind=c_char), intent(out) :: buffer(*)
+            integer(c_int64_t), value :: capacity
+            integer(c_int64_t), intent(out) :: length
+            integer(c_int32_t) :: status
+        end function rodkit_supercoil_failure
 
         subroutine rodkit_supercoil_free(run) &
                 bind(c, name="rodkit_supercoil_free")

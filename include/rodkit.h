@@ -52,6 +52,8 @@ enum RodkitStatus
   RODKIT_STATUS_INFO_STEP_TOO_SMALL = 5,
   // the continuation stopped where non-neighbouring parts of the rod came closer than its diameter (strands would cross; the branch up to there is valid)
   RODKIT_STATUS_INFO_STRAND_CROSSING = 6,
+  // the computation failed partway and kept its results up to the last good point (the handle's failure report gives the error and its message)
+  RODKIT_STATUS_INFO_FAILED_PARTWAY = 7,
   // internal error (a bug in rodkit: a panic was caught at the C boundary)
   RODKIT_STATUS_ERR_INTERNAL = -1,
   // a required pointer argument is NULL
@@ -359,6 +361,10 @@ enum RodkitSupercoilStop
   RODKIT_SUPERCOIL_STOP_FINISHED = 0,
   // The progress callback stopped it: rodkit_supercoil_resume goes on.
   RODKIT_SUPERCOIL_STOP_CANCELLED = 1,
+  // The buckled branch failed partway (RODKIT_STATUS_INFO_FAILED_PARTWAY;
+  // rodkit_supercoil_failure gives the error): the path is kept up to
+  // its last good point; it cannot be resumed.
+  RODKIT_SUPERCOIL_STOP_FAILED = 2,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -1454,7 +1460,12 @@ int32_t rodkit_dna_supercoil_spec_default(struct RodkitDnaSupercoilSpec *spec);
 // `rodkit_supercoil_free`). Returns RODKIT_STATUS_INFO_STRAND_CROSSING
 // when the buckled branch stopped at a strand crossing,
 // RODKIT_STATUS_INFO_STEP_LIMIT at the step limit, ..._INFO_STEP_TOO_SMALL
-// when it could not go on; the path so far is in the handle in each case.
+// when it could not go on, ..._INFO_FAILED_PARTWAY when the buckled
+// branch failed after it had points (a point kept leaving the branch's
+// unfolding parameter μ = 0 however short the step, or a correction
+// failed; rodkit_supercoil_failure gives the error and its message); the
+// path so far is in the handle in each case. A failure before the
+// buckled branch has a point returns its negative status, no handle.
 int32_t rodkit_dna_supercoil_run(const struct RodkitDnaSupercoilSpec *spec,
                                  struct RodkitSupercoil **out);
 
@@ -1484,7 +1495,8 @@ int32_t rodkit_dna_supercoil_run_with(const struct RodkitDnaSupercoilSpec *spec,
 // rodkit_dna_supercoil_run_with (its `points` go on counting), and may
 // stop the run again (RODKIT_STATUS_INFO_CANCELLED); it must not use
 // `run`. Returns the status of rodkit_dna_supercoil_run_with for the
-// resumed run; a finished run is left as it is and returns its status.
+// resumed run; a finished run (or one that failed partway,
+// RODKIT_SUPERCOIL_STOP_FAILED) is left as it is and returns its status.
 // On a failure the handle stays valid and resumable.
 int32_t rodkit_supercoil_resume(struct RodkitSupercoil *run,
                                 RodkitBranchCallback progress,
@@ -1492,6 +1504,20 @@ int32_t rodkit_supercoil_resume(struct RodkitSupercoil *run,
 
 // Why the run returned: a RodkitSupercoilStop into `*stop`.
 int32_t rodkit_supercoil_stop(const struct RodkitSupercoil *run, int32_t *stop);
+
+// Why a run failed partway (RODKIT_SUPERCOIL_STOP_FAILED): `*error`
+// receives the error's negative status (0 when the run did not fail) and
+// `buffer` (`capacity` ≥ 1 bytes) its message, always NUL-terminated
+// (empty when it did not fail); `length` (may be NULL) receives the full
+// message length in bytes, without the NUL. Returns RODKIT_STATUS_OK, or
+// RODKIT_STATUS_INFO_TRUNCATED when the message was cut to `capacity − 1`
+// bytes. The run's own report, kept with the handle (the call itself
+// succeeded, so rodkit_last_error_message is not its channel).
+int32_t rodkit_supercoil_failure(const struct RodkitSupercoil *run,
+                                 int32_t *error,
+                                 char *buffer,
+                                 int64_t capacity,
+                                 int64_t *length);
 
 // Free a handle (NULL is ignored).
 void rodkit_supercoil_free(struct RodkitSupercoil *run);

@@ -27,6 +27,8 @@ pub enum Status {
     InfoStepTooSmall = 5,
     /// the continuation stopped where non-neighbouring parts of the rod came closer than its diameter (strands would cross; the branch up to there is valid)
     InfoStrandCrossing = 6,
+    /// the computation failed partway and kept its results up to the last good point (the handle's failure report gives the error and its message)
+    InfoFailedPartway = 7,
     /// internal error (a bug in rodkit: a panic was caught at the C boundary)
     ErrInternal = -1,
     /// a required pointer argument is NULL
@@ -112,7 +114,7 @@ mod tests {
             assert!(!s.message().is_empty() && !s.message().contains('\0'));
             assert_eq!(Status::from_code(s.code()), Some(*s));
         }
-        assert_eq!(Status::ALL.len(), 20);
+        assert_eq!(Status::ALL.len(), 21);
         assert_eq!(Status::from_code(-999), None);
     }
 }

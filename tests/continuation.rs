@@ -357,10 +357,16 @@ fn signs_on_a_second_thread_give_the_one_thread_run() {
             let start = Start::Point { x: vec![1.0, 0.0, 0.0], lambda: 0.0, increasing: true };
             let opts = Options { overlap_records, ..opts.clone() };
             let mut told = 0;
-            let b = continue_newton(&mut sys, start, &opts, |x, _| x.to_vec(), |_| {
-                told += 1;
-                told <= stop_after
-            })
+            let b = continue_newton(
+                &mut sys,
+                start,
+                &opts,
+                |x, _| x.to_vec(),
+                |_| {
+                    told += 1;
+                    told <= stop_after
+                },
+            )
             .unwrap();
             (b, told)
         };

@@ -636,6 +636,7 @@ fn non_planar_symmetric_branch_with_phase_condition() {
         sample_states: vec![],
         missed_samples: vec![],
         pair_lists: 0,
+        failure: None,
     };
     let opts =
         Options { residual_tol: 1e-11, max_step: 0.1, max_steps: 20, track_singular: true, ..Default::default() };

@@ -62,22 +62,33 @@ pub extern "C" fn rodkit_last_error_message() -> *const c_char {
 /// unchanged unless it fails itself (NULL `buffer`, `capacity` < 1).
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_last_error_copy(buffer: *mut c_char, capacity: i64, length: *mut i64) -> i32 {
-    guard_preserving_error(|| {
-        if buffer.is_null() {
-            return Err(null_error("buffer"));
-        }
-        error::dimension("capacity", capacity, 1, i64::MAX)?;
-        LAST_ERROR.with(|m| {
-            let bytes = m.borrow();
-            let bytes = bytes.as_bytes();
-            let n = bytes.len().min(capacity as usize - 1);
-            let out = std::slice::from_raw_parts_mut(buffer.cast::<u8>(), n + 1);
-            out[..n].copy_from_slice(&bytes[..n]);
-            out[n] = 0;
-            if let Some(len) = length.as_mut() {
-                *len = bytes.len() as i64;
-            }
-            Ok(if n < bytes.len() { Status::InfoTruncated } else { Status::Ok })
-        })
-    })
+    guard_preserving_error(|| LAST_ERROR.with(|m| copy_message(m.borrow().as_bytes(), buffer, capacity, length)))
+}
+
+/// Copy `bytes` into a caller buffer of `capacity` bytes (≥ 1), always
+/// NUL-terminated; `length` (may be NULL) receives the full length. OK, or
+/// InfoTruncated when it was cut to `capacity − 1` bytes. The one copy of
+/// a message into C storage (the last error, a run's failure).
+///
+/// # Safety
+/// `buffer`, when not NULL, must hold `capacity` bytes; `length`, when not
+/// NULL, must be writable.
+pub(crate) unsafe fn copy_message(
+    bytes: &[u8],
+    buffer: *mut c_char,
+    capacity: i64,
+    length: *mut i64,
+) -> error::Result<Status> {
+    if buffer.is_null() {
+        return Err(null_error("buffer"));
+    }
+    error::dimension("capacity", capacity, 1, i64::MAX)?;
+    let n = bytes.len().min(capacity as usize - 1);
+    let out = std::slice::from_raw_parts_mut(buffer.cast::<u8>(), n + 1);
+    out[..n].copy_from_slice(&bytes[..n]);
+    out[n] = 0;
+    if let Some(len) = length.as_mut() {
+        *len = bytes.len() as i64;
+    }
+    Ok(if n < bytes.len() { Status::InfoTruncated } else { Status::Ok })
 }

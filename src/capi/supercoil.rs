@@ -7,13 +7,14 @@
 use super::args::{arg_mut, arg_ref, c_enum, check_nodes, copy_out, enum_arg, flag, free_handle, non_negative};
 use super::args::{finite_fields, qualify_argument, write_positions};
 use super::branch::{BranchCallback, BranchProgress};
+use super::error::copy_message;
 use super::{guard, guard_value};
 use crate::charged::dna::{self, run_scene_with, DnaScene, PointProgress, RunStop, SupercoilRun, SupercoilSettings};
 use crate::continuation::Stop;
 use crate::electrostatics::discrete::base_pair_count;
 use crate::error::{self, Error, Result};
 use crate::status::Status;
-use std::ffi::c_void;
+use std::ffi::{c_char, c_void};
 
 /// A supercoiling scene in nm, pN, mol/L. Call
 /// `rodkit_dna_supercoil_spec_default` first: 1 kbp, 1 pN, 0.1 M, ν = 1/l_B
@@ -250,6 +251,7 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
         engine: dna::Engine::default(),
         lu_kind: None,
         corrector_aim: 3.0,
+        unfolding_retakes: SupercoilSettings::default().unfolding_retakes,
     };
     Ok((scene, settings))
 }
@@ -258,7 +260,12 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
 /// `rodkit_supercoil_free`). Returns RODKIT_STATUS_INFO_STRAND_CROSSING
 /// when the buckled branch stopped at a strand crossing,
 /// RODKIT_STATUS_INFO_STEP_LIMIT at the step limit, ..._INFO_STEP_TOO_SMALL
-/// when it could not go on; the path so far is in the handle in each case.
+/// when it could not go on, ..._INFO_FAILED_PARTWAY when the buckled
+/// branch failed after it had points (a point kept leaving the branch's
+/// unfolding parameter μ = 0 however short the step, or a correction
+/// failed; rodkit_supercoil_failure gives the error and its message); the
+/// path so far is in the handle in each case. A failure before the
+/// buckled branch has a point returns its negative status, no handle.
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_dna_supercoil_run(spec: *const DnaSupercoilSpec, out: *mut *mut Supercoil) -> i32 {
     // Guarded inside; the guard here keeps every export's body guarded.
@@ -273,12 +280,18 @@ pub enum SupercoilStop {
     Finished = 0,
     /// The progress callback stopped it: rodkit_supercoil_resume goes on.
     Cancelled = 1,
+    /// The buckled branch failed partway (RODKIT_STATUS_INFO_FAILED_PARTWAY;
+    /// rodkit_supercoil_failure gives the error): the path is kept up to
+    /// its last good point; it cannot be resumed.
+    Failed = 2,
 }
 
 /// The status of a run: its stop's.
 fn run_status(run: &SupercoilRun) -> Status {
-    if run.stop == RunStop::Cancelled {
-        return Status::InfoCancelled;
+    match run.stop {
+        RunStop::Cancelled => return Status::InfoCancelled,
+        RunStop::Failed { .. } => return Status::InfoFailedPartway,
+        RunStop::Finished => {}
     }
     match &run.buckled {
         Some(b) if b.contact.is_some() => Status::InfoStrandCrossing,
@@ -355,7 +368,8 @@ pub unsafe extern "C" fn rodkit_dna_supercoil_run_with(
 /// rodkit_dna_supercoil_run_with (its `points` go on counting), and may
 /// stop the run again (RODKIT_STATUS_INFO_CANCELLED); it must not use
 /// `run`. Returns the status of rodkit_dna_supercoil_run_with for the
-/// resumed run; a finished run is left as it is and returns its status.
+/// resumed run; a finished run (or one that failed partway,
+/// RODKIT_SUPERCOIL_STOP_FAILED) is left as it is and returns its status.
 /// On a failure the handle stays valid and resumable.
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_supercoil_resume(
@@ -378,8 +392,35 @@ pub unsafe extern "C" fn rodkit_supercoil_stop(run: *const Supercoil, stop: *mut
         *arg_mut("stop", stop)? = match r.stop {
             RunStop::Finished => SupercoilStop::Finished,
             RunStop::Cancelled => SupercoilStop::Cancelled,
+            RunStop::Failed { .. } => SupercoilStop::Failed,
         } as i32;
         Ok(Status::Ok)
+    })
+}
+
+/// Why a run failed partway (RODKIT_SUPERCOIL_STOP_FAILED): `*error`
+/// receives the error's negative status (0 when the run did not fail) and
+/// `buffer` (`capacity` ≥ 1 bytes) its message, always NUL-terminated
+/// (empty when it did not fail); `length` (may be NULL) receives the full
+/// message length in bytes, without the NUL. Returns RODKIT_STATUS_OK, or
+/// RODKIT_STATUS_INFO_TRUNCATED when the message was cut to `capacity − 1`
+/// bytes. The run's own report, kept with the handle (the call itself
+/// succeeded, so rodkit_last_error_message is not its channel).
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_supercoil_failure(
+    run: *const Supercoil,
+    error: *mut i32,
+    buffer: *mut c_char,
+    capacity: i64,
+    length: *mut i64,
+) -> i32 {
+    guard(|| {
+        let r = &arg_ref("run", run)?.run;
+        let code = arg_mut("error", error)?;
+        let failure = r.failure();
+        let status = copy_message(failure.map_or(&b""[..], |e| e.message.as_bytes()), buffer, capacity, length)?;
+        *code = failure.map_or(0, |e| e.status.code());
+        Ok(status)
     })
 }
 
@@ -486,4 +527,56 @@ pub unsafe extern "C" fn rodkit_supercoil_positions(
         write_positions(xyz, ld, &r.rod.positions(&r.states[point as usize]))?;
         Ok(Status::Ok)
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A run that failed partway reaches a C caller as such: the run's
+    /// status RODKIT_STATUS_INFO_FAILED_PARTWAY (> 0: the path is valid),
+    /// stop RODKIT_SUPERCOIL_STOP_FAILED, the error's status and message
+    /// (copied whole, or cut with INFO_TRUNCATED and the full length), its
+    /// points, and a resume that leaves it as it is. Reference: the Rust
+    /// run itself (the reproducer of tests/supercoil_hard_core.rs with no
+    /// retakes allowed: it ends at its 51st buckled point).
+    #[test]
+    fn a_run_that_failed_partway_reports_it_through_the_c_api() {
+        let scene = DnaScene { base_pairs: 300, tension: 2.0, salt: 0.1, ..Default::default() };
+        let settings = SupercoilSettings {
+            elements: 40,
+            max_steps: 110,
+            max_turns: 3.0,
+            corrector_aim: 5.0,
+            hard_core_auto: false,
+            unfolding_retakes: 0,
+            ..Default::default()
+        };
+        let run = dna::run_scene(&scene, &settings).unwrap();
+        let failure = run.failure().expect("failed partway").clone();
+        let points = run.points.clone();
+        let handle = Box::into_raw(Box::new(Supercoil { run }));
+        unsafe {
+            assert_eq!(run_status(&(*handle).run), Status::InfoFailedPartway);
+            let mut stop = -1;
+            assert_eq!(rodkit_supercoil_stop(handle, &mut stop), 0);
+            assert_eq!(stop, SupercoilStop::Failed as i32);
+            let (mut error, mut length) = (0, 0);
+            let mut buffer = vec![1 as c_char; 1024];
+            let st = rodkit_supercoil_failure(handle, &mut error, buffer.as_mut_ptr(), 1024, &mut length);
+            let text = std::ffi::CStr::from_ptr(buffer.as_ptr()).to_str().unwrap();
+            assert_eq!((st, error, text), (0, Status::ErrNotConverged.code(), failure.message.as_str()));
+            assert_eq!(length, failure.message.len() as i64);
+            let st = rodkit_supercoil_failure(handle, &mut error, buffer.as_mut_ptr(), 8, &mut length);
+            assert_eq!((st, buffer[7], length), (Status::InfoTruncated.code(), 0, failure.message.len() as i64));
+            let mut count = 0;
+            let mut c_points = vec![SupercoilPoint::default(); points.len()];
+            let st = rodkit_supercoil_points(handle, c_points.as_mut_ptr(), points.len() as i64, &mut count);
+            assert_eq!((st, count), (0, points.len() as i64));
+            assert_eq!(c_points.last().unwrap().turns, points.last().unwrap().observables.turns);
+            assert_eq!(rodkit_supercoil_resume(handle, None, std::ptr::null_mut()), Status::InfoFailedPartway.code());
+            assert_eq!((*handle).run.points, points);
+            rodkit_supercoil_free(handle);
+        }
+    }
 }

@@ -16,13 +16,14 @@ use crate::continuation::corrector::{correct, Plane};
 use crate::continuation::newton::{continue_newton_hinted, Start};
 use crate::continuation::run::Context;
 use crate::continuation::{Options, Problem, Record, Resume, Scaling, Stop};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::geometry::proximity::closest_pair_within;
 use crate::geometry::vec3::distance;
 use crate::linalg::sparse::ColumnOrder;
 use crate::nonlinear::scaled_max_norm;
 use crate::rod::branch::{self, Contact, Followed, RodBranch};
 use crate::rod::model::Rod;
+use crate::status::Status;
 
 /// A charged rod's branch: the rod's branch type.
 pub type ChargedBranch = RodBranch;
@@ -91,6 +92,12 @@ fn start_x(start: &Start) -> &[f64] {
 /// resume point, appended to it. `progress` is told every record once, in
 /// order (a point that ends a list's segment is told when the next list
 /// has re-converged it; a strand crossing is told, then the branch stops).
+/// With a phase condition every point is checked for μ = 0 as it comes; one
+/// that left it is never told, but taken again from the point before with
+/// half the step (`Options::unfolding_retakes` times). An error once the
+/// branch has points — those retakes exhausted, a later list's corrector
+/// failing — ends it there: the branch so far is returned with the error in
+/// [`RodBranch::failure`] (stop Cancelled); the error alone before that.
 pub fn follow(
     rod: &Rod,
     charge: &RodCharge,
@@ -167,11 +174,15 @@ pub fn follow_on(
 
 /// [`follow_on`], appending to `out` when given (its last record is the
 /// start, re-converged on this model when it is not within tolerance).
+/// An error raised once the branch has points — a corrector that failed on
+/// a later list, a point that kept leaving μ = 0 — ends it there instead:
+/// the branch so far is returned with the error in its `failure` (a long
+/// run keeps its path; the error alone is returned when there is none).
 #[allow(clippy::too_many_arguments)]
 fn follow_on_into(
     rod: &Rod,
     charge: &RodCharge,
-    mut start: Start,
+    start: Start,
     anchor: Option<&ListAnchor>,
     phase: Option<(usize, f64)>,
     opts: &Options,
@@ -181,9 +192,38 @@ fn follow_on_into(
     let x0 = start_x(&start).to_vec();
     let mut anchor =
         anchor.cloned().unwrap_or(ListAnchor { built: x0.clone(), reference: x0, order: opts.column_order });
+    let result = follow_lists(rod, charge, start, &mut anchor, phase, opts, &mut progress, &mut out);
+    match (result, out) {
+        (Ok(()), Some(b)) => Ok((b, anchor)),
+        (Err(e), Some(mut b)) if !b.records.is_empty() => {
+            b.stop = Stop::Cancelled;
+            b.failure = Some(e);
+            Ok((b, anchor))
+        }
+        (Err(e), _) => Err(e),
+        (Ok(()), None) => unreachable!("a followed branch has a segment"),
+    }
+}
+
+/// The loop of [`follow_on_into`]: segment after segment, each on a pair
+/// list built where the last one ended, appended to `out`; `anchor` is the
+/// current list's.
+#[allow(clippy::too_many_arguments)]
+fn follow_lists(
+    rod: &Rod,
+    charge: &RodCharge,
+    mut start: Start,
+    anchor: &mut ListAnchor,
+    phase: Option<(usize, f64)>,
+    opts: &Options,
+    progress: &mut dyn FnMut(&Record) -> bool,
+    out: &mut Option<RodBranch>,
+) -> Result<()> {
     // Whether the next segment's start is told (a point reached on the
     // last list), or was told already (a step taken again from it).
     let mut tell_start = true;
+    // Retakes of the same point that left μ = 0 (reset by a good point).
+    let mut retakes = 0;
     loop {
         let built = std::time::Instant::now();
         let mut problem = ChargedRod::new(rod, charge, phase, &anchor.built)?;
@@ -204,8 +244,7 @@ fn follow_on_into(
                         return Err(e);
                     }
                     start = Start::Resume(b.resume.clone());
-                    let x = start_x(&start).to_vec();
-                    anchor = ListAnchor { built: x.clone(), reference: x, order: anchor.order };
+                    *anchor = ListAnchor::at(start_x(&start), anchor.order);
                     tell_start = false;
                     continue;
                 }
@@ -216,10 +255,14 @@ fn follow_on_into(
             (true, true) => SegmentStart::Reached,
             (true, false) => SegmentStart::Told,
         };
-        let (segment, stale, order) =
-            follow_list(&mut problem, start, &anchor.reference, phase, &seg_opts, first, &mut progress)?;
+        let (segment, end, order) =
+            follow_list(&mut problem, start, &anchor.reference, phase, &seg_opts, first, progress)?;
         tell_start = true;
         anchor.order = Some(order);
+        // Points of the segment kept (past its start, without one dropped).
+        if segment.records.len() > 1 + (end == SegmentEnd::OffBranch) as usize {
+            retakes = 0;
+        }
         let out = match out.as_mut() {
             Some(b) => {
                 b.append(segment);
@@ -228,6 +271,17 @@ fn follow_on_into(
             None => out.insert(segment),
         };
         out.counts.times.setup += setup;
+        if end == SegmentEnd::OffBranch {
+            if retakes < opts.unfolding_retakes && retake(out) {
+                retakes += 1;
+                start = Start::Resume(out.resume.clone());
+                *anchor = ListAnchor::at(start_x(&start), anchor.order);
+                tell_start = false;
+                continue;
+            }
+            return Err(left_branch(rod, out, retakes));
+        }
+        let stale = end == SegmentEnd::Stale;
         if out.contact.is_some() || !(stale && out.counts.steps < opts.max_steps) {
             if stale && out.contact.is_none() {
                 // The step limit on a stale list (the branch's stop: the
@@ -238,13 +292,43 @@ fn follow_on_into(
                 last.outputs = [&out.states.last().expect("a state")[..], &[0.0]].concat();
                 progress(&last);
             }
-            break;
+            return Ok(());
         }
         start = Start::Resume(out.resume.clone());
-        let x = start_x(&start).to_vec();
-        anchor = ListAnchor { built: x.clone(), reference: x, order: anchor.order };
+        *anchor = ListAnchor::at(start_x(&start), anchor.order);
     }
-    Ok((out.expect("at least one segment"), anchor))
+}
+
+/// The branch's last point left μ = 0 after `retakes` retakes: it is
+/// dropped (never told) and the error says where the branch ends. A branch
+/// whose only point left μ = 0 has no point to keep (the error alone).
+fn left_branch(rod: &Rod, out: &mut RodBranch, retakes: usize) -> Error {
+    let mu = out.states.last().map_or(f64::NAN, |x| x[rod.unknowns()]);
+    let lambda = out.records.last().map_or(f64::NAN, |r| r.lambda);
+    if !drop_last(out) {
+        out.records.clear();
+        out.states.clear();
+    }
+    let kept = out.records.len();
+    let tried = match retakes {
+        0 => "with no retake allowed".to_string(),
+        _ => format!("also after {retakes} retakes from the point before with the step halved each time"),
+    };
+    Error::new(
+        Status::ErrNotConverged,
+        format!(
+            "the branch left the unfolding parameter at μ = {mu:e} (Λ = {lambda}) {tried}: the corrector slid \
+             onto the spurious straight family (straight state, any μ); the branch ends at its last point on it \
+             ({kept} points kept)"
+        ),
+    )
+}
+
+impl ListAnchor {
+    /// A list built about `x` and measured from there, keeping `order`.
+    fn at(x: &[f64], order: Option<ColumnOrder>) -> Self {
+        ListAnchor { built: x.to_vec(), reference: x.to_vec(), order }
+    }
 }
 
 /// A point reached on the previous pair list (the last of `out`),
@@ -271,11 +355,12 @@ fn reconverge(problem: &mut ChargedRod, x: &mut [f64], lambda: f64, opts: &Optio
 }
 
 /// The segment of a branch on one pair list: Newton continuation until
-/// the end, a strand crossing (the branch's contact; it stops), or a stage
-/// moving half the skin from where the list was built (returned stale: the
-/// list is rebuilt and the branch continued). The first record is told
-/// as `first` says. Stages' displacements are
-/// measured from `reference`.
+/// the end, a strand crossing (the branch's contact; it stops), a stage
+/// moving half the skin from where the list was built (stale: the list is
+/// rebuilt and the branch continued), or, with a phase condition, a point
+/// that left μ = 0 (not told: it is taken again shorter). The first record
+/// is told as `first` says. Stages' displacements are measured from
+/// `reference`.
 fn follow_list(
     problem: &mut ChargedRod,
     start: Start,
@@ -284,7 +369,7 @@ fn follow_list(
     opts: &Options,
     first: SegmentStart,
     progress: &mut dyn FnMut(&Record) -> bool,
-) -> Result<(RodBranch, bool, ColumnOrder)> {
+) -> Result<(RodBranch, SegmentEnd, ColumnOrder)> {
     let (rod, charge) = (&problem.rod().clone(), &problem.charge().clone());
     let half_skin = 0.5 * charge.skin;
     let (reference, _) = rod.stage_points(reference);
@@ -293,8 +378,13 @@ fn follow_list(
     let moved = |x: &[f64]| -> f64 {
         offsets.iter().zip(&reference).map(|(&o, r0)| distance(&[x[o], x[o + 1], x[o + 2]], r0)).fold(0.0, f64::max)
     };
+    // μ's scale (None: no phase condition). Every accepted point is
+    // checked as it comes: on the spurious straight family (straight
+    // state, any μ) the branch is lost, and a long run that found out at
+    // its end lost its whole path (1 kbp, 1 pN, 0.01 M: 433 s).
+    let mu_scale = phase.map(|_| *problem.unknown_scales().0.last().expect("μ"));
     let local = problem.list_is_local();
-    let mut stale = false;
+    let mut end = SegmentEnd::Branch;
     let mut crossing: Option<Contact> = None;
     let mut index = 0;
     let observe = |x: &[f64], _: f64| {
@@ -302,41 +392,45 @@ fn follow_list(
         o.push(moved(x));
         o
     };
-    // A stale list ends the segment: told at once, not after a step that
-    // would be dropped (records' signs on a second thread).
-    let will_stop = |rec: &Record| local && *rec.outputs.last().expect("displacement") > half_skin;
-    let b = continue_newton_hinted(
-        problem,
-        start,
-        opts,
-        observe,
-        |rec| {
-            let x = &rec.outputs[..rec.outputs.len() - 1];
-            let k = index;
-            index += 1;
-            match (first, k) {
-                (SegmentStart::Reached, 0) => return progress(rec),
-                (SegmentStart::Told, 0) => return true,
-                _ => {}
-            }
-            if let Some((distance, s1, s2)) = strand_crossing(rod, charge, x) {
-                crossing = Some(Contact { record: k, distance, s1, s2 });
-                progress(rec);
-                return false;
-            }
-            if local && *rec.outputs.last().expect("displacement") > half_skin {
-                stale = true;
-                return false;
-            }
-            progress(rec)
-        },
-        will_stop,
-    )?;
+    // A point off the branch or on a stale list ends the segment: told at
+    // once, not after a step that would be dropped (records' signs on a
+    // second thread).
+    let ends = |rec: &Record| {
+        let x = &rec.outputs[..rec.outputs.len() - 1];
+        mu_scale.is_some_and(|scale| rod.left_unfolding(x, scale))
+            || (local && *rec.outputs.last().expect("displacement") > half_skin)
+    };
+    let tell = |rec: &Record| {
+        let x = &rec.outputs[..rec.outputs.len() - 1];
+        let k = index;
+        index += 1;
+        if first == SegmentStart::Told && k == 0 {
+            return true;
+        }
+        if mu_scale.is_some_and(|scale| rod.left_unfolding(x, scale)) {
+            end = SegmentEnd::OffBranch;
+            return false;
+        }
+        if first == SegmentStart::Reached && k == 0 {
+            return progress(rec);
+        }
+        if let Some((distance, s1, s2)) = strand_crossing(rod, charge, x) {
+            crossing = Some(Contact { record: k, distance, s1, s2 });
+            progress(rec);
+            return false;
+        }
+        if local && *rec.outputs.last().expect("displacement") > half_skin {
+            end = SegmentEnd::Stale;
+            return false;
+        }
+        progress(rec)
+    };
+    let b = continue_newton_hinted(problem, start, opts, observe, tell, ends)?;
     let order = b.column_order;
     let mut segment = RodBranch::from_engine(b, phase, 1);
     segment.contact = crossing;
     segment.pair_lists = 1;
-    Ok((segment, stale, order))
+    Ok((segment, end, order))
 }
 
 /// What a segment's first record is, for `progress`.
@@ -345,37 +439,57 @@ enum SegmentStart {
     /// The branch's start: checked and told as any point.
     Branch,
     /// The previous segment's last point, reached on its list: checked
-    /// there, told now (re-converged on this list).
+    /// there, told now (re-converged on this list, μ checked again).
     Reached,
     /// A point told already (a step taken again from it, [`retake`]).
     Told,
 }
 
+/// Why a segment on one pair list ended.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum SegmentEnd {
+    /// The branch's own stop (or a strand crossing: its contact).
+    Branch,
+    /// A stage moved half the skin: the list is rebuilt, the branch goes on.
+    Stale,
+    /// Its last point left μ = 0: dropped and taken again shorter.
+    OffBranch,
+}
+
 /// A branch whose last point, reached on its pair list by a step that
 /// carried stages past the list's skin, does not re-converge on the list
 /// rebuilt there (far from an equilibrium with the pairs the old list
-/// lacked: long steps, `Options::corrector_aim` 5, issue 18): the point is
-/// dropped and the branch resumes from the point before (told already;
-/// within half the skin of its list, so all its pairs were listed) with
-/// half the step, on a list built there. The dropped step counts as a
-/// rejected one. Returns whether it was done (the point before is known).
+/// lacked: long steps, `Options::corrector_aim` 5, issue 18), or that left
+/// μ = 0 (a corrector that slid onto the spurious straight family): the
+/// point is dropped and the branch resumes from the point before (told
+/// already; within half the skin of its list, so all its pairs were
+/// listed) with half the step, on a list built there. The dropped step
+/// counts as a rejected one. Returns whether it was done (the point before
+/// is known).
 fn retake(segment: &mut RodBranch) -> bool {
-    let Some(previous) = segment.resume.previous.take() else {
+    if segment.resume.previous.is_none() || !drop_last(segment) {
         return false;
-    };
+    }
+    segment.resume.step *= 0.5;
+    true
+}
+
+/// Drop the branch's last point (not its only one): the branch resumes
+/// from the point before with that point's step when the engine kept it.
+/// The dropped step counts as a rejected one.
+fn drop_last(segment: &mut RodBranch) -> bool {
     if segment.records.len() < 2 {
-        segment.resume.previous = Some(previous);
         return false;
     }
     segment.records.pop();
     segment.states.pop();
     // A rejected step, not a step of the branch (steps = records − 1,
     // which the step limit and a resume count on).
-    segment.counts.steps -= 1;
+    segment.counts.steps = segment.counts.steps.saturating_sub(1);
     segment.counts.rejected_steps += 1;
-    let mut r = *previous;
-    r.step *= 0.5;
-    segment.resume = r;
+    if let Some(previous) = segment.resume.previous.take() {
+        segment.resume = *previous;
+    }
     true
 }
 
@@ -384,7 +498,9 @@ fn retake(segment: &mut RodBranch) -> bool {
 /// symmetric rod (the buckling of a twisted rod under tension) with the
 /// rod's phase condition at the node of largest lateral displacement of
 /// the null direction, the first point taken at a fixed buckle amplitude
-/// ([`crate::rod::branch::switch`]).
+/// ([`crate::rod::branch::switch`]). The new branch is followed as by
+/// [`follow`] (μ checked at every point; a failure after its first points
+/// kept in [`RodBranch::failure`]).
 // The public entry point, as [`Rod::switch_branch`] with the charge.
 #[allow(clippy::too_many_arguments)]
 pub fn switch(

@@ -6,9 +6,9 @@
 //! experiments ([`Observables`]).
 
 use super::branch::{continue_with, follow_on, hard_core_idle, switch_on, ChargedBranch, ListAnchor};
-use super::rod::{ChargedRod, RodCharge};
+use super::rod::RodCharge;
 use crate::continuation::newton::Start;
-use crate::continuation::{Options, Problem, Record, Stop};
+use crate::continuation::{Options, Record, Stop};
 use crate::error::{self, Error, Result};
 use crate::rod::model::{unwrap_rotation, Rod, Supports};
 use crate::status::Status;
@@ -248,13 +248,26 @@ pub struct SupercoilSettings {
     /// steps, 78 s; 5, 271 steps, 70.5 s (~25 points a turn). A step that
     /// carries stages so far past the Verlet skin that its point does not
     /// re-converge on the next pair list is taken again, shorter
-    /// ([`crate::charged::branch`]). Not the default: with aim 5 the
-    /// branch after the hard core's switch (300 bp, 2 pN, 0.1 M,
-    /// tests/supercoil_hard_core.rs) jumped onto the spurious straight
-    /// family (the run refuses it: μ left zero), and analyses that
+    /// ([`crate::charged::branch`]). Not the default: analyses that
     /// interpolate the path (the torque-clamp comparison, a coexistence
-    /// premise) want denser points.
+    /// premise) want denser points. With aim 5 the 300 bp, 2 pN, 0.1 M
+    /// scene's corrector slid onto the spurious straight family at the
+    /// buckled branch's point 51 (μ = −1.1e-6), which ended the run with
+    /// an error; it is now taken again with half the step, once, and the
+    /// branch goes on ([`SupercoilSettings::unfolding_retakes`],
+    /// tests/supercoil_hard_core.rs).
     pub corrector_aim: f64,
+    /// How often a point of the buckled branch that left the unfolding
+    /// parameter μ = 0 (a corrector sliding onto the spurious straight
+    /// family: straight state, any μ) is taken again from the point before,
+    /// halving the step each time (4: down to 1/16 of the step), before the
+    /// run ends there with the path so far ([`RunStop::Failed`]). With
+    /// corrector aim 5 the 300 bp, 2 pN, 0.1 M scene's buckled branch needed
+    /// one retake at its point 51 (tests/supercoil_hard_core.rs); the 1 kbp,
+    /// 1 pN, 0.01 M one (100 elements, aim 3) two at its point 667, next to
+    /// the straight rod, where it had slid onto that family and the run,
+    /// after 339 s, returned only the error.
+    pub unfolding_retakes: usize,
 }
 
 /// The predictor–corrector of the buckled branch (issue 18). Both give
@@ -297,6 +310,7 @@ impl Default for SupercoilSettings {
             engine: Engine::default(),
             lu_kind: None,
             corrector_aim: 3.0,
+            unfolding_retakes: 4,
         }
     }
 }
@@ -338,7 +352,8 @@ pub struct SupercoilRun {
     pub hard_core_switch: Option<HardCoreSwitch>,
     /// The settings it was run with ([`resume`] goes on with them).
     pub settings: SupercoilSettings,
-    /// Whether the run went to its end or its progress callback stopped it.
+    /// Whether the run went to its end, its progress callback stopped it,
+    /// or the buckled branch failed partway.
     pub stop: RunStop,
     /// Where a cancelled run goes on ([`resume`]); None once finished.
     pub resume_at: Option<ResumeAt>,
@@ -355,6 +370,12 @@ pub enum RunStop {
     /// The progress callback asked to stop after the last point; the run
     /// holds the path so far and [`resume`] continues it.
     Cancelled,
+    /// The buckled branch failed partway with `status` (its message:
+    /// `buckled.failure`, [`SupercoilRun::failure`]): a point kept leaving
+    /// μ = 0 however short the step ([`SupercoilSettings::unfolding_retakes`];
+    /// ErrNotConverged), or a correction failed. The run holds the path up
+    /// to its last good point; it cannot be resumed.
+    Failed { status: Status },
 }
 
 /// Where a cancelled run goes on.
@@ -407,7 +428,11 @@ pub fn run_scene(scene: &DnaScene, settings: &SupercoilSettings) -> Result<Super
 
 /// [`run_scene`] telling `progress` each point of the path once, in order;
 /// when it returns false the run stops after that point and is returned
-/// with `stop` = [`RunStop::Cancelled`] ([`resume`] continues it).
+/// with `stop` = [`RunStop::Cancelled`] ([`resume`] continues it). An error
+/// of the buckled branch once it has points does not discard the path:
+/// the run is returned with `stop` = [`RunStop::Failed`] and the points up
+/// to the last good one (points of a segment whose engine failed were
+/// told to `progress` and are not in it); errors before return as such.
 pub fn run_scene_with(
     scene: &DnaScene,
     settings: &SupercoilSettings,
@@ -482,10 +507,19 @@ impl SupercoilRun {
         self
     }
 
-    /// Where the run goes on (None: it is finished).
+    /// Where the run goes on (None: it is finished, or failed partway).
     fn stopped_at(&mut self, at: Option<ResumeAt>) {
-        self.stop = if at.is_some() { RunStop::Cancelled } else { RunStop::Finished };
-        self.resume_at = at;
+        self.stop = match (self.failure(), at.is_some()) {
+            (Some(e), _) => RunStop::Failed { status: e.status },
+            (None, true) => RunStop::Cancelled,
+            (None, false) => RunStop::Finished,
+        };
+        self.resume_at = at.filter(|_| self.failure().is_none());
+    }
+
+    /// Why the buckled branch failed partway ([`RunStop::Failed`]).
+    pub fn failure(&self) -> Option<&Error> {
+        self.buckled.as_ref().and_then(|b| b.failure.as_ref())
     }
 
     /// Follow the path from `at` to its end or the callback's stop; the
@@ -723,7 +757,11 @@ fn straight_path(
             stopped |= !go;
             go
         };
-        let (next, list) = follow_on(rod, charge, start, anchor.take().as_ref(), None, &opts, told)?;
+        let (mut next, list) = follow_on(rod, charge, start, anchor.take().as_ref(), None, &opts, told)?;
+        // Before the buckling point the run has no path worth keeping.
+        if let Some(e) = next.failure.take() {
+            return Err(e);
+        }
         steps += next.records.len() - 1;
         let mut b = match straight.take() {
             Some(mut prev) => {
@@ -792,6 +830,7 @@ fn buckled_path(
         corrector_aim: if settings.engine == Engine::Hermite { settings.corrector_aim } else { 3.0 },
         lu_kind: settings.lu_kind,
         overlap_records: settings.threads >= 2,
+        unfolding_retakes: settings.unfolding_retakes,
         ..Default::default()
     };
     let n = rod.unknowns();
@@ -821,11 +860,9 @@ fn buckled_path(
                 Some(_) => Start::Resume(prev.resume.clone()),
                 None => Start::Switch(prev.resume.clone()),
             };
-            let (next, anchor) = follow_on(rod, charge, start, Some(&anchor), prev.phase, &opts, &mut check)?;
-            // As the switch checks its branch: μ stays at zero.
-            let mu_scale = ChargedRod::new(rod, charge, prev.phase, &anchor.built)?.unknown_scales().0;
-            rod.check_unfolding(&next.states, *mu_scale.last().expect("μ"))?;
-            (next, anchor)
+            // μ stays at zero: checked at each point as it comes (a point
+            // that leaves it is taken again shorter, or ends the branch).
+            follow_on(rod, charge, start, Some(&anchor), prev.phase, &opts, &mut check)?
         }
     };
     // The strands met: the scene needs the hard core (the optimal
@@ -848,7 +885,7 @@ fn buckled_path(
         // Stopped at the last step: the uninterrupted branch ends there.
         b.stop = Stop::MaxSteps;
     }
-    let go_on = stopped && b.stop == Stop::Cancelled && b.contact.is_none();
+    let go_on = stopped && b.stop == Stop::Cancelled && b.contact.is_none() && b.failure.is_none();
     Ok((b, go_on.then_some(anchor), switched))
 }
 

@@ -275,6 +275,12 @@ pub struct Options {
     /// pivots as on one thread; the tangents come from the fast
     /// factorisation (equal to rounding). Worth it with a core to spare.
     pub overlap_records: bool,
+    /// How often a point of a charged rod's branch followed with a phase
+    /// condition that left μ = 0 is taken again, each time from the point
+    /// before with half the step, before the branch ends there
+    /// ([`crate::charged::branch`]; the plain rod's switch refuses such a
+    /// branch instead, [`crate::rod::branch::switch`]).
+    pub unfolding_retakes: usize,
 }
 
 /// The corrector iterations a chord step is sized for (each a residual and
@@ -303,6 +309,7 @@ impl Default for Options {
             lu_kind: None,
             corrector_aim: 3.0,
             overlap_records: false,
+            unfolding_retakes: 4,
         }
     }
 }

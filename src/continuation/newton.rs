@@ -81,23 +81,8 @@ pub fn continue_newton_hinted<P: Problem + ?Sized>(
     // own LU then never factorises (a new pattern's first factorisation
     // chooses its column order, the cost of several).
     let mut overlap = run.overlapping().then(Overlap::default);
-    let (residual, go_on) = match overlap.as_mut() {
-        Some(o) if !singular => {
-            let rec = run.unsigned_record(problem, &at, 0.0, first_iterations, &mut observe);
-            let orientation = run.ctx.bordered.orientation(&run.ctx.scaling, &at.tx, at.tl);
-            let residual = rec.residual;
-            o.start(&run.ctx.bordered, rec, orientation)?;
-            (residual, true)
-        }
-        _ => {
-            let first = if singular {
-                run.singular_record(problem, &at.x, at.lambda, &mut observe)
-            } else {
-                run.record(problem, &at, 0.0, first_iterations, &mut observe)
-            };
-            (first.residual, run.push(first, &mut progress))
-        }
-    };
+    let (residual, go_on) =
+        first_record(&mut run, problem, &at, (first_iterations, singular), &mut overlap, &mut observe, &mut progress)?;
     if opts.detect_bifurcations {
         run.watch(problem, at.clone())?;
     }
@@ -187,6 +172,33 @@ pub fn continue_newton_hinted<P: Problem + ?Sized>(
     }
     let stop = if tell_waiting(&mut overlap, &mut run, &mut progress) { Stop::MaxSteps } else { Stop::Cancelled };
     Ok(run.finish(stop, at, ds, previous))
+}
+
+/// The start's record: told now (a singular start's, or on one thread),
+/// or its signs taken on the second thread and told after the first step.
+/// Returns its residual and whether the run goes on.
+fn first_record<P: Problem + ?Sized>(
+    run: &mut Run,
+    problem: &mut P,
+    at: &State,
+    (iterations, singular): (usize, bool),
+    overlap: &mut Option<Overlap>,
+    observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
+    progress: &mut impl FnMut(&Record) -> bool,
+) -> Result<(f64, bool)> {
+    if let Some(o) = overlap.as_mut().filter(|_| !singular) {
+        let rec = run.unsigned_record(problem, at, 0.0, iterations, observe);
+        let orientation = run.ctx.bordered.orientation(&run.ctx.scaling, &at.tx, at.tl);
+        let residual = rec.residual;
+        o.start(&run.ctx.bordered, rec, orientation)?;
+        return Ok((residual, true));
+    }
+    let first = if singular {
+        run.singular_record(problem, &at.x, at.lambda, observe)
+    } else {
+        run.record(problem, at, 0.0, iterations, observe)
+    };
+    Ok((first.residual, run.push(first, progress)))
 }
 
 /// Tell the record waiting for its signs, if any ([`Overlap`]): false

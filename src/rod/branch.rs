@@ -55,6 +55,13 @@ pub struct RodBranch {
     /// Electrostatic pair lists built (a charged rod: 1 + rebuilds; 0 for
     /// a plain rod).
     pub pair_lists: usize,
+    /// Why a charged branch ended early with its records so far (`stop`
+    /// Cancelled): an error raised after it had points — a corrector that
+    /// failed, or points that kept leaving μ = 0 however short the step
+    /// ([`crate::charged::branch`]). Its records up to there are valid;
+    /// a long run keeps them instead of returning only the error. None
+    /// for a plain rod (its errors are returned as such).
+    pub failure: Option<Error>,
 }
 
 /// Where a branch first passes through itself.
@@ -93,6 +100,7 @@ impl RodBranch {
             sample_states,
             missed_samples: b.missed_samples,
             pair_lists: 0,
+            failure: None,
         }
     }
 
@@ -118,6 +126,9 @@ impl RodBranch {
         self.resume = next.resume;
         self.counts.add(&next.counts);
         self.pair_lists += next.pair_lists;
+        if next.failure.is_some() {
+            self.failure = next.failure;
+        }
     }
 }
 
@@ -434,7 +445,7 @@ impl Rod {
     /// entry after the rod's unknowns, beyond 1e-6 of its scale).
     pub(crate) fn check_unfolding(&self, states: &[Vec<f64>], mu_scale: f64) -> Result<()> {
         let n = self.unknowns();
-        if let Some((k, x)) = states.iter().enumerate().find(|(_, x)| x[n].abs() > 1e-6 * mu_scale) {
+        if let Some((k, x)) = states.iter().enumerate().find(|(_, x)| self.left_unfolding(x, mu_scale)) {
             return Err(Error::new(
                 Status::ErrNotConverged,
                 format!(
@@ -444,5 +455,12 @@ impl Rod {
             ));
         }
         Ok(())
+    }
+
+    /// Whether state `x` of a branch with a phase condition left μ = 0
+    /// (beyond 1e-6 of its scale): the one threshold of
+    /// [`Rod::check_unfolding`] and of the charged branch's per-point check.
+    pub(crate) fn left_unfolding(&self, x: &[f64], mu_scale: f64) -> bool {
+        x[self.unknowns()].abs() > 1e-6 * mu_scale
     }
 }

@@ -36,7 +36,24 @@ struct Waiting {
     /// sign(t_Λ ⟨v, t⟩_W), 0 when t_Λ = 0 ([`Bordered::orientation`]):
     /// sign det R_x = sign det B times this.
     orientation: f64,
-    worker: JoinHandle<Signed>,
+    signs: Signs,
+}
+
+/// Where they are taken: on the second thread, or (no thread could be
+/// started) already here.
+enum Signs {
+    Thread(JoinHandle<Signed>),
+    Here(Signed),
+}
+
+/// B's simplicial LU of `values` with `lu`: its signs and pivots.
+fn signed(mut lu: SparseLu, values: Vec<f64>) -> Signed {
+    let t = Instant::now();
+    let (sign, pivots) = match lu.factorise_exact(&values) {
+        Ok(()) => (lu.determinant_sign_and_log().0, lu.negative_pivots()),
+        Err(_) => (0.0, 0),
+    };
+    Signed { lu, values, sign, pivots, time: t.elapsed() }
 }
 
 /// At most one record waiting at a time.
@@ -48,33 +65,35 @@ pub(crate) struct Overlap {
 
 impl Overlap {
     /// Take the signs of `record` — B the bordered tangent just evaluated
-    /// at its point — on a second thread. Any record still waiting must
-    /// have been [`Overlap::finish`]ed.
+    /// at its point — on a second thread (here, if the system refuses a
+    /// thread). Any record still waiting must have been
+    /// [`Overlap::finish`]ed.
     pub fn start(&mut self, bordered: &Bordered, record: Record, orientation: f64) -> Result<()> {
         debug_assert!(self.waiting.is_none(), "a record is still waiting");
-        let (mut lu, mut values) = match self.spare.take() {
+        let (lu, mut values) = match self.spare.take() {
             Some(kept) => kept,
             None => (bordered.exact_twin()?, Vec::new()),
         };
         values.clear();
         values.extend_from_slice(bordered.values());
-        let worker = std::thread::spawn(move || {
-            let t = Instant::now();
-            let (sign, pivots) = match lu.factorise_exact(&values) {
-                Ok(()) => (lu.determinant_sign_and_log().0, lu.negative_pivots()),
-                Err(_) => (0.0, 0),
+        let signs =
+            match std::thread::Builder::new().name("rodkit-record-signs".into()).spawn(move || signed(lu, values)) {
+                Ok(handle) => Signs::Thread(handle),
+                Err(_) => Signs::Here(signed(bordered.exact_twin()?, bordered.values().to_vec())),
             };
-            Signed { lu, values, sign, pivots, time: t.elapsed() }
-        });
-        self.waiting = Some(Waiting { record, orientation, worker });
+        self.waiting = Some(Waiting { record, orientation, signs });
         Ok(())
     }
 
     /// The waiting record with its signs (None if none waits). Its
     /// factorisation is counted, its time in `times.overlapped`.
     pub fn finish(&mut self, counts: &mut Counts) -> Option<Record> {
-        let Waiting { mut record, orientation, worker } = self.waiting.take()?;
-        match worker.join() {
+        let Waiting { mut record, orientation, signs } = self.waiting.take()?;
+        let joined = match signs {
+            Signs::Thread(handle) => handle.join(),
+            Signs::Here(signed) => Ok(signed),
+        };
+        match joined {
             Ok(signed) => {
                 counts.factorisations += 1;
                 counts.times.overlapped += signed.time;

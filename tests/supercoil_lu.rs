@@ -17,6 +17,9 @@
 use rodkit::charged::dna::{self, DnaScene, SupercoilRun, SupercoilSettings};
 use rodkit::linalg::LuKind;
 
+#[path = "support/paths.rs"]
+mod paths;
+
 fn run(kind: LuKind) -> SupercoilRun {
     let scene = DnaScene { base_pairs: 300, ..Default::default() };
     let settings =
@@ -42,17 +45,7 @@ fn block_elimination_gives_the_simplicial_path() {
     // symmetry) along a null direction whose azimuth depends on the
     // factors' rounding: the two buckled paths are the same shapes turned
     // about the axis, so they are compared in what does not see the turn.
-    for (k, (p, q)) in reference.points.iter().zip(&fast.points).enumerate() {
-        let (o, f) = (&p.observables, &q.observables);
-        for (name, a, b, scale) in [
-            ("turns", o.turns, f.turns, 1.0),
-            ("extension", o.extension, f.extension, 102.0),
-            ("torque", o.torque, f.torque, 10.0),
-            ("writhe", o.writhe, f.writhe, 1.0),
-        ] {
-            assert!((a - b).abs() < 1e-7 * scale, "point {k}: {name} {a} vs {b}");
-        }
-    }
+    paths::assert_same_points(&reference, &fast, 102.0, 1e-7);
     for (a, b) in
         [(&reference.straight, &fast.straight)].into_iter().chain(reference.buckled.as_ref().zip(fast.buckled.as_ref()))
     {

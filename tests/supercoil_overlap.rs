@@ -17,6 +17,9 @@
 use rodkit::charged::dna::{self, DnaScene, RunStop, SupercoilRun, SupercoilSettings};
 use rodkit::linalg::LuKind;
 
+#[path = "support/paths.rs"]
+mod paths;
+
 fn settings(threads: usize) -> (DnaScene, SupercoilSettings) {
     let scene = DnaScene { base_pairs: 300, ..Default::default() };
     let settings = SupercoilSettings {
@@ -41,20 +44,9 @@ fn signs_taken_on_a_second_thread_equal_one_threads() {
     let (b1, b2) = (one.buckled.as_ref().unwrap(), two.buckled.as_ref().unwrap());
     assert_eq!(b1.counts.times.overlapped, std::time::Duration::ZERO, "one thread overlaps nothing");
     assert!(b2.counts.times.overlapped > std::time::Duration::ZERO, "no record's signs on the second thread");
-    assert_eq!(one.points.len(), two.points.len(), "different numbers of points");
     assert!(one.points.len() > 30, "{} points", one.points.len());
     assert_eq!((b1.stop, b1.records.len()), (b2.stop, b2.records.len()));
-    for (k, (p, q)) in one.points.iter().zip(&two.points).enumerate() {
-        let (o, f) = (&p.observables, &q.observables);
-        for (name, a, b, scale) in [
-            ("turns", o.turns, f.turns, 1.0),
-            ("extension", o.extension, f.extension, 102.0),
-            ("torque", o.torque, f.torque, 10.0),
-            ("writhe", o.writhe, f.writhe, 1.0),
-        ] {
-            assert!((a - b).abs() < 1e-7 * scale, "point {k}: {name} {a} vs {b}");
-        }
-    }
+    paths::assert_same_points(&one, &two, 102.0, 1e-7);
     let mut flips = 0;
     for (k, (r, s)) in b1.records.iter().zip(&b2.records).enumerate() {
         assert_eq!(

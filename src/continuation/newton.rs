@@ -136,10 +136,7 @@ pub fn continue_newton_hinted<P: Problem + ?Sized>(
         let step = run.ctx.scaling.norm(&dx, ln - at.lambda);
         let go_on = match overlap.as_mut() {
             Some(o) => {
-                let rec = run.unsigned_record(problem, &next, step, iterations, &mut observe);
-                let orientation = run.ctx.bordered.orientation(&run.ctx.scaling, &next.tx, next.tl);
-                let now = will_stop(&rec);
-                o.start(&run.ctx.bordered, rec, orientation)?;
+                let now = will_stop(record_later(&mut run, o, problem, &next, (step, iterations), &mut observe)?);
                 !now || tell_waiting(&mut overlap, &mut run, &mut progress)
             }
             None => {
@@ -187,11 +184,7 @@ fn first_record<P: Problem + ?Sized>(
     progress: &mut impl FnMut(&Record) -> bool,
 ) -> Result<(f64, bool)> {
     if let Some(o) = overlap.as_mut().filter(|_| !singular) {
-        let rec = run.unsigned_record(problem, at, 0.0, iterations, observe);
-        let orientation = run.ctx.bordered.orientation(&run.ctx.scaling, &at.tx, at.tl);
-        let residual = rec.residual;
-        o.start(&run.ctx.bordered, rec, orientation)?;
-        return Ok((residual, true));
+        return Ok((record_later(run, o, problem, at, (0.0, iterations), observe)?.residual, true));
     }
     let first = if singular {
         run.singular_record(problem, &at.x, at.lambda, observe)
@@ -199,6 +192,23 @@ fn first_record<P: Problem + ?Sized>(
         run.record(problem, at, 0.0, iterations, observe)
     };
     Ok((first.residual, run.push(first, progress)))
+}
+
+/// The record of `at` (reached by a step of arc length `step` and
+/// `iterations` corrections) without its signs, which `overlap` takes on
+/// the second thread from the factorisation just made at `at`: the
+/// record as it waits (signs 0, no pivots).
+fn record_later<'o, P: Problem + ?Sized>(
+    run: &mut Run,
+    overlap: &'o mut Overlap,
+    problem: &mut P,
+    at: &State,
+    (step, iterations): (f64, usize),
+    observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
+) -> Result<&'o Record> {
+    let rec = run.unsigned_record(problem, at, step, iterations, observe);
+    let orientation = run.ctx.bordered.orientation(&run.ctx.scaling, &at.tx, at.tl);
+    overlap.start(&run.ctx.bordered, rec, orientation)
 }
 
 /// Tell the record waiting for its signs, if any ([`Overlap`]): false

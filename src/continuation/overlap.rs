@@ -43,7 +43,7 @@ struct Waiting {
 /// started) already here.
 enum Signs {
     Thread(JoinHandle<Signed>),
-    Here(Signed),
+    Here(Box<Signed>),
 }
 
 /// B's simplicial LU of `values` with `lu`: its signs and pivots.
@@ -67,8 +67,9 @@ impl Overlap {
     /// Take the signs of `record` — B the bordered tangent just evaluated
     /// at its point — on a second thread (here, if the system refuses a
     /// thread). Any record still waiting must have been
-    /// [`Overlap::finish`]ed.
-    pub fn start(&mut self, bordered: &Bordered, record: Record, orientation: f64) -> Result<()> {
+    /// [`Overlap::finish`]ed. Returns the record as it waits (signs 0, no
+    /// pivots).
+    pub fn start(&mut self, bordered: &Bordered, record: Record, orientation: f64) -> Result<&Record> {
         debug_assert!(self.waiting.is_none(), "a record is still waiting");
         let (lu, mut values) = match self.spare.take() {
             Some(kept) => kept,
@@ -79,10 +80,9 @@ impl Overlap {
         let signs =
             match std::thread::Builder::new().name("rodkit-record-signs".into()).spawn(move || signed(lu, values)) {
                 Ok(handle) => Signs::Thread(handle),
-                Err(_) => Signs::Here(signed(bordered.exact_twin()?, bordered.values().to_vec())),
+                Err(_) => Signs::Here(Box::new(signed(bordered.exact_twin()?, bordered.values().to_vec()))),
             };
-        self.waiting = Some(Waiting { record, orientation, signs });
-        Ok(())
+        Ok(&self.waiting.insert(Waiting { record, orientation, signs }).record)
     }
 
     /// The waiting record with its signs (None if none waits). Its
@@ -91,7 +91,7 @@ impl Overlap {
         let Waiting { mut record, orientation, signs } = self.waiting.take()?;
         let joined = match signs {
             Signs::Thread(handle) => handle.join(),
-            Signs::Here(signed) => Ok(signed),
+            Signs::Here(signed) => Ok(*signed),
         };
         match joined {
             Ok(signed) => {

@@ -332,7 +332,8 @@ fn hermite_predictor_and_chord_corrections_stay_on_the_branch() {
 /// (det R_x = 2x1 flips once there; reference: the closed form) with every
 /// way a run ends — past the Λ range, at a target, at the step limit, and
 /// stopped by the callback after record k (the step corrected meanwhile is
-/// dropped: the same records and resume point). Same records (Λ, outputs
+/// dropped: the same records and resume point; at a start on its target
+/// the stop wins, as on one thread). Same records (Λ, outputs
 /// to 1e-12: the tangents differ only by rounding; signs and pivots
 /// equal), same stop, same resume point to 1e-12.
 #[test]
@@ -350,6 +351,7 @@ fn signs_on_a_second_thread_give_the_one_thread_run() {
         ("target", Options { target_lambda: Some(0.9), ..base.clone() }, usize::MAX),
         ("max steps", Options { max_steps: 7, ..base.clone() }, usize::MAX),
         ("cancelled", base.clone(), 9),
+        ("cancelled at a start on its target", Options { target_lambda: Some(0.0), ..base.clone() }, 0),
     ];
     for (name, opts, stop_after) in cases {
         let run = |overlap_records: bool| {
@@ -372,6 +374,7 @@ fn signs_on_a_second_thread_give_the_one_thread_run() {
         };
         let ((one, told1), (two, told2)) = (run(false), run(true));
         assert_eq!((one.stop, one.records.len(), told1), (two.stop, two.records.len(), told2), "{name}");
+        assert_eq!(one.column_order, two.column_order, "{name}: the order carried on");
         assert_eq!(one.counts.times.overlapped, std::time::Duration::ZERO, "{name}");
         for (k, (a, b)) in one.records.iter().zip(&two.records).enumerate() {
             assert!((a.lambda - b.lambda).abs() < 1e-12, "{name} record {k}: Λ {} vs {}", a.lambda, b.lambda);

@@ -94,8 +94,9 @@ pub fn continue_newton_hinted<P: Problem + ?Sized>(
         return Ok(run.finish(Stop::Cancelled, at, ds, previous));
     }
     if opts.target_lambda == Some(at.lambda) {
-        tell_waiting(&mut overlap, &mut run, &mut progress);
-        return Ok(run.finish(Stop::Target, at, ds, previous));
+        // As on one thread: a stop asked at the start wins over the target.
+        let stop = if tell_waiting(&mut overlap, &mut run, &mut progress) { Stop::Target } else { Stop::Cancelled };
+        return Ok(run.finish(stop, at, ds, previous));
     }
     for _ in 0..opts.max_steps {
         let before = previous.as_ref().filter(|_| opts.hermite_predictor);
@@ -214,8 +215,16 @@ fn record_later<'o, P: Problem + ?Sized>(
 /// Tell the record waiting for its signs, if any ([`Overlap`]): false
 /// when the callback asks to stop.
 fn tell_waiting(overlap: &mut Option<Overlap>, run: &mut Run, progress: &mut impl FnMut(&Record) -> bool) -> bool {
-    match overlap.as_mut().and_then(|o| o.finish(&mut run.ctx.counts)) {
-        Some(rec) => run.push(rec, progress),
+    let Some(o) = overlap.as_mut() else { return true };
+    match o.finish(&mut run.ctx.counts) {
+        Some(rec) => {
+            // The order B's factors take, as B's own LU would report it
+            // (the branch carries it to a resume or the next pair list).
+            if let Some(order) = o.column_order() {
+                run.ctx.bordered.records_take(order);
+            }
+            run.push(rec, progress)
+        }
         None => true,
     }
 }

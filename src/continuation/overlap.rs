@@ -14,6 +14,7 @@
 use super::tangent::Bordered;
 use super::{Counts, Record};
 use crate::error::Result;
+use crate::linalg::sparse::ColumnOrder;
 use crate::linalg::SparseLu;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -85,6 +86,12 @@ impl Overlap {
         Ok(&self.waiting.insert(Waiting { record, orientation, signs }).record)
     }
 
+    /// The column order of the factorisations taken for the records (None
+    /// before the first).
+    pub fn column_order(&self) -> Option<ColumnOrder> {
+        self.spare.as_ref().filter(|(lu, _)| lu.factorisations > 0).map(|(lu, _)| lu.column_order())
+    }
+
     /// The waiting record with its signs (None if none waits). Its
     /// factorisation is counted, its time in `times.overlapped`.
     pub fn finish(&mut self, counts: &mut Counts) -> Option<Record> {
@@ -111,5 +118,16 @@ impl Overlap {
             }
         }
         Some(record)
+    }
+}
+
+/// A record still waiting when the run unwinds (a panicking callback):
+/// its thread is joined (one factorisation at most), not left running
+/// past the call.
+impl Drop for Overlap {
+    fn drop(&mut self) {
+        if let Some(Waiting { signs: Signs::Thread(handle), .. }) = self.waiting.take() {
+            let _ = handle.join();
+        }
     }
 }

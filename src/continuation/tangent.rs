@@ -263,6 +263,11 @@ impl Bordered {
         self.lu.exact_twin()
     }
 
+    /// See [`BorderedLu::records_take`].
+    pub fn records_take(&mut self, order: crate::linalg::sparse::ColumnOrder) {
+        self.lu.records_take(order);
+    }
+
     /// Scale the singular-value monitor by the problem's equation scales
     /// (rows: 1/e_i, √n for the border row) and the continuation's unknown
     /// scales (columns), so that σ_min does not depend on the units of the

@@ -50,6 +50,8 @@ pub struct BorderedLu {
     blocks_active: bool,
     preferred: Option<ColumnOrder>,
     preferred_kind: Option<LuKind>,
+    /// See [`BorderedLu::records_take`].
+    records_order: Option<ColumnOrder>,
 }
 
 impl BorderedLu {
@@ -102,6 +104,7 @@ impl BorderedLu {
             blocks_active: false,
             preferred: None,
             preferred_kind: None,
+            records_order: None,
         })
     }
 
@@ -228,9 +231,19 @@ impl BorderedLu {
     /// See [`SparseLu::column_order`].
     pub fn column_order(&self) -> ColumnOrder {
         match &self.fast {
-            Fast::Blocks(blocks) if self.lu.factorisations == 0 => blocks.a.column_order(),
+            Fast::Blocks(blocks) if self.lu.factorisations == 0 => {
+                self.records_order.unwrap_or(blocks.a.column_order())
+            }
             _ => self.lu.column_order(),
         }
+    }
+
+    /// The order B's simplicial factors took on another thread
+    /// ([`BorderedLu::exact_twin`]'s), reported by [`BorderedLu::column_order`]
+    /// while B's own LU has not factorised: as it would have, had it taken
+    /// the records' factorisations itself.
+    pub fn records_take(&mut self, order: ColumnOrder) {
+        self.records_order = Some(order);
     }
 
     /// Whether the last factorisation succeeded.
@@ -268,8 +281,8 @@ impl BorderedLu {
         &self.values
     }
 
-    /// A simplicial LU of B's pattern in B's column order (the preferred
-    /// one; else that of B's own LU once it has factorised; else chosen on
+    /// A simplicial LU of B's pattern in B's column order (that of B's own
+    /// LU once it has factorised; else the preferred one; else chosen on
     /// its first matrix): the determinant sign and pivots of
     /// [`BorderedLu::values`] taken elsewhere — on a second thread while
     /// this one goes on ([`crate::continuation::Options::overlap_records`])
@@ -277,10 +290,10 @@ impl BorderedLu {
     pub fn exact_twin(&self) -> Result<SparseLu> {
         let mut lu = SparseLu::with_trailing(self.lu.pattern().clone(), self.trailing + 1)?;
         lu.prefer_kind(LuKind::Simplicial);
-        if let Some(order) = self.preferred {
-            lu.prefer(order);
-        } else if self.lu.factorisations > 0 {
+        if self.lu.factorisations > 0 {
             lu.prefer(self.lu.column_order());
+        } else if let Some(order) = self.preferred {
+            lu.prefer(order);
         }
         Ok(lu)
     }

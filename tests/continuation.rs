@@ -29,16 +29,22 @@ fn on_circle(x: &[f64], l: f64) -> f64 {
     (x[0] * x[0] + l * l - 1.0).abs().max((x[1] - x[0] * l).abs()).max((x[2] - x[0] * x[0] * l * l).abs())
 }
 
-#[test]
-fn both_engines_pass_the_fold_and_flag_it() {
-    let opts = Options {
+/// Options that take the circle from (1, 0) past its fold at Λ = 1 and
+/// back below Λ = −0.5.
+fn through_the_fold() -> Options {
+    Options {
         max_steps: 400,
         residual_tol: 1e-12,
         initial_step: 0.05,
         max_step: 0.2,
         lambda_range: (-0.5, 2.0),
         ..Default::default()
-    };
+    }
+}
+
+#[test]
+fn both_engines_pass_the_fold_and_flag_it() {
+    let opts = through_the_fold();
     let start = || Start::Point { x: vec![1.0, 0.0, 0.0], lambda: 0.0, increasing: true };
     let mut sys = circle();
     assert_eq!(sys.degree(), 3);
@@ -338,14 +344,7 @@ fn hermite_predictor_and_chord_corrections_stay_on_the_branch() {
 /// equal), same stop, same resume point to 1e-12.
 #[test]
 fn signs_on_a_second_thread_give_the_one_thread_run() {
-    let base = Options {
-        max_steps: 400,
-        residual_tol: 1e-12,
-        initial_step: 0.05,
-        max_step: 0.2,
-        lambda_range: (-0.5, 2.0),
-        ..Default::default()
-    };
+    let base = through_the_fold();
     let cases = [
         ("range", base.clone(), usize::MAX),
         ("target", Options { target_lambda: Some(0.9), ..base.clone() }, usize::MAX),

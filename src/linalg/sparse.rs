@@ -880,25 +880,32 @@ mod tests {
             let dense = dense_of(&pattern, &values);
             lu.factorise(&values).unwrap();
             let b: Vec<f64> = (0..n).map(|_| rnd()).collect();
-            let mut x = b.clone();
-            lu.solve(&mut x);
-            let mut y = vec![0.0; n];
-            pattern.mul_vec(&values, &x, &mut y);
-            let res = y.iter().zip(&b).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-            assert!(res < 1e-11, "trial {trial}: residual {res:e}");
-            let mut xt = b.clone();
-            lu.solve_transpose(&mut xt);
-            let yt = dense.transpose() * nalgebra::DVector::from_vec(xt);
-            assert!(yt.iter().zip(&b).all(|(a, b)| (a - b).abs() < 1e-11));
-            let det = dense.clone().lu().determinant();
-            let (sign, log) = lu.determinant_sign_and_log();
-            assert_eq!(sign, det.signum(), "trial {trial}");
-            assert!((log - det.abs().ln()).abs() < 1e-9);
+            matches_dense(&mut lu, &dense, &b, trial);
         }
         assert_eq!(lu.factorisations, 3);
         // A singular matrix is a status.
         let zeros = vec![0.0; pattern.nnz()];
         assert_eq!(lu.factorise(&zeros).unwrap_err().status, Status::ErrNotConverged);
+    }
+
+    /// `lu` (holding `dense`'s values) against nalgebra's dense LU of the
+    /// same matrix (the reference): A x = b and Aᵀ x = b to 1e-11, sign
+    /// det exact and log |det| to 1e-9. Returns x and the dense det.
+    fn matches_dense(lu: &mut SparseLu, dense: &nalgebra::DMatrix<f64>, b: &[f64], trial: usize) -> (Vec<f64>, f64) {
+        let mut x = b.to_vec();
+        lu.solve(&mut x);
+        let y = dense * nalgebra::DVector::from_vec(x.clone());
+        let res = y.iter().zip(b).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        assert!(res < 1e-11, "trial {trial}: residual {res:e}");
+        let mut xt = b.to_vec();
+        lu.solve_transpose(&mut xt);
+        let yt = dense.transpose() * nalgebra::DVector::from_vec(xt);
+        assert!(yt.iter().zip(b).all(|(a, b)| (a - b).abs() < 1e-11), "trial {trial}: transposed solve");
+        let det = dense.clone().lu().determinant();
+        let (sign, log) = lu.determinant_sign_and_log();
+        assert_eq!(sign, det.signum(), "trial {trial}");
+        assert!((log - det.abs().ln()).abs() < 1e-9, "trial {trial}: log |det|");
+        (x, det)
     }
 
     /// The supernodal factors against nalgebra's dense LU (the reference)
@@ -932,19 +939,7 @@ mod tests {
             lu.factorise(&values).unwrap();
             assert_eq!(lu.kind(), LuKind::Supernodal);
             let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
-            let mut x = b.clone();
-            lu.solve(&mut x);
-            let y = &dense * nalgebra::DVector::from_vec(x.clone());
-            let res = y.iter().zip(&b).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-            assert!(res < 1e-11, "trial {trial}: residual {res:e}");
-            let mut xt = b.clone();
-            lu.solve_transpose(&mut xt);
-            let yt = dense.transpose() * nalgebra::DVector::from_vec(xt);
-            assert!(yt.iter().zip(&b).all(|(a, b)| (a - b).abs() < 1e-11));
-            let det = dense.clone().lu().determinant();
-            let (sign, log) = lu.determinant_sign_and_log();
-            assert_eq!(sign, det.signum(), "trial {trial}");
-            assert!((log - det.abs().ln()).abs() < 1e-9);
+            let (x, det) = matches_dense(&mut lu, &dense, &b, trial);
             // Solves still on the supernodal factors after the determinant.
             let mut again = b.clone();
             lu.solve(&mut again);

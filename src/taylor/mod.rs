@@ -22,7 +22,11 @@
 //!   is zero.
 //!
 //! The tape also reports the polynomial degree of each output, so a model
-//! can assert that its residual is cubic.
+//! can assert that its residual is cubic. Non-polynomial parts (the charged
+//! rod's pair forces) take their series by the elementary recurrences of
+//! [`elementary`] instead.
+
+pub mod elementary;
 
 use std::cell::RefCell;
 use std::ops::{Add, Mul, Neg, Sub};

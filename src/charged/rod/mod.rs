@@ -59,6 +59,8 @@
 //! elements; [`crate::linalg::LuKind`]), and only a record's factorisation,
 //! whose determinant signs are read, stays simplicial (issue 18).
 
+mod series;
+
 use super::assembly::{check_rod, Layout, NearZone, PairList, Point};
 use super::base_pairs::BasePairSites;
 use crate::continuation::system::AssembledSystem;
@@ -217,6 +219,8 @@ pub struct ChargedRod {
     sites: Option<BasePairSites>,
     full_pos: Vec<usize>,
     weights: Vec<f64>,
+    /// The stored Taylor series of the last expansion (the ANM, [`series`]).
+    series: Option<series::Series>,
     // Scratch (no allocation per evaluation).
     r: Vec<[f64; 3]>,
     p: Vec<[f64; 3]>,
@@ -292,6 +296,7 @@ impl ChargedRod {
             weights,
             sites: list.sites,
             full_pos: layout.full_pos,
+            series: None,
             r: vec![[0.0; 3]; np],
             p: vec![[0.0; 3]; np],
             g: vec![[0.0; 9]; na],

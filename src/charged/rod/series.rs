@@ -1,0 +1,323 @@
+//! The charged rod's Taylor series along a path — the asymptotic numerical
+//! method (physics.md §2.4) for a residual that is not polynomial (issue
+//! 18: the thesis's ANM and its charged rods joined).
+//!
+//! The rod's own system (stiffened near zone included) is cubic and takes
+//! its series from its tapes ([`crate::taylor`]). What is added here:
+//!
+//! * the far-zone pair forces p_j = −Σ_k w_k P'(d_jk)/d_jk Δ_jk, Δ = r_j − r_k,
+//!   by the elementary recurrences of [`crate::taylor::elementary`] along
+//!   d² = Δ·Δ → d = √ → 1/d, e^{−κd}, f0 = e/d, A = f0/d, B = A(1 + κd)
+//!   (P' = λ²(−B S + f0 S') with the C² switch S a quintic in
+//!   x = (d − r_on)/(r_off − r_on), its powers by products), the hard core
+//!   −3k_hc g², g = 2.5a − d, and c = −w_k P'/d: O(P²) per pair for a series
+//!   of order P, every intermediate's coefficients stored;
+//! * their rows R(q_j)ᵀp_j, R(q) quadratic in the quaternion (products of
+//!   the quaternion's series, [`crate::rod::kinematics::rotation`]'s
+//!   formula);
+//! * under rotation control the rod's Λ = sin(φ/2) and its row
+//!   c − cos(φ/2), by the sine–cosine recurrence.
+//!
+//! Each pair's piece of the potential (inside r_on, in the switch, beyond
+//! r_off; the hard core's range) is the one it is in at the expansion
+//! point: the series is that piece's, analytic. A pair that crosses a
+//! piece's edge within a step leaves a residual of the order of the
+//! switch's third derivative times the crossing's cube (the switch is C²;
+//! beyond r_off P is below the cutoff's tolerance), which the step's end
+//! point check sees and its Newton correction removes, as for any series
+//! evaluated near its radius. The base-pair model has no series (its
+//! continuation is Newton's).
+
+use super::{ChargedRod, HARD_CORE_RANGE};
+use crate::continuation::SeriesProblem;
+use crate::taylor::elementary::{exp, product, recip, sin_cos, sqrt};
+
+/// The slots of a pair's stored series.
+const S2: usize = 0; // d²
+const D: usize = 1;
+const INV: usize = 2; // 1/d
+const E: usize = 3; // e^{−κd}
+const F0: usize = 4; // e/d
+const A: usize = 5; // e/d²
+const B: usize = 6; // A (1 + κd)
+const X2: usize = 7; // x², x³, x⁴ of the switch's argument
+const X3: usize = 8;
+const X4: usize = 9;
+const SW: usize = 10; // S
+const SD: usize = 11; // S'
+const PP: usize = 12; // P'(d)
+const C: usize = 13; // −w_k P'/d
+const SLOTS: usize = 14;
+
+/// Which piece of the pair potential a pair is in at the expansion point.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Piece {
+    /// Beyond r_off (or at d = 0, which no far pair reaches): no screened force.
+    Off,
+    /// Inside r_on (or no cutoff): the full e^{−κd}/d.
+    Full,
+    /// In the switch r_on < d < r_off.
+    Switch,
+}
+
+/// The stored series of one expansion (reused from step to step).
+#[derive(Default)]
+pub(super) struct Series {
+    stride: usize,
+    /// φ, sin(φ/2), cos(φ/2) under rotation control.
+    phi: Vec<f64>,
+    sin: Vec<f64>,
+    cos: Vec<f64>,
+    /// Per stage: r (3), q (4), R(q) (9 entries, row-major), p (3) series.
+    r: Vec<f64>,
+    q: Vec<f64>,
+    rot: Vec<f64>,
+    p: Vec<f64>,
+    /// Per pair (the CSR list's order): SLOTS series, its piece and whether
+    /// the hard core acts.
+    pair: Vec<f64>,
+    piece: Vec<Piece>,
+    hard: Vec<bool>,
+    /// Scratch: Δ (3 series), the switch's x and the hard core's g.
+    delta: Vec<f64>,
+    x: Vec<f64>,
+    g: Vec<f64>,
+}
+
+impl ChargedRod {
+    /// The continuation parameter's order-p Λ of the rod (rotation
+    /// control: sin(φ/2), and cos(φ/2) for its row; otherwise Λ itself).
+    fn lambda_order(&mut self, p: usize, lambda_p: f64) -> f64 {
+        let s = self.series.as_mut().expect("series begun");
+        if self.twisted_phi.is_none() {
+            return lambda_p;
+        }
+        s.phi[p] = lambda_p;
+        (s.sin[p], s.cos[p]) = sin_cos(0.5, &s.phi, &s.sin, &s.cos, p);
+        s.sin[p]
+    }
+
+    /// Every stage's r, q and the pairs' and stages' series at order p
+    /// (p = 0: the values at x), then their rows' order-p coefficients
+    /// added to `out`.
+    fn pair_series_order(&mut self, p: usize, x: &[f64], out: &mut [f64]) {
+        let mut s = self.series.take().expect("series begun");
+        let st = s.stride;
+        for (j, pt) in self.points.iter().enumerate() {
+            for c in 0..3 {
+                s.r[(3 * j + c) * st + p] = x[pt.offset + c];
+            }
+            for c in 0..4 {
+                s.q[(4 * j + c) * st + p] = x[pt.offset + 3 + c];
+            }
+        }
+        for j in 0..self.points.len() {
+            let mut pj = [0.0; 3];
+            for a in self.adj_ptr[j]..self.adj_ptr[j + 1] {
+                let k = self.adj[a];
+                let f = self.pair_order(&mut s, a, j, k, p);
+                for c in 0..3 {
+                    pj[c] += f[c];
+                }
+            }
+            for c in 0..3 {
+                s.p[(3 * j + c) * st + p] = pj[c];
+            }
+        }
+        let nb = self.tab.b.len();
+        for (j, pt) in self.points.iter().enumerate() {
+            let rot = rotation_order(&s.q[4 * j * st..4 * (j + 1) * st], st, p);
+            for (e, v) in rot.iter().flatten().enumerate() {
+                s.rot[(9 * j + e) * st + p] = *v;
+            }
+            // fb_p = Σ_m R_mᵀ p_{p−m}.
+            let mut fb = [0.0; 3];
+            for m in 0..=p {
+                for c in 0..3 {
+                    for i in 0..3 {
+                        fb[c] += s.rot[(9 * j + 3 * i + c) * st + m] * s.p[(3 * j + i) * st + p - m];
+                    }
+                }
+            }
+            for rb in 0..=nb {
+                let coef = self.coefficient(rb, pt.stage);
+                for c in 0..3 {
+                    out[self.n_row(pt.element, rb, c)] += coef * fb[c];
+                }
+            }
+        }
+        self.series = Some(s);
+    }
+
+    /// Pair (j, k), list entry `a`: its series' order p (order 0 chooses its
+    /// piece), and its force's order-p coefficient on j, Σ_m c_m Δ_{p−m}.
+    fn pair_order(&self, s: &mut Series, a: usize, j: usize, k: usize, p: usize) -> [f64; 3] {
+        let st = s.stride;
+        for c in 0..3 {
+            for m in 0..=p {
+                s.delta[c * st + m] = s.r[(3 * j + c) * st + m] - s.r[(3 * k + c) * st + m];
+            }
+        }
+        let pair = &mut s.pair[a * SLOTS * st..(a + 1) * SLOTS * st];
+        let slot = |i: usize| i * st..(i + 1) * st;
+        let d2 = (0..3).map(|c| product(&s.delta[slot(c)], &s.delta[slot(c)], p)).sum::<f64>();
+        pair[S2 * st + p] = d2;
+        if p == 0 {
+            let d = d2.sqrt();
+            let hard = d > 0.0 && self.hard_pair(j, k) && d < HARD_CORE_RANGE * self.charge.screening.a;
+            let l2 = self.charge.line_charge * self.charge.line_charge;
+            s.piece[a] = match self.cutoff {
+                _ if d == 0.0 || l2 == 0.0 => Piece::Off,
+                None => Piece::Full,
+                Some((_, off)) if d >= off => Piece::Off,
+                Some((on, _)) if d <= on => Piece::Full,
+                Some(_) => Piece::Switch,
+            };
+            s.hard[a] = hard;
+        }
+        let (piece, hard) = (s.piece[a], s.hard[a]);
+        if piece == Piece::Off && !hard {
+            pair[C * st + p] = 0.0;
+            return [0.0; 3];
+        }
+        let (d_p, inv_p) = if p == 0 {
+            let d = d2.sqrt();
+            (d, 1.0 / d)
+        } else {
+            let d_p = sqrt(&pair[slot(S2)], &pair[slot(D)], p);
+            pair[D * st + p] = d_p;
+            (d_p, recip(&pair[slot(D)], &pair[slot(INV)], p))
+        };
+        pair[D * st + p] = d_p;
+        pair[INV * st + p] = inv_p;
+        let kappa = self.charge.screening.kappa;
+        let mut pp = 0.0;
+        if piece != Piece::Off {
+            let e_p = if p == 0 { (-kappa * d_p).exp() } else { exp(-kappa, &pair[slot(D)], &pair[slot(E)], p) };
+            pair[E * st + p] = e_p;
+            pair[F0 * st + p] = product(&pair[slot(E)], &pair[slot(INV)], p);
+            pair[A * st + p] = product(&pair[slot(F0)], &pair[slot(INV)], p);
+            pair[B * st + p] = pair[A * st + p] + kappa * product(&pair[slot(A)], &pair[slot(D)], p);
+            let l2 = self.charge.line_charge * self.charge.line_charge;
+            pp = match (piece, self.cutoff) {
+                (Piece::Switch, Some((on, off))) => {
+                    let w = off - on;
+                    for m in 0..=p {
+                        s.x[m] = (pair[D * st + m] - if m == 0 { on } else { 0.0 }) / w;
+                    }
+                    let x = &s.x[..st];
+                    pair[X2 * st + p] = product(x, x, p);
+                    pair[X3 * st + p] = product(&pair[slot(X2)], x, p);
+                    pair[X4 * st + p] = product(&pair[slot(X3)], x, p);
+                    let x5 = product(&pair[slot(X4)], x, p);
+                    let (x2, x3, x4) = (pair[X2 * st + p], pair[X3 * st + p], pair[X4 * st + p]);
+                    // S = 1 − x³(10 − 15x + 6x²), S' = −30x²(1 − x)²/w (physics.md §3.1's switch).
+                    pair[SW * st + p] = if p == 0 { 1.0 } else { 0.0 } - 10.0 * x3 + 15.0 * x4 - 6.0 * x5;
+                    pair[SD * st + p] = (-30.0 * x2 + 60.0 * x3 - 30.0 * x4) / w;
+                    l2 * (product(&pair[slot(F0)], &pair[slot(SD)], p) - product(&pair[slot(B)], &pair[slot(SW)], p))
+                }
+                _ => -l2 * pair[B * st + p],
+            };
+        }
+        if hard {
+            let (k, a) = (self.charge.hard_core.expect("hard pairs have a core"), self.charge.screening.a);
+            for m in 0..=p {
+                s.g[m] = if m == 0 { HARD_CORE_RANGE * a } else { 0.0 } - pair[D * st + m];
+            }
+            pp += -3.0 * k * product(&s.g[..st], &s.g[..st], p);
+        }
+        pair[PP * st + p] = pp;
+        let wk = self.points[k].w;
+        pair[C * st + p] = -wk * product(&pair[slot(PP)], &pair[slot(INV)], p);
+        let cs = &pair[slot(C)];
+        [0, 1, 2].map(|c| product(cs, &s.delta[slot(c)], p))
+    }
+}
+
+/// The order-p coefficient of R(q) from the quaternion's series q (4
+/// series of `stride`): [`crate::rod::kinematics::rotation`]'s quadratic
+/// form with each product q_i q_k replaced by its Cauchy product.
+fn rotation_order(q: &[f64], stride: usize, p: usize) -> [[f64; 3]; 3] {
+    let qs = |i: usize| &q[i * stride..(i + 1) * stride];
+    let m = |i: usize, k: usize| product(qs(i), qs(k), p);
+    let (q00, q11, q22, q33) = (m(0, 0), m(1, 1), m(2, 2), m(3, 3));
+    let (q01, q02, q03, q12, q13, q23) = (m(0, 1), m(0, 2), m(0, 3), m(1, 2), m(1, 3), m(2, 3));
+    [
+        [q00 + q11 - q22 - q33, 2.0 * (q12 - q03), 2.0 * (q13 + q02)],
+        [2.0 * (q12 + q03), q00 - q11 + q22 - q33, 2.0 * (q23 - q01)],
+        [2.0 * (q13 - q02), 2.0 * (q23 + q01), q00 - q11 - q22 + q33],
+    ]
+}
+
+impl SeriesProblem for ChargedRod {
+    fn series_begin(&mut self, x0: &[f64], lambda0: f64, max_order: usize) {
+        let st = max_order + 1;
+        let (np, na) = (self.points.len(), self.adj.len());
+        let s = self.series.get_or_insert_with(Default::default);
+        s.stride = st;
+        for (v, len) in [
+            (&mut s.phi, st),
+            (&mut s.sin, st),
+            (&mut s.cos, st),
+            (&mut s.r, 3 * np * st),
+            (&mut s.q, 4 * np * st),
+            (&mut s.rot, 9 * np * st),
+            (&mut s.p, 3 * np * st),
+            (&mut s.pair, SLOTS * na * st),
+            (&mut s.delta, 3 * st),
+            (&mut s.x, st),
+            (&mut s.g, st),
+        ] {
+            v.clear();
+            v.resize(len, 0.0);
+        }
+        s.piece.clear();
+        s.piece.resize(na, Piece::Off);
+        s.hard.clear();
+        s.hard.resize(na, false);
+        (s.phi[0], s.sin[0], s.cos[0]) = (lambda0, (0.5 * lambda0).sin(), (0.5 * lambda0).cos());
+        let (lambda, _) = self.rod_lambda(lambda0);
+        self.sys.series_begin(x0, lambda, max_order);
+        if self.has_pairs() && self.sites.is_none() {
+            let mut scratch = vec![0.0; self.n];
+            self.pair_series_order(0, x0, &mut scratch);
+        }
+    }
+
+    fn series_order(&mut self, p: usize, xp: &[f64], lambda_p: f64, out: &mut [f64]) {
+        let rod_lambda = self.lambda_order(p, lambda_p);
+        self.sys.series_order(p, xp, rod_lambda, out);
+        if let Some(c) = self.twisted_phi {
+            // The row c − cos(φ/2) (see `residual`).
+            out[c] = xp[c] - self.series.as_ref().expect("series begun").cos[p];
+        }
+        if self.has_pairs() && self.sites.is_some() {
+            // The base-pair model has no series: a non-finite term, which
+            // the ANM turns into a zero step (StepTooSmall), never a
+            // plausible one. Its drivers refuse the ANM before this.
+            out.fill(f64::NAN);
+        } else if self.has_pairs() {
+            self.pair_series_order(p, xp, out);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    // Tested through the residual itself in tests/charged_series.rs: the
+    // series of R(X(a)) along a polynomial path matches R evaluated on the
+    // path to O(a^{P+1}).
+    #[test]
+    fn the_rotation_series_at_order_zero_is_the_rotation() {
+        // Reference: kinematics::rotation, the formula this one repeats.
+        let q = [0.9, -0.2, 0.3, 0.25];
+        let series: Vec<f64> = q.iter().flat_map(|&v| [v, 0.0]).collect();
+        let r = super::rotation_order(&series, 2, 0);
+        let exact = crate::rod::kinematics::rotation(&q);
+        for i in 0..3 {
+            for k in 0..3 {
+                assert!((r[i][k] - exact[i][k]).abs() <= 1e-15);
+            }
+        }
+    }
+}

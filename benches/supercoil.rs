@@ -36,6 +36,7 @@ use plot::line_plot;
 use plotters::prelude::{RGBColor, BLUE, RED};
 use rodkit::charged::dna::{run_scene, DnaScene, Engine, SupercoilRun, SupercoilSettings};
 use rodkit::charged::rod::ChargedRod;
+use rodkit::continuation::anm::AnmOptions;
 use rodkit::continuation::tangent::Bordered;
 use rodkit::continuation::{Counts, Problem, Scaling};
 use rodkit::linalg::band::BandLu;
@@ -129,7 +130,7 @@ fn profile_line(name: &str, c: &Counts, newton: usize, points: usize, lists: usi
     let per = |v: usize| v as f64 / c.steps.max(1) as f64;
     format!(
         "  {name}: {} steps ({} rejected), {} points, {} factorisations ({:.2}/step; {} in {} bifurcation locations; {} by block elimination, {:.2} s; {:.2} s on the records' thread), \
-         {} corrector iterations on accepted points ({:.2}/point), {} solves ({} σ_min monitor), {} residuals, {} Jacobians, {} pair lists ({:.1} steps/list)\n    \
+         {} corrector iterations on accepted points ({:.2}/point), {} solves ({} σ_min monitor), {} residuals, {} Jacobians, {} pair lists ({:.1} steps/list), {} series orders (ANM)\n    \
          time: residual {:.2} s, Jacobian {:.2} s, LU factorisation {:.2} s, solves {:.2} s, σ_min monitor {:.2} s, setup (pair lists, patterns) {:.2} s; location (inclusive) {:.2} s",
         c.steps,
         c.rejected_steps,
@@ -149,6 +150,7 @@ fn profile_line(name: &str, c: &Counts, newton: usize, points: usize, lists: usi
         c.jacobians,
         lists,
         c.steps as f64 / lists.max(1) as f64,
+        c.series_orders,
         ms(t.residuals),
         ms(t.jacobians),
         ms(t.factorisations),
@@ -226,7 +228,18 @@ fn main() {
         let scene = DnaScene { salt, base_pairs: bp, tension, ..defaults };
         let aim = knob("RODKIT_SUPERCOIL_AIM").unwrap_or(3.0);
         let threads = knob("RODKIT_SUPERCOIL_THREADS").map_or(1, |v| v as usize);
+        // RODKIT_SUPERCOIL_ENGINE=anm: the buckled branch by the ANM
+        // (order RODKIT_SUPERCOIL_ANM_ORDER, ε RODKIT_SUPERCOIL_ANM_EPS).
+        let anm_engine = std::env::var("RODKIT_SUPERCOIL_ENGINE").is_ok_and(|v| v == "anm");
+        let d = SupercoilSettings::default().anm;
+        let anm = AnmOptions {
+            order: knob("RODKIT_SUPERCOIL_ANM_ORDER").map_or(d.order, |v| v as usize),
+            epsilon: knob("RODKIT_SUPERCOIL_ANM_EPS").unwrap_or(d.epsilon),
+            pade: false,
+        };
         let settings = SupercoilSettings {
+            engine: if anm_engine { Engine::Anm } else { Engine::Hermite },
+            anm,
             elements,
             threads,
             max_steps: steps,
@@ -250,6 +263,7 @@ fn main() {
             Ok("0") => None,
             Ok("lu") => Some(SupercoilSettings { lu_kind: Some(LuKind::Simplicial), ..settings.clone() }),
             Ok("serial") => Some(SupercoilSettings { threads: 1, ..settings.clone() }),
+            Ok("hermite") => Some(SupercoilSettings { engine: Engine::Hermite, ..settings.clone() }),
             _ => Some(SupercoilSettings {
                 engine: Engine::Newton,
                 lu_kind: Some(LuKind::Simplicial),
@@ -300,6 +314,13 @@ fn main() {
         let _ = writeln!(report, "{salt} M: Debye length {:.3} nm, λ² = {:.4} pN, cutoff {:?}; buckling at {:.4} turns, torque {:.3} pN nm; {} points, {} steps, {} factorisations, {:.1} s; last point {:.4} turns, z {:.2} nm, M {:.3} pN nm, Wr {:.4}; crossing {:?}; worst |Tw + Wr − turns| {:.1e}",
             1.0 / scene.kappa(), r.charge.line_charge.powi(2), r.charge.cutoff(r.rod.length), r.buckling.map_or(f64::NAN, |b| b.0 / two_pi), r.buckling.map_or(f64::NAN, |b| b.1),
             r.points.len(), steps_done, facts, r.seconds, last.turns, last.extension, last.torque, last.writhe, r.buckled.as_ref().and_then(|b| b.contact), worst_lk);
+        let _ = writeln!(
+            report,
+            "  stop: {:?} (buckled branch: {:?}){}",
+            r.stop,
+            r.buckled.as_ref().map(|b| b.stop),
+            r.failure().map_or(String::new(), |e| format!("; failure: {e}"))
+        );
         // The profile: per branch, then the total against the wall clock.
         let mut total = Counts::default();
         let mut steps_csv = String::from("branch,record,turns,step,newton_iterations,sigma_min,det_sign\n");

@@ -252,6 +252,7 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
         lu_kind: None,
         corrector_aim: 3.0,
         unfolding_retakes: SupercoilSettings::default().unfolding_retakes,
+        anm: Default::default(),
     };
     Ok((scene, settings))
 }

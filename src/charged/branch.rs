@@ -1,9 +1,12 @@
 //! Branches of charged-rod equilibria: Newton pseudo-arc-length
-//! continuation of [`ChargedRod`] — in the end rotation φ itself for a rod
-//! with a controlled end rotation (any number of turns), or in the end
-//! torque for a torque clamp ([`super::dna::EndControl`]) — with the pair
-//! list rebuilt whenever a stage has moved half the skin (the branch is
-//! continued from the same point and tangent on the new pattern), strand
+//! continuation of [`ChargedRod`], or the ANM when its charge asks
+//! ([`RodCharge::anm`]) — in the end rotation φ itself for a rod with a
+//! controlled end rotation (any number of turns), or in the end torque for
+//! a torque clamp ([`super::dna::EndControl`]) — with the pair list rebuilt
+//! whenever a far pair missing from it comes within half the skin of the
+//! potential's range ([`crate::charged::rod::ListCoverage`]; the
+//! base-pair model: a stage moved half the skin), the branch continued
+//! from the same point and tangent on the new pattern, strand
 //! crossing detected (non-neighbouring stage points closer than 2a: the
 //! branch stops with its [`RodBranch::contact`]), and branch switching at a
 //! located (double) buckling point with the rod's phase condition — the
@@ -12,6 +15,7 @@
 //! [`super::dna`].
 
 use super::rod::{ChargedRod, RodCharge};
+use crate::continuation::anm::continue_anm;
 use crate::continuation::corrector::{correct, Plane};
 use crate::continuation::newton::{continue_newton_hinted, Start};
 use crate::continuation::run::Context;
@@ -354,13 +358,16 @@ fn reconverge(problem: &mut ChargedRod, x: &mut [f64], lambda: f64, opts: &Optio
     Ok(())
 }
 
-/// The segment of a branch on one pair list: Newton continuation until
-/// the end, a strand crossing (the branch's contact; it stops), a stage
-/// moving half the skin from where the list was built (stale: the list is
-/// rebuilt and the branch continued), or, with a phase condition, a point
-/// that left μ = 0 (not told: it is taken again shorter). The first record
-/// is told as `first` says. Stages' displacements are measured from
-/// `reference`.
+/// The segment of a branch on one pair list: Newton continuation (or the
+/// ANM, [`RodCharge::anm`]) until the end, a strand crossing (the branch's
+/// contact; it stops), a list gone stale (a missing pair within half the
+/// skin of the potential's range, [`ChargedRod::coverage`]; base pairs: a
+/// stage moved half the skin from `reference`, where the list was built):
+/// the list is rebuilt and the branch continued), or, with a phase
+/// condition, a point that left μ = 0 (not told: it is taken again
+/// shorter; the ANM keeps no point before it to retake from, so there the
+/// branch ends with its path, [`RodBranch::failure`]). The first record is
+/// told as `first` says.
 fn follow_list(
     problem: &mut ChargedRod,
     start: Start,
@@ -371,12 +378,28 @@ fn follow_list(
     progress: &mut dyn FnMut(&Record) -> bool,
 ) -> Result<(RodBranch, SegmentEnd, ColumnOrder)> {
     let (rod, charge) = (&problem.rod().clone(), &problem.charge().clone());
+    // How much of the list's margin is left at a state (negative: stale,
+    // the list is rebuilt there). The continuum's lists: a far pair
+    // missing from the list is still half the skin outside the potential's
+    // range ([`ListCoverage`]: the residual is the full model's at every
+    // point, and on the rebuilt list too). The base-pair model's: Verlet's
+    // rule, no stage moved half the skin from where the list was built.
+    let coverage = problem.coverage();
     let half_skin = 0.5 * charge.skin;
     let (reference, _) = rod.stage_points(reference);
     let offsets = rod.stage_offsets();
-    // The largest distance a stage has moved from where the list was built.
-    let moved = |x: &[f64]| -> f64 {
-        offsets.iter().zip(&reference).map(|(&o, r0)| distance(&[x[o], x[o + 1], x[o + 2]], r0)).fold(0.0, f64::max)
+    let margin = |x: &[f64]| -> f64 {
+        match &coverage {
+            Some(c) => c.gap(x) - half_skin,
+            None => {
+                half_skin
+                    - offsets
+                        .iter()
+                        .zip(&reference)
+                        .map(|(&o, r0)| distance(&[x[o], x[o + 1], x[o + 2]], r0))
+                        .fold(0.0, f64::max)
+            }
+        }
     };
     // μ's scale (None: no phase condition). Every accepted point is
     // checked as it comes: on the spurious straight family (straight
@@ -389,7 +412,7 @@ fn follow_list(
     let mut index = 0;
     let observe = |x: &[f64], _: f64| {
         let mut o = x.to_vec();
-        o.push(moved(x));
+        o.push(margin(x));
         o
     };
     // A point off the branch or on a stale list ends the segment: told at
@@ -398,7 +421,7 @@ fn follow_list(
     let ends = |rec: &Record| {
         let x = &rec.outputs[..rec.outputs.len() - 1];
         mu_scale.is_some_and(|scale| rod.left_unfolding(x, scale))
-            || (local && *rec.outputs.last().expect("displacement") > half_skin)
+            || (local && *rec.outputs.last().expect("margin") < 0.0)
     };
     let tell = |rec: &Record| {
         let x = &rec.outputs[..rec.outputs.len() - 1];
@@ -419,13 +442,16 @@ fn follow_list(
             progress(rec);
             return false;
         }
-        if local && *rec.outputs.last().expect("displacement") > half_skin {
+        if local && *rec.outputs.last().expect("margin") < 0.0 {
             end = SegmentEnd::Stale;
             return false;
         }
         progress(rec)
     };
-    let b = continue_newton_hinted(problem, start, opts, observe, tell, ends)?;
+    let b = match charge.anm {
+        Some(anm) => continue_anm(problem, start, opts, &anm, observe, tell)?,
+        None => continue_newton_hinted(problem, start, opts, observe, tell, ends)?,
+    };
     let order = b.column_order;
     let mut segment = RodBranch::from_engine(b, phase, 1);
     segment.contact = crossing;
@@ -450,7 +476,7 @@ enum SegmentStart {
 enum SegmentEnd {
     /// The branch's own stop (or a strand crossing: its contact).
     Branch,
-    /// A stage moved half the skin: the list is rebuilt, the branch goes on.
+    /// The list went stale: it is rebuilt, the branch goes on.
     Stale,
     /// Its last point left μ = 0: dropped and taken again shorter.
     OffBranch,

@@ -7,6 +7,7 @@
 
 use super::branch::{continue_with, follow_on, hard_core_idle, switch_on, ChargedBranch, ListAnchor};
 use super::rod::RodCharge;
+use crate::continuation::anm::AnmOptions;
 use crate::continuation::newton::Start;
 use crate::continuation::{Options, Record, Stop};
 use crate::error::{self, Error, Result};
@@ -268,6 +269,10 @@ pub struct SupercoilSettings {
     /// the straight rod, where it had slid onto that family and the run,
     /// after 339 s, returned only the error.
     pub unfolding_retakes: usize,
+    /// The series' order and ε when `engine` is [`Engine::Anm`] (20 and
+    /// 1e-4: on the 300 bp scene to 2.5 turns 55 buckled steps against 76
+    /// at 1e-6 and 109 at 1e-8, the same path within 5e-4 of M_b).
+    pub anm: AnmOptions,
 }
 
 /// The predictor–corrector of the buckled branch (issue 18). Both give
@@ -285,6 +290,22 @@ pub enum Engine {
     /// 29.6 s.
     #[default]
     Hermite,
+    /// The asymptotic numerical method: the Taylor series of the charged
+    /// rod (pair forces included, [`crate::charged::rod`]'s series) from
+    /// one factorisation a step, the step from the series' convergence
+    /// ([`SupercoilSettings::anm`]) and the pair list's coverage, the end
+    /// point Newton-corrected (chords on the step's factorisation) when
+    /// its residual is above the tolerance. The continuum model only.
+    ///
+    /// Not the default: measured on the 1 kbp, 1 pN, 0.1 M scene (100
+    /// elements, ε 1e-4, benches/README.md 2026-11-26) it is no faster —
+    /// 0 → 5.5 turns 43.1 s against Hermite's 38.4 s — because the series'
+    /// radius stays ~0.1–0.3 (scaled arc length) on the plectoneme and
+    /// collapses to 1e-3 next to the folds (singularities off the real
+    /// path), so its steps are no longer than Hermite's, and its end points
+    /// need ~4 chord iterations. A point that leaves μ = 0 ends its run
+    /// (no point before it is kept to retake from): one did at 6.27 turns.
+    Anm,
 }
 
 impl Default for SupercoilSettings {
@@ -311,6 +332,7 @@ impl Default for SupercoilSettings {
             lu_kind: None,
             corrector_aim: 3.0,
             unfolding_retakes: 4,
+            anm: AnmOptions { order: 20, epsilon: 1e-4, pade: false },
         }
     }
 }
@@ -834,6 +856,9 @@ fn buckled_path(
         ..Default::default()
     };
     let n = rod.unknowns();
+    // The buckled branch's engine (the straight one takes Newton steps).
+    let anm = RodCharge { anm: (settings.engine == Engine::Anm).then_some(settings.anm), ..charge.clone() };
+    let charge = &anm;
     let mut stopped = false;
     // A resumed branch's first record is the point it stopped at, told.
     let mut first = from.is_some();

@@ -102,7 +102,9 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             return Ok(run.finish(stop, here, last_a, None));
         }
         expansion.compute(&mut run, problem, &here);
-        let a = expansion.radius(&run, anm);
+        let radius = expansion.radius(&run, anm);
+        // The problem's own limit (a charged rod's pair list).
+        let a = problem.series_reach(radius);
         if !(a >= opts.min_step) {
             return Ok(run.finish(Stop::StepTooSmall, here, a, None));
         }

@@ -69,6 +69,12 @@ pub trait SeriesProblem: Problem {
     /// side of the recursion); called again with the solved X_p it commits
     /// order p.
     fn series_order(&mut self, p: usize, xp: &[f64], lambda_p: f64, out: &mut [f64]);
+    /// The longest step a' ≤ `a` along the committed series over which the
+    /// problem's own approximations hold (a charged rod's pair list: no
+    /// stage moves past half its skin); `a` when nothing limits it.
+    fn series_reach(&mut self, a: f64) -> f64 {
+        a
+    }
 }
 
 /// Typical magnitudes of the unknowns and Λ: the arc-length inner product

@@ -34,9 +34,12 @@
 //! tolerance's cutoff, [`super::discrete::screening_cutoff`]) to
 //! r_off = r_on + 1/κ. Pairs within r_off + skin of a reference state are
 //! found by cell lists (a Verlet list): they fix the Jacobian's pattern
-//! (symbolic factorisation reused) while no stage has moved more than
-//! skin/2 from the reference ([`ChargedRod::displacement`]; the branch
-//! driver rebuilds past skin/2 and re-converges that point). Coulomb (κ = 0): every far pair.
+//! (symbolic factorisation reused) while no far pair missing from the list
+//! has come within half the skin of the potential's range
+//! ([`ChargedRod::coverage`], [`coverage`]: the branch driver rebuilds the
+//! list there; base pairs, and the single-equilibrium and coexistence
+//! solvers: while no stage has moved skin/2 from the reference,
+//! [`ChargedRod::displacement`]). Coulomb (κ = 0): every far pair.
 //! Optional hard core: P += k_hc (2.5a − d)³ for d < 2.5a between stages
 //! farther apart along the rod than 1.25πa (strands repel before they
 //! touch and cannot pass; neighbours on one strand are not pushed apart).
@@ -59,7 +62,10 @@
 //! elements; [`crate::linalg::LuKind`]), and only a record's factorisation,
 //! whose determinant signs are read, stays simplicial (issue 18).
 
+mod coverage;
 mod series;
+
+pub use coverage::ListCoverage;
 
 use super::assembly::{check_rod, Layout, NearZone, PairList, Point};
 use super::base_pairs::BasePairSites;
@@ -106,6 +112,13 @@ pub struct RodCharge {
     /// then acts between the charges (b² k_hc(2.5a − d)³ per pair, the
     /// continuum's double integral as a sum over the sites).
     pub base_pairs: Option<f64>,
+    /// Follow this rod's branches by the asymptotic numerical method (the
+    /// series of the pair forces, [`series`]: one factorisation a step,
+    /// the step from the series' own convergence, cut where a pair missing
+    /// from the list would come into range) instead of Newton continuation
+    /// (None, the default). The continuum model only (the base-pair model
+    /// is refused).
+    pub anm: Option<crate::continuation::anm::AnmOptions>,
 }
 
 impl RodCharge {
@@ -123,6 +136,7 @@ impl RodCharge {
             hard_core: None,
             threads: 1,
             base_pairs: None,
+            anm: None,
         }
     }
 
@@ -152,6 +166,12 @@ impl RodCharge {
         error::count_in_range("threads", self.threads as i64, 1, 256)?;
         if let Some(b) = self.base_pairs {
             error::positive("base_pairs", b)?;
+            if self.anm.is_some() {
+                return Err(Error::new(
+                    Status::ErrOutOfRange,
+                    "the base-pair model has no series: its branches are followed by Newton continuation (anm None)",
+                ));
+            }
         }
         Ok(())
     }
@@ -221,6 +241,8 @@ pub struct ChargedRod {
     weights: Vec<f64>,
     /// The stored Taylor series of the last expansion (the ANM, [`series`]).
     series: Option<series::Series>,
+    /// The list's coverage check (None: every pair listed, or base pairs).
+    list_coverage: Option<ListCoverage>,
     // Scratch (no allocation per evaluation).
     r: Vec<[f64; 3]>,
     p: Vec<[f64; 3]>,
@@ -271,7 +293,7 @@ impl ChargedRod {
                     .map_err(|e| Error::new(Status::ErrInternal, format!("thread pool: {e}")))?,
             ),
         };
-        Ok(ChargedRod {
+        let mut problem = ChargedRod {
             rod: rod.clone(),
             charge: charge.clone(),
             rod_jx: vec![0.0; sys.pattern().nnz()],
@@ -297,11 +319,14 @@ impl ChargedRod {
             sites: list.sites,
             full_pos: layout.full_pos,
             series: None,
+            list_coverage: None,
             r: vec![[0.0; 3]; np],
             p: vec![[0.0; 3]; np],
             g: vec![[0.0; 9]; na],
             dsum: vec![[0.0; 9]; np],
-        })
+        };
+        problem.list_coverage = problem.coverage();
+        Ok(problem)
     }
 
     pub fn rod(&self) -> &Rod {

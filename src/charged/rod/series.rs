@@ -284,6 +284,38 @@ impl SeriesProblem for ChargedRod {
         }
     }
 
+    /// The pair list holds while no far pair missing from it comes within
+    /// the potential's range ([`super::coverage`]): the step is cut where
+    /// the series' stage points would bring one there (bisection on the
+    /// polynomials r_j(a)).
+    fn series_reach(&mut self, a: f64) -> f64 {
+        let (Some(s), Some(cover)) = (self.series.as_ref(), self.list_coverage.as_ref()) else {
+            return a;
+        };
+        let st = s.stride;
+        let gap = |t: f64| {
+            let r: Vec<[f64; 3]> = (0..self.points.len())
+                .map(|j| {
+                    [0, 1, 2].map(|c| s.r[(3 * j + c) * st..(3 * j + c + 1) * st].iter().rev().fold(0.0, |acc, x| acc * t + x))
+                })
+                .collect();
+            cover.gap_at(&r)
+        };
+        if gap(a) >= 0.0 || gap(0.0) < 0.0 {
+            return a;
+        }
+        let (mut lo, mut hi) = (0.0, a);
+        for _ in 0..30 {
+            let mid = 0.5 * (lo + hi);
+            if gap(mid) >= 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    }
+
     fn series_order(&mut self, p: usize, xp: &[f64], lambda_p: f64, out: &mut [f64]) {
         let rod_lambda = self.lambda_order(p, lambda_p);
         self.sys.series_order(p, xp, rod_lambda, out);

@@ -35,7 +35,7 @@ mod plot;
 use plot::line_plot;
 use plotters::prelude::{RGBColor, BLUE, RED};
 use rodkit::charged::dna::{run_scene, DnaScene, Engine, SupercoilRun, SupercoilSettings};
-use rodkit::charged::rod::ChargedRod;
+use rodkit::charged::rod::{ChargedRod, ListRule};
 use rodkit::continuation::anm::AnmOptions;
 use rodkit::continuation::tangent::Bordered;
 use rodkit::continuation::{Counts, Problem, Scaling};
@@ -237,7 +237,10 @@ fn main() {
             epsilon: knob("RODKIT_SUPERCOIL_ANM_EPS").unwrap_or(d.epsilon),
             pade: false,
         };
+        // RODKIT_SUPERCOIL_LISTS=coverage: pair lists rebuilt by coverage.
+        let coverage = std::env::var("RODKIT_SUPERCOIL_LISTS").is_ok_and(|v| v == "coverage");
         let settings = SupercoilSettings {
+            list_rule: if coverage { ListRule::Coverage } else { ListRule::Displacement },
             engine: if anm_engine { Engine::Anm } else { Engine::Hermite },
             anm,
             elements,
@@ -264,6 +267,7 @@ fn main() {
             Ok("lu") => Some(SupercoilSettings { lu_kind: Some(LuKind::Simplicial), ..settings.clone() }),
             Ok("serial") => Some(SupercoilSettings { threads: 1, ..settings.clone() }),
             Ok("hermite") => Some(SupercoilSettings { engine: Engine::Hermite, ..settings.clone() }),
+            Ok("verlet") => Some(SupercoilSettings { list_rule: ListRule::Displacement, ..settings.clone() }),
             _ => Some(SupercoilSettings {
                 engine: Engine::Newton,
                 lu_kind: Some(LuKind::Simplicial),

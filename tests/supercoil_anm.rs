@@ -1,13 +1,14 @@
 //! The buckled branch by the ANM (issue 18: `Engine::Anm`, the charged
 //! rod's Taylor series) and the pair lists rebuilt by coverage
-//! (src/charged/rod/coverage.rs), against independent references.
+//! (`ListRule::Coverage`, src/charged/rod/coverage.rs), against
+//! independent references.
 //!
 //! Scene: 300 bp (102 nm) at 1 pN and 0.1 M, 30 elements, to 2.5 turns:
 //! buckling at 1.316 turns, back along the unstable leg to its fold at
 //! 1.11 turns, then forward into the plectoneme (~2 s a run).
 
 use rodkit::charged::dna::{self, DnaScene, Engine, SupercoilRun, SupercoilSettings};
-use rodkit::charged::rod::ChargedRod;
+use rodkit::charged::rod::{ChargedRod, ListRule};
 use rodkit::continuation::Problem;
 use rodkit::nonlinear::scaled_max_norm;
 
@@ -46,18 +47,19 @@ fn worst_full_residual(run: &SupercoilRun) -> f64 {
 
 /// Reference: the residual tolerance itself. A point converged on a list
 /// that missed an interacting pair would carry that pair's force as a
-/// residual on the list built at the point (the rule the lists followed
-/// before: Verlet's half skin, which also guaranteed this; the coverage
-/// rule must too, with ~5× fewer lists).
+/// residual on the list built at the point. Verlet's rule guarantees this
+/// by a bound; the coverage rule must too, with ~5× fewer lists.
 #[test]
 fn every_point_is_an_equilibrium_of_the_full_model() {
-    let run = dna::run_scene(&scene(), &settings(Engine::Hermite, 3.0)).unwrap();
-    let b = run.buckled.as_ref().unwrap();
-    let worst = worst_full_residual(&run);
-    println!("{} buckled points on {} pair lists; worst full-model residual {worst:e}", b.records.len(), b.pair_lists);
-    // Re-summed on another list: rounding apart, the tolerance.
-    assert!(worst <= 1.001 * run.settings.residual_tol, "worst {worst:e}");
-    assert!(b.records.len() > 40);
+    for rule in [ListRule::Coverage, ListRule::Displacement] {
+        let run = dna::run_scene(&scene(), &SupercoilSettings { list_rule: rule, ..settings(Engine::Hermite, 3.0) }).unwrap();
+        let b = run.buckled.as_ref().unwrap();
+        let worst = worst_full_residual(&run);
+        println!("{rule:?}: {} buckled points on {} pair lists; worst full-model residual {worst:e}", b.records.len(), b.pair_lists);
+        // Re-summed on another list: rounding apart, the tolerance.
+        assert!(worst <= 1.001 * run.settings.residual_tol, "{rule:?}: worst {worst:e}");
+        assert!(b.records.len() > 40);
+    }
 }
 
 /// The distance of each of `new`'s buckled points from `reference`'s

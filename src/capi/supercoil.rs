@@ -252,7 +252,8 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
         lu_kind: None,
         corrector_aim: 3.0,
         unfolding_retakes: SupercoilSettings::default().unfolding_retakes,
-        anm: Default::default(),
+        list_rule: Default::default(),
+        anm: SupercoilSettings::default().anm,
     };
     Ok((scene, settings))
 }

@@ -386,13 +386,17 @@ fn follow_list(
     // rule, no stage moved half the skin from where the list was built.
     let coverage = problem.coverage();
     let half_skin = 0.5 * charge.skin;
+    // Verlet's rule for the ANM: its steps stop where a stage reaches half
+    // the skin (`series_reach`), so its list is rebuilt once half of that
+    // is used, not at a step cut short.
+    let verlet = if charge.anm.is_some() { 0.5 * half_skin } else { half_skin };
     let (reference, _) = rod.stage_points(reference);
     let offsets = rod.stage_offsets();
     let margin = |x: &[f64]| -> f64 {
         match &coverage {
             Some(c) => c.gap(x) - half_skin,
             None => {
-                half_skin
+                verlet
                     - offsets
                         .iter()
                         .zip(&reference)

@@ -6,7 +6,7 @@
 //! experiments ([`Observables`]).
 
 use super::branch::{continue_with, follow_on, hard_core_idle, switch_on, ChargedBranch, ListAnchor};
-use super::rod::RodCharge;
+use super::rod::{ListRule, RodCharge};
 use crate::continuation::anm::AnmOptions;
 use crate::continuation::newton::Start;
 use crate::continuation::{Options, Record, Stop};
@@ -269,6 +269,9 @@ pub struct SupercoilSettings {
     /// the straight rod, where it had slid onto that family and the run,
     /// after 339 s, returned only the error.
     pub unfolding_retakes: usize,
+    /// When the branches rebuild their pair lists ([`ListRule`]: Verlet's
+    /// half-skin displacement by default).
+    pub list_rule: ListRule,
     /// The series' order and ε when `engine` is [`Engine::Anm`] (20 and
     /// 1e-4: on the 300 bp scene to 2.5 turns 55 buckled steps against 76
     /// at 1e-6 and 109 at 1e-8, the same path within 5e-4 of M_b).
@@ -298,13 +301,16 @@ pub enum Engine {
     /// its residual is above the tolerance. The continuum model only.
     ///
     /// Not the default: measured on the 1 kbp, 1 pN, 0.1 M scene (100
-    /// elements, ε 1e-4, benches/README.md 2026-11-26) it is no faster —
-    /// 0 → 5.5 turns 43.1 s against Hermite's 38.4 s — because the series'
+    /// elements, ε 1e-4, pair lists by [`ListRule::Coverage`];
+    /// benches/README.md 2026-11-26) it is no faster — 0 → 5.5 turns 43.1 s
+    /// against Hermite's 38.4 s; with Verlet's lists, which cut its steps
+    /// at half the skin, slower still — because the series'
     /// radius stays ~0.1–0.3 (scaled arc length) on the plectoneme and
     /// collapses to 1e-3 next to the folds (singularities off the real
     /// path), so its steps are no longer than Hermite's, and its end points
     /// need ~4 chord iterations. A point that leaves μ = 0 ends its run
-    /// (no point before it is kept to retake from): one did at 6.27 turns.
+    /// (no point before it is kept to retake from): one did at 7.26 turns,
+    /// where the Hermite engine with coverage lists lost its branch too.
     Anm,
 }
 
@@ -332,6 +338,7 @@ impl Default for SupercoilSettings {
             lu_kind: None,
             corrector_aim: 3.0,
             unfolding_retakes: 4,
+            list_rule: ListRule::Displacement,
             anm: AnmOptions { order: 20, epsilon: 1e-4, pade: false },
         }
     }
@@ -467,6 +474,7 @@ pub fn run_scene_with(
     charge.hard_core = settings.hard_core;
     charge.threads = settings.threads;
     charge.base_pairs = settings.base_pairs.then_some(scene.rise);
+    charge.list_rule = settings.list_rule;
     error::positive("max_turns", settings.max_turns)?;
     error::count_in_range("max_steps", settings.max_steps as i64, 1, 1 << 24)?;
     error::positive("residual_tol", settings.residual_tol)?;

@@ -119,6 +119,28 @@ pub struct RodCharge {
     /// (None, the default). The continuum model only (the base-pair model
     /// is refused).
     pub anm: Option<crate::continuation::anm::AnmOptions>,
+    /// When a branch rebuilds its pair list ([`ListRule`]).
+    pub list_rule: ListRule,
+}
+
+/// When a branch's pair list is rebuilt. Both keep every point an
+/// equilibrium of the full model (no interacting pair missing).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ListRule {
+    /// Verlet's rule: once a stage has moved half the skin from where the
+    /// list was built.
+    #[default]
+    Displacement,
+    /// Once a far pair missing from the list comes within half the skin of
+    /// the potential's range ([`ChargedRod::coverage`]): lists last longer
+    /// where the shape slides as a whole. Measured mixed, so not the
+    /// default (benches/README.md, 2026-11-26): 1 kbp, 1 pN, 0 → 12 turns at
+    /// 0.1 M, aim 3, 75.9 s against 90.1 s (2 threads; 77 lists against
+    /// 166); at 0.01 M, aim 5, 605 s against 463 s (more rejected steps);
+    /// at 0.1 M, aim 5, the buckled branch slid onto the straight family at
+    /// 7.27 turns (also after 4 retakes) where Verlet's lists pass.
+    /// The base-pair model keeps [`ListRule::Displacement`].
+    Coverage,
 }
 
 impl RodCharge {
@@ -137,6 +159,7 @@ impl RodCharge {
             threads: 1,
             base_pairs: None,
             anm: None,
+            list_rule: ListRule::Displacement,
         }
     }
 

@@ -284,30 +284,47 @@ impl SeriesProblem for ChargedRod {
         }
     }
 
-    /// The pair list holds while no far pair missing from it comes within
-    /// the potential's range ([`super::coverage`]): the step is cut where
-    /// the series' stage points would bring one there (bisection on the
-    /// polynomials r_j(a)).
+    /// The pair list holds along the step: under
+    /// [`super::ListRule::Coverage`] while no far pair missing from it comes
+    /// within the potential's range ([`super::coverage`]); under Verlet's
+    /// rule while no stage moves half the skin from where it was built. The
+    /// step is cut where the series' stage points (the polynomials r_j(a))
+    /// would break that, by bisection.
     fn series_reach(&mut self, a: f64) -> f64 {
-        let (Some(s), Some(cover)) = (self.series.as_ref(), self.list_coverage.as_ref()) else {
+        let Some(s) = self.series.as_ref() else { return a };
+        if !self.list_local || self.sites.is_some() {
             return a;
-        };
+        }
         let st = s.stride;
-        let gap = |t: f64| {
-            let r: Vec<[f64; 3]> = (0..self.points.len())
+        let points = |t: f64| -> Vec<[f64; 3]> {
+            (0..self.points.len())
                 .map(|j| {
                     [0, 1, 2].map(|c| s.r[(3 * j + c) * st..(3 * j + c + 1) * st].iter().rev().fold(0.0, |acc, x| acc * t + x))
                 })
-                .collect();
-            cover.gap_at(&r)
+                .collect()
         };
-        if gap(a) >= 0.0 || gap(0.0) < 0.0 {
+        let half_skin = 0.5 * self.charge.skin;
+        // ≥ 0 where the list holds.
+        let holds = |t: f64| -> f64 {
+            let r = points(t);
+            match &self.list_coverage {
+                Some(cover) => cover.gap_at(&r),
+                None => {
+                    half_skin
+                        - r.iter()
+                            .zip(&self.reference)
+                            .map(|(p, q)| crate::geometry::vec3::distance(p, q))
+                            .fold(0.0, f64::max)
+                }
+            }
+        };
+        if holds(a) >= 0.0 || holds(0.0) < 0.0 {
             return a;
         }
         let (mut lo, mut hi) = (0.0, a);
         for _ in 0..30 {
             let mid = 0.5 * (lo + hi);
-            if gap(mid) >= 0.0 {
+            if holds(mid) >= 0.0 {
                 lo = mid;
             } else {
                 hi = mid;

@@ -81,7 +81,10 @@ fn the_series_of_the_residual_is_its_taylor_polynomial_along_a_path() {
     for order in [3, 6] {
         let (e1, e2) = (remainder(&mut p, &x0, &dirs, phi, order, 0.2), remainder(&mut p, &x0, &dirs, phi, order, 0.1));
         let ratio = e1 / e2;
-        println!("order {order}: remainder {e1:e} at a = 0.2, {e2:e} at 0.1, ratio {ratio:.1} (2^(P+1) = {})", 1 << (order + 1));
+        println!(
+            "order {order}: remainder {e1:e} at a = 0.2, {e2:e} at 0.1, ratio {ratio:.1} (2^(P+1) = {})",
+            1 << (order + 1)
+        );
         // The O(a^{P+1}) remainder: ratio ≈ 2^{P+1} (within the next
         // term's share); a wrong order-m coefficient would give ≤ 2^m.
         assert!(ratio > 0.6 * (1 << (order + 1)) as f64, "order {order}: ratio {ratio}");

@@ -52,10 +52,15 @@ fn worst_full_residual(run: &SupercoilRun) -> f64 {
 #[test]
 fn every_point_is_an_equilibrium_of_the_full_model() {
     for rule in [ListRule::Coverage, ListRule::Displacement] {
-        let run = dna::run_scene(&scene(), &SupercoilSettings { list_rule: rule, ..settings(Engine::Hermite, 3.0) }).unwrap();
+        let run =
+            dna::run_scene(&scene(), &SupercoilSettings { list_rule: rule, ..settings(Engine::Hermite, 3.0) }).unwrap();
         let b = run.buckled.as_ref().unwrap();
         let worst = worst_full_residual(&run);
-        println!("{rule:?}: {} buckled points on {} pair lists; worst full-model residual {worst:e}", b.records.len(), b.pair_lists);
+        println!(
+            "{rule:?}: {} buckled points on {} pair lists; worst full-model residual {worst:e}",
+            b.records.len(),
+            b.pair_lists
+        );
         // Re-summed on another list: rounding apart, the tolerance.
         assert!(worst <= 1.001 * run.settings.residual_tol, "{rule:?}: worst {worst:e}");
         assert!(b.records.len() > 40);
@@ -76,7 +81,11 @@ fn deviation(new: &SupercoilRun, reference: &SupercoilRun) -> (f64, f64) {
             let (a, b) = (key(&w[0]), key(&w[1]));
             let ab = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
             let len2 = ab.iter().map(|v| v * v).sum::<f64>();
-            let t = if len2 > 0.0 { ((0..3).map(|i| (q[i] - a[i]) * ab[i]).sum::<f64>() / len2).clamp(0.0, 1.0) } else { 0.0 };
+            let t = if len2 > 0.0 {
+                ((0..3).map(|i| (q[i] - a[i]) * ab[i]).sum::<f64>() / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
             let c = [a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]];
             let d2 = (0..3).map(|i| (q[i] - c[i]).powi(2)).sum::<f64>();
             if d2 < best.0 {

@@ -123,7 +123,8 @@ mod tests {
             adj.extend((0..n).filter(|&k| k != j && far(j, k) && d(&r0[j], &r0[k]) < range + skin));
             adj_ptr.push(adj.len());
         }
-        let cover = ListCoverage { offsets: vec![], elements: elements.clone(), near, adj_ptr, adj: adj.clone(), range, skin };
+        let cover =
+            ListCoverage { offsets: vec![], elements: elements.clone(), near, adj_ptr, adj: adj.clone(), range, skin };
         assert_eq!(cover.gap_at(&r0), skin, "every pair within range + skin is listed where it was built");
         for amplitude in [1.0, 3.0, 6.0] {
             let r: Vec<[f64; 3]> = r0.iter().map(|p| p.map(|v| v + amplitude * (rnd() - 0.5))).collect();

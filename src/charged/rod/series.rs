@@ -299,7 +299,9 @@ impl SeriesProblem for ChargedRod {
         let points = |t: f64| -> Vec<[f64; 3]> {
             (0..self.points.len())
                 .map(|j| {
-                    [0, 1, 2].map(|c| s.r[(3 * j + c) * st..(3 * j + c + 1) * st].iter().rev().fold(0.0, |acc, x| acc * t + x))
+                    [0, 1, 2].map(|c| {
+                        s.r[(3 * j + c) * st..(3 * j + c + 1) * st].iter().rev().fold(0.0, |acc, x| acc * t + x)
+                    })
                 })
                 .collect()
         };

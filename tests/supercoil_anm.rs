@@ -5,7 +5,7 @@
 //!
 //! Scene: 300 bp (102 nm) at 1 pN and 0.1 M, 30 elements, to 2.5 turns:
 //! buckling at 1.316 turns, back along the unstable leg to its fold at
-//! 1.11 turns, then forward into the plectoneme (~2 s a run).
+//! 1.11 turns, then forward into the plectoneme (2–7 s a run).
 
 use rodkit::charged::dna::{self, DnaScene, Engine, SupercoilRun, SupercoilSettings};
 use rodkit::charged::rod::{ChargedRod, ListRule};
@@ -98,8 +98,8 @@ fn deviation(new: &SupercoilRun, reference: &SupercoilRun) -> (f64, f64) {
     (wm, wz)
 }
 
-/// Reference: the Hermite engine with steps sized for one Newton
-/// iteration (corrector aim 1: dense points, so its polyline's chord error
+/// Reference: the Hermite engine with steps sized for two Newton
+/// iterations (corrector aim 2: dense points, so its polyline's chord error
 /// stays below the tolerance). Each ANM point must lie on that path within
 /// 1e-3 of M_b and of L (the "same branch" criterion), be an
 /// equilibrium of the full model, and the run reach the same end.

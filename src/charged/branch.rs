@@ -3,9 +3,9 @@
 //! ([`RodCharge::anm`]) — in the end rotation φ itself for a rod with a
 //! controlled end rotation (any number of turns), or in the end torque for
 //! a torque clamp ([`super::dna::EndControl`]) — with the pair list rebuilt
-//! whenever a far pair missing from it comes within half the skin of the
-//! potential's range ([`crate::charged::rod::ListCoverage`]; the
-//! base-pair model: a stage moved half the skin), the branch continued
+//! by its [`crate::charged::rod::ListRule`] (a stage moved half the skin,
+//! or, opt-in, a far pair missing from it came within half the skin of the
+//! potential's range), the branch continued
 //! from the same point and tangent on the new pattern, strand
 //! crossing detected (non-neighbouring stage points closer than 2a: the
 //! branch stops with its [`RodBranch::contact`]), and branch switching at a
@@ -360,10 +360,11 @@ fn reconverge(problem: &mut ChargedRod, x: &mut [f64], lambda: f64, opts: &Optio
 
 /// The segment of a branch on one pair list: Newton continuation (or the
 /// ANM, [`RodCharge::anm`]) until the end, a strand crossing (the branch's
-/// contact; it stops), a list gone stale (a missing pair within half the
-/// skin of the potential's range, [`ChargedRod::coverage`]; base pairs: a
-/// stage moved half the skin from `reference`, where the list was built):
-/// the list is rebuilt and the branch continued), or, with a phase
+/// contact; it stops), a list gone stale by its rule (a stage moved half
+/// the skin from `reference`, where the list was built; or by coverage, a
+/// missing pair within half the skin of the potential's range,
+/// [`ChargedRod::coverage`]: the list is rebuilt and the branch
+/// continued), or, with a phase
 /// condition, a point that left μ = 0 (not told: it is taken again
 /// shorter; the ANM keeps no point before it to retake from, so there the
 /// branch ends with its path, [`RodBranch::failure`]). The first record is
@@ -379,11 +380,10 @@ fn follow_list(
 ) -> Result<(RodBranch, SegmentEnd, ColumnOrder)> {
     let (rod, charge) = (&problem.rod().clone(), &problem.charge().clone());
     // How much of the list's margin is left at a state (negative: stale,
-    // the list is rebuilt there). The continuum's lists: a far pair
-    // missing from the list is still half the skin outside the potential's
-    // range ([`ListCoverage`]: the residual is the full model's at every
-    // point, and on the rebuilt list too). The base-pair model's: Verlet's
-    // rule, no stage moved half the skin from where the list was built.
+    // the list is rebuilt there). Verlet's rule (the default, and the
+    // base-pair model's): no stage moved half the skin from where the list
+    // was built. By coverage: a far pair missing from the list is still
+    // half the skin outside the potential's range.
     let coverage = problem.coverage();
     let half_skin = 0.5 * charge.skin;
     // Verlet's rule for the ANM: its steps stop where a stage reaches half

@@ -273,8 +273,9 @@ pub struct SupercoilSettings {
     /// half-skin displacement by default).
     pub list_rule: ListRule,
     /// The series' order and ε when `engine` is [`Engine::Anm`] (20 and
-    /// 1e-4: on the 300 bp scene to 2.5 turns 55 buckled steps against 76
-    /// at 1e-6 and 109 at 1e-8, the same path within 5e-4 of M_b).
+    /// 1e-4: on the 300 bp scene to 2.5 turns with coverage lists, 55
+    /// buckled steps against 76 at 1e-6 and 109 at 1e-8, the same path
+    /// within 5e-4 of M_b).
     pub anm: AnmOptions,
 }
 
@@ -296,7 +297,7 @@ pub enum Engine {
     /// The asymptotic numerical method: the Taylor series of the charged
     /// rod (pair forces included, [`crate::charged::rod`]'s series) from
     /// one factorisation a step, the step from the series' convergence
-    /// ([`SupercoilSettings::anm`]) and the pair list's coverage, the end
+    /// ([`SupercoilSettings::anm`]) and the pair list's rule, the end
     /// point Newton-corrected (chords on the step's factorisation) when
     /// its residual is above the tolerance. The continuum model only.
     ///

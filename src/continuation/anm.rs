@@ -109,7 +109,8 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             return Ok(run.finish(Stop::StepTooSmall, here, a, None));
         }
         // Padé: a longer step where the rational form stays within ε.
-        let (a, denominator) = match anm.pade && a < opts.max_step {
+        // Not past a limit of the problem's own (`series_reach` cut a).
+        let (a, denominator) = match anm.pade && a < opts.max_step && a >= radius {
             true => match pade::step(&expansion.series, &run.ctx.scaling, anm.epsilon, a, (4.0 * a).min(opts.max_step))
             {
                 Some((t, d)) if t > a => {

@@ -113,6 +113,11 @@ mod tests {
             (s[p], c[p]) = sin_cos(2.0, &x, &s, &c, p);
         }
         let prod: Vec<f64> = (0..=p_max).map(|p| product(&e, &s, p)).collect();
+        // √ and 1/x of 1 + x(a) (every order of the input non-zero up to 3).
+        let mut y = x.clone();
+        y[0] += 1.0;
+        let root = series(&y, y[0].sqrt(), sqrt);
+        let inv = series(&y, 1.0 / y[0], recip);
         let eval = |y: &[f64], a: f64| y.iter().rev().fold(0.0, |acc, v| acc * a + v);
         for a in [0.05_f64, 0.1] {
             let tol = 10.0 * a.powi(p_max as i32 + 1) + 1e-15;
@@ -121,6 +126,8 @@ mod tests {
             assert!((eval(&s, a) - ss).abs() <= tol, "sin at {a}");
             assert!((eval(&c, a) - cc).abs() <= tol, "cos at {a}");
             assert!((eval(&prod, a) - ee * ss).abs() <= tol, "product at {a}");
+            assert!((eval(&root, a) - (1.0 + xa(a)).sqrt()).abs() <= tol, "√ at {a}");
+            assert!((eval(&inv, a) - 1.0 / (1.0 + xa(a))).abs() <= tol, "1/x at {a}");
         }
     }
 }

@@ -9,7 +9,7 @@
 //! sufficient bound for that, and a poor one for a supercoiling rod: the
 //! tail slides toward the bead as a whole (~30 nm a turn at 1 kbp, 1 pN,
 //! 0.1 M) while the strands keep their partners, so lists lasted ~0.06
-//! turns (187 lists along 0 → 12 turns) and capped the ANM's steps there.
+//! turns (166 lists along 0 → 12 turns) and capped the ANM's steps there.
 //! [`super::ListRule::Coverage`] makes the rule the property itself: the smallest distance of a
 //! missing far pair, less r_int (its *gap*), from a cell list of the
 //! current stage points. A list is rebuilt while that gap is still half
@@ -139,7 +139,6 @@ mod tests {
             }
             let gap = cover.gap_at(&r);
             assert!((gap - brute).abs() <= 1e-12, "amplitude {amplitude}: {gap} vs {brute}");
-            println!("amplitude {amplitude}: gap {gap}");
         }
     }
 }

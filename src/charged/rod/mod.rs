@@ -34,12 +34,12 @@
 //! tolerance's cutoff, [`super::discrete::screening_cutoff`]) to
 //! r_off = r_on + 1/κ. Pairs within r_off + skin of a reference state are
 //! found by cell lists (a Verlet list): they fix the Jacobian's pattern
-//! (symbolic factorisation reused) while no far pair missing from the list
-//! has come within half the skin of the potential's range
-//! ([`ChargedRod::coverage`], [`coverage`]: the branch driver rebuilds the
-//! list there; base pairs, and the single-equilibrium and coexistence
-//! solvers: while no stage has moved skin/2 from the reference,
-//! [`ChargedRod::displacement`]). Coulomb (κ = 0): every far pair.
+//! (symbolic factorisation reused) while no stage has moved skin/2 from
+//! the reference ([`ChargedRod::displacement`]; the branch driver rebuilds
+//! the list there and re-converges that point) or, by [`ListRule::Coverage`],
+//! while no far pair missing from the list has come within half the skin
+//! of the potential's range ([`ChargedRod::coverage`]). Coulomb (κ = 0):
+//! every far pair.
 //! Optional hard core: P += k_hc (2.5a − d)³ for d < 2.5a between stages
 //! farther apart along the rod than 1.25πa (strands repel before they
 //! touch and cannot pass; neighbours on one strand are not pushed apart).
@@ -113,9 +113,10 @@ pub struct RodCharge {
     /// continuum's double integral as a sum over the sites).
     pub base_pairs: Option<f64>,
     /// Follow this rod's branches by the asymptotic numerical method (the
-    /// series of the pair forces, [`series`]: one factorisation a step,
-    /// the step from the series' own convergence, cut where a pair missing
-    /// from the list would come into range) instead of Newton continuation
+    /// series of the pair forces, src/charged/rod/series.rs: one
+    /// factorisation a step, the step from the series' own convergence, cut
+    /// where the pair list would stop holding by its [`ListRule`]) instead
+    /// of Newton continuation
     /// (None, the default). The continuum model only (the base-pair model
     /// is refused).
     pub anm: Option<crate::continuation::anm::AnmOptions>,

@@ -220,11 +220,12 @@ impl ChargedRod {
             };
         }
         if hard {
-            let (k, a) = (self.charge.hard_core.expect("hard pairs have a core"), self.charge.screening.a);
+            let khc = self.charge.hard_core.expect("hard pairs have a core");
+            let range = HARD_CORE_RANGE * self.charge.screening.a;
             for m in 0..=p {
-                s.g[m] = if m == 0 { HARD_CORE_RANGE * a } else { 0.0 } - pair[D * st + m];
+                s.g[m] = if m == 0 { range } else { 0.0 } - pair[D * st + m];
             }
-            pp += -3.0 * k * product(&s.g[..st], &s.g[..st], p);
+            pp += -3.0 * khc * product(&s.g[..st], &s.g[..st], p);
         }
         pair[PP * st + p] = pp;
         let wk = self.points[k].w;
@@ -320,10 +321,16 @@ impl SeriesProblem for ChargedRod {
                 }
             }
         };
-        if holds(a) >= 0.0 || holds(0.0) < 0.0 {
+        if holds(0.0) < 0.0 {
             return a;
         }
-        let (mut lo, mut hi) = (0.0, a);
+        // The first of 16 points along the step where the list fails (a
+        // pair may come into range mid-step and leave again), then
+        // bisection before it.
+        let Some(fail) = (1..=16).map(|i| a * i as f64 / 16.0).find(|&t| holds(t) < 0.0) else {
+            return a;
+        };
+        let (mut lo, mut hi) = (fail - a / 16.0, fail);
         for _ in 0..30 {
             let mid = 0.5 * (lo + hi);
             if holds(mid) >= 0.0 {

@@ -5,7 +5,7 @@
 #[path = "support/charged.rs"]
 mod charged;
 
-use charged::coiled_state;
+use charged::{coiled_state, small_scene};
 use rodkit::charged::branch::{self, ChargedBranch};
 use rodkit::charged::dna::{self, DnaScene};
 use rodkit::charged::rod::{ChargedRod, RodCharge};
@@ -14,16 +14,6 @@ use rodkit::continuation::{Options, Problem};
 use rodkit::electrostatics::{energy, EnergyQuadrature, HermiteCurve, LineCharge};
 use rodkit::rod::kinematics::rotation;
 use rodkit::rod::model::Rod;
-
-fn small_scene() -> (Rod, RodCharge) {
-    let scene = DnaScene { base_pairs: 200, salt: 0.01, ..Default::default() };
-    let rod = scene.rod(20, 2).unwrap();
-    let mut charge = scene.charge();
-    charge.cutoff_tolerance = Some(1e-2);
-    charge.screening.a = 1.6;
-    charge.hard_core = Some(50.0);
-    (rod, charge)
-}
 
 /// The Jacobian (rod + near-zone stiffening + far pairs with the cutoff's
 /// switch + hard core + the end-rotation parameter) equals central

@@ -15,8 +15,7 @@
 #[path = "support/charged.rs"]
 mod charged;
 
-use charged::coiled_state;
-use rodkit::charged::dna::DnaScene;
+use charged::{coiled_state, small_scene};
 use rodkit::charged::rod::ChargedRod;
 use rodkit::continuation::{Problem, SeriesProblem};
 
@@ -62,12 +61,7 @@ fn remainder(p: &mut ChargedRod, x0: &[f64], dirs: &[Vec<f64>; 2], phi: [f64; 3]
 
 #[test]
 fn the_series_of_the_residual_is_its_taylor_polynomial_along_a_path() {
-    let scene = DnaScene { base_pairs: 200, salt: 0.01, ..Default::default() };
-    let rod = scene.rod(20, 2).unwrap();
-    let mut charge = scene.charge();
-    charge.cutoff_tolerance = Some(1e-2);
-    charge.screening.a = 1.6;
-    charge.hard_core = Some(50.0);
+    let (rod, charge) = small_scene();
     let x0 = coiled_state(&rod, 3.0, 3.0);
     let mut p = ChargedRod::new(&rod, &charge, None, &x0).unwrap();
     assert!(p.pairs() > 100, "pairs {}", p.pairs());

@@ -2,8 +2,23 @@
 //! Jacobian-against-central-differences check.
 #![allow(dead_code)]
 
+use rodkit::charged::dna::DnaScene;
+use rodkit::charged::rod::RodCharge;
 use rodkit::continuation::Problem;
 use rodkit::rod::model::Rod;
+
+/// 200 bp at 0.01 M on 20 elements of Gauss(2), cutoff at 1e-2, a = 1.6 nm
+/// and a hard core: on [`coiled_state`] its pairs sit inside r_on, in the
+/// cutoff's switch and in the hard core's range.
+pub fn small_scene() -> (Rod, RodCharge) {
+    let scene = DnaScene { base_pairs: 200, salt: 0.01, ..Default::default() };
+    let rod = scene.rod(20, 2).unwrap();
+    let mut charge = scene.charge();
+    charge.cutoff_tolerance = Some(1e-2);
+    charge.screening.a = 1.6;
+    charge.hard_core = Some(50.0);
+    (rod, charge)
+}
 
 /// A non-equilibrium state: stage and node positions on a tight coil
 /// (radius 3, rise 3.4 per turn: turns ~3.4 apart, inside the cutoff),

@@ -138,8 +138,9 @@ pub enum ListRule {
     /// default (benches/README.md, 2026-11-26): 1 kbp, 1 pN, 0 → 12 turns at
     /// 0.1 M, aim 3, 75.9 s against 90.1 s (2 threads; 77 lists against
     /// 166); at 0.01 M, aim 5, 605 s against 463 s (more rejected steps);
-    /// at 0.1 M, aim 5, the buckled branch slid onto the straight family at
-    /// 7.27 turns (also after 4 retakes) where Verlet's lists pass.
+    /// at 0.1 M, aim 5, a step at 1.75 turns hopped onto a solution with
+    /// μ ≠ 0 (μ/scale 1.2e-7, drifting to the unfolding check's 1e-6 at
+    /// 7.27 turns, where the run ended) where Verlet's lists pass.
     /// The base-pair model keeps [`ListRule::Displacement`].
     Coverage,
 }

@@ -425,14 +425,15 @@ impl ChargedRod {
                 self.points.iter().map(|p| [x[p.offset], x[p.offset + 1], x[p.offset + 2]]).collect();
             return sites.displacement(&stages);
         }
-        self.points
-            .iter()
-            .zip(&self.reference)
-            .map(|(p, r0)| {
-                let d = [x[p.offset] - r0[0], x[p.offset + 1] - r0[1], x[p.offset + 2] - r0[2]];
-                (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
-            })
-            .fold(0.0, f64::max)
+        let r: Vec<[f64; 3]> = self.points.iter().map(|p| [x[p.offset], x[p.offset + 1], x[p.offset + 2]]).collect();
+        self.moved(&r)
+    }
+
+    /// The largest distance of the stage points `r` from where the list
+    /// was built (Verlet's measure; [`ChargedRod::displacement`] and the
+    /// ANM's reach along a series).
+    fn moved(&self, r: &[[f64; 3]]) -> f64 {
+        r.iter().zip(&self.reference).map(|(p, r0)| distance(p, r0)).fold(0.0, f64::max)
     }
 
     /// The rod's Λ for the continuation parameter.

@@ -312,13 +312,7 @@ impl SeriesProblem for ChargedRod {
             let r = points(t);
             match &self.list_coverage {
                 Some(cover) => cover.gap_at(&r),
-                None => {
-                    half_skin
-                        - r.iter()
-                            .zip(&self.reference)
-                            .map(|(p, q)| crate::geometry::vec3::distance(p, q))
-                            .fold(0.0, f64::max)
-                }
+                None => half_skin - self.moved(&r),
             }
         };
         if holds(0.0) < 0.0 {

@@ -155,9 +155,11 @@ fn largest_unfolding(run: &SupercoilRun) -> f64 {
 
 /// The reproducer of the notes (benches/README.md, issue 18): 300 bp,
 /// 2 pN, 0.1 M with corrector aim 5 — the corrector of the step to the
-/// buckled branch's point 51 slides onto the spurious straight family
-/// (straight state, any μ; μ = −1.1e-6 there), which used to make the run
-/// return only an error. Here, without the hard core (the branch ends at a
+/// buckled branch's point 51 lands on a solution with μ ≠ 0 (μ = −1.1e-6
+/// pN, 3.3e-6 of its scale), which used to make the run return only an
+/// error. Not the straight family, as first thought: the state is tilted
+/// (largest section tilt |Rᵀe3 − e3| 1.58), a solution of the discretised
+/// equations only (`Rod::unfolding_failure`), and the message says so. Here, without the hard core (the branch ends at a
 /// strand crossing, so the retaken part stays in the path):
 /// - with no retakes allowed the run ends at point 50 with its path
 ///   (RunStop::Failed, ErrNotConverged, the message naming μ), not an
@@ -203,7 +205,7 @@ fn a_slide_onto_the_straight_family_is_retaken_or_ends_the_run_with_its_path() {
     );
     // No retakes: the path to the last point on the branch, and why.
     assert_eq!(ended.stop, dna::RunStop::Failed { status: rodkit::Status::ErrNotConverged });
-    assert!(failure.message.contains("spurious straight family") && be.contact.is_none());
+    assert!(failure.message.contains("not straight (largest section tilt |Rᵀe3 − e3| 1.58)") && be.contact.is_none());
     assert!(ended.resume_at.is_none() && be.records.len() == 51, "{}", be.records.len());
     assert!(largest_unfolding(&ended) <= 1e-6);
     // The same computation up to there: the run that went on passed the

@@ -308,6 +308,7 @@ fn follow_lists(
 /// whose only point left μ = 0 has no point to keep (the error alone).
 fn left_branch(rod: &Rod, out: &mut RodBranch, retakes: usize) -> Error {
     let mu = out.states.last().map_or(f64::NAN, |x| x[rod.unknowns()]);
+    let why = out.states.last().map_or_else(String::new, |x| rod.unfolding_failure(x));
     let lambda = out.records.last().map_or(f64::NAN, |r| r.lambda);
     if !drop_last(out) {
         out.records.clear();
@@ -321,9 +322,8 @@ fn left_branch(rod: &Rod, out: &mut RodBranch, retakes: usize) -> Error {
     Error::new(
         Status::ErrNotConverged,
         format!(
-            "the branch left the unfolding parameter at μ = {mu:e} (Λ = {lambda}) {tried}: the corrector slid \
-             onto the spurious straight family (straight state, any μ); the branch ends at its last point on it \
-             ({kept} points kept)"
+            "the branch left the unfolding parameter at μ = {mu:e} (Λ = {lambda}) {tried}: {why}; the branch \
+             ends at its last point on it ({kept} points kept)"
         ),
     )
 }
@@ -407,7 +407,8 @@ fn follow_list(
     };
     // μ's scale (None: no phase condition). Every accepted point is
     // checked as it comes: on the spurious straight family (straight
-    // state, any μ) the branch is lost, and a long run that found out at
+    // state, any μ) or a tilted solution with μ ≠ 0 of the discretised
+    // equations only, the branch is lost, and a long run that found out at
     // its end lost its whole path (1 kbp, 1 pN, 0.01 M: 433 s).
     let mu_scale = phase.map(|_| *problem.unknown_scales().0.last().expect("μ"));
     let local = problem.list_is_local();
@@ -490,7 +491,8 @@ enum SegmentEnd {
 /// carried stages past the list's skin, does not re-converge on the list
 /// rebuilt there (far from an equilibrium with the pairs the old list
 /// lacked: long steps, `Options::corrector_aim` 5, issue 18), or that left
-/// μ = 0 (a corrector that slid onto the spurious straight family): the
+/// μ = 0 (a corrector that slid onto the spurious straight family, or
+/// onto a solution with μ ≠ 0 of the discretised equations only): the
 /// point is dropped and the branch resumes from the point before (told
 /// already; within half the skin of its list, so all its pairs were
 /// listed) with half the step, on a list built there. The dropped step

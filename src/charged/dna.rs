@@ -252,15 +252,18 @@ pub struct SupercoilSettings {
     /// ([`crate::charged::branch`]). Not the default: analyses that
     /// interpolate the path (the torque-clamp comparison, a coexistence
     /// premise) want denser points. With aim 5 the 300 bp, 2 pN, 0.1 M
-    /// scene's corrector slid onto the spurious straight family at the
-    /// buckled branch's point 51 (μ = −1.1e-6), which ended the run with
+    /// scene's corrector landed on a solution with μ ≠ 0 (μ = −1.1e-6 pN; a
+    /// tilted state, a solution of the discretised equations only) at the
+    /// buckled branch's point 51, which ended the run with
     /// an error; it is now taken again with half the step, once, and the
     /// branch goes on ([`SupercoilSettings::unfolding_retakes`],
     /// tests/supercoil_hard_core.rs).
     pub corrector_aim: f64,
     /// How often a point of the buckled branch that left the unfolding
     /// parameter μ = 0 (a corrector sliding onto the spurious straight
-    /// family: straight state, any μ) is taken again from the point before,
+    /// family — straight state, any μ — or onto a tilted solution with
+    /// μ ≠ 0 that only the discretised equations have; the run's error says
+    /// which, `Rod::unfolding_failure`) is taken again from the point before,
     /// halving the step each time (4: down to 1/16 of the step), before the
     /// run ends there with the path so far ([`RunStop::Failed`]). With
     /// corrector aim 5 the 300 bp, 2 pN, 0.1 M scene's buckled branch needed

@@ -449,8 +449,9 @@ impl Rod {
             return Err(Error::new(
                 Status::ErrNotConverged,
                 format!(
-                    "branch switching with a phase condition left the unfolding parameter at μ = {:e} (point {k}): it followed the spurious straight family, not the buckled branch; try another first_step",
-                    x[n]
+                    "branch switching with a phase condition left the unfolding parameter at μ = {:e} (point {k}): {}; try another first_step",
+                    x[n],
+                    self.unfolding_failure(x)
                 ),
             ));
         }
@@ -462,5 +463,40 @@ impl Rod {
     /// [`Rod::check_unfolding`] and of the charged branch's per-point check.
     pub(crate) fn left_unfolding(&self, x: &[f64], mu_scale: f64) -> bool {
         x[self.unknowns()].abs() > 1e-6 * mu_scale
+    }
+
+    /// Why a state of a branch with a phase condition left μ = 0, for the
+    /// error that ends it. The unfolding's couple μB (B = Rᵀe3 − e3, the
+    /// section's tilt from the axis) vanishes on a straight state, so there
+    /// (largest |B| below 1e-3) the corrector slid onto the spurious
+    /// straight family. A tilted state with μ ≠ 0 is no solution of the
+    /// undiscretised problem (μ∫|B|² = J(L) − J(0) = 0), but the
+    /// discretised one has such solutions, μ∫|B|² being the scheme's
+    /// violation of the first integral J: measured on the 300 bp, 2 pN,
+    /// 0.1 M scene with corrector aim 5 (largest |B| 1.58 at μ/scale
+    /// 3.3e-6, a step that landed on one; retaken with half the step, the
+    /// branch goes on with μ/scale ≤ 3.3e-9) and on 1 kbp, 1 pN, 0.1 M with
+    /// 80 elements of Gauss(4) (μ growing from ~1e-15 to 1e-7 pN over 47
+    /// points past 2.84 turns, not cured by retakes: a branch of them met
+    /// the followed one; 100 elements of Gauss(2) or Gauss(3) stay below
+    /// 1e-10 pN; benches/README.md, 2026-11-26).
+    pub(crate) fn unfolding_failure(&self, x: &[f64]) -> String {
+        let tilt = self
+            .stage_offsets()
+            .into_iter()
+            .map(|o| {
+                let r = crate::rod::kinematics::rotation(&[x[o + 3], x[o + 4], x[o + 5], x[o + 6]]);
+                (r[2][0].powi(2) + r[2][1].powi(2) + (r[2][2] - 1.0).powi(2)).sqrt()
+            })
+            .fold(0.0, f64::max);
+        if tilt < 1e-3 {
+            format!(
+                "the corrector slid onto the spurious straight family (a straight state: largest section tilt |Rᵀe3 − e3| {tilt:.1e}; any μ solves it)"
+            )
+        } else {
+            format!(
+                "the state is not straight (largest section tilt |Rᵀe3 − e3| {tilt:.2}): a solution of the discretised equations that the undiscretised ones do not have (μ∫|Rᵀe3 − e3|² is the scheme's violation of the axial-moment integral), from a branch of them that meets the followed one; other elements or stages, or a shorter step, may keep the branch"
+            )
+        }
     }
 }

@@ -224,6 +224,7 @@ fn main() {
         let bp = knob("RODKIT_SUPERCOIL_BP").map_or(1000, |v| v as usize);
         let tension = knob("RODKIT_SUPERCOIL_FORCE").unwrap_or(defaults.tension);
         let elements = knob("RODKIT_SUPERCOIL_ELEMENTS").map_or((bp as f64 / 10.0).round() as usize, |v| v as usize);
+        let stages = knob("RODKIT_SUPERCOIL_STAGES").map_or(SupercoilSettings::default().stages, |v| v as usize);
         let discrete = knob("RODKIT_SUPERCOIL_DISCRETE").is_some_and(|v| v != 0.0);
         let scene = DnaScene { salt, base_pairs: bp, tension, ..defaults };
         let aim = knob("RODKIT_SUPERCOIL_AIM").unwrap_or(3.0);
@@ -244,6 +245,11 @@ fn main() {
             engine: if anm_engine { Engine::Anm } else { Engine::Hermite },
             anm,
             elements,
+            stages,
+            // RODKIT_SUPERCOIL_CUTOFF: the screening cutoff's relative
+            // energy tolerance (0: every pair).
+            cutoff_tolerance: knob("RODKIT_SUPERCOIL_CUTOFF")
+                .map_or(SupercoilSettings::default().cutoff_tolerance, |v| (v > 0.0).then_some(v)),
             threads,
             max_steps: steps,
             max_turns,
@@ -253,7 +259,7 @@ fn main() {
         };
         let _ = writeln!(
             report,
-            "scene: {bp} bp, {tension} pN, {salt} M, {elements} elements, {} charges",
+            "scene: {bp} bp, {tension} pN, {salt} M, {elements} elements of Gauss({stages}), {} charges",
             if discrete { "base-pair" } else { "line" }
         );
         // Before and after in one process (issue 18): the engine up to
@@ -268,6 +274,14 @@ fn main() {
             Ok("serial") => Some(SupercoilSettings { threads: 1, ..settings.clone() }),
             Ok("hermite") => Some(SupercoilSettings { engine: Engine::Hermite, ..settings.clone() }),
             Ok("verlet") => Some(SupercoilSettings { list_rule: ListRule::Displacement, ..settings.clone() }),
+            // A reference discretisation (the path's own discretisation
+            // error): RODKIT_SUPERCOIL_BASELINE=mesh with
+            // RODKIT_SUPERCOIL_REF_ELEMENTS / _REF_STAGES.
+            Ok("mesh") => Some(SupercoilSettings {
+                elements: knob("RODKIT_SUPERCOIL_REF_ELEMENTS").map_or(2 * elements, |v| v as usize),
+                stages: knob("RODKIT_SUPERCOIL_REF_STAGES").map_or(stages, |v| v as usize),
+                ..settings.clone()
+            }),
             _ => Some(SupercoilSettings {
                 engine: Engine::Newton,
                 lu_kind: Some(LuKind::Simplicial),
@@ -390,16 +404,37 @@ fn main() {
             let _ = writeln!(report, "  at the last point: {}", lu_size(&r, b.phase, x, rec.lambda));
         }
         std::fs::write(dir.join(format!("steps_{salt}M.csv")), steps_csv).unwrap();
-        let mut csv = String::from("turns,extension_nm,torque_pN_nm,tension_pN,twist,writhe,branch\n");
-        for p in &r.points {
-            let o = p.observables;
-            let _ = writeln!(
-                csv,
-                "{},{},{},{},{},{},{}",
-                o.turns, o.extension, o.torque, o.tension, o.twist, o.writhe, p.branch
-            );
+        // The path, and the baseline's beside it (path_<salt>M_baseline.csv).
+        for (run, suffix) in [(Some(&r), ""), (baseline.as_ref(), "_baseline")] {
+            let Some(run) = run else { continue };
+            // μ: the unfolding parameter of the buckled branch's phase
+            // condition (0 on the straight one), in pN (a distributed couple).
+            let mut csv = String::from("turns,extension_nm,torque_pN_nm,tension_pN,twist,writhe,branch,mu\n");
+            let n = run.rod.unknowns();
+            for (p, x) in run.points.iter().zip(&run.states) {
+                let o = p.observables;
+                let _ = writeln!(
+                    csv,
+                    "{},{},{},{},{},{},{},{}",
+                    o.turns,
+                    o.extension,
+                    o.torque,
+                    o.tension,
+                    o.twist,
+                    o.writhe,
+                    p.branch,
+                    x.get(n).copied().unwrap_or(0.0)
+                );
+            }
+            if let Some(b) = &run.buckled {
+                let mut mu = String::from("record,parameter,mu\n");
+                for (rec, x) in b.records.iter().zip(&b.states) {
+                    let _ = writeln!(mu, "{},{},{}", mu.lines().count() - 1, rec.lambda, x.get(n).copied().unwrap_or(0.0));
+                }
+                std::fs::write(dir.join(format!("mu_{salt}M{suffix}.csv")), mu).unwrap();
+            }
+            std::fs::write(dir.join(format!("path_{salt}M{suffix}.csv")), csv).unwrap();
         }
-        std::fs::write(dir.join(format!("path_{salt}M.csv")), csv).unwrap();
         ext.push((
             format!("{salt} M"),
             r.points.iter().map(|p| (p.observables.turns, p.observables.extension)).collect(),

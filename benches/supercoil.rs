@@ -1,14 +1,18 @@
 //! The DNA supercoiling curves (`cargo bench --bench supercoil`): the scene
 //! of issue 5 (1 kbp, 1 pN, ν = 1/l_B, a = 1 nm) at 0.1 M and 0.01 M salt,
 //! continued in the end rotation from the straight rod through its first
-//! buckling point along the buckled branch (100 elements of Gauss(2),
-//! cutoff 1e-4; steps from RODKIT_SUPERCOIL_STEPS, default 120; salts
+//! buckling point along the buckled branch (the library's automatic mesh,
+//! 2 nm elements of Gauss(2) — 170 for 1 kbp, within ~3e-4 of a converged
+//! path at 0.1 M; before 2026-11-26 100 elements a kbp, ~3e-3 —, cutoff 1e-4; steps from RODKIT_SUPERCOIL_STEPS, default 120; salts
 //! from RODKIT_SUPERCOIL_SALTS, e.g. "0.1", default both; the buckled
 //! branch stops past RODKIT_SUPERCOIL_TURNS turns, default 12; the Newton
 //! iterations its steps aim at from RODKIT_SUPERCOIL_AIM, default 3:
 //! `SupercoilSettings::corrector_aim`; the scene from RODKIT_SUPERCOIL_BP
 //! (length, default 1000), RODKIT_SUPERCOIL_FORCE (pN, default the
-//! scene's 1), RODKIT_SUPERCOIL_ELEMENTS (default 100 per kbp) and
+//! scene's 1), RODKIT_SUPERCOIL_ELEMENTS and RODKIT_SUPERCOIL_STAGES
+//! (default the automatic mesh; RODKIT_SUPERCOIL_BASELINE=mesh runs a
+//! reference with RODKIT_SUPERCOIL_REF_ELEMENTS / _REF_STAGES, default
+//! twice the elements, as the baseline: the discretisation error) and
 //! RODKIT_SUPERCOIL_DISCRETE=1, the discrete base-pair charges;
 //! RODKIT_SUPERCOIL_THREADS, default 1: with 2 the records' signs are
 //! taken on a second thread, `Options::overlap_records`). Writes
@@ -218,15 +222,17 @@ fn main() {
         }
         let knob = |name: &str| std::env::var(name).ok().and_then(|v| v.parse::<f64>().ok());
         // The scene (issue 18's other targets): length in base pairs,
-        // tension (pN), elements (default 100 per kbp, 3.4 nm), and the
+        // tension (pN), elements (default the automatic mesh), and the
         // discrete base-pair charges instead of the line charge.
         let defaults = DnaScene::default();
         let bp = knob("RODKIT_SUPERCOIL_BP").map_or(1000, |v| v as usize);
         let tension = knob("RODKIT_SUPERCOIL_FORCE").unwrap_or(defaults.tension);
-        let elements = knob("RODKIT_SUPERCOIL_ELEMENTS").map_or((bp as f64 / 10.0).round() as usize, |v| v as usize);
+        let elements = knob("RODKIT_SUPERCOIL_ELEMENTS").map_or(0, |v| v as usize);
         let stages = knob("RODKIT_SUPERCOIL_STAGES").map_or(SupercoilSettings::default().stages, |v| v as usize);
         let discrete = knob("RODKIT_SUPERCOIL_DISCRETE").is_some_and(|v| v != 0.0);
         let scene = DnaScene { salt, base_pairs: bp, tension, ..defaults };
+        // The automatic mesh resolved (0: 2 nm elements).
+        let elements = SupercoilSettings { elements, ..Default::default() }.elements_for(&scene).unwrap();
         let aim = knob("RODKIT_SUPERCOIL_AIM").unwrap_or(3.0);
         let threads = knob("RODKIT_SUPERCOIL_THREADS").map_or(1, |v| v as usize);
         // RODKIT_SUPERCOIL_ENGINE=anm: the buckled branch by the ANM

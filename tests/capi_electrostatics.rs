@@ -279,3 +279,49 @@ fn torque_clamp_supercoil_through_the_c_abi() {
     );
     unsafe { rodkit_supercoil_free(run) };
 }
+
+/// The automatic mesh (`elements` 0, the default of both APIs): ⌈L / 2 nm⌉
+/// elements, at least 8 — closed form: 1 kbp (340 nm) 170, 3 kbp 510, 300
+/// bp (102 nm) 51, 20 bp (6.8 nm) 8 — the count a run took in its rod, its
+/// settings and (C) its shapes' nodes, and a mesh past 2^18 elements
+/// refused before any work with a status saying what it would take.
+#[test]
+fn the_automatic_mesh_takes_2_nm_elements_and_says_how_many() {
+    use rodkit::capi::supercoil::*;
+    use rodkit::charged::dna::{run_scene, DnaScene, SupercoilSettings};
+    let auto = SupercoilSettings::default();
+    assert_eq!(auto.elements, 0);
+    for (bp, n) in [(1000, 170), (3000, 510), (300, 51), (20, 8)] {
+        assert_eq!(auto.elements_for(&DnaScene { base_pairs: bp, ..Default::default() }).unwrap(), n, "{bp} bp");
+    }
+    let huge = auto.elements_for(&DnaScene { base_pairs: 2_000_000, ..Default::default() }).unwrap_err();
+    assert_eq!(huge.status, rodkit::Status::ErrOutOfRange);
+    assert!(huge.message.contains("2^18") && huge.message.contains("give `elements`"), "{}", huge.message);
+    // A short run of the 300 bp scene on the automatic mesh (straight
+    // branch only: 3 steps).
+    let r = run_scene(
+        &DnaScene { base_pairs: 300, ..Default::default() },
+        &SupercoilSettings { max_steps: 3, ..Default::default() },
+    )
+    .unwrap();
+    assert_eq!((r.rod.elements, r.settings.elements), (51, 51));
+    // The C default is the automatic mesh too, and the result's nodes say
+    // which mesh was taken.
+    let mut spec = std::mem::MaybeUninit::<DnaSupercoilSpec>::uninit();
+    assert_eq!(unsafe { rodkit_dna_supercoil_spec_default(spec.as_mut_ptr()) }, 0);
+    let mut spec = unsafe { spec.assume_init() };
+    assert_eq!(spec.elements, 0);
+    (spec.base_pairs, spec.max_steps) = (300, 3);
+    let mut run: *mut Supercoil = std::ptr::null_mut();
+    assert!(unsafe { rodkit_dna_supercoil_run(&spec, &mut run) } >= 0, "{}", last_error());
+    let mut info = SupercoilInfo::default();
+    assert_eq!(unsafe { rodkit_supercoil_summary(run, &mut info) }, 0);
+    assert_eq!(info.nodes, 52);
+    unsafe { rodkit_supercoil_free(run) };
+    spec.base_pairs = 2_000_000;
+    let mut run: *mut Supercoil = std::ptr::null_mut();
+    assert_eq!(unsafe { rodkit_dna_supercoil_run(&spec, &mut run) }, rodkit::Status::ErrOutOfRange.code());
+    assert!(run.is_null() && last_error().contains("2^18"), "{}", last_error());
+    spec.elements = 1;
+    assert_eq!(unsafe { rodkit_dna_supercoil_run(&spec, &mut run) }, rodkit::Status::ErrOutOfRange.code());
+}

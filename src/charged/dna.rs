@@ -199,9 +199,23 @@ pub enum EndControl {
     Torque,
 }
 
+/// The element length (nm) of the automatic mesh
+/// ([`SupercoilSettings::elements`] 0). Measured on the 1 kbp, 1 pN, 0.1 M
+/// curve, 0 → 5.5 turns, Gauss(2), against 150 elements of Gauss(3): torque
+/// and extension on the plectoneme leg (0.05 turns from its fold on) within
+/// 3.1e-3 and 2.9e-3 relative with 3.4 nm elements, 3.4e-4 and 3.3e-4 with
+/// 2.27 nm, 2.9e-4 and 1.5e-4 with 1.7 nm (the reference's own error,
+/// ~1e-4, is the floor): ~h⁴, and 2 nm is the longest with a margin under
+/// issue 18's 1e-3 (benches/README.md, 2026-11-26). Denser strands (higher
+/// force or salt) ask for shorter elements; not yet measured.
+pub const AUTO_ELEMENT_LENGTH: f64 = 2.0;
+
 /// How the supercoiling path of a [`DnaScene`] is computed.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SupercoilSettings {
+    /// Elements of the rod; 0 (the default): the automatic mesh, elements
+    /// of at most [`AUTO_ELEMENT_LENGTH`] (at least 8;
+    /// [`SupercoilSettings::elements_for`]). The run's rod says which.
     pub elements: usize,
     pub stages: usize,
     /// Relative energy tolerance of the screening cutoff (None: every pair).
@@ -318,8 +332,33 @@ pub enum Engine {
     Anm,
 }
 
+impl SupercoilSettings {
+    /// The elements a run of `scene` takes: `elements`, or with 0 the
+    /// automatic mesh, ⌈L / [`AUTO_ELEMENT_LENGTH`]⌉ and at least 8 (170 for
+    /// 1 kbp, 510 for 3 kbp). Refused (ErrOutOfRange) when that is more than
+    /// 2¹⁸ elements, a mesh no run here could factorise (a 1 Mbp scene).
+    pub fn elements_for(&self, scene: &DnaScene) -> Result<usize> {
+        if self.elements > 0 {
+            return Ok(self.elements);
+        }
+        // ⌈·⌉ less a rounding's worth: 3000 × 0.34 nm is 1020.0000000000001.
+        let n = (scene.length() / AUTO_ELEMENT_LENGTH * (1.0 - 1e-12)).ceil().max(8.0);
+        if !(n <= (1 << 18) as f64) {
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                format!(
+                    "the automatic mesh of a {:.4e} nm rod would take {n:.4e} elements of {AUTO_ELEMENT_LENGTH} nm, more \
+                     than 2^18: give `elements`",
+                    scene.length()
+                ),
+            ));
+        }
+        Ok(n as usize)
+    }
+}
+
 impl Default for SupercoilSettings {
-    /// 170 elements of Gauss(2) (2 nm for 1 kbp), cutoff 1e-4, no hard
+    /// The automatic mesh (elements of 2 nm, Gauss(2): 170 for 1 kbp), cutoff 1e-4, no hard
     /// core, 1 thread, to 12 turns in at most 600 steps, scaled residual
     /// 1e-8 (forces to ~1e-8 of λ² ≈ 6 pN: Newton then converges in 2
     /// iterations and the step grows; at 1e-10 it always takes 3 and the
@@ -327,7 +366,7 @@ impl Default for SupercoilSettings {
     /// fold at 3.46 turns, extension 172 nm, at 1e-8).
     fn default() -> Self {
         SupercoilSettings {
-            elements: 170,
+            elements: 0,
             stages: 2,
             cutoff_tolerance: Some(1e-4),
             hard_core: None,
@@ -383,7 +422,8 @@ pub struct SupercoilRun {
     /// ([`SupercoilSettings::hard_core_auto`]); `charge` is then the model
     /// with it.
     pub hard_core_switch: Option<HardCoreSwitch>,
-    /// The settings it was run with ([`resume`] goes on with them).
+    /// The settings it was run with ([`resume`] goes on with them), with
+    /// the elements it took (the automatic mesh's count for `elements` 0).
     pub settings: SupercoilSettings,
     /// Whether the run went to its end, its progress callback stopped it,
     /// or the buckled branch failed partway.
@@ -472,7 +512,7 @@ pub fn run_scene_with(
     mut progress: impl FnMut(&PointProgress) -> bool,
 ) -> Result<SupercoilRun> {
     let start = std::time::Instant::now();
-    let rod = scene.rod_controlled(settings.elements, settings.stages, settings.control)?;
+    let rod = scene.rod_controlled(settings.elements_for(scene)?, settings.stages, settings.control)?;
     let mut charge = scene.charge();
     charge.cutoff_tolerance = settings.cutoff_tolerance;
     charge.hard_core = settings.hard_core;
@@ -485,6 +525,8 @@ pub fn run_scene_with(
     let torque = settings.control == EndControl::Torque;
     let mut tell = Reporter { rod: &rod, turns: Turns { torque, phi: 0.0 }, index: 0, branch: 0, user: &mut progress };
     let (straight, at) = straight_path(&rod, &charge, scene.tension, settings, None, &mut tell)?;
+    // The automatic mesh resolved: the elements taken.
+    let settings = &SupercoilSettings { elements: rod.elements, ..settings.clone() };
     let mut run = SupercoilRun {
         scene: scene.clone(),
         rod,

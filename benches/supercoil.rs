@@ -16,8 +16,9 @@
 //! RODKIT_SUPERCOIL_DISCRETE=1, the discrete base-pair charges;
 //! RODKIT_SUPERCOIL_THREADS, default 1: with 2 the records' signs are
 //! taken on a second thread, `Options::overlap_records`). Writes
-//! target/bench/supercoil/{path_<salt>M.csv, extension.svg, torque.svg,
-//! twist_writhe.svg, report.txt}: the curves users compare with
+//! target/bench/supercoil/{path_<salt>M.csv (and the baseline's,
+//! path_<salt>M_baseline.csv), mu_<salt>M.csv (μ at each buckled record),
+//! extension.svg, torque.svg, twist_writhe.svg, report.txt}: the curves users compare with
 //! magnetic-tweezers experiments (extension and torque vs turns) and the
 //! twist/writhe partition, with the buckling point, the work and the time.
 //! Also the run's profile (issue 18): per branch the steps, rejections,
@@ -413,33 +414,26 @@ fn main() {
         // The path, and the baseline's beside it (path_<salt>M_baseline.csv).
         for (run, suffix) in [(Some(&r), ""), (baseline.as_ref(), "_baseline")] {
             let Some(run) = run else { continue };
-            // μ: the unfolding parameter of the buckled branch's phase
-            // condition (0 on the straight one), in pN (a distributed couple).
-            let mut csv = String::from("turns,extension_nm,torque_pN_nm,tension_pN,twist,writhe,branch,mu\n");
-            let n = run.rod.unknowns();
-            for (p, x) in run.points.iter().zip(&run.states) {
+            let mut csv = String::from("turns,extension_nm,torque_pN_nm,tension_pN,twist,writhe,branch\n");
+            for p in &run.points {
                 let o = p.observables;
                 let _ = writeln!(
                     csv,
-                    "{},{},{},{},{},{},{},{}",
-                    o.turns,
-                    o.extension,
-                    o.torque,
-                    o.tension,
-                    o.twist,
-                    o.writhe,
-                    p.branch,
-                    x.get(n).copied().unwrap_or(0.0)
+                    "{},{},{},{},{},{},{}",
+                    o.turns, o.extension, o.torque, o.tension, o.twist, o.writhe, p.branch
                 );
             }
+            std::fs::write(dir.join(format!("path_{salt}M{suffix}.csv")), csv).unwrap();
+            // μ, the unfolding parameter of the buckled branch's phase
+            // condition (a distributed couple, pN), at each of its records.
+            let n = run.rod.unknowns();
             if let Some(b) = &run.buckled {
                 let mut mu = String::from("record,parameter,mu\n");
-                for (rec, x) in b.records.iter().zip(&b.states) {
-                    let _ = writeln!(mu, "{},{},{}", mu.lines().count() - 1, rec.lambda, x.get(n).copied().unwrap_or(0.0));
+                for (k, (rec, x)) in b.records.iter().zip(&b.states).enumerate() {
+                    let _ = writeln!(mu, "{k},{},{}", rec.lambda, x.get(n).copied().unwrap_or(0.0));
                 }
                 std::fs::write(dir.join(format!("mu_{salt}M{suffix}.csv")), mu).unwrap();
             }
-            std::fs::write(dir.join(format!("path_{salt}M{suffix}.csv")), csv).unwrap();
         }
         ext.push((
             format!("{salt} M"),

@@ -38,7 +38,7 @@
 #[path = "support/plot.rs"]
 mod plot;
 use plot::line_plot;
-use plotters::prelude::{RGBColor, BLUE, RED};
+use plotters::prelude::{RGBColor, BLUE, GREEN, MAGENTA, RED};
 use rodkit::charged::dna::{run_scene, DnaScene, Engine, SupercoilRun, SupercoilSettings};
 use rodkit::charged::rod::{ChargedRod, ListRule};
 use rodkit::continuation::anm::AnmOptions;
@@ -217,10 +217,15 @@ fn main() {
     let salts: Vec<f64> = std::env::var("RODKIT_SUPERCOIL_SALTS")
         .ok()
         .map_or(vec![0.1, 0.01], |v| v.split(',').filter_map(|s| s.trim().parse().ok()).collect());
-    for (salt, color, light) in [(0.1, BLUE, RGBColor(120, 160, 255)), (0.01, RED, RGBColor(255, 140, 120))] {
-        if !salts.contains(&salt) {
-            continue;
-        }
+    // Any salts (mol/L); the curves' colours cycle.
+    let palette = [
+        (BLUE, RGBColor(120, 160, 255)),
+        (RED, RGBColor(255, 140, 120)),
+        (GREEN, RGBColor(120, 220, 120)),
+        (MAGENTA, RGBColor(230, 130, 230)),
+    ];
+    for (k, &salt) in salts.iter().enumerate() {
+        let (color, light) = palette[k % palette.len()];
         let knob = |name: &str| std::env::var(name).ok().and_then(|v| v.parse::<f64>().ok());
         // The scene (issue 18's other targets): length in base pairs,
         // tension (pN), elements (default the automatic mesh), and the

@@ -513,6 +513,8 @@ pub fn run_scene_with(
 ) -> Result<SupercoilRun> {
     let start = std::time::Instant::now();
     let rod = scene.rod_controlled(settings.elements_for(scene)?, settings.stages, settings.control)?;
+    // The automatic mesh resolved: the run's settings say the elements taken.
+    let settings = &SupercoilSettings { elements: rod.elements, ..settings.clone() };
     let mut charge = scene.charge();
     charge.cutoff_tolerance = settings.cutoff_tolerance;
     charge.hard_core = settings.hard_core;
@@ -525,8 +527,6 @@ pub fn run_scene_with(
     let torque = settings.control == EndControl::Torque;
     let mut tell = Reporter { rod: &rod, turns: Turns { torque, phi: 0.0 }, index: 0, branch: 0, user: &mut progress };
     let (straight, at) = straight_path(&rod, &charge, scene.tension, settings, None, &mut tell)?;
-    // The automatic mesh resolved: the elements taken.
-    let settings = &SupercoilSettings { elements: rod.elements, ..settings.clone() };
     let mut run = SupercoilRun {
         scene: scene.clone(),
         rod,

@@ -476,7 +476,7 @@ impl Rod {
     /// 0.1 M scene with corrector aim 5 (largest |B| 1.58 at μ/scale
     /// 3.3e-6, a step that landed on one; retaken with half the step, the
     /// branch goes on with μ/scale ≤ 3.3e-9) and on 1 kbp, 1 pN, 0.1 M with
-    /// 80 elements of Gauss(4) (μ growing from ~1e-15 to 1e-7 pN over 47
+    /// 80 elements of Gauss(4) (μ growing from ~1e-15 to 1e-7 pN over 55
     /// points past 2.84 turns, not cured by retakes: a branch of them met
     /// the followed one; 100 elements of Gauss(2) or Gauss(3) stay below
     /// 1e-10 pN; benches/README.md, 2026-11-26).

@@ -25,13 +25,14 @@
  *   --salts a,b,..    mol/L   (default 0.01,0.05,0.1,0.2)
  *   --bp N            base pairs (default 1000)
  *   --turns T         the buckled branch stops past T turns (default 12)
- *   --elements N      default 100 per kbp (at least 20): 3.4 nm elements, a
- *                     survey's mesh — at 1 pN, 0.1 M the torque and extension
- *                     of the plectoneme are within ~3e-3 of a converged
- *                     curve (benches/README.md, 2026-11-26); 0: the library's
- *                     automatic mesh (2 nm elements, ~3e-4 there, 3-4x the
- *                     time: 0 -> 12 turns at 1 kbp 276 s with 150 elements
- *                     against 90 s with 100)
+ *   --elements N      default 0: the library's automatic mesh, 2 nm elements
+ *                     of Gauss(2) (170 per kbp; at 1 pN, 0.1 M the torque and
+ *                     extension of the plectoneme within ~3e-4 of a converged
+ *                     curve; 0 -> 12 turns at 1 kbp in 489 s). 100 per kbp
+ *                     (3.4 nm) is 3-5x faster and a survey at best: ~3e-3 off
+ *                     at 0.1 M, and at 0.2 M its path folds at every element
+ *                     the end loop crosses (65 folds, stuck at 3 turns after
+ *                     3000 steps; benches/README.md, 2026-11-26)
  *   --steps N         continuation steps per branch (default 1000)
  * The plateau torque and slope are measured on the plectonemic leg from
  * coexistence to the run's end: past the turns where the plectoneme has
@@ -354,7 +355,7 @@ static void print_table(const Curve *cs, int n) {
 int main(int argc, char **argv) {
     double forces[MAX_VALUES] = {0.5, 1.0, 2.0}, salts[MAX_VALUES] = {0.01, 0.05, 0.1, 0.2};
     int nf = 3, ns = 4;
-    long long bp = 1000, elements = -1, steps = 1000;
+    long long bp = 1000, elements = 0, steps = 1000;
     double turns = 12.0;
     const char *dir = "rodkit-out/dna_map";
     for (int i = 1; i < argc; ++i) {
@@ -372,7 +373,7 @@ int main(int argc, char **argv) {
         ++i;
         if (nf <= 0 || ns <= 0) { fprintf(stderr, "bad list after %s\n", a); return 2; }
     }
-    if (elements < 0) elements = (100 * bp + 500) / 1000 < 20 ? 20 : (100 * bp + 500) / 1000;
+    if (elements < 0) { fprintf(stderr, "--elements must be >= 0 (0: the automatic mesh)\n"); return 2; }
     if (make_dirs(dir) != 0) { perror(dir); return 1; }
     int n = nf * ns;
     Curve *cs = calloc((size_t)n, sizeof *cs);

@@ -843,8 +843,8 @@ typedef struct RodkitDnaSupercoilSpec {
   double permittivity;
   // Elements (2 … 2^18), or 0: the automatic mesh — elements of at most
   // 2 nm (⌈L / 2 nm⌉, at least 8), within ~3e-4 of a converged curve's
-  // torque and extension at 1 pN, 0.1 M; the result's `nodes` − 1 says
-  // how many were taken.
+  // torque and extension at 1 pN, 0.1 M (not within 1e-3 at 0.2 M:
+  // ~7e-3); the result's `nodes` − 1 says how many were taken.
   int64_t elements;
   // Gauss–Legendre stages (1…4).
   int64_t stages;

@@ -206,8 +206,13 @@ pub enum EndControl {
 /// 3.1e-3 and 2.9e-3 relative with 3.4 nm elements, 3.4e-4 and 3.3e-4 with
 /// 2.27 nm, 2.9e-4 and 1.5e-4 with 1.7 nm (the reference's own error,
 /// ~1e-4, is the floor): ~h⁴, and 2 nm is the longest with a margin under
-/// issue 18's 1e-3 (benches/README.md, 2026-11-26). Denser strands (higher
-/// force or salt) ask for shorter elements; not yet measured.
+/// issue 18's 1e-3 (benches/README.md, 2026-11-26). At 0.2 M (Debye length
+/// 0.68 nm) 3.4 nm elements are qualitatively wrong — the path folds at
+/// every element the end loop crosses and stalls at 3 turns — while 2 nm
+/// reaches the plectoneme (0 → 5.5 turns in 903 points) but is not within
+/// 1e-3 there: up to 7.5e-3 in torque from 150 elements of Gauss(3),
+/// oscillating along the plectoneme leg. How short denser strands (higher
+/// salt or force) need the elements is not determined yet.
 pub const AUTO_ELEMENT_LENGTH: f64 = 2.0;
 
 /// How the supercoiling path of a [`DnaScene`] is computed.

@@ -485,8 +485,8 @@ impl Rod {
             .stage_offsets()
             .into_iter()
             .map(|o| {
-                let r = crate::rod::kinematics::rotation(&[x[o + 3], x[o + 4], x[o + 5], x[o + 6]]);
-                (r[2][0].powi(2) + r[2][1].powi(2) + (r[2][2] - 1.0).powi(2)).sqrt()
+                let b = crate::rod::kinematics::unfolding_direction(&[x[o + 3], x[o + 4], x[o + 5], x[o + 6]]);
+                (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt()
             })
             .fold(0.0, f64::max);
         if tilt < 1e-3 {

@@ -136,12 +136,19 @@ pub fn strains<T: Scalar>(d: &RhsData, m: &V3<T>, n: &V3<T>) -> (V3<T>, V3<T>) {
 /// vector, and μ would stay undetermined.)
 pub fn rhs_unfolded<T: Scalar>(d: &RhsData, y: &[T], lambda: T, mu: T) -> [T; 13] {
     let mut f = rhs(d, y, lambda);
-    let q = [y[3], y[4], y[5], y[6]];
-    let r = rotation(&q);
-    f[10] = f[10] + mu * r[2][0];
-    f[11] = f[11] + mu * r[2][1];
-    f[12] = f[12] + mu * (r[2][2] - 1.0);
+    let b = unfolding_direction(&[y[3], y[4], y[5], y[6]]);
+    f[10] = f[10] + mu * b[0];
+    f[11] = f[11] + mu * b[1];
+    f[12] = f[12] + mu * b[2];
     f
+}
+
+/// B(q) = R(q)ᵀe3 − e3, the unfolding's direction in the moment equation
+/// ([`rhs_unfolded`]): the section's tilt from the axis, zero on a straight
+/// state.
+pub fn unfolding_direction<T: Scalar>(q: &[T; 4]) -> [T; 3] {
+    let r = rotation(q);
+    [r[2][0], r[2][1], r[2][2] - 1.0]
 }
 
 /// y' = f(y, Λ), y = (r, q, n_b, m_b).

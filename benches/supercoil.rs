@@ -16,7 +16,7 @@
 //! RODKIT_SUPERCOIL_DISCRETE=1, the discrete base-pair charges;
 //! RODKIT_SUPERCOIL_THREADS, default 1: with 2 the records' signs are
 //! taken on a second thread, `Options::overlap_records`). Writes
-//! target/bench/supercoil/{path_<salt>M.csv (and the baseline's,
+//! target/bench/supercoil (or RODKIT_SUPERCOIL_OUT)/{path_<salt>M.csv (and the baseline's,
 //! path_<salt>M_baseline.csv), mu_<salt>M.csv (μ at each buckled record),
 //! extension.svg, torque.svg, twist_writhe.svg, report.txt}: the curves users compare with
 //! magnetic-tweezers experiments (extension and torque vs turns) and the
@@ -208,7 +208,9 @@ fn path_deviation(new: &SupercoilRun, reference: &SupercoilRun) -> (f64, f64) {
 }
 
 fn main() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench/supercoil");
+    // RODKIT_SUPERCOIL_OUT: another output folder (runs side by side).
+    let dir = std::env::var_os("RODKIT_SUPERCOIL_OUT")
+        .map_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench/supercoil"), Into::into);
     std::fs::create_dir_all(&dir).unwrap();
     let steps: usize = std::env::var("RODKIT_SUPERCOIL_STEPS").ok().and_then(|v| v.parse().ok()).unwrap_or(120);
     let max_turns: f64 = std::env::var("RODKIT_SUPERCOIL_TURNS").ok().and_then(|v| v.parse().ok()).unwrap_or(12.0);
@@ -267,12 +269,19 @@ fn main() {
             max_turns,
             corrector_aim: aim,
             base_pairs: discrete,
+            // RODKIT_SUPERCOIL_FAR_POINTS: the far zone on this many
+            // Gauss–Legendre points per element (0: the stage points).
+            far_points: knob("RODKIT_SUPERCOIL_FAR_POINTS").map_or(0, |v| v as usize),
             ..Default::default()
         };
         let _ = writeln!(
             report,
-            "scene: {bp} bp, {tension} pN, {salt} M, {elements} elements of Gauss({stages}), {} charges",
-            if discrete { "base-pair" } else { "line" }
+            "scene: {bp} bp, {tension} pN, {salt} M, {elements} elements of Gauss({stages}), {} charges{}",
+            if discrete { "base-pair" } else { "line" },
+            match settings.far_points {
+                0 => String::new(),
+                m => format!(", far zone on {m} Gauss points an element"),
+            }
         );
         // Before and after in one process (issue 18): the engine up to
         // issue 18 (Euler predictor, Newton corrector, simplicial LU of
@@ -292,6 +301,7 @@ fn main() {
             Ok("mesh") => Some(SupercoilSettings {
                 elements: knob("RODKIT_SUPERCOIL_REF_ELEMENTS").map_or(2 * elements, |v| v as usize),
                 stages: knob("RODKIT_SUPERCOIL_REF_STAGES").map_or(stages, |v| v as usize),
+                far_points: knob("RODKIT_SUPERCOIL_REF_FAR_POINTS").map_or(settings.far_points, |v| v as usize),
                 ..settings.clone()
             }),
             _ => Some(SupercoilSettings {

@@ -251,6 +251,7 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
         max_steps: s.max_steps as usize,
         residual_tol: s.residual_tol,
         base_pairs: flag("discrete_base_pairs", s.discrete_base_pairs)?,
+        far_points: 0,
         control: match enum_arg::<EndControl>("end_control", s.end_control)? {
             EndControl::Rotation => dna::EndControl::Rotation,
             EndControl::Torque => dna::EndControl::Torque,

@@ -2,8 +2,8 @@
 //! near zone's stiffening per stage, the far-pair list built at a reference
 //! state, and the Jacobian's pattern with where the pair terms go in it.
 
-use super::base_pairs::BasePairSites;
 use super::rod::{RodCharge, HARD_CORE_RANGE};
+use super::sites::Sites;
 use crate::continuation::system::AssembledSystem;
 use crate::continuation::Problem;
 use crate::electrostatics::special;
@@ -102,11 +102,14 @@ impl NearZone {
 /// The far pairs of stage points (elements more than `near_elements`
 /// apart) within r_off + skin of each other in the reference state (all
 /// of them without a cutoff; none without charge or hard core), in CSR
-/// form; for base-pair charges, each stage's partner stages.
+/// form; for charge sites (base pairs, the refined far zone), each stage's
+/// partner stages.
 pub(super) struct PairList {
     pub(super) adj_ptr: Vec<usize>,
     pub(super) adj: Vec<usize>,
-    pub(super) sites: Option<BasePairSites>,
+    /// Base pairs or the continuum's refined far zone
+    /// ([`RodCharge::far_points`]): then `adj` lists each stage's partner stages.
+    pub(super) sites: Option<Sites>,
     /// Whether any pair interacts.
     pub(super) any: bool,
     /// The list holds only pairs within a radius (it goes stale as the
@@ -132,10 +135,21 @@ impl PairList {
             _ => None,
         };
         let stage_s: Vec<f64> = points.iter().map(|p| p.s).collect();
-        let sites = charge
-            .base_pairs
-            .filter(|_| l2 != 0.0)
-            .map(|b| BasePairSites::new(&stage_s, rod.length, b, a, reference_r, radius, charge.threads));
+        let sites = match (charge.base_pairs, charge.far_points) {
+            _ if l2 == 0.0 => None,
+            (Some(b), _) => Some(Sites::base_pairs(&stage_s, rod.length, b, a, reference_r, radius, charge.threads)),
+            (None, 0) => None,
+            (None, per_element) => Some(Sites::refined(
+                &stage_s,
+                rod.elements,
+                rod.element_length(),
+                per_element,
+                m,
+                reference_r,
+                radius,
+                charge.threads,
+            )),
+        };
         let mut adj_ptr = vec![0];
         let mut adj = Vec::new();
         if let Some(sites) = &sites {

@@ -242,6 +242,9 @@ pub struct SupercoilSettings {
     /// thesis's comparison; [`RodCharge::base_pairs`]) instead of the
     /// continuum line charge.
     pub base_pairs: bool,
+    /// The continuum's far zone on this many Gauss–Legendre points per
+    /// element (0: the stage points; [`RodCharge::far_points`]).
+    pub far_points: usize,
     /// End rotation (default) or end torque as the continuation parameter.
     pub control: EndControl,
     /// Switch the hard core on by itself ([`auto_hard_core`]) when the
@@ -380,6 +383,7 @@ impl Default for SupercoilSettings {
             max_steps: 600,
             residual_tol: 1e-8,
             base_pairs: false,
+            far_points: 0,
             control: EndControl::Rotation,
             hard_core_auto: true,
             engine: Engine::default(),
@@ -525,6 +529,7 @@ pub fn run_scene_with(
     charge.hard_core = settings.hard_core;
     charge.threads = settings.threads;
     charge.base_pairs = settings.base_pairs.then_some(scene.rise);
+    charge.far_points = settings.far_points;
     charge.list_rule = settings.list_rule;
     error::positive("max_turns", settings.max_turns)?;
     error::count_in_range("max_steps", settings.max_steps as i64, 1, 1 << 24)?;

@@ -1,7 +1,7 @@
 //! The charged rod (physics.md §3): a Kirchhoff rod whose centreline
 //! carries a screened line charge — continuous ([`rod`], the near zone
 //! regularised into a local bending stiffening, the far zone as pair forces)
-//! or the discrete base-pair charges ([`base_pairs`], the thesis's
+//! or the discrete base-pair charges ([`sites`], the thesis's
 //! comparison) — as a continuation problem with an exact sparse Jacobian;
 //! its branches with pair lists rebuilt as the shape moves ([`branch`]);
 //! single equilibria re-solved under another model or solver
@@ -11,10 +11,10 @@
 //! [`crate::electrostatics`].
 
 mod assembly;
-mod base_pairs;
 pub mod branch;
 pub mod coexistence;
 pub mod dna;
 pub mod equilibrium;
 pub mod rod;
+mod sites;
 pub mod summary;

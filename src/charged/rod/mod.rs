@@ -13,6 +13,10 @@
 //!   one-sided at the ends) and the far zone every stage of every other
 //!   element: the far double sum is Gauss–Legendre on whole elements at
 //!   least mh away (a smooth integrand) and the exclusion is symmetric.
+//!   Optionally ([`RodCharge::far_points`]) the far double sum runs on M
+//!   Gauss–Legendre sites per element on the stage interpolant instead
+//!   ([`super::sites`]): same exclusion, same unknowns, a finer rule where
+//!   the interaction across a plectoneme varies faster than the shape.
 //! * Near zone: §3.2's expansion for a uniform charge (see the parent
 //!   module), e_near = ½λ² Σ_sides [J₋₁ + c²/24 (J₁ + κJ₂)] with
 //!   c² = u1² + u2² (a Kirchhoff rod's |r''|² = |u × e3|²): a constant plus
@@ -68,7 +72,7 @@ mod series;
 pub use coverage::ListCoverage;
 
 use super::assembly::{check_rod, Layout, NearZone, PairList, Point};
-use super::base_pairs::BasePairSites;
+use super::sites::Sites;
 use crate::continuation::system::AssembledSystem;
 use crate::continuation::Problem;
 use crate::electrostatics::discrete::screening_cutoff;
@@ -108,10 +112,20 @@ pub struct RodCharge {
     /// The discrete base-pair model instead of the continuum (physics.md
     /// §3.3): point charges λb at this spacing b (e.g. 0.34 nm), every pair
     /// farther apart along the rod than a, with the same cutoff, skin and
-    /// cell lists ([`super::rod_base_pairs`]; threads as the continuum's). The hard core
+    /// cell lists ([`super::sites`]; threads as the continuum's). The hard core
     /// then acts between the charges (b² k_hc(2.5a − d)³ per pair, the
     /// continuum's double integral as a sum over the sites).
     pub base_pairs: Option<f64>,
+    /// The continuum's far zone on this many Gauss–Legendre points per
+    /// element instead of the stage points (0, the default: the stage
+    /// points), their positions on the cubic stage interpolant
+    /// ([`super::sites`]): the far double integral's quadrature refined
+    /// without new unknowns. The near zone, the exclusion (elements more
+    /// than `near_elements` apart), cutoff, skin and hard core are the
+    /// stage quadrature's. Measured (benches/README.md, 2026-11-26, issue
+    /// 18 step 7): the stage quadrature's error on a plectoneme follows the
+    /// stage spacing, not the rod's shape. Not with `base_pairs` or `anm`.
+    pub far_points: usize,
     /// Follow this rod's branches by the asymptotic numerical method (the
     /// series of the pair forces, src/charged/rod/series.rs: one
     /// factorisation a step, the step from the series' own convergence, cut
@@ -160,6 +174,7 @@ impl RodCharge {
             hard_core: None,
             threads: 1,
             base_pairs: None,
+            far_points: 0,
             anm: None,
             list_rule: ListRule::Displacement,
         }
@@ -189,6 +204,13 @@ impl RodCharge {
             error::positive("hard_core", k)?;
         }
         error::count_in_range("threads", self.threads as i64, 1, 256)?;
+        error::count_in_range("far_points", self.far_points as i64, 0, 32)?;
+        if self.far_points > 0 && (self.base_pairs.is_some() || self.anm.is_some()) {
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                "far_points refines the continuum's far zone for Newton continuation: not with base_pairs or anm",
+            ));
+        }
         if let Some(b) = self.base_pairs {
             error::positive("base_pairs", b)?;
             if self.anm.is_some() {
@@ -261,7 +283,7 @@ pub struct ChargedRod {
     /// The discrete base-pair model (then `adj` lists, for each stage, every
     /// stage of its element's partner elements, own element included, and
     /// `full_pos` the positions of each block in the element's n-rows).
-    sites: Option<BasePairSites>,
+    sites: Option<Sites>,
     full_pos: Vec<usize>,
     weights: Vec<f64>,
     /// The stored Taylor series of the last expansion (the ANM, [`series`]).
@@ -425,6 +447,7 @@ impl ChargedRod {
                 self.points.iter().map(|p| [x[p.offset], x[p.offset + 1], x[p.offset + 2]]).collect();
             return sites.displacement(&stages);
         }
+
         let r: Vec<[f64; 3]> = self.points.iter().map(|p| [x[p.offset], x[p.offset + 1], x[p.offset + 2]]).collect();
         self.moved(&r)
     }
@@ -735,7 +758,13 @@ impl ChargedRod {
     /// The base-pair model's (sites, spacing b used, directed site pairs),
     /// None for the continuum.
     pub fn base_pairs(&self) -> Option<(usize, f64, usize)> {
-        self.sites.as_ref().map(|s| (s.count(), s.spacing(), s.site_pairs()))
+        self.sites.as_ref().and_then(|s| s.spacing().map(|b| (s.count(), b, s.site_pairs())))
+    }
+
+    /// The refined far zone's (sites, directed site pairs), None on the
+    /// stage points or base pairs ([`RodCharge::far_points`]).
+    pub fn far_sites(&self) -> Option<(usize, usize)> {
+        self.sites.as_ref().filter(|s| s.spacing().is_none()).map(|s| (s.count(), s.site_pairs()))
     }
 
     /// The far-zone force density at every stage point of `x` (spatial).
@@ -853,7 +882,8 @@ impl Problem for ChargedRod {
                 }
             }
             if self.sites.is_some() {
-                // Base pairs: every block has its own positions (partners include the own element).
+                // Base pairs and the refined far zone: every block has its
+                // own positions (partners include the stage itself).
                 let rows = 3 * (s + 1);
                 for a in self.adj_ptr[j]..self.adj_ptr[j + 1] {
                     let block = rt_mul(&self.g[a]);

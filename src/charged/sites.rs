@@ -1,24 +1,48 @@
-//! The discrete base-pair model (physics.md §3.3) coupled to the rod: the
-//! thesis's comparison, solved with the same unknowns, engine and
-//! Jacobian machinery as the continuum coupling of [`super::rod`].
+//! Charge sites on the stage interpolant: the far-pair sums of the charged
+//! rod evaluated at points other than its stage points, with the same
+//! unknowns, engine and Jacobian machinery as the stage-point coupling of
+//! [`super::rod`]. Two uses:
 //!
-//! Point charges q = λb at s_k = (k + ½)b (b = L/round(L/b₀)) sit on the
-//! centreline interpolated from the rod's stage positions: R_k = Σ_j ℓ_j(s_k)
-//! r_j, Lagrange on the [`STENCIL`] stage points nearest in arc length
-//! (across element ends). Cubic, so sites follow a curved rod to O(h⁴) and
-//! neighbouring sites share their stencil: the distances of near pairs,
-//! whose curvature dependence is the electrostatic bending stiffness, are
-//! those of a smooth curve (a linear interpolant between two Gauss points
-//! would kink at every element end). The energy is
-//! ½ Σ_{k≠l, |s_k − s_l| > a} q_k q_l Φ(|R_k − R_l|) (the exclusion of
-//! [`super::discrete::energy`]) with the continuum's C² cutoff switch, and
-//! since R is linear in the stage positions its exact gradient is a force
-//! on each stage, F_j = Σ_k ℓ_j(s_k) F_k, i.e. the force density
-//! p_j = F_j / w_j that the continuum coupling also puts in the stage and
-//! update rows: the residual is again the gradient of one discrete energy
-//! and the Jacobian exact. There is no near zone: the discrete sum has no
-//! singularity (b > 0) and every pair farther apart along the rod than a
-//! is summed.
+//! * **The discrete base-pair model** (physics.md §3.3), the thesis's
+//!   comparison ([`Sites::base_pairs`]): point charges q = λb at
+//!   s_k = (k + ½)b (b = L/round(L/b₀)), energy
+//!   ½ Σ_{k≠l, |s_k − s_l| > a} q_k q_l Φ(|R_k − R_l|) (the exclusion of
+//!   [`crate::electrostatics::discrete::energy`]). There is no near zone: the
+//!   discrete sum has no singularity (b > 0) and every pair farther apart
+//!   along the rod than a is summed. Cubic stencil ([`STENCIL`]).
+//! * **The continuum's far zone on a finer quadrature**
+//!   ([`Sites::refined`], [`super::rod::RodCharge::far_points`]): the far
+//!   double integral ½∫∫λ²Φ over element pairs more than `near_elements`
+//!   apart by M Gauss–Legendre points per element instead of the s stage
+//!   points; the near zone stays the analytic expansion of [`super::rod`].
+//!   Why (benches/README.md, 2026-11-26, issue 18 steps 6–7): the stage
+//!   quadrature's error on a plectoneme follows the points' spacing
+//!   (~h⁴): across it (r ≈ 4–5 nm, 1/κ ≈ 1 nm at 0.1 M) the integrand
+//!   e^{−κr}/r varies along a strand on a ~√(r/κ) ≈ 2 nm scale, finer than
+//!   the rod's own shape needs. Quintic stencil ([`REFINED_STENCIL`]):
+//!   the cubic one was measured too coarse here (a helix of radius 5 nm
+//!   on 1.7 nm stage spacing: far energy 2.5e-4 off with four points,
+//!   3.6e-6 with six; tests/charged_far_quadrature.rs). Site–site pairs
+//!   (the gradient of one symmetric energy), not each stage's force
+//!   density against refined partner sites: that pointwise form breaks
+//!   action and reaction (its outer rule is the stage points') and was
+//!   measured worse on the plectoneme than no refinement at all (1 kbp,
+//!   0.1 M: 3.9e-3 against 3.1e-3 on 100 × Gauss(2), 9.7e-3 on 40 ×
+//!   Gauss(4)).
+//!
+//! Either way a site's position is R_k = Σ_j ℓ_j(s_k) r_j, Lagrange on the
+//! stencil's stage points nearest in arc length (across element ends), so
+//! sites follow a curved rod to high order and neighbouring sites share
+//! their stencil: the distances of near pairs, whose curvature dependence
+//! is the electrostatic bending stiffness, are those of a smooth curve (a
+//! linear interpolant between two Gauss points would kink at every
+//! element end). With site weights ω_k (b, or h times the Gauss–Legendre
+//! weight) the energy is ½ Σ ω_k ω_l P(|R_k − R_l|) with the continuum's C²
+//! cutoff switch, and since R is linear in the stage positions its exact
+//! gradient is a force on each stage, F_j = Σ_k ω_k ℓ_j(s_k) f_k, i.e. the
+//! force density p_j = F_j / w_j that the stage-point coupling also puts in
+//! the stage and update rows: the residual is again the gradient of one
+//! discrete energy and the Jacobian exact.
 //!
 //! Site pairs within r_off + skin of the reference are found by cell lists.
 //! Stage j's Jacobian blocks ∂p_j/∂r_i run over the stencils of the
@@ -30,14 +54,20 @@
 use crate::geometry::proximity::CellList;
 use crate::geometry::vec3::distance;
 
-/// Stage points in each site's interpolation stencil (cubic).
+/// Stage points in a base-pair site's interpolation stencil (cubic).
 pub const STENCIL: usize = 4;
+
+/// Stage points in a refined far-zone site's stencil (quintic).
+pub const REFINED_STENCIL: usize = 6;
 
 /// The sites of a discretised rod, their pair list and the Jacobian's
 /// stage-block structure.
-pub(super) struct BasePairSites {
-    spacing: f64,
+pub(super) struct Sites {
+    /// The base-pair model's spacing b (None: the continuum's refined far zone).
+    spacing: Option<f64>,
     site_s: Vec<f64>,
+    /// Quadrature weight (charge per λ) of each site: b, or h w_GL.
+    weight: Vec<f64>,
     /// First stage of each site's stencil, and ℓ over the stencil (site-major).
     stencil: Vec<usize>,
     basis: Vec<f64>,
@@ -75,13 +105,13 @@ fn sorted_union(lists: impl Iterator<Item = usize>) -> Vec<usize> {
     v
 }
 
-impl BasePairSites {
-    /// Sites of spacing ≈ `spacing` on a rod of `length` whose stage points
-    /// are at arc lengths `stage_s` (ascending) and positions `stages`;
-    /// pairs within `radius` of each other there (None: every pair),
-    /// excluding pairs at most `a` apart along the rod; scratch for
-    /// `threads` threads.
-    pub(super) fn new(
+impl Sites {
+    /// The base-pair model: sites of spacing ≈ `spacing` on a rod of
+    /// `length` whose stage points are at arc lengths `stage_s` (ascending)
+    /// and positions `stages`; pairs within `radius` of each other there
+    /// (None: every pair), excluding pairs at most `a` apart along the rod;
+    /// scratch for `threads` threads.
+    pub(super) fn base_pairs(
         stage_s: &[f64],
         length: f64,
         spacing: f64,
@@ -90,15 +120,66 @@ impl BasePairSites {
         radius: Option<f64>,
         threads: usize,
     ) -> Self {
-        let ns = stage_s.len();
-        let order = STENCIL.min(ns);
         let count = crate::electrostatics::discrete::base_pair_count(length, spacing);
         let b = length / count as f64;
-        let mut site_s = Vec::with_capacity(count);
+        let site_s: Vec<f64> = (0..count).map(|k| (k as f64 + 0.5) * b).collect();
+        let far = |sk: f64, sl: f64, _: usize, _: usize| (sk - sl).abs() > a;
+        Self::build(stage_s, STENCIL, Some(b), site_s, vec![b; count], &[], &far, stages, radius, threads)
+    }
+
+    /// The continuum's far zone on `per_element` Gauss–Legendre points in
+    /// each of the `elements` elements of length `h` (stage points and
+    /// positions as in [`Self::base_pairs`]): pairs of sites whose elements
+    /// are more than `near_elements` apart (the stage quadrature's
+    /// exclusion, so the near zone's analytic expansion covers the rest).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn refined(
+        stage_s: &[f64],
+        elements: usize,
+        h: f64,
+        per_element: usize,
+        near_elements: usize,
+        stages: &[[f64; 3]],
+        radius: Option<f64>,
+        threads: usize,
+    ) -> Self {
+        let (z, w) = crate::quadrature::gauss_legendre(per_element);
+        let mut local: Vec<(f64, f64)> = z.iter().zip(&w).map(|(&z, &w)| (0.5 * (1.0 + z), 0.5 * w)).collect();
+        local.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let (mut site_s, mut weight, mut element) = (Vec::new(), Vec::new(), Vec::new());
+        for e in 0..elements {
+            for &(c, b) in &local {
+                site_s.push((e as f64 + c) * h);
+                weight.push(h * b);
+                element.push(e);
+            }
+        }
+        let far = |_: f64, _: f64, ek: usize, el: usize| ek.abs_diff(el) > near_elements;
+        Self::build(stage_s, REFINED_STENCIL, None, site_s, weight, &element, &far, stages, radius, threads)
+    }
+
+    /// Sites at arc lengths `site_s` (ascending) with weights `weight` (and
+    /// elements `element`, empty if unused) on `order`-point stencils,
+    /// pairs `far(s_k, s_l, e_k, e_l)` within `radius` at `stages`.
+    #[allow(clippy::too_many_arguments)]
+    fn build(
+        stage_s: &[f64],
+        order: usize,
+        spacing: Option<f64>,
+        site_s: Vec<f64>,
+        weight: Vec<f64>,
+        element: &[usize],
+        far: &dyn Fn(f64, f64, usize, usize) -> bool,
+        stages: &[[f64; 3]],
+        radius: Option<f64>,
+        threads: usize,
+    ) -> Self {
+        let ns = stage_s.len();
+        let order = order.min(ns);
+        let count = site_s.len();
         let mut stencil = Vec::with_capacity(count);
         let mut basis = Vec::with_capacity(count * order);
-        for k in 0..count {
-            let sk = (k as f64 + 0.5) * b;
+        for &sk in &site_s {
             let next = stage_s.partition_point(|&v| v < sk);
             let j0 = next.saturating_sub(order / 2).min(ns - order);
             let nodes = &stage_s[j0..j0 + order];
@@ -107,12 +188,12 @@ impl BasePairSites {
                     (0..order).filter(|&m| m != j).map(|m| (sk - nodes[m]) / (nodes[j] - nodes[m])).product::<f64>(),
                 );
             }
-            site_s.push(sk);
             stencil.push(j0);
         }
-        let mut this = BasePairSites {
-            spacing: b,
+        let mut this = Sites {
+            spacing,
             site_s,
+            weight,
             stencil,
             basis,
             pair_ptr: vec![0],
@@ -131,7 +212,8 @@ impl BasePairSites {
         };
         this.interpolate(stages);
         this.reference = this.sites.clone();
-        let far = |k: usize, l: usize| k != l && (this.site_s[k] - this.site_s[l]).abs() > a;
+        let elem = |k: usize| element.get(k).copied().unwrap_or(0);
+        let far = |k: usize, l: usize| k != l && far(this.site_s[k], this.site_s[l], elem(k), elem(l));
         match radius {
             Some(radius) => {
                 let cells = CellList::new(&this.reference, radius);
@@ -183,8 +265,9 @@ impl BasePairSites {
         self.site_s.len()
     }
 
-    /// The spacing b actually used (L divided into whole base pairs).
-    pub(super) fn spacing(&self) -> f64 {
+    /// The base-pair model's spacing b actually used (L divided into
+    /// whole base pairs); None for the continuum's refined far zone.
+    pub(super) fn spacing(&self) -> Option<f64> {
         self.spacing
     }
 
@@ -231,12 +314,10 @@ impl BasePairSites {
             .fold(0.0, f64::max)
     }
 
-    /// ½ Σ b² P(d) over the pair list, with `potential` = P(d) (λ² included).
-    /// (electrostatic, hard-core) energies: Σ b² P(d)/2 over directed
-    /// pairs, `potential(d, gap)` giving both parts' P.
+    /// (electrostatic, hard-core) energies: ½ Σ ω_k ω_l P(d) over directed
+    /// pairs (λ² included), `potential(d, gap)` giving both parts' P.
     pub(super) fn energy(&mut self, stages: &[[f64; 3]], potential: &dyn Fn(f64, f64) -> (f64, f64)) -> (f64, f64) {
         self.interpolate(stages);
-        let b2 = self.spacing * self.spacing;
         let (mut e, mut h) = (0.0, 0.0);
         for k in 0..self.count() {
             let rk = self.sites[k];
@@ -245,8 +326,9 @@ impl BasePairSites {
                 let d = distance(&rk, &rl);
                 if d > 0.0 {
                     let (pe, ph) = potential(d, (self.site_s[k] - self.site_s[l]).abs());
-                    e += 0.5 * b2 * pe;
-                    h += 0.5 * b2 * ph;
+                    let ww = 0.5 * self.weight[k] * self.weight[l];
+                    e += ww * pe;
+                    h += ww * ph;
                 }
             }
         }
@@ -308,10 +390,10 @@ impl BasePairSites {
         self.slots = slots;
     }
 
-    /// Site forces per length f_k = −Σ_l b P'(d) Δ/d for k in `ks` (into
+    /// Site forces per length f_k = −Σ_l ω_l P'(d) Δ/d for k in `ks` (into
     /// `force`, indexed from ks.start), and (Jacobian) the blocks ∂f_k/∂r_i
     /// over the site's stage columns, Σ_l g_kl ℓ_i(s_l) − (Σ_l g_kl) ℓ_i(s_k),
-    /// g_kl = b [P'/d I + (P'' − P'/d) ΔΔᵀ/d²] (into `blocks`, indexed from
+    /// g_kl = ω_l [P'/d I + (P'' − P'/d) ΔΔᵀ/d²] (into `blocks`, indexed from
     /// col_ptr[ks.start]); `slot`: all usize::MAX on entry and exit.
     fn site_forces(
         &self,
@@ -322,7 +404,6 @@ impl BasePairSites {
         slot: &mut [usize],
     ) {
         let order = self.order();
-        let b = self.spacing;
         let (k0, base) = (ks.start, self.col_ptr[ks.start]);
         for k in ks {
             let (c0, c1) = (self.col_ptr[k] - base, self.col_ptr[k + 1] - base);
@@ -344,6 +425,7 @@ impl BasePairSites {
                     continue;
                 }
                 let (p1, p2) = pair(d, (self.site_s[k] - self.site_s[l]).abs());
+                let b = self.weight[l];
                 let c = -b * p1 / d;
                 for i in 0..3 {
                     fk[i] += c * dv[i];
@@ -384,7 +466,7 @@ impl BasePairSites {
         }
     }
 
-    /// Stage j in `js`: F_j = Σ_{k holds j} b ℓ_j(s_k) f_k, p_j = F_j / w_j
+    /// Stage j in `js`: F_j = Σ_{k holds j} ω_k ℓ_j(s_k) f_k, p_j = F_j / w_j
     /// (into `p`, indexed from js.start), and (Jacobian) ∂p_j/∂r_i over j's
     /// partners (into `out`, indexed from partner_ptr[js.start]), from every
     /// site's `force` and `blocks`; `slot` as in [`Self::site_forces`].
@@ -398,7 +480,6 @@ impl BasePairSites {
         slot: &mut [usize],
     ) {
         let order = self.order();
-        let b = self.spacing;
         let (j0, base) = (js.start, self.partner_ptr[js.start]);
         for j in js {
             let (h0, h1) = (self.holder_ptr[j], self.holder_ptr[j + 1]);
@@ -412,7 +493,7 @@ impl BasePairSites {
             let mut pj = [0.0; 3];
             let inv = 1.0 / w[j];
             for &k in &self.holder[h0..h1] {
-                let lj = b * inv * self.basis[k * order + (j - self.stencil[k])];
+                let lj = self.weight[k] * inv * self.basis[k * order + (j - self.stencil[k])];
                 for c in 0..3 {
                     pj[c] += lj * force[k][c];
                 }

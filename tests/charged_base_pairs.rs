@@ -1,5 +1,5 @@
 //! The discrete base-pair model coupled to the rod (issue 5, physics.md
-//! §3.3; src/electrostatics/rod_base_pairs.rs): point charges at 0.34 nm on
+//! §3.3; src/charged/sites.rs): point charges at 0.34 nm on
 //! the rod's interpolated centreline, every pair farther apart along the
 //! rod than a, the same engine and Jacobian machinery as the continuum.
 

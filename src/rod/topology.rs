@@ -72,8 +72,10 @@ impl Rod {
     }
 
     /// [`Rod::writhe_within`] with each profile interval cut into `parts`
-    /// pieces (1: the cubic Hermite through the profile points alone).
+    /// pieces (1: the cubic Hermite through the profile points alone;
+    /// 1..=16).
     pub fn writhe_within_parts(&self, x: &[f64], tol: f64, parts: usize) -> Result<WritheEstimate> {
+        crate::error::count_in_range("parts", parts as i64, 1, 16)?;
         writhe_within(&self.centerline(x, parts)?, tol)
     }
 

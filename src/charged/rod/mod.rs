@@ -118,8 +118,8 @@ pub struct RodCharge {
     pub base_pairs: Option<f64>,
     /// The continuum's far zone on this many Gauss–Legendre points per
     /// element instead of the stage points (0, the default: the stage
-    /// points), their positions on the cubic stage interpolant
-    /// ([`super::sites`]): the far double integral's quadrature refined
+    /// points), their positions on a six-point Lagrange interpolant of the
+    /// stage positions ([`super::sites`]): the far double integral's quadrature refined
     /// without new unknowns. The near zone, the exclusion (elements more
     /// than `near_elements` apart), cutoff, skin and hard core are the
     /// stage quadrature's. Measured (benches/README.md, 2026-11-26, issue
@@ -280,9 +280,10 @@ pub struct ChargedRod {
     /// The caller's threads (threads > 1): a pool kept for the problem's
     /// life (a thread spawn per residual costs more than the work).
     pool: Option<rayon::ThreadPool>,
-    /// The discrete base-pair model (then `adj` lists, for each stage, every
-    /// stage of its element's partner elements, own element included, and
-    /// `full_pos` the positions of each block in the element's n-rows).
+    /// The discrete base-pair model or the continuum's refined far zone
+    /// (then `adj` lists, for each stage, every stage its force depends on,
+    /// itself included, and `full_pos` the positions of each block in the
+    /// element's n-rows).
     sites: Option<Sites>,
     full_pos: Vec<usize>,
     weights: Vec<f64>,
@@ -398,7 +399,9 @@ impl ChargedRod {
     /// ≤ 10 % on the buckled rod and lost as much on the straight ones.
     pub fn local_band(&self) -> usize {
         let one = self.rod.block_size() + 12;
-        if self.sites.is_some() {
+        // The refined far zone's pairs are more than `near_elements` apart:
+        // outside the band, as the stage points' are.
+        if self.base_pairs().is_some() {
             2 * one
         } else {
             one
@@ -447,7 +450,6 @@ impl ChargedRod {
                 self.points.iter().map(|p| [x[p.offset], x[p.offset + 1], x[p.offset + 2]]).collect();
             return sites.displacement(&stages);
         }
-
         let r: Vec<[f64; 3]> = self.points.iter().map(|p| [x[p.offset], x[p.offset + 1], x[p.offset + 2]]).collect();
         self.moved(&r)
     }

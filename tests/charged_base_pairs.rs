@@ -42,29 +42,6 @@ fn jacobian_matches_finite_differences() {
     println!("base pairs: worst relative Jacobian error {worst:e}");
 }
 
-/// max over stages and components of |w_j p_j + ∂(E_far + E_hard)/∂r_j|
-/// (central differences, step 1e-5 nm) relative to the component's largest
-/// |w p|.
-fn force_gradient_error(p: &mut ChargedRod, rod: &Rod, x: &[f64]) -> f64 {
-    let f = p.force_densities(x);
-    let pts = p.stage_points();
-    let offsets: Vec<usize> = (0..rod.elements).flat_map(|e| [rod.node(e) + 13, rod.node(e) + 26]).collect();
-    let mut worst = 0.0f64;
-    for (j, &o) in offsets.iter().enumerate() {
-        for c in 0..3 {
-            let eps = 1e-5;
-            let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
-            xp[o + c] += eps;
-            xm[o + c] -= eps;
-            let (ep, em) = (p.energy(&xp), p.energy(&xm));
-            let grad = ((ep.far + ep.hard_core) - (em.far + em.hard_core)) / (2.0 * eps);
-            let scale = f.iter().zip(&pts).map(|(v, w)| (v[c] * w.1).abs()).fold(0.0, f64::max);
-            worst = worst.max((pts[j].1 * f[j][c] + grad).abs() / scale);
-        }
-    }
-    worst
-}
-
 /// The stage forces are minus the gradient of the base-pair energy:
 /// w_j p_j = −∂E/∂r_j by central differences (step 1e-5 nm: truncation
 /// ~1e-9, rounding of the ~10⁴-pair energy ~1e-9), relative 1e-6.
@@ -73,7 +50,7 @@ fn force_is_minus_the_energy_gradient() {
     let (rod, charge) = small_scene();
     let x = coiled_state(&rod, 3.0, 3.0);
     let mut p = ChargedRod::new(&rod, &charge, None, &x).unwrap();
-    let worst = force_gradient_error(&mut p, &rod, &x);
+    let worst = charged::force_gradient_error(&mut p, &rod, &x);
     assert!(worst < 1e-6, "{worst:e}");
     println!("base pairs: force vs −gradient worst {worst:e}");
 }
@@ -103,7 +80,7 @@ fn hard_core_between_charges_is_consistent() {
     let worst = charged::jacobian_fd_error(&mut p, &x, 7.3);
     println!("base pairs + hard core: worst relative Jacobian error {worst:e}");
     assert!(worst < 1e-6);
-    let worst = force_gradient_error(&mut p, &rod, &x);
+    let worst = charged::force_gradient_error(&mut p, &rod, &x);
     println!("base pairs + hard core: force vs −gradient worst {worst:e}");
     assert!(worst < 1e-6, "{worst:e}");
 }

@@ -118,21 +118,7 @@ fn refined_far_forces_are_the_energy_gradient() {
     charge.far_points = 6;
     let x = coiled_state(&rod, RADIUS, RISE);
     let mut p = ChargedRod::new(&rod, &charge, None, &x).unwrap();
-    let f = p.force_densities(&x);
-    let pts = p.stage_points();
-    let offsets: Vec<usize> = (0..rod.elements).flat_map(|e| [rod.node(e) + 13, rod.node(e) + 26]).collect();
-    let mut worst = 0.0f64;
-    for (j, &o) in offsets.iter().enumerate() {
-        for c in 0..3 {
-            let eps = 1e-5;
-            let (mut xp, mut xm) = (x.clone(), x.clone());
-            xp[o + c] += eps;
-            xm[o + c] -= eps;
-            let grad = (p.energy(&xp).far - p.energy(&xm).far) / (2.0 * eps);
-            let scale = f.iter().zip(&pts).map(|(v, w)| (v[c] * w.1).abs()).fold(0.0, f64::max);
-            worst = worst.max((pts[j].1 * f[j][c] + grad).abs() / scale);
-        }
-    }
+    let worst = charged::force_gradient_error(&mut p, &rod, &x);
     println!("refined far zone: force vs −gradient worst {worst:e}");
     assert!(worst < 1e-6, "{worst:e}");
 }

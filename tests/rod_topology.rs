@@ -11,16 +11,18 @@
 //! refined by quintic Hermite points, `WRITHE_PARTS`).
 
 use rodkit::continuation::Options;
-use rodkit::rod::branch::Method;
+use rodkit::rod::branch::{Method, RodBranch};
 use rodkit::rod::model::{Rod, Supports};
 use rodkit::rod::scheme::Scheme;
 use rodkit::rod::{Loads, RodLaw};
 use std::f64::consts::PI;
 
-#[test]
-fn linking_number_is_the_end_rotation_along_a_buckling_path() {
+/// The twisted rod under tension on `elements` elements of Gauss(4) and
+/// its straight branch to Λ = 0.99 (through its first buckling point).
+fn twisted_rod(elements: usize) -> (Rod, RodBranch) {
     let law = RodLaw::kirchhoff(1.0, 1.3, 4.0).unwrap();
-    let rod = Rod::new(law, 1.0, Loads::default(), Supports::Twisted { tension: 1.0 }, Scheme::Gauss(4), 16).unwrap();
+    let rod =
+        Rod::new(law, 1.0, Loads::default(), Supports::Twisted { tension: 1.0 }, Scheme::Gauss(4), elements).unwrap();
     let opts = Options {
         target_lambda: Some(0.99),
         residual_tol: 1e-12,
@@ -30,6 +32,12 @@ fn linking_number_is_the_end_rotation_along_a_buckling_path() {
         ..Default::default()
     };
     let straight = rod.continue_branch(None, 0.0, true, &opts, Method::Newton, |_| true).unwrap();
+    (rod, straight)
+}
+
+#[test]
+fn linking_number_is_the_end_rotation_along_a_buckling_path() {
+    let (rod, straight) = twisted_rod(16);
     for (r, x) in straight.records.iter().zip(&straight.states) {
         let phi = rod.end_rotation(x, r.lambda).unwrap();
         let (tw, wr) = (rod.twist(x), rod.writhe(x, 10).unwrap());
@@ -60,17 +68,7 @@ fn linking_number_is_the_end_rotation_along_a_buckling_path() {
 /// than parts 1.
 #[test]
 fn refined_writhe_centreline_keeps_the_linking_number_on_a_coarse_mesh() {
-    let law = RodLaw::kirchhoff(1.0, 1.3, 4.0).unwrap();
-    let rod = Rod::new(law, 1.0, Loads::default(), Supports::Twisted { tension: 1.0 }, Scheme::Gauss(4), 4).unwrap();
-    let opts = Options {
-        target_lambda: Some(0.99),
-        residual_tol: 1e-12,
-        initial_step: 0.2,
-        max_step: 0.5,
-        detect_bifurcations: true,
-        ..Default::default()
-    };
-    let straight = rod.continue_branch(None, 0.0, true, &opts, Method::Newton, |_| true).unwrap();
+    let (rod, straight) = twisted_rod(4);
     let opts = Options { residual_tol: 1e-12, max_step: 0.1, max_steps: 12, ..Default::default() };
     let buckled = rod.switch_branch(&straight, 0, 0, 0.05, &opts, Method::Newton, |_| true).unwrap();
     let (mut worst1, mut worst2, mut max_wr) = (0.0f64, 0.0f64, 0.0f64);

@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use rodkit::charged::dna::DnaScene;
-use rodkit::charged::rod::RodCharge;
+use rodkit::charged::rod::{ChargedRod, RodCharge};
 use rodkit::continuation::Problem;
 use rodkit::rod::model::Rod;
 
@@ -106,6 +106,29 @@ pub fn jacobian_fd_error(p: &mut dyn Problem, x: &[f64], phi: f64) -> f64 {
             let e = (fd - an).abs() / row_max[i].max(1e-300);
             worst = worst.max(e);
             assert!(e < 1e-6, "J[{i}][{col}]: analytic {an:e}, differences {fd:e}");
+        }
+    }
+    worst
+}
+
+/// max over stages and components of |w_j p_j + ∂(E_far + E_hard)/∂r_j|
+/// (central differences, step 1e-5 nm) relative to the component's largest
+/// |w p|.
+pub fn force_gradient_error(p: &mut ChargedRod, rod: &Rod, x: &[f64]) -> f64 {
+    let f = p.force_densities(x);
+    let pts = p.stage_points();
+    let offsets: Vec<usize> = (0..rod.elements).flat_map(|e| [rod.node(e) + 13, rod.node(e) + 26]).collect();
+    let mut worst = 0.0f64;
+    for (j, &o) in offsets.iter().enumerate() {
+        for c in 0..3 {
+            let eps = 1e-5;
+            let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
+            xp[o + c] += eps;
+            xm[o + c] -= eps;
+            let (ep, em) = (p.energy(&xp), p.energy(&xm));
+            let grad = ((ep.far + ep.hard_core) - (em.far + em.hard_core)) / (2.0 * eps);
+            let scale = f.iter().zip(&pts).map(|(v, w)| (v[c] * w.1).abs()).fold(0.0, f64::max);
+            worst = worst.max((pts[j].1 * f[j][c] + grad).abs() / scale);
         }
     }
     worst

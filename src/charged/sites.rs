@@ -123,8 +123,9 @@ impl Sites {
         let count = crate::electrostatics::discrete::base_pair_count(length, spacing);
         let b = length / count as f64;
         let site_s: Vec<f64> = (0..count).map(|k| (k as f64 + 0.5) * b).collect();
-        let far = |sk: f64, sl: f64, _: usize, _: usize| (sk - sl).abs() > a;
-        Self::build(stage_s, STENCIL, Some(b), site_s, vec![b; count], &[], &far, stages, radius, threads)
+        let at = site_s.clone();
+        let far = move |k: usize, l: usize| (at[k] - at[l]).abs() > a;
+        Self::build(stage_s, STENCIL, Some(b), site_s, vec![b; count], &far, stages, radius, threads)
     }
 
     /// The continuum's far zone on `per_element` Gauss–Legendre points in
@@ -146,21 +147,21 @@ impl Sites {
         let (z, w) = crate::quadrature::gauss_legendre(per_element);
         let mut local: Vec<(f64, f64)> = z.iter().zip(&w).map(|(&z, &w)| (0.5 * (1.0 + z), 0.5 * w)).collect();
         local.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let (mut site_s, mut weight, mut element) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut site_s, mut weight) = (Vec::new(), Vec::new());
         for e in 0..elements {
             for &(c, b) in &local {
                 site_s.push((e as f64 + c) * h);
                 weight.push(h * b);
-                element.push(e);
             }
         }
-        let far = |_: f64, _: f64, ek: usize, el: usize| ek.abs_diff(el) > near_elements;
-        Self::build(stage_s, REFINED_STENCIL, None, site_s, weight, &element, &far, stages, radius, threads)
+        // Site k lies in element k / per_element.
+        let far = |k: usize, l: usize| (k / per_element).abs_diff(l / per_element) > near_elements;
+        Self::build(stage_s, REFINED_STENCIL, None, site_s, weight, &far, stages, radius, threads)
     }
 
-    /// Sites at arc lengths `site_s` (ascending) with weights `weight` (and
-    /// elements `element`, empty if unused) on `order`-point stencils,
-    /// pairs `far(s_k, s_l, e_k, e_l)` within `radius` at `stages`.
+    /// Sites at arc lengths `site_s` (ascending) with weights `weight`
+    /// on `order`-point stencils, pairs k ≠ l with `far(k, l)` within
+    /// `radius` at `stages`.
     #[allow(clippy::too_many_arguments)]
     fn build(
         stage_s: &[f64],
@@ -168,8 +169,7 @@ impl Sites {
         spacing: Option<f64>,
         site_s: Vec<f64>,
         weight: Vec<f64>,
-        element: &[usize],
-        far: &dyn Fn(f64, f64, usize, usize) -> bool,
+        far: &dyn Fn(usize, usize) -> bool,
         stages: &[[f64; 3]],
         radius: Option<f64>,
         threads: usize,
@@ -212,8 +212,7 @@ impl Sites {
         };
         this.interpolate(stages);
         this.reference = this.sites.clone();
-        let elem = |k: usize| element.get(k).copied().unwrap_or(0);
-        let far = |k: usize, l: usize| k != l && far(this.site_s[k], this.site_s[l], elem(k), elem(l));
+        let far = |k: usize, l: usize| k != l && far(k, l);
         match radius {
             Some(radius) => {
                 let cells = CellList::new(&this.reference, radius);

@@ -67,6 +67,10 @@ module rodkit
     ! the computation failed partway and kept its results up to the last
     ! good point (the handle's failure report gives the error and its message)
     integer(c_int32_t), parameter :: RODKIT_STATUS_INFO_FAILED_PARTWAY = 7
+    ! the branch is complete, but a monitored function changed sign where no
+    ! bifurcation accounting for it was located (the branch's unresolved
+    ! brackets say where)
+    integer(c_int32_t), parameter :: RODKIT_STATUS_INFO_UNRESOLVED_BIFURCATION = 8
     ! internal error (a bug in rodkit: a panic was caught at the C boundary)
     integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_INTERNAL = -1
     ! a required pointer argument is NULL
@@ -450,6 +454,32 @@ module rodkit
         real(c_double) :: tip_y
         real(c_double) :: tip_z
     end type rodkit_bifurcation
+
+    ! RodkitBifurcationPoint (see rodkit.h).
+    type, bind(c) :: rodkit_bifurcation_point
+        real(c_double) :: lambda
+        real(c_double) :: end_rotation
+        integer(c_int64_t) :: record
+        integer(c_int64_t) :: multiplicity
+        real(c_double) :: sigma1
+        real(c_double) :: sigma2
+        real(c_double) :: sigma3
+        integer(c_int32_t) :: det_sign_change
+        integer(c_int32_t) :: test_function_change
+        real(c_double) :: tip_x
+        real(c_double) :: tip_y
+        real(c_double) :: tip_z
+    end type rodkit_bifurcation_point
+
+    ! RodkitUnresolvedBifurcation (see rodkit.h).
+    type, bind(c) :: rodkit_unresolved_bifurcation
+        integer(c_int64_t) :: record_first
+        integer(c_int64_t) :: record_last
+        real(c_double) :: lambda_first
+        real(c_double) :: lambda_last
+        integer(c_int32_t) :: det_sign_change
+        integer(c_int32_t) :: test_function_change
+    end type rodkit_unresolved_bifurcation
 
     ! RodkitElectrostaticsSpec (see rodkit.h).
     type, bind(c) :: rodkit_electrostatics_spec
@@ -1044,6 +1074,37 @@ module rodkit
             integer(c_int64_t), intent(out) :: count
             integer(c_int32_t) :: status
         end function rodkit_branch_bifurcations
+
+        function rodkit_branch_bifurcation_points(branch, rod, out, capacity, count) result(status) &
+                bind(c, name="rodkit_branch_bifurcation_points")
+            import :: c_int32_t, c_int64_t, c_ptr, rodkit_bifurcation_point
+            type(c_ptr), value :: branch
+            type(c_ptr), value :: rod
+            type(rodkit_bifurcation_point), intent(inout) :: out(*)
+            integer(c_int64_t), value :: capacity
+            integer(c_int64_t), intent(out) :: count
+            integer(c_int32_t) :: status
+        end function rodkit_branch_bifurcation_points
+
+        function rodkit_branch_bifurcation_state(branch, index, x, n) result(status) &
+                bind(c, name="rodkit_branch_bifurcation_state")
+            import :: c_double, c_int32_t, c_int64_t, c_ptr
+            type(c_ptr), value :: branch
+            integer(c_int64_t), value :: index
+            real(c_double), intent(inout) :: x(*)
+            integer(c_int64_t), value :: n
+            integer(c_int32_t) :: status
+        end function rodkit_branch_bifurcation_state
+
+        function rodkit_branch_unresolved(branch, out, capacity, count) result(status) &
+                bind(c, name="rodkit_branch_unresolved")
+            import :: c_int32_t, c_int64_t, c_ptr, rodkit_unresolved_bifurcation
+            type(c_ptr), value :: branch
+            type(rodkit_unresolved_bifurcation), intent(inout) :: out(*)
+            integer(c_int64_t), value :: capacity
+            integer(c_int64_t), intent(out) :: count
+            integer(c_int32_t) :: status
+        end function rodkit_branch_unresolved
 
         function rodkit_branch_state(branch, record, x, n) result(status) &
                 bind(c, name="rodkit_branch_state")

@@ -54,6 +54,8 @@ enum RodkitStatus
   RODKIT_STATUS_INFO_STRAND_CROSSING = 6,
   // the computation failed partway and kept its results up to the last good point (the handle's failure report gives the error and its message)
   RODKIT_STATUS_INFO_FAILED_PARTWAY = 7,
+  // the branch is complete, but a monitored function changed sign where no bifurcation accounting for it was located (the branch's unresolved brackets say where)
+  RODKIT_STATUS_INFO_UNRESOLVED_BIFURCATION = 8,
   // internal error (a bug in rodkit: a panic was caught at the C boundary)
   RODKIT_STATUS_ERR_INTERNAL = -1,
   // a required pointer argument is NULL
@@ -819,6 +821,50 @@ typedef struct RodkitBifurcation {
   double tip_z;
 } RodkitBifurcation;
 
+// A located bifurcation point with its place on the branch and the
+// evidence for it (rodkit_branch_bifurcation_points).
+typedef struct RodkitBifurcationPoint {
+  double lambda;
+  // The end rotation φ there (radians; continuous along the branch as
+  // the records' end_rotation is), under rotation control and under a
+  // torque clamp; 0 for a rod without one.
+  double end_rotation;
+  // The record it follows: it lies between records `record` and
+  // `record + 1` (0-based).
+  int64_t record;
+  // 1 simple, 2 double (rotational symmetry).
+  int64_t multiplicity;
+  // The three smallest singular values of the bordered tangent there.
+  double sigma1;
+  double sigma2;
+  double sigma3;
+  // Evidence: 1 if det of the bordered tangent changed sign across it;
+  // 1 if the records' test function (signed σ_min) changed sign over
+  // its bracket (0 for both: found as a dip of σ_min).
+  int32_t det_sign_change;
+  int32_t test_function_change;
+  // Tip position there.
+  double tip_x;
+  double tip_y;
+  double tip_z;
+} RodkitBifurcationPoint;
+
+// A bracket of records where det of the bordered tangent or the test
+// function changed sign (or σ_min dipped) but no bifurcation accounting
+// for it was located (rodkit_branch_unresolved): the branch cannot vouch
+// for its bifurcations between these records.
+typedef struct RodkitUnresolvedBifurcation {
+  // The bracket's first and last records (0-based) and their Λ.
+  int64_t record_first;
+  int64_t record_last;
+  double lambda_first;
+  double lambda_last;
+  // What asked for a location (1 each: det of the bordered tangent, the
+  // test function, changed sign over the bracket).
+  int32_t det_sign_change;
+  int32_t test_function_change;
+} RodkitUnresolvedBifurcation;
+
 // A supercoiling scene in nm, pN, mol/L. Call
 // `rodkit_dna_supercoil_spec_default` first: 1 kbp, 1 pN, 0.1 M, ν = 1/l_B
 // (Manning), a = 1 nm, A = 50 nm, P = 95 nm, 298.15 K, ε_r = 78.4; the
@@ -1442,6 +1488,33 @@ int32_t rodkit_branch_bifurcations(const struct RodkitBranch *branch,
                                    struct RodkitBifurcation *out,
                                    int64_t capacity,
                                    int64_t *count);
+
+// Copy up to `capacity` located bifurcations with their place on the
+// branch (the record each follows, the end rotation there) and the
+// evidence for each; `count` receives their number. Same order and
+// indices as rodkit_branch_bifurcations and rodkit_branch_switch.
+int32_t rodkit_branch_bifurcation_points(const struct RodkitBranch *branch,
+                                         const struct RodkitRod *rod,
+                                         struct RodkitBifurcationPoint *out,
+                                         int64_t capacity,
+                                         int64_t *count);
+
+// The full state x at bifurcation `index` (length
+// RodkitBranchInfo.state_length): the point rodkit_branch_switch leaves.
+int32_t rodkit_branch_bifurcation_state(const struct RodkitBranch *branch,
+                                        int64_t index,
+                                        double *x,
+                                        int64_t n);
+
+// Copy up to `capacity` unresolved brackets (where det of the bordered
+// tangent or the test function changed sign, or σ_min dipped, and no
+// bifurcation accounting for it was located); `count` receives their
+// number. A branch with any returns
+// RODKIT_STATUS_INFO_UNRESOLVED_BIFURCATION where it would return 0.
+int32_t rodkit_branch_unresolved(const struct RodkitBranch *branch,
+                                 struct RodkitUnresolvedBifurcation *out,
+                                 int64_t capacity,
+                                 int64_t *count);
 
 // The full state x at record `record` (length RodkitBranchInfo.state_length).
 int32_t rodkit_branch_state(const struct RodkitBranch *branch,

@@ -29,6 +29,8 @@ pub enum Status {
     InfoStrandCrossing = 6,
     /// the computation failed partway and kept its results up to the last good point (the handle's failure report gives the error and its message)
     InfoFailedPartway = 7,
+    /// the branch is complete, but a monitored function changed sign where no bifurcation accounting for it was located (the branch's unresolved brackets say where)
+    InfoUnresolvedBifurcation = 8,
     /// internal error (a bug in rodkit: a panic was caught at the C boundary)
     ErrInternal = -1,
     /// a required pointer argument is NULL

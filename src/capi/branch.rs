@@ -5,7 +5,10 @@
 
 use super::args::{arg_mut, arg_ref, check_len, check_nodes, clear_handle, copy_out, free_handle, in_slice};
 use super::args::{out_slice, qualify_argument, write_positions};
-use super::branch_record::{record_lists, status_of, stop_code, Bifurcation, BranchInfo, BranchRecord};
+use super::branch_record::{
+    branch_status, record_lists, stop_code, Bifurcation, BifurcationPoint, BranchInfo, BranchRecord,
+    UnresolvedBifurcation,
+};
 use super::continuation::{options_from, ContinuationOptions};
 use super::rod::Rod;
 use super::{guard, guard_value};
@@ -118,7 +121,7 @@ unsafe fn options_of(rod: &Rod, options: *const ContinuationOptions) -> Result<(
 /// # Safety
 /// `out` must be NULL or writable.
 unsafe fn store_branch(rod: &Rod, b: RodBranch, previous: Option<f64>, out: *mut *mut Branch) -> Result<Status> {
-    let status = status_of(b.stop);
+    let status = branch_status(&b);
     *arg_mut("out", out)? = Box::into_raw(Box::new(wrap(&rod.model, b, previous)));
     Ok(status)
 }
@@ -198,7 +201,7 @@ pub unsafe extern "C" fn rodkit_branch_resume(
         let b = with_progress(&rod.model, progress, user_data, |cb| {
             rod.model.resume_branch(&from.branch, &opts, method, cb)
         })?;
-        let previous = rod.model.torqued().then(|| from.records.last().map(|r| r.end_rotation)).flatten();
+        let previous = from.records.last().map(|r| r.end_rotation);
         store_branch(rod, b, previous, out)
     })
 }
@@ -233,14 +236,8 @@ pub unsafe extern "C" fn rodkit_branch_switch(
         let b = with_progress(&rod.model, progress, user_data, |cb| {
             rod.model.switch_branch(&from.branch, index as usize, direction as usize, first_step, &opts, method, cb)
         })?;
-        let previous = rod
-            .model
-            .torqued()
-            .then(|| {
-                let phi: Vec<f64> = from.records.iter().map(|r| r.end_rotation).collect();
-                from.branch.rotation_at_bifurcation(&rod.model, index as usize, &phi)
-            })
-            .flatten();
+        let phi: Vec<f64> = from.records.iter().map(|r| r.end_rotation).collect();
+        let previous = from.branch.rotation_at_bifurcation(&rod.model, index as usize, &phi);
         store_branch(rod, b, previous, out)
     })
 }
@@ -349,6 +346,94 @@ pub unsafe extern "C" fn rodkit_branch_bifurcations(
                 tip_y: tip[1],
                 tip_z: tip[2],
             }
+        })
+    })
+}
+
+/// Copy up to `capacity` located bifurcations with their place on the
+/// branch (the record each follows, the end rotation there) and the
+/// evidence for each; `count` receives their number. Same order and
+/// indices as rodkit_branch_bifurcations and rodkit_branch_switch.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_branch_bifurcation_points(
+    branch: *const Branch,
+    rod: *const Rod,
+    out: *mut BifurcationPoint,
+    capacity: i64,
+    count: *mut i64,
+) -> i32 {
+    guard(|| {
+        let rod = arg_ref("rod", rod)?;
+        let b = same_rod(rod, arg_ref("branch", branch)?)?;
+        let phi: Vec<f64> = b.records.iter().map(|r| r.end_rotation).collect();
+        let list: Vec<(usize, &_)> = b.branch.bifurcations.iter().enumerate().collect();
+        copy_out("out", out, capacity, count, &list, |&(index, bif)| {
+            let tip = rod.model.tip(&bif.x);
+            let s = |i: usize| bif.singular_values.get(i).copied().unwrap_or(f64::NAN);
+            BifurcationPoint {
+                lambda: bif.lambda,
+                end_rotation: b.branch.rotation_at_bifurcation(&rod.model, index, &phi).unwrap_or(0.0),
+                record: bif.record as i64,
+                multiplicity: bif.multiplicity as i64,
+                sigma1: s(0),
+                sigma2: s(1),
+                sigma3: s(2),
+                det_sign_change: bif.det_sign_change as i32,
+                test_function_change: bif.test_function_change as i32,
+                tip_x: tip[0],
+                tip_y: tip[1],
+                tip_z: tip[2],
+            }
+        })
+    })
+}
+
+/// The full state x at bifurcation `index` (length
+/// RodkitBranchInfo.state_length): the point rodkit_branch_switch leaves.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_branch_bifurcation_state(
+    branch: *const Branch,
+    index: i64,
+    x: *mut f64,
+    n: i64,
+) -> i32 {
+    guard(|| {
+        let b = arg_ref("branch", branch)?;
+        let bifs = &b.branch.bifurcations;
+        error::count_in_range("index", index, 0, bifs.len() as i64 - 1)?;
+        check_len("n", n, b.state_length as i64)?;
+        let state = bifs[index as usize].x.get(..b.state_length).ok_or_else(|| {
+            Error::new(
+                Status::ErrInternal,
+                "rodkit_branch_bifurcation_state: the point is shorter than the branch's states",
+            )
+        })?;
+        out_slice("x", x, n)?.copy_from_slice(state);
+        Ok(Status::Ok)
+    })
+}
+
+/// Copy up to `capacity` unresolved brackets (where det of the bordered
+/// tangent or the test function changed sign, or σ_min dipped, and no
+/// bifurcation accounting for it was located); `count` receives their
+/// number. A branch with any returns
+/// RODKIT_STATUS_INFO_UNRESOLVED_BIFURCATION where it would return 0.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_branch_unresolved(
+    branch: *const Branch,
+    out: *mut UnresolvedBifurcation,
+    capacity: i64,
+    count: *mut i64,
+) -> i32 {
+    guard(|| {
+        let b = arg_ref("branch", branch)?;
+        copy_out("out", out, capacity, count, &b.branch.unresolved, |u| UnresolvedBifurcation {
+            record_first: u.records.0 as i64,
+            record_last: u.records.1 as i64,
+            lambda_first: u.lambdas.0,
+            lambda_last: u.lambdas.1,
+            det_sign_change: u.det_sign_change as i32,
+            test_function_change: u.test_function_change as i32,
         })
     })
 }

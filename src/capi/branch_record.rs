@@ -116,6 +116,63 @@ pub struct Bifurcation {
     pub tip_z: f64,
 }
 
+/// A located bifurcation point with its place on the branch and the
+/// evidence for it (rodkit_branch_bifurcation_points).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BifurcationPoint {
+    pub lambda: f64,
+    /// The end rotation φ there (radians; continuous along the branch as
+    /// the records' end_rotation is), under rotation control and under a
+    /// torque clamp; 0 for a rod without one.
+    pub end_rotation: f64,
+    /// The record it follows: it lies between records `record` and
+    /// `record + 1` (0-based).
+    pub record: i64,
+    /// 1 simple, 2 double (rotational symmetry).
+    pub multiplicity: i64,
+    /// The three smallest singular values of the bordered tangent there.
+    pub sigma1: f64,
+    pub sigma2: f64,
+    pub sigma3: f64,
+    /// Evidence: 1 if det of the bordered tangent changed sign across it;
+    /// 1 if the records' test function (signed σ_min) changed sign over
+    /// its bracket (0 for both: found as a dip of σ_min).
+    pub det_sign_change: i32,
+    pub test_function_change: i32,
+    /// Tip position there.
+    pub tip_x: f64,
+    pub tip_y: f64,
+    pub tip_z: f64,
+}
+
+/// A bracket of records where det of the bordered tangent or the test
+/// function changed sign (or σ_min dipped) but no bifurcation accounting
+/// for it was located (rodkit_branch_unresolved): the branch cannot vouch
+/// for its bifurcations between these records.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct UnresolvedBifurcation {
+    /// The bracket's first and last records (0-based) and their Λ.
+    pub record_first: i64,
+    pub record_last: i64,
+    pub lambda_first: f64,
+    pub lambda_last: f64,
+    /// What asked for a location (1 each: det of the bordered tangent, the
+    /// test function, changed sign over the bracket).
+    pub det_sign_change: i32,
+    pub test_function_change: i32,
+}
+
+/// The status of a branch's stop; a complete branch with unresolved
+/// brackets says so (RODKIT_STATUS_INFO_UNRESOLVED_BIFURCATION).
+pub(super) fn branch_status(branch: &RodBranch) -> Status {
+    match status_of(branch.stop) {
+        Status::Ok if !branch.unresolved.is_empty() => Status::InfoUnresolvedBifurcation,
+        s => s,
+    }
+}
+
 pub(super) fn status_of(stop: Stop) -> Status {
     match stop {
         Stop::Target => Status::Ok,

@@ -41,8 +41,38 @@ pub struct Bifurcation {
     pub null_vectors: Vec<(Vec<f64>, f64)>,
     /// Whether det B changed sign across it.
     pub det_sign_change: bool,
+    /// Whether the signed σ_min (the records' test function) changed sign
+    /// across its bracket (false: found as a dip of |σ_min|).
+    pub test_function_change: bool,
+    /// The branch record it follows: it lies between records `record` and
+    /// `record + 1` (set by the run; resumed branches renumber it).
+    pub record: usize,
     /// σ_min at the bracket's ends (the scale the minimum is judged against).
     pub bracket_sigma: f64,
+}
+
+/// A bracket of records where a monitored function said a bifurcation
+/// must lie, but none was located: the branch reports it instead of
+/// dropping it (a status, not an OK and a silent miss).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Unresolved {
+    /// The bracket's records (first, last).
+    pub records: (usize, usize),
+    /// Λ at the bracket's ends.
+    pub lambdas: (f64, f64),
+    /// What asked for a location: det B changed sign over the bracket, the
+    /// signed σ_min did.
+    pub det_sign_change: bool,
+    pub test_function_change: bool,
+    /// Why no point was located.
+    pub reason: String,
+}
+
+/// What a bracket's records said.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Evidence {
+    pub det_sign_change: bool,
+    pub test_function_change: bool,
 }
 
 /// A point of the branch with its tangent.
@@ -55,17 +85,18 @@ pub(crate) struct State {
 }
 
 /// Locate a bifurcation between `left` and `right` (states on the branch,
-/// `left` before `right`) to `tol` in scaled arc length. Returns None when
-/// the minimum of σ_min is not small enough to be a singular point.
+/// `left` before `right`) to `tol` in scaled arc length: the point and its
+/// arc parameter along `left`'s tangent. Returns None when the minimum of
+/// σ_min is not small enough to be a singular point.
 /// `tols`: the residual tolerance of the trial points and the location's.
 pub(crate) fn locate<P: Problem + ?Sized>(
     problem: &mut P,
     ctx: &mut Context,
     left: &State,
     right: &State,
-    det_sign_change: bool,
+    evidence: Evidence,
     (residual_tol, tol): (f64, f64),
-) -> Result<Option<Bifurcation>> {
+) -> Result<Option<(Bifurcation, f64)>> {
     let dx: Vec<f64> = right.x.iter().zip(&left.x).map(|(a, b)| a - b).collect();
     let span = ctx.scaling.dot(&dx, right.lambda - left.lambda, &left.tx, left.tl);
     // The point at arc parameter τ on the hyperplane ⟨X − X_L − τ t_L, t_L⟩ = 0.
@@ -82,6 +113,9 @@ pub(crate) fn locate<P: Problem + ?Sized>(
     let (sa, sb) = (point(0.0, ctx)?.2, point(span, ctx)?.2);
     let ends = sa.abs().max(sb.abs());
     let (mut a, mut b) = (0.0, span);
+    // A trial point that did not converge: if nothing singular is found
+    // without it, the location failed (an error), not "no bifurcation".
+    let mut failed = None;
     if sa * sb < 0.0 {
         // A sign change of the signed σ_min (simple points): it crosses
         // zero linearly, so regula falsi (Illinois) converges
@@ -91,7 +125,15 @@ pub(crate) fn locate<P: Problem + ?Sized>(
         let mut best = if sa.abs() < sb.abs() { 0.0 } else { span };
         let mut best_f = sa.abs().min(sb.abs());
         let mut last = f64::NAN;
-        for _ in 0..60 {
+        for trial in 0..60 {
+            // Without det B's evidence the sign change may be the singular
+            // vectors turning orthogonal (a jump, not a zero: a twisted
+            // rod's pair of modes every 2π): regula falsi gains nothing on a
+            // jump, so four trials that leave |σ_min| at the ends' scale end
+            // the search (a zero, crossed linearly, is near after one or two).
+            if trial == 4 && !evidence.det_sign_change && best_f > 0.2 * sa.abs().min(sb.abs()) {
+                return Ok(None);
+            }
             let c = b - fb * (b - a) / (fb - fa);
             // Strictly inside the bracket (1 % margins), so it shrinks.
             let (lo, hi) = (a.min(b), a.max(b));
@@ -99,7 +141,13 @@ pub(crate) fn locate<P: Problem + ?Sized>(
             // Right at the singular point the corrector itself may fail to
             // converge (its matrix is singular there): the best point so
             // far is then as close as the location gets.
-            let Ok((_, _, fc)) = point(c, ctx) else { break };
+            let fc = match point(c, ctx) {
+                Ok((_, _, fc)) => fc,
+                Err(e) => {
+                    failed = Some(e);
+                    break;
+                }
+            };
             if fc.abs() < best_f {
                 (best, best_f) = (c, fc.abs());
             }
@@ -151,7 +199,10 @@ pub(crate) fn locate<P: Problem + ?Sized>(
     let small = (100.0 * tol / span.abs()).clamp(1e-6, 1e-2) * ends;
     let multiplicity = sigma.iter().take(2).filter(|&&s| s <= small).count();
     if multiplicity == 0 {
-        return Ok(None);
+        return match failed {
+            Some(e) => Err(e),
+            None => Ok(None),
+        };
     }
     let n = x.len();
     let null_vectors = vectors
@@ -162,7 +213,7 @@ pub(crate) fn locate<P: Problem + ?Sized>(
             (v[..n].iter().map(|a| a / norm).collect(), v[n] / norm)
         })
         .collect();
-    Ok(Some(Bifurcation {
+    let bif = Bifurcation {
         lambda,
         x,
         tangent_x: left.tx.clone(),
@@ -170,9 +221,74 @@ pub(crate) fn locate<P: Problem + ?Sized>(
         singular_values: sigma,
         multiplicity,
         null_vectors,
-        det_sign_change,
+        det_sign_change: evidence.det_sign_change,
+        test_function_change: evidence.test_function_change,
+        record: 0,
         bracket_sigma: ends,
-    }))
+    };
+    Ok(Some((bif, tau)))
+}
+
+/// A second simple bifurcation in the bracket (`left`, `right`) beside the
+/// one located at arc parameter `tau` (along `left`'s tangent), called for
+/// by det B's signs (`left_sign` at `left`): det B is taken on either side
+/// of the located point, δ = 1e-3 of the bracket (at least 10 tol) away,
+/// and the piece whose ends' signs differ is searched. None if neither
+/// piece changes sign or its minimum of σ_min is not a zero (the arc
+/// parameter returned is along the searched piece's first tangent).
+pub(crate) fn locate_beside<P: Problem + ?Sized>(
+    problem: &mut P,
+    ctx: &mut Context,
+    (left, right): (&State, &State),
+    tau: f64,
+    left_sign: f64,
+    tols: (f64, f64),
+) -> Result<Option<(Bifurcation, f64)>> {
+    let span = ctx.scaling.dot(&sub(&right.x, &left.x), right.lambda - left.lambda, &left.tx, left.tl);
+    let delta = (1e-3 * span.abs()).max(10.0 * tols.1);
+    let evidence = Evidence { det_sign_change: true, test_function_change: false };
+    if tau - delta > 0.0 {
+        let (before, sign) = signed_state(problem, ctx, left, tau - delta, tols.0)?;
+        if sign * left_sign < 0.0 {
+            return locate(problem, ctx, left, &before, evidence, tols);
+        }
+    }
+    if tau + delta < span {
+        let (after, sign) = signed_state(problem, ctx, left, tau + delta, tols.0)?;
+        let right_sign = {
+            let (_, s) = signed_state(problem, ctx, left, span, tols.0)?;
+            s
+        };
+        if sign * right_sign < 0.0 {
+            return locate(problem, ctx, &after, right, evidence, tols);
+        }
+    }
+    Ok(None)
+}
+
+/// The branch point at arc parameter `tau` along `from`'s tangent (on the
+/// hyperplane through from + τ t), its tangent and sign det B (simplicial
+/// factors: the sign is exact).
+fn signed_state<P: Problem + ?Sized>(
+    problem: &mut P,
+    ctx: &mut Context,
+    from: &State,
+    tau: f64,
+    residual_tol: f64,
+) -> Result<(State, f64)> {
+    let mut x: Vec<f64> = from.x.iter().zip(&from.tx).map(|(a, t)| a + tau * t).collect();
+    let mut l = from.lambda + tau * from.tl;
+    let (anchor, l0) = (x.clone(), l);
+    correct(problem, ctx, &mut x, &mut l, Plane::new((&anchor, l0), (&from.tx, from.tl)), residual_tol, false)?;
+    ctx.factorise(problem, &x, l, (&from.tx, from.tl))?;
+    let (tx, tl) = ctx.tangent()?;
+    let (sign, _) = ctx.bordered.determinant_signs(&ctx.scaling, &tx, tl);
+    Ok((State { x, lambda: l, tx, tl }, sign))
+}
+
+/// a − b, entry by entry.
+fn sub(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(p, q)| p - q).collect()
 }
 
 /// A start on the branch leaving `bif` along `direction` (x part, Λ part;

@@ -423,6 +423,11 @@ pub struct Branch {
     pub records: Vec<Record>,
     /// Bifurcation points located on the branch (with `detect_bifurcations`).
     pub bifurcations: Vec<bifurcation::Bifurcation>,
+    /// Brackets where det B or the test function changed sign (or a dip
+    /// was searched) but the location failed or found no singular point
+    /// that accounts for the change: the branch cannot vouch for its
+    /// bifurcations there.
+    pub unresolved: Vec<bifurcation::Unresolved>,
     pub stop: Stop,
     pub resume: Resume,
     pub counts: Counts,

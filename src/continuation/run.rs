@@ -4,7 +4,7 @@
 //! determinant signs and σ_min, bifurcation detection, dense-output samples,
 //! the finished [`Branch`]).
 
-use super::bifurcation::{self, Bifurcation, State};
+use super::bifurcation::{self, Bifurcation, Evidence, State, Unresolved};
 use super::corrector::{correct, deliver_sample, Plane};
 use super::tangent::Bordered;
 use super::{Branch, Counts, Options, Problem, Record, Resume, Sample, Scaling};
@@ -156,8 +156,12 @@ pub(crate) struct Run<'o> {
     pub ctx: Context,
     pub records: Vec<Record>,
     pub bifurcations: Vec<Bifurcation>,
-    /// The last (up to) three points with their tangents: detection's brackets.
-    history: Vec<State>,
+    /// Brackets whose location found nothing although a monitored function
+    /// changed sign (or failed): reported, not dropped.
+    pub unresolved: Vec<Unresolved>,
+    /// The last (up to) three points with their tangents and record
+    /// indices: detection's brackets.
+    history: Vec<(usize, State)>,
     pub samples: Vec<Sample>,
     pub missed: Vec<f64>,
 }
@@ -177,6 +181,7 @@ impl<'o> Run<'o> {
             ctx,
             records: Vec::new(),
             bifurcations: Vec::new(),
+            unresolved: Vec::new(),
             history: Vec::new(),
             samples: Vec::new(),
             missed: Vec::new(),
@@ -334,16 +339,13 @@ impl<'o> Run<'o> {
         if !self.opts.detect_bifurcations {
             return Ok(false);
         }
-        self.history.push(state);
+        self.history.push((self.records.len().saturating_sub(1), state));
         if self.history.len() > 3 {
             self.history.remove(0);
         }
         let before = self.ctx.bordered.factorisations();
         let (t, counted) = (std::time::Instant::now(), self.ctx.counts.factorisations);
-        let found = self.detect(problem)?;
-        if let Some(b) = found {
-            self.bifurcations.push(b);
-        }
+        self.detect(problem)?;
         let located = self.ctx.bordered.factorisations() != before;
         if located {
             // Only a search factorises: its work is the location's.
@@ -354,42 +356,106 @@ impl<'o> Run<'o> {
         Ok(located)
     }
 
-    fn detect<P: Problem + ?Sized>(&mut self, problem: &mut P) -> Result<Option<Bifurcation>> {
+    /// One bracket per new record: the last step when det B or the signed
+    /// σ_min changed sign over it, else the last two steps when |σ_min| dips
+    /// at the middle record. A bracket already holding a located point (or
+    /// an unresolved report) is not searched again: one report per point,
+    /// counted by its place among the records (Λ alone can repeat — a
+    /// rotation control's Λ = sin(φ/2) returns to every value).
+    fn detect<P: Problem + ?Sized>(&mut self, problem: &mut P) -> Result<()> {
         let (records, history) = (&self.records, &self.history);
         let k = records.len();
-        if k < 2 || history.len() < 2 {
-            return Ok(None);
+        let h = history.len();
+        if k < 2 || h < 2 {
+            return Ok(());
         }
         let (r1, r2) = (&records[k - 2], &records[k - 1]);
-        let h = history.len();
         let signed = |r: &Record| r.smallest_singular_value.unwrap_or(1.0);
         // A record with sign 0 is a singular start (a switch): no bracket.
-        let flip =
+        let det_sign_change =
             r1.bordered_det_sign != r2.bordered_det_sign && r1.bordered_det_sign != 0.0 && r2.bordered_det_sign != 0.0;
-        let bracket = if flip || signed(r1) * signed(r2) < 0.0 {
-            Some((h - 2, h - 1, flip))
+        let test_function_change = signed(r1) * signed(r2) < 0.0;
+        let evidence = Evidence { det_sign_change, test_function_change };
+        let (left, right) = if det_sign_change || test_function_change {
+            (h - 2, h - 1)
         } else if k >= 3 && h >= 3 {
             let sig = |r: &Record| r.smallest_singular_value.map_or(f64::INFINITY, f64::abs);
             let r0 = &records[k - 3];
             // A dip worth a location: 5 % below both neighbours (a flat σ_min,
             // e.g. a mode far from singular, dips by rounding at every other
             // point, and each false location costs a golden-section search).
-            (sig(r1) < 0.95 * sig(r0).min(sig(r2))).then_some((h - 3, h - 1, false))
+            if sig(r1) < 0.95 * sig(r0).min(sig(r2)) {
+                (h - 3, h - 1)
+            } else {
+                return Ok(());
+            }
         } else {
-            None
+            return Ok(());
         };
-        let Some((left, right, flip)) = bracket else { return Ok(None) };
-        let (left, right) = (&history[left], &history[right]);
-        // Already located inside this bracket (a flip seen again as a dip).
-        let (lo, hi) = (left.lambda.min(right.lambda), left.lambda.max(right.lambda));
-        if self.bifurcations.iter().any(|b| b.lambda >= lo && b.lambda <= hi) {
-            return Ok(None);
+        let ((a, left), (b, right)) = (history[left].clone(), history[right].clone());
+        let middle = (b - a == 2).then(|| history[h - 2].1.clone());
+        let reported = self.bifurcations.iter().any(|f| f.record >= a && f.record < b)
+            || self.unresolved.iter().any(|u| u.records.0 < b && u.records.1 > a);
+        if reported {
+            return Ok(());
         }
-        // A location that fails (a trial point that does not converge) loses
-        // this bifurcation, not the branch.
-        let (left, right) = (left.clone(), right.clone());
         let tols = (self.opts.residual_tol, self.opts.bifurcation_tol);
-        Ok(bifurcation::locate(problem, &mut self.ctx, &left, &right, flip, tols).unwrap_or(None))
+        let scaling = self.ctx.scaling.clone();
+        let arc = |x: &[f64], l: f64| scaling.dot(&diff(x, &left.x), l - left.lambda, &left.tx, left.tl);
+        // The record a point follows: with a middle record, by its arc
+        // parameter against the middle's.
+        let place = |p: &Bifurcation| match &middle {
+            Some(m) if arc(&p.x, p.lambda) >= arc(&m.x, m.lambda) => a + 1,
+            _ => a,
+        };
+        let unresolved = |reason: String| Unresolved {
+            records: (a, b),
+            lambdas: (left.lambda, right.lambda),
+            det_sign_change,
+            test_function_change,
+            reason,
+        };
+        match bifurcation::locate(problem, &mut self.ctx, &left, &right, evidence, tols) {
+            Ok(Some((mut bif, tau))) => {
+                bif.record = place(&bif);
+                // Parity: each simple point (multiplicity 1) flips det B,
+                // so a bracket whose ends' signs disagree with the count
+                // located holds another simple point.
+                let ends_differ = records[a].bordered_det_sign * records[b].bordered_det_sign < 0.0;
+                let other = ends_differ != (bif.multiplicity % 2 == 1);
+                let signed_ends = records[a].bordered_det_sign != 0.0 && records[b].bordered_det_sign != 0.0;
+                if other && signed_ends {
+                    match bifurcation::locate_beside(problem, &mut self.ctx, (&left, &right), tau, records[a].bordered_det_sign, tols) {
+                        Ok(Some((mut second, _))) => {
+                            second.record = place(&second);
+                            self.bifurcations.push(bif);
+                            self.bifurcations.push(second);
+                            self.bifurcations.sort_by(|p, q| p.record.cmp(&q.record));
+                            return Ok(());
+                        }
+                        Ok(None) => self.unresolved.push(unresolved(
+                            "det B's signs at the bracket's ends call for one more simple bifurcation than was located; σ_min has no zero beside the located one".into(),
+                        )),
+                        Err(e) => self.unresolved.push(unresolved(format!(
+                            "det B's signs at the bracket's ends call for one more simple bifurcation than was located; its location failed: {}",
+                            e.message
+                        ))),
+                    }
+                }
+                self.bifurcations.push(bif);
+            }
+            Ok(None) if det_sign_change => self.unresolved.push(unresolved(
+                "det B changed sign between the records but σ_min has no zero there (the step may have left the branch)"
+                    .into(),
+            )),
+            // The signed σ_min also turns sign where its left and right
+            // singular vectors turn orthogonal (a pair of modes rotating
+            // into each other, as on a twisted straight rod every 2π) and
+            // dips without a zero: no singular point, nothing to report.
+            Ok(None) => {}
+            Err(e) => self.unresolved.push(unresolved(format!("location failed: {}", e.message))),
+        }
+        Ok(())
     }
 
     /// Dense output at `target` from the prediction `xs` (corrected on the
@@ -435,6 +501,7 @@ impl<'o> Run<'o> {
         Branch {
             records: self.records,
             bifurcations: self.bifurcations,
+            unresolved: self.unresolved,
             stop,
             resume: Resume { x: at.x, lambda: at.lambda, tangent_x: at.tx, tangent_lambda: at.tl, step, previous },
             counts: self.ctx.counts,
@@ -443,4 +510,9 @@ impl<'o> Run<'o> {
             column_order: self.ctx.bordered.column_order(),
         }
     }
+}
+
+/// a − b, entry by entry.
+fn diff(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(p, q)| p - q).collect()
 }

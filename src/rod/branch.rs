@@ -9,7 +9,7 @@
 
 use super::model::{unwrap_rotation, Rod};
 use crate::continuation::anm::{continue_anm, AnmOptions};
-use crate::continuation::bifurcation::{branch_start, Bifurcation};
+use crate::continuation::bifurcation::{branch_start, Bifurcation, Unresolved};
 use crate::continuation::corrector::{correct, Plane};
 use crate::continuation::newton::{continue_newton, Start};
 use crate::continuation::run::{validate, Context};
@@ -33,6 +33,9 @@ pub struct RodBranch {
     /// followed with a phase condition).
     pub states: Vec<Vec<f64>>,
     pub bifurcations: Vec<Bifurcation>,
+    /// Brackets where a monitored function changed sign but no bifurcation
+    /// accounting for it was located (see [`Unresolved`]).
+    pub unresolved: Vec<Unresolved>,
     pub stop: Stop,
     pub counts: Counts,
     pub resume: Resume,
@@ -91,6 +94,7 @@ impl RodBranch {
             records,
             states,
             bifurcations: b.bifurcations,
+            unresolved: b.unresolved,
             stop: b.stop,
             counts: b.counts,
             resume: b.resume,
@@ -112,7 +116,14 @@ impl RodBranch {
         let offset = self.records.len().saturating_sub(1);
         self.records.extend(next.records.drain(1..));
         self.states.extend(next.states.drain(1..));
+        for b in &mut next.bifurcations {
+            b.record += offset;
+        }
         self.bifurcations.append(&mut next.bifurcations);
+        for u in &mut next.unresolved {
+            u.records = (u.records.0 + offset, u.records.1 + offset);
+        }
+        self.unresolved.append(&mut next.unresolved);
         for s in &mut next.samples {
             s.record += offset;
         }
@@ -134,44 +145,40 @@ impl RodBranch {
 
 impl RodBranch {
     /// The end rotation φ at every record and at every sample, for a rod
-    /// with one (zeros otherwise). Under a torque clamp φ is known mod 4π
-    /// from each state: it is followed by continuity along the records (a
-    /// step turns the end by less than 2π), from `previous` — the φ of the
-    /// point a resumed or switched branch left — when given, and each
-    /// sample from the record that starts its step (samples at loads far
-    /// apart may be turns apart from each other).
+    /// with one (zeros otherwise). φ is known mod 4π from each state (a
+    /// torque clamp's, and a rotation control's Λ = sin(φ/2)): it is
+    /// followed by continuity along the records (a step turns the end by
+    /// less than 2π), from `previous` — the φ of the point a resumed or
+    /// switched branch left — when given, and each sample from the record
+    /// that starts its step (samples at loads far apart may be turns apart
+    /// from each other).
     pub fn end_rotations(&self, rod: &Rod, previous: Option<f64>) -> (Vec<f64>, Vec<f64>) {
         let raw = |x: &[f64], lambda: f64| rod.end_rotation(x, lambda).unwrap_or(0.0);
         let mut records: Vec<f64> = self.records.iter().zip(&self.states).map(|(r, x)| raw(x, r.lambda)).collect();
         let mut samples: Vec<f64> =
             self.samples.iter().zip(&self.sample_states).map(|(s, x)| raw(x, s.lambda)).collect();
-        if rod.torqued() {
-            let mut last = previous;
-            for phi in records.iter_mut() {
-                if let Some(p) = last {
-                    *phi = unwrap_rotation(p, *phi);
-                }
-                last = Some(*phi);
+        let mut last = previous;
+        for phi in records.iter_mut() {
+            if let Some(p) = last {
+                *phi = unwrap_rotation(p, *phi);
             }
-            for (phi, s) in samples.iter_mut().zip(&self.samples) {
-                if let Some(&from) = records.get(s.record) {
-                    *phi = unwrap_rotation(from, *phi);
-                }
+            last = Some(*phi);
+        }
+        for (phi, s) in samples.iter_mut().zip(&self.samples) {
+            if let Some(&from) = records.get(s.record) {
+                *phi = unwrap_rotation(from, *phi);
             }
         }
         (records, samples)
     }
 
-    /// A torque clamp's end rotation at bifurcation `index`, followed from
-    /// the record nearest to it in state (`record_rotations`: the records'
-    /// continuous φ, from [`RodBranch::end_rotations`]).
+    /// The end rotation at bifurcation `index`, followed from the record
+    /// it follows (`record_rotations`: the records' continuous φ, from
+    /// [`RodBranch::end_rotations`]); None for a rod without one.
     pub fn rotation_at_bifurcation(&self, rod: &Rod, index: usize, record_rotations: &[f64]) -> Option<f64> {
         let bif = self.bifurcations.get(index)?;
         let raw = rod.end_rotation(&bif.x, bif.lambda)?;
-        let n = rod.unknowns().min(bif.x.len());
-        let distance = |x: &[f64]| x[..n].iter().zip(&bif.x[..n]).map(|(a, b)| (a - b) * (a - b)).sum::<f64>();
-        let nearest = self.states.iter().enumerate().min_by(|a, b| distance(a.1).total_cmp(&distance(b.1)))?.0;
-        Some(unwrap_rotation(*record_rotations.get(nearest)?, raw))
+        Some(unwrap_rotation(*record_rotations.get(bif.record)?, raw))
     }
 }
 

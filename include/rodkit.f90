@@ -1128,6 +1128,20 @@ module rodkit
             integer(c_int32_t) :: status
         end function rodkit_branch_positions
 
+        function rodkit_rod_node_state(rod, x, n, node, position, quaternion, force, moment) result(status) &
+                bind(c, name="rodkit_rod_node_state")
+            import :: c_double, c_int32_t, c_int64_t, c_ptr
+            type(c_ptr), value :: rod
+            real(c_double), intent(in) :: x(*)
+            integer(c_int64_t), value :: n
+            integer(c_int64_t), value :: node
+            real(c_double), intent(inout) :: position(*)
+            real(c_double), intent(inout) :: quaternion(*)
+            real(c_double), intent(inout) :: force(*)
+            real(c_double), intent(inout) :: moment(*)
+            integer(c_int32_t) :: status
+        end function rodkit_rod_node_state
+
         function rodkit_rod_residual(rod, x, n, lambda, r) result(status) &
                 bind(c, name="rodkit_rod_residual")
             import :: c_double, c_int32_t, c_int64_t, c_ptr

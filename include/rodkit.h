@@ -720,7 +720,10 @@ typedef struct RodkitBranchProgress {
   // rodkit_supercoil_resume; the fields above keep their place and
   // meaning: `points` counts the run's points, `lambda` is its
   // continuation parameter). The path's branch: 0 straight, 1 buckled;
-  // −1 for a rod continuation, which sets the three values below NaN.
+  // −1 for a rod continuation, which sets `extension` and `torque` NaN,
+  // and `turns` to the end rotation φ/2π under rotation control or a
+  // torque clamp (continuous, as the records' end_rotation: a callback
+  // can stop past a given φ, which Λ = sin(φ/2) cannot say), else NaN.
   int32_t branch;
   // End rotation (turns), extension z(L) (nm), end torque M_z(L) (pN nm).
   double turns;
@@ -1380,6 +1383,24 @@ int32_t rodkit_rod_unknowns(const struct RodkitRod *rod, int64_t *n);
 
 // The straight stress-free state (length n = rodkit_rod_unknowns).
 int32_t rodkit_rod_straight_state(const struct RodkitRod *rod, double *x, int64_t n);
+
+// Node `node` (0 at s = 0 … the rod's elements at the tip) of the state
+// x (length n: rodkit_rod_unknowns, or one more on a branch followed with
+// a phase condition, μ last): its position r (3), quaternion q = (q0,
+// q1, q2, q3), scalar first, d_k = R(q) e_k (4), and the internal force
+// and moment in the spatial frame, R(q) n and R(q) m (3 each). Any output
+// may be NULL (not wanted). The state layout itself: for each node i,
+// its 13 values (r, q, n and m in the body frame) and then those of its
+// element's stage points (none after the last node); end-control
+// unknowns last — read it through this accessor rather than by offsets.
+int32_t rodkit_rod_node_state(const struct RodkitRod *rod,
+                              const double *x,
+                              int64_t n,
+                              int64_t node,
+                              double *position,
+                              double *quaternion,
+                              double *force,
+                              double *moment);
 
 // Residual R(x, Λ) of the discrete equations (length n each), in the
 // form SUNDIALS' KINSOL calls: a user's KINSysFn wraps it with

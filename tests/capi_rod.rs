@@ -257,6 +257,97 @@ fn greenhill_through_the_c_abi() {
     unsafe { rodkit_rod_free(rod) };
 }
 
+/// Greenhill past several turns under rotation control, through the C ABI
+/// (C = K_b = 1, 16 elements, Λ = sin(φ/2), continued until φ > 24 by the
+/// callback): the double points at θ = 8.987, 15.451, 21.808 (tan(θ/2) =
+/// θ/2, see tests/rod_bifurcations.rs) each reported once with its end
+/// rotation (continuous past 4π, like the records'), the record it
+/// follows, its evidence and its state (whose straight twist gives back
+/// φ: m3 = Cφ/L at the tip); no unresolved bracket.
+#[test]
+fn bifurcation_points_with_their_place_through_the_c_abi() {
+    // The progress report's `turns` (φ/2π, continuous): the callback
+    // stops past φ = 24, which Λ = sin(φ/2) cannot tell.
+    unsafe extern "C" fn until_phi_24(p: *const BranchProgress, _: *mut c_void) -> i32 {
+        ((*p).turns * 2.0 * std::f64::consts::PI > 24.0) as i32
+    }
+    let (rod, mut o) = end_controlled(RodSupports::Twisted, 1.0, 16, 2.0);
+    o.residual_tol = 1e-10;
+    o.initial_step = 0.05;
+    o.max_step = 1.0;
+    o.bifurcation_tol = 1e-9;
+    let mut b = ptr::null_mut();
+    let st = unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, Some(until_phi_24), ptr::null_mut(), &mut b) };
+    assert_eq!(st, Status::InfoCancelled.code(), "{}", last_error());
+    let mut info = BranchInfo::default();
+    unsafe { rodkit_branch_summary(b, &mut info) };
+    let mut recs = vec![BranchRecord::default(); info.records as usize];
+    let mut count = 0;
+    unsafe { rodkit_branch_records(b, recs.as_mut_ptr(), info.records, &mut count) };
+    assert!(recs.last().unwrap().end_rotation > 24.0, "φ reached {}", recs.last().unwrap().end_rotation);
+    assert!(recs.windows(2).all(|w| w[1].end_rotation > w[0].end_rotation), "φ continuous and increasing");
+    let mut points = vec![BifurcationPoint::default(); 8];
+    assert_eq!(unsafe { rodkit_branch_bifurcation_points(b, rod, points.as_mut_ptr(), 8, &mut count) }, 0);
+    assert_eq!(count, 3, "{:?}", &points[..count as usize]);
+    let mut unresolved = UnresolvedBifurcation::default();
+    let mut n_unresolved = -1;
+    assert_eq!(unsafe { rodkit_branch_unresolved(b, &mut unresolved, 1, &mut n_unresolved) }, 0);
+    assert_eq!(n_unresolved, 0);
+    let mut x = vec![0.0; info.state_length as usize];
+    for (k, (p, theta)) in points.iter().zip([8.986818915818128, 15.450503673875414, 21.808243318857798]).enumerate() {
+        assert!((p.end_rotation - theta).abs() < 4e-5 * theta, "point {k}: φ {} against {theta}", p.end_rotation);
+        assert_eq!(p.multiplicity, 2);
+        assert_eq!((p.test_function_change, p.det_sign_change), (1, 0), "point {k}");
+        let (lo, hi) = (recs[p.record as usize].end_rotation, recs[p.record as usize + 1].end_rotation);
+        assert!(lo <= p.end_rotation && p.end_rotation <= hi, "point {k}: φ {} not in ({lo}, {hi})", p.end_rotation);
+        assert_eq!(unsafe { rodkit_branch_bifurcation_state(b, k as i64, x.as_mut_ptr(), info.state_length) }, 0);
+        // The straight twisted state (closed form): the tip at (0, 0, L),
+        // its frame turned by φ about e3 — q = ±(cos φ/2, 0, 0, sin φ/2) —
+        // and the spatial moment (0, 0, Cφ/L) (C = L = 1), read through the
+        // node accessor (the tip is node 16).
+        let (mut r, mut q, mut m) = ([0.0; 3], [0.0; 4], [0.0; 3]);
+        let st = unsafe {
+            rodkit_rod_node_state(
+                rod,
+                x.as_ptr(),
+                info.state_length,
+                16,
+                r.as_mut_ptr(),
+                q.as_mut_ptr(),
+                ptr::null_mut(),
+                m.as_mut_ptr(),
+            )
+        };
+        assert_eq!(st, 0, "{}", last_error());
+        let half = 0.5 * p.end_rotation;
+        let sign = q[0].signum() * half.cos().signum();
+        let want = [half.cos(), 0.0, 0.0, half.sin()];
+        assert!(
+            q.iter().zip(&want).all(|(a, b)| (a - sign * b).abs() < 1e-9),
+            "point {k}: q {q:?}, φ {}",
+            p.end_rotation
+        );
+        // (z to 1e-7: the collocated twisted rod shortens by the scheme's
+        // error, ∝ (φh)⁸ on Gauss(4) — 1.4e-11 at φ = 9 on 16 elements,
+        // 1.0e-9 at 15.5.)
+        assert!(r[0].abs() + r[1].abs() < 1e-12 && (r[2] - 1.0).abs() < 1e-7, "point {k}: r {r:?}");
+        assert!((m[2] - p.end_rotation).abs() < 1e-8 * theta && m[0].abs() + m[1].abs() < 1e-9, "point {k}: m {m:?}");
+    }
+    // The accessor's arguments: a node past the tip, a wrong length.
+    let node = |i: i64, n: i64| unsafe {
+        rodkit_rod_node_state(rod, x.as_ptr(), n, i, ptr::null_mut(), ptr::null_mut(), ptr::null_mut(), ptr::null_mut())
+    };
+    assert_eq!(node(17, info.state_length), Status::ErrOutOfRange.code());
+    assert_eq!(node(0, info.state_length - 1), Status::ErrInvalidDimension.code());
+    assert_eq!(node(0, info.state_length), 0);
+    assert_eq!(
+        unsafe { rodkit_branch_bifurcation_state(b, 3, x.as_mut_ptr(), info.state_length) },
+        Status::ErrOutOfRange.code()
+    );
+    unsafe { rodkit_branch_free(b) };
+    unsafe { rodkit_rod_free(rod) };
+}
+
 /// A torque clamp through the C ABI (supports = TORQUED, Λ the end moment):
 /// with a soft twist (C = 0.5) the straight branch turns the end by φ =
 /// ML/C, past two turns before the Greenhill double point at M_c =

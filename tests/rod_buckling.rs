@@ -620,6 +620,7 @@ fn non_planar_symmetric_branch_with_phase_condition() {
         records: vec![],
         states: vec![],
         bifurcations: vec![straight],
+        unresolved: vec![],
         stop: Stop::Target,
         counts: Default::default(),
         resume: rodkit::continuation::Resume {

@@ -16,7 +16,7 @@ use crate::continuation::Options;
 use crate::continuation::Record;
 use crate::error::{self, Error, Result};
 use crate::rod::branch::{Method, RodBranch};
-use crate::rod::model::Rod as Model;
+use crate::rod::model::{unwrap_rotation, Rod as Model};
 use crate::status::Status;
 use std::ffi::c_void;
 
@@ -34,7 +34,10 @@ pub struct BranchProgress {
     /// rodkit_supercoil_resume; the fields above keep their place and
     /// meaning: `points` counts the run's points, `lambda` is its
     /// continuation parameter). The path's branch: 0 straight, 1 buckled;
-    /// −1 for a rod continuation, which sets the three values below NaN.
+    /// −1 for a rod continuation, which sets `extension` and `torque` NaN,
+    /// and `turns` to the end rotation φ/2π under rotation control or a
+    /// torque clamp (continuous, as the records' end_rotation: a callback
+    /// can stop past a given φ, which Λ = sin(φ/2) cannot say), else NaN.
     pub branch: i32,
     /// End rotation (turns), extension z(L) (nm), end torque M_z(L) (pN nm).
     pub turns: f64,
@@ -60,20 +63,33 @@ pub struct Branch {
 }
 
 /// Run `f` with a Rust progress closure forwarding to the C callback.
+/// `start_phi`: the continuous end rotation of the point a resumed or
+/// switched branch leaves (its `turns` continue from there).
 unsafe fn with_progress<T>(
     model: &Model,
-    cb: BranchCallback,
-    user_data: *mut c_void,
+    (cb, user_data): (BranchCallback, *mut c_void),
+    start_phi: Option<f64>,
     f: impl FnOnce(&mut dyn FnMut(&Record) -> bool) -> Result<T>,
 ) -> Result<T> {
     let mut points = 0i64;
+    let mut phi = start_phi;
     let mut forward = |r: &Record| -> bool {
         points += 1;
         match cb {
             Some(cb) => {
                 // The branch's records carry the state as their outputs.
-                let tip_rotation =
-                    if r.outputs.len() >= model.unknowns() { model.tip_rotation(&r.outputs) } else { f64::NAN };
+                let state = (r.outputs.len() >= model.unknowns()).then_some(&r.outputs[..]);
+                let tip_rotation = state.map_or(f64::NAN, |x| model.tip_rotation(x));
+                // The end rotation, followed by continuity as the records'
+                // (a step turns the end by less than 2π).
+                let turns = match state.and_then(|x| model.end_rotation(x, r.lambda)) {
+                    Some(raw) => {
+                        let now = phi.map_or(raw, |p| unwrap_rotation(p, raw));
+                        phi = Some(now);
+                        now / (2.0 * std::f64::consts::PI)
+                    }
+                    None => f64::NAN,
+                };
                 let nan = f64::NAN;
                 let p = BranchProgress {
                     points,
@@ -81,7 +97,7 @@ unsafe fn with_progress<T>(
                     residual: r.residual,
                     tip_rotation,
                     branch: -1,
-                    turns: nan,
+                    turns,
                     extension: nan,
                     torque: nan,
                 };
@@ -174,7 +190,7 @@ pub unsafe extern "C" fn rodkit_rod_continue(
             check_len("n", n, rod.model.unknowns() as i64)?;
             Some(in_slice("x0", x0, n)?)
         };
-        let b = with_progress(&rod.model, progress, user_data, |cb| {
+        let b = with_progress(&rod.model, (progress, user_data), None, |cb| {
             rod.model.continue_branch(x0, lambda0, increasing, &opts, method, cb)
         })?;
         store_branch(rod, b, None, out)
@@ -198,10 +214,10 @@ pub unsafe extern "C" fn rodkit_branch_resume(
         arg_mut("out", out)?;
         let from = same_rod(rod, arg_ref("branch", branch)?)?;
         let (opts, method, _) = options_of(rod, options)?;
-        let b = with_progress(&rod.model, progress, user_data, |cb| {
+        let previous = from.records.last().map(|r| r.end_rotation);
+        let b = with_progress(&rod.model, (progress, user_data), previous, |cb| {
             rod.model.resume_branch(&from.branch, &opts, method, cb)
         })?;
-        let previous = from.records.last().map(|r| r.end_rotation);
         store_branch(rod, b, previous, out)
     })
 }
@@ -233,11 +249,11 @@ pub unsafe extern "C" fn rodkit_branch_switch(
         error::count_in_range("direction", direction, 0, i64::MAX)?;
         error::finite("first_step", first_step)?;
         let (opts, method, _) = options_of(rod, options)?;
-        let b = with_progress(&rod.model, progress, user_data, |cb| {
-            rod.model.switch_branch(&from.branch, index as usize, direction as usize, first_step, &opts, method, cb)
-        })?;
         let phi: Vec<f64> = from.records.iter().map(|r| r.end_rotation).collect();
         let previous = from.branch.rotation_at_bifurcation(&rod.model, index as usize, &phi);
+        let b = with_progress(&rod.model, (progress, user_data), previous, |cb| {
+            rod.model.switch_branch(&from.branch, index as usize, direction as usize, first_step, &opts, method, cb)
+        })?;
         store_branch(rod, b, previous, out)
     })
 }

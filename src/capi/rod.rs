@@ -10,7 +10,7 @@ use super::rod_spec::{model_from, RodSpec};
 use super::{guard, guard_value};
 use crate::continuation::system::AssembledSystem;
 use crate::continuation::Problem;
-use crate::error::{self, Result};
+use crate::error::{self, Error, Result};
 use crate::rod::model::Rod as Model;
 use crate::status::Status;
 use nalgebra::Matrix6;
@@ -119,6 +119,54 @@ pub unsafe extern "C" fn rodkit_rod_straight_state(rod: *const Rod, x: *mut f64,
         let state = rod.model.straight_state();
         error::finite_result("straight state", &state)?;
         x.copy_from_slice(&state);
+        Ok(Status::Ok)
+    })
+}
+
+/// Node `node` (0 at s = 0 … the rod's elements at the tip) of the state
+/// x (length n: rodkit_rod_unknowns, or one more on a branch followed with
+/// a phase condition, μ last): its position r (3), quaternion q = (q0,
+/// q1, q2, q3), scalar first, d_k = R(q) e_k (4), and the internal force
+/// and moment in the spatial frame, R(q) n and R(q) m (3 each). Any output
+/// may be NULL (not wanted). The state layout itself: for each node i,
+/// its 13 values (r, q, n and m in the body frame) and then those of its
+/// element's stage points (none after the last node); end-control
+/// unknowns last — read it through this accessor rather than by offsets.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_rod_node_state(
+    rod: *const Rod,
+    x: *const f64,
+    n: i64,
+    node: i64,
+    position: *mut f64,
+    quaternion: *mut f64,
+    force: *mut f64,
+    moment: *mut f64,
+) -> i32 {
+    guard(|| {
+        let rod = arg_ref("rod", rod)?;
+        let m = &rod.model;
+        let unknowns = m.unknowns() as i64;
+        if n != unknowns && n != unknowns + 1 {
+            return Err(Error::new(
+                Status::ErrInvalidDimension,
+                format!("argument `n` must be {unknowns} (or {} with μ last; got {n})", unknowns + 1),
+            ));
+        }
+        error::count_in_range("node", node, 0, m.elements as i64)?;
+        let x = in_slice("x", x, n)?;
+        let y = m.node_state(x, node as usize);
+        let (f, mm) = m.spatial_force_moment(x, node as usize);
+        for (name, p, v) in [
+            ("position", position, &y[0..3]),
+            ("quaternion", quaternion, &y[3..7]),
+            ("force", force, &f[..]),
+            ("moment", moment, &mm[..]),
+        ] {
+            if !p.is_null() {
+                out_slice(name, p, v.len() as i64)?.copy_from_slice(v);
+            }
+        }
         Ok(Status::Ok)
     })
 }

@@ -677,10 +677,12 @@ typedef struct RodkitContinuationOptions {
   // Residual tolerance of every returned point, relative to the
   // equations' scales (default 1e-10).
   double residual_tol;
-  // Arc-length steps: first (Newton), minimum, maximum (defaults 0.05,
-  // 1e-10, 1).
+  // Arc-length steps: first (Newton), minimum (defaults 0.05, 1e-10).
   double initial_step;
   double min_step;
+  // The largest arc-length step; 0 (the default): the engine's own —
+  // 1 for Newton continuation, none for the ANM, whose step is its
+  // series' radius (or its Padé approximants' reach).
   double max_step;
   // 1: detect and locate bifurcations (default 0), to bifurcation_tol in
   // arc length (default 1e-10).

@@ -123,6 +123,48 @@ fn ten_thousand_elements() {
     assert!(e < 1e-8 && e.is_finite(), "{e:e}");
 }
 
+/// The engines' default step bounds (issue 19): the ANM's step is its
+/// series' radius, not capped — the follower cantilever (Gauss(4) × 16,
+/// α 0 → 100, P = 20, ε = 1e-10) takes ≤ 25 steps by default, some
+/// longer than 5, against 118 under the old cap of 1, and ends at the same
+/// tip (within 1e-9: both converged to residual 1e-10 on one
+/// discretisation); Newton continuation keeps its bound of 1
+/// (`NEWTON_MAX_STEP`) when `max_step` is left at ∞: the same records,
+/// bitwise, as with max_step = 1.
+#[test]
+fn the_anm_steps_as_far_as_its_series_by_default() {
+    let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap();
+    let loads = Loads { tip_force: Some(Load::follower([1.0, 0.0, 0.0])), ..Default::default() };
+    let rod = Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), 16).unwrap();
+    let anm = AnmOptions { order: 20, epsilon: 1e-10, pade: false };
+    let run = |opts: &Options, newton: bool| {
+        let mut sys = rod.system().unwrap();
+        let start = Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true };
+        let b = if newton {
+            continue_newton(&mut sys, start, opts, |_, _| vec![], |_| true).unwrap()
+        } else {
+            continue_anm(&mut sys, start, opts, &anm, |_, _| vec![], |_| true).unwrap()
+        };
+        assert_eq!(b.stop, Stop::Target);
+        b
+    };
+    let defaults = Options { target_lambda: Some(100.0), residual_tol: 1e-10, max_steps: 3000, ..Default::default() };
+    assert!(defaults.max_step.is_infinite());
+    let free = run(&defaults, false);
+    let capped = run(&Options { max_step: 1.0, ..defaults.clone() }, false);
+    let steps = |b: &Branch| b.records.len() - 1;
+    let longest = |b: &Branch| b.records.iter().map(|r| r.step).fold(0.0, f64::max);
+    println!("ANM: {} steps (longest {:.2}) by default, {} capped at 1", steps(&free), longest(&free), steps(&capped));
+    assert!(steps(&free) <= 25 && longest(&free) > 5.0, "{} steps, longest {}", steps(&free), longest(&free));
+    assert!(steps(&capped) >= 100, "{} steps capped", steps(&capped));
+    let (a, b) = (rod.tip(&free.resume.x), rod.tip(&capped.resume.x));
+    assert!(dist(a, b) < 1e-9, "tips {a:?} vs {b:?}");
+    // Newton: the default is its bound of 1, bitwise.
+    let newton = run(&defaults, true);
+    let newton_one = run(&Options { max_step: 1.0, ..defaults.clone() }, true);
+    assert_eq!(newton.records, newton_one.records);
+}
+
 /// Follower load to α = 100 (the tip force perpendicular to the tip
 /// tangent; the rod curls round on itself): ANM and Newton
 /// agree with each other and with the converged finer discretisation

@@ -43,10 +43,12 @@ pub struct ContinuationOptions {
     /// Residual tolerance of every returned point, relative to the
     /// equations' scales (default 1e-10).
     pub residual_tol: f64,
-    /// Arc-length steps: first (Newton), minimum, maximum (defaults 0.05,
-    /// 1e-10, 1).
+    /// Arc-length steps: first (Newton), minimum (defaults 0.05, 1e-10).
     pub initial_step: f64,
     pub min_step: f64,
+    /// The largest arc-length step; 0 (the default): the engine's own —
+    /// 1 for Newton continuation, none for the ANM, whose step is its
+    /// series' radius (or its Padé approximants' reach).
     pub max_step: f64,
     /// 1: detect and locate bifurcations (default 0), to bifurcation_tol in
     /// arc length (default 1e-10).
@@ -163,7 +165,8 @@ pub(super) unsafe fn options_from(o: &ContinuationOptions, unknowns: usize) -> R
         residual_tol: o.residual_tol,
         initial_step: o.initial_step,
         min_step: o.min_step,
-        max_step: o.max_step,
+        // 0: the engine's own bound (∞ in Options); negative or NaN refused there.
+        max_step: if o.max_step == 0.0 { f64::INFINITY } else { o.max_step },
         track_singular: false,
         detect_bifurcations: flag("detect_bifurcations", o.detect_bifurcations)?,
         bifurcation_tol: o.bifurcation_tol,
@@ -190,7 +193,7 @@ pub unsafe extern "C" fn rodkit_continuation_options_default(options: *mut Conti
             residual_tol: d.residual_tol,
             initial_step: d.initial_step,
             min_step: d.min_step,
-            max_step: d.max_step,
+            max_step: 0.0,
             detect_bifurcations: 0,
             bifurcation_tol: d.bifurcation_tol,
             increasing: 1,

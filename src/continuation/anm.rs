@@ -52,7 +52,8 @@ impl Default for AnmOptions {
     }
 }
 
-/// Continue a branch by the ANM. `opts.max_step` caps a_max;
+/// Continue a branch by the ANM. `opts.max_step` caps a_max (∞, the
+/// default: the series' radius alone);
 /// `opts.min_step` is the smallest a_max accepted before stopping with
 /// StepTooSmall. Records and stops as for [`super::newton::continue_newton`].
 pub fn continue_anm<P: SeriesProblem + ?Sized>(
@@ -376,7 +377,7 @@ fn end_point<P: SeriesProblem + ?Sized>(
 /// with the secant as the next border.
 fn leave_singular<P: SeriesProblem + ?Sized>(run: &mut Run, problem: &mut P, r: &Resume) -> Result<Begin> {
     let opts = run.opts;
-    let mut ds = resume_step(r.step, opts);
+    let mut ds = resume_step(r.step, opts, opts.max_step);
     loop {
         let mut x: Vec<f64> = r.x.iter().zip(&r.tangent_x).map(|(a, t)| a + ds * t).collect();
         let mut l = r.lambda + ds * r.tangent_lambda;

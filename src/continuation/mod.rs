@@ -213,9 +213,12 @@ pub struct Options {
     pub max_steps: usize,
     /// Residual tolerance of every returned point (scaled max norm).
     pub residual_tol: f64,
-    /// Newton: first, minimal and maximal arc-length steps.
+    /// Newton: first and minimal arc-length steps.
     pub initial_step: f64,
     pub min_step: f64,
+    /// The largest arc-length step; ∞ (the default): the engine's own —
+    /// [`NEWTON_MAX_STEP`] for Newton continuation, none for the ANM, whose
+    /// step is its series' radius (or its Padé approximants' reach).
     pub max_step: f64,
     /// Estimate the smallest singular value of the bordered tangent at each
     /// point (a few extra solves).
@@ -293,6 +296,25 @@ pub struct Options {
 /// a solve; a fresh factorisation only when the contraction is poor).
 pub const CHORD_AIM: f64 = 6.0;
 
+/// Newton continuation's largest arc-length step when [`Options::max_step`]
+/// is left at ∞: its step grows by up to 2× a step where the corrector
+/// converges fast, and without a bound it outruns its predictor on long
+/// nearly straight stretches (the ANM needs none: its series says how far
+/// it holds).
+pub const NEWTON_MAX_STEP: f64 = 1.0;
+
+impl Options {
+    /// Newton continuation's step bound: `max_step`, or
+    /// [`NEWTON_MAX_STEP`] when that is left at ∞.
+    pub fn newton_max_step(&self) -> f64 {
+        if self.max_step.is_finite() {
+            self.max_step
+        } else {
+            NEWTON_MAX_STEP
+        }
+    }
+}
+
 impl Default for Options {
     fn default() -> Self {
         Options {
@@ -302,7 +324,7 @@ impl Default for Options {
             residual_tol: 1e-10,
             initial_step: 0.05,
             min_step: 1e-10,
-            max_step: 1.0,
+            max_step: f64::INFINITY,
             track_singular: false,
             detect_bifurcations: false,
             bifurcation_tol: 1e-10,

@@ -159,7 +159,7 @@ pub fn continue_newton_hinted<P: Problem + ?Sized>(
         // Aim at `corrector_aim` corrector iterations (Newton), CHORD_AIM (chord).
         let aim = if opts.chord { CHORD_AIM } else { opts.corrector_aim };
         let factor = (aim / iterations.max(1) as f64).sqrt().clamp(0.5, 2.0);
-        ds = (ds * factor).clamp(opts.min_step, opts.max_step);
+        ds = (ds * factor).clamp(opts.min_step, opts.newton_max_step());
         if let Some(stop) = stop {
             tell_waiting(&mut overlap, &mut run, &mut progress);
             return Ok(run.finish(stop, at, ds, previous));
@@ -253,7 +253,7 @@ fn begin<P: Problem + ?Sized>(
         }
         Start::Resume(r) => {
             let regular = run.factorise_resume(problem, &r)?;
-            let step = resume_step(r.step, opts);
+            let step = resume_step(r.step, opts, opts.newton_max_step());
             let (tx, tl) = if regular { run.ctx.tangent()? } else { (r.tangent_x, r.tangent_lambda) };
             let previous = r
                 .previous
@@ -263,7 +263,7 @@ fn begin<P: Problem + ?Sized>(
         }
         Start::Switch(r) => {
             validate_resume(&r, problem.dim())?;
-            let step = resume_step(r.step, opts);
+            let step = resume_step(r.step, opts, opts.newton_max_step());
             Ok((State { x: r.x, lambda: r.lambda, tx: r.tangent_x, tl: r.tangent_lambda }, step, 0, true, None))
         }
     }

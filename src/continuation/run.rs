@@ -104,11 +104,12 @@ pub(crate) fn validate_resume(r: &Resume, n: usize) -> Result<()> {
     Ok(())
 }
 
-/// The step a resume asks for, within the options' bounds (the initial
-/// step when it is not a positive finite number).
-pub(crate) fn resume_step(step: f64, opts: &Options) -> f64 {
+/// The step a resume asks for, within the options' bounds (`max`: the
+/// engine's largest step; the initial step when it is not a positive
+/// finite number).
+pub(crate) fn resume_step(step: f64, opts: &Options, max: f64) -> f64 {
     if step.is_finite() && step > 0.0 {
-        step.clamp(opts.min_step, opts.max_step)
+        step.clamp(opts.min_step, max)
     } else {
         opts.initial_step
     }
@@ -120,7 +121,13 @@ pub(crate) fn validate<P: Problem + ?Sized>(problem: &P, opts: &Options) -> Resu
     error::in_range("residual_tol", opts.residual_tol, 1e-15, 1.0)?;
     error::positive("initial_step", opts.initial_step)?;
     error::positive("min_step", opts.min_step)?;
-    error::positive("max_step", opts.max_step)?;
+    // max_step may be ∞ (the engine's own bound), not NaN or ≤ 0.
+    if !(opts.max_step > 0.0) {
+        return Err(Error::new(
+            Status::ErrNotPositive,
+            format!("argument `max_step` must be positive (got {:e})", opts.max_step),
+        ));
+    }
     // The corrector takes at most 12 iterations (20 chord).
     error::in_range("corrector_aim", opts.corrector_aim, 1.0, 12.0)?;
     if !(opts.min_step <= opts.initial_step && opts.initial_step <= opts.max_step) {

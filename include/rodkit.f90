@@ -455,6 +455,16 @@ module rodkit
         real(c_double) :: tip_z
     end type rodkit_bifurcation
 
+    ! RodkitRecordError (see rodkit.h).
+    type, bind(c) :: rodkit_record_error
+        integer(c_int32_t) :: estimated
+        real(c_double) :: tip_position
+        real(c_double) :: tip_rotation
+        real(c_double) :: base_force
+        real(c_double) :: base_moment
+        real(c_double) :: scaled
+    end type rodkit_record_error
+
     ! RodkitBifurcationPoint (see rodkit.h).
     type, bind(c) :: rodkit_bifurcation_point
         real(c_double) :: lambda
@@ -978,6 +988,31 @@ module rodkit
             integer(c_int64_t), value :: n
             integer(c_int32_t) :: status
         end function rodkit_rod_straight_state
+
+        function rodkit_rod_continue_to_tolerance(rod, tolerance, lambda0, options, progress, user_data, &
+                rod_out, out) result(status) bind(c, name="rodkit_rod_continue_to_tolerance")
+            import :: c_double, c_funptr, c_int32_t, c_ptr, rodkit_continuation_options
+            type(c_ptr), value :: rod
+            real(c_double), value :: tolerance
+            real(c_double), value :: lambda0
+            type(rodkit_continuation_options), intent(in) :: options
+            type(c_funptr), value :: progress
+            type(c_ptr), value :: user_data
+            type(c_ptr), intent(out) :: rod_out
+            type(c_ptr), intent(out) :: out
+            integer(c_int32_t) :: status
+        end function rodkit_rod_continue_to_tolerance
+
+        function rodkit_branch_error_estimates(branch, rod, out, capacity, count) result(status) &
+                bind(c, name="rodkit_branch_error_estimates")
+            import :: c_int32_t, c_int64_t, c_ptr, rodkit_record_error
+            type(c_ptr), value :: branch
+            type(c_ptr), value :: rod
+            type(rodkit_record_error), intent(inout) :: out(*)
+            integer(c_int64_t), value :: capacity
+            integer(c_int64_t), intent(out) :: count
+            integer(c_int32_t) :: status
+        end function rodkit_branch_error_estimates
 
         function rodkit_rod_continue(rod, x0, n, lambda0, options, progress, user_data, out) result(status) &
                 bind(c, name="rodkit_rod_continue")

@@ -739,6 +739,26 @@ typedef struct RodkitBranchProgress {
 // rodkit functions on other handles.
 typedef int32_t (*RodkitBranchCallback)(const struct RodkitBranchProgress *progress, void *user_data);
 
+// A record's estimated discretisation error (rodkit_branch_error_estimates):
+// the difference from the same point re-solved on half the elements,
+// which bounds the record's own error wherever halving the mesh at least
+// doubles it (the scheme's order is 2s on Gauss(s)).
+typedef struct RodkitRecordError {
+  // 1 if estimated; 0 where the re-solve on half the elements failed (a
+  // fold in Λ, a singular point, too coarse a mesh): the fields are then 0.
+  int32_t estimated;
+  // |Δr(L)| (length), the angle between the tip frames (rad), |ΔF(0)|,
+  // |ΔM(0)| (the spatial internal force and moment at s = 0).
+  double tip_position;
+  double tip_rotation;
+  double base_force;
+  double base_moment;
+  // The largest of the four, each relative to the larger of its
+  // magnitude and its scale (L, 1 rad, K_b/L², K_b/L): what a tolerance
+  // is compared with.
+  double scaled;
+} RodkitRecordError;
+
 // Summary of a branch.
 typedef struct RodkitBranchInfo {
   int64_t records;
@@ -1437,6 +1457,39 @@ int32_t rodkit_rod_jacobian(struct RodkitRod *rod,
 // y = (r, q, n_b, m_b) (13 entries each), without distributed loads'
 // dependence on s: for IDA-based shooting (IDAResFn: F = y' − f(y)).
 int32_t rodkit_rod_rhs(const struct RodkitRod *rod, const double *y, double lambda, double *dy);
+
+// Follow the branch from the straight state at `lambda0` (as
+// rodkit_rod_continue with x0 NULL) with the elements chosen by rodkit so
+// that every record's scaled error estimate is ≤ `tolerance` (1e-12 …
+// 0.1): `rod`'s law, loads, supports and scheme, its element count as the
+// first try, refined uniformly (at most 1024 elements:
+// RODKIT_STATUS_ERR_TOLERANCE_UNREACHABLE beyond, with what was reached).
+// `*rod_out` receives the refined rod (free it with rodkit_rod_free; its
+// element count is the one chosen), `*out` the branch, of `*rod_out`;
+// rodkit_branch_error_estimates gives each record's estimate. `progress`
+// is told every refinement's points. The estimates are honest but not
+// sharp: in the scheme's asymptotic range they exceed the true error by
+// up to 2^(2s) (256 on Gauss(4)).
+int32_t rodkit_rod_continue_to_tolerance(const struct RodkitRod *rod,
+                                         double tolerance,
+                                         double lambda0,
+                                         const struct RodkitContinuationOptions *options,
+                                         RodkitBranchCallback progress,
+                                         void *user_data,
+                                         struct RodkitRod **rod_out,
+                                         struct RodkitBranch **out);
+
+// Copy up to `capacity` records' error estimates (one per record, in
+// record order); `count` receives the number of records. For a branch
+// from rodkit_rod_continue_to_tolerance they are the ones it met the
+// tolerance with; for any other branch they are computed here (one
+// re-solve per record on half the elements: the rod needs an even
+// element count, else RODKIT_STATUS_ERR_OUT_OF_RANGE).
+int32_t rodkit_branch_error_estimates(const struct RodkitBranch *branch,
+                                      const struct RodkitRod *rod,
+                                      struct RodkitRecordError *out,
+                                      int64_t capacity,
+                                      int64_t *count);
 
 // Follow a branch from the state `x0` (length n; NULL: the straight
 // state) at `lambda0`. Returns 0 when the target was reached, a positive

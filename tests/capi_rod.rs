@@ -3,6 +3,7 @@
 //! finite differences, continuation statuses (target, cancel, step limit),
 //! truncating copies.
 
+use rodkit::capi::accuracy::*;
 use rodkit::capi::branch::*;
 use rodkit::capi::branch_record::*;
 use rodkit::capi::continuation::*;
@@ -723,4 +724,90 @@ fn a_charge_whose_square_underflows_is_refused_by_name() {
     assert_eq!(st, Status::ErrOutOfRange.code(), "{}", last_error());
     assert!(last_error().contains("`spec.charge_per_length` out of range"), "{}", last_error());
     assert!(run.is_null());
+}
+
+/// A branch to a requested accuracy through the C ABI (issue 19): the
+/// follower cantilever of `spec` (K_b = 1, GA 1e4, EA 2.6e4, tip force Λ
+/// d1), α 0 → 20, tolerance 1e-6 from 4 elements. The rod returned has
+/// the element count rodkit chose; every record carries an estimate ≤ the
+/// tolerance; the last tip agrees with a 64-element branch (reference:
+/// Gauss(4) × 64, its own error ~(64/N)⁻⁸ smaller) within the tolerance,
+/// and within its estimate. Estimates of an ordinary branch are computed
+/// on request (an odd element count is refused by name).
+#[test]
+fn a_branch_to_a_tolerance_through_the_c_abi() {
+    let mut s = spec();
+    (s.tip_moment_frame, s.tip_moment_x) = (LoadFrame::None as i32, 0.0);
+    (s.tip_force_frame, s.tip_force_x) = (LoadFrame::Follower as i32, 1.0);
+    s.elements = 4;
+    let rod = new_rod(&s).unwrap();
+    let mut o = options();
+    o.target_lambda = 20.0;
+    o.residual_tol = 1e-12;
+    let (mut fine_rod, mut b) = (ptr::null_mut(), ptr::null_mut());
+    let st =
+        unsafe { rodkit_rod_continue_to_tolerance(rod, 1e-6, 0.0, &o, None, ptr::null_mut(), &mut fine_rod, &mut b) };
+    assert_eq!(st, 0, "{}", last_error());
+    let mut n = 0;
+    unsafe { rodkit_rod_unknowns(fine_rod, &mut n) };
+    let elements = (n / 13 - 1) / 5; // Gauss(4) of `spec`: 13 (1 + 4) per element + the tip node
+    let mut info = BranchInfo::default();
+    unsafe { rodkit_branch_summary(b, &mut info) };
+    let mut est = vec![RecordError::default(); info.records as usize];
+    let mut count = 0;
+    assert_eq!(unsafe { rodkit_branch_error_estimates(b, fine_rod, est.as_mut_ptr(), info.records, &mut count) }, 0);
+    assert_eq!(count, info.records);
+    assert!(est.iter().all(|e| e.estimated == 1 && e.scaled <= 1e-6), "{est:?}");
+    let mut recs = vec![BranchRecord::default(); info.records as usize];
+    unsafe { rodkit_branch_records(b, recs.as_mut_ptr(), info.records, &mut count) };
+    let last = recs.last().unwrap();
+    // The reference: 64 elements, the same options.
+    s.elements = 64;
+    let reference_rod = new_rod(&s).unwrap();
+    let mut rb = ptr::null_mut();
+    assert_eq!(
+        unsafe { rodkit_rod_continue(reference_rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut rb) },
+        0
+    );
+    let mut rinfo = BranchInfo::default();
+    unsafe { rodkit_branch_summary(rb, &mut rinfo) };
+    let mut rrecs = vec![BranchRecord::default(); rinfo.records as usize];
+    unsafe { rodkit_branch_records(rb, rrecs.as_mut_ptr(), rinfo.records, &mut count) };
+    let r = rrecs.last().unwrap();
+    let err = ((last.tip_x - r.tip_x).powi(2) + (last.tip_y - r.tip_y).powi(2) + (last.tip_z - r.tip_z).powi(2)).sqrt();
+    let bound = est.last().unwrap().tip_position;
+    println!("to 1e-6: {elements} elements ({n} unknowns), tip error {err:e}, estimate {bound:e}");
+    assert!(err <= 1e-6 && err <= bound, "tip error {err:e}, estimate {bound:e}");
+    // On request: the 64-element branch's estimates (32 elements as the
+    // coarse mesh), far below the tolerance's.
+    let mut rest = vec![RecordError::default(); rinfo.records as usize];
+    assert_eq!(
+        unsafe { rodkit_branch_error_estimates(rb, reference_rod, rest.as_mut_ptr(), rinfo.records, &mut count) },
+        0
+    );
+    assert!(rest.iter().all(|e| e.estimated == 1 && e.scaled < 1e-8), "{rest:?}");
+    // Refusals: a tolerance out of range, no rod_out, an odd element count.
+    let (mut r2, mut b2) = (ptr::null_mut(), ptr::null_mut());
+    let st = unsafe { rodkit_rod_continue_to_tolerance(rod, 0.0, 0.0, &o, None, ptr::null_mut(), &mut r2, &mut b2) };
+    assert_eq!(st, Status::ErrOutOfRange.code(), "{}", last_error());
+    assert!(last_error().contains("tolerance"), "{}", last_error());
+    assert!(r2.is_null() && b2.is_null());
+    let st = unsafe {
+        rodkit_rod_continue_to_tolerance(rod, 1e-6, 0.0, &o, None, ptr::null_mut(), ptr::null_mut(), &mut b2)
+    };
+    assert_eq!(st, Status::ErrNullPointer.code());
+    s.elements = 5;
+    let odd = new_rod(&s).unwrap();
+    o.target_lambda = 1.0;
+    let mut ob = ptr::null_mut();
+    assert_eq!(unsafe { rodkit_rod_continue(odd, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut ob) }, 0);
+    let st = unsafe { rodkit_branch_error_estimates(ob, odd, est.as_mut_ptr(), 1, &mut count) };
+    assert_eq!(st, Status::ErrOutOfRange.code());
+    assert!(last_error().contains("even number of elements"), "{}", last_error());
+    for h in [b, rb, ob] {
+        unsafe { rodkit_branch_free(h) };
+    }
+    for r in [rod, fine_rod, reference_rod, odd] {
+        unsafe { rodkit_rod_free(r) };
+    }
 }

@@ -53,19 +53,23 @@ pub type BranchCallback = Option<unsafe extern "C" fn(progress: *const BranchPro
 
 /// Opaque branch handle (immutable once returned).
 pub struct Branch {
-    branch: RodBranch,
-    records: Vec<BranchRecord>,
+    pub(super) branch: RodBranch,
+    pub(super) records: Vec<BranchRecord>,
     samples: Vec<BranchRecord>,
     state_length: usize,
     /// The rod it was computed with: a branch handed back with another rod
     /// is refused (its states would be misread).
     model: Model,
+    /// Each record's error estimate, when the branch was refined to a
+    /// tolerance (rodkit_rod_continue_to_tolerance); else computed on
+    /// request.
+    pub(super) estimates: Option<Vec<Option<crate::rod::accuracy::RecordError>>>,
 }
 
 /// Run `f` with a Rust progress closure forwarding to the C callback.
 /// `start_phi`: the continuous end rotation of the point a resumed or
 /// switched branch leaves (its `turns` continue from there).
-unsafe fn with_progress<T>(
+pub(super) unsafe fn with_progress<T>(
     model: &Model,
     (cb, user_data): (BranchCallback, *mut c_void),
     start_phi: Option<f64>,
@@ -110,14 +114,14 @@ unsafe fn with_progress<T>(
 }
 
 /// The branch for C (`previous` as for [`record_lists`]).
-fn wrap(model: &Model, branch: RodBranch, previous: Option<f64>) -> Branch {
+pub(super) fn wrap(model: &Model, branch: RodBranch, previous: Option<f64>) -> Branch {
     let (records, samples) = record_lists(model, &branch, previous);
     let state_length = model.unknowns() + branch.phase.is_some() as usize;
-    Branch { branch, records, samples, state_length, model: model.clone() }
+    Branch { branch, records, samples, state_length, model: model.clone(), estimates: None }
 }
 
 /// The branch, checked to belong to `rod`.
-fn same_rod<'a>(rod: &Rod, branch: &'a Branch) -> Result<&'a Branch> {
+pub(super) fn same_rod<'a>(rod: &Rod, branch: &'a Branch) -> Result<&'a Branch> {
     if branch.model != rod.model {
         return Err(Error::new(Status::ErrOutOfRange, "argument `branch` was computed with another rod than `rod`"));
     }
@@ -128,7 +132,7 @@ fn same_rod<'a>(rod: &Rod, branch: &'a Branch) -> Result<&'a Branch> {
 ///
 /// # Safety
 /// `options` must be NULL or valid, its arrays as documented on its fields.
-unsafe fn options_of(rod: &Rod, options: *const ContinuationOptions) -> Result<(Options, Method, bool)> {
+pub(super) unsafe fn options_of(rod: &Rod, options: *const ContinuationOptions) -> Result<(Options, Method, bool)> {
     options_from(arg_ref("options", options)?, rod.model.unknowns()).map_err(|e| qualify_argument(e, "options."))
 }
 

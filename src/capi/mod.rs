@@ -31,6 +31,7 @@ pub mod rod_spec;
 pub mod continuation;
 pub mod rod;
 
+pub mod accuracy;
 pub mod branch;
 pub mod branch_record;
 pub mod supercoil;

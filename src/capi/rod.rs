@@ -33,7 +33,7 @@ pub struct Rod {
 ///
 /// # Safety
 /// `out` must be NULL or writable.
-unsafe fn store_rod(model: Model, out: *mut *mut Rod) -> Result<Status> {
+pub(super) unsafe fn store_rod(model: Model, out: *mut *mut Rod) -> Result<Status> {
     let slot = arg_mut("out", out)?;
     *slot = std::ptr::null_mut();
     let system = model.system()?;

@@ -5,6 +5,7 @@
 //! each dead or follower), supports, and the discretised rod ([`model::Rod`])
 //! as a cubic system for the continuation engines.
 
+pub mod accuracy;
 pub mod branch;
 pub mod kinematics;
 pub mod model;

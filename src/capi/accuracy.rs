@@ -1,0 +1,121 @@
+//! Rod branches to a requested accuracy through the C ABI (issue 19): the
+//! library chooses the elements and reports each record's error estimate
+//! (see [`crate::rod::accuracy`]).
+
+use super::args::{arg_mut, arg_ref, clear_handle, copy_out};
+use super::branch::{options_of, same_rod, with_progress, wrap, Branch, BranchCallback};
+use super::guard;
+use super::rod::{store_rod, Rod};
+use crate::error;
+use crate::rod::accuracy::{estimate_errors, refine_until, RecordError as Estimate};
+use std::ffi::c_void;
+
+/// A record's estimated discretisation error (rodkit_branch_error_estimates):
+/// the difference from the same point re-solved on half the elements,
+/// which bounds the record's own error wherever halving the mesh at least
+/// doubles it (the scheme's order is 2s on Gauss(s)).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RecordError {
+    /// 1 if estimated; 0 where the re-solve on half the elements failed (a
+    /// fold in Λ, a singular point, too coarse a mesh): the fields are then 0.
+    pub estimated: i32,
+    /// |Δr(L)| (length), the angle between the tip frames (rad), |ΔF(0)|,
+    /// |ΔM(0)| (the spatial internal force and moment at s = 0).
+    pub tip_position: f64,
+    pub tip_rotation: f64,
+    pub base_force: f64,
+    pub base_moment: f64,
+    /// The largest of the four, each relative to the larger of its
+    /// magnitude and its scale (L, 1 rad, K_b/L², K_b/L): what a tolerance
+    /// is compared with.
+    pub scaled: f64,
+}
+
+/// Follow the branch from the straight state at `lambda0` (as
+/// rodkit_rod_continue with x0 NULL) with the elements chosen by rodkit so
+/// that every record's scaled error estimate is ≤ `tolerance` (1e-12 …
+/// 0.1): `rod`'s law, loads, supports and scheme, its element count as the
+/// first try, refined uniformly (at most 1024 elements:
+/// RODKIT_STATUS_ERR_TOLERANCE_UNREACHABLE beyond, with what was reached).
+/// `*rod_out` receives the refined rod (free it with rodkit_rod_free; its
+/// element count is the one chosen), `*out` the branch, of `*rod_out`;
+/// rodkit_branch_error_estimates gives each record's estimate. `progress`
+/// is told every refinement's points. The estimates are honest but not
+/// sharp: in the scheme's asymptotic range they exceed the true error by
+/// up to 2^(2s) (256 on Gauss(4)).
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_rod_continue_to_tolerance(
+    rod: *const Rod,
+    tolerance: f64,
+    lambda0: f64,
+    options: *const super::continuation::ContinuationOptions,
+    progress: BranchCallback,
+    user_data: *mut c_void,
+    rod_out: *mut *mut Rod,
+    out: *mut *mut Branch,
+) -> i32 {
+    guard(|| {
+        clear_handle(out);
+        clear_handle(rod_out);
+        let rod = arg_ref("rod", rod)?;
+        arg_mut("rod_out", rod_out)?;
+        arg_mut("out", out)?;
+        error::finite("tolerance", tolerance)?;
+        error::finite("lambda0", lambda0)?;
+        let (opts, method, increasing) = options_of(rod, options)?;
+        let acc = with_progress(&rod.model, (progress, user_data), None, |cb| {
+            refine_until(&rod.model, tolerance, opts.residual_tol, |r| {
+                r.continue_branch(None, lambda0, increasing, &opts, method, &mut *cb)
+            })
+        })?;
+        let status = super::branch_record::branch_status(&acc.branch);
+        let mut wrapped = wrap(&acc.rod, acc.branch, None);
+        wrapped.estimates = Some(acc.estimates);
+        store_rod(acc.rod, rod_out)?;
+        *out = Box::into_raw(Box::new(wrapped));
+        Ok(status)
+    })
+}
+
+/// Copy up to `capacity` records' error estimates (one per record, in
+/// record order); `count` receives the number of records. For a branch
+/// from rodkit_rod_continue_to_tolerance they are the ones it met the
+/// tolerance with; for any other branch they are computed here (one
+/// re-solve per record on half the elements: the rod needs an even
+/// element count, else RODKIT_STATUS_ERR_OUT_OF_RANGE).
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_branch_error_estimates(
+    branch: *const Branch,
+    rod: *const Rod,
+    out: *mut RecordError,
+    capacity: i64,
+    count: *mut i64,
+) -> i32 {
+    guard(|| {
+        let rod = arg_ref("rod", rod)?;
+        let b = same_rod(rod, arg_ref("branch", branch)?)?;
+        let computed;
+        let estimates = match &b.estimates {
+            Some(e) => e,
+            None => {
+                // The re-solves' tolerance: the options' default (the
+                // branch does not keep its own).
+                computed = estimate_errors(&rod.model, &b.branch, 1e-10)?;
+                &computed
+            }
+        };
+        let rows: Vec<(Option<Estimate>, &Vec<f64>)> = estimates.iter().copied().zip(&b.branch.states).collect();
+        copy_out("out", out, capacity, count, &rows, |&(e, x)| match e {
+            Some(e) => RecordError {
+                estimated: 1,
+                tip_position: e.tip_position,
+                tip_rotation: e.tip_rotation,
+                base_force: e.base_force,
+                base_moment: e.base_moment,
+                scaled: e.scaled(&rod.model, x),
+            },
+            None => RecordError::default(),
+        })
+    })
+}

@@ -437,7 +437,7 @@ impl<'o> Run<'o> {
                             second.record = place(&second);
                             self.bifurcations.push(bif);
                             self.bifurcations.push(second);
-                            self.bifurcations.sort_by(|p, q| p.record.cmp(&q.record));
+                            self.bifurcations.sort_by_key(|p| p.record);
                             return Ok(());
                         }
                         Ok(None) => self.unresolved.push(unresolved(

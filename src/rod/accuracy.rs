@@ -61,7 +61,7 @@ impl RecordError {
 /// The estimates of every record of `branch` (followed on `rod`, an even
 /// number of elements ≥ 2): None where the coarse re-solve failed.
 pub fn estimate_errors(rod: &Rod, branch: &RodBranch, residual_tol: f64) -> Result<Vec<Option<RecordError>>> {
-    if rod.elements < 2 || rod.elements % 2 != 0 {
+    if rod.elements < 2 || !rod.elements.is_multiple_of(2) {
         return Err(Error::new(
             Status::ErrOutOfRange,
             format!("error estimates need an even number of elements ≥ 2 (got {})", rod.elements),
@@ -159,7 +159,7 @@ pub fn refine_until(
 ) -> Result<Accurate> {
     error::in_range("tolerance", tolerance, 1e-12, 1e-1)?;
     let order = template.scheme.order() as f64;
-    let mut elements = (template.elements.max(4) + 1) / 2 * 2;
+    let mut elements = template.elements.max(4).div_ceil(2) * 2;
     let mut tried = vec![];
     loop {
         let rod = Rod { elements, ..template.clone() };
@@ -177,7 +177,7 @@ pub fn refine_until(
         // The estimate falls as N^−order: the count that meets the
         // tolerance, with a margin; an estimate missing (∞) doubles.
         let factor = if worst.is_finite() { (1.25 * (worst / tolerance).powf(1.0 / order)).max(1.5) } else { 2.0 };
-        let next = ((elements as f64 * factor).ceil() as usize + 1) / 2 * 2;
+        let next = ((elements as f64 * factor).ceil() as usize).div_ceil(2) * 2;
         if next > MAX_ELEMENTS {
             return Err(Error::new(
                 Status::ErrToleranceUnreachable,
@@ -275,7 +275,7 @@ mod tests {
     /// |a − b|), scaled and sign-flipped (the same frames).
     #[test]
     fn frame_angle_is_the_relative_rotation() {
-        for (a, b) in [(0.3f64, 0.3 + 1e-9), (0.0, 2.0), (1.0, -1.5)] {
+        for (a, b) in [(0.3f64, 0.3f64 + 1e-9), (0.0, 2.0), (1.0, -1.5)] {
             let p = [(0.5 * a).cos(), (0.5 * a).sin(), 0.0, 0.0];
             let q = [-2.0 * (0.5 * b).cos(), -2.0 * (0.5 * b).sin(), 0.0, 0.0];
             let got = frame_angle(&p, &q);

@@ -80,8 +80,8 @@ mod tests {
         let rod = Rod::new(law, 1.0, Loads::default(), Supports::Cantilever, Scheme::Gauss(2), 2).unwrap();
         let mut x = rod.straight_state();
         let tip = rod.node(rod.elements);
-        for eps in [5e-8, 1e-3, 2.0, 3.0] {
-            let (c, s) = ((0.5 * eps as f64).cos(), (0.5 * eps as f64).sin());
+        for eps in [5e-8f64, 1e-3, 2.0, 3.0] {
+            let (c, s) = ((0.5 * eps).cos(), (0.5 * eps).sin());
             x[tip + 3..tip + 7].copy_from_slice(&[3.0 * c, 3.0 * s, 0.0, 0.0]);
             let got = rod.tip_rotation(&x);
             assert!((got - eps).abs() <= 1e-15 * eps, "ε {eps}: {got}");

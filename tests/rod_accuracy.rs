@@ -194,3 +194,27 @@ fn euler_post_buckling_meets_the_tolerance_against_elliptic_integrals() {
         );
     }
 }
+
+/// A refinement stopped by its caller ends there (one try, the branch
+/// cancelled, its estimates kept); a residual tolerance looser than the
+/// tolerance asked for is refused by name.
+#[test]
+fn a_cancelled_refinement_stops_and_a_loose_residual_is_refused() {
+    use rodkit::continuation::Stop;
+    use rodkit::rod::accuracy::refine_until;
+    let template = cantilever(Load::dead([1.0, 0.0, 0.0]));
+    let opts = Options { target_lambda: Some(50.0), residual_tol: 1e-12, ..Default::default() };
+    let acc = refine_until(&template, 1e-10, 1e-12, |rod| {
+        let mut seen = 0;
+        rod.continue_branch(None, 0.0, true, &opts, Method::Newton, |_| {
+            seen += 1;
+            seen < 5
+        })
+    })
+    .unwrap();
+    assert_eq!((acc.branch.stop, acc.tried.len()), (Stop::Cancelled, 1));
+    assert_eq!(acc.estimates.len(), acc.branch.records.len());
+    let err = refine_until(&template, 1e-8, 1e-6, |_| unreachable!("refused before any work")).err().unwrap();
+    assert_eq!(err.status, rodkit::Status::ErrOutOfRange);
+    assert!(err.message.contains("residual_tol"), "{}", err.message);
+}

@@ -165,6 +165,32 @@ fn the_anm_steps_as_far_as_its_series_by_default() {
     assert_eq!(newton.records, newton_one.records);
 }
 
+/// Review findings on the unbounded default: (1) an exactly linear path
+/// (the straight cantilever under an axial dead load below buckling: the
+/// series' terms past the first vanish, its radius is ∞) is stepped by
+/// doubling, not at a = ∞ (which evaluated to NaN and stopped the branch
+/// at its first point); the straight state is exact there (r_z = s, n =
+/// −Λe3 at every node). (2) Newton with a first step above the default
+/// bound of 1 (min 2, first 3) takes that as its bound (it panicked in
+/// clamp).
+#[test]
+fn unbounded_defaults_on_a_linear_path_and_large_first_steps() {
+    let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap();
+    let loads = Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() };
+    let rod = Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(2), 4).unwrap();
+    let opts = Options { target_lambda: Some(2.0), residual_tol: 1e-12, ..Default::default() };
+    let b = rod.continue_branch(None, 0.0, true, &opts, Method::Anm(AnmOptions::default()), |_| true).unwrap();
+    assert_eq!(b.stop, Stop::Target, "{:?}", b.records.iter().map(|r| r.lambda).collect::<Vec<_>>());
+    assert!(b.records.windows(2).all(|w| w[1].lambda > w[0].lambda));
+    let last = b.states.last().unwrap();
+    // Axial shortening of the extensible rod: r_z(L) = L(1 − Λ/EA).
+    assert!((rod.tip(last)[2] - (1.0 - 2.0 / 2.6e4)).abs() < 1e-12, "{:?}", rod.tip(last));
+    let big = Options { min_step: 2.0, initial_step: 3.0, target_lambda: Some(2.0), ..opts.clone() };
+    assert_eq!(big.newton_max_step(), 3.0);
+    let b = rod.continue_branch(None, 0.0, true, &big, Method::Newton, |_| true).unwrap();
+    assert_eq!(b.stop, Stop::Target);
+}
+
 /// Follower load to α = 100 (the tip force perpendicular to the tip
 /// tangent; the rod curls round on itself): ANM and Newton
 /// agree with each other and with the converged finer discretisation

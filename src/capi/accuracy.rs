@@ -41,7 +41,10 @@ pub struct RecordError {
 /// `*rod_out` receives the refined rod (free it with rodkit_rod_free; its
 /// element count is the one chosen), `*out` the branch, of `*rod_out`;
 /// rodkit_branch_error_estimates gives each record's estimate. `progress`
-/// is told every refinement's points. The estimates are honest but not
+/// is told every refinement's points (counted from 1 for each); a stop it
+/// asks for ends the refinement there (RODKIT_STATUS_INFO_CANCELLED, the
+/// branch and estimates so far). `options.residual_tol` must not exceed
+/// `tolerance`. The estimates are honest but not
 /// sharp: in the scheme's asymptotic range they exceed the true error by
 /// up to 2^(2s) (256 on Gauss(4)).
 #[no_mangle]
@@ -64,9 +67,11 @@ pub unsafe extern "C" fn rodkit_rod_continue_to_tolerance(
         error::finite("tolerance", tolerance)?;
         error::finite("lambda0", lambda0)?;
         let (opts, method, increasing) = options_of(rod, options)?;
-        let acc = with_progress(&rod.model, (progress, user_data), None, |cb| {
-            refine_until(&rod.model, tolerance, opts.residual_tol, |r| {
-                r.continue_branch(None, lambda0, increasing, &opts, method, &mut *cb)
+        // Each refinement's points told afresh (its own point count and
+        // turns from its start); a stop asked for ends the refinement.
+        let acc = refine_until(&rod.model, tolerance, opts.residual_tol, |r| {
+            with_progress(r, (progress, user_data), None, |cb| {
+                r.continue_branch(None, lambda0, increasing, &opts, method, cb)
             })
         })?;
         let status = super::branch_record::branch_status(&acc.branch);

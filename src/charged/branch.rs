@@ -136,8 +136,7 @@ pub fn continue_with(
         None => (branch.resume.tangent_x.clone(), branch.resume.tangent_lambda),
     };
     let step = branch.records.get(k + 1).map_or(branch.resume.step, |r| r.step);
-    branch.records.truncate(k + 1);
-    branch.states.truncate(k + 1);
+    branch.truncate(k + 1);
     branch.contact = None;
     let start = Start::Resume(Resume { x, lambda, tangent_x, tangent_lambda, step, previous: None });
     let phase = branch.phase;
@@ -513,8 +512,7 @@ fn drop_last(segment: &mut RodBranch) -> bool {
     if segment.records.len() < 2 {
         return false;
     }
-    segment.records.pop();
-    segment.states.pop();
+    segment.truncate(segment.records.len() - 1);
     // A rejected step, not a step of the branch (steps = records − 1,
     // which the step limit and a resume count on).
     segment.counts.steps = segment.counts.steps.saturating_sub(1);

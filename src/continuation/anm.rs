@@ -103,7 +103,7 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             return Ok(run.finish(stop, here, last_a, None));
         }
         expansion.compute(&mut run, problem, &here);
-        let radius = expansion.radius(&run, anm);
+        let radius = expansion.radius(&run, anm, last_a);
         // The problem's own limit (a charged rod's pair list).
         let a = problem.series_reach(radius);
         if !(a >= opts.min_step) {
@@ -227,7 +227,7 @@ impl Expansion {
     /// vanishing odd or even terms would otherwise overshoot), capped at
     /// the maximal step. A non-finite term (a blown-up evaluation) gives a
     /// zero step.
-    fn radius(&self, run: &Run, anm: &AnmOptions) -> f64 {
+    fn radius(&self, run: &Run, anm: &AnmOptions, last_a: f64) -> f64 {
         let n = self.rhs.len();
         let p_max = self.series.len() - 1;
         let radius = |p: usize| {
@@ -241,7 +241,15 @@ impl Expansion {
             }
         };
         let a = if p_max > 2 { radius(p_max).min(radius(p_max - 1)) } else { radius(p_max) };
-        a.min(run.opts.max_step)
+        let a = a.min(run.opts.max_step);
+        // Last terms exactly zero (an exactly linear stretch, e.g. a
+        // straight rod's pre-buckling path) and no bound asked: the series
+        // holds anywhere, so the step doubles the last one.
+        if a.is_finite() {
+            a
+        } else {
+            (2.0 * last_a).max(run.opts.initial_step)
+        }
     }
 }
 

@@ -247,23 +247,26 @@ pub(crate) fn locate_beside<P: Problem + ?Sized>(
     let span = ctx.scaling.dot(&sub(&right.x, &left.x), right.lambda - left.lambda, &left.tx, left.tl);
     let delta = (1e-3 * span.abs()).max(10.0 * tols.1);
     let evidence = Evidence { det_sign_change: true, test_function_change: false };
+    let mut found = None;
     if tau - delta > 0.0 {
         let (before, sign) = signed_state(problem, ctx, left, tau - delta, tols.0)?;
         if sign * left_sign < 0.0 {
-            return locate(problem, ctx, left, &before, evidence, tols);
+            found = locate(problem, ctx, left, &before, evidence, tols)?;
         }
     }
-    if tau + delta < span {
+    if found.is_none() && tau + delta < span {
         let (after, sign) = signed_state(problem, ctx, left, tau + delta, tols.0)?;
         let right_sign = {
             let (_, s) = signed_state(problem, ctx, left, span, tols.0)?;
             s
         };
         if sign * right_sign < 0.0 {
-            return locate(problem, ctx, &after, right, evidence, tols);
+            found = locate(problem, ctx, &after, right, evidence, tols)?;
         }
     }
-    Ok(None)
+    // Not the first point again (a search that slid back to it).
+    let at = |b: &Bifurcation| ctx.scaling.dot(&sub(&b.x, &left.x), b.lambda - left.lambda, &left.tx, left.tl);
+    Ok(found.filter(|(b, _)| (at(b) - tau).abs() > 0.5 * delta))
 }
 
 /// The branch point at arc parameter `tau` along `from`'s tangent (on the

@@ -304,13 +304,14 @@ pub const CHORD_AIM: f64 = 6.0;
 pub const NEWTON_MAX_STEP: f64 = 1.0;
 
 impl Options {
-    /// Newton continuation's step bound: `max_step`, or
-    /// [`NEWTON_MAX_STEP`] when that is left at ∞.
+    /// Newton continuation's step bound: `max_step`, or when that is left
+    /// at ∞ [`NEWTON_MAX_STEP`] — raised to the first and minimal steps
+    /// asked for (a bound below them would contradict them).
     pub fn newton_max_step(&self) -> f64 {
         if self.max_step.is_finite() {
             self.max_step
         } else {
-            NEWTON_MAX_STEP
+            NEWTON_MAX_STEP.max(self.initial_step).max(self.min_step)
         }
     }
 }

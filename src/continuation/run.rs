@@ -435,9 +435,14 @@ impl<'o> Run<'o> {
                     match bifurcation::locate_beside(problem, &mut self.ctx, (&left, &right), tau, records[a].bordered_det_sign, tols) {
                         Ok(Some((mut second, _))) => {
                             second.record = place(&second);
-                            self.bifurcations.push(bif);
-                            self.bifurcations.push(second);
-                            self.bifurcations.sort_by_key(|p| p.record);
+                            // In branch order.
+                            let (first, later) = if arc(&second.x, second.lambda) < arc(&bif.x, bif.lambda) {
+                                (second, bif)
+                            } else {
+                                (bif, second)
+                            };
+                            self.bifurcations.push(first);
+                            self.bifurcations.push(later);
                             return Ok(());
                         }
                         Ok(None) => self.unresolved.push(unresolved(

@@ -22,7 +22,7 @@
 use super::branch::{Method, RodBranch};
 use super::model::Rod;
 use crate::continuation::equilibrium::damped_newton;
-use crate::continuation::{Counts, Options, Problem};
+use crate::continuation::{Counts, Options, Problem, Stop};
 use crate::error::{self, Error, Result};
 use crate::status::Status;
 
@@ -79,37 +79,51 @@ pub fn estimate_errors(rod: &Rod, branch: &RodBranch, residual_tol: f64) -> Resu
 
 /// Points of one rod's branch re-solved on another discretisation of the
 /// same rod (coarser for an estimate, finer for a reference): the state
-/// carried over by [`transfer`], corrected by damped Newton at its Λ with
-/// the branch's phase condition (its node at the same arc length).
+/// carried over by [`transfer`], corrected by damped Newton at its Λ. A
+/// branch's phase condition goes to the node at the same arc length (or
+/// the nearest), its azimuth taken from the carried state there, so that
+/// both solutions have their buckle turned alike at that point — the
+/// branch's own azimuth would turn a non-planar buckle, or one whose node
+/// moved, by a gauge angle and inflate every lateral difference.
 pub struct Resolver<'r> {
     from: &'r Rod,
     to: &'r Rod,
+    /// The phase node on `to` and the branch's azimuth (where the carried
+    /// state has no lateral displacement there).
+    phase: Option<(usize, f64)>,
     system: crate::continuation::system::AssembledSystem,
     pub counts: Counts,
 }
 
 impl<'r> Resolver<'r> {
     pub fn new(from: &'r Rod, to: &'r Rod, phase: Option<(usize, f64)>) -> Result<Self> {
+        let phase = phase.map(|(node, azimuth)| {
+            let node = ((node * to.elements) as f64 / from.elements as f64).round() as usize;
+            (node.clamp(1, to.elements), azimuth)
+        });
         let system = match phase {
-            Some((node, azimuth)) => {
-                let node = ((node * to.elements) as f64 / from.elements as f64).round() as usize;
-                to.system_with_phase(node.clamp(1, to.elements), azimuth)?
-            }
+            Some((node, azimuth)) => to.system_with_phase(node, azimuth)?,
             None => to.system()?,
         };
-        Ok(Resolver { from, to, system, counts: Counts::default() })
+        Ok(Resolver { from, to, phase, system, counts: Counts::default() })
     }
 
     /// `x` (a state of `from`) re-solved on `to` at Λ = `lambda`.
     pub fn solve(&mut self, x: &[f64], lambda: f64, residual_tol: f64) -> Result<Vec<f64>> {
         let mut y = transfer(self.from, self.to, x, self.system.dim());
+        if let Some((node, azimuth)) = self.phase {
+            let at = self.to.node(node);
+            let (px, py) = (y[at], y[at + 1]);
+            let here = if px.hypot(py) > 1e-9 * self.to.length { py.atan2(px) } else { azimuth };
+            self.system = self.to.system_with_phase(node, here)?;
+        }
         damped_newton(&mut self.system, &mut y, lambda, residual_tol, &mut self.counts)?;
         Ok(y)
     }
 }
 
 /// A branch on the rod `template` with its elements chosen so that every
-/// record's estimated error meets `tolerance` (see [`RecordError::scaled`]).
+/// record's estimated error meets a tolerance (see [`RecordError::scaled`]).
 pub struct Accurate {
     /// The rod as refined (its `elements` the ones chosen).
     pub rod: Rod,
@@ -148,7 +162,9 @@ pub fn continue_to_tolerance(
 /// `tolerance`: each new count from the last's estimate and the scheme's
 /// order (with a 1.25 margin, at least 1.5×), at most [`MAX_ELEMENTS`]
 /// (ErrToleranceUnreachable beyond, saying what was reached). The
-/// re-solves take `residual_tol`, not below 1e-11 (their rounding floor
+/// A branch that `follow` returns cancelled (`Stop::Cancelled`) ends the
+/// refinement as it is, with its estimates. `residual_tol` (≤ the
+/// tolerance) is the points' own; the re-solves take it, not below 1e-11 (their rounding floor
 /// on fine meshes under large loads: the scaled residual of a
 /// 128-element cantilever at α = 100 stalls near 2e-12).
 pub fn refine_until(
@@ -158,6 +174,14 @@ pub fn refine_until(
     mut follow: impl FnMut(&Rod) -> Result<RodBranch>,
 ) -> Result<Accurate> {
     error::in_range("tolerance", tolerance, 1e-12, 1e-1)?;
+    // The points' own solver error enters the estimates: it must sit
+    // below what is asked of them.
+    if !(residual_tol <= tolerance) {
+        return Err(Error::new(
+            Status::ErrOutOfRange,
+            format!("residual_tol ({residual_tol:e}) must not exceed the tolerance asked for ({tolerance:e})"),
+        ));
+    }
     let order = template.scheme.order() as f64;
     let mut elements = template.elements.max(4).div_ceil(2) * 2;
     let mut tried = vec![];
@@ -171,7 +195,9 @@ pub fn refine_until(
             .map(|(e, x)| e.map_or(f64::INFINITY, |e| e.scaled(&rod, x)))
             .fold(0.0, f64::max);
         tried.push(elements);
-        if worst <= tolerance {
+        // Met — or stopped by its caller (a progress callback's cancel):
+        // no further refinement, the estimates say how far it is.
+        if worst <= tolerance || branch.stop == Stop::Cancelled {
             return Ok(Accurate { rod, branch, estimates, worst, tried });
         }
         // The estimate falls as N^−order: the count that meets the

@@ -144,6 +144,16 @@ impl RodBranch {
 }
 
 impl RodBranch {
+    /// Keep the first `len` records (and states); the bifurcations and
+    /// unresolved brackets that reach past them go too (a retaken step's
+    /// bracket is searched again by the step that replaces it).
+    pub(crate) fn truncate(&mut self, len: usize) {
+        self.records.truncate(len);
+        self.states.truncate(len);
+        self.bifurcations.retain(|b| b.record + 1 < len);
+        self.unresolved.retain(|u| u.records.1 < len);
+    }
+
     /// The end rotation φ at every record and at every sample, for a rod
     /// with one (zeros otherwise). φ is known mod 4π from each state (a
     /// torque clamp's, and a rotation control's Λ = sin(φ/2)): it is

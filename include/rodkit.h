@@ -1467,7 +1467,10 @@ int32_t rodkit_rod_rhs(const struct RodkitRod *rod, const double *y, double lamb
 // `*rod_out` receives the refined rod (free it with rodkit_rod_free; its
 // element count is the one chosen), `*out` the branch, of `*rod_out`;
 // rodkit_branch_error_estimates gives each record's estimate. `progress`
-// is told every refinement's points. The estimates are honest but not
+// is told every refinement's points (counted from 1 for each); a stop it
+// asks for ends the refinement there (RODKIT_STATUS_INFO_CANCELLED, the
+// branch and estimates so far). `options.residual_tol` must not exceed
+// `tolerance`. The estimates are honest but not
 // sharp: in the scheme's asymptotic range they exceed the true error by
 // up to 2^(2s) (256 on Gauss(4)).
 int32_t rodkit_rod_continue_to_tolerance(const struct RodkitRod *rod,

@@ -39,7 +39,7 @@ fn cantilevers_to_alpha_100_meet_the_tolerance_and_their_estimates() {
             let mut worst_true: f64 = 0.0;
             for ((record, x), estimate) in acc.branch.records.iter().zip(&acc.branch.states).zip(&acc.estimates) {
                 let estimate = estimate.expect("every record has an estimate");
-                let y = reference.solve(x, record.lambda, 1e-11).unwrap();
+                let (y, _) = reference.solve(x, record.lambda, 1e-11, None).unwrap();
                 let truth = rodkit::rod::accuracy::difference(rod, x, &reference_rod, &y);
                 let pairs = [
                     (truth.tip_position, estimate.tip_position),
@@ -217,4 +217,85 @@ fn a_cancelled_refinement_stops_and_a_loose_residual_is_refused() {
     let err = refine_until(&template, 1e-8, 1e-6, |_| unreachable!("refused before any work")).err().unwrap();
     assert_eq!(err.status, rodkit::Status::ErrOutOfRange);
     assert!(err.message.contains("residual_tol"), "{}", err.message);
+}
+
+/// Greenhill's post-buckled branch under rotation control (K_b = L = 1,
+/// C = 4, no tension; Λ = sin(φ/2), which folds at φ = π just after the
+/// double point at φ = 2.2467): detected and located on the straight
+/// branch, switched with the phase condition, followed 25 steps — the
+/// whole path refined to 1e-4, 1e-6, 1e-8. Where Λ folds, the re-solves
+/// (the estimate's, on half the elements, and the reference's, on 128)
+/// may take the plane through the record normal to the branch instead of
+/// its Λ (none needed it here: fixed-Λ Newton from the carried state
+/// converged at every record, the nearest 0.03 rad from φ = π; the plane
+/// is checked past the fold, at Λ = 1.001). Every quantity's true error ≤
+/// its estimate, the scaled one ≤ the tolerance.
+#[test]
+fn greenhill_post_buckled_meets_the_tolerance_through_the_fold() {
+    use rodkit::rod::accuracy::{refine_until, secant};
+    use std::f64::consts::PI;
+    let law = RodLaw::kirchhoff(1.0, 1.0, 4.0).unwrap();
+    let template =
+        Rod::new(law, 1.0, Loads::default(), Supports::Twisted { tension: 0.0 }, Scheme::Gauss(4), 4).unwrap();
+    for tol in [1e-4, 1e-6, 1e-8] {
+        let straight_opts = Options {
+            target_lambda: Some(0.99),
+            residual_tol: 1e-12,
+            initial_step: 0.2,
+            max_step: 0.5,
+            detect_bifurcations: true,
+            bifurcation_tol: 1e-11,
+            ..Default::default()
+        };
+        let post_opts = Options { residual_tol: 1e-12, max_step: 0.3, max_steps: 25, ..Default::default() };
+        let acc = refine_until(&template, tol, 1e-12, |rod| {
+            let straight = rod.continue_branch(None, 0.0, true, &straight_opts, Method::Newton, |_| true)?;
+            rod.switch_branch(&straight, 0, 0, 0.05, &post_opts, Method::Anm(Default::default()), |_| true)
+        })
+        .unwrap();
+        let rod = &acc.rod;
+        let reference_rod = Rod { elements: 128, ..rod.clone() };
+        let mut reference = Resolver::new(rod, &reference_rod, acc.branch.phase).unwrap();
+        let (records, states) = (&acc.branch.records, &acc.branch.states);
+        let phis: Vec<f64> = states.iter().zip(records).map(|(x, r)| rod.end_rotation(x, r.lambda).unwrap()).collect();
+        assert!(phis.iter().any(|&p| p > std::f64::consts::PI), "the path passes Λ's fold: φ {phis:?}");
+        let mut worst_true: f64 = 0.0;
+        for k in 0..records.len() {
+            let estimate = acc.estimates[k].expect("every record has an estimate");
+            let (dx, dl) = secant(records, states, k);
+            let (y, _) = reference.solve(&states[k], records[k].lambda, 1e-11, Some((&dx, dl))).unwrap();
+            let truth = rodkit::rod::accuracy::difference(rod, &states[k], &reference_rod, &y);
+            for (t, e) in [
+                (truth.tip_position, estimate.tip_position),
+                (truth.tip_rotation, estimate.tip_rotation),
+                (truth.base_force, estimate.base_force),
+                (truth.base_moment, estimate.base_moment),
+            ] {
+                assert!(t <= e.max(1e-10), "tol {tol:e}, φ {}: true {t:e} > estimate {e:e}", phis[k]);
+            }
+            let scaled = truth.scaled(rod, &states[k]);
+            worst_true = worst_true.max(scaled);
+            assert!(scaled <= tol, "tol {tol:e}, φ {}: true error {scaled:e}", phis[k]);
+        }
+        // Past Λ's fold (Λ = sin(φ/2) ≤ 1) there is no point at fixed Λ:
+        // the re-solve asked at Λ = 1.001 from the record nearest φ = π
+        // fails without a direction and, with the branch's secant, finds the
+        // branch on the plane (Λ ≤ 1, an equilibrium).
+        let k = (0..records.len()).min_by(|&a, &b| (phis[a] - PI).abs().total_cmp(&(phis[b] - PI).abs())).unwrap();
+        assert!(reference.solve(&states[k], 1.001, 1e-11, None).is_err());
+        let before = reference.planes;
+        let (dx, dl) = secant(records, states, k);
+        let (y, l) = reference.solve(&states[k], 1.001, 1e-11, Some((&dx, dl))).unwrap();
+        assert_eq!(reference.planes, before + 1);
+        assert!(l <= 1.0 + 1e-12 && (reference_rod.end_rotation(&y, l).unwrap() - PI).abs() < 0.5, "Λ {l}");
+        println!(
+            "Greenhill, tol {tol:e}: elements tried {:?}, worst estimate {:.2e}, worst true error {worst_true:.2e}, φ {:.3} → {:.3}, nearest π by {:.1e}, {} records",
+            acc.tried,
+            acc.worst,
+            phis[0],
+            phis.last().unwrap(),
+            (phis[k] - PI).abs(),
+            records.len()
+        );
+    }
 }

@@ -17,12 +17,17 @@
 //! but undershoots wherever the mesh is not yet asymptotic. A record whose
 //! coarse re-solve fails (a fold in Λ, a singular point, too coarse a
 //! mesh) has no estimate, and a branch with such a record does not meet
-//! the tolerance.
+//! the tolerance. At a fold in Λ the other mesh's branch may not reach
+//! the record's Λ: there the point is re-solved on the plane through the
+//! record normal to the branch (its neighbours' secant), as arc-length
+//! continuation corrects, and the quantities are compared there.
 
 use super::branch::{Method, RodBranch};
 use super::model::Rod;
+use crate::continuation::corrector::{correct, Plane};
 use crate::continuation::equilibrium::damped_newton;
-use crate::continuation::{Counts, Options, Problem, Stop};
+use crate::continuation::run::Context;
+use crate::continuation::{Counts, Options, Problem, Scaling, Stop};
 use crate::error::{self, Error, Result};
 use crate::status::Status;
 
@@ -69,12 +74,23 @@ pub fn estimate_errors(rod: &Rod, branch: &RodBranch, residual_tol: f64) -> Resu
     }
     let coarse = Rod { elements: rod.elements / 2, ..rod.clone() };
     let mut on = Resolver::new(rod, &coarse, branch.phase)?;
-    Ok(branch
-        .records
-        .iter()
-        .zip(&branch.states)
-        .map(|(record, x)| on.solve(x, record.lambda, residual_tol).ok().map(|y| difference(rod, x, &coarse, &y)))
+    let (records, states) = (&branch.records, &branch.states);
+    Ok((0..records.len())
+        .map(|k| {
+            let (dx, dl) = secant(records, states, k);
+            let solved = on.solve(&states[k], records[k].lambda, residual_tol, Some((&dx, dl)));
+            solved.ok().map(|(y, _)| difference(rod, &states[k], &coarse, &y))
+        })
         .collect())
+}
+
+/// The branch's direction at record k: the central difference of its
+/// neighbours' states and Λ (one-sided at the ends; zero for a lone point).
+pub fn secant(records: &[crate::continuation::Record], states: &[Vec<f64>], k: usize) -> (Vec<f64>, f64) {
+    let last = records.len().saturating_sub(1);
+    let (a, b) = (k.saturating_sub(1), (k + 1).min(last));
+    let dx = states[b].iter().zip(&states[a]).map(|(p, q)| p - q).collect();
+    (dx, records[b].lambda - records[a].lambda)
 }
 
 /// Points of one rod's branch re-solved on another discretisation of the
@@ -92,7 +108,11 @@ pub struct Resolver<'r> {
     /// state has no lateral displacement there).
     phase: Option<(usize, f64)>,
     system: crate::continuation::system::AssembledSystem,
+    /// The bordered corrector's context, made on the first fold.
+    bordered: Option<Context>,
     pub counts: Counts,
+    /// Points taken on the plane normal to the branch (a fold in Λ).
+    pub planes: usize,
 }
 
 impl<'r> Resolver<'r> {
@@ -105,20 +125,47 @@ impl<'r> Resolver<'r> {
             Some((node, azimuth)) => to.system_with_phase(node, azimuth)?,
             None => to.system()?,
         };
-        Ok(Resolver { from, to, phase, system, counts: Counts::default() })
+        Ok(Resolver { from, to, phase, system, bordered: None, counts: Counts::default(), planes: 0 })
     }
 
-    /// `x` (a state of `from`) re-solved on `to` at Λ = `lambda`.
-    pub fn solve(&mut self, x: &[f64], lambda: f64, residual_tol: f64) -> Result<Vec<f64>> {
-        let mut y = transfer(self.from, self.to, x, self.system.dim());
+    /// `x` (a state of `from`) re-solved on `to` at Λ = `lambda`: the
+    /// state and its Λ. Where that fails and the branch's direction there
+    /// is given (`secant`: a difference of states of `from` and of their
+    /// Λ), the point is taken instead on the plane through the carried
+    /// state normal to that direction (a fold in Λ, where the other mesh's
+    /// branch may not reach Λ): its Λ then differs by O(the error).
+    pub fn solve(
+        &mut self,
+        x: &[f64],
+        lambda: f64,
+        residual_tol: f64,
+        secant: Option<(&[f64], f64)>,
+    ) -> Result<(Vec<f64>, f64)> {
+        let dim = self.system.dim();
+        let mut y = transfer(self.from, self.to, x, dim);
         if let Some((node, azimuth)) = self.phase {
             let at = self.to.node(node);
             let (px, py) = (y[at], y[at + 1]);
             let here = if px.hypot(py) > 1e-9 * self.to.length { py.atan2(px) } else { azimuth };
             self.system = self.to.system_with_phase(node, here)?;
         }
-        damped_newton(&mut self.system, &mut y, lambda, residual_tol, &mut self.counts)?;
-        Ok(y)
+        let anchor = y.clone();
+        let fixed = damped_newton(&mut self.system, &mut y, lambda, residual_tol, &mut self.counts);
+        let (Err(e), Some((dx, dl))) = (&fixed, secant) else {
+            return fixed.map(|_| (y, lambda));
+        };
+        let t = transfer(self.from, self.to, dx, dim);
+        if !(dl.is_finite() && t.iter().all(|v| v.is_finite())) {
+            return Err(e.clone());
+        }
+        let ctx = match &mut self.bordered {
+            Some(c) => c,
+            slot => slot.insert(Context::new(&self.system, Scaling::of(&self.system))?),
+        };
+        let (mut y, mut l) = (anchor.clone(), lambda);
+        correct(&mut self.system, ctx, &mut y, &mut l, Plane::new((&anchor, lambda), (&t, dl)), residual_tol, false)?;
+        self.planes += 1;
+        Ok((y, l))
     }
 }
 

@@ -11,6 +11,23 @@ use rodkit::rod::model::{Rod, Supports};
 use rodkit::rod::scheme::Scheme;
 use rodkit::rod::{Load, Loads, RodLaw};
 
+#[path = "support/elastica.rs"]
+mod elastica;
+
+/// Each quantity's true error within its estimate (down to `floor`, the
+/// residual's level, below which neither is discretisation error).
+fn assert_within(truth: &RecordError, estimate: &RecordError, floor: f64, what: &str) {
+    let pairs = [
+        ("tip position", truth.tip_position, estimate.tip_position),
+        ("tip rotation", truth.tip_rotation, estimate.tip_rotation),
+        ("base force", truth.base_force, estimate.base_force),
+        ("base moment", truth.base_moment, estimate.base_moment),
+    ];
+    for (name, t, e) in pairs {
+        assert!(t <= e.max(floor), "{what}: {name} true {t:e} > estimate {e:e}");
+    }
+}
+
 fn cantilever(load: Load) -> Rod {
     let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap();
     let loads = Loads { tip_force: Some(load), ..Default::default() };
@@ -41,17 +58,8 @@ fn cantilevers_to_alpha_100_meet_the_tolerance_and_their_estimates() {
                 let estimate = estimate.expect("every record has an estimate");
                 let (y, _) = reference.solve(x, record.lambda, 1e-11, None).unwrap();
                 let truth = rodkit::rod::accuracy::difference(rod, x, &reference_rod, &y);
-                let pairs = [
-                    (truth.tip_position, estimate.tip_position),
-                    (truth.tip_rotation, estimate.tip_rotation),
-                    (truth.base_force, estimate.base_force),
-                    (truth.base_moment, estimate.base_moment),
-                ];
-                // Down to the residual's level (1e-12 of the scales): below
-                // it neither the estimate nor the truth is discretisation.
-                for (t, e) in pairs {
-                    assert!(t <= e.max(1e-11), "{name}, tol {tol:e}, Λ {}: true {t:e} > estimate {e:e}", record.lambda);
-                }
+                // Down to the residual's level (1e-12 of the scales).
+                assert_within(&truth, &estimate, 1e-11, &format!("{name}, tol {tol:e}, Λ {}", record.lambda));
                 let scaled = truth.scaled(rod, x);
                 worst_true = worst_true.max(scaled);
                 assert!(scaled <= tol, "{name}, tol {tol:e}, Λ {}: true error {scaled:e}", record.lambda);
@@ -82,25 +90,6 @@ fn an_exact_state_has_a_zero_estimate() {
     // A bent state is not exact on 4 elements: the estimate is not zero.
     let last = est.last().unwrap().unwrap();
     assert!(last.tip_position > 1e-14, "{last:?}");
-}
-
-/// Complete elliptic integrals K(k), E(k) of modulus k by the AGM
-/// (Abramowitz & Stegun 17.6).
-fn elliptic(k: f64) -> (f64, f64) {
-    let (mut a, mut b) = (1.0f64, (1.0 - k * k).sqrt());
-    let (mut sum, mut pow) = (0.5 * k * k, 0.5);
-    for _ in 0..40 {
-        let c = 0.5 * (a - b);
-        let (an, bn) = (0.5 * (a + b), (a * b).sqrt());
-        pow *= 2.0;
-        sum += pow * c * c;
-        (a, b) = (an, bn);
-        if c.abs() < 1e-17 {
-            break;
-        }
-    }
-    let kk = std::f64::consts::PI / (2.0 * a);
-    (kk, kk * (1.0 - sum))
 }
 
 /// Euler's elastica (inextensible Kirchhoff cantilever, K_b = L = 1, axial
@@ -148,20 +137,7 @@ fn euler_post_buckling_meets_the_tolerance_against_elliptic_integrals() {
             if p <= pcr * (1.0 + 1e-6) {
                 continue; // at the bifurcation itself k → 0: nothing to compare
             }
-            // P(k) increases with k: bisection to rounding.
-            let (mut lo, mut hi) = (0.0f64, 1.0 - 1e-15);
-            for _ in 0..200 {
-                let mid = 0.5 * (lo + hi);
-                let (kk, _) = elliptic(mid);
-                if pcr * (2.0 * kk / std::f64::consts::PI).powi(2) < p {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            let k = 0.5 * (lo + hi);
-            let (kk, ee) = elliptic(k);
-            let (axial, lateral) = (2.0 * ee / kk - 1.0, 2.0 * k / kk);
+            let (k, axial, lateral) = elastica::at_load(p);
             let tip = rod.tip(x);
             let defl = tip[0].hypot(tip[1]);
             let truth = RecordError {
@@ -173,14 +149,8 @@ fn euler_post_buckling_meets_the_tolerance_against_elliptic_integrals() {
                     (m[0].hypot(m[1]) - p * lateral).abs()
                 },
             };
-            let pairs = [
-                (truth.tip_position, estimate.tip_position),
-                (truth.tip_rotation, estimate.tip_rotation),
-                (truth.base_moment, estimate.base_moment),
-            ];
-            for (t, e) in pairs {
-                assert!(t <= e.max(1e-10), "tol {tol:e}, P {p}: true {t:e} > estimate {e:e}");
-            }
+            // (The base force, −P e3, is exact: its truth is 0.)
+            assert_within(&truth, &estimate, 1e-10, &format!("tol {tol:e}, P {p}"));
             let scaled = truth.scaled(rod, x);
             worst_true = worst_true.max(scaled);
             assert!(scaled <= tol, "tol {tol:e}, P {p}: true error {scaled:e}");
@@ -265,14 +235,7 @@ fn greenhill_post_buckled_meets_the_tolerance_through_the_fold() {
             let (dx, dl) = secant(records, states, k);
             let (y, _) = reference.solve(&states[k], records[k].lambda, 1e-11, Some((&dx, dl))).unwrap();
             let truth = rodkit::rod::accuracy::difference(rod, &states[k], &reference_rod, &y);
-            for (t, e) in [
-                (truth.tip_position, estimate.tip_position),
-                (truth.tip_rotation, estimate.tip_rotation),
-                (truth.base_force, estimate.base_force),
-                (truth.base_moment, estimate.base_moment),
-            ] {
-                assert!(t <= e.max(1e-10), "tol {tol:e}, φ {}: true {t:e} > estimate {e:e}", phis[k]);
-            }
+            assert_within(&truth, &estimate, 1e-10, &format!("tol {tol:e}, φ {}", phis[k]));
             let scaled = truth.scaled(rod, &states[k]);
             worst_true = worst_true.max(scaled);
             assert!(scaled <= tol, "tol {tol:e}, φ {}: true error {scaled:e}", phis[k]);

@@ -12,25 +12,10 @@ use rodkit::rod::scheme::Scheme;
 use rodkit::rod::{Load, Loads, RodLaw};
 use std::f64::consts::PI;
 
-/// Complete elliptic integrals K(k), E(k) of modulus k by the AGM
-/// (Abramowitz & Stegun 17.6): reference for the elastica.
-fn elliptic(k: f64) -> (f64, f64) {
-    let (mut a, mut b) = (1.0f64, (1.0 - k * k).sqrt());
-    let mut sum = 0.5 * k * k;
-    let mut pow = 0.5;
-    for _ in 0..40 {
-        let c = 0.5 * (a - b);
-        let (an, bn) = (0.5 * (a + b), (a * b).sqrt());
-        pow *= 2.0;
-        sum += pow * c * c;
-        (a, b) = (an, bn);
-        if c.abs() < 1e-17 {
-            break;
-        }
-    }
-    let kk = PI / (2.0 * a);
-    (kk, kk * (1.0 - sum))
-}
+#[path = "support/elastica.rs"]
+#[allow(dead_code)]
+mod elastica;
+use elastica::elliptic;
 
 fn axial_load() -> Loads {
     Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() }

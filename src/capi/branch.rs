@@ -340,6 +340,32 @@ pub unsafe extern "C" fn rodkit_branch_sample_state(branch: *const Branch, sampl
     })
 }
 
+/// The branch's located bifurcations for C, with their place, end
+/// rotation and evidence (the fields of both copy-out functions).
+fn bifurcation_points(rod: &Rod, b: &Branch) -> Vec<BifurcationPoint> {
+    let phi: Vec<f64> = b.records.iter().map(|r| r.end_rotation).collect();
+    (b.branch.bifurcations.iter().enumerate())
+        .map(|(index, bif)| {
+            let tip = rod.model.tip(&bif.x);
+            let s = |i: usize| bif.singular_values.get(i).copied().unwrap_or(f64::NAN);
+            BifurcationPoint {
+                lambda: bif.lambda,
+                end_rotation: b.branch.rotation_at_bifurcation(&rod.model, index, &phi).unwrap_or(0.0),
+                record: bif.record as i64,
+                multiplicity: bif.multiplicity as i64,
+                sigma1: s(0),
+                sigma2: s(1),
+                sigma3: s(2),
+                det_sign_change: bif.det_sign_change as i32,
+                test_function_change: bif.test_function_change as i32,
+                tip_x: tip[0],
+                tip_y: tip[1],
+                tip_z: tip[2],
+            }
+        })
+        .collect()
+}
+
 /// Copy up to `capacity` located bifurcations; `count` receives their number.
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_branch_bifurcations(
@@ -352,20 +378,17 @@ pub unsafe extern "C" fn rodkit_branch_bifurcations(
     guard(|| {
         let rod = arg_ref("rod", rod)?;
         let b = same_rod(rod, arg_ref("branch", branch)?)?;
-        copy_out("out", out, capacity, count, &b.branch.bifurcations, |bif| {
-            let tip = rod.model.tip(&bif.x);
-            let s = |i: usize| bif.singular_values.get(i).copied().unwrap_or(f64::NAN);
-            Bifurcation {
-                lambda: bif.lambda,
-                multiplicity: bif.multiplicity as i64,
-                sigma1: s(0),
-                sigma2: s(1),
-                sigma3: s(2),
-                det_sign_change: bif.det_sign_change as i32,
-                tip_x: tip[0],
-                tip_y: tip[1],
-                tip_z: tip[2],
-            }
+        let points = bifurcation_points(rod, b);
+        copy_out("out", out, capacity, count, &points, |p| Bifurcation {
+            lambda: p.lambda,
+            multiplicity: p.multiplicity,
+            sigma1: p.sigma1,
+            sigma2: p.sigma2,
+            sigma3: p.sigma3,
+            det_sign_change: p.det_sign_change,
+            tip_x: p.tip_x,
+            tip_y: p.tip_y,
+            tip_z: p.tip_z,
         })
     })
 }
@@ -385,26 +408,8 @@ pub unsafe extern "C" fn rodkit_branch_bifurcation_points(
     guard(|| {
         let rod = arg_ref("rod", rod)?;
         let b = same_rod(rod, arg_ref("branch", branch)?)?;
-        let phi: Vec<f64> = b.records.iter().map(|r| r.end_rotation).collect();
-        let list: Vec<(usize, &_)> = b.branch.bifurcations.iter().enumerate().collect();
-        copy_out("out", out, capacity, count, &list, |&(index, bif)| {
-            let tip = rod.model.tip(&bif.x);
-            let s = |i: usize| bif.singular_values.get(i).copied().unwrap_or(f64::NAN);
-            BifurcationPoint {
-                lambda: bif.lambda,
-                end_rotation: b.branch.rotation_at_bifurcation(&rod.model, index, &phi).unwrap_or(0.0),
-                record: bif.record as i64,
-                multiplicity: bif.multiplicity as i64,
-                sigma1: s(0),
-                sigma2: s(1),
-                sigma3: s(2),
-                det_sign_change: bif.det_sign_change as i32,
-                test_function_change: bif.test_function_change as i32,
-                tip_x: tip[0],
-                tip_y: tip[1],
-                tip_z: tip[2],
-            }
-        })
+        let points = bifurcation_points(rod, b);
+        copy_out("out", out, capacity, count, &points, |p| *p)
     })
 }
 

@@ -51,6 +51,11 @@ program follower_cantilever
     real(c_double) :: xyz(3, nodes), shapes(3, nodes, 4)
     real(c_double), allocatable, target :: loads(:)
     type(rodkit_branch_record), allocatable :: dense(:)
+    type(rodkit_record_error), allocatable :: estimates(:)
+    type(c_ptr) :: fine_rod
+    integer(c_int64_t) :: n_fine
+    real(c_double), allocatable :: x_fine(:)
+    real(c_double) :: tip_r(3), tip_q(4), tip_f(3), tip_m(3)
 
     status = rodkit_rod_spec_default(spec)
     spec%length = 1.0_c_double
@@ -183,5 +188,38 @@ program follower_cantilever
     print '(a, es24.16)', 'dense_tip_z_10 = ', dense(20)%tip_z
     print '(a, es24.16)', 'dense_max_residual = ', maxval(dense(:)%residual)
     call rodkit_branch_free(branch)
+
+    ! To a tolerance: rodkit chooses the elements (from this rod's 8) so
+    ! that every record's estimated error is below 1e-6, and says so.
+    status = rodkit_continuation_options_default(opts)
+    opts%target_lambda = 10.0_c_double
+    opts%residual_tol = 1.0e-12_c_double
+    status = rodkit_rod_continue_to_tolerance(rod, 1.0e-6_c_double, 0.0_c_double, opts, c_null_funptr, &
+        c_null_ptr, fine_rod, branch)
+    if (status /= RODKIT_STATUS_OK) then
+        print '(a, i0, a)', 'to a tolerance failed (status ', status, '): ' // rodkit_last_error()
+        error stop 1
+    end if
+    status = rodkit_rod_unknowns(fine_rod, n_fine)
+    status = rodkit_branch_summary(branch, info)
+    if (allocated(rec)) deallocate(rec)
+    allocate(rec(info%records), estimates(info%records), x_fine(n_fine))
+    status = rodkit_branch_records(branch, rec, info%records, count)
+    status = rodkit_branch_error_estimates(branch, fine_rod, estimates, info%records, count)
+    ! The tip frame at α = 10 from the last state, through the accessor.
+    status = rodkit_branch_state(branch, count - 1, x_fine, n_fine)
+    status = rodkit_rod_node_state(fine_rod, x_fine, n_fine, (n_fine / 13 - 1) / 5, tip_r, tip_q, tip_f, tip_m)
+    print '(a)', '# to a tolerance of 1e-6 (ANM defaults): elements chosen, worst estimate, tip at alpha = 10'
+    print '(a, i0)', 'tolerance_elements = ', (n_fine / 13 - 1) / 5
+    print '(a, es24.16)', 'tolerance_worst_estimate = ', maxval(estimates(:)%scaled)
+    print '(a, i0)', 'tolerance_estimated = ', sum(estimates(:)%estimated)
+    print '(a, i0)', 'tolerance_records = ', count
+    print '(a, es24.16)', 'tolerance_tip_x_10 = ', rec(count)%tip_x
+    print '(a, es24.16)', 'tolerance_tip_z_10 = ', rec(count)%tip_z
+    print '(a, es24.16)', 'tolerance_tip_q0_10 = ', tip_q(1)
+    print '(a, es24.16)', 'tolerance_tip_q2_10 = ', tip_q(3)
+    print '(a, es24.16)', 'tolerance_tip_rx_10 = ', tip_r(1)
+    call rodkit_branch_free(branch)
+    call rodkit_rod_free(fine_rod)
     call rodkit_rod_free(rod)
 end program follower_cantilever

@@ -531,6 +531,28 @@ fn fortran_follower_cantilever_driver() {
             assert!((v - fine[k][c]).abs() < 1e-8, "dense α = {a}: tip {name} {v} vs converged {}", fine[k][c]);
         }
     }
+    // To a tolerance (1e-6, ANM defaults, from 8 elements): the same
+    // choice as Rust's continue_to_tolerance with the same options, every
+    // record estimated within the tolerance, the tip within it of the
+    // converged one (32 elements, Newton 1e-12), and the tip frame read
+    // through rodkit_rod_node_state equal to the state's quaternion.
+    let opts = Options { target_lambda: Some(10.0), residual_tol: 1e-12, ..Default::default() };
+    let method = Method::Anm(AnmOptions { order: 20, epsilon: 1e-10, pade: false });
+    let acc = rodkit::rod::accuracy::continue_to_tolerance(&rod(8), 1e-6, (0.0, true), &opts, method).unwrap();
+    assert_eq!(got["tolerance_elements"], acc.rod.elements as f64);
+    assert_eq!(got["tolerance_records"], acc.branch.records.len() as f64);
+    assert_eq!(got["tolerance_estimated"], got["tolerance_records"]);
+    assert!(got["tolerance_worst_estimate"] <= 1e-6 && (got["tolerance_worst_estimate"] - acc.worst).abs() < 1e-18);
+    let last = acc.branch.states.last().unwrap();
+    let tip = acc.rod.node_state(last, acc.rod.elements);
+    for (key, want) in [("tolerance_tip_x_10", tip[0]), ("tolerance_tip_z_10", tip[2]), ("tolerance_tip_rx_10", tip[0])]
+    {
+        assert!((got[key] - want).abs() < 1e-13, "{key} {} vs Rust {want}", got[key]);
+    }
+    assert!((got["tolerance_tip_q0_10"] - tip[3]).abs() < 1e-13 && (got["tolerance_tip_q2_10"] - tip[5]).abs() < 1e-13);
+    assert!(
+        (got["tolerance_tip_x_10"] - fine[3][0]).abs() < 1e-6 && (got["tolerance_tip_z_10"] - fine[3][2]).abs() < 1e-6
+    );
     assert_eq!(run("f_follower_cantilever_static", &[vtk.to_str().unwrap()]), out);
 }
 

@@ -87,6 +87,30 @@ int main(int argc, char **argv) {
     printf("critical_load = %.15g\nmultiplicity = %lld\n", bif.lambda, (long long)bif.multiplicity);
     printf("extensible_euler_formula = %.15g\nrelative_error = %.3e\n", formula, fabs(bif.lambda - formula) / formula);
     printf("inextensible_euler_load = %.15g\n", pe);
+    /* Where the point lies on the branch, and what said it is there: the
+       record it follows, the evidence (det of the bordered tangent, the
+       test function), and no bracket left unresolved. */
+    RodkitBifurcationPoint where;
+    st = rodkit_branch_bifurcation_points(straight, rod, &where, 1, &nbif);
+    if (st < 0) return fail(st, "rodkit_branch_bifurcation_points");
+    RodkitBranchRecord around[2];
+    int64_t nrec = 0;
+    RodkitBranchInfo straight_info;
+    rodkit_branch_summary(straight, &straight_info);
+    RodkitBranchRecord *all = malloc((size_t)straight_info.records * sizeof *all);
+    if (!all) return 1;
+    st = rodkit_branch_records(straight, all, straight_info.records, &nrec);
+    if (st < 0) return fail(st, "rodkit_branch_records");
+    around[0] = all[where.record];
+    around[1] = all[where.record + 1];
+    free(all);
+    int64_t unresolved = -1;
+    st = rodkit_branch_unresolved(straight, NULL, 0, &unresolved);
+    if (st < 0) return fail(st, "rodkit_branch_unresolved");
+    printf("bifurcation_record = %lld\nbracket_lambda_low = %.15g\nbracket_lambda_high = %.15g\n",
+           (long long)where.record, around[0].lambda, around[1].lambda);
+    printf("det_sign_change = %d\ntest_function_change = %d\nunresolved = %lld\n", where.det_sign_change,
+           where.test_function_change, (long long)unresolved);
 
     /* 2. Buckled branch by the ANM, stopped by the callback past 171 deg. */
     rodkit_continuation_options_default(&opts);

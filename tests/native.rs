@@ -443,6 +443,14 @@ fn c_rod_buckling_driver() {
     };
     let b = rod.continue_branch(None, 0.0, true, &opts, Method::Newton, |_| true).unwrap();
     assert!((b.bifurcations[0].lambda - got["critical_load"]).abs() < 1e-13 * formula);
+    // Its place and evidence through rodkit_branch_bifurcation_points:
+    // the record it follows (as Rust's), its load between that record's
+    // and the next, found by σ_min (a double point: det B keeps its sign),
+    // nothing unresolved.
+    assert_eq!(got["bifurcation_record"], b.bifurcations[0].record as f64);
+    assert!(got["bracket_lambda_low"] <= got["critical_load"] && got["critical_load"] <= got["bracket_lambda_high"]);
+    assert_eq!((got["det_sign_change"], got["unresolved"]), (0.0, 0.0));
+    assert_eq!(got["test_function_change"], b.bifurcations[0].test_function_change as u8 as f64);
     assert!(got["final_tip_rotation_deg"] > 170.0 && got["final_tip_rotation_deg"] < 172.0);
     assert!(got["callback_calls"] >= got["points_to_170_deg"]);
     let rows = std::fs::read_to_string(&csv).unwrap().lines().count() - 1;

@@ -28,6 +28,26 @@ fn assert_within(truth: &RecordError, estimate: &RecordError, floor: f64, what: 
     }
 }
 
+/// A post-buckled branch on `rod`: the straight branch to Λ = `straight_to`
+/// with detection (Newton, residual 1e-12, located to 1e-11), left at its
+/// first bifurcation along null direction 0 and followed by the ANM with
+/// `post` (the phase condition chosen by the switch); with the located
+/// critical Λ.
+fn post_buckled(rod: &Rod, straight_to: f64, post: &Options) -> rodkit::Result<(rodkit::rod::branch::RodBranch, f64)> {
+    let straight_opts = Options {
+        target_lambda: Some(straight_to),
+        residual_tol: 1e-12,
+        initial_step: 0.2,
+        max_step: 0.5,
+        detect_bifurcations: true,
+        bifurcation_tol: 1e-11,
+        ..Default::default()
+    };
+    let straight = rod.continue_branch(None, 0.0, true, &straight_opts, Method::Newton, |_| true)?;
+    let critical = straight.bifurcations[0].lambda;
+    Ok((rod.switch_branch(&straight, 0, 0, 0.05, post, Method::Anm(Default::default()), |_| true)?, critical))
+}
+
 fn cantilever(load: Load) -> Rod {
     let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap();
     let loads = Loads { tip_force: Some(load), ..Default::default() };
@@ -108,23 +128,13 @@ fn euler_post_buckling_meets_the_tolerance_against_elliptic_integrals() {
     let law = RodLaw::kirchhoff(1.0, 1.0, 1.0 / 1.3).unwrap();
     let loads = Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() };
     let template = Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), 4).unwrap();
+    let post_opts = Options { target_lambda: Some(14.0), residual_tol: 1e-12, max_steps: 500, ..Default::default() };
     for tol in [1e-4, 1e-6, 1e-8] {
-        let straight_opts = Options {
-            target_lambda: Some(3.0),
-            residual_tol: 1e-12,
-            initial_step: 0.2,
-            max_step: 0.5,
-            detect_bifurcations: true,
-            bifurcation_tol: 1e-11,
-            ..Default::default()
-        };
-        let post_opts =
-            Options { target_lambda: Some(14.0), residual_tol: 1e-12, max_steps: 500, ..Default::default() };
         let mut critical = vec![];
         let acc = refine_until(&template, tol, 1e-12, |rod| {
-            let straight = rod.continue_branch(None, 0.0, true, &straight_opts, Method::Newton, |_| true)?;
-            critical.push(straight.bifurcations[0].lambda);
-            rod.switch_branch(&straight, 0, 0, 0.05, &post_opts, Method::Anm(Default::default()), |_| true)
+            let (branch, p_c) = post_buckled(rod, 3.0, &post_opts)?;
+            critical.push(p_c);
+            Ok(branch)
         })
         .unwrap();
         let p_c = *critical.last().unwrap();
@@ -207,22 +217,9 @@ fn greenhill_post_buckled_meets_the_tolerance_through_the_fold() {
     let law = RodLaw::kirchhoff(1.0, 1.0, 4.0).unwrap();
     let template =
         Rod::new(law, 1.0, Loads::default(), Supports::Twisted { tension: 0.0 }, Scheme::Gauss(4), 4).unwrap();
+    let post_opts = Options { residual_tol: 1e-12, max_step: 0.3, max_steps: 25, ..Default::default() };
     for tol in [1e-4, 1e-6, 1e-8] {
-        let straight_opts = Options {
-            target_lambda: Some(0.99),
-            residual_tol: 1e-12,
-            initial_step: 0.2,
-            max_step: 0.5,
-            detect_bifurcations: true,
-            bifurcation_tol: 1e-11,
-            ..Default::default()
-        };
-        let post_opts = Options { residual_tol: 1e-12, max_step: 0.3, max_steps: 25, ..Default::default() };
-        let acc = refine_until(&template, tol, 1e-12, |rod| {
-            let straight = rod.continue_branch(None, 0.0, true, &straight_opts, Method::Newton, |_| true)?;
-            rod.switch_branch(&straight, 0, 0, 0.05, &post_opts, Method::Anm(Default::default()), |_| true)
-        })
-        .unwrap();
+        let acc = refine_until(&template, tol, 1e-12, |rod| Ok(post_buckled(rod, 0.99, &post_opts)?.0)).unwrap();
         let rod = &acc.rod;
         let reference_rod = Rod { elements: 128, ..rod.clone() };
         let mut reference = Resolver::new(rod, &reference_rod, acc.branch.phase).unwrap();

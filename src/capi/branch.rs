@@ -379,17 +379,7 @@ pub unsafe extern "C" fn rodkit_branch_bifurcations(
         let rod = arg_ref("rod", rod)?;
         let b = same_rod(rod, arg_ref("branch", branch)?)?;
         let points = bifurcation_points(rod, b);
-        copy_out("out", out, capacity, count, &points, |p| Bifurcation {
-            lambda: p.lambda,
-            multiplicity: p.multiplicity,
-            sigma1: p.sigma1,
-            sigma2: p.sigma2,
-            sigma3: p.sigma3,
-            det_sign_change: p.det_sign_change,
-            tip_x: p.tip_x,
-            tip_y: p.tip_y,
-            tip_z: p.tip_z,
-        })
+        copy_out("out", out, capacity, count, &points, |&p| Bifurcation::from(p))
     })
 }
 

@@ -146,6 +146,23 @@ pub struct BifurcationPoint {
     pub tip_z: f64,
 }
 
+/// The older record of a point: its first fields.
+impl From<BifurcationPoint> for Bifurcation {
+    fn from(p: BifurcationPoint) -> Self {
+        Bifurcation {
+            lambda: p.lambda,
+            multiplicity: p.multiplicity,
+            sigma1: p.sigma1,
+            sigma2: p.sigma2,
+            sigma3: p.sigma3,
+            det_sign_change: p.det_sign_change,
+            tip_x: p.tip_x,
+            tip_y: p.tip_y,
+            tip_z: p.tip_z,
+        }
+    }
+}
+
 /// A bracket of records where det of the bordered tangent or the test
 /// function changed sign (or σ_min dipped) but no bifurcation accounting
 /// for it was located (rodkit_branch_unresolved): the branch cannot vouch

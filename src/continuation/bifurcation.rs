@@ -22,6 +22,7 @@ use super::corrector::{correct, Plane};
 use super::run::Context;
 use super::{Problem, Resume, Scaling};
 use crate::error::Result;
+use crate::linalg::dense::sub;
 
 /// A located bifurcation point.
 #[derive(Clone, Debug, PartialEq)]
@@ -97,7 +98,7 @@ pub(crate) fn locate<P: Problem + ?Sized>(
     evidence: Evidence,
     (residual_tol, tol): (f64, f64),
 ) -> Result<Option<(Bifurcation, f64)>> {
-    let dx: Vec<f64> = right.x.iter().zip(&left.x).map(|(a, b)| a - b).collect();
+    let dx = sub(&right.x, &left.x);
     let span = ctx.scaling.dot(&dx, right.lambda - left.lambda, &left.tx, left.tl);
     // The point at arc parameter τ on the hyperplane ⟨X − X_L − τ t_L, t_L⟩ = 0.
     let mut point = |tau: f64, ctx: &mut Context| -> Result<(Vec<f64>, f64, f64)> {
@@ -287,11 +288,6 @@ fn signed_state<P: Problem + ?Sized>(
     let (tx, tl) = ctx.tangent()?;
     let (sign, _) = ctx.bordered.determinant_signs(&ctx.scaling, &tx, tl);
     Ok((State { x, lambda: l, tx, tl }, sign))
-}
-
-/// a − b, entry by entry.
-fn sub(a: &[f64], b: &[f64]) -> Vec<f64> {
-    a.iter().zip(b).map(|(p, q)| p - q).collect()
 }
 
 /// A start on the branch leaving `bif` along `direction` (x part, Λ part;

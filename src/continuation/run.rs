@@ -9,6 +9,7 @@ use super::corrector::{correct, deliver_sample, Plane};
 use super::tangent::Bordered;
 use super::{Branch, Counts, Options, Problem, Record, Resume, Sample, Scaling};
 use crate::error::{self, Error, Result};
+use crate::linalg::dense::sub;
 use crate::nonlinear::scaled_max_norm;
 use crate::status::Status;
 
@@ -408,7 +409,7 @@ impl<'o> Run<'o> {
         }
         let tols = (self.opts.residual_tol, self.opts.bifurcation_tol);
         let scaling = self.ctx.scaling.clone();
-        let arc = |x: &[f64], l: f64| scaling.dot(&diff(x, &left.x), l - left.lambda, &left.tx, left.tl);
+        let arc = |x: &[f64], l: f64| scaling.dot(&sub(x, &left.x), l - left.lambda, &left.tx, left.tl);
         // The record a point follows: with a middle record, by its arc
         // parameter against the middle's.
         let place = |p: &Bifurcation| match &middle {
@@ -522,9 +523,4 @@ impl<'o> Run<'o> {
             column_order: self.ctx.bordered.column_order(),
         }
     }
-}
-
-/// a − b, entry by entry.
-fn diff(a: &[f64], b: &[f64]) -> Vec<f64> {
-    a.iter().zip(b).map(|(p, q)| p - q).collect()
 }

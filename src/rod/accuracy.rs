@@ -29,6 +29,8 @@ use crate::continuation::equilibrium::damped_newton;
 use crate::continuation::run::Context;
 use crate::continuation::{Counts, Options, Problem, Scaling, Stop};
 use crate::error::{self, Error, Result};
+use crate::geometry::vec3::distance;
+use crate::linalg::dense::{norm2, sub};
 use crate::status::Status;
 
 /// The estimated error of one record's quantities: absolute (lengths, rad,
@@ -53,10 +55,10 @@ impl RecordError {
         let (f, m) = rod.spatial_force_moment(x, 0);
         let tip = rod.tip(x);
         [
-            self.tip_position / norm(&tip).max(l),
+            self.tip_position / norm2(&tip).max(l),
             self.tip_rotation,
-            self.base_force / norm(&f).max(kb / (l * l)),
-            self.base_moment / norm(&m).max(kb / l),
+            self.base_force / norm2(&f).max(kb / (l * l)),
+            self.base_moment / norm2(&m).max(kb / l),
         ]
         .into_iter()
         .fold(0.0, f64::max)
@@ -89,8 +91,7 @@ pub fn estimate_errors(rod: &Rod, branch: &RodBranch, residual_tol: f64) -> Resu
 pub fn secant(records: &[crate::continuation::Record], states: &[Vec<f64>], k: usize) -> (Vec<f64>, f64) {
     let last = records.len().saturating_sub(1);
     let (a, b) = (k.saturating_sub(1), (k + 1).min(last));
-    let dx = states[b].iter().zip(&states[a]).map(|(p, q)| p - q).collect();
-    (dx, records[b].lambda - records[a].lambda)
+    (sub(&states[b], &states[a]), records[b].lambda - records[a].lambda)
 }
 
 /// Points of one rod's branch re-solved on another discretisation of the
@@ -264,11 +265,6 @@ pub fn refine_until(
     }
 }
 
-/// |a|.
-fn norm(a: &[f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
-
 /// The state `x` of `fine` carried to `coarse` (any two discretisations
 /// of one rod; length `dim`): each profile point's 13 values by Lagrange
 /// interpolation on the six profile points of `fine` nearest in arc
@@ -313,16 +309,15 @@ fn lagrange(points: impl Iterator<Item = (f64, f64)> + Clone, s: f64) -> f64 {
 
 /// The quantities' differences between `x` on `a` and `y` on `b`.
 pub fn difference(a: &Rod, x: &[f64], b: &Rod, y: &[f64]) -> RecordError {
-    let sub = |p: [f64; 3], q: [f64; 3]| norm(&[p[0] - q[0], p[1] - q[1], p[2] - q[2]]);
     let (fa, ma) = a.spatial_force_moment(x, 0);
     let (fb, mb) = b.spatial_force_moment(y, 0);
     let qa = &a.node_state(x, a.elements)[3..7];
     let qb = &b.node_state(y, b.elements)[3..7];
     RecordError {
-        tip_position: sub(a.tip(x), b.tip(y)),
+        tip_position: distance(&a.tip(x), &b.tip(y)),
         tip_rotation: frame_angle(qa, qb),
-        base_force: sub(fa, fb),
-        base_moment: sub(ma, mb),
+        base_force: distance(&fa, &fb),
+        base_moment: distance(&ma, &mb),
     }
 }
 
@@ -337,7 +332,7 @@ fn frame_angle(p: &[f64], q: &[f64]) -> f64 {
         p0 * q2 - p1 * q3 + p2 * q0 + p3 * q1,
         p0 * q3 + p1 * q2 - p2 * q1 + p3 * q0,
     ];
-    2.0 * norm(&v).atan2(w.abs())
+    2.0 * norm2(&v).atan2(w.abs())
 }
 
 #[cfg(test)]

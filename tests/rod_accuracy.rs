@@ -259,3 +259,113 @@ fn greenhill_post_buckled_meets_the_tolerance_through_the_fold() {
         );
     }
 }
+
+/// The first `n` roots θ_k = 2x_k of tan x = x (Greenhill's critical
+/// M L/K_b of a clamped–clamped rod without tension).
+fn greenhill_roots(n: usize) -> Vec<f64> {
+    (1..=n)
+        .map(|k| {
+            let mut x = (k as f64 + 0.5) * std::f64::consts::PI - 0.05;
+            for _ in 0..60 {
+                x -= (x.tan() - x) / (1.0 / x.cos().powi(2) - 1.0);
+            }
+            2.0 * x
+        })
+        .collect()
+}
+
+/// Critical loads to a tolerance: the straight branch with detection,
+/// its elements chosen by continue_to_tolerance, every located point's
+/// critical value within its estimate and the tolerance of the closed
+/// form. Greenhill's rod (K_b = C = L = 1, clamped–clamped, no tension)
+/// under end-moment control (Λ = M, critical M = θ_k) to M = 17 and under
+/// rotation control (critical φ = θ_k) to φ = 17 exactly (until_rotation):
+/// roots 1–2, double points (the straight records are near exact: without
+/// the points' own estimates 4 elements would be kept, the second root
+/// then ~1e-3 off); Euler's column (the elastica's rod, dead axial load, P_cr =
+/// π²/4) to P = 3: one simple point.
+#[test]
+fn critical_loads_meet_the_tolerance_and_their_estimates() {
+    use rodkit::rod::target::until_rotation;
+    let detect = |target: Option<f64>| Options {
+        target_lambda: target,
+        residual_tol: 1e-12,
+        initial_step: 0.05,
+        max_step: 1.0,
+        max_steps: 2000,
+        detect_bifurcations: true,
+        bifurcation_tol: 1e-11,
+        ..Default::default()
+    };
+    let roots = greenhill_roots(2);
+    let greenhill = |supports| {
+        Rod::new(RodLaw::kirchhoff(1.0, 1.0, 1.0).unwrap(), 1.0, Loads::default(), supports, Scheme::Gauss(4), 4)
+            .unwrap()
+    };
+    let euler = Rod::new(
+        RodLaw::kirchhoff(1.0, 1.0, 1.0 / 1.3).unwrap(),
+        1.0,
+        Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() },
+        Supports::Cantilever,
+        Scheme::Gauss(4),
+        4,
+    )
+    .unwrap();
+    let cases = [
+        ("Greenhill, moment control", greenhill(Supports::Torqued { tension: 0.0 }), Some(17.0), roots.clone()),
+        ("Greenhill, rotation control", greenhill(Supports::Twisted { tension: 0.0 }), None, roots.clone()),
+        ("Euler", euler, Some(3.0), vec![std::f64::consts::PI.powi(2) / 4.0]),
+    ];
+    for (name, template, target, truth) in cases {
+        for tol in [1e-4, 1e-6, 1e-8] {
+            let opts = detect(target);
+            let acc = rodkit::rod::accuracy::refine_until(&template, tol, 1e-12, |rod| {
+                let follow = |cb: &mut dyn FnMut(&rodkit::continuation::Record) -> bool| {
+                    rod.continue_branch(None, 0.0, true, &opts, Method::Newton, cb)
+                };
+                if rod.twisted() {
+                    // Rotation control: to φ = 17 exactly (Λ = sin(φ/2) cannot say it).
+                    let plain = rodkit::rod::branch::Plain { rod, method: Method::Newton };
+                    until_rotation(&plain, 17.0, None, &mut |_| true, follow)
+                } else {
+                    follow(&mut |_| true)
+                }
+            })
+            .unwrap();
+            if template.twisted() {
+                let (phis, _) = acc.branch.end_rotations(&acc.rod, None);
+                assert_eq!(acc.branch.stop, rodkit::continuation::Stop::Target);
+                assert!((phis.last().unwrap() - 17.0).abs() < 1e-12, "ends at φ {:?}", phis.last());
+            }
+            let rod = &acc.rod;
+            let (rotations, _) = acc.branch.end_rotations(rod, None);
+            let bifs = &acc.branch.bifurcations;
+            assert_eq!(bifs.len(), truth.len(), "{name}, tol {tol:e}: points {bifs:?}");
+            let mut worst: f64 = 0.0;
+            for (i, (bif, exact)) in bifs.iter().zip(&truth).enumerate() {
+                let estimate = acc.bifurcation_estimates[i].expect("every point has an estimate");
+                // The critical value read: φ under rotation control, else Λ.
+                let (got, err) = if rod.twisted() {
+                    (acc.branch.rotation_at_bifurcation(rod, i, &rotations).unwrap(), estimate.end_rotation)
+                } else {
+                    (bif.lambda, estimate.lambda)
+                };
+                let true_err = (got - exact).abs();
+                worst = worst.max(true_err / exact);
+                // Below 1e-10 the location's own tolerance, not the mesh.
+                assert!(
+                    true_err <= err.max(1e-10),
+                    "{name}, tol {tol:e}, root {exact}: true {true_err:e} > estimate {err:e}"
+                );
+                assert!(true_err <= tol * exact, "{name}, tol {tol:e}, root {exact}: true {true_err:e}");
+                assert!(estimate.scaled(rod, bif) <= tol, "{name}, tol {tol:e}: {estimate:?}");
+            }
+            println!(
+                "{name}, tol {tol:e}: elements tried {:?}, worst estimate {:.2e}, worst true relative error {worst:.2e}, estimates {:?}",
+                acc.tried,
+                acc.worst,
+                acc.bifurcation_estimates.iter().map(|e| e.map(|e| e.lambda.max(e.end_rotation))).collect::<Vec<_>>()
+            );
+        }
+    }
+}

@@ -23,7 +23,9 @@
 //! continuation corrects, and the quantities are compared there.
 
 use super::branch::{Method, RodBranch};
+use super::model::unwrap_rotation;
 use super::model::Rod;
+use crate::continuation::bifurcation::{locate, Bifurcation, Evidence, State};
 use crate::continuation::corrector::{correct, Plane};
 use crate::continuation::equilibrium::damped_newton;
 use crate::continuation::run::Context;
@@ -68,13 +70,7 @@ impl RecordError {
 /// The estimates of every record of `branch` (followed on `rod`, an even
 /// number of elements ≥ 2): None where the coarse re-solve failed.
 pub fn estimate_errors(rod: &Rod, branch: &RodBranch, residual_tol: f64) -> Result<Vec<Option<RecordError>>> {
-    if rod.elements < 2 || !rod.elements.is_multiple_of(2) {
-        return Err(Error::new(
-            Status::ErrOutOfRange,
-            format!("error estimates need an even number of elements ≥ 2 (got {})", rod.elements),
-        ));
-    }
-    let coarse = Rod { elements: rod.elements / 2, ..rod.clone() };
+    let coarse = half(rod)?;
     let mut on = Resolver::new(rod, &coarse, branch.phase)?;
     let (records, states) = (&branch.records, &branch.states);
     Ok((0..records.len())
@@ -142,14 +138,33 @@ impl<'r> Resolver<'r> {
         residual_tol: f64,
         secant: Option<(&[f64], f64)>,
     ) -> Result<(Vec<f64>, f64)> {
-        let dim = self.system.dim();
-        let mut y = transfer(self.from, self.to, x, dim);
+        let y = self.carry(x)?;
+        self.correct_carried(y, lambda, residual_tol, secant)
+    }
+
+    /// `x` (a state of `from`) carried to `to`, and the phase condition
+    /// turned to its azimuth at the phase node (later corrections keep it).
+    fn carry(&mut self, x: &[f64]) -> Result<Vec<f64>> {
+        let y = transfer(self.from, self.to, x, self.system.dim());
         if let Some((node, azimuth)) = self.phase {
             let at = self.to.node(node);
             let (px, py) = (y[at], y[at + 1]);
             let here = if px.hypot(py) > 1e-9 * self.to.length { py.atan2(px) } else { azimuth };
             self.system = self.to.system_with_phase(node, here)?;
         }
+        Ok(y)
+    }
+
+    /// A carried state `y` corrected under the current phase condition (as
+    /// [`Resolver::solve`]).
+    fn correct_carried(
+        &mut self,
+        mut y: Vec<f64>,
+        lambda: f64,
+        residual_tol: f64,
+        secant: Option<(&[f64], f64)>,
+    ) -> Result<(Vec<f64>, f64)> {
+        let dim = self.system.dim();
         let anchor = y.clone();
         let fixed = damped_newton(&mut self.system, &mut y, lambda, residual_tol, &mut self.counts);
         let (Err(e), Some((dx, dl))) = (&fixed, secant) else {
@@ -170,15 +185,157 @@ impl<'r> Resolver<'r> {
     }
 }
 
+/// The estimated error of a located bifurcation (absolute, in the rod's
+/// units): its critical Λ, its end rotation where the rod has one (0
+/// otherwise), and the quantities of its state.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BifurcationError {
+    pub lambda: f64,
+    pub end_rotation: f64,
+    pub at: RecordError,
+}
+
+impl BifurcationError {
+    /// Against the tolerance's scales: the critical value relative to its
+    /// magnitude — the end rotation's (at least 1 rad) under rotation
+    /// control, where Λ = sin(φ/2) says little near φ = 2πk, else Λ's —
+    /// and the state's quantities as [`RecordError::scaled`]; the largest.
+    pub fn scaled(&self, rod: &Rod, bif: &Bifurcation) -> f64 {
+        let critical = if rod.twisted() {
+            let phi = rod.end_rotation(&bif.x, bif.lambda).unwrap_or(0.0);
+            self.end_rotation / phi.abs().max(1.0)
+        } else if bif.lambda != 0.0 {
+            self.lambda / bif.lambda.abs()
+        } else {
+            self.lambda
+        };
+        critical.max(self.at.scaled(rod, &bif.x))
+    }
+}
+
+/// The estimates of every bifurcation `branch` located (followed on
+/// `rod`, an even number of elements ≥ 2): the difference from the same
+/// point located again on half the elements. The records around it are
+/// re-solved there (as [`estimate_errors`]) and the point is located
+/// between them by the branch's own search ([`locate`]); where it is not
+/// between them (a coarse mesh moves it more than a step) the bracket is
+/// widened by a record on each side, twice. None where no point is found,
+/// or where the one found lies nearer another of the branch's points than
+/// this one (close roots a coarse mesh cannot tell apart): a branch with
+/// such a point does not meet a tolerance.
+pub fn estimate_bifurcation_errors(
+    rod: &Rod,
+    branch: &RodBranch,
+    residual_tol: f64,
+) -> Result<Vec<Option<BifurcationError>>> {
+    let coarse = half(rod)?;
+    let mut on = Resolver::new(rod, &coarse, branch.phase)?;
+    let (rotations, _) = branch.end_rotations(rod, None);
+    Ok((0..branch.bifurcations.len())
+        .map(|i| {
+            let bif = &branch.bifurcations[i];
+            let found = relocate(&mut on, branch, bif, residual_tol).ok().flatten()?;
+            // The nearest of the branch's points in Λ and state.
+            let apart = |b: &Bifurcation| (b.lambda - found.lambda).abs() + distance_of(&b.x, &found.x, rod, &coarse);
+            let nearest = branch.bifurcations.iter().map(apart).fold(f64::INFINITY, f64::min);
+            if apart(bif) > nearest {
+                return None;
+            }
+            let end_rotation =
+                match (branch.rotation_at_bifurcation(rod, i, &rotations), coarse.end_rotation(&found.x, found.lambda))
+                {
+                    (Some(fine), Some(raw)) => (fine - unwrap_rotation(fine, raw)).abs(),
+                    _ => 0.0,
+                };
+            Some(BifurcationError {
+                lambda: (bif.lambda - found.lambda).abs(),
+                end_rotation,
+                at: difference(rod, &bif.x, &coarse, &found.x),
+            })
+        })
+        .collect())
+}
+
+/// The tip distance between a state of `a` and one of `b` (the measure
+/// that tells two bifurcation points apart beside their Λ).
+fn distance_of(x: &[f64], y: &[f64], a: &Rod, b: &Rod) -> f64 {
+    distance(&a.tip(x), &b.tip(y))
+}
+
+/// `bif` (a point of `branch`, on `on.from`) located on `on.to`: the
+/// bracket of records around it re-solved there, widened up to twice.
+fn relocate(
+    on: &mut Resolver,
+    branch: &RodBranch,
+    bif: &Bifurcation,
+    residual_tol: f64,
+) -> Result<Option<Bifurcation>> {
+    let (records, states) = (&branch.records, &branch.states);
+    let last = records.len().saturating_sub(1);
+    // One phase condition for the whole search: the bifurcation's own
+    // azimuth, carried.
+    on.carry(&bif.x)?;
+    let mut ctx = Context::new(&on.system, Scaling::of(&on.system))?;
+    let dim = on.system.dim();
+    for widen in 0..3 {
+        let (a, b) = (bif.record.saturating_sub(widen), (bif.record + 1 + widen).min(last));
+        if a == b {
+            return Ok(None);
+        }
+        let mut ends = vec![];
+        for k in [a, b] {
+            let (dx, dl) = secant(records, states, k);
+            let y = transfer(on.from, on.to, &states[k], dim);
+            let (y, l) = on.correct_carried(y, records[k].lambda, residual_tol, Some((&dx, dl)))?;
+            // The tangent there, turned along the branch's direction.
+            let t = transfer(on.from, on.to, &dx, dim);
+            ctx.factorise(&mut on.system, &y, l, (&t, dl))?;
+            let (mut tx, mut tl) = ctx.tangent()?;
+            if ctx.scaling.dot(&tx, tl, &t, dl) < 0.0 {
+                tx.iter_mut().for_each(|v| *v = -*v);
+                tl = -tl;
+            }
+            let (sign, _) = ctx.bordered.determinant_signs(&ctx.scaling, &tx, tl);
+            ends.push((State { x: y, lambda: l, tx, tl }, sign));
+        }
+        let evidence =
+            Evidence { det_sign_change: ends[0].1 * ends[1].1 < 0.0, test_function_change: bif.test_function_change };
+        if let Some((found, _)) =
+            locate(&mut on.system, &mut ctx, &ends[0].0, &ends[1].0, evidence, (residual_tol, 1e-10))?
+        {
+            if found.multiplicity == bif.multiplicity {
+                return Ok(Some(found));
+            }
+        }
+    }
+    Ok(None)
+}
+
+/// `rod` on half its elements (an even count ≥ 2), the estimates' coarse mesh.
+fn half(rod: &Rod) -> Result<Rod> {
+    if rod.elements < 2 || !rod.elements.is_multiple_of(2) {
+        return Err(Error::new(
+            Status::ErrOutOfRange,
+            format!("error estimates need an even number of elements ≥ 2 (got {})", rod.elements),
+        ));
+    }
+    Ok(Rod { elements: rod.elements / 2, ..rod.clone() })
+}
+
 /// A branch on the rod `template` with its elements chosen so that every
-/// record's estimated error meets a tolerance (see [`RecordError::scaled`]).
+/// record's estimated error, and every located bifurcation's (its
+/// critical load), meets a tolerance (see [`RecordError::scaled`],
+/// [`BifurcationError::scaled`]).
 pub struct Accurate {
     /// The rod as refined (its `elements` the ones chosen).
     pub rod: Rod,
     pub branch: RodBranch,
     /// Per record, as [`estimate_errors`].
     pub estimates: Vec<Option<RecordError>>,
-    /// The worst scaled estimate over the records (∞ if one has none).
+    /// Per located bifurcation, as [`estimate_bifurcation_errors`].
+    pub bifurcation_estimates: Vec<Option<BifurcationError>>,
+    /// The worst scaled estimate over the records and the bifurcations
+    /// (∞ if one has none).
     pub worst: f64,
     /// The element counts tried, in order (the last is `rod.elements`).
     pub tried: Vec<usize>,
@@ -237,16 +394,23 @@ pub fn refine_until(
         let rod = Rod { elements, ..template.clone() };
         let branch = follow(&rod)?;
         let estimates = estimate_errors(&rod, &branch, residual_tol.max(1e-11))?;
+        let bifurcation_estimates = estimate_bifurcation_errors(&rod, &branch, residual_tol.max(1e-11))?;
         let worst = estimates
             .iter()
             .zip(&branch.states)
             .map(|(e, x)| e.map_or(f64::INFINITY, |e| e.scaled(&rod, x)))
+            .chain(
+                bifurcation_estimates
+                    .iter()
+                    .zip(&branch.bifurcations)
+                    .map(|(e, b)| e.map_or(f64::INFINITY, |e| e.scaled(&rod, b))),
+            )
             .fold(0.0, f64::max);
         tried.push(elements);
         // Met — or stopped by its caller (a progress callback's cancel):
         // no further refinement, the estimates say how far it is.
         if worst <= tolerance || branch.stop == Stop::Cancelled {
-            return Ok(Accurate { rod, branch, estimates, worst, tried });
+            return Ok(Accurate { rod, branch, estimates, bifurcation_estimates, worst, tried });
         }
         // The estimate falls as N^−order: the count that meets the
         // tolerance, with a margin; an estimate missing (∞) doubles.

@@ -11,6 +11,7 @@ pub mod kinematics;
 pub mod model;
 pub mod outputs;
 pub mod scheme;
+pub mod target;
 pub mod topology;
 
 use crate::error::{self, Error, Result};

@@ -465,6 +465,18 @@ module rodkit
         real(c_double) :: scaled
     end type rodkit_record_error
 
+    ! RodkitBifurcationError (see rodkit.h).
+    type, bind(c) :: rodkit_bifurcation_error
+        integer(c_int32_t) :: estimated
+        real(c_double) :: lambda
+        real(c_double) :: end_rotation
+        real(c_double) :: tip_position
+        real(c_double) :: tip_rotation
+        real(c_double) :: base_force
+        real(c_double) :: base_moment
+        real(c_double) :: scaled
+    end type rodkit_bifurcation_error
+
     ! RodkitBifurcationPoint (see rodkit.h).
     type, bind(c) :: rodkit_bifurcation_point
         real(c_double) :: lambda
@@ -972,6 +984,14 @@ module rodkit
             type(c_ptr), value :: rod
         end subroutine rodkit_rod_free
 
+        function rodkit_rod_set_target_rotation(rod, phi) result(status) &
+                bind(c, name="rodkit_rod_set_target_rotation")
+            import :: c_double, c_int32_t, c_ptr
+            type(c_ptr), value :: rod
+            real(c_double), value :: phi
+            integer(c_int32_t) :: status
+        end function rodkit_rod_set_target_rotation
+
         function rodkit_rod_unknowns(rod, n) result(status) &
                 bind(c, name="rodkit_rod_unknowns")
             import :: c_int32_t, c_int64_t, c_ptr
@@ -1013,6 +1033,17 @@ module rodkit
             integer(c_int64_t), intent(out) :: count
             integer(c_int32_t) :: status
         end function rodkit_branch_error_estimates
+
+        function rodkit_branch_bifurcation_errors(branch, rod, out, capacity, count) result(status) &
+                bind(c, name="rodkit_branch_bifurcation_errors")
+            import :: c_int32_t, c_int64_t, c_ptr, rodkit_bifurcation_error
+            type(c_ptr), value :: branch
+            type(c_ptr), value :: rod
+            type(rodkit_bifurcation_error), intent(inout) :: out(*)
+            integer(c_int64_t), value :: capacity
+            integer(c_int64_t), intent(out) :: count
+            integer(c_int32_t) :: status
+        end function rodkit_branch_bifurcation_errors
 
         function rodkit_rod_continue(rod, x0, n, lambda0, options, progress, user_data, out) result(status) &
                 bind(c, name="rodkit_rod_continue")

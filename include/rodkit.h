@@ -759,6 +759,30 @@ typedef struct RodkitRecordError {
   double scaled;
 } RodkitRecordError;
 
+// A located bifurcation's estimated discretisation error
+// (rodkit_branch_bifurcation_errors): the difference from the same point
+// located again on half the elements.
+typedef struct RodkitBifurcationError {
+  // 1 if estimated; 0 where no point was located on half the elements
+  // between the records around it (the bracket widened twice), or the
+  // one found lay nearer another of the branch's points (close roots
+  // the coarse mesh cannot tell apart): the fields are then 0.
+  int32_t estimated;
+  // |ΔΛ| (the critical load), |Δφ| (the critical end rotation, rad; 0
+  // for a rod without end rotation).
+  double lambda;
+  double end_rotation;
+  // The point's state, as RodkitRecordError's.
+  double tip_position;
+  double tip_rotation;
+  double base_force;
+  double base_moment;
+  // The largest of: the critical value's relative error (φ's, against
+  // at least 1 rad, under rotation control; Λ's otherwise) and the
+  // state's scaled one (as RodkitRecordError.scaled).
+  double scaled;
+} RodkitBifurcationError;
+
 // Summary of a branch.
 typedef struct RodkitBranchInfo {
   int64_t records;
@@ -1397,6 +1421,22 @@ int32_t rodkit_rod_new_general(const struct RodkitRodSpec *spec,
                                int64_t ldk,
                                struct RodkitRod **out);
 
+// Stop every branch followed on `rod` from now on (rodkit_rod_continue,
+// rodkit_branch_resume, rodkit_branch_switch,
+// rodkit_rod_continue_to_tolerance) exactly where its end rotation φ
+// reaches `phi` (radians, counted continuously from the straight state:
+// 25 is four turns on; a resumed or switched branch counts on from the
+// point it leaves). Under rotation control Λ = sin(φ/2) takes every value
+// again each turn, so options.target_lambda cannot say this; a torque
+// clamp's φ is an output. The branch's last record is then at φ = `phi`
+// (RODKIT_STATUS_OK, as for a target Λ); one that ends first (its target
+// Λ, range, step limit, a callback's stop) ends as it would without.
+// NaN clears the target. Refused for a rod without end rotation control
+// or torque clamp (RODKIT_STATUS_ERR_OUT_OF_RANGE) and for an infinity.
+// Set it before following branches, not while another thread follows
+// one on this handle.
+int32_t rodkit_rod_set_target_rotation(struct RodkitRod *rod, double phi);
+
 // Free a rod (NULL is accepted).
 void rodkit_rod_free(struct RodkitRod *rod);
 
@@ -1466,7 +1506,11 @@ int32_t rodkit_rod_rhs(const struct RodkitRod *rod, const double *y, double lamb
 // RODKIT_STATUS_ERR_TOLERANCE_UNREACHABLE beyond, with what was reached).
 // `*rod_out` receives the refined rod (free it with rodkit_rod_free; its
 // element count is the one chosen), `*out` the branch, of `*rod_out`;
-// rodkit_branch_error_estimates gives each record's estimate. `progress`
+// rodkit_branch_error_estimates gives each record's estimate,
+// rodkit_branch_bifurcation_errors each located bifurcation's (with
+// options.detect_bifurcations the critical loads meet the tolerance too).
+// A target end rotation set on `rod` (rodkit_rod_set_target_rotation)
+// ends every refinement's branch there. `progress`
 // is told every refinement's points (counted from 1 for each); a stop it
 // asks for ends the refinement there (RODKIT_STATUS_INFO_CANCELLED, the
 // branch and estimates so far). `options.residual_tol` must not exceed
@@ -1493,6 +1537,18 @@ int32_t rodkit_branch_error_estimates(const struct RodkitBranch *branch,
                                       struct RodkitRecordError *out,
                                       int64_t capacity,
                                       int64_t *count);
+
+// Copy up to `capacity` located bifurcations' error estimates (in the
+// order of rodkit_branch_bifurcation_points); `count` receives the number
+// of points. For a branch from rodkit_rod_continue_to_tolerance they are
+// the ones it met the tolerance with; for any other branch they are
+// computed here (each point located again on half the elements: the rod
+// needs an even element count, else RODKIT_STATUS_ERR_OUT_OF_RANGE).
+int32_t rodkit_branch_bifurcation_errors(const struct RodkitBranch *branch,
+                                         const struct RodkitRod *rod,
+                                         struct RodkitBifurcationError *out,
+                                         int64_t capacity,
+                                         int64_t *count);
 
 // Follow a branch from the state `x0` (length n; NULL: the straight
 // state) at `lambda0`. Returns 0 when the target was reached, a positive

@@ -811,3 +811,102 @@ fn a_branch_to_a_tolerance_through_the_c_abi() {
         unsafe { rodkit_rod_free(r) };
     }
 }
+
+/// A target end rotation through the C ABI (rodkit_rod_set_target_rotation)
+/// on Greenhill's rod under rotation control (C = K_b = L = 1, 16
+/// elements): the straight branch ends exactly at φ = 24 (status 0, the
+/// last record's end_rotation 24, Λ = sin 12, the twisting moment Cφ/L =
+/// 24, the callback told φ up to 24), a resume counts on to a new target
+/// of 30; the same through rodkit_rod_continue_to_tolerance with detection,
+/// whose critical φ (Greenhill's roots θ_k, tan(θ/2) = θ/2) lie within
+/// their estimates (rodkit_branch_bifurcation_errors) and the tolerance;
+/// NaN clears the target; a cantilever and an infinity are refused.
+#[test]
+fn a_target_end_rotation_through_the_c_abi() {
+    unsafe extern "C" fn max_turns(p: *const BranchProgress, seen: *mut c_void) -> i32 {
+        let seen = &mut *(seen as *mut f64);
+        *seen = seen.max((*p).turns);
+        0
+    }
+    let (rod, mut o) = end_controlled(RodSupports::Twisted, 1.0, 16, f64::NAN);
+    o.residual_tol = 1e-10;
+    o.initial_step = 0.05;
+    o.max_step = 1.0;
+    o.bifurcation_tol = 1e-9;
+    assert_eq!(unsafe { rodkit_rod_set_target_rotation(rod, 24.0) }, 0);
+    let mut b = ptr::null_mut();
+    let mut seen = 0.0f64;
+    let st = unsafe {
+        rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, Some(max_turns), &mut seen as *mut f64 as *mut c_void, &mut b)
+    };
+    assert_eq!(st, 0, "{}", last_error());
+    let records = |b| {
+        let mut info = BranchInfo::default();
+        unsafe { rodkit_branch_summary(b, &mut info) };
+        let mut recs = vec![BranchRecord::default(); info.records as usize];
+        let mut count = 0;
+        unsafe { rodkit_branch_records(b, recs.as_mut_ptr(), info.records, &mut count) };
+        recs
+    };
+    let recs = records(b);
+    let last = recs.last().unwrap();
+    assert!((last.end_rotation - 24.0).abs() < 1e-10, "ends at φ {}", last.end_rotation);
+    assert!((last.lambda - 12f64.sin()).abs() < 1e-12);
+    // (The moment to the mesh's error: 9e-8 at φ = 24 on 16 elements.)
+    assert!((last.base_moment_z - 24.0).abs() < 1e-8 * 24.0, "moment {}", last.base_moment_z);
+    assert!((seen * 2.0 * std::f64::consts::PI - 24.0).abs() < 1e-10, "told up to {seen} turns");
+    let mut count = 0;
+    unsafe { rodkit_branch_bifurcation_points(b, rod, ptr::null_mut(), 0, &mut count) };
+    assert_eq!(count, 3);
+    // Resumed with a new target: on to φ = 30 from 24.
+    assert_eq!(unsafe { rodkit_rod_set_target_rotation(rod, 30.0) }, 0);
+    let mut resumed = ptr::null_mut();
+    let st = unsafe { rodkit_branch_resume(rod, b, &o, None, ptr::null_mut(), &mut resumed) };
+    assert_eq!(st, 0, "{}", last_error());
+    let more = records(resumed);
+    assert!((more[0].end_rotation - 24.0).abs() < 1e-10 && (more.last().unwrap().end_rotation - 30.0).abs() < 1e-10);
+
+    // To a tolerance, with the critical loads' estimates.
+    assert_eq!(unsafe { rodkit_rod_set_target_rotation(rod, 17.0) }, 0);
+    let (mut fine_rod, mut fb) = (ptr::null_mut(), ptr::null_mut());
+    o.residual_tol = 1e-12;
+    let st =
+        unsafe { rodkit_rod_continue_to_tolerance(rod, 1e-6, 0.0, &o, None, ptr::null_mut(), &mut fine_rod, &mut fb) };
+    assert_eq!(st, 0, "{}", last_error());
+    assert!((records(fb).last().unwrap().end_rotation - 17.0).abs() < 1e-10);
+    let mut points = vec![BifurcationPoint::default(); 4];
+    let mut errors = vec![BifurcationError::default(); 4];
+    unsafe { rodkit_branch_bifurcation_points(fb, fine_rod, points.as_mut_ptr(), 4, &mut count) };
+    assert_eq!(count, 2);
+    assert_eq!(unsafe { rodkit_branch_bifurcation_errors(fb, fine_rod, errors.as_mut_ptr(), 4, &mut count) }, 0);
+    assert_eq!(count, 2);
+    for (k, (p, theta)) in points.iter().zip([8.986818915818128, 15.450503673875414]).enumerate() {
+        let e = errors[k];
+        let truth = (p.end_rotation - theta).abs();
+        assert!(e.estimated == 1 && e.scaled <= 1e-6, "point {k}: {e:?}");
+        assert!(truth <= e.end_rotation.max(1e-10) && truth <= 1e-6 * theta, "point {k}: true {truth:e}, {e:?}");
+    }
+    // On request for a branch not refined (16 elements: 8 as the coarse mesh).
+    assert_eq!(unsafe { rodkit_branch_bifurcation_errors(b, rod, errors.as_mut_ptr(), 4, &mut count) }, 0);
+    assert_eq!(count, 3);
+    assert!(errors[..3].iter().all(|e| e.estimated == 1 && e.end_rotation > 0.0), "{errors:?}");
+
+    // NaN clears: the branch runs to its target Λ.
+    assert_eq!(unsafe { rodkit_rod_set_target_rotation(rod, f64::NAN) }, 0);
+    o.target_lambda = 0.5;
+    let mut plain = ptr::null_mut();
+    assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut plain) }, 0);
+    assert!((records(plain).last().unwrap().lambda - 0.5).abs() < 1e-15);
+    // Refusals.
+    assert_eq!(unsafe { rodkit_rod_set_target_rotation(rod, f64::INFINITY) }, Status::ErrNotFinite.code());
+    let cantilever = new_rod(&spec()).unwrap();
+    assert_eq!(unsafe { rodkit_rod_set_target_rotation(cantilever, 1.0) }, Status::ErrOutOfRange.code());
+    assert!(last_error().contains("end rotation"), "{}", last_error());
+    assert_eq!(unsafe { rodkit_rod_set_target_rotation(ptr::null_mut(), 1.0) }, Status::ErrNullPointer.code());
+    for h in [b, resumed, fb, plain] {
+        unsafe { rodkit_branch_free(h) };
+    }
+    for r in [rod, fine_rod, cantilever] {
+        unsafe { rodkit_rod_free(r) };
+    }
+}

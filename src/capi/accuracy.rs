@@ -7,7 +7,9 @@ use super::branch::{options_of, same_rod, with_progress, wrap, Branch, BranchCal
 use super::guard;
 use super::rod::{store_rod, Rod};
 use crate::error;
-use crate::rod::accuracy::{estimate_errors, refine_until, RecordError as Estimate};
+use crate::rod::accuracy::{estimate_bifurcation_errors, estimate_errors, refine_until, RecordError as Estimate};
+use crate::rod::branch::Plain;
+use crate::rod::target::until_rotation;
 use std::ffi::c_void;
 
 /// A record's estimated discretisation error (rodkit_branch_error_estimates):
@@ -32,6 +34,32 @@ pub struct RecordError {
     pub scaled: f64,
 }
 
+/// A located bifurcation's estimated discretisation error
+/// (rodkit_branch_bifurcation_errors): the difference from the same point
+/// located again on half the elements.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BifurcationError {
+    /// 1 if estimated; 0 where no point was located on half the elements
+    /// between the records around it (the bracket widened twice), or the
+    /// one found lay nearer another of the branch's points (close roots
+    /// the coarse mesh cannot tell apart): the fields are then 0.
+    pub estimated: i32,
+    /// |ΔΛ| (the critical load), |Δφ| (the critical end rotation, rad; 0
+    /// for a rod without end rotation).
+    pub lambda: f64,
+    pub end_rotation: f64,
+    /// The point's state, as RodkitRecordError's.
+    pub tip_position: f64,
+    pub tip_rotation: f64,
+    pub base_force: f64,
+    pub base_moment: f64,
+    /// The largest of: the critical value's relative error (φ's, against
+    /// at least 1 rad, under rotation control; Λ's otherwise) and the
+    /// state's scaled one (as RodkitRecordError.scaled).
+    pub scaled: f64,
+}
+
 /// Follow the branch from the straight state at `lambda0` (as
 /// rodkit_rod_continue with x0 NULL) with the elements chosen by rodkit so
 /// that every record's scaled error estimate is ≤ `tolerance` (1e-12 …
@@ -40,7 +68,11 @@ pub struct RecordError {
 /// RODKIT_STATUS_ERR_TOLERANCE_UNREACHABLE beyond, with what was reached).
 /// `*rod_out` receives the refined rod (free it with rodkit_rod_free; its
 /// element count is the one chosen), `*out` the branch, of `*rod_out`;
-/// rodkit_branch_error_estimates gives each record's estimate. `progress`
+/// rodkit_branch_error_estimates gives each record's estimate,
+/// rodkit_branch_bifurcation_errors each located bifurcation's (with
+/// options.detect_bifurcations the critical loads meet the tolerance too).
+/// A target end rotation set on `rod` (rodkit_rod_set_target_rotation)
+/// ends every refinement's branch there. `progress`
 /// is told every refinement's points (counted from 1 for each); a stop it
 /// asks for ends the refinement there (RODKIT_STATUS_INFO_CANCELLED, the
 /// branch and estimates so far). `options.residual_tol` must not exceed
@@ -70,13 +102,18 @@ pub unsafe extern "C" fn rodkit_rod_continue_to_tolerance(
         // Each refinement's points told afresh (its own point count and
         // turns from its start); a stop asked for ends the refinement.
         let acc = refine_until(&rod.model, tolerance, opts.residual_tol, |r| {
-            with_progress(r, (progress, user_data), None, |cb| {
+            let follow = |cb: &mut dyn FnMut(&crate::continuation::Record) -> bool| {
                 r.continue_branch(None, lambda0, increasing, &opts, method, cb)
+            };
+            with_progress(r, (progress, user_data), None, |cb| match rod.target_rotation {
+                Some(target) => until_rotation(&Plain { rod: r, method }, target, None, cb, follow),
+                None => follow(cb),
             })
         })?;
         let status = super::branch_record::branch_status(&acc.branch);
         let mut wrapped = wrap(&acc.rod, acc.branch, None);
         wrapped.estimates = Some(acc.estimates);
+        wrapped.bifurcation_estimates = Some(acc.bifurcation_estimates);
         store_rod(acc.rod, rod_out)?;
         *out = Box::into_raw(Box::new(wrapped));
         Ok(status)
@@ -121,6 +158,48 @@ pub unsafe extern "C" fn rodkit_branch_error_estimates(
                 scaled: e.scaled(&rod.model, x),
             },
             None => RecordError::default(),
+        })
+    })
+}
+
+/// Copy up to `capacity` located bifurcations' error estimates (in the
+/// order of rodkit_branch_bifurcation_points); `count` receives the number
+/// of points. For a branch from rodkit_rod_continue_to_tolerance they are
+/// the ones it met the tolerance with; for any other branch they are
+/// computed here (each point located again on half the elements: the rod
+/// needs an even element count, else RODKIT_STATUS_ERR_OUT_OF_RANGE).
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_branch_bifurcation_errors(
+    branch: *const Branch,
+    rod: *const Rod,
+    out: *mut BifurcationError,
+    capacity: i64,
+    count: *mut i64,
+) -> i32 {
+    guard(|| {
+        let rod = arg_ref("rod", rod)?;
+        let b = same_rod(rod, arg_ref("branch", branch)?)?;
+        let computed;
+        let estimates = match &b.bifurcation_estimates {
+            Some(e) => e,
+            None => {
+                computed = estimate_bifurcation_errors(&rod.model, &b.branch, 1e-10)?;
+                &computed
+            }
+        };
+        let rows: Vec<_> = estimates.iter().copied().zip(&b.branch.bifurcations).collect();
+        copy_out("out", out, capacity, count, &rows, |&(e, bif)| match e {
+            Some(e) => BifurcationError {
+                estimated: 1,
+                lambda: e.lambda,
+                end_rotation: e.end_rotation,
+                tip_position: e.at.tip_position,
+                tip_rotation: e.at.tip_rotation,
+                base_force: e.at.base_force,
+                base_moment: e.at.base_moment,
+                scaled: e.scaled(&rod.model, bif),
+            },
+            None => BifurcationError::default(),
         })
     })
 }

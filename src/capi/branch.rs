@@ -15,8 +15,9 @@ use super::{guard, guard_value};
 use crate::continuation::Options;
 use crate::continuation::Record;
 use crate::error::{self, Error, Result};
-use crate::rod::branch::{Method, RodBranch};
+use crate::rod::branch::{Method, Plain, RodBranch};
 use crate::rod::model::{unwrap_rotation, Rod as Model};
+use crate::rod::target::until_rotation;
 use crate::status::Status;
 use std::ffi::c_void;
 
@@ -64,6 +65,8 @@ pub struct Branch {
     /// tolerance (rodkit_rod_continue_to_tolerance); else computed on
     /// request.
     pub(super) estimates: Option<Vec<Option<crate::rod::accuracy::RecordError>>>,
+    /// Each located bifurcation's, likewise.
+    pub(super) bifurcation_estimates: Option<Vec<Option<crate::rod::accuracy::BifurcationError>>>,
 }
 
 /// Run `f` with a Rust progress closure forwarding to the C callback.
@@ -113,11 +116,36 @@ pub(super) unsafe fn with_progress<T>(
     f(&mut forward)
 }
 
+/// Follow a branch of `rod` with `f` (handed the engine's progress
+/// closure), forwarding progress to C as [`with_progress`], and ending it
+/// at the rod handle's target end rotation when one is set
+/// (rodkit_rod_set_target_rotation; `start_phi` as for `with_progress`).
+pub(super) unsafe fn follow_rod(
+    rod: &Rod,
+    method: Method,
+    callback: (BranchCallback, *mut c_void),
+    start_phi: Option<f64>,
+    f: impl FnOnce(&mut dyn FnMut(&Record) -> bool) -> Result<RodBranch>,
+) -> Result<RodBranch> {
+    with_progress(&rod.model, callback, start_phi, |cb| match rod.target_rotation {
+        Some(target) => until_rotation(&Plain { rod: &rod.model, method }, target, start_phi, cb, f),
+        None => f(cb),
+    })
+}
+
 /// The branch for C (`previous` as for [`record_lists`]).
 pub(super) fn wrap(model: &Model, branch: RodBranch, previous: Option<f64>) -> Branch {
     let (records, samples) = record_lists(model, &branch, previous);
     let state_length = model.unknowns() + branch.phase.is_some() as usize;
-    Branch { branch, records, samples, state_length, model: model.clone(), estimates: None }
+    Branch {
+        branch,
+        records,
+        samples,
+        state_length,
+        model: model.clone(),
+        estimates: None,
+        bifurcation_estimates: None,
+    }
 }
 
 /// The branch, checked to belong to `rod`.
@@ -194,7 +222,7 @@ pub unsafe extern "C" fn rodkit_rod_continue(
             check_len("n", n, rod.model.unknowns() as i64)?;
             Some(in_slice("x0", x0, n)?)
         };
-        let b = with_progress(&rod.model, (progress, user_data), None, |cb| {
+        let b = follow_rod(rod, method, (progress, user_data), None, |cb| {
             rod.model.continue_branch(x0, lambda0, increasing, &opts, method, cb)
         })?;
         store_branch(rod, b, None, out)
@@ -219,7 +247,7 @@ pub unsafe extern "C" fn rodkit_branch_resume(
         let from = same_rod(rod, arg_ref("branch", branch)?)?;
         let (opts, method, _) = options_of(rod, options)?;
         let previous = from.records.last().map(|r| r.end_rotation);
-        let b = with_progress(&rod.model, (progress, user_data), previous, |cb| {
+        let b = follow_rod(rod, method, (progress, user_data), previous, |cb| {
             rod.model.resume_branch(&from.branch, &opts, method, cb)
         })?;
         store_branch(rod, b, previous, out)
@@ -255,7 +283,7 @@ pub unsafe extern "C" fn rodkit_branch_switch(
         let (opts, method, _) = options_of(rod, options)?;
         let phi: Vec<f64> = from.records.iter().map(|r| r.end_rotation).collect();
         let previous = from.branch.rotation_at_bifurcation(&rod.model, index as usize, &phi);
-        let b = with_progress(&rod.model, (progress, user_data), previous, |cb| {
+        let b = follow_rod(rod, method, (progress, user_data), previous, |cb| {
             rod.model.switch_branch(&from.branch, index as usize, direction as usize, first_step, &opts, method, cb)
         })?;
         store_branch(rod, b, previous, out)

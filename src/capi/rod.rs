@@ -27,6 +27,9 @@ pub struct Rod {
     scratch_r: Vec<f64>,
     scratch_values: Vec<f64>,
     scratch_dl: Vec<f64>,
+    /// The end rotation branches of this rod stop at
+    /// (rodkit_rod_set_target_rotation).
+    pub(super) target_rotation: Option<f64>,
 }
 
 /// Hand a rod made from `model` to C in `*out` (NULL on failure).
@@ -45,6 +48,7 @@ pub(super) unsafe fn store_rod(model: Model, out: *mut *mut Rod) -> Result<Statu
         scratch_r: vec![0.0; n],
         scratch_values: vec![0.0; nnz],
         scratch_dl: vec![0.0; n],
+        target_rotation: None,
     }));
     Ok(Status::Ok)
 }
@@ -88,6 +92,40 @@ pub unsafe extern "C" fn rodkit_rod_new_general(
         }
         let model = model_from(spec, Some(k)).map_err(|e| qualify_argument(e, "spec."))?;
         store_rod(model, out)
+    })
+}
+
+/// Stop every branch followed on `rod` from now on (rodkit_rod_continue,
+/// rodkit_branch_resume, rodkit_branch_switch,
+/// rodkit_rod_continue_to_tolerance) exactly where its end rotation φ
+/// reaches `phi` (radians, counted continuously from the straight state:
+/// 25 is four turns on; a resumed or switched branch counts on from the
+/// point it leaves). Under rotation control Λ = sin(φ/2) takes every value
+/// again each turn, so options.target_lambda cannot say this; a torque
+/// clamp's φ is an output. The branch's last record is then at φ = `phi`
+/// (RODKIT_STATUS_OK, as for a target Λ); one that ends first (its target
+/// Λ, range, step limit, a callback's stop) ends as it would without.
+/// NaN clears the target. Refused for a rod without end rotation control
+/// or torque clamp (RODKIT_STATUS_ERR_OUT_OF_RANGE) and for an infinity.
+/// Set it before following branches, not while another thread follows
+/// one on this handle.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_rod_set_target_rotation(rod: *mut Rod, phi: f64) -> i32 {
+    guard(|| {
+        let rod = arg_mut("rod", rod)?;
+        if phi.is_nan() {
+            rod.target_rotation = None;
+            return Ok(Status::Ok);
+        }
+        error::finite("phi", phi)?;
+        if !(rod.model.twisted() || rod.model.torqued()) {
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                "argument `rod`: a target end rotation needs end rotation control or a torque clamp (RODKIT_SUPPORTS_TWISTED, _TWISTED_AT_DISTANCE or _TORQUED)",
+            ));
+        }
+        rod.target_rotation = Some(phi);
+        Ok(Status::Ok)
     })
 }
 

@@ -36,7 +36,7 @@ SHARED := -L$(LIBDIR) -lrodkit -Wl,-rpath,$(LIBDIR)
 STATIC := $(LIBDIR)/librodkit.a $(STATIC_LIBS)
 
 C_DRIVERS := tube_stiffness bad_input artery dna_tube rod_buckling dna_supercoil dna_supercoil_resume dna_map
-F_DRIVERS := tube_stiffness stretch_sweep follower_cantilever charged_curve dna_supercoil
+F_DRIVERS := tube_stiffness stretch_sweep follower_cantilever greenhill charged_curve dna_supercoil
 EXES := $(foreach d,$(C_DRIVERS),$(BUILD)/c_$(d)_shared $(BUILD)/c_$(d)_static) \
         $(BUILD)/cpp_tube_stiffness $(BUILD)/c_rod_sundials_shared \
         $(foreach d,$(F_DRIVERS),$(BUILD)/f_$(d)_shared $(BUILD)/f_$(d)_static)
@@ -96,7 +96,7 @@ run: deps lib
 	@$(MAKE) --no-print-directory -s drivers
 	@cd $(ROOT) && for exe in c_tube_stiffness_shared c_tube_stiffness_static cpp_tube_stiffness \
 	    f_tube_stiffness_shared f_tube_stiffness_static c_bad_input_shared c_artery_shared c_dna_tube_shared \
-	    f_stretch_sweep_shared c_rod_buckling_shared f_follower_cantilever_shared c_rod_sundials_shared \
+	    f_stretch_sweep_shared c_rod_buckling_shared f_follower_cantilever_shared f_greenhill_shared c_rod_sundials_shared \
 	    f_charged_curve_shared c_dna_supercoil_shared c_dna_supercoil_resume_shared f_dna_supercoil_shared; do \
 	  echo "=== $$exe"; $(BUILD)/$$exe || exit 1; done
 	@echo "=== c_dna_map_shared $(DNA_MAP_SUBSET) $(DNA_MAP_OUT)"

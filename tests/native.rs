@@ -564,6 +564,65 @@ fn fortran_follower_cantilever_driver() {
     assert_eq!(run("f_follower_cantilever_static", &[vtk.to_str().unwrap()]), out);
 }
 
+/// The Fortran Greenhill driver (rotation control to φ = 25 exactly through
+/// rodkit_rod_set_target_rotation, elements chosen for 1e-6 with
+/// detection): the same element count, records and critical twists as
+/// Rust's refine_until with until_rotation and the same options (to
+/// 1e-12), ending at φ = 25, and each critical φ within its estimate and
+/// the tolerance of Greenhill's closed form θ_k (tan(θ/2) = θ/2, the
+/// roots 8.98682, 15.45050, 21.80824).
+#[test]
+fn fortran_greenhill_driver() {
+    use rodkit::continuation::{Options, Record};
+    use rodkit::rod::branch::{Method, Plain};
+    use rodkit::rod::model::{Rod, Supports};
+    use rodkit::rod::scheme::Scheme;
+    use rodkit::rod::target::until_rotation;
+    use rodkit::rod::{Loads, RodLaw};
+    let out = run("f_greenhill_shared", &[]);
+    let got = values(&out);
+    let template = Rod::new(
+        RodLaw::kirchhoff(1.0, 1.0, 1.0).unwrap(),
+        1.0,
+        Loads::default(),
+        Supports::Twisted { tension: 0.0 },
+        Scheme::Gauss(4),
+        4,
+    )
+    .unwrap();
+    let opts = Options {
+        residual_tol: 1e-12,
+        initial_step: 0.05,
+        max_step: 1.0,
+        max_steps: 2000,
+        detect_bifurcations: true,
+        bifurcation_tol: 1e-9,
+        ..Default::default()
+    };
+    let acc = rodkit::rod::accuracy::refine_until(&template, 1e-6, 1e-12, |rod| {
+        let follow =
+            |cb: &mut dyn FnMut(&Record) -> bool| rod.continue_branch(None, 0.0, true, &opts, Method::Newton, cb);
+        until_rotation(&Plain { rod, method: Method::Newton }, 25.0, None, &mut |_| true, follow)
+    })
+    .unwrap();
+    assert_eq!(got["elements"], acc.rod.elements as f64);
+    assert_eq!(got["records"], acc.branch.records.len() as f64);
+    assert_eq!(got["points"], 3.0);
+    assert!((got["final_end_rotation"] - 25.0).abs() < 1e-12);
+    let (phis, _) = acc.branch.end_rotations(&acc.rod, None);
+    for (k, theta) in [8.986818915818128, 15.450503673875414, 21.808243318857798].iter().enumerate() {
+        let key = |name: &str| got[&format!("{name}_{}", k + 1)];
+        let rust = acc.branch.rotation_at_bifurcation(&acc.rod, k, &phis).unwrap();
+        assert!((key("critical_phi") - rust).abs() < 1e-12, "root {k}: {} vs Rust {rust}", key("critical_phi"));
+        assert_eq!((key("critical_estimated"), key("critical_multiplicity")), (1.0, 2.0));
+        assert_eq!(key("critical_record"), acc.branch.bifurcations[k].record as f64);
+        let truth = (key("critical_phi") - theta).abs();
+        assert!(truth <= key("critical_phi_estimate") && truth <= 1e-6 * theta, "root {k}: true {truth:e}");
+    }
+    assert!(got["worst_critical_estimate"] <= 1e-6);
+    assert_eq!(run("f_greenhill_static", &[]), out);
+}
+
 /// The C driver that solves the follower cantilever at α = 5 with its own
 /// SUNDIALS code through rodkit's kernels: IDA shooting (rodkit_rod_rhs)
 /// agrees with the ANM within the collocation error (Gauss(4) × 16: ~1e−12,

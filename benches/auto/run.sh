@@ -2,14 +2,14 @@
 # AUTO-07p peer runs for the rodkit benchmarks (see README.md in this directory).
 #
 #   run.sh check                                  exit 0 iff AUTO-07p and gfortran are usable
-#   run.sh build   BUILD_DIR                      compile follower.exe and euler.exe once (cached:
+#   run.sh build   BUILD_DIR                      compile follower.exe, dead.exe and euler.exe once (cached:
 #                                                 rebuilt only when a source is newer)
 #   run.sh prepare PROBLEM WORK_DIR NTST TOL      write the constants file(s) into WORK_DIR
 #   run.sh run     PROBLEM BUILD_DIR WORK_DIR NTST TOL
 #                                                 build + prepare + run, print the wall time of the
 #                                                 executable(s) alone and the labelled points
-# PROBLEM is follower or euler. NCOL = 4 always. TOL sets EPSL = EPSU = TOL and EPSS = 10 TOL.
-# Overrides (environment): AUTO_IAD (mesh adaption, default 3), AUTO_DSMAX (default 0.5),
+# PROBLEM is follower, dead or euler. NCOL = 4 unless AUTO_NCOL says. TOL sets EPSL = EPSU = TOL and EPSS = 10 TOL.
+# Overrides (environment): AUTO_NCOL (collocation points, default 4), AUTO_IAD (mesh adaption, default 3), AUTO_DSMAX (default 0.5),
 # AUTO_ITNW (default 7), AUTO_EPSS (default 10*TOL), AUTO_DIR (default /usr/lib/auto-07p).
 # Outputs in WORK_DIR: fort.7 (b-file), fort.8 (s-file), fort.9 (diagnostics); for euler the first
 # run's files are kept as b.euler1, s.euler1 (restart file of run 2), d.euler1.
@@ -39,7 +39,7 @@ build() {
     check >&2 || exit 1
     mkdir -p "$bdir"
     FC=$(makevar FC); FFLAGS=$(makevar FFLAGS); OPT=$(makevar OPT)
-    for p in follower euler; do
+    for p in follower dead euler; do
         exe="$bdir/$p.exe"
         if [ ! -x "$exe" ] || [ "$HERE/$p.f90" -nt "$exe" ] || [ "$HERE/rod_common.inc" -nt "$exe" ]; then
             # shellcheck disable=SC2086
@@ -55,7 +55,7 @@ build() {
 subst() { # template ntst tol
     tol=$3
     epss=${AUTO_EPSS:-$(awk -v t="$tol" 'BEGIN { printf "%.3g", 10 * t }')}
-    sed -e "s/@NTST@/$2/" -e "s/@IAD@/${AUTO_IAD:-3}/" -e "s/@ITNW@/${AUTO_ITNW:-7}/" \
+    sed -e "s/@NTST@/$2/" -e "s/@NCOL@/${AUTO_NCOL:-4}/" -e "s/@IAD@/${AUTO_IAD:-3}/" -e "s/@ITNW@/${AUTO_ITNW:-7}/" \
         -e "s/@EPSL@/$tol/" -e "s/@EPSU@/$tol/" -e "s/@EPSS@/$epss/" \
         -e "s/@DSMAX@/${AUTO_DSMAX:-0.5}/" -e "s/@IRS@/'BP1'/" "$1"
 }
@@ -64,6 +64,7 @@ prepare() { # problem workdir ntst tol
     mkdir -p "$2"
     case $1 in
         follower) subst "$HERE/c.follower.in" "$3" "$4" > "$2/c.follower" ;;
+        dead) subst "$HERE/c.dead.in" "$3" "$4" > "$2/c.dead" ;;
         euler) subst "$HERE/c.euler.1.in" "$3" "$4" > "$2/c.euler.1"
                subst "$HERE/c.euler.2.in" "$3" "$4" > "$2/c.euler.2" ;;
         *) die "unknown problem $1" ;;
@@ -89,6 +90,9 @@ run() { # problem builddir workdir ntst tol
         follower)
             t=$(runexe "$bdir/follower.exe" c.follower)
             echo "follower NTST=$4 TOL=$5 time_s=$t" ;;
+        dead)
+            t=$(runexe "$bdir/dead.exe" c.dead)
+            echo "dead NTST=$4 TOL=$5 time_s=$t" ;;
         euler)
             t1=$(runexe "$bdir/euler.exe" c.euler.1)
             mv fort.7 b.euler1; mv fort.8 s.euler1; mv fort.9 d.euler1

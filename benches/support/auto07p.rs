@@ -150,6 +150,8 @@ impl AutoRun {
 /// Options beyond NTST and the tolerance (defaults are those of `run.sh`).
 #[derive(Clone, Debug)]
 pub struct Options {
+    /// Collocation points per mesh interval (NCOL, 2…7). Default 4.
+    pub ncol: u32,
     /// Mesh adaption every IAD steps (0 = fixed uniform mesh). Default 3.
     pub iad: u32,
     /// DSMAX. Default 0.5.
@@ -160,7 +162,7 @@ pub struct Options {
 
 impl Default for Options {
     fn default() -> Self {
-        Options { iad: 3, dsmax: 0.5, epss: None }
+        Options { ncol: 4, iad: 3, dsmax: 0.5, epss: None }
     }
 }
 
@@ -252,6 +254,7 @@ fn prepare(problem: &str, dir: &Path, ntst: usize, tol: f64, opt: &Options) -> R
     let mut cmd = Command::new("sh");
     cmd.arg(&script)
         .args(["prepare", problem, &dir.to_string_lossy(), &ntst.to_string(), &format!("{tol:e}")])
+        .env("AUTO_NCOL", opt.ncol.to_string())
         .env("AUTO_IAD", opt.iad.to_string())
         .env("AUTO_DSMAX", format!("{:e}", opt.dsmax));
     if let Some(e) = opt.epss {
@@ -448,6 +451,21 @@ pub fn follower_with(ntst: usize, tol: f64, opt: &Options) -> Result<AutoRun, St
     let run = collect(&dir, &[("fort.7", "fort.8", "fort.9")], vec![t], ntst, tol)?;
     if run.at_lambda(10.0).is_none() {
         return Err(format!("follower: Λ = 10 not reached (see {})", dir.display()));
+    }
+    cleanup(&dir);
+    Ok(run)
+}
+
+/// Dead-load cantilever (benches/auto/dead.f90): the tip force Λ e1 fixed
+/// in space, Λ from 0 to 10 with UZ at 1, 2, 5, 10.
+pub fn dead_with(ntst: usize, tol: f64, opt: &Options) -> Result<AutoRun, String> {
+    let bdir = build()?;
+    let dir = work_dir("dead")?;
+    prepare("dead", &dir, ntst, tol, opt)?;
+    let t = run_exe(&bdir.join("dead.exe"), &dir, "c.dead")?;
+    let run = collect(&dir, &[("fort.7", "fort.8", "fort.9")], vec![t], ntst, tol)?;
+    if run.at_lambda(10.0).is_none() {
+        return Err(format!("dead: Λ = 10 not reached (see {})", dir.display()));
     }
     cleanup(&dir);
     Ok(run)

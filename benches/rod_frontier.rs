@@ -1,0 +1,354 @@
+//! Work–precision frontier against AUTO-07p (`cargo bench --bench
+//! rod_frontier`; issue 19, item 5): each side given its cheapest settings
+//! that reach a tip error, not one fixed setting.
+//!
+//! Scenes: the cantilever of benches/rod.rs (K_b = 1, C = 1/1.3, GA = 1e4,
+//! EA = 2.6e4, L = 1), tip force Λ e1 — follower (body frame) or dead
+//! (space) — α 0 → 10, the tips at α = 1, 2, 5, 10 from one run (rodkit:
+//! dense samples; AUTO: its UZ points, moved to the exact α along its
+//! tangent). Error: max |r(L) − r_ref(L)|/L against Gauss(4) × 64 at
+//! residual 1e−12 (Newton).
+//!
+//! Grids. rodkit: Gauss(2, 3, 4) × elements × engine (ANM P = 20 at ε
+//! 1e−10 and 1e−6, the ANM with Padé, Newton) × residual tolerance (1e−7,
+//! 1e−9, 1e−11). AUTO-07p (benches/auto/{follower,dead}.f90): NTST × NCOL
+//! (3, 4, 5, 7) × EPSL = EPSU (1e−4 … 1e−10) × DSMAX (0.5, 5) × IAD (0,
+//! 3). Pass 1 runs every setting once (error and a first time); pass 2
+//! times the four fastest settings of each side that reach each target
+//! error (1e−6, 1e−8) in REPS interleaved repetitions (medians), and the
+//! table names the fastest of each side with its settings and the ratio.
+//! AUTO's time is its executable's wall time (its start-up included:
+//! ~1 ms); rodkit's is the call's (model set-up included).
+//!
+//! Writes target/bench/rod_frontier/{report.txt, settings.csv,
+//! frontier_follower.svg, frontier_dead.svg}.
+
+#[path = "support/auto07p.rs"]
+mod auto07p;
+
+use plotters::prelude::*;
+use rodkit::continuation::anm::{continue_anm, AnmOptions};
+use rodkit::continuation::newton::{continue_newton, Start};
+use rodkit::continuation::{Counts, Options, Stop};
+use rodkit::rod::model::{Rod, Supports};
+use rodkit::rod::scheme::Scheme;
+use rodkit::rod::{Load, Loads, RodLaw};
+use std::fmt::Write as _;
+use std::fs;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+const LOADS: [f64; 4] = [1.0, 2.0, 5.0, 10.0];
+const TARGETS: [f64; 2] = [1e-6, 1e-8];
+const REPS: usize = 7;
+/// Settings per side and target timed in pass 2.
+const FINALISTS: usize = 4;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Scene {
+    Follower,
+    Dead,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Engine {
+    Anm { epsilon: f64, pade: bool },
+    Newton,
+}
+
+#[derive(Clone, Debug)]
+enum Setting {
+    Rodkit { stages: usize, elements: usize, engine: Engine, tol: f64 },
+    Auto { ntst: usize, ncol: u32, tol: f64, dsmax: f64, iad: u32 },
+}
+
+impl Setting {
+    fn side(&self) -> &'static str {
+        match self {
+            Setting::Rodkit { .. } => "rodkit",
+            Setting::Auto { .. } => "AUTO-07p",
+        }
+    }
+
+    fn label(&self) -> String {
+        match self {
+            Setting::Rodkit { stages, elements, engine, tol } => {
+                let e = match engine {
+                    Engine::Anm { epsilon, pade } => {
+                        format!("ANM{} ε={epsilon:.0e}", if *pade { " Padé" } else { "" })
+                    }
+                    Engine::Newton => "Newton".into(),
+                };
+                format!("Gauss({stages})×{elements} {e} tol {tol:.0e}")
+            }
+            Setting::Auto { ntst, ncol, tol, dsmax, iad } => {
+                format!("NTST {ntst} NCOL {ncol} EPS {tol:.0e} DSMAX {dsmax} IAD {iad}")
+            }
+        }
+    }
+}
+
+/// One run's tips, wall time and (rodkit) work.
+struct Outcome {
+    tips: Vec<[f64; 3]>,
+    time: Duration,
+    counts: Option<Counts>,
+}
+
+fn rod(scene: Scene, stages: usize, n: usize) -> Rod {
+    let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap();
+    let load = match scene {
+        Scene::Follower => Load::follower([1.0, 0.0, 0.0]),
+        Scene::Dead => Load::dead([1.0, 0.0, 0.0]),
+    };
+    let loads = Loads { tip_force: Some(load), ..Default::default() };
+    Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(stages), n).unwrap()
+}
+
+/// α 0 → 10 in one run, the tips at LOADS by dense output.
+fn run_rodkit(scene: Scene, stages: usize, n: usize, engine: Engine, tol: f64) -> Result<Outcome, String> {
+    let t = Instant::now();
+    let rod = rod(scene, stages, n);
+    let mut sys = rod.system().map_err(|e| e.message)?;
+    let start = Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true };
+    let opts = Options {
+        target_lambda: Some(10.0),
+        residual_tol: tol,
+        max_steps: 2000,
+        samples: LOADS[..3].to_vec(),
+        ..Default::default()
+    };
+    let observe = |x: &[f64], _: f64| rod.tip(x).to_vec();
+    let b = match engine {
+        Engine::Anm { epsilon, pade } => {
+            continue_anm(&mut sys, start, &opts, &AnmOptions { order: 20, epsilon, pade }, observe, |_| true)
+        }
+        Engine::Newton => continue_newton(&mut sys, start, &opts, observe, |_| true),
+    }
+    .map_err(|e| e.message)?;
+    let time = t.elapsed();
+    if b.stop != Stop::Target || !b.missed_samples.is_empty() {
+        return Err(format!("stopped {:?}, missed {:?}", b.stop, b.missed_samples));
+    }
+    let mut tips: Vec<[f64; 3]> = b.samples.iter().map(|s| [s.outputs[0], s.outputs[1], s.outputs[2]]).collect();
+    let last = &b.records.last().unwrap().outputs;
+    tips.push([last[0], last[1], last[2]]);
+    Ok(Outcome { tips, time, counts: Some(b.counts) })
+}
+
+fn run_auto(scene: Scene, ntst: usize, ncol: u32, tol: f64, dsmax: f64, iad: u32) -> Result<Outcome, String> {
+    let opt = auto07p::Options { ncol, iad, dsmax, epss: None };
+    let run = match scene {
+        Scene::Follower => auto07p::follower_with(ntst, tol, &opt)?,
+        Scene::Dead => auto07p::dead_with(ntst, tol, &opt)?,
+    };
+    let tips = LOADS
+        .iter()
+        .map(|&l| run.at_lambda(l).map(|p| p.tip_at(l)).ok_or_else(|| format!("no UZ point at Λ = {l}")))
+        .collect::<Result<_, _>>()?;
+    Ok(Outcome { tips, time: run.wall, counts: None })
+}
+
+fn run(scene: Scene, s: &Setting) -> Result<Outcome, String> {
+    match *s {
+        Setting::Rodkit { stages, elements, engine, tol } => run_rodkit(scene, stages, elements, engine, tol),
+        Setting::Auto { ntst, ncol, tol, dsmax, iad } => run_auto(scene, ntst, ncol, tol, dsmax, iad),
+    }
+}
+
+fn error(tips: &[[f64; 3]], reference: &[[f64; 3]]) -> f64 {
+    tips.iter()
+        .zip(reference)
+        .map(|(a, b)| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt())
+        .fold(0.0, f64::max)
+}
+
+fn median(mut v: Vec<Duration>) -> Duration {
+    v.sort();
+    v[v.len() / 2]
+}
+
+fn ms(d: Duration) -> f64 {
+    d.as_secs_f64() * 1e3
+}
+
+fn settings(auto: bool) -> Vec<Setting> {
+    let mut all = vec![];
+    let engines = [
+        Engine::Anm { epsilon: 1e-10, pade: false },
+        Engine::Anm { epsilon: 1e-6, pade: false },
+        Engine::Anm { epsilon: 1e-10, pade: true },
+        Engine::Newton,
+    ];
+    for (stages, counts) in [(2, &[4usize, 8, 16, 24, 32][..]), (3, &[3, 4, 6, 8, 12, 16]), (4, &[2, 3, 4, 6, 8, 12])] {
+        for &elements in counts {
+            for engine in engines {
+                for tol in [1e-7, 1e-9, 1e-11] {
+                    all.push(Setting::Rodkit { stages, elements, engine, tol });
+                }
+            }
+        }
+    }
+    if auto {
+        for ntst in [2, 3, 4, 6, 8, 12, 16] {
+            for ncol in [3, 4, 5, 7] {
+                for tol in [1e-4, 1e-6, 1e-8, 1e-10] {
+                    for dsmax in [0.5, 5.0] {
+                        for iad in [0, 3] {
+                            all.push(Setting::Auto { ntst, ncol, tol, dsmax, iad });
+                        }
+                    }
+                }
+            }
+        }
+    }
+    all
+}
+
+fn main() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench/rod_frontier");
+    fs::create_dir_all(&dir).unwrap();
+    let auto = auto07p::available();
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "rodkit {} work–precision frontier against AUTO-07p (cantilever α 0 → 10, tips at α = 1, 2, 5, 10); medians of {REPS}",
+        env!("CARGO_PKG_VERSION")
+    );
+    if !auto {
+        let _ = writeln!(out, "AUTO-07p not installed (apt-get install auto-07p): rodkit's frontier only");
+    }
+    let all = settings(auto);
+    let mut csv = String::from("scene,side,setting,error,time_s,steps,factorisations\n");
+    for scene in [Scene::Follower, Scene::Dead] {
+        let reference = run_rodkit(scene, 4, 64, Engine::Newton, 1e-12).unwrap().tips;
+        // Pass 1: every setting once.
+        let mut first: Vec<(usize, f64, Duration, Option<Counts>)> = vec![];
+        let mut failed = 0;
+        for (i, s) in all.iter().enumerate() {
+            match run(scene, s) {
+                Ok(o) => {
+                    let e = error(&o.tips, &reference);
+                    let (steps, fact) = o.counts.as_ref().map_or((0, 0), |c| (c.steps, c.factorisations));
+                    let _ = writeln!(
+                        csv,
+                        "{scene:?},{},{},{e:e},{},{steps},{fact}",
+                        s.side(),
+                        s.label(),
+                        o.time.as_secs_f64()
+                    );
+                    first.push((i, e, o.time, o.counts));
+                }
+                Err(_) => failed += 1,
+            }
+        }
+        let _ = writeln!(
+            out,
+            "\n{scene:?} load: {} settings run once ({failed} did not reach α = 10 or a UZ point)",
+            first.len()
+        );
+        let _ = writeln!(
+            out,
+            "{:<9} {:<9} {:<48} {:>10} {:>10} {:>6} {:>7}",
+            "tip err ≤", "side", "cheapest setting", "time", "error", "steps", "factor."
+        );
+        let mut frontier = vec![];
+        for target in TARGETS {
+            // Pass 2: the fastest FINALISTS of each side that reach the target.
+            let mut finalists = vec![];
+            for side in ["rodkit", "AUTO-07p"] {
+                let mut c: Vec<&(usize, f64, Duration, Option<Counts>)> =
+                    first.iter().filter(|r| all[r.0].side() == side && r.1 <= target).collect();
+                c.sort_by_key(|r| r.2);
+                finalists.extend(c.into_iter().take(FINALISTS).map(|r| r.0));
+            }
+            let mut times = vec![vec![]; finalists.len()];
+            let mut errors = vec![0.0; finalists.len()];
+            let mut counts = vec![None; finalists.len()];
+            for _ in 0..REPS {
+                for (k, &i) in finalists.iter().enumerate() {
+                    if let Ok(o) = run(scene, &all[i]) {
+                        errors[k] = error(&o.tips, &reference);
+                        times[k].push(o.time);
+                        counts[k] = o.counts;
+                    }
+                }
+            }
+            let mut best: Vec<(&str, Duration)> = vec![];
+            for side in ["rodkit", "AUTO-07p"] {
+                let pick = (0..finalists.len())
+                    .filter(|&k| all[finalists[k]].side() == side && times[k].len() == REPS && errors[k] <= target)
+                    .map(|k| (k, median(times[k].clone())))
+                    .min_by_key(|p| p.1);
+                match pick {
+                    Some((k, t)) => {
+                        let (steps, fact) = counts[k].as_ref().map_or(("-".into(), "-".into()), |c: &Counts| {
+                            (c.steps.to_string(), c.factorisations.to_string())
+                        });
+                        let _ = writeln!(
+                            out,
+                            "{:<9.0e} {:<9} {:<48} {:>8.2}ms {:>10.1e} {:>6} {:>7}",
+                            target,
+                            side,
+                            all[finalists[k]].label(),
+                            ms(t),
+                            errors[k],
+                            steps,
+                            fact
+                        );
+                        best.push((side, t));
+                        frontier.push((side, target, ms(t), errors[k]));
+                    }
+                    None => {
+                        let _ = writeln!(out, "{target:<9.0e} {side:<9} none reaches it");
+                    }
+                }
+            }
+            if let [(_, r), (_, a)] = best[..] {
+                let _ = writeln!(
+                    out,
+                    "{:<9} AUTO-07p / rodkit = {:.1} (cheapest against cheapest, same run)",
+                    "",
+                    a.as_secs_f64() / r.as_secs_f64()
+                );
+            }
+        }
+        let points: Vec<(&str, f64, f64)> = first.iter().map(|r| (all[r.0].side(), ms(r.2), r.1.max(1e-15))).collect();
+        if let Err(e) = plot(&dir.join(format!("frontier_{scene:?}.svg").to_lowercase()), scene, &points) {
+            eprintln!("plot failed: {e}");
+        }
+    }
+    print!("{out}");
+    fs::write(dir.join("report.txt"), &out).unwrap();
+    fs::write(dir.join("settings.csv"), &csv).unwrap();
+}
+
+/// Every setting's (time, error) of pass 1, one colour per side.
+fn plot(path: &Path, scene: Scene, points: &[(&str, f64, f64)]) -> Result<(), Box<dyn std::error::Error>> {
+    let root = SVGBackend::new(path, (960, 640)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (x0, x1) = points.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.1), b.max(p.1)));
+    let (y0, y1) = points.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.2), b.max(p.2)));
+    let mut chart = ChartBuilder::on(&root)
+        .caption(format!("{scene:?} cantilever α 0→10: tip error vs time, every setting"), ("sans-serif", 22))
+        .margin(16)
+        .x_label_area_size(56)
+        .y_label_area_size(84)
+        .build_cartesian_2d((x0 / 1.5..x1 * 1.5).log_scale(), (y0 / 3.0..y1 * 3.0).log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc("time (ms, one run)")
+        .y_desc("max tip error / L")
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .draw()?;
+    for (side, color) in [("rodkit", RGBColor(214, 39, 40)), ("AUTO-07p", RGBColor(44, 160, 44))] {
+        let pts: Vec<(f64, f64)> = points.iter().filter(|p| p.0 == side).map(|p| (p.1, p.2)).collect();
+        chart
+            .draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))?
+            .label(side)
+            .legend(move |(x, y)| Circle::new((x, y), 4, color.filled()));
+    }
+    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
+    root.present()?;
+    Ok(())
+}

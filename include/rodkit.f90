@@ -1208,6 +1208,17 @@ module rodkit
             integer(c_int32_t) :: status
         end function rodkit_rod_node_state
 
+        function rodkit_rod_node_rotation(rod, x, n, node, rotation) result(status) &
+                bind(c, name="rodkit_rod_node_rotation")
+            import :: c_double, c_int32_t, c_int64_t, c_ptr
+            type(c_ptr), value :: rod
+            real(c_double), intent(in) :: x(*)
+            integer(c_int64_t), value :: n
+            integer(c_int64_t), value :: node
+            real(c_double), intent(inout) :: rotation(*)
+            integer(c_int32_t) :: status
+        end function rodkit_rod_node_rotation
+
         function rodkit_rod_residual(rod, x, n, lambda, r) result(status) &
                 bind(c, name="rodkit_rod_residual")
             import :: c_double, c_int32_t, c_int64_t, c_ptr

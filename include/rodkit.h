@@ -1464,6 +1464,21 @@ int32_t rodkit_rod_node_state(const struct RodkitRod *rod,
                               double *force,
                               double *moment);
 
+// The rotation vector θ·n of node `node`'s frame (0 … elements; the tip
+// is `elements`) in the state `x` (length rodkit_rod_unknowns, or one
+// more with μ last): the shortest rotation from the straight rod's frame,
+// θ ∈ [0, π], so its components are signed angles (radians) — the tip
+// rotation of a cantilever bent in the (e1, e3) plane towards +e1 is
+// `rotation[1]`, positive, accurate at small angles (computed by atan2
+// from the quaternion). A path through θ = π flips n; follow it by
+// continuity there. RodkitBranchRecord.tip_rotation is the unsigned angle
+// of the tip tangent.
+int32_t rodkit_rod_node_rotation(const struct RodkitRod *rod,
+                                 const double *x,
+                                 int64_t n,
+                                 int64_t node,
+                                 double *rotation);
+
 // Residual R(x, Λ) of the discrete equations (length n each), in the
 // form SUNDIALS' KINSOL calls: a user's KINSysFn wraps it with
 // N_VGetArrayPointer. Not thread-safe on one handle (work buffers).

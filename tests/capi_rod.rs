@@ -910,3 +910,68 @@ fn a_target_end_rotation_through_the_c_abi() {
         unsafe { rodkit_rod_free(r) };
     }
 }
+
+/// The signed tip rotation through rodkit_rod_node_rotation: the
+/// cantilever of `spec` (K_b = L = 1) under a dead tip force Λ e1 bends in
+/// the (e1, e3) plane and its tip frame turns about +e2. At Λ = 1e-7
+/// linear theory gives θ = ΛL²/(2K_b) = 5e-8 (shear does not turn the
+/// section; the O(Λ²) correction is below 1e-14 relative): rotation[1]
+/// equals it to 1e-9 relative, the other components vanish. At Λ = 3 the
+/// rotation's size equals the tip tangent's unsigned angle
+/// (RodkitBranchRecord.tip_rotation) — the frame turns in the plane.
+/// Arguments: a node past the tip, a wrong length, NULL out.
+#[test]
+fn the_signed_tip_rotation_through_the_c_abi() {
+    let mut s = spec();
+    s.tip_moment_frame = LoadFrame::None as i32;
+    s.tip_moment_x = 0.0;
+    s.tip_force_frame = LoadFrame::Dead as i32;
+    s.tip_force_x = 1.0;
+    s.elements = 8;
+    let rod = new_rod(&s).unwrap();
+    let mut n = 0;
+    unsafe { rodkit_rod_unknowns(rod, &mut n) };
+    let mut o = options();
+    o.residual_tol = 1e-13;
+    for (load, check) in [(1e-7, 0), (3.0, 1)] {
+        o.target_lambda = load;
+        let mut b = ptr::null_mut();
+        assert_eq!(unsafe { rodkit_rod_continue(rod, ptr::null(), 0, 0.0, &o, None, ptr::null_mut(), &mut b) }, 0);
+        let mut info = BranchInfo::default();
+        unsafe { rodkit_branch_summary(b, &mut info) };
+        let mut x = vec![0.0; n as usize];
+        assert_eq!(unsafe { rodkit_branch_state(b, info.records - 1, x.as_mut_ptr(), n) }, 0);
+        let mut rec = vec![BranchRecord::default(); info.records as usize];
+        let mut count = 0;
+        unsafe { rodkit_branch_records(b, rec.as_mut_ptr(), info.records, &mut count) };
+        let mut r = [0.0; 3];
+        assert_eq!(unsafe { rodkit_rod_node_rotation(rod, x.as_ptr(), n, 8, r.as_mut_ptr()) }, 0, "{}", last_error());
+        if check == 0 {
+            assert!((r[1] - 5e-8).abs() < 1e-9 * 5e-8, "θ {} against 5e-8", r[1]);
+            assert!(r[0].abs() + r[2].abs() < 1e-20, "{r:?}");
+        } else {
+            let theta = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
+            let tangent = rec.last().unwrap().tip_rotation;
+            assert!(r[1] > 0.5 && (theta - tangent).abs() < 1e-12, "{r:?} against the tangent's {tangent}");
+        }
+        // The base does not turn (its clamp to the residual, 1e-13).
+        assert_eq!(unsafe { rodkit_rod_node_rotation(rod, x.as_ptr(), n, 0, r.as_mut_ptr()) }, 0);
+        assert!(r.iter().all(|v| v.abs() < 1e-13), "{r:?}");
+        unsafe { rodkit_branch_free(b) };
+    }
+    let x = vec![0.0; n as usize];
+    let mut r = [0.0; 3];
+    assert_eq!(
+        unsafe { rodkit_rod_node_rotation(rod, x.as_ptr(), n, 9, r.as_mut_ptr()) },
+        Status::ErrOutOfRange.code()
+    );
+    assert_eq!(
+        unsafe { rodkit_rod_node_rotation(rod, x.as_ptr(), n - 1, 0, r.as_mut_ptr()) },
+        Status::ErrInvalidDimension.code()
+    );
+    assert_eq!(
+        unsafe { rodkit_rod_node_rotation(rod, x.as_ptr(), n, 0, ptr::null_mut()) },
+        Status::ErrNullPointer.code()
+    );
+    unsafe { rodkit_rod_free(rod) };
+}

@@ -209,6 +209,43 @@ pub unsafe extern "C" fn rodkit_rod_node_state(
     })
 }
 
+/// The rotation vector θ·n of node `node`'s frame (0 … elements; the tip
+/// is `elements`) in the state `x` (length rodkit_rod_unknowns, or one
+/// more with μ last): the shortest rotation from the straight rod's frame,
+/// θ ∈ [0, π], so its components are signed angles (radians) — the tip
+/// rotation of a cantilever bent in the (e1, e3) plane towards +e1 is
+/// `rotation[1]`, positive, accurate at small angles (computed by atan2
+/// from the quaternion). A path through θ = π flips n; follow it by
+/// continuity there. RodkitBranchRecord.tip_rotation is the unsigned angle
+/// of the tip tangent.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_rod_node_rotation(
+    rod: *const Rod,
+    x: *const f64,
+    n: i64,
+    node: i64,
+    rotation: *mut f64,
+) -> i32 {
+    guard(|| {
+        let rod = arg_ref("rod", rod)?;
+        let m = &rod.model;
+        let unknowns = m.unknowns() as i64;
+        if n != unknowns && n != unknowns + 1 {
+            return Err(Error::new(
+                Status::ErrInvalidDimension,
+                format!("argument `n` must be {unknowns} (or {} with μ last; got {n})", unknowns + 1),
+            ));
+        }
+        error::count_in_range("node", node, 0, m.elements as i64)?;
+        let x = in_slice("x", x, n)?;
+        let out = out_slice("rotation", rotation, 3)?;
+        let r = m.rotation_vector(x, node as usize);
+        error::finite_result("rotation", &r)?;
+        out.copy_from_slice(&r);
+        Ok(Status::Ok)
+    })
+}
+
 /// Residual R(x, Λ) of the discrete equations (length n each), in the
 /// form SUNDIALS' KINSOL calls: a user's KINSysFn wraps it with
 /// N_VGetArrayPointer. Not thread-safe on one handle (work buffers).

@@ -18,6 +18,26 @@ impl Rod {
         d3x.hypot(d3y).atan2(d3z)
     }
 
+    /// The rotation vector θ·n of node i's frame (from the lab frame: the
+    /// straight rod's), the shortest of the rotations taking one to the
+    /// other (θ ∈ [0, π]): its components are signed angles — a planar
+    /// cantilever bent towards +e1 turns about +e2 by the second. From
+    /// the quaternion q = ±(cos θ/2, sin θ/2 n) (not necessarily unit) as
+    /// 2 atan2(|v|, |q0|) v/|v| with v taken on the side q0 ≥ 0: exact at
+    /// small angles, where it tends to 2v/q0. A path through θ = π flips
+    /// it (n → −n): follow it by continuity there.
+    pub fn rotation_vector(&self, x: &[f64], i: usize) -> [f64; 3] {
+        let y = self.node_state(x, i);
+        let sign = if y[3] < 0.0 { -1.0 } else { 1.0 };
+        let (w, v) = (sign * y[3], [sign * y[4], sign * y[5], sign * y[6]]);
+        let norm = v[0].hypot(v[1]).hypot(v[2]);
+        if norm == 0.0 {
+            return [0.0; 3];
+        }
+        let theta = 2.0 * norm.atan2(w);
+        [theta * v[0] / norm, theta * v[1] / norm, theta * v[2] / norm]
+    }
+
     /// Spatial force and moment at node i: R(q) n_b, R(q) m_b.
     pub fn spatial_force_moment(&self, x: &[f64], i: usize) -> ([f64; 3], [f64; 3]) {
         let y = self.node_state(x, i);

@@ -397,3 +397,70 @@ fn signs_on_a_second_thread_give_the_one_thread_run() {
     assert!(b.counts.times.overlapped > std::time::Duration::ZERO, "no record's signs on the second thread");
     assert_eq!(b.records.windows(2).filter(|w| w[0].det_sign != w[1].det_sign).count(), 1);
 }
+
+/// The ANM's series bifurcation indicator (continuation::indicator) on a
+/// curved primary branch with two pitchforks in closed form: R1 = u − Λ²,
+/// R2 = y (u − 1)(u − c) − y³. On y = 0, u = Λ², the bordered tangent is
+/// singular where (u − 1)(u − c) = 0: Λ = 1 and Λ = √c (Λ > 0). From Λ =
+/// 0.1 to 3 with detection, both points are located to 1e-9 with the
+/// indicator on and off; with it, each location starts in the short
+/// bracket around a root of μ(a) (the root within 1e-3 of the step of the
+/// point). With c = 4 and steps of at most 0.3 the points are in separate
+/// steps; with c = 1.1025 (Λ = 1.05) and the series' own steps one step
+/// holds both, det B flips twice over it (its ends' signs agree) and the
+/// series' roots are the evidence that starts the search.
+#[test]
+fn the_series_indicator_puts_the_search_at_each_pitchfork() {
+    let system = |c: f64| {
+        let tape = Arc::new(Tape::record(3, |v| {
+            let (u, y, l) = (v[0], v[1], v[2]);
+            vec![u - l * l, y * (u - 1.0) * (u - c) - y * y * y]
+        }));
+        let inputs = vec![Slot::Unknown(0), Slot::Unknown(1), Slot::Lambda];
+        AssembledSystem::new(2, vec![Block { tape, inputs, rows: vec![0, 1] }])
+    };
+    for (c, max_step, one_step) in [(4.0, 0.3, false), (1.1025f64, f64::INFINITY, true)] {
+        let want = [1.0, c.sqrt()];
+        let mut located = vec![];
+        for indicator in [true, false] {
+            let opts = Options {
+                target_lambda: Some(3.0),
+                residual_tol: 1e-13,
+                initial_step: 0.05,
+                max_step,
+                detect_bifurcations: true,
+                bifurcation_tol: 1e-11,
+                series_indicator: indicator,
+                ..Default::default()
+            };
+            let start = Start::Point { x: vec![0.01, 0.0], lambda: 0.1, increasing: true };
+            let b = continue_anm(&mut system(c), start, &opts, &AnmOptions::default(), |x, _| x.to_vec(), |_| true)
+                .unwrap();
+            let points: Vec<f64> = b.bifurcations.iter().map(|p| p.lambda).collect();
+            let name = format!("c {c}, indicator {indicator}");
+            if indicator {
+                assert_eq!(points.len(), 2, "{name}: {points:?}, unresolved {:?}", b.unresolved);
+                for (p, w) in points.iter().zip(want) {
+                    assert!((p - w).abs() < 1e-9, "{name}: {p} against {w}");
+                }
+                assert_eq!(b.counts.series_located, if one_step { 1 } else { 2 }, "{name}: {:?}", b.counts);
+                let same_step = b.bifurcations[0].record == b.bifurcations[1].record;
+                assert_eq!(same_step, one_step, "{name}: records {:?}", b.bifurcations);
+                if one_step {
+                    let r = b.bifurcations[0].record;
+                    assert_eq!(b.records[r].bordered_det_sign, b.records[r + 1].bordered_det_sign);
+                }
+            } else {
+                assert_eq!(b.counts.series_located, 0);
+            }
+            located.push(points);
+        }
+        println!("c {c}: indicator on {:?}, off {:?}", located[0], located[1]);
+        if !one_step {
+            assert_eq!(located[0].len(), located[1].len());
+            for (a, b) in located[0].iter().zip(&located[1]) {
+                assert!((a - b).abs() < 1e-9, "indicator on {a}, off {b}");
+            }
+        }
+    }
+}

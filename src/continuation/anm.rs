@@ -22,8 +22,9 @@
 //! target Λ inside a step is located on the polynomial Λ(a) and the point
 //! corrected at fixed Λ.
 
-use super::bifurcation::State;
+use super::bifurcation::{SeriesHint, State};
 use super::corrector::{correct, Plane};
+use super::indicator::Indicator;
 use super::newton::Start;
 use super::pade::{self, Curve};
 use super::run::{resume_step, validate_resume, Run};
@@ -69,6 +70,8 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
     error::in_range("epsilon", anm.epsilon, 1e-15, 1e-1)?;
     let (mut x, mut lambda, mut v, first_iterations) = begin(&mut run, problem, start)?;
     let mut expansion = Expansion::new(problem.dim(), anm.order);
+    let mut indicator = (opts.detect_bifurcations && opts.series_indicator && problem.has_series_tangent())
+        .then(|| Indicator::new(problem.dim(), anm.order, &run.ctx.eq));
     // What the next record reports of the step that reached its point.
     let (mut iterations, mut step_length, mut series_residual) = (first_iterations, 0.0, None);
     let mut last_a = opts.initial_step;
@@ -122,6 +125,17 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             },
             false => (a, None),
         };
+        // The series indicator's roots in this step (a polynomial step:
+        // the hint's predictor is the series).
+        run.series_hint = None;
+        if let Some(ind) = indicator.as_mut().filter(|_| denominator.is_none()) {
+            if ind.compute(&mut run.ctx, problem) {
+                let roots = ind.roots(a);
+                let clear = roots.is_empty() && ind.clear_of_roots(a);
+                let series = if roots.is_empty() { vec![] } else { expansion.series.clone() };
+                run.series_hint = Some(SeriesHint { record: run.records.len() - 1, roots, step: a, series, clear });
+            }
+        }
         let curve = match &denominator {
             Some(d) => Curve::Pade(&expansion.series, d),
             None => Curve::Series(&expansion.series),

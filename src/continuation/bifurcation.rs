@@ -76,6 +76,38 @@ pub(crate) struct Evidence {
     pub test_function_change: bool,
 }
 
+/// Where the ANM's series indicator ([`super::indicator`]) puts a
+/// bifurcation inside a step: the roots of μ(a) on (0, step], and the
+/// step's series X_p (n + 1 each, Λ last) — the predictor of the
+/// location's trial points.
+#[derive(Clone, Debug)]
+pub(crate) struct SeriesHint {
+    /// The record the step starts at.
+    pub record: usize,
+    pub roots: Vec<f64>,
+    pub step: f64,
+    /// The series (empty without roots: no predictor needed).
+    pub series: Vec<Vec<f64>>,
+    /// μ has no root on the whole step, certainly
+    /// ([`super::indicator::Indicator::clear_of_roots`]).
+    pub clear: bool,
+}
+
+impl SeriesHint {
+    /// X(a) = Σ a^p X_p: the state and Λ.
+    fn evaluate(&self, a: f64) -> (Vec<f64>, f64) {
+        let n = self.series[0].len() - 1;
+        let mut x = vec![0.0; n + 1];
+        for c in self.series.iter().rev() {
+            for (xi, ci) in x.iter_mut().zip(c) {
+                *xi = *xi * a + ci;
+            }
+        }
+        let l = x.pop().unwrap_or(0.0);
+        (x, l)
+    }
+}
+
 /// A point of the branch with its tangent.
 #[derive(Clone, Debug)]
 pub(crate) struct State {
@@ -97,23 +129,52 @@ pub(crate) fn locate<P: Problem + ?Sized>(
     right: &State,
     evidence: Evidence,
     (residual_tol, tol): (f64, f64),
+    hint: Option<&SeriesHint>,
 ) -> Result<Option<(Bifurcation, f64)>> {
     let dx = sub(&right.x, &left.x);
     let span = ctx.scaling.dot(&dx, right.lambda - left.lambda, &left.tx, left.tl);
-    // The point at arc parameter τ on the hyperplane ⟨X − X_L − τ t_L, t_L⟩ = 0.
+    // The point at arc parameter τ on the hyperplane ⟨X − X_L − τ t_L, t_L⟩ = 0,
+    // predicted on the tangent — or on the ANM step's series, which lies on
+    // that hyperplane (its a is this τ) and on the branch to its ε.
     let mut point = |tau: f64, ctx: &mut Context| -> Result<(Vec<f64>, f64, f64)> {
-        let mut x: Vec<f64> = left.x.iter().zip(&left.tx).map(|(a, t)| a + tau * t).collect();
-        let mut l = left.lambda + tau * left.tl;
-        let anchor = x.clone();
-        let plane = Plane::new((&anchor, l), (&left.tx, left.tl));
+        let (mut x, mut l) = match hint.filter(|h| tau <= h.step && !h.series.is_empty()) {
+            Some(h) => h.evaluate(tau),
+            None => (left.x.iter().zip(&left.tx).map(|(a, t)| a + tau * t).collect(), left.lambda + tau * left.tl),
+        };
+        let anchor: Vec<f64> = left.x.iter().zip(&left.tx).map(|(a, t)| a + tau * t).collect();
+        let plane = Plane::new((&anchor, left.lambda + tau * left.tl), (&left.tx, left.tl));
         correct(problem, ctx, &mut x, &mut l, plane, residual_tol, false)?;
         ctx.factorise_for_solves(problem, &x, l, (&left.tx, left.tl))?;
         let sigma = ctx.bordered.signed_smallest_singular_value(&mut ctx.counts);
         Ok((x, l, sigma))
     };
-    let (sa, sb) = (point(0.0, ctx)?.2, point(span, ctx)?.2);
+    // A root of the series indicator: first the short bracket around it
+    // (1e-3 of the step, at least 100 tol: the series' accuracy), then one
+    // ten times wider (a root the truncated μ(a) moved); where σ_min does
+    // not change sign across either, the whole bracket.
+    let mut narrowed = None;
+    if let Some(r) = hint.and_then(|h| h.roots.first()) {
+        for width in [1e-3, 1e-2] {
+            let w = (width * span.abs()).max(100.0 * tol);
+            let (lo, hi) = ((r - w).max(0.0), (r + w).min(span));
+            if lo >= hi {
+                break;
+            }
+            let (slo, shi) = (point(lo, ctx)?.2, point(hi, ctx)?.2);
+            if slo * shi < 0.0 {
+                narrowed = Some((lo, hi, slo, shi));
+                ctx.counts.series_located += 1;
+                break;
+            }
+        }
+    }
+    let (a0, b0, sa, sb) = match narrowed {
+        Some(n) => n,
+        None => (0.0, span, point(0.0, ctx)?.2, point(span, ctx)?.2),
+    };
+    let span = b0 - a0;
     let ends = sa.abs().max(sb.abs());
-    let (mut a, mut b) = (0.0, span);
+    let (mut a, mut b) = (a0, b0);
     // A trial point that did not converge: if nothing singular is found
     // without it, the location failed (an error), not "no bifurcation".
     let mut failed = None;
@@ -123,7 +184,7 @@ pub(crate) fn locate<P: Problem + ?Sized>(
         // superlinearly — a handful of trial points instead of golden
         // section's ~45 at tol 1e-10.
         let (mut fa, mut fb) = (sa, sb);
-        let mut best = if sa.abs() < sb.abs() { 0.0 } else { span };
+        let mut best = if sa.abs() < sb.abs() { a0 } else { b0 };
         let mut best_f = sa.abs().min(sb.abs());
         let mut last = f64::NAN;
         for trial in 0..60 {
@@ -142,7 +203,10 @@ pub(crate) fn locate<P: Problem + ?Sized>(
             // Right at the singular point the corrector itself may fail to
             // converge (its matrix is singular there): the best point so
             // far is then as close as the location gets.
-            let fc = match point(c, ctx) {
+            // Exactly on the singular point (the series indicator's
+            // predictor can put a trial there to the last bit) the factors
+            // do not exist: half the tolerance beside it is as close.
+            let fc = match point(c, ctx).or_else(|_| point(c + 0.5 * tol, ctx)).or_else(|_| point(c - 0.5 * tol, ctx)) {
                 Ok((_, _, fc)) => fc,
                 Err(e) => {
                     failed = Some(e);
@@ -192,7 +256,14 @@ pub(crate) fn locate<P: Problem + ?Sized>(
         }
     }
     let tau = 0.5 * (a + b);
-    let (x, lambda, _) = point(tau, ctx)?;
+    // Exactly on the singular point: half the tolerance beside it (as above).
+    let (x, lambda, _) = match point(tau, ctx) {
+        Ok(p) => p,
+        Err(e) => match point(tau + 0.5 * tol, ctx).or_else(|_| point(tau - 0.5 * tol, ctx)) {
+            Ok(p) => p,
+            Err(_) => return Err(e),
+        },
+    };
     let (sigma, vectors) = ctx.bordered.smallest_singular_vectors(3, &mut ctx.counts);
     // The bracket was resolved to `tol`: a genuine zero leaves σ_min at
     // O(tol) of the end values; a mere dip (no singularity) stays at their scale.
@@ -252,7 +323,7 @@ pub(crate) fn locate_beside<P: Problem + ?Sized>(
     if tau - delta > 0.0 {
         let (before, sign) = signed_state(problem, ctx, left, tau - delta, tols.0)?;
         if sign * left_sign < 0.0 {
-            found = locate(problem, ctx, left, &before, evidence, tols)?;
+            found = locate(problem, ctx, left, &before, evidence, tols, None)?;
         }
     }
     if found.is_none() && tau + delta < span {
@@ -262,7 +333,7 @@ pub(crate) fn locate_beside<P: Problem + ?Sized>(
             s
         };
         if sign * right_sign < 0.0 {
-            found = locate(problem, ctx, &after, right, evidence, tols)?;
+            found = locate(problem, ctx, &after, right, evidence, tols, None)?;
         }
     }
     // Not the first point again (a search that slid back to it).

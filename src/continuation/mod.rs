@@ -24,6 +24,7 @@ pub mod anm;
 pub mod bifurcation;
 pub mod corrector;
 pub mod equilibrium;
+pub mod indicator;
 pub mod newton;
 mod overlap;
 mod pade;
@@ -74,6 +75,20 @@ pub trait SeriesProblem: Problem {
     /// stage moves past half its skin); `a` when nothing limits it.
     fn series_reach(&mut self, a: f64) -> f64 {
         a
+    }
+    /// Whether [`SeriesProblem::series_tangent_order`] is available (the
+    /// ANM's series bifurcation indicator is computed only then).
+    fn has_series_tangent(&self) -> bool {
+        false
+    }
+    /// Order-p coefficient of R_X(X(a)) W(a) — the Jacobian (Λ column
+    /// included) along the committed series X applied to a second series
+    /// W = (w, w_Λ), whose order-p coefficient is (wp, w_lambda_p), orders
+    /// below committed by earlier calls (p = 0 starts W). Linear in
+    /// (wp, w_lambda_p): called with zeros it is the known part. Only
+    /// called when [`SeriesProblem::has_series_tangent`] says so.
+    fn series_tangent_order(&mut self, _p: usize, _wp: &[f64], _w_lambda_p: f64, _out: &mut [f64]) {
+        unreachable!("series_tangent_order without has_series_tangent")
     }
 }
 
@@ -290,6 +305,12 @@ pub struct Options {
     /// ([`crate::charged::branch`]; the plain rod's switch refuses such a
     /// branch instead, [`crate::rod::branch::switch`]).
     pub unfolding_retakes: usize,
+    /// The ANM with bifurcation detection computes the series bifurcation
+    /// indicator μ(a) of each step ([`indicator`]) and takes its roots as
+    /// where to search first (default true; false: the records' det B and
+    /// σ_min alone, as Newton continuation). Only for problems that give
+    /// the tangent series ([`SeriesProblem::has_series_tangent`]).
+    pub series_indicator: bool,
 }
 
 /// The corrector iterations a chord step is sized for (each a residual and
@@ -339,6 +360,7 @@ impl Default for Options {
             corrector_aim: 3.0,
             overlap_records: false,
             unfolding_retakes: 4,
+            series_indicator: true,
         }
     }
 }
@@ -363,6 +385,12 @@ pub struct Counts {
     /// factorisations they took (part of `factorisations`).
     pub locations: usize,
     pub location_factorisations: usize,
+    /// ANM with the series indicator ([`indicator`]): locations that began
+    /// in the short bracket around a root of μ(a) and found the point
+    /// there, and sign changes of the records' σ_min dismissed because μ
+    /// has no root in the step (no location run).
+    pub series_located: usize,
+    pub series_dismissed: usize,
     /// Solves of the σ_min monitor (part of `solves`).
     pub monitor_solves: usize,
     /// Factorisations by block elimination on a supernodal LU (part of
@@ -425,6 +453,8 @@ impl Counts {
         self.rejected_steps += other.rejected_steps;
         self.locations += other.locations;
         self.location_factorisations += other.location_factorisations;
+        self.series_located += other.series_located;
+        self.series_dismissed += other.series_dismissed;
         self.monitor_solves += other.monitor_solves;
         self.block_eliminations += other.block_eliminations;
         self.block_time += other.block_time;

@@ -4,7 +4,7 @@
 //! determinant signs and σ_min, bifurcation detection, dense-output samples,
 //! the finished [`Branch`]).
 
-use super::bifurcation::{self, Bifurcation, Evidence, State, Unresolved};
+use super::bifurcation::{self, Bifurcation, Evidence, SeriesHint, State, Unresolved};
 use super::corrector::{correct, deliver_sample, Plane};
 use super::tangent::Bordered;
 use super::{Branch, Counts, Options, Problem, Record, Resume, Sample, Scaling};
@@ -170,6 +170,8 @@ pub(crate) struct Run<'o> {
     /// The last (up to) three points with their tangents and record
     /// indices: detection's brackets.
     history: Vec<(usize, State)>,
+    /// The series indicator's roots in the last ANM step ([`SeriesHint`]).
+    pub series_hint: Option<SeriesHint>,
     pub samples: Vec<Sample>,
     pub missed: Vec<f64>,
 }
@@ -191,6 +193,7 @@ impl<'o> Run<'o> {
             bifurcations: Vec::new(),
             unresolved: Vec::new(),
             history: Vec::new(),
+            series_hint: None,
             samples: Vec::new(),
             missed: Vec::new(),
         })
@@ -384,7 +387,12 @@ impl<'o> Run<'o> {
             r1.bordered_det_sign != r2.bordered_det_sign && r1.bordered_det_sign != 0.0 && r2.bordered_det_sign != 0.0;
         let test_function_change = signed(r1) * signed(r2) < 0.0;
         let evidence = Evidence { det_sign_change, test_function_change };
-        let (left, right) = if det_sign_change || test_function_change {
+        // The ANM's series indicator μ(a) vanishing inside the last step is
+        // evidence of its own (two simple points in one step flip det B
+        // twice; a double point need not turn σ_min's sign).
+        let series_root =
+            self.series_hint.as_ref().is_some_and(|s| s.record == history[h - 2].0 && !s.roots.is_empty());
+        let (left, right) = if det_sign_change || test_function_change || series_root {
             (h - 2, h - 1)
         } else if k >= 3 && h >= 3 {
             let sig = |r: &Record| r.smallest_singular_value.map_or(f64::INFINITY, f64::abs);
@@ -423,7 +431,17 @@ impl<'o> Run<'o> {
             test_function_change,
             reason,
         };
-        match bifurcation::locate(problem, &mut self.ctx, &left, &right, evidence, tols) {
+        // The last step's series indicator, when it is this bracket's step.
+        let hint = self.series_hint.as_ref().filter(|h| h.record == a && b == a + 1);
+        // σ_min's sign change without det B's, where μ certainly has no
+        // root: its singular vectors turning orthogonal (a twisted rod's
+        // mode pair every 2π), not a singular point — no search.
+        if !det_sign_change && hint.is_some_and(|h| h.clear) {
+            self.ctx.counts.series_dismissed += 1;
+            return Ok(());
+        }
+        let hint = hint.filter(|h| !h.roots.is_empty());
+        match bifurcation::locate(problem, &mut self.ctx, &left, &right, evidence, tols, hint) {
             Ok(Some((mut bif, tau))) => {
                 bif.record = place(&bif);
                 // Parity: each simple point (multiplicity 1) flips det B,

@@ -228,4 +228,24 @@ impl SeriesProblem for AssembledSystem {
             }
         }
     }
+
+    fn has_series_tangent(&self) -> bool {
+        true
+    }
+
+    fn series_tangent_order(&mut self, p: usize, wp: &[f64], w_lambda_p: f64, out: &mut [f64]) {
+        out.fill(0.0);
+        for (b, w) in self.blocks.iter().zip(&mut self.work) {
+            let inputs = &b.inputs;
+            let coefficient = |i: usize| match inputs[i] {
+                Slot::Unknown(g) => wp[g],
+                Slot::Lambda => w_lambda_p,
+                Slot::Param(_) => 0.0,
+            };
+            w.taylor.tangent_order(&b.tape, p, coefficient, &mut w.local_out);
+            for (&row, v) in b.rows.iter().zip(&w.local_out) {
+                out[row] += v;
+            }
+        }
+    }
 }

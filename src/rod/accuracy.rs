@@ -301,7 +301,7 @@ fn relocate(
         let evidence =
             Evidence { det_sign_change: ends[0].1 * ends[1].1 < 0.0, test_function_change: bif.test_function_change };
         if let Some((found, _)) =
-            locate(&mut on.system, &mut ctx, &ends[0].0, &ends[1].0, evidence, (residual_tol, 1e-10))?
+            locate(&mut on.system, &mut ctx, &ends[0].0, &ends[1].0, evidence, (residual_tol, 1e-10), None)?
         {
             if found.multiplicity == bif.multiplicity {
                 return Ok(Some(found));

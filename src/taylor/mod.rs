@@ -415,6 +415,9 @@ pub struct TaylorWork {
     last: Option<usize>,
     last_x: Vec<f64>,
     delta: Vec<f64>,
+    /// The directional derivative's coefficients along a second series
+    /// W(a) ([`TaylorWork::tangent_order`]): `tangent[node·(P+1) + k]`.
+    tangent: Vec<f64>,
 }
 
 impl TaylorWork {
@@ -448,6 +451,49 @@ impl TaylorWork {
         let stride = self.order + 1;
         for (o, &i) in out.iter_mut().zip(&tape.outputs) {
             *o = self.coef[i as usize * stride + p];
+        }
+    }
+
+    /// The order-p coefficient of the directional derivative of the
+    /// outputs, J(X(a)) W(a), along the committed series X (every order
+    /// up to the maximum) when W's order-p coefficients are `wp` (orders
+    /// below p committed by earlier calls; p = 0 starts a new W). Linear
+    /// in `wp`: call with wp = 0 for the known part, again with the solved
+    /// wp to commit. Each node's derivative is propagated by the product
+    /// rule on Cauchy products, d(xy)_p = Σ_i (dx_i y_{p−i} + x_i dy_{p−i}):
+    /// O(p) per product, as the series itself (the ANM's bifurcation
+    /// indicator, [`crate::continuation::anm`]).
+    pub fn tangent_order(&mut self, tape: &Tape, p: usize, wp: impl Fn(usize) -> f64, out: &mut [f64]) {
+        assert!(p <= self.order, "Taylor order {p} outside 0..={}", self.order);
+        let stride = self.order + 1;
+        if p == 0 {
+            self.tangent.clear();
+            self.tangent.resize(tape.ops.len() * stride, 0.0);
+        }
+        let (c, d) = (&self.coef, &mut self.tangent);
+        for (k, op) in tape.ops.iter().enumerate() {
+            let at = |i: u32, q: usize| i as usize * stride + q;
+            let v = match *op {
+                Op::Input(i) => wp(i as usize),
+                Op::Const(_) => 0.0,
+                Op::Add(a, b) => d[at(a, p)] + d[at(b, p)],
+                Op::Sub(a, b) => d[at(a, p)] - d[at(b, p)],
+                Op::Mul(a, b) => {
+                    let (ab, bb) = (a as usize * stride, b as usize * stride);
+                    let mut s = 0.0;
+                    for i in 0..=p {
+                        s += d[ab + i] * c[bb + p - i] + c[ab + i] * d[bb + p - i];
+                    }
+                    s
+                }
+                Op::Neg(a) => -d[at(a, p)],
+                Op::Scale(sc, a) => sc * d[at(a, p)],
+                Op::Shift(_, a) => d[at(a, p)],
+            };
+            d[k * stride + p] = v;
+        }
+        for (o, &i) in out.iter_mut().zip(&tape.outputs) {
+            *o = d[i as usize * stride + p];
         }
     }
 
@@ -540,6 +586,48 @@ mod tests {
     fn kernel<T: Scalar>(v: &[T]) -> Vec<T> {
         let (x, y, z) = (v[0], v[1], v[2]);
         vec![x * y * z + x * 2.0 - 1.0, y * y - z * x + 3.0, -x]
+    }
+
+    /// The tangent series of J(X(a)) W(a) against the same product formed
+    /// from the Jacobian at points along the path (closed form of the
+    /// polynomial path, exact to rounding): the series evaluated at a = 0.3
+    /// equals J(X(0.3)) W(0.3).
+    #[test]
+    fn the_tangent_series_is_the_jacobian_along_the_path() {
+        let tape = Tape::record(3, kernel);
+        let order = 8;
+        let xs = [[0.7, -1.3, 2.1], [0.2, 0.5, -0.4], [0.1, -0.3, 0.25], [0.05, 0.0, -0.1]];
+        let ws = [[1.0, 0.5, -0.2], [-0.3, 0.4, 0.1], [0.2, 0.0, 0.3]];
+        let mut t = TaylorWork::default();
+        t.begin(&tape, &xs[0], order);
+        let mut out = [0.0; 3];
+        for p in 1..=order {
+            let xp = |i: usize| xs.get(p).map_or(0.0, |x| x[i]);
+            t.order(&tape, p, xp, &mut out);
+        }
+        let mut series = vec![[0.0; 3]; order + 1];
+        for (p, s) in series.iter_mut().enumerate() {
+            t.tangent_order(&tape, p, |i| ws.get(p).map_or(0.0, |w| w[i]), s);
+        }
+        let a: f64 = 0.3;
+        let at = |c: &[[f64; 3]]| -> [f64; 3] {
+            let mut v = [0.0; 3];
+            for (p, ci) in c.iter().enumerate() {
+                for i in 0..3 {
+                    v[i] += ci[i] * a.powi(p as i32);
+                }
+            }
+            v
+        };
+        let (x, w) = (at(&xs), at(&ws));
+        let mut jw = JacobianWork::default();
+        let mut jac = [0.0; 9];
+        tape.jacobian(&x, &mut jw, &mut out, &mut jac);
+        let got = at(&series);
+        for r in 0..3 {
+            let want: f64 = (0..3).map(|j| jac[r * 3 + j] * w[j]).sum();
+            assert!((got[r] - want).abs() < 1e-13 * (1.0 + want.abs()), "row {r}: {} against {want}", got[r]);
+        }
     }
 
     #[test]

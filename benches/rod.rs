@@ -547,7 +547,7 @@ fn write_tip_summaries(out: &mut String, rows: &[Row], setup: &TipsSetup) {
         let auto = autos.iter().filter(|r| r.error <= target).min_by_key(|r| r.time);
         match (best, auto) {
             (Some(b), Some(a)) => {
-                let _ = writeln!(out, "tip error ≤ {target:.0e}: fastest rodkit {} {} {:.2} ms (error {:.1e}), fastest AUTO-07p {} {:.2} ms (error {:.1e}): AUTO / rodkit = {:.1}", b.method, b.disc, ms(b.time), b.error, a.disc, ms(a.time), a.error, a.time.as_secs_f64() / b.time.as_secs_f64());
+                let _ = writeln!(out, "tip error ≤ {target:.0e}: fastest rodkit {} {} {:.2} ms (error {:.1e}), fastest AUTO-07p {} {:.2} ms (error {:.1e}): AUTO / rodkit = {:.1} — AUTO at its fixed EPSL = EPSU = 1e-10, DSMAX 0.5, IAD 3, not its cheapest setting: see `cargo bench --bench rod_frontier`", b.method, b.disc, ms(b.time), b.error, a.disc, ms(a.time), a.error, a.time.as_secs_f64() / b.time.as_secs_f64());
             }
             _ => {
                 let _ = writeln!(out, "tip error ≤ {target:.0e}: no rodkit or no AUTO row reaches it");

@@ -685,7 +685,12 @@ typedef struct RodkitContinuationOptions {
   // series' radius (or its Padé approximants' reach).
   double max_step;
   // 1: detect and locate bifurcations (default 0), to bifurcation_tol in
-  // arc length (default 1e-10).
+  // scaled arc length (default 1e-10): the critical Λ to about
+  // bifurcation_tol·|dΛ/ds| (at most bifurcation_tol times Λ's scale, 1
+  // unless `scaling` says otherwise). Its discretisation error:
+  // rodkit_branch_bifurcation_errors. The ANM also uses its series'
+  // bifurcation indicator (where to search, and which σ_min sign changes
+  // need none).
   int32_t detect_bifurcations;
   double bifurcation_tol;
   // 1: leave the start towards increasing Λ (default), 0: decreasing.

@@ -51,7 +51,12 @@ pub struct ContinuationOptions {
     /// series' radius (or its Padé approximants' reach).
     pub max_step: f64,
     /// 1: detect and locate bifurcations (default 0), to bifurcation_tol in
-    /// arc length (default 1e-10).
+    /// scaled arc length (default 1e-10): the critical Λ to about
+    /// bifurcation_tol·|dΛ/ds| (at most bifurcation_tol times Λ's scale, 1
+    /// unless `scaling` says otherwise). Its discretisation error:
+    /// rodkit_branch_bifurcation_errors. The ANM also uses its series'
+    /// bifurcation indicator (where to search, and which σ_min sign changes
+    /// need none).
     pub detect_bifurcations: i32,
     pub bifurcation_tol: f64,
     /// 1: leave the start towards increasing Λ (default), 0: decreasing.

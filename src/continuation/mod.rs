@@ -239,7 +239,11 @@ pub struct Options {
     /// point (a few extra solves).
     pub track_singular: bool,
     /// Detect and locate bifurcation points (implies `track_singular`);
-    /// located to `bifurcation_tol` in scaled arc length.
+    /// located to `bifurcation_tol` in scaled arc length: the bracket's
+    /// width s, so the critical Λ is known to about s·|dΛ/ds| (≤ s times
+    /// Λ's scale, 1 by default; less where the branch turns away from Λ)
+    /// — the discretisation's own error in it is another matter, estimated
+    /// by [`crate::rod::accuracy::estimate_bifurcation_errors`].
     pub detect_bifurcations: bool,
     pub bifurcation_tol: f64,
     /// Scaling (None: the problem's own).
@@ -306,10 +310,14 @@ pub struct Options {
     /// branch instead, [`crate::rod::branch::switch`]).
     pub unfolding_retakes: usize,
     /// The ANM with bifurcation detection computes the series bifurcation
-    /// indicator μ(a) of each step ([`indicator`]) and takes its roots as
-    /// where to search first (default true; false: the records' det B and
-    /// σ_min alone, as Newton continuation). Only for problems that give
-    /// the tangent series ([`SeriesProblem::has_series_tangent`]).
+    /// indicator μ(a) of each step ([`indicator`]): its roots are where a
+    /// search starts (and evidence for one), and a σ_min sign change
+    /// without det B's is dismissed where μ certainly has no root in the
+    /// step (default true; false: the records' det B and σ_min alone, as
+    /// Newton continuation). On the series' own steps, not Padé's, and
+    /// only for problems that give the tangent series
+    /// ([`SeriesProblem::has_series_tangent`]: the plain rod; not the
+    /// charged rod, whose pair forces are not a polynomial tape).
     pub series_indicator: bool,
 }
 

@@ -13,17 +13,11 @@
 
 #[path = "support/auto07p.rs"]
 mod auto07p;
+#[path = "support/timing.rs"]
+mod timing;
+use timing::{median, ms};
 
 use std::time::Duration;
-
-fn median(mut v: Vec<Duration>) -> Duration {
-    v.sort();
-    v[v.len() / 2]
-}
-
-fn ms(d: Duration) -> f64 {
-    d.as_secs_f64() * 1e3
-}
 
 /// The run's settings (command-line options).
 struct Settings {

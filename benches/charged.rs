@@ -30,6 +30,9 @@
 
 #[path = "support/plot.rs"]
 mod plot;
+#[path = "support/timing.rs"]
+mod timing;
+use timing::{median, ms};
 
 use rodkit::electrostatics::{discrete, energy, Centerline, EnergyQuadrature, LineCharge, Screening};
 use std::fmt::Write as _;
@@ -63,11 +66,6 @@ impl Centerline for Superhelix {
         let n = (self.l / self.panel).ceil() as usize;
         (1..n).map(|k| self.l * k as f64 / n as f64).collect()
     }
-}
-
-fn median(mut v: Vec<Duration>) -> Duration {
-    v.sort();
-    v[v.len() / 2]
 }
 
 /// The median time of `reps` calls of f, and its last result. The call
@@ -209,11 +207,6 @@ impl rodkit::continuation::Problem for Truncated<'_> {
 fn force_error(f: &[[f64; 3]], reference: &[[f64; 3]]) -> f64 {
     let scale = reference.iter().flat_map(|v| v.iter()).fold(0.0f64, |m, v| m.max(v.abs()));
     f.iter().zip(reference).flat_map(|(a, b)| (0..3).map(move |c| (a[c] - b[c]).abs())).fold(0.0, f64::max) / scale
-}
-
-/// Milliseconds of a duration.
-fn ms(d: Duration) -> f64 {
-    d.as_secs_f64() * 1e3
 }
 
 /// Seconds of an optional duration (NaN when absent, for the CSV).

@@ -21,6 +21,9 @@
 
 #[path = "support/auto07p.rs"]
 mod auto07p;
+#[path = "support/timing.rs"]
+mod timing;
+use timing::{max_distance as err, median, ms};
 #[cfg(feature = "sundials")]
 #[path = "../tests/support/rod_band.rs"]
 mod rod_band;
@@ -193,18 +196,6 @@ fn run(rod: &Rod, engine: Engine, tol: f64, loads: &[f64]) -> (Vec<[f64; 3]>, Co
     (tips, b.counts, elapsed)
 }
 
-fn err(tips: &[[f64; 3]], reference: &[[f64; 3]]) -> f64 {
-    tips.iter()
-        .zip(reference)
-        .map(|(a, b)| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt())
-        .fold(0.0, f64::max)
-}
-
-fn median(mut v: Vec<Duration>) -> Duration {
-    v.sort();
-    v[v.len() / 2]
-}
-
 struct Row {
     scene: Scene,
     method: String,
@@ -214,10 +205,6 @@ struct Row {
     error: f64,
     counts: Option<Counts>,
     auto_steps: Option<(usize, usize)>,
-}
-
-fn ms(d: Duration) -> f64 {
-    d.as_secs_f64() * 1e3
 }
 
 fn main() {

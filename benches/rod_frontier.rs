@@ -25,6 +25,9 @@
 
 #[path = "support/auto07p.rs"]
 mod auto07p;
+#[path = "support/timing.rs"]
+mod timing;
+use timing::{max_distance as error, median, ms};
 
 use plotters::prelude::*;
 use rodkit::continuation::anm::{continue_anm, AnmOptions};
@@ -154,22 +157,6 @@ fn run(scene: Scene, s: &Setting) -> Result<Outcome, String> {
         Setting::Rodkit { stages, elements, engine, tol } => run_rodkit(scene, stages, elements, engine, tol),
         Setting::Auto { ntst, ncol, tol, dsmax, iad } => run_auto(scene, ntst, ncol, tol, dsmax, iad),
     }
-}
-
-fn error(tips: &[[f64; 3]], reference: &[[f64; 3]]) -> f64 {
-    tips.iter()
-        .zip(reference)
-        .map(|(a, b)| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt())
-        .fold(0.0, f64::max)
-}
-
-fn median(mut v: Vec<Duration>) -> Duration {
-    v.sort();
-    v[v.len() / 2]
-}
-
-fn ms(d: Duration) -> f64 {
-    d.as_secs_f64() * 1e3
 }
 
 fn settings(auto: bool) -> Vec<Setting> {

@@ -60,8 +60,10 @@ fn rod(control: Control, elements: usize, k2: f64) -> Rod {
     Rod::new(law, 1.0, Loads::default(), supports, Scheme::Gauss(4), elements).unwrap()
 }
 
-fn follow_with<P: SeriesProblem>(rod: &Rod, problem: &mut P, control: Control, anm: bool, phi_max: f64) -> Followed {
-    let opts = Options {
+/// The straight branch's options: detection to 1e-9, residual 1e-10, to
+/// M = `phi_max` under moment control (rotation control stops by φ).
+fn options(control: Control, phi_max: f64) -> Options {
+    Options {
         residual_tol: 1e-10,
         initial_step: 0.05,
         max_step: 1.0,
@@ -70,7 +72,15 @@ fn follow_with<P: SeriesProblem>(rod: &Rod, problem: &mut P, control: Control, a
         bifurcation_tol: 1e-9,
         target_lambda: (control == Control::Moment).then_some(phi_max),
         ..Default::default()
-    };
+    }
+}
+
+fn follow_with<P: SeriesProblem>(rod: &Rod, problem: &mut P, control: Control, anm: bool, phi_max: f64) -> Followed {
+    straight_branch(rod, problem, &options(control, phi_max), anm, phi_max)
+}
+
+/// The straight branch from φ = 0 to φ = `phi_max` with `opts`.
+fn straight_branch<P: SeriesProblem>(rod: &Rod, problem: &mut P, opts: &Options, anm: bool, phi_max: f64) -> Followed {
     let start = Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true };
     let observe = |x: &[f64], l: f64| vec![rod.end_rotation(x, l).unwrap()];
     // φ followed by continuity (a step turns the end by less than 2π).
@@ -80,9 +90,9 @@ fn follow_with<P: SeriesProblem>(rod: &Rod, problem: &mut P, control: Control, a
         last < phi_max
     };
     let branch = if anm {
-        continue_anm(problem, start, &opts, &Default::default(), observe, progress).unwrap()
+        continue_anm(problem, start, opts, &Default::default(), observe, progress).unwrap()
     } else {
-        continue_newton(problem, start, &opts, observe, progress).unwrap()
+        continue_newton(problem, start, opts, observe, progress).unwrap()
     };
     let mut record_phi = vec![];
     for r in &branch.records {
@@ -309,53 +319,35 @@ fn the_series_indicator_finds_greenhill_with_a_third_of_the_factorisations() {
     for control in [Control::Rotation, Control::Moment] {
         let rod = rod(control, 16, 1.0);
         let run = |indicator: bool| {
-            let opts = Options {
-                residual_tol: 1e-10,
-                initial_step: 0.05,
-                max_step: 1.0,
-                max_steps: 5000,
-                detect_bifurcations: true,
-                bifurcation_tol: 1e-9,
-                target_lambda: (control == Control::Moment).then_some(44.0),
-                series_indicator: indicator,
-                ..Default::default()
-            };
-            let start = Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true };
-            let observe = |x: &[f64], l: f64| vec![rod.end_rotation(x, l).unwrap()];
-            let mut last = 0.0;
-            let progress = |r: &Record| {
-                last = unwrap_rotation(last, r.outputs[0]);
-                last < 44.0
-            };
-            continue_anm(&mut rod.system().unwrap(), start, &opts, &Default::default(), observe, progress).unwrap()
+            let opts = Options { series_indicator: indicator, ..options(control, 44.0) };
+            straight_branch(&rod, &mut rod.system().unwrap(), &opts, true, 44.0)
         };
         let (with, without) = (run(true), run(false));
         let name = format!("{control:?}");
-        assert_eq!((with.bifurcations.len(), without.bifurcations.len()), (6, 6), "{name}");
-        for (k, (a, b)) in with.bifurcations.iter().zip(&without.bifurcations).enumerate() {
+        assert_eq!((with.bif_phi.len(), without.bif_phi.len()), (6, 6), "{name}");
+        for (k, ((a, b), phi)) in
+            with.branch.bifurcations.iter().zip(&without.branch.bifurcations).zip(&with.bif_phi).enumerate()
+        {
             assert!((a.lambda - b.lambda).abs() < 1e-9, "{name}, point {k}: {} against {}", a.lambda, b.lambda);
             assert_eq!(a.multiplicity, 2);
-            // The point's φ against the closed form.
-            let phi = if control == Control::Moment { a.lambda } else { rod.end_rotation(&a.x, a.lambda).unwrap() };
-            let theta = roots[k];
-            let turns = ((theta - phi) / (4.0 * PI)).round();
-            assert!((phi + 4.0 * PI * turns - theta).abs() < 4e-5 * theta, "{name}, point {k}: φ {phi}, θ {theta}");
+            // The point's φ (continuous) against the closed form.
+            assert!((phi - roots[k]).abs() < 4e-5 * roots[k], "{name}, point {k}: φ {phi}, θ {}", roots[k]);
         }
-        let c = with.counts;
+        let (c, c0) = (with.branch.counts, without.branch.counts);
         assert_eq!((c.series_located, c.locations), (6, 6), "{name}: {c:?}");
         assert!(c.series_dismissed >= 6, "{name}: {c:?}");
-        assert!(with.unresolved.is_empty(), "{name}: {:?}", with.unresolved);
+        assert!(with.branch.unresolved.is_empty(), "{name}: {:?}", with.branch.unresolved);
         assert!(
-            3 * c.factorisations <= without.counts.factorisations,
+            3 * c.factorisations <= c0.factorisations,
             "{name}: {} factorisations against {}",
             c.factorisations,
-            without.counts.factorisations
+            c0.factorisations
         );
         println!(
             "{name}: factorisations {} → {}, location factorisations {} → {}, dismissed {}",
-            without.counts.factorisations,
+            c0.factorisations,
             c.factorisations,
-            without.counts.location_factorisations,
+            c0.location_factorisations,
             c.location_factorisations,
             c.series_dismissed
         );

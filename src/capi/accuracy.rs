@@ -120,6 +120,22 @@ pub unsafe extern "C" fn rodkit_rod_continue_to_tolerance(
     })
 }
 
+/// The re-solves' tolerance for estimates computed on request: the
+/// options' default (a branch does not keep its own).
+const RESOLVE_TOL: f64 = 1e-10;
+
+/// The estimates a branch kept (from rodkit_rod_continue_to_tolerance), or
+/// computed now.
+fn kept_or<T: Clone>(
+    kept: &Option<Vec<T>>,
+    compute: impl FnOnce() -> crate::Result<Vec<T>>,
+) -> crate::Result<std::borrow::Cow<'_, [T]>> {
+    Ok(match kept {
+        Some(e) => std::borrow::Cow::Borrowed(&e[..]),
+        None => std::borrow::Cow::Owned(compute()?),
+    })
+}
+
 /// Copy up to `capacity` records' error estimates (one per record, in
 /// record order); `count` receives the number of records. For a branch
 /// from rodkit_rod_continue_to_tolerance they are the ones it met the
@@ -137,16 +153,7 @@ pub unsafe extern "C" fn rodkit_branch_error_estimates(
     guard(|| {
         let rod = arg_ref("rod", rod)?;
         let b = same_rod(rod, arg_ref("branch", branch)?)?;
-        let computed;
-        let estimates = match &b.estimates {
-            Some(e) => e,
-            None => {
-                // The re-solves' tolerance: the options' default (the
-                // branch does not keep its own).
-                computed = estimate_errors(&rod.model, &b.branch, 1e-10)?;
-                &computed
-            }
-        };
+        let estimates = kept_or(&b.estimates, || estimate_errors(&rod.model, &b.branch, RESOLVE_TOL))?;
         let rows: Vec<(Option<Estimate>, &Vec<f64>)> = estimates.iter().copied().zip(&b.branch.states).collect();
         copy_out("out", out, capacity, count, &rows, |&(e, x)| match e {
             Some(e) => RecordError {
@@ -179,14 +186,8 @@ pub unsafe extern "C" fn rodkit_branch_bifurcation_errors(
     guard(|| {
         let rod = arg_ref("rod", rod)?;
         let b = same_rod(rod, arg_ref("branch", branch)?)?;
-        let computed;
-        let estimates = match &b.bifurcation_estimates {
-            Some(e) => e,
-            None => {
-                computed = estimate_bifurcation_errors(&rod.model, &b.branch, 1e-10)?;
-                &computed
-            }
-        };
+        let estimates =
+            kept_or(&b.bifurcation_estimates, || estimate_bifurcation_errors(&rod.model, &b.branch, RESOLVE_TOL))?;
         let rows: Vec<_> = estimates.iter().copied().zip(&b.branch.bifurcations).collect();
         copy_out("out", out, capacity, count, &rows, |&(e, bif)| match e {
             Some(e) => BifurcationError {

@@ -182,19 +182,9 @@ pub unsafe extern "C" fn rodkit_rod_node_state(
     moment: *mut f64,
 ) -> i32 {
     guard(|| {
-        let rod = arg_ref("rod", rod)?;
-        let m = &rod.model;
-        let unknowns = m.unknowns() as i64;
-        if n != unknowns && n != unknowns + 1 {
-            return Err(Error::new(
-                Status::ErrInvalidDimension,
-                format!("argument `n` must be {unknowns} (or {} with μ last; got {n})", unknowns + 1),
-            ));
-        }
-        error::count_in_range("node", node, 0, m.elements as i64)?;
-        let x = in_slice("x", x, n)?;
-        let y = m.node_state(x, node as usize);
-        let (f, mm) = m.spatial_force_moment(x, node as usize);
+        let (m, x, node) = node_args(rod, x, n, node)?;
+        let y = m.node_state(x, node);
+        let (f, mm) = m.spatial_force_moment(x, node);
         for (name, p, v) in [
             ("position", position, &y[0..3]),
             ("quaternion", quaternion, &y[3..7]),
@@ -227,23 +217,32 @@ pub unsafe extern "C" fn rodkit_rod_node_rotation(
     rotation: *mut f64,
 ) -> i32 {
     guard(|| {
-        let rod = arg_ref("rod", rod)?;
-        let m = &rod.model;
-        let unknowns = m.unknowns() as i64;
-        if n != unknowns && n != unknowns + 1 {
-            return Err(Error::new(
-                Status::ErrInvalidDimension,
-                format!("argument `n` must be {unknowns} (or {} with μ last; got {n})", unknowns + 1),
-            ));
-        }
-        error::count_in_range("node", node, 0, m.elements as i64)?;
-        let x = in_slice("x", x, n)?;
+        let (m, x, node) = node_args(rod, x, n, node)?;
         let out = out_slice("rotation", rotation, 3)?;
-        let r = m.rotation_vector(x, node as usize);
+        let r = m.rotation_vector(x, node);
         error::finite_result("rotation", &r)?;
         out.copy_from_slice(&r);
         Ok(Status::Ok)
     })
+}
+
+/// The node accessors' arguments: the rod's model, its state `x` of
+/// length `n` (the unknowns, or one more with μ last) and a node 0 …
+/// elements.
+///
+/// # Safety
+/// `rod` must be NULL or valid, `x` NULL or `n` readable doubles.
+unsafe fn node_args<'a>(rod: *const Rod, x: *const f64, n: i64, node: i64) -> Result<(&'a Model, &'a [f64], usize)> {
+    let m = &arg_ref("rod", rod)?.model;
+    let unknowns = m.unknowns() as i64;
+    if n != unknowns && n != unknowns + 1 {
+        return Err(Error::new(
+            Status::ErrInvalidDimension,
+            format!("argument `n` must be {unknowns} (or {} with μ last; got {n})", unknowns + 1),
+        ));
+    }
+    error::count_in_range("node", node, 0, m.elements as i64)?;
+    Ok((m, in_slice("x", x, n)?, node as usize))
 }
 
 /// Residual R(x, Λ) of the discrete equations (length n each), in the

@@ -1045,6 +1045,17 @@ module rodkit
             integer(c_int32_t) :: status
         end function rodkit_branch_bifurcation_errors
 
+        function rodkit_branch_kirchhoff_differences(branch, rod, out, capacity, count) result(status) &
+                bind(c, name="rodkit_branch_kirchhoff_differences")
+            import :: c_int32_t, c_int64_t, c_ptr, rodkit_record_error
+            type(c_ptr), value :: branch
+            type(c_ptr), value :: rod
+            type(rodkit_record_error), intent(inout) :: out(*)
+            integer(c_int64_t), value :: capacity
+            integer(c_int64_t), intent(out) :: count
+            integer(c_int32_t) :: status
+        end function rodkit_branch_kirchhoff_differences
+
         function rodkit_rod_continue(rod, x0, n, lambda0, options, progress, user_data, out) result(status) &
                 bind(c, name="rodkit_rod_continue")
             import :: c_double, c_funptr, c_int32_t, c_int64_t, c_ptr, rodkit_continuation_options

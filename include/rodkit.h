@@ -1570,6 +1570,22 @@ int32_t rodkit_branch_bifurcation_errors(const struct RodkitBranch *branch,
                                          int64_t capacity,
                                          int64_t *count);
 
+// What extension and shear do to `branch` (of `rod`, a Cosserat rod):
+// every record re-solved at its Λ on the rod's Kirchhoff variant
+// (inextensible, unshearable, same bending and twist, same mesh), and the
+// differences of its quantities copied as RodkitRecordError rows
+// (`estimated` 0 where the Kirchhoff rod has no point at that Λ; `scaled`
+// against the same scales as the estimates: below a tolerance, the
+// simpler physics would meet it). rodkit keeps the branch it computed —
+// the Kirchhoff rod has the same unknowns and cost here. A rod that is
+// already Kirchhoff: RODKIT_STATUS_ERR_OUT_OF_RANGE. `count` receives the
+// number of records.
+int32_t rodkit_branch_kirchhoff_differences(const struct RodkitBranch *branch,
+                                            const struct RodkitRod *rod,
+                                            struct RodkitRecordError *out,
+                                            int64_t capacity,
+                                            int64_t *count);
+
 // Follow a branch from the state `x0` (length n; NULL: the straight
 // state) at `lambda0`. Returns 0 when the target was reached, a positive
 // RODKIT_STATUS_INFO_* when the branch ended otherwise (the branch is

@@ -369,3 +369,40 @@ fn critical_loads_meet_the_tolerance_and_their_estimates() {
         }
     }
 }
+
+/// What extension and shear do, by kirchhoff_differences: the cantilever
+/// (K_b = L = 1, GA = 1e4, EA = 2.6e4) under small dead tip forces against
+/// linear theory (Timoshenko: a transverse force F moves the tip by F L/GA
+/// more than the unshearable rod, and turns the section no more; an axial
+/// one stretches it by F L/EA) — at F = 1e-3 the nonlinear corrections are
+/// O(F) relative, below 1e-2. A Kirchhoff rod is refused.
+#[test]
+fn kirchhoff_differences_are_what_extension_and_shear_do() {
+    use rodkit::rod::accuracy::kirchhoff_differences;
+    let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap();
+    for (direction, expected) in [([1.0, 0.0, 0.0], 1e-3 / 1e4), ([0.0, 0.0, 1.0], 1e-3 / 2.6e4)] {
+        let loads = Loads { tip_force: Some(Load::dead(direction)), ..Default::default() };
+        let rod = Rod::new(law.clone(), 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), 8).unwrap();
+        let opts = Options { target_lambda: Some(1e-3), residual_tol: 1e-13, initial_step: 1e-3, ..Default::default() };
+        let b = rod.continue_branch(None, 0.0, true, &opts, Method::Newton, |_| true).unwrap();
+        let d = kirchhoff_differences(&rod, &b, 1e-13).unwrap();
+        let last = d.last().unwrap().expect("the Kirchhoff rod reaches the load");
+        assert!((last.tip_position - expected).abs() < 1e-2 * expected, "{direction:?}: {last:?} against {expected:e}");
+        assert!(last.tip_rotation < 1e-2 * expected, "{direction:?}: {last:?}");
+        // The unloaded start: no difference.
+        assert!(d[0].unwrap().tip_position < 1e-15);
+    }
+    let kirchhoff = Rod::new(
+        RodLaw::kirchhoff(1.0, 1.0, 1.0).unwrap(),
+        1.0,
+        Loads::default(),
+        Supports::Cantilever,
+        Scheme::Gauss(4),
+        4,
+    )
+    .unwrap();
+    let b = kirchhoff
+        .continue_branch(None, 0.0, true, &Options { max_steps: 1, ..Default::default() }, Method::Newton, |_| true)
+        .unwrap();
+    assert_eq!(kirchhoff_differences(&kirchhoff, &b, 1e-10).unwrap_err().status, rodkit::Status::ErrOutOfRange);
+}

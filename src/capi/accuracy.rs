@@ -7,7 +7,9 @@ use super::branch::{options_of, same_rod, with_progress, wrap, Branch, BranchCal
 use super::guard;
 use super::rod::{store_rod, Rod};
 use crate::error;
-use crate::rod::accuracy::{estimate_bifurcation_errors, estimate_errors, refine_until, RecordError as Estimate};
+use crate::rod::accuracy::{
+    estimate_bifurcation_errors, estimate_errors, kirchhoff_differences, refine_until, RecordError as Estimate,
+};
 use crate::rod::branch::Plain;
 use crate::rod::target::until_rotation;
 use std::ffi::c_void;
@@ -120,6 +122,22 @@ pub unsafe extern "C" fn rodkit_rod_continue_to_tolerance(
     })
 }
 
+/// A record's row: its quantities' differences and their scaled worst
+/// (zeros with `estimated` 0 where there is none).
+fn record_error(model: &crate::rod::model::Rod, e: Option<Estimate>, x: &[f64]) -> RecordError {
+    match e {
+        Some(e) => RecordError {
+            estimated: 1,
+            tip_position: e.tip_position,
+            tip_rotation: e.tip_rotation,
+            base_force: e.base_force,
+            base_moment: e.base_moment,
+            scaled: e.scaled(model, x),
+        },
+        None => RecordError::default(),
+    }
+}
+
 /// The re-solves' tolerance for estimates computed on request: the
 /// options' default (a branch does not keep its own).
 const RESOLVE_TOL: f64 = 1e-10;
@@ -155,17 +173,7 @@ pub unsafe extern "C" fn rodkit_branch_error_estimates(
         let b = same_rod(rod, arg_ref("branch", branch)?)?;
         let estimates = kept_or(&b.estimates, || estimate_errors(&rod.model, &b.branch, RESOLVE_TOL))?;
         let rows: Vec<(Option<Estimate>, &Vec<f64>)> = estimates.iter().copied().zip(&b.branch.states).collect();
-        copy_out("out", out, capacity, count, &rows, |&(e, x)| match e {
-            Some(e) => RecordError {
-                estimated: 1,
-                tip_position: e.tip_position,
-                tip_rotation: e.tip_rotation,
-                base_force: e.base_force,
-                base_moment: e.base_moment,
-                scaled: e.scaled(&rod.model, x),
-            },
-            None => RecordError::default(),
-        })
+        copy_out("out", out, capacity, count, &rows, |&(e, x)| record_error(&rod.model, e, x))
     })
 }
 
@@ -202,5 +210,32 @@ pub unsafe extern "C" fn rodkit_branch_bifurcation_errors(
             },
             None => BifurcationError::default(),
         })
+    })
+}
+
+/// What extension and shear do to `branch` (of `rod`, a Cosserat rod):
+/// every record re-solved at its Λ on the rod's Kirchhoff variant
+/// (inextensible, unshearable, same bending and twist, same mesh), and the
+/// differences of its quantities copied as RodkitRecordError rows
+/// (`estimated` 0 where the Kirchhoff rod has no point at that Λ; `scaled`
+/// against the same scales as the estimates: below a tolerance, the
+/// simpler physics would meet it). rodkit keeps the branch it computed —
+/// the Kirchhoff rod has the same unknowns and cost here. A rod that is
+/// already Kirchhoff: RODKIT_STATUS_ERR_OUT_OF_RANGE. `count` receives the
+/// number of records.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_branch_kirchhoff_differences(
+    branch: *const Branch,
+    rod: *const Rod,
+    out: *mut RecordError,
+    capacity: i64,
+    count: *mut i64,
+) -> i32 {
+    guard(|| {
+        let rod = arg_ref("rod", rod)?;
+        let b = same_rod(rod, arg_ref("branch", branch)?)?;
+        let differences = kirchhoff_differences(&rod.model, &b.branch, RESOLVE_TOL)?;
+        let rows: Vec<(Option<Estimate>, &Vec<f64>)> = differences.iter().copied().zip(&b.branch.states).collect();
+        copy_out("out", out, capacity, count, &rows, |&(e, x)| record_error(&rod.model, e, x))
     })
 }

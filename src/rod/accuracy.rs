@@ -82,6 +82,35 @@ pub fn estimate_errors(rod: &Rod, branch: &RodBranch, residual_tol: f64) -> Resu
         .collect())
 }
 
+/// What extension and shear do to the branch (issue 19's "model only what
+/// the scene requires"): every record re-solved on the rod's Kirchhoff
+/// variant (v ≡ v̂: inextensible, unshearable; the same bending and twist,
+/// the same mesh and Λ), and the quantities' differences — None where the
+/// re-solve fails (the Kirchhoff rod's branch need not reach the record's
+/// Λ, e.g. past a fold the extensible rod has moved). Refused for a rod
+/// that is already Kirchhoff. rodkit keeps the branch it computed: here
+/// the Kirchhoff rod has the same unknowns and costs the same, so the
+/// differences say whether the simpler physics would meet a tolerance
+/// (each below it, scaled by [`RecordError::scaled`]) rather than buy
+/// speed.
+pub fn kirchhoff_differences(rod: &Rod, branch: &RodBranch, residual_tol: f64) -> Result<Vec<Option<RecordError>>> {
+    if rod.law.kirchhoff {
+        return Err(Error::new(
+            Status::ErrOutOfRange,
+            "the rod is already the Kirchhoff variant (inextensible, unshearable): nothing to compare",
+        ));
+    }
+    let constrained = Rod { law: super::RodLaw { kirchhoff: true, ..rod.law.clone() }, ..rod.clone() };
+    let mut on = Resolver::new(rod, &constrained, branch.phase)?;
+    let (records, states) = (&branch.records, &branch.states);
+    Ok((0..records.len())
+        .map(|k| {
+            let solved = on.solve(&states[k], records[k].lambda, residual_tol, None);
+            solved.ok().map(|(y, _)| difference(rod, &states[k], &constrained, &y))
+        })
+        .collect())
+}
+
 /// The branch's direction at record k: the central difference of its
 /// neighbours' states and Λ (one-sided at the ends; zero for a lone point).
 pub fn secant(records: &[crate::continuation::Record], states: &[Vec<f64>], k: usize) -> (Vec<f64>, f64) {

@@ -55,7 +55,7 @@ program follower_cantilever
     type(c_ptr) :: fine_rod
     integer(c_int64_t) :: n_fine
     real(c_double), allocatable :: x_fine(:)
-    real(c_double) :: tip_r(3), tip_q(4), tip_f(3), tip_m(3)
+    real(c_double) :: tip_r(3), tip_q(4), tip_f(3), tip_m(3), tip_rot(3)
 
     status = rodkit_rod_spec_default(spec)
     spec%length = 1.0_c_double
@@ -219,6 +219,10 @@ program follower_cantilever
     print '(a, es24.16)', 'tolerance_tip_q0_10 = ', tip_q(1)
     print '(a, es24.16)', 'tolerance_tip_q2_10 = ', tip_q(3)
     print '(a, es24.16)', 'tolerance_tip_rx_10 = ', tip_r(1)
+    ! The tip's signed rotation (the rotation vector of its frame): about
+    ! +e2 for this rod bent towards +e1, the shortest rotation (|angle| <= pi).
+    status = rodkit_rod_node_rotation(fine_rod, x_fine, n_fine, (n_fine / 13 - 1) / 5, tip_rot)
+    print '(a, es24.16)', 'tolerance_tip_rotation_e2_10 = ', tip_rot(2)
     call rodkit_branch_free(branch)
     call rodkit_rod_free(fine_rod)
     call rodkit_rod_free(rod)

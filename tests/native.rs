@@ -558,6 +558,15 @@ fn fortran_follower_cantilever_driver() {
         assert!((got[key] - want).abs() < 1e-13, "{key} {} vs Rust {want}", got[key]);
     }
     assert!((got["tolerance_tip_q0_10"] - tip[3]).abs() < 1e-13 && (got["tolerance_tip_q2_10"] - tip[5]).abs() < 1e-13);
+    // The signed tip rotation about e2: Rust's rotation vector, and the
+    // quaternion's own angle, 2 atan2(q2, q0) wrapped to (−π, π].
+    let signed = acc.rod.rotation_vector(last, acc.rod.elements)[1];
+    assert!((got["tolerance_tip_rotation_e2_10"] - signed).abs() < 1e-13);
+    let from_q = {
+        let a = 2.0 * tip[5].atan2(tip[3]);
+        a - 2.0 * std::f64::consts::PI * (a / (2.0 * std::f64::consts::PI)).round()
+    };
+    assert!((signed - from_q).abs() < 1e-12, "signed {signed} against {from_q}");
     assert!(
         (got["tolerance_tip_x_10"] - fine[3][0]).abs() < 1e-6 && (got["tolerance_tip_z_10"] - fine[3][2]).abs() < 1e-6
     );

@@ -911,6 +911,17 @@ fn a_target_end_rotation_through_the_c_abi() {
     }
 }
 
+/// `spec`'s cantilever on 8 elements under a dead tip force Λ e1 alone.
+fn dead_transverse() -> RodSpec {
+    let mut s = spec();
+    s.tip_moment_frame = LoadFrame::None as i32;
+    s.tip_moment_x = 0.0;
+    s.tip_force_frame = LoadFrame::Dead as i32;
+    s.tip_force_x = 1.0;
+    s.elements = 8;
+    s
+}
+
 /// The signed tip rotation through rodkit_rod_node_rotation: the
 /// cantilever of `spec` (K_b = L = 1) under a dead tip force Λ e1 bends in
 /// the (e1, e3) plane and its tip frame turns about +e2. At Λ = 1e-7
@@ -922,12 +933,7 @@ fn a_target_end_rotation_through_the_c_abi() {
 /// Arguments: a node past the tip, a wrong length, NULL out.
 #[test]
 fn the_signed_tip_rotation_through_the_c_abi() {
-    let mut s = spec();
-    s.tip_moment_frame = LoadFrame::None as i32;
-    s.tip_moment_x = 0.0;
-    s.tip_force_frame = LoadFrame::Dead as i32;
-    s.tip_force_x = 1.0;
-    s.elements = 8;
+    let s = dead_transverse();
     let rod = new_rod(&s).unwrap();
     let mut n = 0;
     unsafe { rodkit_rod_unknowns(rod, &mut n) };
@@ -984,12 +990,7 @@ fn the_signed_tip_rotation_through_the_c_abi() {
 /// row, the start none; a Kirchhoff rod is refused.
 #[test]
 fn kirchhoff_differences_through_the_c_abi() {
-    let mut s = spec();
-    s.tip_moment_frame = LoadFrame::None as i32;
-    s.tip_moment_x = 0.0;
-    s.tip_force_frame = LoadFrame::Dead as i32;
-    s.tip_force_x = 1.0;
-    s.elements = 8;
+    let mut s = dead_transverse();
     let rod = new_rod(&s).unwrap();
     let mut o = options();
     o.method = ContinuationMethod::Newton as i32;

@@ -21,6 +21,8 @@
 
 #[path = "support/auto07p.rs"]
 mod auto07p;
+#[path = "support/plot.rs"]
+mod plot;
 #[path = "support/timing.rs"]
 mod timing;
 use timing::{max_distance as err, median, ms};
@@ -109,7 +111,7 @@ fn run_kinsol(rod: &Rod, tol: f64) -> Result<(Vec<[f64; 3]>, KinsolCounts, Durat
     Ok((tips, totals, t.elapsed()))
 }
 
-use plotters::prelude::*;
+use plotters::prelude::RGBColor;
 use rodkit::continuation::anm::{continue_anm, AnmOptions};
 use rodkit::continuation::newton::{continue_newton, Start};
 use rodkit::continuation::{Branch, Counts, Options, Stop};
@@ -832,52 +834,21 @@ fn section_anm_knobs(out: &mut String, dir: &Path) {
 }
 
 fn plot(path: &Path, rows: &[Row]) -> Result<(), Box<dyn std::error::Error>> {
-    let root = SVGBackend::new(path, (960, 640)).into_drawing_area();
-    root.fill(&WHITE)?;
     let pts = |f: &dyn Fn(&Row) -> bool| -> Vec<(f64, f64)> {
         rows.iter().filter(|r| f(r)).map(|r| (r.time.as_secs_f64() * 1e3, r.error.max(1e-14))).collect()
     };
-    let all: Vec<(f64, f64)> = pts(&|_| true);
-    let (x0, x1) = all.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.0), b.max(p.0)));
-    let (y0, y1) = all.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.1), b.max(p.1)));
-    let mut chart = ChartBuilder::on(&root)
-        .caption("Follower cantilever α 0→10: tip error vs time", ("sans-serif", 22))
-        .margin(16)
-        .x_label_area_size(56)
-        .y_label_area_size(84)
-        .build_cartesian_2d((x0 / 1.5..x1 * 1.5).log_scale(), (y0 / 3.0..y1 * 3.0).log_scale())?;
-    chart
-        .configure_mesh()
-        .x_desc("time (ms)")
-        .y_desc("max tip error / L")
-        .y_label_formatter(&|v| format!("{v:.0e}"))
-        .draw()?;
-    for (name, color, f) in [
-        (
-            "rodkit ANM",
-            RGBColor(214, 39, 40),
-            Box::new(|r: &Row| r.method.starts_with("rodkit ANM") && r.scene == Scene::Follower)
-                as Box<dyn Fn(&Row) -> bool>,
-        ),
-        (
-            "rodkit Newton",
-            RGBColor(31, 119, 180),
-            Box::new(|r: &Row| r.method == "rodkit Newton" && r.scene == Scene::Follower),
-        ),
-        ("AUTO-07p", RGBColor(44, 160, 44), Box::new(|r: &Row| r.method == "AUTO-07p")),
-        (
-            "SUNDIALS KINSOL",
-            RGBColor(148, 103, 189),
-            Box::new(|r: &Row| r.method.starts_with("SUNDIALS") && r.scene == Scene::Follower),
-        ),
-    ] {
-        let p = pts(&*f);
-        chart
-            .draw_series(p.iter().map(|&q| Circle::new(q, 5, color.filled())))?
-            .label(name)
-            .legend(move |(x, y)| Circle::new((x + 10, y), 5, color.filled()));
-    }
-    chart.configure_series_labels().background_style(WHITE.mix(0.9)).border_style(BLACK).draw()?;
-    root.present()?;
-    Ok(())
+    let follower = |r: &Row| r.scene == Scene::Follower;
+    let series = [
+        ("rodkit ANM", pts(&|r| r.method.starts_with("rodkit ANM") && follower(r)), RGBColor(214, 39, 40)),
+        ("rodkit Newton", pts(&|r| r.method == "rodkit Newton" && follower(r)), RGBColor(31, 119, 180)),
+        ("AUTO-07p", pts(&|r| r.method == "AUTO-07p"), RGBColor(44, 160, 44)),
+        ("SUNDIALS KINSOL", pts(&|r| r.method.starts_with("SUNDIALS") && follower(r)), RGBColor(148, 103, 189)),
+    ];
+    plot::scatter_log_log(
+        path,
+        "Follower cantilever α 0→10: tip error vs time",
+        "time (ms)",
+        "max tip error / L",
+        &series,
+    )
 }

@@ -25,11 +25,13 @@
 
 #[path = "support/auto07p.rs"]
 mod auto07p;
+#[path = "support/plot.rs"]
+mod plot;
 #[path = "support/timing.rs"]
 mod timing;
 use timing::{max_distance as error, median, ms};
 
-use plotters::prelude::*;
+use plotters::prelude::RGBColor;
 use rodkit::continuation::anm::{continue_anm, AnmOptions};
 use rodkit::continuation::newton::{continue_newton, Start};
 use rodkit::continuation::{Counts, Options, Stop};
@@ -312,30 +314,9 @@ fn main() {
 
 /// Every setting's (time, error) of pass 1, one colour per side.
 fn plot(path: &Path, scene: Scene, points: &[(&str, f64, f64)]) -> Result<(), Box<dyn std::error::Error>> {
-    let root = SVGBackend::new(path, (960, 640)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (x0, x1) = points.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.1), b.max(p.1)));
-    let (y0, y1) = points.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.2), b.max(p.2)));
-    let mut chart = ChartBuilder::on(&root)
-        .caption(format!("{scene:?} cantilever α 0→10: tip error vs time, every setting"), ("sans-serif", 22))
-        .margin(16)
-        .x_label_area_size(56)
-        .y_label_area_size(84)
-        .build_cartesian_2d((x0 / 1.5..x1 * 1.5).log_scale(), (y0 / 3.0..y1 * 3.0).log_scale())?;
-    chart
-        .configure_mesh()
-        .x_desc("time (ms, one run)")
-        .y_desc("max tip error / L")
-        .y_label_formatter(&|v| format!("{v:.0e}"))
-        .draw()?;
-    for (side, color) in [("rodkit", RGBColor(214, 39, 40)), ("AUTO-07p", RGBColor(44, 160, 44))] {
-        let pts: Vec<(f64, f64)> = points.iter().filter(|p| p.0 == side).map(|p| (p.1, p.2)).collect();
-        chart
-            .draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))?
-            .label(side)
-            .legend(move |(x, y)| Circle::new((x, y), 4, color.filled()));
-    }
-    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
-    root.present()?;
-    Ok(())
+    let side = |name: &str| points.iter().filter(|p| p.0 == name).map(|p| (p.1, p.2)).collect::<Vec<_>>();
+    let series =
+        [("rodkit", side("rodkit"), RGBColor(214, 39, 40)), ("AUTO-07p", side("AUTO-07p"), RGBColor(44, 160, 44))];
+    let title = format!("{scene:?} cantilever α 0→10: tip error vs time, every setting");
+    plot::scatter_log_log(path, &title, "time (ms, one run)", "max tip error / L", &series)
 }

@@ -1,8 +1,11 @@
 !---------------------------------------------------------------------------------------------------
-! AUTO-07p problem "follower": clamped-free Cosserat rod (physics.md §2.1, quaternion form, 13 ODEs)
-! with a follower tip force kept perpendicular to the tip tangent.
+! AUTO-07p problems "follower" and "dead": clamped-free Cosserat rod (physics.md §2.1, quaternion
+! form, 13 ODEs) with a follower tip force kept perpendicular to the tip tangent, or (compiled with
+! -cpp -DDEAD_LOAD by run.sh: dead.exe) a dead tip force Lambda e1 fixed in space, rodkit's
+! dead-load cantilever (benches/rod.rs, benches/rod_frontier.rs).
 !   s = 0 : r = 0 (3), q = (1, 0, 0, 0) (4)                      -> 7 conditions
 !   s = L : n_b = (Lambda, 0, 0) (force along the tip director d1), m_b = 0  -> 6 conditions
+!           (dead: n_b = R(q)^T (Lambda, 0, 0), the spatial force Lambda e1 in the body frame)
 ! NBC = 13 = NDIM, NINT = 0: AUTO's count for one free parameter. All four components of q(0) are
 ! prescribed; this is an initial condition, not a constraint at both ends, so the conservation of
 ! |q| creates no redundancy (the linearised BVP is a shooting problem in the 6 unknowns n_b(0),
@@ -40,6 +43,7 @@ SUBROUTINE BCND(NDIM, PAR, ICP, NBC, U0, U1, FB, IJAC, DBC)
   DOUBLE PRECISION, INTENT(IN) :: PAR(*), U0(NDIM), U1(NDIM)
   DOUBLE PRECISION, INTENT(OUT) :: FB(NBC)
   DOUBLE PRECISION, INTENT(INOUT) :: DBC(NBC,*)
+  DOUBLE PRECISION R(3,3)
   FB(1) = U0(1)
   FB(2) = U0(2)
   FB(3) = U0(3)
@@ -47,9 +51,16 @@ SUBROUTINE BCND(NDIM, PAR, ICP, NBC, U0, U1, FB, IJAC, DBC)
   FB(5) = U0(5)
   FB(6) = U0(6)
   FB(7) = U0(7)
+#ifdef DEAD_LOAD
+  CALL ROD_ROT(U1(4), R)
+  FB(8) = U1(8) - PAR(1)*R(1,1)
+  FB(9) = U1(9) - PAR(1)*R(1,2)
+  FB(10) = U1(10) - PAR(1)*R(1,3)
+#else
   FB(8) = U1(8) - PAR(1)
   FB(9) = U1(9)
   FB(10) = U1(10)
+#endif
   FB(11) = U1(11)
   FB(12) = U1(12)
   FB(13) = U1(13)

@@ -39,11 +39,14 @@ build() {
     check >&2 || exit 1
     mkdir -p "$bdir"
     FC=$(makevar FC); FFLAGS=$(makevar FFLAGS); OPT=$(makevar OPT)
+    # dead.exe: follower.f90 with the dead tip force (-DDEAD_LOAD).
     for p in follower dead euler; do
         exe="$bdir/$p.exe"
-        if [ ! -x "$exe" ] || [ "$HERE/$p.f90" -nt "$exe" ] || [ "$HERE/rod_common.inc" -nt "$exe" ]; then
+        src=$p; defs=""
+        [ "$p" = dead ] && { src=follower; defs="-DDEAD_LOAD"; }
+        if [ ! -x "$exe" ] || [ "$HERE/$src.f90" -nt "$exe" ] || [ "$HERE/rod_common.inc" -nt "$exe" ]; then
             # shellcheck disable=SC2086
-            $FC $FFLAGS $OPT -I"$HERE" -c "$HERE/$p.f90" -o "$bdir/$p.o"
+            $FC $FFLAGS $OPT -cpp $defs -I"$HERE" -c "$HERE/$src.f90" -o "$bdir/$p.o"
             # shellcheck disable=SC2086
             $FC $FFLAGS $OPT "$bdir/$p.o" -o "$exe.tmp" "$AUTO_DIR"/lib/*.o
             mv "$exe.tmp" "$exe"

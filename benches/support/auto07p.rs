@@ -456,7 +456,7 @@ pub fn follower_with(ntst: usize, tol: f64, opt: &Options) -> Result<AutoRun, St
     Ok(run)
 }
 
-/// Dead-load cantilever (benches/auto/dead.f90): the tip force Λ e1 fixed
+/// Dead-load cantilever (benches/auto/follower.f90 with -DDEAD_LOAD): the tip force Λ e1 fixed
 /// in space, Λ from 0 to 10 with UZ at 1, 2, 5, 10.
 pub fn dead_with(ntst: usize, tol: f64, opt: &Options) -> Result<AutoRun, String> {
     let bdir = build()?;

@@ -122,20 +122,30 @@ pub unsafe extern "C" fn rodkit_rod_continue_to_tolerance(
     })
 }
 
-/// A record's row: its quantities' differences and their scaled worst
-/// (zeros with `estimated` 0 where there is none).
-fn record_error(model: &crate::rod::model::Rod, e: Option<Estimate>, x: &[f64]) -> RecordError {
-    match e {
+/// Copy one row per record of `b` (its quantities' differences, `values`,
+/// and their scaled worst; zeros with `estimated` 0 where there is none)
+/// to the caller's (out, capacity, count).
+///
+/// # Safety
+/// `out` must be NULL or hold `capacity` writable rows, `count` NULL or writable.
+unsafe fn copy_records(
+    rod: &Rod,
+    b: &Branch,
+    values: &[Option<Estimate>],
+    (out, capacity, count): (*mut RecordError, i64, *mut i64),
+) -> crate::Result<crate::status::Status> {
+    let rows: Vec<(Option<Estimate>, &Vec<f64>)> = values.iter().copied().zip(&b.branch.states).collect();
+    copy_out("out", out, capacity, count, &rows, |&(e, x)| match e {
         Some(e) => RecordError {
             estimated: 1,
             tip_position: e.tip_position,
             tip_rotation: e.tip_rotation,
             base_force: e.base_force,
             base_moment: e.base_moment,
-            scaled: e.scaled(model, x),
+            scaled: e.scaled(&rod.model, x),
         },
         None => RecordError::default(),
-    }
+    })
 }
 
 /// The re-solves' tolerance for estimates computed on request: the
@@ -172,8 +182,7 @@ pub unsafe extern "C" fn rodkit_branch_error_estimates(
         let rod = arg_ref("rod", rod)?;
         let b = same_rod(rod, arg_ref("branch", branch)?)?;
         let estimates = kept_or(&b.estimates, || estimate_errors(&rod.model, &b.branch, RESOLVE_TOL))?;
-        let rows: Vec<(Option<Estimate>, &Vec<f64>)> = estimates.iter().copied().zip(&b.branch.states).collect();
-        copy_out("out", out, capacity, count, &rows, |&(e, x)| record_error(&rod.model, e, x))
+        copy_records(rod, b, &estimates, (out, capacity, count))
     })
 }
 
@@ -235,7 +244,6 @@ pub unsafe extern "C" fn rodkit_branch_kirchhoff_differences(
         let rod = arg_ref("rod", rod)?;
         let b = same_rod(rod, arg_ref("branch", branch)?)?;
         let differences = kirchhoff_differences(&rod.model, &b.branch, RESOLVE_TOL)?;
-        let rows: Vec<(Option<Estimate>, &Vec<f64>)> = differences.iter().copied().zip(&b.branch.states).collect();
-        copy_out("out", out, capacity, count, &rows, |&(e, x)| record_error(&rod.model, e, x))
+        copy_records(rod, b, &differences, (out, capacity, count))
     })
 }

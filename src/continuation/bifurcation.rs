@@ -137,12 +137,13 @@ pub(crate) fn locate<P: Problem + ?Sized>(
     // predicted on the tangent — or on the ANM step's series, which lies on
     // that hyperplane (its a is this τ) and on the branch to its ε.
     let mut point = |tau: f64, ctx: &mut Context| -> Result<(Vec<f64>, f64, f64)> {
+        let anchor: Vec<f64> = left.x.iter().zip(&left.tx).map(|(a, t)| a + tau * t).collect();
+        let l_anchor = left.lambda + tau * left.tl;
         let (mut x, mut l) = match hint.filter(|h| tau <= h.step && !h.series.is_empty()) {
             Some(h) => h.evaluate(tau),
-            None => (left.x.iter().zip(&left.tx).map(|(a, t)| a + tau * t).collect(), left.lambda + tau * left.tl),
+            None => (anchor.clone(), l_anchor),
         };
-        let anchor: Vec<f64> = left.x.iter().zip(&left.tx).map(|(a, t)| a + tau * t).collect();
-        let plane = Plane::new((&anchor, left.lambda + tau * left.tl), (&left.tx, left.tl));
+        let plane = Plane::new((&anchor, l_anchor), (&left.tx, left.tl));
         correct(problem, ctx, &mut x, &mut l, plane, residual_tol, false)?;
         ctx.factorise_for_solves(problem, &x, l, (&left.tx, left.tl))?;
         let sigma = ctx.bordered.signed_smallest_singular_value(&mut ctx.counts);

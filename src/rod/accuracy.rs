@@ -299,12 +299,30 @@ fn relocate(
     bif: &Bifurcation,
     residual_tol: f64,
 ) -> Result<Option<Bifurcation>> {
-    let (records, states) = (&branch.records, &branch.states);
-    let last = records.len().saturating_sub(1);
     // One phase condition for the whole search: the bifurcation's own
     // azimuth, carried.
     on.carry(&bif.x)?;
-    let mut ctx = Context::new(&on.system, Scaling::of(&on.system))?;
+    // The resolver's bordered context (its symbolic analysis made once for
+    // every point of the branch), back in its slot afterwards.
+    let mut ctx = match on.bordered.take() {
+        Some(c) => c,
+        None => Context::new(&on.system, Scaling::of(&on.system))?,
+    };
+    let found = search(on, &mut ctx, branch, bif, residual_tol);
+    on.bordered = Some(ctx);
+    found
+}
+
+/// [`relocate`]'s search on the bracket around `bif`, widened up to twice.
+fn search(
+    on: &mut Resolver,
+    ctx: &mut Context,
+    branch: &RodBranch,
+    bif: &Bifurcation,
+    residual_tol: f64,
+) -> Result<Option<Bifurcation>> {
+    let (records, states) = (&branch.records, &branch.states);
+    let last = records.len().saturating_sub(1);
     let dim = on.system.dim();
     for widen in 0..3 {
         let (a, b) = (bif.record.saturating_sub(widen), (bif.record + 1 + widen).min(last));
@@ -330,7 +348,7 @@ fn relocate(
         let evidence =
             Evidence { det_sign_change: ends[0].1 * ends[1].1 < 0.0, test_function_change: bif.test_function_change };
         if let Some((found, _)) =
-            locate(&mut on.system, &mut ctx, &ends[0].0, &ends[1].0, evidence, (residual_tol, 1e-10), None)?
+            locate(&mut on.system, ctx, &ends[0].0, &ends[1].0, evidence, (residual_tol, 1e-10), None)?
         {
             if found.multiplicity == bif.multiplicity {
                 return Ok(Some(found));

@@ -59,6 +59,15 @@ pub trait Problem {
     fn trailing(&self) -> usize {
         0
     }
+    /// Sets of unknowns private to one kernel: each set's columns reach
+    /// only its own equations (the same indices) and kept ones, and its
+    /// equations only its own and kept unknowns — a collocated element's
+    /// stage unknowns. The continuation's bordered tangent then eliminates
+    /// them element by element ([`crate::linalg::condensed`]) and
+    /// factorises only the kept system. Default none.
+    fn private_blocks(&self) -> Vec<Vec<usize>> {
+        Vec::new()
+    }
 }
 
 /// Taylor coefficients of R along X(a) = Σ a^k X_k (the cubic ANM).
@@ -406,6 +415,10 @@ pub struct Counts {
     /// (part of `times.factorisations`): the rest are simplicial.
     pub block_eliminations: usize,
     pub block_time: std::time::Duration,
+    /// Factorisations by condensation of the problem's private blocks
+    /// (part of `factorisations`; [`Problem::private_blocks`],
+    /// [`crate::linalg::condensed`]).
+    pub condensed: usize,
     /// Where the time went (wall clock).
     pub times: Times,
 }
@@ -465,6 +478,7 @@ impl Counts {
         self.series_dismissed += other.series_dismissed;
         self.monitor_solves += other.monitor_solves;
         self.block_eliminations += other.block_eliminations;
+        self.condensed += other.condensed;
         self.block_time += other.block_time;
         self.times.add(&other.times);
     }

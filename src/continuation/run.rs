@@ -33,7 +33,8 @@ impl Context {
     /// both).
     pub fn new<P: Problem + ?Sized>(problem: &P, scaling: Scaling) -> Result<Self> {
         let eq = problem.equation_scales();
-        let mut bordered = Bordered::with_trailing(problem.pattern(), problem.trailing())?;
+        let mut bordered =
+            Bordered::with_private_blocks(problem.pattern(), problem.trailing(), &problem.private_blocks())?;
         bordered.set_monitor_scales(&eq, &scaling);
         Ok(Context { scaling, eq, bordered, counts: Counts::default(), patient: false })
     }
@@ -289,10 +290,15 @@ impl<'o> Run<'o> {
     /// Whether records take their signs on a second thread
     /// ([`super::Options::overlap_records`]; not with the monitor,
     /// bifurcation detection or samples, which read a point's
-    /// factorisation before the next step).
+    /// factorisation before the next step; not on a condensed tangent,
+    /// whose factors for solves give the signs themselves).
     pub fn overlapping(&self) -> bool {
         let o = self.opts;
-        o.overlap_records && !o.track_singular && !o.detect_bifurcations && o.samples.is_empty()
+        o.overlap_records
+            && !o.track_singular
+            && !o.detect_bifurcations
+            && o.samples.is_empty()
+            && !self.ctx.bordered.condensed()
     }
 
     /// Factorise at a new point for its tangent and record: for solves

@@ -8,6 +8,7 @@
 
 use super::{Problem, SeriesProblem};
 use crate::linalg::sparse::Pattern;
+use crate::taylor::batch::{BatchTaylorWork, Lanes, LANES};
 use crate::taylor::{JacobianWork, Tape, TaylorWork};
 use std::sync::Arc;
 
@@ -43,10 +44,27 @@ struct BlockWork {
     taylor: TaylorWork,
 }
 
+/// Blocks sharing one tape whose Taylor series are taken together
+/// ([`BatchTaylorWork`]): a rod's elements, [`LANES`] at a time.
+#[derive(Clone, Debug, Default)]
+struct Batch {
+    /// The blocks, one per lane (2..=LANES; unused lanes compute on zeros).
+    blocks: Vec<usize>,
+    taylor: BatchTaylorWork,
+    inputs: Vec<Lanes>,
+    outputs: Vec<Lanes>,
+}
+
 pub struct AssembledSystem {
     n: usize,
     blocks: Vec<Block>,
     work: Vec<BlockWork>,
+    /// Batched series ([`Batch`]), and whether each block is in one (else
+    /// its own [`TaylorWork`]).
+    batches: Vec<Batch>,
+    batched: Vec<bool>,
+    /// See [`AssembledSystem::with_private_blocks`].
+    private: Vec<Vec<usize>>,
     pattern: Pattern,
     nodes: Vec<f64>,
     jwork: JacobianWork,
@@ -102,16 +120,87 @@ impl AssembledSystem {
                 }
             })
             .collect();
+        let (batches, batched) = Self::batches(&blocks);
         AssembledSystem {
             n,
             blocks,
             work,
+            batches,
+            batched,
+            private: Vec::new(),
             pattern,
             nodes: Vec::new(),
             jwork: JacobianWork::default(),
             equation_scales: vec![1.0; n],
             unknown_scales: (vec![1.0; n], 1.0),
         }
+    }
+
+    /// Blocks on one tape, LANES at a time; a group's last single block
+    /// (and a tape's only one) keeps its own series.
+    fn batches(blocks: &[Block]) -> (Vec<Batch>, Vec<bool>) {
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        for (b, block) in blocks.iter().enumerate() {
+            match groups.iter_mut().find(|g| Arc::ptr_eq(&blocks[g[0]].tape, &block.tape)) {
+                Some(g) => g.push(b),
+                None => groups.push(vec![b]),
+            }
+        }
+        let mut batched = vec![false; blocks.len()];
+        let mut batches = Vec::new();
+        for g in groups {
+            for chunk in g.chunks(LANES).filter(|c| c.len() >= 2) {
+                let tape = &blocks[chunk[0]].tape;
+                chunk.iter().for_each(|&b| batched[b] = true);
+                batches.push(Batch {
+                    blocks: chunk.to_vec(),
+                    taylor: BatchTaylorWork::default(),
+                    inputs: vec![[0.0; LANES]; tape.inputs()],
+                    outputs: vec![[0.0; LANES]; tape.outputs()],
+                });
+            }
+        }
+        (batches, batched)
+    }
+
+    /// Each batch's lane inputs from `value(global unknown)`, Λ's
+    /// `lambda` (params: `param(v)`, v their value).
+    fn gather_lanes(
+        blocks: &[Block],
+        batch: &mut Batch,
+        value: impl Fn(usize) -> f64,
+        lambda: f64,
+        param: impl Fn(f64) -> f64,
+    ) {
+        for (l, &b) in batch.blocks.iter().enumerate() {
+            for (slot, input) in blocks[b].inputs.iter().zip(&mut batch.inputs) {
+                input[l] = match *slot {
+                    Slot::Unknown(g) => value(g),
+                    Slot::Lambda => lambda,
+                    Slot::Param(v) => param(v),
+                };
+            }
+        }
+    }
+
+    /// Add each lane's outputs into its block's rows.
+    fn scatter_lanes(blocks: &[Block], batch: &Batch, out: &mut [f64]) {
+        for (l, &b) in batch.blocks.iter().enumerate() {
+            for (&row, v) in blocks[b].rows.iter().zip(&batch.outputs) {
+                out[row] += v[l];
+            }
+        }
+    }
+
+    /// Declare sets of unknowns private to one block each (a collocated
+    /// element's stage unknowns: read by its kernel alone, their
+    /// equations written by it alone) whose square blocks the model knows
+    /// to be regular: the continuation condenses them
+    /// ([`Problem::private_blocks`]). A set that breaks the form is
+    /// caught when the tangent is built, which then factorises whole.
+    pub fn with_private_blocks(mut self, sets: Vec<Vec<usize>>) -> Self {
+        self.private = sets;
+        self
     }
 
     pub fn with_scales(mut self, equations: Vec<f64>, unknowns: Vec<f64>, lambda: f64) -> Self {
@@ -200,6 +289,12 @@ impl Problem for AssembledSystem {
         self.equation_scales.clone()
     }
 
+    /// The private blocks the model declared
+    /// ([`AssembledSystem::with_private_blocks`]).
+    fn private_blocks(&self) -> Vec<Vec<usize>> {
+        self.private.clone()
+    }
+
     fn unknown_scales(&self) -> (Vec<f64>, f64) {
         self.unknown_scales.clone()
     }
@@ -207,7 +302,12 @@ impl Problem for AssembledSystem {
 
 impl SeriesProblem for AssembledSystem {
     fn series_begin(&mut self, x0: &[f64], lambda0: f64, max_order: usize) {
-        for (b, w) in self.blocks.iter().zip(&mut self.work) {
+        for batch in &mut self.batches {
+            Self::gather_lanes(&self.blocks, batch, |g| x0[g], lambda0, |v| v);
+            let tape = &self.blocks[batch.blocks[0]].tape;
+            batch.taylor.begin(tape, &batch.inputs, max_order);
+        }
+        for ((b, w), _) in self.blocks.iter().zip(&mut self.work).zip(&self.batched).filter(|(_, &t)| !t) {
             Self::gather(&b.inputs, x0, lambda0, &mut w.local_in);
             w.taylor.begin(&b.tape, &w.local_in, max_order);
         }
@@ -215,7 +315,13 @@ impl SeriesProblem for AssembledSystem {
 
     fn series_order(&mut self, p: usize, xp: &[f64], lambda_p: f64, out: &mut [f64]) {
         out.fill(0.0);
-        for (b, w) in self.blocks.iter().zip(&mut self.work) {
+        for batch in &mut self.batches {
+            Self::gather_lanes(&self.blocks, batch, |g| xp[g], lambda_p, |_| 0.0);
+            let tape = &self.blocks[batch.blocks[0]].tape;
+            batch.taylor.order(tape, p, &batch.inputs, &mut batch.outputs);
+            Self::scatter_lanes(&self.blocks, batch, out);
+        }
+        for ((b, w), _) in self.blocks.iter().zip(&mut self.work).zip(&self.batched).filter(|(_, &t)| !t) {
             let inputs = &b.inputs;
             let coefficient = |i: usize| match inputs[i] {
                 Slot::Unknown(g) => xp[g],
@@ -235,7 +341,13 @@ impl SeriesProblem for AssembledSystem {
 
     fn series_tangent_order(&mut self, p: usize, wp: &[f64], w_lambda_p: f64, out: &mut [f64]) {
         out.fill(0.0);
-        for (b, w) in self.blocks.iter().zip(&mut self.work) {
+        for batch in &mut self.batches {
+            Self::gather_lanes(&self.blocks, batch, |g| wp[g], w_lambda_p, |_| 0.0);
+            let tape = &self.blocks[batch.blocks[0]].tape;
+            batch.taylor.tangent_order(tape, p, &batch.inputs, &mut batch.outputs);
+            Self::scatter_lanes(&self.blocks, batch, out);
+        }
+        for ((b, w), _) in self.blocks.iter().zip(&mut self.work).zip(&self.batched).filter(|(_, &t)| !t) {
             let inputs = &b.inputs;
             let coefficient = |i: usize| match inputs[i] {
                 Slot::Unknown(g) => wp[g],

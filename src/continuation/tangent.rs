@@ -44,10 +44,16 @@ impl Bordered {
     /// As [`Bordered::new`] for a problem whose last `trailing` unknowns
     /// reach across its Jacobian ([`super::Problem::trailing`]).
     pub fn with_trailing(pattern: &Pattern, trailing: usize) -> Result<Self> {
+        Self::with_private_blocks(pattern, trailing, &[])
+    }
+
+    /// As [`Bordered::with_trailing`], the unknowns of each of `blocks`
+    /// private to it ([`super::Problem::private_blocks`]): condensed.
+    pub fn with_private_blocks(pattern: &Pattern, trailing: usize, blocks: &[Vec<usize>]) -> Result<Self> {
         let n = pattern.n;
         Ok(Bordered {
             n,
-            lu: BorderedLu::with_trailing(pattern, trailing)?,
+            lu: BorderedLu::with_private_blocks(pattern, trailing, blocks)?,
             jx: vec![0.0; pattern.nnz()],
             jl: vec![0.0; n],
             row: vec![0.0; n],
@@ -130,6 +136,9 @@ impl Bordered {
         if self.lu.block_elimination() {
             counts.block_eliminations += 1;
             counts.block_time += dt;
+        }
+        if self.lu.last_condensed() {
+            counts.condensed += 1;
         }
         Ok(())
     }
@@ -256,6 +265,12 @@ impl Bordered {
     /// B's entries of the current matrix (see [`BorderedLu::values`]).
     pub fn values(&self) -> &[f64] {
         self.lu.values()
+    }
+
+    /// Whether the tangent is factorised by condensation
+    /// ([`BorderedLu::with_private_blocks`]).
+    pub fn condensed(&self) -> bool {
+        self.lu.condensed()
     }
 
     /// See [`BorderedLu::exact_twin`].

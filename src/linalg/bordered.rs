@@ -12,17 +12,21 @@
 //! not depend on the model's units.
 
 use super::bordering::BlockElimination;
+use super::condensed::CondensedLu;
 use super::dense::{dot, orthonormalise};
 use super::sparse::{ColumnOrder, LuKind, Pattern, SparseLu};
 use crate::error::Result;
 
 /// How [`BorderedLu::factorise`] factorises: not yet decided (on its
-/// first matrix), B's own (simplicial) LU, or block elimination on A's
-/// supernodal LU ([`super::bordering`]).
+/// first matrix), B's own (simplicial) LU, block elimination on A's
+/// supernodal LU ([`super::bordering`]), or B's static condensation
+/// ([`super::condensed`]: A's private blocks eliminated, the border kept
+/// with the rest).
 enum Fast {
     Undecided,
     Whole,
     Blocks(Box<BlockElimination>),
+    Condensed(Box<CondensedLu>),
 }
 
 pub struct BorderedLu {
@@ -45,8 +49,8 @@ pub struct BorderedLu {
     inner: Option<Pattern>,
     trailing: usize,
     fast: Fast,
-    /// Whether the last factorisation is the block elimination's (solves
-    /// use it), else B's LU.
+    /// Whether the last factorisation is the block elimination's or the
+    /// condensation's (solves use it), else B's LU.
     blocks_active: bool,
     preferred: Option<ColumnOrder>,
     preferred_kind: Option<LuKind>,
@@ -108,6 +112,37 @@ impl BorderedLu {
         })
     }
 
+    /// As [`BorderedLu::with_trailing`], A's unknowns in each of `blocks`
+    /// private to it ([`CondensedLu::new`]'s form; the border row and
+    /// column reach every block, and are kept): B is factorised by static
+    /// condensation, blocks by dense LU, the kept system (the nodes and
+    /// the border) by a simplicial LU — exact elimination with pivoting
+    /// throughout, no bordering algorithm to refine, and det B's sign from
+    /// the factors. If a block or the kept system is singular, B's own LU
+    /// decides that matrix. Without blocks, or if the pattern does not
+    /// have that form, as [`BorderedLu::with_trailing`].
+    pub fn with_private_blocks(pattern: &Pattern, trailing: usize, blocks: &[Vec<usize>]) -> Result<Self> {
+        let mut lu = Self::with_trailing(pattern, trailing)?;
+        if !blocks.is_empty() {
+            if let Ok(condensed) = CondensedLu::new(lu.lu.pattern(), blocks, trailing + 1) {
+                lu.fast = Fast::Condensed(Box::new(condensed));
+            }
+        }
+        Ok(lu)
+    }
+
+    /// Whether B is factorised by condensation
+    /// ([`BorderedLu::with_private_blocks`]).
+    pub fn condensed(&self) -> bool {
+        matches!(self.fast, Fast::Condensed(_))
+    }
+
+    /// Whether the last factorisation is the condensation's (not B's own
+    /// LU, taken when a block or the kept system was singular).
+    pub fn last_condensed(&self) -> bool {
+        self.blocks_active && self.condensed()
+    }
+
     /// n (B is one larger).
     pub fn dim(&self) -> usize {
         self.n
@@ -122,6 +157,13 @@ impl BorderedLu {
     pub fn factorise(&mut self, a: &[f64], c: &[f64], r: &[f64], d: f64) -> Result<()> {
         self.assemble(a, c, r, d);
         self.blocks_active = false;
+        if let Fast::Condensed(lu) = &mut self.fast {
+            if lu.factorise(&self.values).is_ok() {
+                self.blocks_active = true;
+                return Ok(());
+            }
+            return self.lu.factorise(&self.values);
+        }
         // A's first factorisation decides (A then factorised).
         let fresh = matches!(self.fast, Fast::Undecided);
         if fresh {
@@ -159,6 +201,10 @@ impl BorderedLu {
     /// ([`SparseLu::factorise_exact`]): for a point whose determinant sign
     /// and pivots are read.
     pub fn factorise_exact(&mut self, a: &[f64], c: &[f64], r: &[f64], d: f64) -> Result<()> {
+        // The condensed factors give the sign and pivots themselves.
+        if self.condensed() {
+            return self.factorise(a, c, r, d);
+        }
         self.assemble(a, c, r, d);
         self.blocks_active = false;
         self.lu.factorise_exact(&self.values)
@@ -178,10 +224,20 @@ impl BorderedLu {
     /// Solve with B or Bᵀ from whichever factors hold the last matrix.
     fn solve_with(&mut self, rhs: &mut [f64], transpose: bool) {
         if self.blocks_active {
-            if let Fast::Blocks(blocks) = &mut self.fast {
-                if blocks.solve(self.lu.pattern(), &self.values, rhs, transpose).is_ok() {
-                    return;
+            let solved = match &mut self.fast {
+                Fast::Condensed(lu) if transpose => {
+                    lu.solve_transpose(rhs);
+                    true
                 }
+                Fast::Condensed(lu) => {
+                    lu.solve(rhs);
+                    true
+                }
+                Fast::Blocks(blocks) => blocks.solve(self.lu.pattern(), &self.values, rhs, transpose).is_ok(),
+                _ => false,
+            };
+            if solved {
+                return;
             }
             if !self.factorise_whole() {
                 rhs.fill(f64::NAN);
@@ -219,12 +275,19 @@ impl BorderedLu {
     /// A's structure: Simplicial, B's own LU always; Supernodal, block
     /// elimination on A's supernodal LU whatever its structure. Given
     /// after the first factorisation it changes nothing.
+    /// Condensed keeps the condensation where the problem has private
+    /// blocks (else as no preference).
     pub fn prefer_kind(&mut self, kind: LuKind) {
+        if self.factorisations() > 0 {
+            return;
+        }
+        match kind {
+            LuKind::Simplicial => self.fast = Fast::Whole,
+            LuKind::Supernodal if self.condensed() => self.fast = Fast::Undecided,
+            _ => {}
+        }
         if matches!(self.fast, Fast::Undecided) {
             self.preferred_kind = Some(kind);
-            if kind == LuKind::Simplicial {
-                self.fast = Fast::Whole;
-            }
         }
     }
 
@@ -234,6 +297,7 @@ impl BorderedLu {
             Fast::Blocks(blocks) if self.lu.factorisations == 0 => {
                 self.records_order.unwrap_or(blocks.a.column_order())
             }
+            Fast::Condensed(lu) if self.lu.factorisations == 0 => lu.schur().column_order(),
             _ => self.lu.column_order(),
         }
     }
@@ -261,6 +325,9 @@ impl BorderedLu {
     /// sign det B of the current factorisation (0 if B's own LU, called
     /// for by a block elimination, finds it singular).
     pub fn determinant_sign(&mut self) -> f64 {
+        if let (true, Fast::Condensed(lu)) = (self.blocks_active, &mut self.fast) {
+            return lu.determinant_sign();
+        }
         if !self.factorise_whole() {
             return 0.0;
         }
@@ -270,6 +337,9 @@ impl BorderedLu {
     /// Negative pivots of the current factors (see
     /// [`SparseLu::negative_pivots`]; B's own LU's).
     pub fn negative_pivots(&mut self) -> usize {
+        if let (true, Fast::Condensed(lu)) = (self.blocks_active, &mut self.fast) {
+            return lu.negative_pivots();
+        }
         if !self.factorise_whole() {
             return 0;
         }
@@ -301,7 +371,7 @@ impl BorderedLu {
     /// Whether the last factorisation is a block elimination on A's
     /// supernodal LU ([`super::bordering`]).
     pub fn block_elimination(&self) -> bool {
-        self.blocks_active
+        self.blocks_active && matches!(self.fast, Fast::Blocks(_))
     }
 
     /// Entries of L + U of the last factorisation (0 before the first;
@@ -309,6 +379,7 @@ impl BorderedLu {
     pub fn fill(&self) -> usize {
         match &self.fast {
             Fast::Blocks(blocks) if self.blocks_active => blocks.a.fill(),
+            Fast::Condensed(lu) if self.blocks_active => lu.fill(),
             _ => self.lu.fill(),
         }
     }
@@ -329,6 +400,7 @@ impl BorderedLu {
         self.lu.factorisations
             + match &self.fast {
                 Fast::Blocks(blocks) => blocks.a.factorisations,
+                Fast::Condensed(lu) => lu.factorisations,
                 _ => 0,
             }
     }

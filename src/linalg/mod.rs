@@ -16,6 +16,7 @@
 pub mod band;
 pub mod bordered;
 mod bordering;
+pub mod condensed;
 pub mod dense;
 pub mod gmres;
 pub mod ordering;

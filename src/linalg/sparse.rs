@@ -268,13 +268,19 @@ pub enum ColumnOrder {
 }
 
 /// How a matrix is factorised: faer's simplicial LU (column by column;
-/// the determinant and pivots are read off U's diagonal) or its supernodal
+/// the determinant and pivots are read off U's diagonal), its supernodal
 /// LU (dense blocks; solves only — a determinant asked of it comes from a
-/// simplicial factorisation of the same matrix).
+/// simplicial factorisation of the same matrix), or — a continuation's
+/// bordered tangent of a problem with unknowns private to its kernels (a
+/// rod's stage unknowns, [`crate::continuation::Problem::private_blocks`])
+/// — static condensation of those ([`super::condensed`]) under a block
+/// elimination of the border. A [`SparseLu`] asked for `Condensed` is
+/// simplicial.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LuKind {
     Simplicial,
     Supernodal,
+    Condensed,
 }
 
 /// The supernodal LU is taken when the Cholesky factor of AᵀA in the
@@ -494,7 +500,7 @@ impl SparseLu {
         let n = self.pattern.n;
         let perm = with_factors!(&self.factors, f => f.col_perm());
         let forced = match self.preferred_kind {
-            Some(LuKind::Simplicial) => return,
+            Some(LuKind::Simplicial | LuKind::Condensed) => return,
             Some(LuKind::Supernodal) => true,
             None if !self.by_structure => return,
             None => false,

@@ -440,7 +440,16 @@ impl Rod {
         }
         let n = self.unknowns() + phase.is_some() as usize;
         let (equations, unknowns, lambda_scale) = self.scales(n);
-        let sys = AssembledSystem::new(n, blocks).with_scales(equations, unknowns, lambda_scale);
+        // Each element's stage unknowns are private to it, their block
+        // I − h(a ⊗ ∂f/∂y) regular for the step sizes the scheme converges
+        // at (and where it is not, the tangent factorises whole).
+        let stages = 13 * self.scheme.stages();
+        let private = (0..self.elements)
+            .filter(|_| stages > 0)
+            .map(|i| (self.node(i) + 13..self.node(i) + 13 + stages).collect())
+            .collect();
+        let sys =
+            AssembledSystem::new(n, blocks).with_scales(equations, unknowns, lambda_scale).with_private_blocks(private);
         let degree = sys.degree();
         if degree > 3 {
             return Err(Error::new(Status::ErrInternal, format!("rod system has degree {degree} (> 3)")));

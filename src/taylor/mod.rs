@@ -26,6 +26,7 @@
 //! rod's pair forces) take their series by the elementary recurrences of
 //! [`elementary`] instead.
 
+pub mod batch;
 pub mod elementary;
 
 use std::cell::RefCell;

@@ -1,0 +1,619 @@
+//! The LU of a sparse matrix whose unknowns are partly private to small
+//! blocks — the stage unknowns of a collocated element, each coupled only
+//! to its own stage equations and to the element's two nodes — by static
+//! condensation, as AUTO-07p and COLSYS factorise collocation systems:
+//! each block's unknowns are eliminated by a dense LU of its own square
+//! block, the Schur complement on the kept unknowns (the nodes) is a much
+//! smaller sparse matrix with the same band, and a solve runs the blocks,
+//! the kept system and the blocks again.
+//!
+//! With the private unknowns L (one set per block, the same indices as
+//! their equations) and the kept ones K, after the symmetric permutation
+//! that puts L first,
+//!   A = [[A_LL, A_LK], [A_KL, A_KK]],  S = A_KK − A_KL A_LL⁻¹ A_LK,
+//! A_LL block diagonal. A symmetric permutation leaves the determinant
+//! alone, so det A = Π_e det A_LL,e · det S: the sign is read off the
+//! blocks' pivots and S's simplicial factors (what the continuation's
+//! bifurcation monitor needs, which faer's supernodal LU cannot give).
+//!
+//! Work on a Gauss(4) rod element (52 stage unknowns, 13 + 13 node ones):
+//! a 52² dense LU, 14 solves with it and a 13×52×14 product per element,
+//! then the simplicial LU of a 13(N + 1)-unknown band — about a third of
+//! the flops of the whole matrix's banded LU, in cache-sized dense loops.
+
+use super::sparse::{Pattern, SparseLu};
+use crate::error::{Error, Result};
+use crate::status::Status;
+
+/// One block's private unknowns (= its equations) and the dense arrays of
+/// its elimination, column-major.
+struct Block {
+    /// Private indices, m of them (rows and columns of A_LL,e).
+    local: Vec<usize>,
+    /// Kept columns its rows reach (positions in the kept numbering), and
+    /// kept rows its columns reach.
+    kcols: Vec<usize>,
+    krows: Vec<usize>,
+    /// (position in A's values, index in the dense array) of A_LL,e
+    /// (m×m), A_LK,e (m×kc) and A_KL,e (kr×m).
+    ll: Vec<(usize, usize)>,
+    lk: Vec<(usize, usize)>,
+    kl: Vec<(usize, usize)>,
+    /// Position in S's values of (krows[i], kcols[j]), at i + kr·j.
+    update: Vec<usize>,
+    /// LU of A_LL,e in place (unit L below the diagonal) and its row
+    /// pivots.
+    lu: Vec<f64>,
+    pivots: Vec<usize>,
+    /// A_LK,e, then X = A_LL⁻¹ A_LK (m×kc); A_KL,e (kr×m).
+    lk_values: Vec<f64>,
+    x: Vec<f64>,
+    kl_values: Vec<f64>,
+    /// Scratch for solves (m; max(kr, kc)).
+    t: Vec<f64>,
+    u: Vec<f64>,
+}
+
+pub struct CondensedLu {
+    n: usize,
+    blocks: Vec<Block>,
+    /// Kept indices in increasing order, and each index's kept position
+    /// (usize::MAX if private).
+    kept: Vec<usize>,
+    kept_pos: Vec<usize>,
+    /// (position in A's values, position in S's) of the kept×kept entries.
+    kk: Vec<(usize, usize)>,
+    schur: SparseLu,
+    schur_values: Vec<f64>,
+    /// sign Π det A_LL,e and the blocks' negative pivots.
+    blocks_sign: f64,
+    blocks_negative: usize,
+    factorised: bool,
+    /// Scratch: the kept right-hand side.
+    rhs_kept: Vec<f64>,
+    pub factorisations: usize,
+    pub solves: usize,
+}
+
+impl CondensedLu {
+    /// For A with `pattern`, each entry of `blocks` a set of unknowns that
+    /// are private to it: their columns reach only their own rows and kept
+    /// rows, and their rows only their own columns and kept columns. The
+    /// last `trailing` unknowns (multipliers reaching across A) must be
+    /// kept. Err (ErrInvalidDimension) if the pattern does not have that
+    /// structure or nothing would be kept.
+    pub fn new(pattern: &Pattern, blocks: &[Vec<usize>], trailing: usize) -> Result<Self> {
+        let n = pattern.n;
+        let invalid = |why: String| Error::new(Status::ErrInvalidDimension, format!("condensed LU: {why}"));
+        let mut owner = vec![usize::MAX; n];
+        for (e, b) in blocks.iter().enumerate() {
+            if b.is_empty() {
+                return Err(invalid(format!("block {e} is empty")));
+            }
+            for &i in b {
+                if i >= n || owner[i] != usize::MAX {
+                    return Err(invalid(format!("index {i} of block {e} is out of range or in two blocks")));
+                }
+                owner[i] = e;
+            }
+        }
+        if owner[n.saturating_sub(trailing)..].iter().any(|&o| o != usize::MAX) {
+            return Err(invalid("a trailing unknown is private to a block".into()));
+        }
+        let kept: Vec<usize> = (0..n).filter(|&i| owner[i] == usize::MAX).collect();
+        if kept.is_empty() {
+            return Err(invalid("no unknown is kept".into()));
+        }
+        let mut kept_pos = vec![usize::MAX; n];
+        for (k, &i) in kept.iter().enumerate() {
+            kept_pos[i] = k;
+        }
+        let mut local_pos = vec![usize::MAX; n];
+        for b in blocks {
+            for (k, &i) in b.iter().enumerate() {
+                local_pos[i] = k;
+            }
+        }
+        // Each block's kept columns (from its rows) and kept rows (from its
+        // columns); an entry joining two different blocks breaks the form.
+        let mut kcols: Vec<Vec<usize>> = vec![Vec::new(); blocks.len()];
+        let mut krows: Vec<Vec<usize>> = vec![Vec::new(); blocks.len()];
+        let mut kk_entries = Vec::new();
+        for j in 0..n {
+            for p in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
+                let i = pattern.row_idx[p];
+                match (owner[i], owner[j]) {
+                    (usize::MAX, usize::MAX) => kk_entries.push((kept_pos[i], kept_pos[j])),
+                    (e, usize::MAX) => kcols[e].push(kept_pos[j]),
+                    (usize::MAX, e) => krows[e].push(kept_pos[i]),
+                    (e, f) if e != f => return Err(invalid(format!("entry ({i}, {j}) joins blocks {e} and {f}"))),
+                    _ => {}
+                }
+            }
+        }
+        for v in kcols.iter_mut().chain(krows.iter_mut()) {
+            v.sort_unstable();
+            v.dedup();
+        }
+        let mut entries = kk_entries;
+        for e in 0..blocks.len() {
+            for &r in &krows[e] {
+                entries.extend(kcols[e].iter().map(|&c| (r, c)));
+            }
+        }
+        // S keeps its diagonal (a zero there is still a pivot slot).
+        entries.extend((0..kept.len()).map(|k| (k, k)));
+        let spattern = Pattern::from_entries(kept.len(), entries);
+        let kk = Self::kept_map(pattern, &owner, &kept_pos, &spattern);
+        let mut out: Vec<Block> = blocks
+            .iter()
+            .zip(kcols)
+            .zip(krows)
+            .map(|((local, kcols), krows)| {
+                let (m, kc, kr) = (local.len(), kcols.len(), krows.len());
+                let update = (0..kr * kc)
+                    .map(|ij| spattern.position(krows[ij % kr], kcols[ij / kr]).expect("fill entry in S"))
+                    .collect();
+                Block {
+                    local: local.clone(),
+                    kcols,
+                    krows,
+                    ll: Vec::new(),
+                    lk: Vec::new(),
+                    kl: Vec::new(),
+                    update,
+                    lu: vec![0.0; m * m],
+                    pivots: vec![0; m],
+                    lk_values: vec![0.0; m * kc],
+                    x: vec![0.0; m * kc],
+                    kl_values: vec![0.0; kr * m],
+                    t: vec![0.0; m],
+                    u: vec![0.0; kr.max(kc)],
+                }
+            })
+            .collect();
+        // The gather maps, A's entries in pattern order.
+        for j in 0..n {
+            for p in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
+                let i = pattern.row_idx[p];
+                match (owner[i], owner[j]) {
+                    (usize::MAX, usize::MAX) => {}
+                    (e, usize::MAX) => {
+                        let b = &mut out[e];
+                        let c = b.kcols.binary_search(&kept_pos[j]).expect("kept column");
+                        b.lk.push((p, local_pos[i] + b.local.len() * c));
+                    }
+                    (usize::MAX, e) => {
+                        let b = &mut out[e];
+                        let r = b.krows.binary_search(&kept_pos[i]).expect("kept row");
+                        b.kl.push((p, r + b.krows.len() * local_pos[j]));
+                    }
+                    (e, _) => {
+                        let b = &mut out[e];
+                        b.ll.push((p, local_pos[i] + b.local.len() * local_pos[j]));
+                    }
+                }
+            }
+        }
+        let trailing_kept = trailing.min(kept.len());
+        let nk = kept.len();
+        Ok(CondensedLu {
+            n,
+            blocks: out,
+            kept,
+            kept_pos,
+            kk,
+            schur_values: vec![0.0; spattern.nnz()],
+            schur: SparseLu::with_trailing(spattern, trailing_kept)?,
+            blocks_sign: 1.0,
+            blocks_negative: 0,
+            factorised: false,
+            rhs_kept: vec![0.0; nk],
+            factorisations: 0,
+            solves: 0,
+        })
+    }
+
+    fn kept_map(pattern: &Pattern, owner: &[usize], kept_pos: &[usize], s: &Pattern) -> Vec<(usize, usize)> {
+        let mut kk = Vec::new();
+        for j in 0..pattern.n {
+            for p in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
+                let i = pattern.row_idx[p];
+                if owner[i] == usize::MAX && owner[j] == usize::MAX {
+                    kk.push((p, s.position(kept_pos[i], kept_pos[j]).expect("kept entry in S")));
+                }
+            }
+        }
+        kk
+    }
+
+    /// n.
+    pub fn dim(&self) -> usize {
+        self.n
+    }
+
+    /// Unknowns of the kept system S.
+    pub fn kept(&self) -> usize {
+        self.kept.len()
+    }
+
+    /// S's LU (its column order, fill).
+    pub fn schur(&self) -> &SparseLu {
+        &self.schur
+    }
+
+    /// Whether the last factorisation succeeded.
+    pub fn factorised(&self) -> bool {
+        self.factorised
+    }
+
+    /// Factorise A from `values` in its pattern's order. A singular block
+    /// or S is ErrNotConverged, a non-finite entry ErrNonFiniteResult.
+    pub fn factorise(&mut self, values: &[f64]) -> Result<()> {
+        self.factorised = false;
+        if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+            return Err(Error::new(
+                Status::ErrNonFiniteResult,
+                format!("condensed LU: matrix entry {k} is not finite"),
+            ));
+        }
+        self.schur_values.fill(0.0);
+        for &(p, q) in &self.kk {
+            self.schur_values[q] += values[p];
+        }
+        let (mut sign, mut negative) = (1.0, 0);
+        for (e, b) in self.blocks.iter_mut().enumerate() {
+            let m = b.local.len();
+            b.lu.fill(0.0);
+            for &(p, q) in &b.ll {
+                b.lu[q] += values[p];
+            }
+            b.lk_values.fill(0.0);
+            for &(p, q) in &b.lk {
+                b.lk_values[q] += values[p];
+            }
+            b.kl_values.fill(0.0);
+            for &(p, q) in &b.kl {
+                b.kl_values[q] += values[p];
+            }
+            let (s, neg) = dense_lu(m, &mut b.lu, &mut b.pivots)
+                .ok_or_else(|| Error::new(Status::ErrNotConverged, format!("condensed LU: block {e} is singular")))?;
+            sign *= s;
+            negative += neg;
+            // X = A_LL⁻¹ A_LK, then S[kr, kc] −= A_KL X.
+            b.x.copy_from_slice(&b.lk_values);
+            for col in b.x.chunks_exact_mut(m) {
+                dense_solve(m, &b.lu, &b.pivots, col);
+            }
+            let kr = b.krows.len();
+            for (c, xc) in b.x.chunks_exact(m).enumerate() {
+                for r in 0..kr {
+                    let mut acc = 0.0;
+                    for (k, xk) in xc.iter().enumerate() {
+                        acc += b.kl_values[r + kr * k] * xk;
+                    }
+                    self.schur_values[b.update[r + kr * c]] -= acc;
+                }
+            }
+        }
+        self.schur.factorise_exact(&self.schur_values)?;
+        self.blocks_sign = sign;
+        self.blocks_negative = negative;
+        self.factorised = true;
+        self.factorisations += 1;
+        Ok(())
+    }
+
+    /// Solve A z = rhs in place.
+    pub fn solve(&mut self, rhs: &mut [f64]) {
+        assert!(self.factorised, "solve before a successful factorisation");
+        // Eliminate each block: t = A_LL⁻¹ f_L, f_K[kr] −= A_KL t.
+        for (k, &i) in self.kept.iter().enumerate() {
+            self.rhs_kept[k] = rhs[i];
+        }
+        for b in &mut self.blocks {
+            let m = b.local.len();
+            for (t, &i) in b.t.iter_mut().zip(&b.local) {
+                *t = rhs[i];
+            }
+            dense_solve(m, &b.lu, &b.pivots, &mut b.t);
+            // u = A_KL t by columns (contiguous), then scattered.
+            let kr = b.krows.len();
+            let u = &mut b.u[..kr];
+            u.fill(0.0);
+            for (col, tk) in b.kl_values.chunks_exact(kr).zip(&b.t) {
+                for (ui, a) in u.iter_mut().zip(col) {
+                    *ui += a * tk;
+                }
+            }
+            for (&r, ui) in b.krows.iter().zip(u.iter()) {
+                self.rhs_kept[r] -= ui;
+            }
+        }
+        self.schur.solve(&mut self.rhs_kept);
+        for (k, &i) in self.kept.iter().enumerate() {
+            rhs[i] = self.rhs_kept[k];
+        }
+        // Back: z_L = t − X z_K[kc], by X's columns.
+        for b in &mut self.blocks {
+            for (col, &kc) in b.x.chunks_exact(b.local.len()).zip(&b.kcols) {
+                let z = self.rhs_kept[kc];
+                for (t, x) in b.t.iter_mut().zip(col) {
+                    *t -= x * z;
+                }
+            }
+            for (t, &i) in b.t.iter().zip(&b.local) {
+                rhs[i] = *t;
+            }
+        }
+        self.solves += 1;
+    }
+
+    /// Solve Aᵀ z = rhs in place (Sᵀ is the Schur complement of Aᵀ).
+    pub fn solve_transpose(&mut self, rhs: &mut [f64]) {
+        assert!(self.factorised, "solve before a successful factorisation");
+        for (k, &i) in self.kept.iter().enumerate() {
+            self.rhs_kept[k] = rhs[i];
+        }
+        // t = A_LL⁻ᵀ f_L, f_K[kc] −= A_LKᵀ t.
+        for b in &mut self.blocks {
+            let m = b.local.len();
+            for (t, &i) in b.t.iter_mut().zip(&b.local) {
+                *t = rhs[i];
+            }
+            dense_solve_transpose(m, &b.lu, &b.pivots, &mut b.t);
+            for (c, &kc) in b.kcols.iter().enumerate() {
+                let col = &b.lk_values[m * c..m * (c + 1)];
+                self.rhs_kept[kc] -= col.iter().zip(&b.t).map(|(a, t)| a * t).sum::<f64>();
+            }
+        }
+        self.schur.solve_transpose(&mut self.rhs_kept);
+        for (k, &i) in self.kept.iter().enumerate() {
+            rhs[i] = self.rhs_kept[k];
+        }
+        // Back: z_L = A_LL⁻ᵀ (f_L − A_KLᵀ z_K[kr]).
+        for b in &mut self.blocks {
+            let (m, kr) = (b.local.len(), b.krows.len());
+            for (l, &i) in b.local.iter().enumerate() {
+                let mut w = rhs[i];
+                for (r, &k) in b.krows.iter().enumerate() {
+                    w -= b.kl_values[r + kr * l] * self.rhs_kept[k];
+                }
+                b.t[l] = w;
+            }
+            dense_solve_transpose(m, &b.lu, &b.pivots, &mut b.t);
+            for (t, &i) in b.t.iter().zip(&b.local) {
+                rhs[i] = *t;
+            }
+        }
+        self.solves += 1;
+    }
+
+    /// sign det A (±1) of the last factorisation.
+    pub fn determinant_sign(&mut self) -> f64 {
+        assert!(self.factorised, "determinant before a successful factorisation");
+        self.blocks_sign * self.schur.determinant_sign_and_log().0
+    }
+
+    /// Negative pivots of the blocks' and S's factors (row pivoting: only
+    /// the parity, with the permutations', is meaningful — see
+    /// [`SparseLu::negative_pivots`]).
+    pub fn negative_pivots(&mut self) -> usize {
+        assert!(self.factorised, "pivots before a successful factorisation");
+        self.blocks_negative + self.schur.negative_pivots()
+    }
+
+    /// Entries of the factors: the blocks' dense LUs and X, S's L + U.
+    pub fn fill(&self) -> usize {
+        self.blocks.iter().map(|b| b.lu.len() + b.x.len()).sum::<usize>() + self.schur.fill()
+    }
+
+    /// Whether `i` is a kept unknown.
+    pub fn is_kept(&self, i: usize) -> bool {
+        self.kept_pos[i] != usize::MAX
+    }
+}
+
+/// LU with row partial pivoting of the m×m column-major `a` in place
+/// (right-looking; the column updates are contiguous axpys). Returns
+/// (sign det, negative entries of U's diagonal), None if a pivot is zero.
+fn dense_lu(m: usize, a: &mut [f64], pivots: &mut [usize]) -> Option<(f64, usize)> {
+    let (mut sign, mut negative) = (1.0, 0);
+    for k in 0..m {
+        let col = &a[m * k..m * (k + 1)];
+        let (p, big) = (k..m).map(|i| (i, col[i].abs())).fold((k, -1.0), |b, c| if c.1 > b.1 { c } else { b });
+        if !(big > 0.0 && big.is_finite()) {
+            return None;
+        }
+        pivots[k] = p;
+        if p != k {
+            sign = -sign;
+            for j in 0..m {
+                a.swap(k + m * j, p + m * j);
+            }
+        }
+        let pivot = a[k + m * k];
+        if pivot < 0.0 {
+            negative += 1;
+            sign = -sign;
+        }
+        let inv = 1.0 / pivot;
+        for v in &mut a[k + 1 + m * k..m * (k + 1)] {
+            *v *= inv;
+        }
+        let (left, right) = a.split_at_mut(m * (k + 1));
+        let l = &left[k + 1 + m * k..m * (k + 1)];
+        for col in right.chunks_exact_mut(m) {
+            let akj = col[k];
+            if akj != 0.0 {
+                for (c, li) in col[k + 1..].iter_mut().zip(l) {
+                    *c -= li * akj;
+                }
+            }
+        }
+    }
+    Some((sign, negative))
+}
+
+/// Solve with [`dense_lu`]'s factors in place.
+fn dense_solve(m: usize, lu: &[f64], pivots: &[usize], b: &mut [f64]) {
+    for k in 0..m {
+        b.swap(k, pivots[k]);
+    }
+    // L y = b (unit lower), column-oriented.
+    for k in 0..m {
+        let bk = b[k];
+        if bk != 0.0 {
+            for (v, l) in b[k + 1..].iter_mut().zip(&lu[k + 1 + m * k..m * (k + 1)]) {
+                *v -= l * bk;
+            }
+        }
+    }
+    // U z = y.
+    for k in (0..m).rev() {
+        b[k] /= lu[k + m * k];
+        let bk = b[k];
+        if bk != 0.0 {
+            for (v, u) in b[..k].iter_mut().zip(&lu[m * k..m * k + k]) {
+                *v -= u * bk;
+            }
+        }
+    }
+}
+
+/// Solve Aᵀ z = b with [`dense_lu`]'s factors (P A = L U: Aᵀ = Uᵀ Lᵀ P).
+fn dense_solve_transpose(m: usize, lu: &[f64], pivots: &[usize], b: &mut [f64]) {
+    // Uᵀ y = b: row k of Uᵀ is column k of U.
+    for k in 0..m {
+        let col = &lu[m * k..m * k + k];
+        let s: f64 = col.iter().zip(&b[..k]).map(|(u, v)| u * v).sum();
+        b[k] = (b[k] - s) / lu[k + m * k];
+    }
+    // Lᵀ w = y: row k of Lᵀ is column k of L below the diagonal.
+    for k in (0..m).rev() {
+        let col = &lu[k + 1 + m * k..m * (k + 1)];
+        let s: f64 = col.iter().zip(&b[k + 1..]).map(|(l, v)| l * v).sum();
+        b[k] -= s;
+    }
+    for k in (0..m).rev() {
+        b.swap(k, pivots[k]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A block-bidiagonal "collocation" matrix: per element a private block
+    /// of `m` unknowns between kept nodes of `k`, plus a boundary row pair
+    /// coupling the first and last nodes; pseudo-random values.
+    fn collocation(elements: usize, m: usize, k: usize, seed: u64) -> (Pattern, Vec<f64>, Vec<Vec<usize>>) {
+        let bs = k + m;
+        let n = elements * bs + k;
+        let mut state = seed;
+        let mut rnd = move || {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((state >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+        };
+        let mut entries = Vec::new();
+        let mut blocks = Vec::new();
+        for e in 0..elements {
+            let base = e * bs;
+            let local: Vec<usize> = (base + k..base + bs).collect();
+            // Stage rows: node e and the stages; next node's rows: node e,
+            // stages, node e + 1.
+            for &r in &local {
+                entries.extend((base..base + bs).map(|c| (r, c)));
+            }
+            for r in base + bs..base + bs + k {
+                entries.extend((base..base + bs + k).map(|c| (r, c)));
+            }
+            blocks.push(local);
+        }
+        // Boundary rows (node 0's) reach node 0 and the last node.
+        for r in 0..k {
+            entries.extend((0..k).map(|c| (r, c)));
+            entries.extend((n - k..n).map(|c| (r, c)));
+        }
+        let pattern = Pattern::from_entries(n, entries);
+        let mut values: Vec<f64> = (0..pattern.nnz()).map(|_| rnd()).collect();
+        for i in 0..n {
+            values[pattern.position(i, i).unwrap()] += 4.0;
+        }
+        (pattern, values, blocks)
+    }
+
+    /// Reference: the simplicial LU of the whole matrix (faer), its
+    /// solves and determinant sign; agreement to 1e-12 relative.
+    #[test]
+    fn condensation_solves_like_the_whole_lu_and_keeps_the_determinant_sign() {
+        for (elements, m, k, seed) in [(1, 4, 3, 1), (5, 8, 3, 2), (8, 52, 13, 3), (3, 6, 2, 4)] {
+            let (pattern, mut values, blocks) = collocation(elements, m, k, seed);
+            let n = pattern.n;
+            let mut whole = SparseLu::new(pattern.clone()).unwrap();
+            let mut cond = CondensedLu::new(&pattern, &blocks, 0).unwrap();
+            assert_eq!(cond.kept(), (elements + 1) * k);
+            for flip in 0..3 {
+                if flip > 0 {
+                    // Negate one private row and one kept row: det changes
+                    // sign each time.
+                    let row = if flip == 1 { blocks[0][0] } else { 0 };
+                    for j in 0..n {
+                        if let Some(p) = pattern.position(row, j) {
+                            values[p] = -values[p];
+                        }
+                    }
+                }
+                whole.factorise(&values).unwrap();
+                cond.factorise(&values).unwrap();
+                assert_eq!(cond.determinant_sign(), whole.determinant_sign_and_log().0, "case {elements}×{m}");
+                for transpose in [false, true] {
+                    let b: Vec<f64> = (0..n).map(|i| ((i * 7 + 3) % 11) as f64 - 5.0).collect();
+                    let (mut z1, mut z2) = (b.clone(), b.clone());
+                    if transpose {
+                        whole.solve_transpose(&mut z1);
+                        cond.solve_transpose(&mut z2);
+                    } else {
+                        whole.solve(&mut z1);
+                        cond.solve(&mut z2);
+                    }
+                    let scale = z1.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+                    let diff = z1.iter().zip(&z2).fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+                    assert!(diff <= 1e-12 * scale, "case {elements}×{m} transpose {transpose}: {diff:e}");
+                }
+            }
+        }
+    }
+
+    /// A block whose private unknowns reach another block's rows is
+    /// refused, as is a trailing unknown that is private.
+    #[test]
+    fn a_pattern_without_the_form_is_refused() {
+        let (pattern, _, mut blocks) = collocation(3, 4, 2, 5);
+        assert!(CondensedLu::new(&pattern, &blocks, 0).is_ok());
+        let n = pattern.n;
+        assert!(CondensedLu::new(&pattern, &[vec![n - 1]], 1).is_err());
+        // Merge node 1 (rows reach elements 0 and 1) into block 0.
+        blocks[0].extend(6..8);
+        let err = CondensedLu::new(&pattern, &blocks, 0).err().unwrap();
+        assert_eq!(err.status, Status::ErrInvalidDimension);
+    }
+
+    /// Reference: a 3×3 by hand (det = −2 by cofactors), and its solves.
+    #[test]
+    fn dense_lu_by_hand() {
+        // A = [[0, 1, 2], [1, 0, 3], [4, −3, 8]] column-major; det = −2.
+        let mut a = vec![0.0, 1.0, 4.0, 1.0, 0.0, -3.0, 2.0, 3.0, 8.0];
+        let orig = a.clone();
+        let mut piv = vec![0; 3];
+        let (sign, _) = dense_lu(3, &mut a, &mut piv).unwrap();
+        assert_eq!(sign, -1.0);
+        let x = [1.0, 2.0, 3.0];
+        let mut b: Vec<f64> = (0..3).map(|i| (0..3).map(|j| orig[i + 3 * j] * x[j]).sum()).collect();
+        dense_solve(3, &a, &piv, &mut b);
+        assert!(b.iter().zip(&x).all(|(u, v)| (u - v).abs() < 1e-14), "{b:?}");
+        let mut bt: Vec<f64> = (0..3).map(|j| (0..3).map(|i| orig[i + 3 * j] * x[i]).sum()).collect();
+        dense_solve_transpose(3, &a, &piv, &mut bt);
+        assert!(bt.iter().zip(&x).all(|(u, v)| (u - v).abs() < 1e-14), "{bt:?}");
+    }
+}

@@ -1,0 +1,226 @@
+//! [`super::TaylorWork`] on [`LANES`] instances of one tape at once: a
+//! rod's elements share one recorded kernel, so their Taylor passes are
+//! the same straight-line program on different inputs. The coefficients
+//! are stored order-major and lane by lane (`coef[k·nodes + node][lane]`):
+//! the interpretive dispatch of an op is paid once for all lanes, the
+//! arithmetic on a lane array is vectorised, and a pass at order p (or
+//! its linear update) writes one contiguous slab and reads mostly the
+//! slabs of orders p and 0 — with node-major storage every operand of
+//! every op was a cache line of its own.
+//!
+//! The arithmetic is that of the scalar work, lane by lane, except the
+//! order of the Cauchy products' partial sums: results agree with it to
+//! rounding, not bitwise.
+
+use super::{Op, Tape};
+
+/// Tape instances evaluated together.
+pub const LANES: usize = 4;
+
+/// One value per lane.
+pub type Lanes = [f64; LANES];
+
+#[derive(Clone, Debug, Default)]
+pub struct BatchTaylorWork {
+    order: usize,
+    coef: Vec<Lanes>,
+    /// As [`super::TaylorWork`]: the order last computed and its input
+    /// coefficients, for the linear update of a second call.
+    last: Option<usize>,
+    last_x: Vec<Lanes>,
+    delta: Vec<Lanes>,
+    tangent: Vec<Lanes>,
+}
+
+#[inline(always)]
+fn map2(a: Lanes, b: Lanes, f: impl Fn(f64, f64) -> f64) -> Lanes {
+    std::array::from_fn(|l| f(a[l], b[l]))
+}
+
+#[inline(always)]
+fn map1(a: Lanes, f: impl Fn(f64) -> f64) -> Lanes {
+    std::array::from_fn(|l| f(a[l]))
+}
+
+impl BatchTaylorWork {
+    /// Start the lanes' series at `x0` (one lane array per input), orders
+    /// up to `max_order`.
+    pub fn begin(&mut self, tape: &Tape, x0: &[Lanes], max_order: usize) {
+        self.order = max_order;
+        self.coef.clear();
+        self.coef.resize(tape.ops.len() * (max_order + 1), [0.0; LANES]);
+        self.pass(tape, 0, x0);
+        self.last = Some(0);
+        self.last_x.clear();
+        self.last_x.resize(tape.inputs, [0.0; LANES]);
+    }
+
+    /// As [`super::TaylorWork::order`], on every lane: `xp` the inputs'
+    /// order-p coefficients, `out` the outputs'.
+    pub fn order(&mut self, tape: &Tape, p: usize, xp: &[Lanes], out: &mut [Lanes]) {
+        assert!(p >= 1 && p <= self.order, "Taylor order {p} outside 1..={}", self.order);
+        if self.last == Some(p) {
+            self.update(tape, p, xp);
+        } else {
+            self.pass(tape, p, xp);
+            self.last = Some(p);
+        }
+        self.last_x.copy_from_slice(xp);
+        let slab = &self.coef[p * tape.ops.len()..];
+        for (o, &i) in out.iter_mut().zip(&tape.outputs) {
+            *o = slab[i as usize];
+        }
+    }
+
+    /// As [`super::TaylorWork::tangent_order`], on every lane.
+    pub fn tangent_order(&mut self, tape: &Tape, p: usize, wp: &[Lanes], out: &mut [Lanes]) {
+        assert!(p <= self.order, "Taylor order {p} outside 0..={}", self.order);
+        let nodes = tape.ops.len();
+        if p == 0 {
+            self.tangent.clear();
+            self.tangent.resize(nodes * (self.order + 1), [0.0; LANES]);
+        }
+        let (c, d) = (&self.coef, &mut self.tangent);
+        for (k, op) in tape.ops.iter().enumerate() {
+            let at = |i: u32, q: usize| q * nodes + i as usize;
+            let v = match *op {
+                Op::Input(i) => wp[i as usize],
+                Op::Const(_) => [0.0; LANES],
+                Op::Add(a, b) => map2(d[at(a, p)], d[at(b, p)], |x, y| x + y),
+                Op::Sub(a, b) => map2(d[at(a, p)], d[at(b, p)], |x, y| x - y),
+                Op::Mul(a, b) => {
+                    let mut s = [0.0; LANES];
+                    for i in 0..=p {
+                        let (da, cb, ca, db) = (d[at(a, i)], c[at(b, p - i)], c[at(a, i)], d[at(b, p - i)]);
+                        for l in 0..LANES {
+                            s[l] += da[l] * cb[l] + ca[l] * db[l];
+                        }
+                    }
+                    s
+                }
+                Op::Neg(a) => map1(d[at(a, p)], |x| -x),
+                Op::Scale(sc, a) => map1(d[at(a, p)], |x| sc * x),
+                Op::Shift(_, a) => d[at(a, p)],
+            };
+            d[p * nodes + k] = v;
+        }
+        for (o, &i) in out.iter_mut().zip(&tape.outputs) {
+            *o = d[p * nodes + i as usize];
+        }
+    }
+
+    /// Order p again with new input coefficients: the change propagates
+    /// linearly (see [`super::TaylorWork`]).
+    fn update(&mut self, tape: &Tape, p: usize, xp: &[Lanes]) {
+        let nodes = tape.ops.len();
+        let (c0, cp) = self.coef.split_at_mut(p * nodes);
+        let (c0, cp) = (&c0[..nodes], &mut cp[..nodes]);
+        let d = &mut self.delta;
+        d.clear();
+        d.resize(tape.ops.len(), [0.0; LANES]);
+        for (k, op) in tape.ops.iter().enumerate() {
+            let v = match *op {
+                Op::Input(i) => map2(xp[i as usize], self.last_x[i as usize], |x, y| x - y),
+                Op::Const(_) => [0.0; LANES],
+                Op::Add(a, b) => map2(d[a as usize], d[b as usize], |x, y| x + y),
+                Op::Sub(a, b) => map2(d[a as usize], d[b as usize], |x, y| x - y),
+                Op::Mul(a, b) => {
+                    let (ca, cb, da, db) = (c0[a as usize], c0[b as usize], d[a as usize], d[b as usize]);
+                    std::array::from_fn(|l| ca[l] * db[l] + da[l] * cb[l])
+                }
+                Op::Neg(a) => map1(d[a as usize], |x| -x),
+                Op::Scale(s, a) => map1(d[a as usize], |x| s * x),
+                Op::Shift(_, a) => d[a as usize],
+            };
+            d[k] = v;
+            let slot = &mut cp[k];
+            *slot = map2(*slot, v, |x, y| x + y);
+        }
+    }
+
+    fn pass(&mut self, tape: &Tape, p: usize, xp: &[Lanes]) {
+        let nodes = tape.ops.len();
+        let c = &mut self.coef;
+        for (k, op) in tape.ops.iter().enumerate() {
+            let at = |i: u32, q: usize| q * nodes + i as usize;
+            let v = match *op {
+                Op::Input(i) => xp[i as usize],
+                Op::Const(v) => [if p == 0 { v } else { 0.0 }; LANES],
+                Op::Add(a, b) => map2(c[at(a, p)], c[at(b, p)], |x, y| x + y),
+                Op::Sub(a, b) => map2(c[at(a, p)], c[at(b, p)], |x, y| x - y),
+                Op::Mul(a, b) => {
+                    // z_p = Σ_{i=0..p} x_i y_{p−i}, lane by lane.
+                    let mut s = [0.0; LANES];
+                    for i in 0..=p {
+                        let (xi, yi) = (c[at(a, i)], c[at(b, p - i)]);
+                        for l in 0..LANES {
+                            s[l] += xi[l] * yi[l];
+                        }
+                    }
+                    s
+                }
+                Op::Neg(a) => map1(c[at(a, p)], |x| -x),
+                Op::Scale(s, a) => map1(c[at(a, p)], |x| s * x),
+                Op::Shift(s, a) => {
+                    if p == 0 {
+                        map1(c[at(a, 0)], |x| x + s)
+                    } else {
+                        c[at(a, p)]
+                    }
+                }
+            };
+            c[p * nodes + k] = v;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{Scalar, TaylorWork};
+    use super::*;
+
+    fn kernel<T: Scalar>(v: &[T]) -> Vec<T> {
+        let (x, y, z) = (v[0], v[1], v[2]);
+        vec![x * y * z + x * 2.0 - 1.0, y * y - z * x + 3.0, -(x * (y + 0.5)) * (z - 2.0)]
+    }
+
+    /// Reference: the scalar [`TaylorWork`] on each lane's inputs, the
+    /// series, its commit and the tangent series; to 1e-13 relative.
+    #[test]
+    fn every_lane_is_the_scalar_series() {
+        let tape = Tape::record(3, kernel);
+        let order = 9;
+        let input = |lane: usize, i: usize, k: usize| ((lane * 31 + i * 7 + k * 13) % 17) as f64 / 8.0 - 1.0;
+        let mut batch = BatchTaylorWork::default();
+        let mut scalar: Vec<TaylorWork> = vec![TaylorWork::default(); LANES];
+        let lanes = |k: usize| -> Vec<Lanes> { (0..3).map(|i| std::array::from_fn(|l| input(l, i, k))).collect() };
+        batch.begin(&tape, &lanes(0), order);
+        for (l, w) in scalar.iter_mut().enumerate() {
+            w.begin(&tape, &(0..3).map(|i| input(l, i, 0)).collect::<Vec<_>>(), order);
+        }
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-13 * (1.0 + b.abs());
+        let (mut out, mut one) = (vec![[0.0; LANES]; 3], vec![0.0; 3]);
+        for p in 1..=order {
+            // The known part (inputs zero), then the commit.
+            for xp in [vec![[0.0; LANES]; 3], lanes(p)] {
+                batch.order(&tape, p, &xp, &mut out);
+                for (l, w) in scalar.iter_mut().enumerate() {
+                    w.order(&tape, p, |i| xp[i][l], &mut one);
+                    for j in 0..3 {
+                        assert!(close(out[j][l], one[j]), "order {p} lane {l} output {j}: {} vs {}", out[j][l], one[j]);
+                    }
+                }
+            }
+        }
+        for p in 0..=order {
+            let wp = lanes(p + 20);
+            batch.tangent_order(&tape, p, &wp, &mut out);
+            for (l, w) in scalar.iter_mut().enumerate() {
+                w.tangent_order(&tape, p, |i| wp[i][l], &mut one);
+                for j in 0..3 {
+                    assert!(close(out[j][l], one[j]), "tangent order {p} lane {l}: {} vs {}", out[j][l], one[j]);
+                }
+            }
+        }
+    }
+}

@@ -24,6 +24,10 @@
 use super::sparse::{Pattern, SparseLu};
 use crate::error::{Error, Result};
 use crate::status::Status;
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::lu::partial_pivoting::{factor as dense_factor, solve as dense_solves};
+use faer::perm::PermRef;
+use faer::{Accum, Conj, MatMut, MatRef, Par};
 
 /// One block's private unknowns (= its equations) and the dense arrays of
 /// its elimination, column-major.
@@ -41,10 +45,13 @@ struct Block {
     kl: Vec<(usize, usize)>,
     /// Position in S's values of (krows[i], kcols[j]), at i + kr·j.
     update: Vec<usize>,
-    /// LU of A_LL,e in place (unit L below the diagonal) and its row
-    /// pivots.
+    /// LU of A_LL,e in place (unit L below the diagonal; faer's blocked
+    /// dense LU) and its row permutation (row k of P A is row perm[k]).
     lu: Vec<f64>,
-    pivots: Vec<usize>,
+    perm: Vec<usize>,
+    perm_inv: Vec<usize>,
+    /// A_KL X (kr×kc).
+    product: Vec<f64>,
     /// A_LK,e, then X = A_LL⁻¹ A_LK (m×kc); A_KL,e (kr×m).
     lk_values: Vec<f64>,
     x: Vec<f64>,
@@ -52,6 +59,7 @@ struct Block {
     /// Scratch for solves (m; max(kr, kc)).
     t: Vec<f64>,
     u: Vec<f64>,
+    u2: Vec<f64>,
 }
 
 pub struct CondensedLu {
@@ -69,8 +77,9 @@ pub struct CondensedLu {
     blocks_sign: f64,
     blocks_negative: usize,
     factorised: bool,
-    /// Scratch: the kept right-hand side.
+    /// Scratch: the kept right-hand side; faer's dense work space.
     rhs_kept: Vec<f64>,
+    buffer: MemBuffer,
     pub factorisations: usize,
     pub solves: usize,
 }
@@ -163,12 +172,15 @@ impl CondensedLu {
                     kl: Vec::new(),
                     update,
                     lu: vec![0.0; m * m],
-                    pivots: vec![0; m],
+                    perm: vec![0; m],
+                    perm_inv: vec![0; m],
+                    product: vec![0.0; kr * kc],
                     lk_values: vec![0.0; m * kc],
                     x: vec![0.0; m * kc],
                     kl_values: vec![0.0; kr * m],
                     t: vec![0.0; m],
                     u: vec![0.0; kr.max(kc)],
+                    u2: vec![0.0; m],
                 }
             })
             .collect();
@@ -195,6 +207,11 @@ impl CondensedLu {
                 }
             }
         }
+        let widest = out.iter().map(|b| (b.local.len(), b.kcols.len())).max().unwrap_or((0, 0));
+        let req = StackReq::any_of(&[
+            dense_factor::lu_in_place_scratch::<usize, f64>(widest.0, widest.0, Par::Seq, Default::default()),
+            dense_solves::solve_in_place_scratch::<usize, f64>(widest.0, widest.1.max(1), Par::Seq),
+        ]);
         let trailing_kept = trailing.min(kept.len());
         let nk = kept.len();
         Ok(CondensedLu {
@@ -209,6 +226,7 @@ impl CondensedLu {
             blocks_negative: 0,
             factorised: false,
             rhs_kept: vec![0.0; nk],
+            buffer: MemBuffer::new(req),
             factorisations: 0,
             solves: 0,
         })
@@ -276,24 +294,29 @@ impl CondensedLu {
             for &(p, q) in &b.kl {
                 b.kl_values[q] += values[p];
             }
-            let (s, neg) = dense_lu(m, &mut b.lu, &mut b.pivots)
+            let (kr, kc) = (b.krows.len(), b.kcols.len());
+            let stack = MemStack::new(&mut self.buffer);
+            let (s, neg) = factor_block(m, &mut b.lu, &mut b.perm, &mut b.perm_inv, stack)
                 .ok_or_else(|| Error::new(Status::ErrNotConverged, format!("condensed LU: block {e} is singular")))?;
             sign *= s;
             negative += neg;
             // X = A_LL⁻¹ A_LK, then S[kr, kc] −= A_KL X.
             b.x.copy_from_slice(&b.lk_values);
-            for col in b.x.chunks_exact_mut(m) {
-                dense_solve(m, &b.lu, &b.pivots, col);
-            }
-            let kr = b.krows.len();
-            for (c, xc) in b.x.chunks_exact(m).enumerate() {
-                for r in 0..kr {
-                    let mut acc = 0.0;
-                    for (k, xk) in xc.iter().enumerate() {
-                        acc += b.kl_values[r + kr * k] * xk;
-                    }
-                    self.schur_values[b.update[r + kr * c]] -= acc;
-                }
+            let lu = MatRef::from_column_major_slice(&b.lu, m, m);
+            let perm = PermRef::new_checked(&b.perm, &b.perm_inv, m);
+            let stack = MemStack::new(&mut self.buffer);
+            let x = MatMut::from_column_major_slice_mut(&mut b.x, m, kc);
+            dense_solves::solve_in_place_with_conj(lu, lu, perm, Conj::No, x, Par::Seq, stack);
+            faer::linalg::matmul::matmul(
+                MatMut::from_column_major_slice_mut(&mut b.product, kr, kc),
+                Accum::Replace,
+                MatRef::from_column_major_slice(&b.kl_values, kr, m),
+                MatRef::from_column_major_slice(&b.x, m, kc),
+                1.0,
+                Par::Seq,
+            );
+            for (&q, v) in b.update.iter().zip(&b.product) {
+                self.schur_values[q] -= v;
             }
         }
         self.schur.factorise_exact(&self.schur_values)?;
@@ -316,7 +339,7 @@ impl CondensedLu {
             for (t, &i) in b.t.iter_mut().zip(&b.local) {
                 *t = rhs[i];
             }
-            dense_solve(m, &b.lu, &b.pivots, &mut b.t);
+            dense_solve(m, &b.lu, &b.perm, &mut b.t, &mut b.u2);
             // u = A_KL t by columns (contiguous), then scattered.
             let kr = b.krows.len();
             let u = &mut b.u[..kr];
@@ -361,7 +384,7 @@ impl CondensedLu {
             for (t, &i) in b.t.iter_mut().zip(&b.local) {
                 *t = rhs[i];
             }
-            dense_solve_transpose(m, &b.lu, &b.pivots, &mut b.t);
+            dense_solve_transpose(m, &b.lu, &b.perm, &mut b.t, &mut b.u2);
             for (c, &kc) in b.kcols.iter().enumerate() {
                 let col = &b.lk_values[m * c..m * (c + 1)];
                 self.rhs_kept[kc] -= col.iter().zip(&b.t).map(|(a, t)| a * t).sum::<f64>();
@@ -381,7 +404,7 @@ impl CondensedLu {
                 }
                 b.t[l] = w;
             }
-            dense_solve_transpose(m, &b.lu, &b.pivots, &mut b.t);
+            dense_solve_transpose(m, &b.lu, &b.perm, &mut b.t, &mut b.u2);
             for (t, &i) in b.t.iter().zip(&b.local) {
                 rhs[i] = *t;
             }
@@ -414,90 +437,84 @@ impl CondensedLu {
     }
 }
 
-/// LU with row partial pivoting of the m×m column-major `a` in place
-/// (right-looking; the column updates are contiguous axpys). Returns
-/// (sign det, negative entries of U's diagonal), None if a pivot is zero.
-fn dense_lu(m: usize, a: &mut [f64], pivots: &mut [usize]) -> Option<(f64, usize)> {
-    let (mut sign, mut negative) = (1.0, 0);
+/// Factorise the m×m column-major block `a` in place with faer's dense
+/// LU (row partial pivoting, P A = L U): (sign det, negative entries of
+/// U's diagonal), None if a pivot is zero or not finite.
+fn factor_block(
+    m: usize,
+    a: &mut [f64],
+    perm: &mut [usize],
+    perm_inv: &mut [usize],
+    stack: &mut MemStack,
+) -> Option<(f64, usize)> {
+    let (info, _) = dense_factor::lu_in_place(
+        MatMut::from_column_major_slice_mut(a, m, m),
+        perm,
+        perm_inv,
+        Par::Seq,
+        stack,
+        Default::default(),
+    );
+    let mut sign = if info.transposition_count % 2 == 1 { -1.0 } else { 1.0 };
+    let mut negative = 0;
     for k in 0..m {
-        let col = &a[m * k..m * (k + 1)];
-        let (p, big) = (k..m).map(|i| (i, col[i].abs())).fold((k, -1.0), |b, c| if c.1 > b.1 { c } else { b });
-        if !(big > 0.0 && big.is_finite()) {
+        let pivot = a[k + m * k];
+        if !(pivot != 0.0 && pivot.is_finite()) {
             return None;
         }
-        pivots[k] = p;
-        if p != k {
-            sign = -sign;
-            for j in 0..m {
-                a.swap(k + m * j, p + m * j);
-            }
-        }
-        let pivot = a[k + m * k];
         if pivot < 0.0 {
             negative += 1;
             sign = -sign;
-        }
-        let inv = 1.0 / pivot;
-        for v in &mut a[k + 1 + m * k..m * (k + 1)] {
-            *v *= inv;
-        }
-        let (left, right) = a.split_at_mut(m * (k + 1));
-        let l = &left[k + 1 + m * k..m * (k + 1)];
-        for col in right.chunks_exact_mut(m) {
-            let akj = col[k];
-            if akj != 0.0 {
-                for (c, li) in col[k + 1..].iter_mut().zip(l) {
-                    *c -= li * akj;
-                }
-            }
         }
     }
     Some((sign, negative))
 }
 
-/// Solve with [`dense_lu`]'s factors in place.
-fn dense_solve(m: usize, lu: &[f64], pivots: &[usize], b: &mut [f64]) {
-    for k in 0..m {
-        b.swap(k, pivots[k]);
+/// Solve A z = b in place with [`factor_block`]'s factors (`w` scratch, m).
+fn dense_solve(m: usize, lu: &[f64], perm: &[usize], b: &mut [f64], w: &mut [f64]) {
+    for (wi, &p) in w.iter_mut().zip(perm) {
+        *wi = b[p];
     }
-    // L y = b (unit lower), column-oriented.
+    // L y = P b (unit lower), column-oriented.
     for k in 0..m {
-        let bk = b[k];
-        if bk != 0.0 {
-            for (v, l) in b[k + 1..].iter_mut().zip(&lu[k + 1 + m * k..m * (k + 1)]) {
-                *v -= l * bk;
+        let wk = w[k];
+        if wk != 0.0 {
+            for (v, l) in w[k + 1..].iter_mut().zip(&lu[k + 1 + m * k..m * (k + 1)]) {
+                *v -= l * wk;
             }
         }
     }
     // U z = y.
     for k in (0..m).rev() {
-        b[k] /= lu[k + m * k];
-        let bk = b[k];
-        if bk != 0.0 {
-            for (v, u) in b[..k].iter_mut().zip(&lu[m * k..m * k + k]) {
-                *v -= u * bk;
+        w[k] /= lu[k + m * k];
+        let wk = w[k];
+        if wk != 0.0 {
+            for (v, u) in w[..k].iter_mut().zip(&lu[m * k..m * k + k]) {
+                *v -= u * wk;
             }
         }
     }
+    b.copy_from_slice(&w[..m]);
 }
 
-/// Solve Aᵀ z = b with [`dense_lu`]'s factors (P A = L U: Aᵀ = Uᵀ Lᵀ P).
-fn dense_solve_transpose(m: usize, lu: &[f64], pivots: &[usize], b: &mut [f64]) {
+/// Solve Aᵀ z = b in place with [`factor_block`]'s factors (Aᵀ = Uᵀ Lᵀ P;
+/// `w` scratch, m).
+fn dense_solve_transpose(m: usize, lu: &[f64], perm: &[usize], b: &mut [f64], w: &mut [f64]) {
     // Uᵀ y = b: row k of Uᵀ is column k of U.
     for k in 0..m {
-        let col = &lu[m * k..m * k + k];
-        let s: f64 = col.iter().zip(&b[..k]).map(|(u, v)| u * v).sum();
+        let s: f64 = lu[m * k..m * k + k].iter().zip(&b[..k]).map(|(u, v)| u * v).sum();
         b[k] = (b[k] - s) / lu[k + m * k];
     }
-    // Lᵀ w = y: row k of Lᵀ is column k of L below the diagonal.
+    // Lᵀ v = y: row k of Lᵀ is column k of L below the diagonal.
     for k in (0..m).rev() {
-        let col = &lu[k + 1 + m * k..m * (k + 1)];
-        let s: f64 = col.iter().zip(&b[k + 1..]).map(|(l, v)| l * v).sum();
+        let s: f64 = lu[k + 1 + m * k..m * (k + 1)].iter().zip(&b[k + 1..]).map(|(l, v)| l * v).sum();
         b[k] -= s;
     }
-    for k in (0..m).rev() {
-        b.swap(k, pivots[k]);
+    // z = Pᵀ v.
+    for (k, &p) in perm.iter().enumerate() {
+        w[p] = b[k];
     }
+    b.copy_from_slice(&w[..m]);
 }
 
 #[cfg(test)]
@@ -602,18 +619,20 @@ mod tests {
     /// Reference: a 3×3 by hand (det = −2 by cofactors), and its solves.
     #[test]
     fn dense_lu_by_hand() {
-        // A = [[0, 1, 2], [1, 0, 3], [4, −3, 8]] column-major; det = −2.
+        // A = [[0, 1, 2], [1, 0, 3], [4, −3, 8]] column-major.
         let mut a = vec![0.0, 1.0, 4.0, 1.0, 0.0, -3.0, 2.0, 3.0, 8.0];
         let orig = a.clone();
-        let mut piv = vec![0; 3];
-        let (sign, _) = dense_lu(3, &mut a, &mut piv).unwrap();
+        let (mut perm, mut inv, mut w) = (vec![0; 3], vec![0; 3], vec![0.0; 3]);
+        let mut buffer =
+            MemBuffer::new(dense_factor::lu_in_place_scratch::<usize, f64>(3, 3, Par::Seq, Default::default()));
+        let (sign, _) = factor_block(3, &mut a, &mut perm, &mut inv, MemStack::new(&mut buffer)).unwrap();
         assert_eq!(sign, -1.0);
         let x = [1.0, 2.0, 3.0];
         let mut b: Vec<f64> = (0..3).map(|i| (0..3).map(|j| orig[i + 3 * j] * x[j]).sum()).collect();
-        dense_solve(3, &a, &piv, &mut b);
+        dense_solve(3, &a, &perm, &mut b, &mut w);
         assert!(b.iter().zip(&x).all(|(u, v)| (u - v).abs() < 1e-14), "{b:?}");
         let mut bt: Vec<f64> = (0..3).map(|j| (0..3).map(|i| orig[i + 3 * j] * x[i]).sum()).collect();
-        dense_solve_transpose(3, &a, &piv, &mut bt);
+        dense_solve_transpose(3, &a, &perm, &mut bt, &mut w);
         assert!(bt.iter().zip(&x).all(|(u, v)| (u - v).abs() < 1e-14), "{bt:?}");
     }
 }

@@ -331,9 +331,7 @@ impl CondensedLu {
     pub fn solve(&mut self, rhs: &mut [f64]) {
         assert!(self.factorised, "solve before a successful factorisation");
         // Eliminate each block: t = A_LL⁻¹ f_L, f_K[kr] −= A_KL t.
-        for (k, &i) in self.kept.iter().enumerate() {
-            self.rhs_kept[k] = rhs[i];
-        }
+        self.gather_kept(rhs);
         for b in &mut self.blocks {
             let m = b.local.len();
             for (t, &i) in b.t.iter_mut().zip(&b.local) {
@@ -354,9 +352,7 @@ impl CondensedLu {
             }
         }
         self.schur.solve(&mut self.rhs_kept);
-        for (k, &i) in self.kept.iter().enumerate() {
-            rhs[i] = self.rhs_kept[k];
-        }
+        self.scatter_kept(rhs);
         // Back: z_L = t − X z_K[kc], by X's columns.
         for b in &mut self.blocks {
             for (col, &kc) in b.x.chunks_exact(b.local.len()).zip(&b.kcols) {
@@ -375,9 +371,7 @@ impl CondensedLu {
     /// Solve Aᵀ z = rhs in place (Sᵀ is the Schur complement of Aᵀ).
     pub fn solve_transpose(&mut self, rhs: &mut [f64]) {
         assert!(self.factorised, "solve before a successful factorisation");
-        for (k, &i) in self.kept.iter().enumerate() {
-            self.rhs_kept[k] = rhs[i];
-        }
+        self.gather_kept(rhs);
         // t = A_LL⁻ᵀ f_L, f_K[kc] −= A_LKᵀ t.
         for b in &mut self.blocks {
             let m = b.local.len();
@@ -391,9 +385,7 @@ impl CondensedLu {
             }
         }
         self.schur.solve_transpose(&mut self.rhs_kept);
-        for (k, &i) in self.kept.iter().enumerate() {
-            rhs[i] = self.rhs_kept[k];
-        }
+        self.scatter_kept(rhs);
         // Back: z_L = A_LL⁻ᵀ (f_L − A_KLᵀ z_K[kr]).
         for b in &mut self.blocks {
             let (m, kr) = (b.local.len(), b.krows.len());
@@ -410,6 +402,20 @@ impl CondensedLu {
             }
         }
         self.solves += 1;
+    }
+
+    /// The kept entries of `rhs` into the kept system's right-hand side.
+    fn gather_kept(&mut self, rhs: &[f64]) {
+        for (v, &i) in self.rhs_kept.iter_mut().zip(&self.kept) {
+            *v = rhs[i];
+        }
+    }
+
+    /// The kept system's solution back into `rhs`.
+    fn scatter_kept(&self, rhs: &mut [f64]) {
+        for (v, &i) in self.rhs_kept.iter().zip(&self.kept) {
+            rhs[i] = *v;
+        }
     }
 
     /// sign det A (±1) of the last factorisation.

@@ -8,7 +8,7 @@
 
 use super::{Problem, SeriesProblem};
 use crate::linalg::sparse::Pattern;
-use crate::taylor::batch::{BatchTaylorWork, Lanes, LANES};
+use crate::taylor::batch::{eval_lanes, jacobian_lanes, BatchJacobianWork, BatchTaylorWork, Lanes, LANES};
 use crate::taylor::{JacobianWork, Tape, TaylorWork};
 use std::sync::Arc;
 
@@ -44,8 +44,10 @@ struct BlockWork {
     taylor: TaylorWork,
 }
 
-/// Blocks sharing one tape whose Taylor series are taken together
-/// ([`BatchTaylorWork`]): a rod's elements, [`LANES`] at a time.
+/// Blocks sharing one tape whose residuals, Jacobians and Taylor series
+/// are taken together ([`BatchTaylorWork`], [`jacobian_lanes`]): a rod's
+/// elements, [`LANES`] at a time (values and Jacobians bitwise those of
+/// the blocks one by one).
 #[derive(Clone, Debug, Default)]
 struct Batch {
     /// The blocks, one per lane (2..=LANES; unused lanes compute on zeros).
@@ -53,6 +55,9 @@ struct Batch {
     taylor: BatchTaylorWork,
     inputs: Vec<Lanes>,
     outputs: Vec<Lanes>,
+    /// Values and local Jacobians of the lanes (outputs × inputs).
+    jacobian: BatchJacobianWork,
+    local_jac: Vec<Lanes>,
 }
 
 pub struct AssembledSystem {
@@ -157,6 +162,8 @@ impl AssembledSystem {
                     taylor: BatchTaylorWork::default(),
                     inputs: vec![[0.0; LANES]; tape.inputs()],
                     outputs: vec![[0.0; LANES]; tape.outputs()],
+                    jacobian: BatchJacobianWork::default(),
+                    local_jac: vec![[0.0; LANES]; tape.inputs() * tape.outputs()],
                 });
             }
         }
@@ -249,7 +256,13 @@ impl Problem for AssembledSystem {
 
     fn residual(&mut self, x: &[f64], lambda: f64, r: &mut [f64]) {
         r.fill(0.0);
-        for (b, w) in self.blocks.iter().zip(&mut self.work) {
+        for batch in &mut self.batches {
+            Self::gather_lanes(&self.blocks, batch, |g| x[g], lambda, |v| v);
+            let tape = &self.blocks[batch.blocks[0]].tape;
+            eval_lanes(tape, &batch.inputs, &mut batch.jacobian, &mut batch.outputs);
+            Self::scatter_lanes(&self.blocks, batch, r);
+        }
+        for ((b, w), _) in self.blocks.iter().zip(&mut self.work).zip(&self.batched).filter(|(_, &t)| !t) {
             Self::gather(&b.inputs, x, lambda, &mut w.local_in);
             b.tape.eval(&w.local_in, &mut self.nodes, &mut w.local_out);
             for (&row, v) in b.rows.iter().zip(&w.local_out) {
@@ -261,7 +274,32 @@ impl Problem for AssembledSystem {
     fn jacobian(&mut self, x: &[f64], lambda: f64, jx: &mut [f64], jl: &mut [f64]) {
         jx.fill(0.0);
         jl.fill(0.0);
-        for (b, w) in self.blocks.iter().zip(&mut self.work) {
+        for batch in &mut self.batches {
+            Self::gather_lanes(&self.blocks, batch, |g| x[g], lambda, |v| v);
+            let tape = &self.blocks[batch.blocks[0]].tape;
+            jacobian_lanes(tape, &batch.inputs, &mut batch.jacobian, &mut batch.outputs, &mut batch.local_jac);
+            for (l, &bi) in batch.blocks.iter().enumerate() {
+                let (b, w) = (&self.blocks[bi], &self.work[bi]);
+                let nin = b.inputs.len();
+                for (k, &row) in b.rows.iter().enumerate() {
+                    for &j in b.tape.dependencies(k) {
+                        let j = j as usize;
+                        let v = batch.local_jac[k * nin + j][l];
+                        match &b.inputs[j] {
+                            Slot::Unknown(_) => {
+                                let p = w.positions[k * nin + j];
+                                if p != usize::MAX {
+                                    jx[p] += v;
+                                }
+                            }
+                            Slot::Lambda => jl[row] += v,
+                            Slot::Param(_) => {}
+                        }
+                    }
+                }
+            }
+        }
+        for ((b, w), _) in self.blocks.iter().zip(&mut self.work).zip(&self.batched).filter(|(_, &t)| !t) {
             Self::gather(&b.inputs, x, lambda, &mut w.local_in);
             b.tape.jacobian(&w.local_in, &mut self.jwork, &mut w.local_out, &mut w.local_jac);
             let nin = b.inputs.len();

@@ -174,6 +174,105 @@ impl BatchTaylorWork {
     }
 }
 
+/// Reusable storage for [`eval_lanes`] and [`jacobian_lanes`].
+#[derive(Clone, Debug, Default)]
+pub struct BatchJacobianWork {
+    val: Vec<Lanes>,
+    grad: Vec<Lanes>,
+}
+
+/// [`Tape::eval`] on every lane: `x` one lane array per input.
+pub fn eval_lanes(tape: &Tape, x: &[Lanes], work: &mut BatchJacobianWork, out: &mut [Lanes]) {
+    let val = &mut work.val;
+    val.clear();
+    val.reserve(tape.ops.len());
+    for op in &tape.ops {
+        let v = match *op {
+            Op::Input(i) => x[i as usize],
+            Op::Const(c) => [c; LANES],
+            Op::Add(a, b) => map2(val[a as usize], val[b as usize], |p, q| p + q),
+            Op::Sub(a, b) => map2(val[a as usize], val[b as usize], |p, q| p - q),
+            Op::Mul(a, b) => map2(val[a as usize], val[b as usize], |p, q| p * q),
+            Op::Neg(a) => map1(val[a as usize], |p| -p),
+            Op::Scale(c, a) => map1(val[a as usize], |p| c * p),
+            Op::Shift(c, a) => map1(val[a as usize], |p| p + c),
+        };
+        val.push(v);
+    }
+    for (o, &i) in out.iter_mut().zip(&tape.outputs) {
+        *o = val[i as usize];
+    }
+}
+
+/// [`Tape::jacobian`] on every lane: the outputs' values and the dense
+/// local Jacobians, row-major (outputs × inputs), lane by lane — the same
+/// sparse forward mode, each node's gradient over its own dependencies.
+pub fn jacobian_lanes(tape: &Tape, x: &[Lanes], work: &mut BatchJacobianWork, out: &mut [Lanes], jac: &mut [Lanes]) {
+    let n = tape.inputs;
+    work.val.clear();
+    work.val.reserve(tape.ops.len());
+    work.grad.clear();
+    work.grad.resize(tape.start[tape.ops.len()], [0.0; LANES]);
+    for (k, op) in tape.ops.iter().enumerate() {
+        let (head, tail) = work.grad.split_at_mut(tape.start[k]);
+        let g = &mut tail[..tape.start[k + 1] - tape.start[k]];
+        let gv = |i: u32| &head[tape.start[i as usize]..tape.start[i as usize + 1]];
+        let sc = &tape.scatter[tape.scatter_start[k]..tape.scatter_start[k + 1]];
+        let val = &work.val;
+        let v = match *op {
+            Op::Input(i) => {
+                g[0] = [1.0; LANES];
+                x[i as usize]
+            }
+            Op::Const(c) => [c; LANES],
+            Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) => {
+                let (ga, gb) = (gv(a), gv(b));
+                let (va, vb) = (val[a as usize], val[b as usize]);
+                let (ca, cb, v) = match *op {
+                    Op::Add(..) => ([1.0; LANES], [1.0; LANES], map2(va, vb, |p, q| p + q)),
+                    Op::Sub(..) => ([1.0; LANES], [-1.0; LANES], map2(va, vb, |p, q| p - q)),
+                    _ => (vb, va, map2(va, vb, |p, q| p * q)),
+                };
+                let (sa, sb) = sc.split_at(ga.len());
+                for (d, &p) in ga.iter().zip(sa) {
+                    let slot = &mut g[p as usize];
+                    *slot = std::array::from_fn(|l| slot[l] + ca[l] * d[l]);
+                }
+                for (d, &p) in gb.iter().zip(sb) {
+                    let slot = &mut g[p as usize];
+                    *slot = std::array::from_fn(|l| slot[l] + cb[l] * d[l]);
+                }
+                v
+            }
+            Op::Neg(a) => {
+                for (gi, ai) in g.iter_mut().zip(gv(a)) {
+                    *gi = map1(*ai, |p| -p);
+                }
+                map1(val[a as usize], |p| -p)
+            }
+            Op::Scale(c, a) => {
+                for (gi, ai) in g.iter_mut().zip(gv(a)) {
+                    *gi = map1(*ai, |p| c * p);
+                }
+                map1(val[a as usize], |p| c * p)
+            }
+            Op::Shift(c, a) => {
+                g.copy_from_slice(gv(a));
+                map1(val[a as usize], |p| p + c)
+            }
+        };
+        work.val.push(v);
+    }
+    jac[..n * tape.outputs.len()].fill([0.0; LANES]);
+    for (k, &i) in tape.outputs.iter().enumerate() {
+        out[k] = work.val[i as usize];
+        let g = &work.grad[tape.start[i as usize]..tape.start[i as usize + 1]];
+        for (d, &j) in g.iter().zip(&tape.deps[i as usize]) {
+            jac[k * n + j as usize] = *d;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::{Scalar, TaylorWork};
@@ -182,6 +281,32 @@ mod tests {
     fn kernel<T: Scalar>(v: &[T]) -> Vec<T> {
         let (x, y, z) = (v[0], v[1], v[2]);
         vec![x * y * z + x * 2.0 - 1.0, y * y - z * x + 3.0, -(x * (y + 0.5)) * (z - 2.0)]
+    }
+
+    /// Reference: the scalar [`Tape::eval`] and [`Tape::jacobian`] on each
+    /// lane's inputs, equal bitwise (the same operations in the same
+    /// order, lane by lane).
+    #[test]
+    fn every_lane_is_the_scalar_value_and_jacobian() {
+        let tape = Tape::record(3, kernel);
+        let x: Vec<Lanes> = (0..3).map(|i| std::array::from_fn(|l| (l * 3 + i) as f64 * 0.37 - 1.1)).collect();
+        let mut work = BatchJacobianWork::default();
+        let (mut out, mut jac) = (vec![[0.0; LANES]; 3], vec![[0.0; LANES]; 9]);
+        jacobian_lanes(&tape, &x, &mut work, &mut out, &mut jac);
+        let mut values = vec![[0.0; LANES]; 3];
+        eval_lanes(&tape, &x, &mut work, &mut values);
+        for l in 0..LANES {
+            let xl: Vec<f64> = x.iter().map(|v| v[l]).collect();
+            let (mut o, mut j) = (vec![0.0; 3], vec![0.0; 9]);
+            tape.jacobian(&xl, &mut super::super::JacobianWork::default(), &mut o, &mut j);
+            for k in 0..3 {
+                assert_eq!(out[k][l], o[k], "lane {l} output {k}");
+                assert_eq!(values[k][l], o[k], "lane {l} value {k}");
+            }
+            for k in 0..9 {
+                assert_eq!(jac[k][l], j[k], "lane {l} entry {k}");
+            }
+        }
     }
 
     /// Reference: the scalar [`TaylorWork`] on each lane's inputs, the

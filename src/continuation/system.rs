@@ -190,6 +190,23 @@ impl AssembledSystem {
         }
     }
 
+    /// Add block `b`'s local Jacobian (`local(k·inputs + j)`, row-major)
+    /// into ∂R/∂x at its pattern `positions` and ∂R/∂Λ: only the inputs
+    /// each output depends on (structural).
+    fn scatter_jacobian(b: &Block, positions: &[usize], local: impl Fn(usize) -> f64, jx: &mut [f64], jl: &mut [f64]) {
+        let nin = b.inputs.len();
+        for (k, &row) in b.rows.iter().enumerate() {
+            for &j in b.tape.dependencies(k) {
+                let e = k * nin + j as usize;
+                match b.inputs[j as usize] {
+                    Slot::Unknown(_) if positions[e] != usize::MAX => jx[positions[e]] += local(e),
+                    Slot::Lambda => jl[row] += local(e),
+                    _ => {}
+                }
+            }
+        }
+    }
+
     /// Add each lane's outputs into its block's rows.
     fn scatter_lanes(blocks: &[Block], batch: &Batch, out: &mut [f64]) {
         for (l, &b) in batch.blocks.iter().enumerate() {
@@ -279,47 +296,14 @@ impl Problem for AssembledSystem {
             let tape = &self.blocks[batch.blocks[0]].tape;
             jacobian_lanes(tape, &batch.inputs, &mut batch.jacobian, &mut batch.outputs, &mut batch.local_jac);
             for (l, &bi) in batch.blocks.iter().enumerate() {
-                let (b, w) = (&self.blocks[bi], &self.work[bi]);
-                let nin = b.inputs.len();
-                for (k, &row) in b.rows.iter().enumerate() {
-                    for &j in b.tape.dependencies(k) {
-                        let j = j as usize;
-                        let v = batch.local_jac[k * nin + j][l];
-                        match &b.inputs[j] {
-                            Slot::Unknown(_) => {
-                                let p = w.positions[k * nin + j];
-                                if p != usize::MAX {
-                                    jx[p] += v;
-                                }
-                            }
-                            Slot::Lambda => jl[row] += v,
-                            Slot::Param(_) => {}
-                        }
-                    }
-                }
+                let local = |e: usize| batch.local_jac[e][l];
+                Self::scatter_jacobian(&self.blocks[bi], &self.work[bi].positions, local, jx, jl);
             }
         }
         for ((b, w), _) in self.blocks.iter().zip(&mut self.work).zip(&self.batched).filter(|(_, &t)| !t) {
             Self::gather(&b.inputs, x, lambda, &mut w.local_in);
             b.tape.jacobian(&w.local_in, &mut self.jwork, &mut w.local_out, &mut w.local_jac);
-            let nin = b.inputs.len();
-            for (k, &row) in b.rows.iter().enumerate() {
-                // Only the inputs this output depends on (structural).
-                for &j in b.tape.dependencies(k) {
-                    let j = j as usize;
-                    let v = w.local_jac[k * nin + j];
-                    match &b.inputs[j] {
-                        Slot::Unknown(_) => {
-                            let p = w.positions[k * nin + j];
-                            if p != usize::MAX {
-                                jx[p] += v;
-                            }
-                        }
-                        Slot::Lambda => jl[row] += v,
-                        Slot::Param(_) => {}
-                    }
-                }
-            }
+            Self::scatter_jacobian(b, &w.positions, |e| w.local_jac[e], jx, jl);
         }
     }
 

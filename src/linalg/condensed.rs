@@ -63,12 +63,9 @@ struct Block {
 }
 
 pub struct CondensedLu {
-    n: usize,
     blocks: Vec<Block>,
-    /// Kept indices in increasing order, and each index's kept position
-    /// (usize::MAX if private).
+    /// Kept indices in increasing order.
     kept: Vec<usize>,
-    kept_pos: Vec<usize>,
     /// (position in A's values, position in S's) of the kept×kept entries.
     kk: Vec<(usize, usize)>,
     schur: SparseLu,
@@ -215,10 +212,8 @@ impl CondensedLu {
         let trailing_kept = trailing.min(kept.len());
         let nk = kept.len();
         Ok(CondensedLu {
-            n,
             blocks: out,
             kept,
-            kept_pos,
             kk,
             schur_values: vec![0.0; spattern.nnz()],
             schur: SparseLu::with_trailing(spattern, trailing_kept)?,
@@ -243,11 +238,6 @@ impl CondensedLu {
             }
         }
         kk
-    }
-
-    /// n.
-    pub fn dim(&self) -> usize {
-        self.n
     }
 
     /// Unknowns of the kept system S.
@@ -435,11 +425,6 @@ impl CondensedLu {
     /// Entries of the factors: the blocks' dense LUs and X, S's L + U.
     pub fn fill(&self) -> usize {
         self.blocks.iter().map(|b| b.lu.len() + b.x.len()).sum::<usize>() + self.schur.fill()
-    }
-
-    /// Whether `i` is a kept unknown.
-    pub fn is_kept(&self, i: usize) -> bool {
-        self.kept_pos[i] != usize::MAX
     }
 }
 

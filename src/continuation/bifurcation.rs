@@ -274,6 +274,21 @@ pub(crate) fn locate<P: Problem + ?Sized>(
     if multiplicity == 0 {
         return match failed {
             Some(e) => Err(e),
+            // σ_min turned sign and fell three orders below the bracket's
+            // ends without reaching zero: a singular point missed by a
+            // little (a symmetry the discretisation breaks splits a double
+            // point off the branch — a mesh not symmetric about the rod's
+            // middle under a twist — or an imperfection), not the mode
+            // pair's turn (which stays at the ends' scale). Reported, never
+            // dropped.
+            None if evidence.test_function_change && sigma[0] < 1e-3 * ends => Err(crate::error::Error::new(
+                crate::status::Status::ErrNotConverged,
+                format!(
+                    "σ_min changed sign and fell to {:.1e} of its value at the bracket's ends (at Λ = {lambda}) \
+                     without reaching zero: a near-singular point, not a located bifurcation",
+                    sigma[0] / ends
+                ),
+            )),
             None => Ok(None),
         };
     }

@@ -1205,6 +1205,16 @@ module rodkit
             integer(c_int32_t) :: status
         end function rodkit_branch_positions
 
+        function rodkit_rod_node_positions(rod, s, capacity, count) result(status) &
+                bind(c, name="rodkit_rod_node_positions")
+            import :: c_double, c_int32_t, c_int64_t, c_ptr
+            type(c_ptr), value :: rod
+            real(c_double), intent(inout) :: s(*)
+            integer(c_int64_t), value :: capacity
+            integer(c_int64_t), intent(out) :: count
+            integer(c_int32_t) :: status
+        end function rodkit_rod_node_positions
+
         function rodkit_rod_node_state(rod, x, n, node, position, quaternion, force, moment) result(status) &
                 bind(c, name="rodkit_rod_node_state")
             import :: c_double, c_int32_t, c_int64_t, c_ptr

@@ -1448,6 +1448,18 @@ void rodkit_rod_free(struct RodkitRod *rod);
 // Number of unknowns n of the discrete system (the state x; Λ apart).
 int32_t rodkit_rod_unknowns(const struct RodkitRod *rod, int64_t *n);
 
+// The rod's mesh: the arc lengths s_0 = 0 < s_1 < … < s_N = L of its
+// nodes (node i of rodkit_rod_node_state), N its elements — uniform as
+// made by rodkit_rod_new; graded where the branch varies fast (and
+// symmetric about the middle for a rod held at both ends) on the rod
+// rodkit_rod_continue_to_tolerance chose. Up to `capacity` of them are
+// copied to `s` (NULL with capacity 0 to ask); `*count` receives N + 1
+// (RODKIT_STATUS_INFO_TRUNCATED when capacity is smaller).
+int32_t rodkit_rod_node_positions(const struct RodkitRod *rod,
+                                  double *s,
+                                  int64_t capacity,
+                                  int64_t *count);
+
 // The straight stress-free state (length n = rodkit_rod_unknowns).
 int32_t rodkit_rod_straight_state(const struct RodkitRod *rod, double *x, int64_t n);
 

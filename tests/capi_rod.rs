@@ -751,6 +751,35 @@ fn a_branch_to_a_tolerance_through_the_c_abi() {
     let mut n = 0;
     unsafe { rodkit_rod_unknowns(fine_rod, &mut n) };
     let elements = (n / 13 - 1) / 5; // Gauss(4) of `spec`: 13 (1 + 4) per element + the tip node
+                                     // The mesh chosen: N + 1 node arc lengths from 0 to L = 1, graded
+                                     // (finer where the branch bends most), each node where the straight
+                                     // state puts it (r = s e3: the accessor and the state layout agree).
+    let mut count = 0;
+    assert_eq!(unsafe { rodkit_rod_node_positions(fine_rod, ptr::null_mut(), 0, &mut count) }, 1); // truncated: asked
+    assert_eq!(count, elements + 1);
+    let mut mesh = vec![0.0; count as usize];
+    assert_eq!(unsafe { rodkit_rod_node_positions(fine_rod, mesh.as_mut_ptr(), count, &mut count) }, 0);
+    assert!(mesh[0] == 0.0 && mesh[elements as usize] == 1.0 && mesh.windows(2).all(|w| w[1] > w[0]), "{mesh:?}");
+    let h: Vec<f64> = mesh.windows(2).map(|w| w[1] - w[0]).collect();
+    assert!(h.iter().cloned().fold(0.0, f64::max) > 1.05 * h.iter().cloned().fold(1.0, f64::min), "graded: {h:?}");
+    let mut straight = vec![0.0; n as usize];
+    unsafe { rodkit_rod_straight_state(fine_rod, straight.as_mut_ptr(), n) };
+    for (i, s) in mesh.iter().enumerate() {
+        let mut r = [0.0; 3];
+        let st = unsafe {
+            rodkit_rod_node_state(
+                fine_rod,
+                straight.as_ptr(),
+                n,
+                i as i64,
+                r.as_mut_ptr(),
+                ptr::null_mut(),
+                ptr::null_mut(),
+                ptr::null_mut(),
+            )
+        };
+        assert!(st == 0 && (r[2] - s).abs() < 1e-15, "node {i}: r_z {} vs s {s}", r[2]);
+    }
     let mut info = BranchInfo::default();
     unsafe { rodkit_branch_summary(b, &mut info) };
     let mut est = vec![RecordError::default(); info.records as usize];

@@ -1,8 +1,10 @@
 //! Rod branches to a requested accuracy (issue 19): the library chooses
 //! the elements, every record carries an error estimate, and the estimate
 //! bounds the true error — checked against the same points re-solved on
-//! 128 elements of Gauss(4) (a converged reference: its own error is
-//! ~2⁸ × (128/N)⁻⁸ below the branch's, under 1e-13 here).
+//! the branch's own mesh with every element cut into ⌈128/N⌉ (at least
+//! 128 elements of Gauss(4), every node of the branch's mesh kept, so a
+//! phase condition sits at the same arc length: a converged reference,
+//! its own error ~(128/N)⁻⁸ below the branch's, under 1e-13 here).
 
 use rodkit::continuation::Options;
 use rodkit::rod::accuracy::{continue_to_tolerance, RecordError, Resolver};
@@ -71,7 +73,7 @@ fn cantilevers_to_alpha_100_meet_the_tolerance_and_their_estimates() {
             let acc =
                 continue_to_tolerance(&template, tol, (0.0, true), &opts, Method::Anm(Default::default())).unwrap();
             let rod = &acc.rod;
-            let reference_rod = Rod { elements: 128, ..rod.clone() };
+            let reference_rod = rod.subdivided(128usize.div_ceil(rod.elements)).unwrap();
             let mut reference = Resolver::new(rod, &reference_rod, None).unwrap();
             let mut worst_true: f64 = 0.0;
             for ((record, x), estimate) in acc.branch.records.iter().zip(&acc.branch.states).zip(&acc.estimates) {
@@ -204,7 +206,7 @@ fn a_cancelled_refinement_stops_and_a_loose_residual_is_refused() {
 /// double point at φ = 2.2467): detected and located on the straight
 /// branch, switched with the phase condition, followed 25 steps — the
 /// whole path refined to 1e-4, 1e-6, 1e-8. Where Λ folds, the re-solves
-/// (the estimate's, on half the elements, and the reference's, on 128)
+/// (the estimate's, on half the elements, and the reference's, on ≥ 128)
 /// may take the plane through the record normal to the branch instead of
 /// its Λ (none needed it here: fixed-Λ Newton from the carried state
 /// converged at every record, the nearest 0.03 rad from φ = π; the plane
@@ -221,7 +223,7 @@ fn greenhill_post_buckled_meets_the_tolerance_through_the_fold() {
     for tol in [1e-4, 1e-6, 1e-8] {
         let acc = refine_until(&template, tol, 1e-12, |rod| Ok(post_buckled(rod, 0.99, &post_opts)?.0)).unwrap();
         let rod = &acc.rod;
-        let reference_rod = Rod { elements: 128, ..rod.clone() };
+        let reference_rod = rod.subdivided(128usize.div_ceil(rod.elements)).unwrap();
         let mut reference = Resolver::new(rod, &reference_rod, acc.branch.phase).unwrap();
         let (records, states) = (&acc.branch.records, &acc.branch.states);
         let phis: Vec<f64> = states.iter().zip(records).map(|(x, r)| rod.end_rotation(x, r.lambda).unwrap()).collect();

@@ -5,7 +5,7 @@
 //! right-hand side). Its continuation is in `branch`.
 
 use super::args::{arg_mut, arg_ref, capacity_arg, check_len, clear_handle, free_handle, in_array, in_slice};
-use super::args::{out_slice, qualify_argument};
+use super::args::{copy_out, out_slice, qualify_argument};
 use super::rod_spec::{model_from, RodSpec};
 use super::{guard, guard_value};
 use crate::continuation::system::AssembledSystem;
@@ -141,6 +141,26 @@ pub unsafe extern "C" fn rodkit_rod_unknowns(rod: *const Rod, n: *mut i64) -> i3
     guard(|| {
         *arg_mut("n", n)? = arg_ref("rod", rod)?.model.unknowns() as i64;
         Ok(Status::Ok)
+    })
+}
+
+/// The rod's mesh: the arc lengths s_0 = 0 < s_1 < … < s_N = L of its
+/// nodes (node i of rodkit_rod_node_state), N its elements — uniform as
+/// made by rodkit_rod_new; graded where the branch varies fast (and
+/// symmetric about the middle for a rod held at both ends) on the rod
+/// rodkit_rod_continue_to_tolerance chose. Up to `capacity` of them are
+/// copied to `s` (NULL with capacity 0 to ask); `*count` receives N + 1
+/// (RODKIT_STATUS_INFO_TRUNCATED when capacity is smaller).
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_rod_node_positions(
+    rod: *const Rod,
+    s: *mut f64,
+    capacity: i64,
+    count: *mut i64,
+) -> i32 {
+    guard(|| {
+        let rod = arg_ref("rod", rod)?;
+        copy_out("s", s, capacity, count, &rod.model.node_positions(), |v| *v)
     })
 }
 

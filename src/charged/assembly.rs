@@ -47,6 +47,13 @@ pub(super) fn check_rod(rod: &Rod) -> Result<usize> {
     if rod.law.stiffness[(0, 1)] != 0.0 || rod.law.intrinsic_u != nalgebra::Vector3::zeros() {
         return Err(Error::new(Status::ErrOutOfRange, "a charged rod must be straight with uncoupled bending axes"));
     }
+    // The near zone's quadrature and pair list assume equal elements.
+    if rod.breakpoints.is_some() {
+        return Err(Error::new(
+            Status::ErrOutOfRange,
+            "a charged rod needs a uniform mesh (its near zone assumes equal elements)",
+        ));
+    }
     Ok(s)
 }
 

@@ -23,6 +23,7 @@
 //! continuation corrects, and the quantities are compared there.
 
 use super::branch::{Method, RodBranch};
+use super::mesh;
 use super::model::unwrap_rotation;
 use super::model::Rod;
 use crate::continuation::bifurcation::{locate, Bifurcation, Evidence, State};
@@ -144,7 +145,14 @@ pub struct Resolver<'r> {
 impl<'r> Resolver<'r> {
     pub fn new(from: &'r Rod, to: &'r Rod, phase: Option<(usize, f64)>) -> Result<Self> {
         let phase = phase.map(|(node, azimuth)| {
-            let node = ((node * to.elements) as f64 / from.elements as f64).round() as usize;
+            let node = if from.breakpoints.is_none() && to.breakpoints.is_none() {
+                ((node * to.elements) as f64 / from.elements as f64).round() as usize
+            } else {
+                // The node of `to` nearest in arc length.
+                let s = from.node_position(node.min(from.elements));
+                let d = |i: usize| (to.node_position(i) - s).abs();
+                (0..=to.elements).fold(0, |best, i| if d(i) < d(best) { i } else { best })
+            };
             (node.clamp(1, to.elements), azimuth)
         });
         let system = match phase {
@@ -358,7 +366,10 @@ fn search(
     Ok(None)
 }
 
-/// `rod` on half its elements (an even count ≥ 2), the estimates' coarse mesh.
+/// `rod` on half its elements (an even count ≥ 2), the estimates' coarse
+/// mesh: neighbours merged in pairs (elements 2k and 2k + 1), so that every
+/// element is coarsened — an element kept as it is would carry the same
+/// error on both meshes and drop out of their difference.
 fn half(rod: &Rod) -> Result<Rod> {
     if rod.elements < 2 || !rod.elements.is_multiple_of(2) {
         return Err(Error::new(
@@ -366,7 +377,23 @@ fn half(rod: &Rod) -> Result<Rod> {
             format!("error estimates need an even number of elements ≥ 2 (got {})", rod.elements),
         ));
     }
-    Ok(Rod { elements: rod.elements / 2, ..rod.clone() })
+    match &rod.breakpoints {
+        None => Ok(rod.uniform(rod.elements / 2)),
+        Some(t) => rod.clone().graded(&t.iter().copied().step_by(2).collect::<Vec<_>>()),
+    }
+}
+
+/// How [`refine_until`] places the elements of each new try.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Refinement {
+    /// Graded where the branch's solutions vary fast
+    /// ([`mesh::graded_mesh`]): the records' and located points' monitor
+    /// equidistributed, as AUTO-07p adapts its mesh. Uniform where the
+    /// monitor vanishes (a straight branch).
+    #[default]
+    Graded,
+    /// Equal elements.
+    Uniform,
 }
 
 /// A branch on the rod `template` with its elements chosen so that every
@@ -374,7 +401,7 @@ fn half(rod: &Rod) -> Result<Rod> {
 /// critical load), meets a tolerance (see [`RecordError::scaled`],
 /// [`BifurcationError::scaled`]).
 pub struct Accurate {
-    /// The rod as refined (its `elements` the ones chosen).
+    /// The rod as refined (its `elements` and `breakpoints` the mesh chosen).
     pub rod: Rod,
     pub branch: RodBranch,
     /// Per record, as [`estimate_errors`].
@@ -407,22 +434,38 @@ pub fn continue_to_tolerance(
     })
 }
 
-/// The branch `follow` computes on a rod (any path: a straight start, a
-/// switch at a located bifurcation, …), on `template`'s law, loads,
-/// supports and scheme, starting from its element count (made even, at
-/// least 4) and refining uniformly until the worst scaled estimate is ≤
-/// `tolerance`: each new count from the last's estimate and the scheme's
-/// order (with a 1.25 margin, at least 1.5×), at most [`MAX_ELEMENTS`]
-/// (ErrToleranceUnreachable beyond, saying what was reached). The
-/// A branch that `follow` returns cancelled (`Stop::Cancelled`) ends the
-/// refinement as it is, with its estimates. `residual_tol` (≤ the
-/// tolerance) is the points' own; the re-solves take it, not below 1e-11 (their rounding floor
-/// on fine meshes under large loads: the scaled residual of a
-/// 128-element cantilever at α = 100 stalls near 2e-12).
+/// [`refine_with`] on graded meshes.
 pub fn refine_until(
     template: &Rod,
     tolerance: f64,
     residual_tol: f64,
+    follow: impl FnMut(&Rod) -> Result<RodBranch>,
+) -> Result<Accurate> {
+    refine_with(template, tolerance, residual_tol, Refinement::Graded, follow)
+}
+
+/// The branch `follow` computes on a rod (any path: a straight start, a
+/// switch at a located bifurcation, …), on `template`'s law, loads,
+/// supports and scheme, starting from its mesh (a uniform one made even,
+/// at least 4 elements; a graded one with an even count as it is) and
+/// refining until the worst scaled estimate is ≤ `tolerance`. Each new
+/// mesh asks for a resolution from the last's estimate and the scheme's
+/// order (with a 1.25 margin, at least 1.5× finer): uniformly, N × that
+/// factor; graded, the worst element's ω h divided by it
+/// ([`mesh::graded_mesh`]) — so a graded mesh never needs more elements
+/// than the uniform one would, and fewer where the solution's variation
+/// is local. At most [`MAX_ELEMENTS`] (ErrToleranceUnreachable beyond,
+/// saying what was reached). A branch that `follow` returns cancelled
+/// (`Stop::Cancelled`) ends the refinement as it is, with its estimates.
+/// `residual_tol` (≤ the tolerance) is the points' own; the re-solves
+/// take it, not below 1e-11 (their rounding floor on fine meshes under
+/// large loads: the scaled residual of a 128-element cantilever at α =
+/// 100 stalls near 2e-12).
+pub fn refine_with(
+    template: &Rod,
+    tolerance: f64,
+    residual_tol: f64,
+    refinement: Refinement,
     mut follow: impl FnMut(&Rod) -> Result<RodBranch>,
 ) -> Result<Accurate> {
     error::in_range("tolerance", tolerance, 1e-12, 1e-1)?;
@@ -435,10 +478,12 @@ pub fn refine_until(
         ));
     }
     let order = template.scheme.order() as f64;
-    let mut elements = template.elements.max(4).div_ceil(2) * 2;
+    let mut rod = match &template.breakpoints {
+        Some(_) if template.elements >= 4 && template.elements.is_multiple_of(2) => template.clone(),
+        _ => template.uniform(template.elements.max(4).div_ceil(2) * 2),
+    };
     let mut tried = vec![];
     loop {
-        let rod = Rod { elements, ..template.clone() };
         let branch = follow(&rod)?;
         let estimates = estimate_errors(&rod, &branch, residual_tol.max(1e-11))?;
         let bifurcation_estimates = estimate_bifurcation_errors(&rod, &branch, residual_tol.max(1e-11))?;
@@ -453,26 +498,41 @@ pub fn refine_until(
                     .map(|(e, b)| e.map_or(f64::INFINITY, |e| e.scaled(&rod, b))),
             )
             .fold(0.0, f64::max);
-        tried.push(elements);
+        tried.push(rod.elements);
         // Met — or stopped by its caller (a progress callback's cancel):
         // no further refinement, the estimates say how far it is.
         if worst <= tolerance || branch.stop == Stop::Cancelled {
             return Ok(Accurate { rod, branch, estimates, bifurcation_estimates, worst, tried });
         }
-        // The estimate falls as N^−order: the count that meets the
-        // tolerance, with a margin; an estimate missing (∞) doubles.
+        // The estimate falls as (ω h)^order: the resolution that meets the
+        // tolerance, with a margin; an estimate missing (∞) doubles it.
         let factor = if worst.is_finite() { (1.25 * (worst / tolerance).powf(1.0 / order)).max(1.5) } else { 2.0 };
-        let next = ((elements as f64 * factor).ceil() as usize).div_ceil(2) * 2;
-        if next > MAX_ELEMENTS {
-            return Err(Error::new(
+        let uniform = || {
+            let next = ((rod.elements as f64 * factor).ceil() as usize).div_ceil(2) * 2;
+            if next > MAX_ELEMENTS {
+                Err(next)
+            } else {
+                Ok(rod.uniform(next))
+            }
+        };
+        let next = match refinement {
+            Refinement::Uniform => uniform(),
+            Refinement::Graded => {
+                let states: Vec<&[f64]> =
+                    branch.states.iter().map(|x| &x[..]).chain(branch.bifurcations.iter().map(|b| &b.x[..])).collect();
+                mesh::graded_mesh(&rod, &states, factor, MAX_ELEMENTS).unwrap_or_else(uniform)
+            }
+        };
+        rod = next.map_err(|next| {
+            Error::new(
                 Status::ErrToleranceUnreachable,
                 format!(
-                    "rod branch to tolerance {tolerance:e}: {elements} elements leave an estimated error {worst:e}, \
-                     and the next refinement would need {next} > {MAX_ELEMENTS} elements"
+                    "rod branch to tolerance {tolerance:e}: {} elements leave an estimated error {worst:e}, \
+                     and the next refinement would need {next} > {MAX_ELEMENTS} elements",
+                    rod.elements
                 ),
-            ));
-        }
-        elements = next;
+            )
+        })?;
     }
 }
 

@@ -8,6 +8,7 @@
 pub mod accuracy;
 pub mod branch;
 pub mod kinematics;
+pub mod mesh;
 pub mod model;
 pub mod outputs;
 pub mod scheme;

@@ -75,6 +75,11 @@ pub struct Rod {
     pub supports: Supports,
     pub scheme: Scheme,
     pub elements: usize,
+    /// A graded mesh: the nodes' arc lengths as fractions of the length,
+    /// 0 = t_0 < t_1 < … < t_N = 1 (N + 1 of them, N = `elements`). None:
+    /// uniform, h = L/N. Set with [`Rod::graded`]; [`accuracy`](super::accuracy)
+    /// grades a mesh where the solution's derivatives ask.
+    pub breakpoints: Option<std::sync::Arc<[f64]>>,
     /// Rod diameter for self-contact detection (physics.md §2.4: the rod has
     /// no contact model; a branch reports where non-neighbouring points come
     /// closer than this). None: not checked.
@@ -170,7 +175,69 @@ impl Rod {
             }
             Supports::Cantilever => {}
         }
-        Ok(Rod { law, length, loads, supports, scheme, elements, diameter: None })
+        Ok(Rod { law, length, loads, supports, scheme, elements, breakpoints: None, diameter: None })
+    }
+
+    /// The same rod on a graded mesh: node i at arc length L·t_i, with
+    /// 0 = t_0 < t_1 < … < t_N = 1 (N ≥ 1 elements, at most as many as
+    /// [`Rod::new`] allows; each element at least 1e-9 of the length).
+    /// A uniform `t` gives the uniform rod's equations.
+    pub fn graded(mut self, t: &[f64]) -> Result<Self> {
+        error::count_in_range("breakpoints", t.len() as i64, 2, (1 << 18) + 1)?;
+        error::finite_result("breakpoints", t)?;
+        let ordered = t.windows(2).all(|w| w[1] - w[0] >= 1e-9);
+        if t[0] != 0.0 || t[t.len() - 1] != 1.0 || !ordered {
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                "breakpoints must run from 0 to 1 (fractions of the length), each element at least 1e-9 long",
+            ));
+        }
+        self.elements = t.len() - 1;
+        self.breakpoints = Some(t.into());
+        Ok(self)
+    }
+
+    /// The same rod on the uniform mesh of `elements` elements.
+    pub fn uniform(&self, elements: usize) -> Self {
+        Rod { elements, breakpoints: None, ..self.clone() }
+    }
+
+    /// The same mesh with every element cut into `k` equal parts (a
+    /// reference that keeps every node of this one).
+    pub fn subdivided(&self, k: usize) -> Result<Self> {
+        let k = k.max(1);
+        match &self.breakpoints {
+            None => Ok(self.uniform(self.elements * k)),
+            Some(t) => {
+                let mut fine: Vec<f64> = t
+                    .windows(2)
+                    .flat_map(|w| (0..k).map(move |j| w[0] + (w[1] - w[0]) * j as f64 / k as f64))
+                    .collect();
+                fine.push(1.0);
+                self.clone().graded(&fine)
+            }
+        }
+    }
+
+    /// The nodes' arc lengths s_0 = 0 … s_N = L.
+    pub fn node_positions(&self) -> Vec<f64> {
+        (0..=self.elements).map(|i| self.node_position(i)).collect()
+    }
+
+    /// Node i's arc length.
+    pub fn node_position(&self, i: usize) -> f64 {
+        match &self.breakpoints {
+            Some(t) => self.length * t[i],
+            None => i as f64 * self.element_length(),
+        }
+    }
+
+    /// Element i's length h_i.
+    pub fn element_h(&self, i: usize) -> f64 {
+        match &self.breakpoints {
+            Some(t) => self.length * (t[i + 1] - t[i]),
+            None => self.element_length(),
+        }
     }
 
     /// The same rod with a diameter for self-contact detection.
@@ -196,7 +263,7 @@ impl Rod {
         crate::geometry::proximity::closest_pair_within(&r, &s, d, gap).map(|(dist, i, j)| (dist, s[i], s[j]))
     }
 
-    /// Element length h.
+    /// The uniform mesh's element length h = L/N (a graded rod's mean).
     pub fn element_length(&self) -> f64 {
         self.length / self.elements as f64
     }
@@ -264,17 +331,18 @@ impl Rod {
     }
 
     /// The rod's profile: (arc length, offset in x) of every node and stage
-    /// state in order along the rod, the nodes at s = i·h and the stages at
-    /// (i + c_j)·h.
+    /// state in order along the rod, the nodes at s_i and the stages at
+    /// s_i + c_j·h_i.
     pub fn profile_offsets(&self) -> Vec<(f64, usize)> {
-        let h = self.element_length();
         let tab = self.tableau();
         let mut out = Vec::with_capacity(self.unknowns() / 13);
         for i in 0..=self.elements {
-            out.push((i as f64 * h, self.node(i)));
+            let s = self.node_position(i);
+            out.push((s, self.node(i)));
             if i < self.elements {
+                let h = self.element_h(i);
                 for j in 0..self.scheme.stages() {
-                    out.push(((i as f64 + tab.c[j]) * h, self.stage_offset(i, j)));
+                    out.push((s + tab.c[j] * h, self.stage_offset(i, j)));
                 }
             }
         }
@@ -350,7 +418,7 @@ impl Rod {
     }
 
     /// Scales: force K_b/L², moment K_b/L, positions L, quaternions 1.
-    fn state_scales(&self) -> [f64; 13] {
+    pub(crate) fn state_scales(&self) -> [f64; 13] {
         let (l, f) = (self.length, self.law.bending() / (self.length * self.length));
         let mut s = [0.0; 13];
         for i in 0..3 {
@@ -429,6 +497,12 @@ impl Rod {
     /// The assembled cubic system: the element blocks, the boundary block,
     /// the phase condition's block if any, and the scales.
     fn build(&self, phase: Option<(usize, f64)>, extra: Option<&[Vec<f64>]>) -> Result<AssembledSystem> {
+        if self.breakpoints.as_ref().is_some_and(|t| t.len() != self.elements + 1) {
+            return Err(Error::new(
+                Status::ErrInternal,
+                "a graded rod's breakpoints do not match its element count (make it with Rod::graded or Rod::uniform)",
+            ));
+        }
         let mut blocks = self.element_blocks(phase.is_some(), extra);
         blocks.push(self.boundary_block());
         let mu = self.unknowns();
@@ -457,25 +531,32 @@ impl Rod {
         Ok(sys)
     }
 
-    /// One block per element: its kernel (one recorded tape for a uniform
-    /// rod; with `extra` stiffening, one per distinct set of stage values) on
-    /// the element's node, stages and next node, Λ (and μ when `unfold`),
-    /// writing the stage rows at the stage slots and the update at the next
-    /// node's.
+    /// One block per element: its kernel on the element's node, stages and
+    /// next node, Λ (and μ when `unfold`), writing the stage rows at the
+    /// stage slots and the update at the next node's. A uniform rod records
+    /// one tape with h a constant; a graded one, one tape with h an input
+    /// (a `Slot::Param` per element: every element still shares the tape,
+    /// so they are evaluated four at a time in AssembledSystem's batches).
+    /// With `extra` stiffening, one tape per distinct set of stage values.
     fn element_blocks(&self, unfold: bool, extra: Option<&[Vec<f64>]>) -> Vec<Block> {
         let data = self.rhs_data();
-        let h = self.element_length();
         let bs = self.block_size();
         let stages = self.scheme.stages();
         let tab = self.tableau();
-        let extra_in = unfold as usize;
+        let graded = self.breakpoints.is_some();
+        // The tapes' inputs: [node, stages, next node, Λ, (h), (μ)].
+        let extra_in = unfold as usize + graded as usize;
+        let h = (!graded).then(|| self.element_length());
         let uniform: Vec<RhsData> = vec![data.clone(); stages.max(1)];
-        let element = Arc::new(match self.scheme {
-            Scheme::Midpoint => Tape::record(27 + extra_in, |v| midpoint_kernel(&data, h, v, unfold)),
-            Scheme::Gauss(_) => {
-                Tape::record(13 * (stages + 2) + 1 + extra_in, |v| gauss_kernel(&uniform, h, &tab, v, unfold))
-            }
-        });
+        let record = |per_stage: &[RhsData]| {
+            Arc::new(match self.scheme {
+                Scheme::Midpoint => Tape::record(27 + extra_in, |v| midpoint_kernel(&per_stage[0], h, v, unfold)),
+                Scheme::Gauss(_) => {
+                    Tape::record(13 * (stages + 2) + 1 + extra_in, |v| gauss_kernel(per_stage, h, &tab, v, unfold))
+                }
+            })
+        };
+        let element = record(&uniform);
         // Stiffened elements: one tape per distinct set of stage values.
         let mut tapes: std::collections::HashMap<Vec<u64>, Arc<Tape>> = std::collections::HashMap::new();
         let mu = self.unknowns();
@@ -488,9 +569,7 @@ impl Rod {
                         .entry(key)
                         .or_insert_with(|| {
                             let per_stage: Vec<RhsData> = e[i].iter().map(|v| self.rhs_data_stiffened(*v)).collect();
-                            Arc::new(Tape::record(13 * (stages + 2) + 1 + extra_in, |v| {
-                                gauss_kernel(&per_stage, h, &tab, v, unfold)
-                            }))
+                            record(&per_stage)
                         })
                         .clone()
                 }
@@ -499,13 +578,16 @@ impl Rod {
             let base = self.node(i);
             let mut inputs: Vec<Slot> = (0..bs + 13).map(|k| Slot::Unknown(base + k)).collect();
             inputs.push(Slot::Lambda);
+            if graded {
+                inputs.push(Slot::Param(self.element_h(i)));
+            }
             if unfold {
                 inputs.push(Slot::Unknown(mu));
             }
             // Stage rows at the stage slots, the update at the next node's.
             let mut rows: Vec<usize> = (0..13 * stages).map(|k| base + 13 + k).collect();
             rows.extend((0..13).map(|k| base + bs + k));
-            blocks.push(Block { tape: element.clone(), inputs, rows });
+            blocks.push(Block { tape: element, inputs, rows });
         }
         blocks
     }
@@ -537,7 +619,7 @@ impl Rod {
     /// with its phase row per length; a torque clamp's moment row and its Λ
     /// (the end torque) moments.
     fn scales(&self, n: usize) -> (Vec<f64>, Vec<f64>, f64) {
-        let h = self.element_length();
+        let bs = self.block_size();
         let mu = self.unknowns();
         let ss = self.state_scales();
         // μ is a distributed couple: moment per length, K_b/L².
@@ -568,7 +650,9 @@ impl Rod {
                 } else if is_angle(k) {
                     1.0
                 } else {
-                    h * rate(k % 13)
+                    // Element e's rows: its stages' and node e + 1's.
+                    let e = (k.saturating_sub(13) / bs).min(self.elements - 1);
+                    self.element_h(e) * rate(k % 13)
                 }
             })
             .collect();
@@ -807,16 +891,37 @@ fn field<T: Scalar>(data: &RhsData, y: &[T], lambda: T, v: &[T], unfold: bool) -
     }
 }
 
-fn midpoint_kernel<T: Scalar>(data: &RhsData, h: f64, v: &[T], unfold: bool) -> Vec<T> {
+/// The element length h in a kernel: a uniform rod's constant, or a
+/// graded rod's input (right after Λ).
+#[derive(Clone, Copy)]
+enum Step<T> {
+    Fixed(f64),
+    Input(T),
+}
+
+/// h given (`Some`), else the input at `at`.
+fn step<T: Scalar>(h: Option<f64>, v: &[T], at: usize) -> Step<T> {
+    match h {
+        Some(h) => Step::Fixed(h),
+        None => Step::Input(v[at]),
+    }
+}
+
+fn midpoint_kernel<T: Scalar>(data: &RhsData, h: Option<f64>, v: &[T], unfold: bool) -> Vec<T> {
     let (a, b, lambda) = (&v[0..13], &v[13..26], v[26]);
     let mid: Vec<T> = a.iter().zip(b).map(|(p, q)| (*p + *q) * 0.5).collect();
     let f = field(data, &mid, lambda, v, unfold);
-    (0..13).map(|k| b[k] - a[k] - f[k] * h).collect()
+    match step(h, v, 27) {
+        Step::Fixed(h) => (0..13).map(|k| b[k] - a[k] - f[k] * h).collect(),
+        Step::Input(h) => (0..13).map(|k| b[k] - a[k] - f[k] * h).collect(),
+    }
 }
 
 /// Gauss collocation on one element; `data[j]` is stage j's right-hand side
 /// (equal for an uncharged rod, stiffened per stage for a charged one).
-fn gauss_kernel<T: Scalar>(data: &[RhsData], h: f64, tab: &Tableau, v: &[T], unfold: bool) -> Vec<T> {
+/// With h an input (a graded rod), each row's increment is Σ_j a_ij f_j
+/// times h: one product per row.
+fn gauss_kernel<T: Scalar>(data: &[RhsData], h: Option<f64>, tab: &Tableau, v: &[T], unfold: bool) -> Vec<T> {
     let s = tab.c.len();
     let y0 = &v[0..13];
     let stage = |j: usize| &v[13 * (1 + j)..13 * (2 + j)];
@@ -824,21 +929,31 @@ fn gauss_kernel<T: Scalar>(data: &[RhsData], h: f64, tab: &Tableau, v: &[T], unf
     let lambda = v[13 * (2 + s)];
     let f: Vec<[T; 13]> = (0..s).map(|j| field(&data[j], stage(j), lambda, v, unfold)).collect();
     let mut out = Vec::with_capacity(13 * (s + 1));
-    for i in 0..s {
-        for k in 0..13 {
-            let mut e = stage(i)[k] - y0[k];
+    let step = step(h, v, 13 * (2 + s) + 1);
+    // Row k of start − y0 − h Σ_j w_j f_j.
+    let mut row = |start: T, k: usize, w: &[f64]| match step {
+        Step::Fixed(h) => {
+            let mut e = start - y0[k];
             for j in 0..s {
-                e = e - f[j][k] * (h * tab.a[i][j]);
+                e = e - f[j][k] * (h * w[j]);
             }
             out.push(e);
         }
+        Step::Input(h) => {
+            let mut sum = f[0][k] * w[0];
+            for j in 1..s {
+                sum = sum + f[j][k] * w[j];
+            }
+            out.push(start - y0[k] - sum * h);
+        }
+    };
+    for i in 0..s {
+        for k in 0..13 {
+            row(stage(i)[k], k, &tab.a[i]);
+        }
     }
     for k in 0..13 {
-        let mut e = y1[k] - y0[k];
-        for j in 0..s {
-            e = e - f[j][k] * (h * tab.b[j]);
-        }
-        out.push(e);
+        row(y1[k], k, &tab.b);
     }
     out
 }

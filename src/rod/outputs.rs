@@ -74,12 +74,13 @@ impl Rod {
 
     /// Stage-point positions and their arc lengths in state x.
     pub fn stage_points(&self, x: &[f64]) -> (Vec<[f64; 3]>, Vec<f64>) {
-        let h = self.element_length();
         let tab = self.tableau();
         let stages = self.scheme.stages();
         let r = self.stage_offsets().into_iter().map(|o| [x[o], x[o + 1], x[o + 2]]).collect();
         let c = &tab.c;
-        let s = (0..self.elements).flat_map(|e| (0..stages).map(move |j| (e as f64 + c[j]) * h)).collect();
+        let s = (0..self.elements)
+            .flat_map(|e| (0..stages).map(move |j| self.node_position(e) + c[j] * self.element_h(e)))
+            .collect();
         (r, s)
     }
 }

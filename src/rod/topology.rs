@@ -32,7 +32,6 @@ impl Rod {
     /// Tw = (1/2π) ∫ u3 ds (turns).
     pub fn twist(&self, x: &[f64]) -> f64 {
         let data = self.rhs_data();
-        let h = self.element_length();
         let tab = self.tableau();
         let u3 = |y: &[f64]| {
             let (u, _) = strains::<f64>(&data, &[y[10], y[11], y[12]], &[y[7], y[8], y[9]]);
@@ -40,6 +39,7 @@ impl Rod {
         };
         let mut total = 0.0;
         for i in 0..self.elements {
+            let h = self.element_h(i);
             match self.scheme.stages() {
                 // Implicit midpoint: its one stage is the midpoint, weight 1.
                 0 => {

@@ -421,13 +421,22 @@ pub struct TaylorWork {
     tangent: Vec<f64>,
 }
 
+/// `v` at least `len` long, its contents kept (the series' passes write
+/// every coefficient they later read: no zeroing between series).
+pub(crate) fn grow<T: Copy>(v: &mut Vec<T>, len: usize, fill: T) {
+    if v.len() < len {
+        v.resize(len, fill);
+    }
+}
+
 impl TaylorWork {
     /// Start a series at the point `x0` (order 0), for orders up to `max_order`.
     pub fn begin(&mut self, tape: &Tape, x0: &[f64], max_order: usize) {
         let stride = max_order + 1;
         self.order = max_order;
-        self.coef.clear();
-        self.coef.resize(tape.ops.len() * stride, 0.0);
+        // Not cleared: every pass writes its whole order before a later
+        // one reads it.
+        grow(&mut self.coef, tape.ops.len() * stride, 0.0);
         self.pass(tape, 0, &|i| x0[i]);
         self.last = Some(0);
         self.last_x.clear();
@@ -468,8 +477,7 @@ impl TaylorWork {
         assert!(p <= self.order, "Taylor order {p} outside 0..={}", self.order);
         let stride = self.order + 1;
         if p == 0 {
-            self.tangent.clear();
-            self.tangent.resize(tape.ops.len() * stride, 0.0);
+            grow(&mut self.tangent, tape.ops.len() * stride, 0.0);
         }
         let (c, d) = (&self.coef, &mut self.tangent);
         for (k, op) in tape.ops.iter().enumerate() {
@@ -509,9 +517,9 @@ impl TaylorWork {
     fn update(&mut self, tape: &Tape, p: usize, xp: &impl Fn(usize) -> f64) {
         let stride = self.order + 1;
         let c = &mut self.coef;
+        // Every node's change is written before a later node reads it.
         let d = &mut self.delta;
-        d.clear();
-        d.resize(tape.ops.len(), 0.0);
+        grow(d, tape.ops.len(), 0.0);
         for (k, op) in tape.ops.iter().enumerate() {
             let v = match *op {
                 Op::Input(i) => xp(i as usize) - self.last_x[i as usize],

@@ -77,8 +77,11 @@ pub struct Rod {
     pub elements: usize,
     /// A graded mesh: the nodes' arc lengths as fractions of the length,
     /// 0 = t_0 < t_1 < … < t_N = 1 (N + 1 of them, N = `elements`). None:
-    /// uniform, h = L/N. Set with [`Rod::graded`]; [`accuracy`](super::accuracy)
-    /// grades a mesh where the solution's derivatives ask.
+    /// uniform, h = L/N. Set with [`Rod::graded`] (and back with
+    /// [`Rod::uniform`]) — a struct update that changes `elements` alone
+    /// leaves them inconsistent, refused when the system is built;
+    /// [`accuracy`](super::accuracy) grades a mesh where the solution's
+    /// derivatives ask.
     pub breakpoints: Option<std::sync::Arc<[f64]>>,
     /// Rod diameter for self-contact detection (physics.md §2.4: the rod has
     /// no contact model; a branch reports where non-neighbouring points come
@@ -206,6 +209,8 @@ impl Rod {
     /// reference that keeps every node of this one).
     pub fn subdivided(&self, k: usize) -> Result<Self> {
         let k = k.max(1);
+        // Sized before anything is allocated (Rod::new's limit).
+        error::count_in_range("elements", self.elements.saturating_mul(k).min(i64::MAX as usize) as i64, 1, 1 << 18)?;
         match &self.breakpoints {
             None => Ok(self.uniform(self.elements * k)),
             Some(t) => {

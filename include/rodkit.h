@@ -745,7 +745,8 @@ typedef struct RodkitBranchProgress {
 typedef int32_t (*RodkitBranchCallback)(const struct RodkitBranchProgress *progress, void *user_data);
 
 // A record's estimated discretisation error (rodkit_branch_error_estimates):
-// the difference from the same point re-solved on half the elements,
+// the difference from the same point re-solved on half the elements
+// (neighbours merged in pairs, so a graded mesh is coarsened everywhere),
 // which bounds the record's own error wherever halving the mesh at least
 // doubles it (the scheme's order is 2s on Gauss(s)).
 typedef struct RodkitRecordError {
@@ -1534,10 +1535,15 @@ int32_t rodkit_rod_rhs(const struct RodkitRod *rod, const double *y, double lamb
 // rodkit_rod_continue with x0 NULL) with the elements chosen by rodkit so
 // that every record's scaled error estimate is ≤ `tolerance` (1e-12 …
 // 0.1): `rod`'s law, loads, supports and scheme, its element count as the
-// first try, refined uniformly (at most 1024 elements:
-// RODKIT_STATUS_ERR_TOLERANCE_UNREACHABLE beyond, with what was reached).
-// `*rod_out` receives the refined rod (free it with rodkit_rod_free; its
-// element count is the one chosen), `*out` the branch, of `*rod_out`;
+// first try (uniform), then graded meshes: elements placed where the
+// branch's records vary fast (AUTO-07p's equidistribution of the
+// solution's highest derivative; symmetric about the middle for a rod
+// held at both ends), as many as the last estimate and the scheme's order
+// ask — never more than uniform refinement would take (at most 1024
+// elements: RODKIT_STATUS_ERR_TOLERANCE_UNREACHABLE beyond, with what was
+// reached). `*rod_out` receives the refined rod (free it with
+// rodkit_rod_free; rodkit_rod_node_positions gives the mesh chosen),
+// `*out` the branch, of `*rod_out`;
 // rodkit_branch_error_estimates gives each record's estimate,
 // rodkit_branch_bifurcation_errors each located bifurcation's (with
 // options.detect_bifurcations the critical loads meet the tolerance too).

@@ -11,6 +11,8 @@
  *  - After a failure, rodkit_last_error_message() describes it (thread-local).
  *  - Matrices are column-major with an explicit leading dimension; arrays are
  *    owned by the caller and borrowed for the duration of the call only.
+ *  - "physics.md §N.M" cites the physics reference doc/physics.md (installed
+ *    as share/doc/rodkit/physics.md): equations, symbols, units and signs.
  *  - Every function is reentrant and thread-safe on distinct arguments;
  *    rodkit starts no threads unless asked per call or per handle.
  *  - Callbacks passed to rodkit must not unwind through it (no C++ throw, no

@@ -1,5 +1,5 @@
 //! Helically reinforced tubes: coupled extension–torsion–inflation
-//! (`../shared/spec/physics.md` §1).
+//! (`doc/physics.md` §1).
 //!
 //! So far: the linear theory about the stress-free state in the thin-tube
 //! (membrane) limit, §1.4. The coupling stiffness and what follows from it

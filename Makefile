@@ -7,8 +7,17 @@
 #                 the quick fuzz run (fuzz-quick)
 #   make fuzz     the fuzz targets of tests/fuzz/ (ASan + UBSan), longer:
 #                 FUZZ_ITERS=20000 FUZZ_SEED=1 by default
-#   make install  PREFIX=/usr/local: library, header, Fortran module source,
-#                 pkg-config file
+#   make install  PREFIX=/usr/local: the shared library (soname
+#                 librodkit.so.<ABI>, with the usual symlinks), the static
+#                 archive, the header, the Fortran module (compiled:
+#                 rodkit.mod + librodkit_fortran.a, and its source), the
+#                 pkg-config files (rodkit.pc, rodkit-fortran.pc) and the CMake
+#                 package (lib/cmake/rodkit: find_package(rodkit)); the
+#                 physics reference, licences, citation and changelog in
+#                 share/doc/rodkit
+#   make downstream  install into a temporary prefix and build and run the
+#                 C, C++ and Fortran projects of tests/downstream/ against it
+#                 with CMake and with pkg-config (part of `make test`)
 #
 # Both `run` and `test` first install missing system packages (.ci/deps).
 
@@ -20,11 +29,25 @@ LIBDIR := $(TARGET_DIR)/$(PROFILE)
 BUILD := $(LIBDIR)/native
 PREFIX ?= /usr/local
 VERSION := $(shell sed -n 's/^version = "\(.*\)"/\1/p' $(ROOT)/Cargo.toml | head -n 1)
+V_MAJOR := $(word 1,$(subst ., ,$(VERSION)))
+V_MINOR := $(word 2,$(subst ., ,$(VERSION)))
+V_PATCH := $(word 3,$(subst ., ,$(VERSION)))
+# The ABI version (src/version.rs) names the shared library: soname
+# librodkit.so.<ABI> (set by build.rs), installed as
+# librodkit.so.<ABI>.<minor>.<patch> with librodkit.so.<ABI> and
+# librodkit.so linking to it.
+ABI := $(shell sed -n 's/^pub const ABI_VERSION: i32 = \([0-9]*\);/\1/p' $(ROOT)/src/version.rs)
+SONAME := librodkit.so.$(ABI)
+REALNAME := librodkit.so.$(ABI).$(V_MINOR).$(V_PATCH)
 CARGO_PROFILE := $(if $(filter release,$(PROFILE)),--release,)
 
-# What a static link of librodkit.a needs besides the archive itself
-# (`cargo rustc --lib --crate-type staticlib -- --print native-static-libs`).
-STATIC_LIBS := -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc
+# What a static link of librodkit.a needs besides the archive itself,
+# derived when the library is built: rustc's --print native-static-libs for
+# a static library of the same toolchain (rodkit's dependencies add no
+# native library of their own, so std's list is rodkit's; the static
+# drivers and tests/downstream link with it).
+STATIC_LIBS_FILE := $(LIBDIR)/rodkit-static-libs
+STATIC_LIBS = $(shell cat $(STATIC_LIBS_FILE) 2>/dev/null)
 
 CC ?= gcc
 CXX ?= g++
@@ -33,17 +56,17 @@ CFLAGS := -std=c11 -O2 -g -Wall -Wextra -pedantic -Werror -I$(ROOT)/include
 CXXFLAGS := -std=c++17 -O2 -g -Wall -Wextra -pedantic -Werror -I$(ROOT)/include
 FFLAGS := -std=f2008 -O2 -g -Wall -Wextra -J$(BUILD)/fmod -I$(BUILD)/fmod
 SHARED := -L$(LIBDIR) -lrodkit -Wl,-rpath,$(LIBDIR)
-STATIC := $(LIBDIR)/librodkit.a $(STATIC_LIBS)
+STATIC = $(LIBDIR)/librodkit.a $(STATIC_LIBS)
 
 C_DRIVERS := tube_stiffness bad_input artery dna_tube rod_buckling dna_supercoil dna_supercoil_resume dna_map
 F_DRIVERS := tube_stiffness stretch_sweep follower_cantilever greenhill charged_curve dna_supercoil
 EXES := $(foreach d,$(C_DRIVERS),$(BUILD)/c_$(d)_shared $(BUILD)/c_$(d)_static) \
         $(BUILD)/cpp_tube_stiffness $(BUILD)/c_rod_sundials_shared \
         $(foreach d,$(F_DRIVERS),$(BUILD)/f_$(d)_shared $(BUILD)/f_$(d)_static)
-LIBS := $(LIBDIR)/librodkit.so $(LIBDIR)/librodkit.a
+LIBS := $(LIBDIR)/librodkit.so $(LIBDIR)/librodkit.a $(LIBDIR)/$(SONAME) $(STATIC_LIBS_FILE)
 HEADER := $(ROOT)/include/rodkit.h
 
-.PHONY: all deps lib drivers run test install clean-native fuzz fuzz-quick fuzz-build
+.PHONY: all deps lib drivers run test install downstream clean-native fuzz fuzz-quick fuzz-build
 all: lib drivers
 
 deps:
@@ -51,6 +74,19 @@ deps:
 
 lib:
 	cd $(ROOT) && $(CARGO) build --lib $(CARGO_PROFILE)
+	@$(MAKE) --no-print-directory -s $(LIBDIR)/$(SONAME) $(STATIC_LIBS_FILE)
+
+# Programs linked against the build's librodkit.so record its soname: the
+# link lets them load it from the build directory.
+$(LIBDIR)/$(SONAME): $(LIBDIR)/librodkit.so
+	ln -sf librodkit.so $@
+
+$(STATIC_LIBS_FILE): $(LIBDIR)/librodkit.a
+	@tmp=$$(mktemp -d) && : > $$tmp/probe.rs && \
+	  $${RUSTC:-rustc} --crate-type staticlib --crate-name probe --print native-static-libs \
+	    -o $$tmp/libprobe.a $$tmp/probe.rs 2>&1 | sed -n 's/^note: native-static-libs: //p' > $$tmp/libs && \
+	  test -s $$tmp/libs && mv $$tmp/libs $@; status=$$?; rm -rf $$tmp; \
+	  test $$status -eq 0 || { echo "rodkit: rustc --print native-static-libs gave nothing" >&2; exit 1; }
 
 drivers: $(EXES)
 
@@ -75,7 +111,12 @@ $(BUILD)/cpp_%: $(ROOT)/c_examples/%.cpp $(HEADER) $(LIBS)
 
 $(BUILD)/rodkit_mod.o: $(ROOT)/include/rodkit.f90
 	@mkdir -p $(BUILD)/fmod
-	$(FC) $(FFLAGS) -c $< -o $@
+	$(FC) $(FFLAGS) -fPIC -c $< -o $@
+
+# The compiled Fortran module for installation: rodkit.mod (in
+# $(BUILD)/fmod) and its procedures' archive.
+$(BUILD)/librodkit_fortran.a: $(BUILD)/rodkit_mod.o
+	ar rcs $@ $<
 
 $(BUILD)/f_%_shared: $(ROOT)/fortran_examples/%.f90 $(BUILD)/rodkit_mod.o $(LIBS)
 	$(FC) $(FFLAGS) $< $(BUILD)/rodkit_mod.o $(SHARED) -o $@
@@ -107,6 +148,7 @@ run: deps lib
 # run under valgrind) and the SUNDIALS cross-checks; then the quick fuzz run.
 test: deps
 	cd $(ROOT) && $(CARGO) test --release --features sundials
+	@$(MAKE) --no-print-directory downstream
 	@$(MAKE) --no-print-directory fuzz-quick
 
 # Fuzz targets (issue 17; tests/fuzz/fuzz.h says what they check): one C
@@ -140,15 +182,41 @@ fuzz-quick: fuzz-build
 fuzz: fuzz-build
 	@for t in $(FUZZ_TARGETS); do $(FUZZ_ENV) $(BUILD)/fuzz_$$t $(FUZZ_ITERS) $(FUZZ_SEED) || exit 1; done
 
-install: lib
-	install -d $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/include
-	install -m 644 $(LIBDIR)/librodkit.a $(DESTDIR)$(PREFIX)/lib/
-	install -m 755 $(LIBDIR)/librodkit.so $(DESTDIR)$(PREFIX)/lib/
-	install -m 644 $(ROOT)/include/rodkit.h $(ROOT)/include/rodkit.f90 $(DESTDIR)$(PREFIX)/include/
+# The static link flags as a CMake list (-lm -lc -> m;c).
+empty :=
+space := $(empty) $(empty)
+GFORTRAN_VERSION := $(shell $(FC) -dumpfullversion 2>/dev/null)
+PC_DIR := $(DESTDIR)$(PREFIX)/lib/pkgconfig
+CMAKE_DIR := $(DESTDIR)$(PREFIX)/lib/cmake/rodkit
+install: lib $(BUILD)/librodkit_fortran.a
+	install -d $(PC_DIR) $(CMAKE_DIR) $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/share/doc/rodkit
+	install -m 644 $(ROOT)/doc/physics.md $(ROOT)/README.md $(ROOT)/CHANGELOG.md $(ROOT)/CITATION.cff \
+	  $(ROOT)/LICENSE-MIT $(ROOT)/LICENSE-APACHE $(DESTDIR)$(PREFIX)/share/doc/rodkit/
+	install -m 644 $(LIBDIR)/librodkit.a $(BUILD)/librodkit_fortran.a $(DESTDIR)$(PREFIX)/lib/
+	install -m 755 $(LIBDIR)/librodkit.so $(DESTDIR)$(PREFIX)/lib/$(REALNAME)
+	ln -sf $(REALNAME) $(DESTDIR)$(PREFIX)/lib/$(SONAME)
+	ln -sf $(SONAME) $(DESTDIR)$(PREFIX)/lib/librodkit.so
+	install -m 644 $(ROOT)/include/rodkit.h $(ROOT)/include/rodkit.f90 $(BUILD)/fmod/rodkit.mod \
+	  $(DESTDIR)$(PREFIX)/include/
 	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$${prefix}/lib' 'includedir=$${prefix}/include' '' \
 	  'Name: rodkit' 'Description: Mechanics of elastic tubes and rods (C ABI)' 'Version: $(VERSION)' \
 	  'Libs: -L$${libdir} -lrodkit' 'Libs.private: $(STATIC_LIBS)' 'Cflags: -I$${includedir}' \
-	  > $(DESTDIR)$(PREFIX)/lib/pkgconfig/rodkit.pc
+	  > $(PC_DIR)/rodkit.pc
+	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$${prefix}/lib' 'includedir=$${prefix}/include' '' \
+	  'Name: rodkit-fortran' 'Description: Fortran 2008 module of rodkit (rodkit.mod of gfortran $(GFORTRAN_VERSION))' \
+	  'Version: $(VERSION)' 'Requires: rodkit = $(VERSION)' 'Libs: -L$${libdir} -lrodkit_fortran' \
+	  'Cflags: -I$${includedir}' > $(PC_DIR)/rodkit-fortran.pc
+	sed -e 's/@VERSION@/$(VERSION)/g' -e 's/@ABI@/$(ABI)/g' -e 's/@MAJOR@/$(V_MAJOR)/g' \
+	  -e 's/@MINOR@/$(V_MINOR)/g' -e 's/@PATCH@/$(V_PATCH)/g' -e 's/@GFORTRAN@/$(GFORTRAN_VERSION)/g' \
+	  -e 's/@STATIC_LIBS@/$(subst $(space),;,$(patsubst -l%,%,$(STATIC_LIBS)))/g' \
+	  $(ROOT)/cmake/rodkitConfig.cmake.in > $(CMAKE_DIR)/rodkitConfig.cmake
+	sed -e 's/@VERSION@/$(VERSION)/g' -e 's/@MAJOR@/$(V_MAJOR)/g' -e 's/@MINOR@/$(V_MINOR)/g' \
+	  $(ROOT)/cmake/rodkitConfigVersion.cmake.in > $(CMAKE_DIR)/rodkitConfigVersion.cmake
+
+# Downstream projects (tests/downstream/: C, C++, Fortran) built against an
+# installed rodkit with CMake and with pkg-config; the soname checked.
+downstream: lib
+	@bash $(ROOT)/tests/downstream/run.sh
 
 clean-native:
 	rm -rf $(BUILD)

@@ -2,7 +2,8 @@
 //! `src/status.rs` (one list for the enum and `rodkit_status_string`), and
 //! (2) the C header with cbindgen, into OUT_DIR. `include/rodkit.h` is the
 //! committed copy: it is rewritten only when RODKIT_WRITE_HEADER=1, so the
-//! test `header_is_current` can catch a stale commit.
+//! test `header_is_current` can catch a stale commit. On Linux it also gives
+//! the shared library its soname, librodkit.so.<ABI> (src/version.rs).
 
 use std::env;
 use std::fmt::Write as _;
@@ -19,6 +20,12 @@ fn main() {
 
     write_status_messages(&root, &out);
     write_header(&root, &out);
+    // The shared library's soname carries the ABI version, so a program
+    // linked against one ABI does not load another (the Makefile links
+    // librodkit.so.<ABI> to the build and installs the usual chain).
+    if env::var("CARGO_CFG_TARGET_OS").as_deref() == Ok("linux") {
+        println!("cargo:rustc-cdylib-link-arg=-Wl,-soname,librodkit.so.{}", abi_version(&root));
+    }
 }
 
 /// Parse `/// message` + `Name = code,` pairs inside `pub enum Status { … }`.

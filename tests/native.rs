@@ -247,45 +247,6 @@ fn c_drivers_are_clean_under_valgrind() {
     }
 }
 
-/// `make install` writes a working pkg-config file: a C program compiles and
-/// links with `pkg-config --cflags --libs rodkit` (shared) and with the
-/// static archive plus `pkg-config --static --libs-only-l` flags.
-#[test]
-fn installed_library_links_through_pkg_config() {
-    drivers();
-    let prefix = std::env::temp_dir().join(format!("rodkit-install-{}", std::process::id()));
-    let make = Command::new("make")
-        .current_dir(ROOT)
-        .args(["--no-print-directory", "-s", "install", &format!("PROFILE={}", profile())])
-        .arg(format!("PREFIX={}", prefix.display()))
-        .arg("CARGO=true") // the library is already built
-        .output()
-        .unwrap();
-    check(make, "make install");
-    let pc = prefix.join("lib/pkgconfig");
-    let flags = |args: &[&str]| {
-        let out = Command::new("pkg-config").args(args).arg("rodkit").env("PKG_CONFIG_PATH", &pc).output().unwrap();
-        check(out, "pkg-config").split_whitespace().map(String::from).collect::<Vec<_>>()
-    };
-    assert_eq!(flags(&["--modversion"]), vec![env!("CARGO_PKG_VERSION").to_string()]);
-    let src = Path::new(ROOT).join("c_examples/tube_stiffness.c");
-    let exe = prefix.join("ts_pkgconfig");
-    let mut gcc = Command::new("gcc");
-    gcc.arg("-std=c11").arg(&src).args(flags(&["--cflags", "--libs"]));
-    gcc.arg(format!("-Wl,-rpath,{}", prefix.join("lib").display())).arg("-lm").arg("-o").arg(&exe);
-    check(gcc.output().unwrap(), "gcc with pkg-config");
-    let exe_static = prefix.join("ts_pkgconfig_static");
-    let mut gcc = Command::new("gcc");
-    gcc.arg("-std=c11").arg(&src).args(flags(&["--cflags"])).arg(prefix.join("lib/librodkit.a"));
-    gcc.args(flags(&["--static", "--libs-only-l"]).into_iter().filter(|f| f != "-lrodkit")).arg("-o").arg(&exe_static);
-    check(gcc.output().unwrap(), "gcc static with pkg-config");
-    for exe in [&exe, &exe_static] {
-        let out = Command::new(exe).current_dir(ROOT).output().unwrap();
-        assert_matches_rust("installed", &check(out, "installed driver"));
-    }
-    let _ = std::fs::remove_dir_all(&prefix);
-}
-
 /// The artery driver's CSV equals the Rust scene's sweep on the same input
 /// (reference: TubeScene::sweep, the same code path, so bitwise).
 #[test]

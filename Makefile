@@ -143,9 +143,11 @@ run: deps lib
 	@echo "=== c_dna_map_shared $(DNA_MAP_SUBSET) $(DNA_MAP_OUT)"
 	@cd $(ROOT) && $(BUILD)/c_dna_map_shared $(DNA_MAP_SUBSET) $(DNA_MAP_OUT)
 
-# All tests in one cargo invocation: the Rust suites, the drivers (built here
+# All tests: one cargo invocation for the Rust suites, the drivers (built here
 # by tests/native.rs through this Makefile, compared with the Rust results,
-# run under valgrind) and the SUNDIALS cross-checks; then the quick fuzz run.
+# run under valgrind) and the SUNDIALS cross-checks; then the downstream
+# projects against an installed prefix (CMake, pkg-config); then the quick
+# fuzz run.
 test: deps
 	cd $(ROOT) && $(CARGO) test --release --features sundials
 	@$(MAKE) --no-print-directory downstream

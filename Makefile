@@ -7,14 +7,15 @@
 #                 the quick fuzz run (fuzz-quick)
 #   make fuzz     the fuzz targets of tests/fuzz/ (ASan + UBSan), longer:
 #                 FUZZ_ITERS=20000 FUZZ_SEED=1 by default
-#   make install  PREFIX=/usr/local: the shared library (soname
-#                 librodkit.so.<ABI>, with the usual symlinks), the static
-#                 archive, the header, the Fortran module (compiled:
-#                 rodkit.mod + librodkit_fortran.a, and its source), the
-#                 pkg-config files (rodkit.pc, rodkit-fortran.pc) and the CMake
-#                 package (lib/cmake/rodkit: find_package(rodkit)); the
-#                 physics reference, licences, citation and changelog in
-#                 share/doc/rodkit
+#   make install  PREFIX=/usr/local (after make lib; GNU directory
+#                 variables libdir, includedir, docdir, … and DESTDIR): the
+#                 shared library (soname librodkit.so.<ABI>, with the usual
+#                 symlinks), the static archive, the header, the pkg-config
+#                 file rodkit.pc and the CMake package (libdir/cmake/rodkit:
+#                 find_package(rodkit)); with gfortran (WITH_FORTRAN) the
+#                 compiled module (rodkit.mod in libdir/fortran/gfortran-mod-N,
+#                 librodkit_fortran.a, rodkit-fortran.pc) and its source; the
+#                 physics reference, licences, citation and changelog in docdir
 #   make downstream  install into a temporary prefix and build and run the
 #                 C, C++ and Fortran projects of tests/downstream/ against it
 #                 with CMake and with pkg-config (part of `make test`)
@@ -25,8 +26,8 @@ PROFILE ?= release
 CARGO ?= cargo
 ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
 TARGET_DIR ?= $(ROOT)/target
-LIBDIR := $(TARGET_DIR)/$(PROFILE)
-BUILD := $(LIBDIR)/native
+OUTDIR := $(TARGET_DIR)/$(PROFILE)
+BUILD := $(OUTDIR)/native
 PREFIX ?= /usr/local
 VERSION := $(shell sed -n 's/^version = "\(.*\)"/\1/p' $(ROOT)/Cargo.toml | head -n 1)
 V_MAJOR := $(word 1,$(subst ., ,$(VERSION)))
@@ -46,24 +47,29 @@ CARGO_PROFILE := $(if $(filter release,$(PROFILE)),--release,)
 # a static library of the same toolchain (rodkit's dependencies add no
 # native library of their own, so std's list is rodkit's; the static
 # drivers and tests/downstream link with it).
-STATIC_LIBS_FILE := $(LIBDIR)/rodkit-static-libs
-STATIC_LIBS = $(shell cat $(STATIC_LIBS_FILE) 2>/dev/null)
+STATIC_LIBS_FILE := $(OUTDIR)/rodkit-static-libs
+STATIC_LIBS = $(or $(shell cat $(STATIC_LIBS_FILE) 2>/dev/null),$(error rodkit: $(STATIC_LIBS_FILE) is missing (make lib)))
 
 CC ?= gcc
 CXX ?= g++
+# gfortran unless the caller names another (make's own default is f77).
+ifeq ($(origin FC),default)
 FC := gfortran
+endif
+# The compiled Fortran module is built and installed when $(FC) exists.
+WITH_FORTRAN ?= $(if $(shell command -v $(FC) 2>/dev/null),yes,no)
 CFLAGS := -std=c11 -O2 -g -Wall -Wextra -pedantic -Werror -I$(ROOT)/include
 CXXFLAGS := -std=c++17 -O2 -g -Wall -Wextra -pedantic -Werror -I$(ROOT)/include
 FFLAGS := -std=f2008 -O2 -g -Wall -Wextra -J$(BUILD)/fmod -I$(BUILD)/fmod
-SHARED := -L$(LIBDIR) -lrodkit -Wl,-rpath,$(LIBDIR)
-STATIC = $(LIBDIR)/librodkit.a $(STATIC_LIBS)
+SHARED := -L$(OUTDIR) -lrodkit -Wl,-rpath,$(OUTDIR)
+STATIC = $(OUTDIR)/librodkit.a $(STATIC_LIBS)
 
 C_DRIVERS := tube_stiffness bad_input artery dna_tube rod_buckling dna_supercoil dna_supercoil_resume dna_map
 F_DRIVERS := tube_stiffness stretch_sweep follower_cantilever greenhill charged_curve dna_supercoil
 EXES := $(foreach d,$(C_DRIVERS),$(BUILD)/c_$(d)_shared $(BUILD)/c_$(d)_static) \
         $(BUILD)/cpp_tube_stiffness $(BUILD)/c_rod_sundials_shared \
         $(foreach d,$(F_DRIVERS),$(BUILD)/f_$(d)_shared $(BUILD)/f_$(d)_static)
-LIBS := $(LIBDIR)/librodkit.so $(LIBDIR)/librodkit.a $(LIBDIR)/$(SONAME) $(STATIC_LIBS_FILE)
+LIBS := $(OUTDIR)/librodkit.so $(OUTDIR)/librodkit.a $(OUTDIR)/$(SONAME) $(STATIC_LIBS_FILE)
 HEADER := $(ROOT)/include/rodkit.h
 
 .PHONY: all deps lib drivers run test install downstream clean-native fuzz fuzz-quick fuzz-build
@@ -74,14 +80,14 @@ deps:
 
 lib:
 	cd $(ROOT) && $(CARGO) build --lib $(CARGO_PROFILE)
-	@$(MAKE) --no-print-directory -s $(LIBDIR)/$(SONAME) $(STATIC_LIBS_FILE)
+	@$(MAKE) --no-print-directory -s $(OUTDIR)/$(SONAME) $(STATIC_LIBS_FILE)
 
 # Programs linked against the build's librodkit.so record its soname: the
 # link lets them load it from the build directory.
-$(LIBDIR)/$(SONAME): $(LIBDIR)/librodkit.so
+$(OUTDIR)/$(SONAME): $(OUTDIR)/librodkit.so
 	ln -sf librodkit.so $@
 
-$(STATIC_LIBS_FILE): $(LIBDIR)/librodkit.a
+$(STATIC_LIBS_FILE): $(OUTDIR)/librodkit.a
 	@tmp=$$(mktemp -d) && : > $$tmp/probe.rs && \
 	  $${RUSTC:-rustc} --crate-type staticlib --crate-name probe --print native-static-libs \
 	    -o $$tmp/libprobe.a $$tmp/probe.rs 2>&1 | sed -n 's/^note: native-static-libs: //p' > $$tmp/libs && \
@@ -184,36 +190,65 @@ fuzz-quick: fuzz-build
 fuzz: fuzz-build
 	@for t in $(FUZZ_TARGETS); do $(FUZZ_ENV) $(BUILD)/fuzz_$$t $(FUZZ_ITERS) $(FUZZ_SEED) || exit 1; done
 
-# The static link flags as a CMake list (-lm -lc -> m;c).
+# Installation directories, GNU names (override any, e.g. make install
+# libdir=/usr/lib/x86_64-linux-gnu); DESTDIR stages them. The Fortran
+# module goes where Debian keeps gfortran modules, by its format version
+# (read from rodkit.mod itself), its source to share/.
 empty :=
 space := $(empty) $(empty)
-GFORTRAN_VERSION := $(shell $(FC) -dumpfullversion 2>/dev/null)
-PC_DIR := $(DESTDIR)$(PREFIX)/lib/pkgconfig
-CMAKE_DIR := $(DESTDIR)$(PREFIX)/lib/cmake/rodkit
-install: lib $(BUILD)/librodkit_fortran.a
-	install -d $(PC_DIR) $(CMAKE_DIR) $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/share/doc/rodkit
-	install -m 644 $(ROOT)/doc/physics.md $(ROOT)/README.md $(ROOT)/CHANGELOG.md $(ROOT)/CITATION.cff \
-	  $(ROOT)/LICENSE-MIT $(ROOT)/LICENSE-APACHE $(DESTDIR)$(PREFIX)/share/doc/rodkit/
-	install -m 644 $(LIBDIR)/librodkit.a $(BUILD)/librodkit_fortran.a $(DESTDIR)$(PREFIX)/lib/
-	install -m 755 $(LIBDIR)/librodkit.so $(DESTDIR)$(PREFIX)/lib/$(REALNAME)
-	ln -sf $(REALNAME) $(DESTDIR)$(PREFIX)/lib/$(SONAME)
-	ln -sf $(SONAME) $(DESTDIR)$(PREFIX)/lib/librodkit.so
-	install -m 644 $(ROOT)/include/rodkit.h $(ROOT)/include/rodkit.f90 $(BUILD)/fmod/rodkit.mod \
-	  $(DESTDIR)$(PREFIX)/include/
-	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$${prefix}/lib' 'includedir=$${prefix}/include' '' \
+libdir ?= $(PREFIX)/lib
+includedir ?= $(PREFIX)/include
+docdir ?= $(PREFIX)/share/doc/rodkit
+pkgconfigdir ?= $(libdir)/pkgconfig
+cmakedir ?= $(libdir)/cmake/rodkit
+fortransrcdir ?= $(PREFIX)/share/rodkit/fortran
+GFORTRAN_VERSION = $(shell $(FC) -dumpfullversion 2>/dev/null)
+GFORTRAN_MOD = $(shell gzip -dc $(BUILD)/fmod/rodkit.mod 2>/dev/null | sed -n "1s/^GFORTRAN module version '\([0-9]*\)'.*/\1/p")
+fortrandir ?= $(libdir)/fortran/gfortran-mod-$(GFORTRAN_MOD)
+# The CMake package finds everything relative to its own place.
+rel = $(shell realpath -m --relative-to=$(1) $(2))
+
+# The library and archive are built by `make lib` (install does not build:
+# `sudo make install` would build as root).
+$(OUTDIR)/librodkit.so $(OUTDIR)/librodkit.a:
+	@echo "rodkit: $@ is missing: build it first (make lib)" >&2; exit 1
+
+install: $(LIBS) $(if $(filter yes,$(WITH_FORTRAN)),$(BUILD)/librodkit_fortran.a)
+	install -d $(DESTDIR)$(libdir) $(DESTDIR)$(includedir) $(DESTDIR)$(pkgconfigdir) $(DESTDIR)$(cmakedir) \
+	  $(DESTDIR)$(docdir)
+	rm -f $(DESTDIR)$(libdir)/librodkit.so.$(ABI).*
+	install -m 755 $(OUTDIR)/librodkit.so $(DESTDIR)$(libdir)/$(REALNAME)
+	ln -sf $(REALNAME) $(DESTDIR)$(libdir)/$(SONAME)
+	ln -sf $(SONAME) $(DESTDIR)$(libdir)/librodkit.so
+	install -m 644 $(OUTDIR)/librodkit.a $(DESTDIR)$(libdir)/
+	install -m 644 $(ROOT)/include/rodkit.h $(DESTDIR)$(includedir)/
+	install -m 644 $(DOCS) $(DESTDIR)$(docdir)/
+	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$(libdir)' 'includedir=$(includedir)' '' \
 	  'Name: rodkit' 'Description: Mechanics of elastic tubes and rods (C ABI)' 'Version: $(VERSION)' \
 	  'Libs: -L$${libdir} -lrodkit' 'Libs.private: $(STATIC_LIBS)' 'Cflags: -I$${includedir}' \
-	  > $(PC_DIR)/rodkit.pc
-	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$${prefix}/lib' 'includedir=$${prefix}/include' '' \
+	  > $(DESTDIR)$(pkgconfigdir)/rodkit.pc
+	sed -e 's|@VERSION@|$(VERSION)|g' -e 's|@ABI@|$(ABI)|g' -e 's|@MINOR@|$(V_MINOR)|g' -e 's|@PATCH@|$(V_PATCH)|g' \
+	  -e 's|@TO_PREFIX@|$(call rel,$(cmakedir),$(PREFIX))|g' -e 's|@LIB@|$(call rel,$(PREFIX),$(libdir))|g' \
+	  -e 's|@INCLUDE@|$(call rel,$(PREFIX),$(includedir))|g' -e 's|@STATIC_LIBS@|$(subst $(space),;,$(STATIC_LIBS))|g' \
+	  -e 's|@FMOD@|$(call rel,$(PREFIX),$(fortrandir))|g' -e 's|@GFORTRAN@|$(GFORTRAN_VERSION)|g' \
+	  -e 's|@FORTRAN_SOURCE@|$(call rel,$(PREFIX),$(fortransrcdir))|g' \
+	  $(ROOT)/cmake/rodkitConfig.cmake.in > $(DESTDIR)$(cmakedir)/rodkitConfig.cmake
+	sed -e 's|@VERSION@|$(VERSION)|g' -e 's|@MAJOR@|$(V_MAJOR)|g' -e 's|@MINOR@|$(V_MINOR)|g' \
+	  $(ROOT)/cmake/rodkitConfigVersion.cmake.in > $(DESTDIR)$(cmakedir)/rodkitConfigVersion.cmake
+ifeq ($(WITH_FORTRAN),yes)
+	install -d $(DESTDIR)$(fortrandir) $(DESTDIR)$(fortransrcdir)
+	install -m 644 $(BUILD)/librodkit_fortran.a $(DESTDIR)$(libdir)/
+	install -m 644 $(BUILD)/fmod/rodkit.mod $(DESTDIR)$(fortrandir)/
+	install -m 644 $(ROOT)/include/rodkit.f90 $(DESTDIR)$(fortransrcdir)/
+	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$(libdir)' 'fmoddir=$(fortrandir)' '' \
 	  'Name: rodkit-fortran' 'Description: Fortran 2008 module of rodkit (rodkit.mod of gfortran $(GFORTRAN_VERSION))' \
 	  'Version: $(VERSION)' 'Requires: rodkit = $(VERSION)' 'Libs: -L$${libdir} -lrodkit_fortran' \
-	  'Cflags: -I$${includedir}' > $(PC_DIR)/rodkit-fortran.pc
-	sed -e 's/@VERSION@/$(VERSION)/g' -e 's/@ABI@/$(ABI)/g' -e 's/@MAJOR@/$(V_MAJOR)/g' \
-	  -e 's/@MINOR@/$(V_MINOR)/g' -e 's/@PATCH@/$(V_PATCH)/g' -e 's/@GFORTRAN@/$(GFORTRAN_VERSION)/g' \
-	  -e 's/@STATIC_LIBS@/$(subst $(space),;,$(patsubst -l%,%,$(STATIC_LIBS)))/g' \
-	  $(ROOT)/cmake/rodkitConfig.cmake.in > $(CMAKE_DIR)/rodkitConfig.cmake
-	sed -e 's/@VERSION@/$(VERSION)/g' -e 's/@MAJOR@/$(V_MAJOR)/g' -e 's/@MINOR@/$(V_MINOR)/g' \
-	  $(ROOT)/cmake/rodkitConfigVersion.cmake.in > $(CMAKE_DIR)/rodkitConfigVersion.cmake
+	  'Cflags: -I$${fmoddir}' > $(DESTDIR)$(pkgconfigdir)/rodkit-fortran.pc
+endif
+
+# What goes to docdir (a distribution that ships licences elsewhere sets DOCS).
+DOCS ?= $(ROOT)/doc/physics.md $(ROOT)/README.md $(ROOT)/CHANGELOG.md $(ROOT)/CITATION.cff \
+        $(ROOT)/LICENSE-MIT $(ROOT)/LICENSE-APACHE
 
 # Downstream projects (tests/downstream/: C, C++, Fortran) built against an
 # installed rodkit with CMake and with pkg-config; the soname checked.

@@ -1272,8 +1272,9 @@ extern "C" {
 // `RODKIT_STATUS_ERR_INTERNAL`, with a last-error message containing
 // "deliberate panic". It lets a host program (and rodkit's own tests) verify
 // that a bug inside rodkit reaches it as a status, never as an abort or an
-// unwind into C. The Rust runtime's default panic hook also prints one line
-// to stderr (rodkit does not replace the process-wide hook).
+// unwind into C. Nothing is printed: the message names the panic's place
+// instead (rodkit's panic hook keeps quiet for panics its guard catches and
+// passes every other panic to the hook it replaced).
 int32_t rodkit_diagnostic_panic(void);
 
 // Fit the thin-wall constants (E1, E2, G12) of a tube of mid radius R,

@@ -33,6 +33,8 @@ fn panic_becomes_internal_error_status() {
     let st = rodkit_diagnostic_panic();
     assert_eq!(st, Status::ErrInternal.code());
     assert!(last_error().contains("deliberate panic"), "{}", last_error());
+    // Where it happened, in the message (the quiet hook keeps the place).
+    assert!(last_error().contains("at src/capi/diagnostic.rs:"), "{}", last_error());
     // The library still works on this thread after the caught panic.
     let mut alpha = 0.0;
     assert_eq!(unsafe { rodkit_thin_tube_helix_angle(&dna_spec(), &mut alpha) }, 0);

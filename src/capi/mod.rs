@@ -47,7 +47,9 @@ pub mod version;
 use crate::error::Result;
 use crate::status::Status;
 use std::any::Any;
+use std::cell::{Cell, RefCell};
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::Once;
 
 /// Runs `body` for an exported fallible function: clears the last error,
 /// catches panics, records the message of a failure, returns the status code.
@@ -66,14 +68,15 @@ pub(crate) fn guard(body: impl FnOnce() -> Result<Status>) -> i32 {
 /// [`guard`] without clearing the last error on entry: for the accessor that
 /// copies that message out.
 pub(crate) fn guard_preserving_error(body: impl FnOnce() -> Result<Status>) -> i32 {
-    match catch_unwind(AssertUnwindSafe(body)) {
+    match guarded(body) {
         Ok(Ok(status)) => status.code(),
         Ok(Err(e)) => {
             error::set_last_error(&e.message);
             e.status.code()
         }
-        Err(payload) => {
-            error::set_last_error(&format!("internal error (panic): {}", panic_message(&*payload)));
+        Err((payload, place)) => {
+            let at = place.map(|p| format!(" at {p}")).unwrap_or_default();
+            error::set_last_error(&format!("internal error (panic{at}): {}", panic_message(&*payload)));
             Status::ErrInternal.code()
         }
     }
@@ -83,7 +86,46 @@ pub(crate) fn guard_preserving_error(body: impl FnOnce() -> Result<Status>) -> i
 /// (and must not clear the last error, e.g. the error accessors themselves):
 /// a panic yields `fallback`.
 pub(crate) fn guard_value<T>(fallback: T, body: impl FnOnce() -> T) -> T {
-    catch_unwind(AssertUnwindSafe(body)).unwrap_or(fallback)
+    guarded(body).unwrap_or(fallback)
+}
+
+thread_local! {
+    /// Guarded calls running on this thread (callbacks nest them).
+    static GUARDED: Cell<u32> = const { Cell::new(0) };
+    /// Where the last panic inside a guarded call happened.
+    static PANIC_PLACE: RefCell<Option<String>> = const { RefCell::new(None) };
+}
+
+/// `body` under catch_unwind, with the panic's place. A panic caught here
+/// becomes a status and a message on the error channel, so it prints
+/// nothing on the host's stderr (no message, no backtrace even with
+/// RUST_BACKTRACE set): a hook installed once passes panics outside
+/// guarded calls to the hook it replaced and keeps only the place of those
+/// inside.
+fn guarded<T>(body: impl FnOnce() -> T) -> std::result::Result<T, (Box<dyn Any + Send>, Option<String>)> {
+    static QUIET: Once = Once::new();
+    QUIET.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if GUARDED.with(|g| g.get()) > 0 {
+                let place = info.location().map(|l| format!("{}:{}:{}", l.file(), l.line(), l.column()));
+                PANIC_PLACE.with(|p| *p.borrow_mut() = place);
+            } else {
+                previous(info);
+            }
+        }));
+    });
+    struct Depth;
+    impl Drop for Depth {
+        fn drop(&mut self) {
+            GUARDED.with(|g| g.set(g.get() - 1));
+        }
+    }
+    GUARDED.with(|g| g.set(g.get() + 1));
+    let depth = Depth;
+    let result = catch_unwind(AssertUnwindSafe(body));
+    drop(depth);
+    result.map_err(|payload| (payload, PANIC_PLACE.with(|p| p.borrow_mut().take())))
 }
 
 fn panic_message(payload: &(dyn Any + Send)) -> String {

@@ -148,23 +148,9 @@ int main(int argc, char **argv) {
     shapes[ns++] = info.straight_points - 1;
     for (int64_t i = info.straight_points; i < count && ns < 4095; i += 10) shapes[ns++] = i;
     if (shapes[ns - 1] != count - 1) shapes[ns++] = count - 1;
-    FILE *vtk = fopen(vtk_path, "w");
-    if (!vtk) { perror(vtk_path); return 1; }
-    fprintf(vtk, "# vtk DataFile Version 3.0\nrodkit DNA supercoiling shapes (nm)\nASCII\nDATASET POLYDATA\nPOINTS %lld double\n",
-            (long long)(ns * info.nodes));
-    for (int64_t k = 0; k < ns; ++k) {
-        if ((st = rodkit_supercoil_positions(run, shapes[k], xyz, 3, info.nodes)) < 0) return fail(st, "rodkit_supercoil_positions");
-        for (int64_t i = 0; i < info.nodes; ++i) fprintf(vtk, "%.9g %.9g %.9g\n", xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
-    }
-    fprintf(vtk, "LINES %lld %lld\n", (long long)ns, (long long)(ns * (info.nodes + 1)));
-    for (int64_t k = 0; k < ns; ++k) {
-        fprintf(vtk, "%lld", (long long)info.nodes);
-        for (int64_t i = 0; i < info.nodes; ++i) fprintf(vtk, " %lld", (long long)(k * info.nodes + i));
-        fprintf(vtk, "\n");
-    }
-    fprintf(vtk, "CELL_DATA %lld\nSCALARS turns double 1\nLOOKUP_TABLE default\n", (long long)ns);
-    for (int64_t k = 0; k < ns; ++k) fprintf(vtk, "%.9g\n", pts[shapes[k]].turns);
-    fclose(vtk);
+    /* rodkit writes them (legacy VTK polydata, cell data turns, extension,
+     * torque, writhe). */
+    if ((st = rodkit_supercoil_write_vtk(run, shapes, ns, vtk_path)) < 0) return fail(st, "rodkit_supercoil_write_vtk");
     printf("# wrote %s (%lld points) and %s (%lld shapes)\n", csv_path, (long long)count, vtk_path, (long long)ns);
 
     free(pts);

@@ -158,34 +158,14 @@ int main(int argc, char **argv) {
         fprintf(csv, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.3e,%.3e\n", rec[i].lambda, rec[i].tip_x, rec[i].tip_y,
                 rec[i].tip_z, rec[i].tip_rotation * 180.0 / pi, rec[i].base_moment_y, rec[i].residual, rec[i].unfolding);
     fclose(csv);
-    const int64_t nodes = spec.elements + 1;
     int64_t shapes[8], ns = 0;
     for (int64_t k = 0; k < 8; ++k) shapes[ns++] = k * last / 7;
-    double *xyz = malloc((size_t)(3 * nodes) * sizeof(double));
-    FILE *vtk = fopen(vtk_path, "w");
-    if (!vtk) {
-        perror(vtk_path);
-        return 1;
-    }
-    fprintf(vtk, "# vtk DataFile Version 3.0\nrodkit post-buckled shapes\nASCII\nDATASET POLYDATA\n");
-    fprintf(vtk, "POINTS %lld double\n", (long long)(ns * nodes));
-    for (int64_t k = 0; k < ns; ++k) {
-        st = rodkit_branch_positions(buckled, rod, shapes[k], xyz, 3, nodes);
-        if (st < 0) return fail(st, "rodkit_branch_positions");
-        for (int64_t i = 0; i < nodes; ++i) fprintf(vtk, "%.9g %.9g %.9g\n", xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
-    }
-    fprintf(vtk, "LINES %lld %lld\n", (long long)ns, (long long)(ns * (nodes + 1)));
-    for (int64_t k = 0; k < ns; ++k) {
-        fprintf(vtk, "%lld", (long long)nodes);
-        for (int64_t i = 0; i < nodes; ++i) fprintf(vtk, " %lld", (long long)(k * nodes + i));
-        fprintf(vtk, "\n");
-    }
-    fprintf(vtk, "CELL_DATA %lld\nSCALARS load double 1\nLOOKUP_TABLE default\n", (long long)ns);
-    for (int64_t k = 0; k < ns; ++k) fprintf(vtk, "%.9g\n", rec[shapes[k]].lambda);
-    fclose(vtk);
+    /* rodkit writes the shapes (legacy VTK polydata, cell data lambda and
+     * end_rotation). */
+    st = rodkit_branch_write_vtk(buckled, rod, shapes, ns, vtk_path);
+    if (st < 0) return fail(st, "rodkit_branch_write_vtk");
     printf("# 3. branch -> %s, %lld shapes -> %s\n", csv_path, (long long)ns, vtk_path);
 
-    free(xyz);
     free(rec);
     rodkit_branch_free(buckled);
     rodkit_branch_free(straight);

@@ -100,6 +100,8 @@ module rodkit
     ! the requested tolerance is below what the model or floating-point
     ! round-off can reach (the message gives the best reachable)
     integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_TOLERANCE_UNREACHABLE = -13
+    ! a file could not be written (the message names the path and the system's reason)
+    integer(c_int32_t), parameter :: RODKIT_STATUS_ERR_IO = -14
 
     ! -------------------------------------------------------------------------
     ! enum RodkitWinding: how a free tube (T = 0, p = 0) twists when pulled,
@@ -1204,6 +1206,50 @@ module rodkit
             integer(c_int64_t), value :: nodes
             integer(c_int32_t) :: status
         end function rodkit_branch_positions
+
+        ! Files for other tools: the shapes of n chosen records as legacy VTK
+        ! polydata (cell data lambda, end_rotation) or the records as CSV; a
+        ! supercoiling path's shapes (cell data turns, extension, torque,
+        ! writhe) or points likewise. `path` is a NUL-terminated file name
+        ! (trim(name)//c_null_char); nothing is written on failure
+        ! (RODKIT_STATUS_ERR_IO names the path and the reason).
+        function rodkit_branch_write_vtk(branch, rod, records, n, path) result(status) &
+                bind(c, name="rodkit_branch_write_vtk")
+            import :: c_char, c_int32_t, c_int64_t, c_ptr
+            type(c_ptr), value :: branch
+            type(c_ptr), value :: rod
+            integer(c_int64_t), intent(in) :: records(*)
+            integer(c_int64_t), value :: n
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int32_t) :: status
+        end function rodkit_branch_write_vtk
+
+        function rodkit_branch_write_csv(branch, rod, path) result(status) &
+                bind(c, name="rodkit_branch_write_csv")
+            import :: c_char, c_int32_t, c_ptr
+            type(c_ptr), value :: branch
+            type(c_ptr), value :: rod
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int32_t) :: status
+        end function rodkit_branch_write_csv
+
+        function rodkit_supercoil_write_vtk(run, points, n, path) result(status) &
+                bind(c, name="rodkit_supercoil_write_vtk")
+            import :: c_char, c_int32_t, c_int64_t, c_ptr
+            type(c_ptr), value :: run
+            integer(c_int64_t), intent(in) :: points(*)
+            integer(c_int64_t), value :: n
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int32_t) :: status
+        end function rodkit_supercoil_write_vtk
+
+        function rodkit_supercoil_write_csv(run, path) result(status) &
+                bind(c, name="rodkit_supercoil_write_csv")
+            import :: c_char, c_int32_t, c_ptr
+            type(c_ptr), value :: run
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int32_t) :: status
+        end function rodkit_supercoil_write_csv
 
         function rodkit_rod_node_positions(rod, s, capacity, count) result(status) &
                 bind(c, name="rodkit_rod_node_positions")

@@ -30,6 +30,9 @@ pub mod geometry;
 pub mod rod;
 pub mod tube;
 
+// Files for other tools (VTK shapes, CSV tables), written on request.
+pub mod io;
+
 pub mod capi;
 
 pub use error::{Error, Result};

@@ -57,6 +57,8 @@ pub enum Status {
     ErrWorkLimit = -12,
     /// the requested tolerance is below what the model or floating-point round-off can reach (the message gives the best reachable)
     ErrToleranceUnreachable = -13,
+    /// a file could not be written (the message names the path and the system's reason)
+    ErrIo = -14,
 }
 
 include!(concat!(env!("OUT_DIR"), "/status_messages.rs"));

@@ -34,6 +34,7 @@ pub mod rod;
 pub mod accuracy;
 pub mod branch;
 pub mod branch_record;
+pub mod output;
 pub mod supercoil;
 pub mod supercoil_curve;
 

@@ -118,7 +118,7 @@ mod tests {
             assert!(!s.message().is_empty() && !s.message().contains('\0'));
             assert_eq!(Status::from_code(s.code()), Some(*s));
         }
-        assert_eq!(Status::ALL.len(), 22);
+        assert_eq!(Status::ALL.len(), 23);
         assert_eq!(Status::from_code(-999), None);
     }
 }

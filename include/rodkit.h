@@ -1725,6 +1725,59 @@ int32_t rodkit_branch_positions(const struct RodkitBranch *branch,
                                 int64_t ld,
                                 int64_t nodes);
 
+// Write the shapes of the records `records` (n indices; NULL: every record)
+// of `branch` (computed on `rod`) to `path` as legacy VTK polydata: one
+// polyline per record through the rod's nodes
+// (positions r(s_i)), with the cell data `lambda` (the record's load
+// parameter) and `end_rotation` (φ under an end-rotation or end-moment
+// control, else 0) — for ParaView or VisIt. Coordinates at full precision.
+// Writes nothing on failure.
+//
+// # Safety
+// `branch` and `rod` must be NULL or valid handles, `records` NULL or `n`
+// readable values, `path` NULL or a NUL-terminated string.
+int32_t rodkit_branch_write_vtk(const struct RodkitBranch *branch,
+                                const struct RodkitRod *rod,
+                                const int64_t *records,
+                                int64_t n,
+                                const char *path);
+
+// Write the records of `branch` (computed on `rod`) to `path` as CSV: a
+// header row, then one row per record with the RodkitBranchRecord fields
+// lambda, end_rotation, tip_x, tip_y, tip_z, tip_rotation, base_force_x…z,
+// base_moment_x…z, det_sign, bordered_det_sign, test_function, residual,
+// step, newton_iterations, unfolding (NaN where a field is not tracked).
+// Writes nothing on failure.
+//
+// # Safety
+// As rodkit_branch_write_vtk.
+int32_t rodkit_branch_write_csv(const struct RodkitBranch *branch,
+                                const struct RodkitRod *rod,
+                                const char *path);
+
+// Write the shapes of the points `points` (n indices; NULL: every point)
+// of a supercoiling path to `path` as legacy VTK polydata: one polyline
+// per point through the rod's nodes (nm), with the
+// cell data `turns`, `extension`, `torque` and `writhe` of the point.
+// Writes nothing on failure.
+//
+// # Safety
+// `run` must be NULL or a valid handle, `points` NULL or `n` readable
+// values, `path` NULL or a NUL-terminated string.
+int32_t rodkit_supercoil_write_vtk(const struct RodkitSupercoil *run,
+                                   const int64_t *points,
+                                   int64_t n,
+                                   const char *path);
+
+// Write the points of a supercoiling path to `path` as CSV: a header row,
+// then one row per point with the RodkitSupercoilPoint fields turns,
+// extension, torque, tension, twist, writhe, branch, residual. Writes
+// nothing on failure.
+//
+// # Safety
+// As rodkit_supercoil_write_vtk.
+int32_t rodkit_supercoil_write_csv(const struct RodkitSupercoil *run, const char *path);
+
 // Fill `spec` with the defaults above.
 int32_t rodkit_dna_supercoil_spec_default(struct RodkitDnaSupercoilSpec *spec);
 
@@ -1829,59 +1882,6 @@ int32_t rodkit_supercoil_curve_points(const struct RodkitSupercoil *run,
                                       struct RodkitSupercoilCurvePoint *points,
                                       int64_t capacity,
                                       int64_t *count);
-
-// Write the shapes of the records `records` (n indices; NULL: every record)
-// of `branch` (computed on `rod`) to `path` as legacy VTK polydata: one
-// polyline per record through the rod's nodes
-// (positions r(s_i)), with the cell data `lambda` (the record's load
-// parameter) and `end_rotation` (φ under an end-rotation or end-moment
-// control, else 0) — for ParaView or VisIt. Coordinates at full precision.
-// Writes nothing on failure.
-//
-// # Safety
-// `branch` and `rod` must be NULL or valid handles, `records` NULL or `n`
-// readable values, `path` NULL or a NUL-terminated string.
-int32_t rodkit_branch_write_vtk(const struct RodkitBranch *branch,
-                                const struct RodkitRod *rod,
-                                const int64_t *records,
-                                int64_t n,
-                                const char *path);
-
-// Write the records of `branch` (computed on `rod`) to `path` as CSV: a
-// header row, then one row per record with the RodkitBranchRecord fields
-// lambda, end_rotation, tip_x, tip_y, tip_z, tip_rotation, base_force_x…z,
-// base_moment_x…z, det_sign, bordered_det_sign, test_function, residual,
-// step, newton_iterations, unfolding (NaN where a field is not tracked).
-// Writes nothing on failure.
-//
-// # Safety
-// As rodkit_branch_write_vtk.
-int32_t rodkit_branch_write_csv(const struct RodkitBranch *branch,
-                                const struct RodkitRod *rod,
-                                const char *path);
-
-// Write the shapes of the points `points` (n indices; NULL: every point)
-// of a supercoiling path to `path` as legacy VTK polydata: one polyline
-// per point through the rod's nodes (nm), with the
-// cell data `turns`, `extension`, `torque` and `writhe` of the point.
-// Writes nothing on failure.
-//
-// # Safety
-// `run` must be NULL or a valid handle, `points` NULL or `n` readable
-// values, `path` NULL or a NUL-terminated string.
-int32_t rodkit_supercoil_write_vtk(const struct RodkitSupercoil *run,
-                                   const int64_t *points,
-                                   int64_t n,
-                                   const char *path);
-
-// Write the points of a supercoiling path to `path` as CSV: a header row,
-// then one row per point with the RodkitSupercoilPoint fields turns,
-// extension, torque, tension, twist, writhe, branch, residual. Writes
-// nothing on failure.
-//
-// # Safety
-// As rodkit_supercoil_write_vtk.
-int32_t rodkit_supercoil_write_csv(const struct RodkitSupercoil *run, const char *path);
 
 // Fill `spec` with the defaults above.
 int32_t rodkit_equilibrium_spec_default(struct RodkitEquilibriumSpec *spec);

@@ -1,9 +1,14 @@
 //! Build script: generates (1) the status messages from the doc comments of
-//! `src/status.rs` (one list for the enum and `rodkit_status_string`), and
-//! (2) the C header with cbindgen, into OUT_DIR. `include/rodkit.h` is the
-//! committed copy: it is rewritten only when RODKIT_WRITE_HEADER=1, so the
-//! test `header_is_current` can catch a stale commit. On Linux it also gives
+//! `src/status.rs` (one list for the enum and `rodkit_status_string`), (2)
+//! the C header with cbindgen and (3) the Fortran module from cbindgen's
+//! same definitions (codegen/fortran.rs), into OUT_DIR. `include/rodkit.h`
+//! and `include/rodkit.f90` are the committed copies: they are rewritten
+//! only when RODKIT_WRITE_HEADER=1, so the tests `header_is_current` and
+//! `fortran_module_is_current` catch a stale commit. On Linux it also gives
 //! the shared library its soname, librodkit.so.<ABI> (src/version.rs).
+
+#[path = "codegen/fortran.rs"]
+mod fortran;
 
 use std::env;
 use std::fmt::Write as _;
@@ -16,6 +21,7 @@ fn main() {
     println!("cargo:rerun-if-changed=src");
     println!("cargo:rerun-if-changed=cbindgen.toml");
     println!("cargo:rerun-if-changed=build.rs");
+    println!("cargo:rerun-if-changed=codegen");
     println!("cargo:rerun-if-env-changed=RODKIT_WRITE_HEADER");
 
     write_status_messages(&root, &out);
@@ -76,6 +82,13 @@ fn abi_version(root: &Path) -> i32 {
 fn write_header(root: &Path, out: &Path) {
     let mut config = cbindgen::Config::from_file(root.join("cbindgen.toml")).expect("read cbindgen.toml");
     let v = |k: &str| env::var(k).unwrap();
+    let versions = fortran::Versions {
+        major: v("CARGO_PKG_VERSION_MAJOR"),
+        minor: v("CARGO_PKG_VERSION_MINOR"),
+        patch: v("CARGO_PKG_VERSION_PATCH"),
+        string: v("CARGO_PKG_VERSION"),
+        abi: abi_version(root),
+    };
     config.after_includes = Some(format!(
         "\n/* Library version (from Cargo.toml) and ABI version (from src/version.rs). */\n\
          #define RODKIT_VERSION_MAJOR {}\n#define RODKIT_VERSION_MINOR {}\n#define RODKIT_VERSION_PATCH {}\n\
@@ -94,7 +107,14 @@ fn write_header(root: &Path, out: &Path) {
     let generated = out.join("rodkit.h");
     bindings.write_to_file(&generated);
     println!("cargo:rustc-env=RODKIT_GENERATED_HEADER={}", generated.display());
+    let procedures = fs::read_to_string(root.join("codegen/procedures.f90")).expect("read codegen/procedures.f90");
+    let module = fortran::generate(&bindings, &versions, &procedures)
+        .unwrap_or_else(|e| panic!("the Fortran module cannot be generated: {e}"));
+    let generated_f90 = out.join("rodkit.f90");
+    fs::write(&generated_f90, &module).unwrap();
+    println!("cargo:rustc-env=RODKIT_GENERATED_FORTRAN={}", generated_f90.display());
     if env::var("RODKIT_WRITE_HEADER").as_deref() == Ok("1") {
         bindings.write_to_file(root.join("include/rodkit.h"));
+        fs::write(root.join("include/rodkit.f90"), &module).unwrap();
     }
 }

@@ -176,6 +176,7 @@ fn kept_or<T: Clone>(
 /// tolerance with; for any other branch they are computed here (one
 /// re-solve per record on half the elements: the rod needs an even
 /// element count, else RODKIT_STATUS_ERR_OUT_OF_RANGE).
+/// cbindgen:fortran-arrays=[out]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_branch_error_estimates(
     branch: *const Branch,
@@ -198,6 +199,7 @@ pub unsafe extern "C" fn rodkit_branch_error_estimates(
 /// the ones it met the tolerance with; for any other branch they are
 /// computed here (each point located again on half the elements: the rod
 /// needs an even element count, else RODKIT_STATUS_ERR_OUT_OF_RANGE).
+/// cbindgen:fortran-arrays=[out]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_branch_bifurcation_errors(
     branch: *const Branch,
@@ -238,6 +240,7 @@ pub unsafe extern "C" fn rodkit_branch_bifurcation_errors(
 /// the Kirchhoff rod has the same unknowns and cost here. A rod that is
 /// already Kirchhoff: RODKIT_STATUS_ERR_OUT_OF_RANGE. `count` receives the
 /// number of records.
+/// cbindgen:fortran-arrays=[out]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_branch_kirchhoff_differences(
     branch: *const Branch,

@@ -199,6 +199,7 @@ unsafe fn copy_state(
 /// RODKIT_STATUS_INFO_* when the branch ended otherwise (the branch is
 /// returned in every non-negative case), a negative status on failure
 /// (`*out` NULL). `progress` may be NULL.
+/// cbindgen:fortran-arrays=[x0]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_rod_continue(
     rod: *const Rod,
@@ -328,6 +329,7 @@ pub unsafe extern "C" fn rodkit_branch_summary(branch: *const Branch, info: *mut
 /// Copy up to `capacity` records into `records`; `count` receives the
 /// number of records of the branch. Fewer than that copied:
 /// RODKIT_STATUS_INFO_TRUNCATED (capacity 0 with records NULL is a size query).
+/// cbindgen:fortran-arrays=[records]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_branch_records(
     branch: *const Branch,
@@ -346,6 +348,7 @@ pub unsafe extern "C" fn rodkit_branch_records(
 /// (step, determinant signs 0; test_function NaN: not tracked); `count`
 /// receives their number. Truncation and size queries as for
 /// rodkit_branch_records.
+/// cbindgen:fortran-arrays=[samples]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_branch_samples(
     branch: *const Branch,
@@ -360,6 +363,7 @@ pub unsafe extern "C" fn rodkit_branch_samples(
 }
 
 /// The full state x of sample `sample` (length RodkitBranchInfo.state_length).
+/// cbindgen:fortran-arrays=[x]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_branch_sample_state(branch: *const Branch, sample: i64, x: *mut f64, n: i64) -> i32 {
     guard(|| {
@@ -395,6 +399,7 @@ fn bifurcation_points(rod: &Rod, b: &Branch) -> Vec<BifurcationPoint> {
 }
 
 /// Copy up to `capacity` located bifurcations; `count` receives their number.
+/// cbindgen:fortran-arrays=[out]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_branch_bifurcations(
     branch: *const Branch,
@@ -415,6 +420,7 @@ pub unsafe extern "C" fn rodkit_branch_bifurcations(
 /// branch (the record each follows, the end rotation there) and the
 /// evidence for each; `count` receives their number. Same order and
 /// indices as rodkit_branch_bifurcations and rodkit_branch_switch.
+/// cbindgen:fortran-arrays=[out]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_branch_bifurcation_points(
     branch: *const Branch,
@@ -433,6 +439,7 @@ pub unsafe extern "C" fn rodkit_branch_bifurcation_points(
 
 /// The full state x at bifurcation `index` (length
 /// RodkitBranchInfo.state_length): the point rodkit_branch_switch leaves.
+/// cbindgen:fortran-arrays=[x]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_branch_bifurcation_state(
     branch: *const Branch,
@@ -461,6 +468,7 @@ pub unsafe extern "C" fn rodkit_branch_bifurcation_state(
 /// bifurcation accounting for it was located); `count` receives their
 /// number. A branch with any returns
 /// RODKIT_STATUS_INFO_UNRESOLVED_BIFURCATION where it would return 0.
+/// cbindgen:fortran-arrays=[out]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_branch_unresolved(
     branch: *const Branch,
@@ -482,6 +490,7 @@ pub unsafe extern "C" fn rodkit_branch_unresolved(
 }
 
 /// The full state x at record `record` (length RodkitBranchInfo.state_length).
+/// cbindgen:fortran-arrays=[x]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_branch_state(branch: *const Branch, record: i64, x: *mut f64, n: i64) -> i32 {
     guard(|| {
@@ -492,6 +501,7 @@ pub unsafe extern "C" fn rodkit_branch_state(branch: *const Branch, record: i64,
 
 /// Node positions r(s_i), i = 0…N, of record `record`: xyz[k + ld·i]
 /// (ld ≥ 3), for `nodes` = N + 1 nodes (the rod's elements + 1).
+/// cbindgen:fortran-arrays=[xyz]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_branch_positions(
     branch: *const Branch,

@@ -273,6 +273,7 @@ fn settings(spec: &ElectrostaticsSpec) -> Result<(LineCharge, Screening, EnergyQ
 /// or not the arc length, `closed` not 0/1 or not closed, a zero tangent);
 /// ERR_WORK_LIMIT (above the work bounds, e.g. a = 1e-6, δ = 2e-6 on a
 /// length of 20); ERR_NON_FINITE_RESULT. Nothing is written on failure.
+/// cbindgen:fortran-arrays=[s, xyz, tangents]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_curve_electrostatic_energy(
     s: *const f64,
@@ -302,6 +303,7 @@ pub unsafe extern "C" fn rodkit_curve_electrostatic_energy(
 /// `rodkit_curve_electrostatic_energy`, and ERR_WORK_LIMIT when the
 /// N(N − 1)/2 pairs exceed 1e9 (N = round(L/spacing): about 45 000
 /// charges).
+/// cbindgen:fortran-arrays=[s, xyz, tangents]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_curve_base_pair_energy(
     s: *const f64,
@@ -347,6 +349,7 @@ pub unsafe extern "C" fn rodkit_curve_base_pair_energy(
 /// panel (2…32). Work: about ½(nodes·order)² kernel evaluations; above 1e9
 /// (10–30 s) the call is refused with RODKIT_ERR_WORK_LIMIT stating the
 /// cost.
+/// cbindgen:fortran-arrays=[s, xyz, tangents]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_curve_writhe(
     s: *const f64,
@@ -407,6 +410,7 @@ pub struct EnergyWithin {
 /// ≈ 3e-14 on a ring of 16 nodes) or Gauss order 32 reach; ERR_WORK_LIMIT when the next step would exceed
 /// 2e9 kernel evaluations over the call (or an evaluation's bounds). Both
 /// messages state the best estimate reached; `out` is not written then.
+/// cbindgen:fortran-arrays=[s, xyz, tangents]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_curve_electrostatic_energy_within(
     s: *const f64,

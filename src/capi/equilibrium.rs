@@ -98,6 +98,7 @@ pub unsafe extern "C" fn rodkit_equilibrium_spec_default(spec: *mut EquilibriumS
 /// `RodkitSupercoilInfo.nodes`). Non-convergence is
 /// RODKIT_STATUS_ERR_NOT_CONVERGED (nothing written). Reentrant; `run`
 /// is only read.
+/// cbindgen:fortran-arrays=[xyz]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_supercoil_solve_point(
     run: *const Supercoil,

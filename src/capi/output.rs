@@ -69,6 +69,7 @@ unsafe fn chosen(selection: *const i64, n: i64, len: usize, what: &str) -> Resul
 /// # Safety
 /// `branch` and `rod` must be NULL or valid handles, `records` NULL or `n`
 /// readable values, `path` NULL or a NUL-terminated string.
+/// cbindgen:fortran-arrays=[records]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_branch_write_vtk(
     branch: *const Branch,
@@ -170,6 +171,7 @@ pub unsafe extern "C" fn rodkit_branch_write_csv(branch: *const Branch, rod: *co
 /// # Safety
 /// `run` must be NULL or a valid handle, `points` NULL or `n` readable
 /// values, `path` NULL or a NUL-terminated string.
+/// cbindgen:fortran-arrays=[points]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_supercoil_write_vtk(
     run: *const Supercoil,

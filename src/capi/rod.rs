@@ -72,6 +72,7 @@ pub unsafe extern "C" fn rodkit_rod_new(spec: *const RodSpec, out: *mut *mut Rod
 /// Entries must be finite (ERR_NOT_FINITE naming `stiffness[i + ldk·j]`);
 /// a condition number above 1e13 is refused (ERR_NOT_POSITIVE_DEFINITE,
 /// "ill-conditioned").
+/// cbindgen:fortran-arrays=[stiffness]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_rod_new_general(
     spec: *const RodSpec,
@@ -151,6 +152,7 @@ pub unsafe extern "C" fn rodkit_rod_unknowns(rod: *const Rod, n: *mut i64) -> i3
 /// rodkit_rod_continue_to_tolerance chose. Up to `capacity` of them are
 /// copied to `s` (NULL with capacity 0 to ask); `*count` receives N + 1
 /// (RODKIT_STATUS_INFO_TRUNCATED when capacity is smaller).
+/// cbindgen:fortran-arrays=[s]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_rod_node_positions(
     rod: *const Rod,
@@ -165,6 +167,7 @@ pub unsafe extern "C" fn rodkit_rod_node_positions(
 }
 
 /// The straight stress-free state (length n = rodkit_rod_unknowns).
+/// cbindgen:fortran-arrays=[x]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_rod_straight_state(rod: *const Rod, x: *mut f64, n: i64) -> i32 {
     guard(|| {
@@ -190,6 +193,7 @@ pub unsafe extern "C" fn rodkit_rod_straight_state(rod: *const Rod, x: *mut f64,
 /// its 13 values (r, q, n and m in the body frame) and then those of its
 /// element's stage points (none after the last node); end-control
 /// unknowns last — read it through this accessor rather than by offsets.
+/// cbindgen:fortran-arrays=[x, position, quaternion, force, moment]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_rod_node_state(
     rod: *const Rod,
@@ -228,6 +232,7 @@ pub unsafe extern "C" fn rodkit_rod_node_state(
 /// from the quaternion). A path through θ = π flips n; follow it by
 /// continuity there. RodkitBranchRecord.tip_rotation is the unsigned angle
 /// of the tip tangent.
+/// cbindgen:fortran-arrays=[x, rotation]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_rod_node_rotation(
     rod: *const Rod,
@@ -268,6 +273,7 @@ unsafe fn node_args<'a>(rod: *const Rod, x: *const f64, n: i64, node: i64) -> Re
 /// Residual R(x, Λ) of the discrete equations (length n each), in the
 /// form SUNDIALS' KINSOL calls: a user's KINSysFn wraps it with
 /// N_VGetArrayPointer. Not thread-safe on one handle (work buffers).
+/// cbindgen:fortran-arrays=[x, r]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_rod_residual(rod: *mut Rod, x: *const f64, n: i64, lambda: f64, r: *mut f64) -> i32 {
     guard(|| {
@@ -287,6 +293,7 @@ pub unsafe extern "C" fn rodkit_rod_residual(rod: *mut Rod, x: *const f64, n: i6
 /// and row_idx (nnz entries, sorted within each column). `nnz` receives
 /// the count; with capacity < nnz only the count is written
 /// (RODKIT_STATUS_INFO_TRUNCATED; row_idx may then be NULL).
+/// cbindgen:fortran-arrays=[col_ptr, row_idx]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_rod_jacobian_pattern(
     rod: *const Rod,
@@ -314,6 +321,7 @@ pub unsafe extern "C" fn rodkit_rod_jacobian_pattern(
 
 /// ∂R/∂x at (x, Λ) in the order of rodkit_rod_jacobian_pattern (`values`,
 /// `nnz` entries) and ∂R/∂Λ (`d_lambda`, n entries; may be NULL).
+/// cbindgen:fortran-arrays=[x, values, d_lambda]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_rod_jacobian(
     rod: *mut Rod,
@@ -346,6 +354,7 @@ pub unsafe extern "C" fn rodkit_rod_jacobian(
 /// The rod ODE's right-hand side y' = f(y, Λ) (physics.md §2.1) for
 /// y = (r, q, n_b, m_b) (13 entries each), without distributed loads'
 /// dependence on s: for IDA-based shooting (IDAResFn: F = y' − f(y)).
+/// cbindgen:fortran-arrays=[y, dy]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_rod_rhs(rod: *const Rod, y: *const f64, lambda: f64, dy: *mut f64) -> i32 {
     guard(|| {

@@ -494,6 +494,7 @@ pub unsafe extern "C" fn rodkit_supercoil_summary(run: *const Supercoil, info: *
 
 /// Copy the path's points (at most `capacity`; `*count` receives the
 /// number of points; RODKIT_STATUS_INFO_TRUNCATED when they did not fit).
+/// cbindgen:fortran-arrays=[points]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_supercoil_points(
     run: *const Supercoil,
@@ -522,6 +523,7 @@ pub unsafe extern "C" fn rodkit_supercoil_points(
 }
 
 /// Node positions (nm) of point `point`: xyz[k + ld·i], i < nodes.
+/// cbindgen:fortran-arrays=[xyz]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_supercoil_positions(
     run: *const Supercoil,

@@ -187,6 +187,7 @@ pub unsafe extern "C" fn rodkit_supercoil_curve_summary(run: *const Supercoil, o
 /// only: a torque-clamp run gives RODKIT_STATUS_ERR_OUT_OF_RANGE (its
 /// stability is not determined), RODKIT_STATUS_ERR_NON_FINITE_RESULT when a
 /// point's energy is not finite.
+/// cbindgen:fortran-arrays=[points]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_supercoil_curve_points(
     run: *const Supercoil,

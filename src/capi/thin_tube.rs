@@ -93,6 +93,7 @@ pub unsafe extern "C" fn rodkit_thin_tube_helix_angle(spec: *const ThinTubeSpec,
 ///
 /// `k` receives the 3×3 matrix column-major with leading dimension `ldk` ≥ 3
 /// (entries k[i + j·ldk]; the array needs 2·ldk + 3 doubles).
+/// cbindgen:fortran-arrays=[k]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_thin_tube_coupling_stiffness(spec: *const ThinTubeSpec, k: *mut f64, ldk: i64) -> i32 {
     guard(|| {
@@ -105,6 +106,7 @@ pub unsafe extern "C" fn rodkit_thin_tube_coupling_stiffness(spec: *const ThinTu
 /// Condensed stretch–twist law at zero pressure (inflation eliminated):
 /// (F, T) = [[S, g], [g, C]] (ε, ψ) — the hemitropic rod coupling of §2.2.
 /// `s` receives the 2×2 matrix column-major with leading dimension `lds` ≥ 2.
+/// cbindgen:fortran-arrays=[s]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_thin_tube_stretch_twist(spec: *const ThinTubeSpec, s: *mut f64, lds: i64) -> i32 {
     guard(|| {
@@ -160,6 +162,7 @@ pub unsafe extern "C" fn rodkit_thin_tube_free_response(
 /// (u3, v3) block [[C, g], [g, S]] is rodkit_thin_tube_stretch_twist's
 /// [[S, g], [g, C]] reordered. `k` receives the matrix column-major with
 /// leading dimension `ldk` ≥ 6 (entries k[i + j·ldk], 0-based).
+/// cbindgen:fortran-arrays=[k]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_thin_tube_rod_stiffness(spec: *const ThinTubeSpec, k: *mut f64, ldk: i64) -> i32 {
     guard(|| {

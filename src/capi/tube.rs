@@ -246,6 +246,7 @@ pub unsafe extern "C" fn rodkit_tube_solve(tube: *const Tube, loading: *const Tu
 /// σ_θθ, σ_zz, σ_θz. `*count` receives the number of nodes. Size query:
 /// with `capacity` 0 the six arrays may be NULL and only `*count` is written.
 /// Otherwise each array needs `capacity` ≥ that count.
+/// cbindgen:fortran-arrays=[reference_radius, radius, sigma_rr, sigma_tt, sigma_zz, sigma_tz]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_tube_profile(
     tube: *const Tube,
@@ -303,6 +304,7 @@ pub unsafe extern "C" fn rodkit_tube_profile(
 /// the function returns RODKIT_STATUS_INFO_CANCELLED (> 0) with the states so
 /// far. On a failure the states before it are written and `*completed` says
 /// how many.
+/// cbindgen:fortran-arrays=[loadings, states]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_tube_sweep(
     tube: *const Tube,
@@ -380,6 +382,7 @@ unsafe fn write_estimated(
 /// ε_A). `k` receives the 3×3 matrix column-major with leading dimension
 /// `ldk` ≥ 3; `error_estimate` (may be NULL) its relative error estimate.
 /// Fibre-reinforced walls have none (tension-only fibres): ERR_OUT_OF_RANGE.
+/// cbindgen:fortran-arrays=[k]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_tube_coupling_stiffness(
     tube: *const Tube,
@@ -397,6 +400,7 @@ pub unsafe extern "C" fn rodkit_tube_coupling_stiffness(
 /// The section as a rod: the condensed stretch–twist law at zero pressure,
 /// (F, T) = [[S, g], [g, C]] (ε, ψ), ready for a hemitropic rod (§2.2).
 /// `s` receives the 2×2 matrix column-major with leading dimension `lds` ≥ 2.
+/// cbindgen:fortran-arrays=[s]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_tube_stretch_twist(tube: *const Tube, s: *mut f64, lds: i64) -> i32 {
     guard(|| {
@@ -422,6 +426,7 @@ pub unsafe extern "C" fn rodkit_tube_stretch_twist(tube: *const Tube, s: *mut f6
 /// with the thin-tube coefficient 1/2, low for thick walls). Needs a law with
 /// a linearisation at rest (not tension-only fibres). `error_estimate` (may
 /// be NULL) receives the estimated relative error.
+/// cbindgen:fortran-arrays=[k]
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_tube_rod_stiffness(
     tube: *const Tube,

@@ -22,6 +22,7 @@ pub unsafe extern "C" fn rodkit_version(major: *mut i32, minor: *mut i32, patch:
 
 /// ABI version of the loaded library; equals RODKIT_ABI_VERSION of the
 /// header it was built with. It changes only when the binary interface does.
+/// cbindgen:fortran-result=version
 #[no_mangle]
 pub extern "C" fn rodkit_library_abi_version() -> i32 {
     guard_value(-1, || version::ABI_VERSION)

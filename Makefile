@@ -72,7 +72,7 @@ F_DRIVERS := tube_stiffness stretch_sweep follower_cantilever greenhill charged_
 HAVE_SUNDIALS := $(wildcard /usr/include/kinsol/kinsol.h)
 SUNDIALS_DRIVER := $(if $(HAVE_SUNDIALS),c_rod_sundials_shared)
 EXES := $(foreach d,$(C_DRIVERS),$(BUILD)/c_$(d)_shared $(BUILD)/c_$(d)_static) \
-        $(BUILD)/cpp_tube_stiffness $(addprefix $(BUILD)/,$(SUNDIALS_DRIVER)) \
+        $(BUILD)/cpp_tube_stiffness $(BUILD)/cpp_fe_beam $(addprefix $(BUILD)/,$(SUNDIALS_DRIVER)) \
         $(foreach d,$(F_DRIVERS),$(BUILD)/f_$(d)_shared $(BUILD)/f_$(d)_static)
 LIBS := $(OUTDIR)/librodkit.so $(OUTDIR)/librodkit.a $(OUTDIR)/$(SONAME) $(STATIC_LIBS_FILE)
 HEADER := $(ROOT)/include/rodkit.h

@@ -1233,6 +1233,29 @@ module rodkit
             integer(c_int32_t) :: status
         end function rodkit_branch_write_csv
 
+        ! The dense-output samples (RodkitContinuationOptions.samples) of a
+        ! branch likewise: n chosen samples' shapes as VTK, all as CSV; a
+        ! branch without samples gives RODKIT_STATUS_ERR_OUT_OF_RANGE.
+        function rodkit_branch_write_samples_vtk(branch, rod, samples, n, path) result(status) &
+                bind(c, name="rodkit_branch_write_samples_vtk")
+            import :: c_char, c_int32_t, c_int64_t, c_ptr
+            type(c_ptr), value :: branch
+            type(c_ptr), value :: rod
+            integer(c_int64_t), intent(in) :: samples(*)
+            integer(c_int64_t), value :: n
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int32_t) :: status
+        end function rodkit_branch_write_samples_vtk
+
+        function rodkit_branch_write_samples_csv(branch, rod, path) result(status) &
+                bind(c, name="rodkit_branch_write_samples_csv")
+            import :: c_char, c_int32_t, c_ptr
+            type(c_ptr), value :: branch
+            type(c_ptr), value :: rod
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int32_t) :: status
+        end function rodkit_branch_write_samples_csv
+
         function rodkit_supercoil_write_vtk(run, points, n, path) result(status) &
                 bind(c, name="rodkit_supercoil_write_vtk")
             import :: c_char, c_int32_t, c_int64_t, c_ptr
@@ -1250,6 +1273,22 @@ module rodkit
             character(kind=c_char), intent(in) :: path(*)
             integer(c_int32_t) :: status
         end function rodkit_supercoil_write_csv
+
+        ! A tube sweep as CSV: the count loadings and the states
+        ! rodkit_tube_sweep returned (its `completed`), the header's units
+        ! in the caller's length and force units (e.g. 'nm'//c_null_char,
+        ! 'pN'//c_null_char).
+        function rodkit_tube_sweep_write_csv(loadings, states, count, length_unit, force_unit, path) &
+                result(status) bind(c, name="rodkit_tube_sweep_write_csv")
+            import :: c_char, c_int32_t, c_int64_t, rodkit_tube_loading, rodkit_tube_state
+            type(rodkit_tube_loading), intent(in) :: loadings(*)
+            type(rodkit_tube_state), intent(in) :: states(*)
+            integer(c_int64_t), value :: count
+            character(kind=c_char), intent(in) :: length_unit(*)
+            character(kind=c_char), intent(in) :: force_unit(*)
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int32_t) :: status
+        end function rodkit_tube_sweep_write_csv
 
         function rodkit_rod_node_positions(rod, s, capacity, count) result(status) &
                 bind(c, name="rodkit_rod_node_positions")

@@ -162,7 +162,7 @@ DNA_SUPERCOIL_SCENE ?= 100 1000
 # Each driver once (the static and C++ link modes are `make test`'s).
 run:
 	@bash $(ROOT)/.ci/deps run
-	@$(MAKE) --no-print-directory lib
+	@$(MAKE) --no-print-directory -s lib
 	@$(MAKE) --no-print-directory -s drivers
 	@$(MAKE) --no-print-directory -s run-drivers
 

@@ -167,10 +167,11 @@ int main(int argc, char **argv) {
 
     printf("DNA supercoiling: %lld bp at %.3g pN in %.3g M salt (%s charges), twisted from the straight rod\n",
            (long long)spec.base_pairs, spec.tension, spec.salt, info.base_pair_charges ? "base-pair" : "continuum");
-    printf("  buckles at %.3f turns (torque %.2f pN nm); at %.3f turns: extension %.1f nm, torque %.2f pN nm, writhe %.3f\n",
-           info.buckling_turns, info.buckling_torque, pts[count - 1].turns, pts[count - 1].extension,
-           pts[count - 1].torque, pts[count - 1].writhe);
-    if (csv_path) printf("  path (%lld points, CSV): %s\n", (long long)count, csv_path);
+    printf("  the straight rod buckles at %.3f turns (torque %.2f pN nm); the path's last point (%s branch, %lld points):\n"
+           "  %.3f turns, extension %.1f nm, torque %.2f pN nm, writhe %.3f\n",
+           info.buckling_turns, info.buckling_torque, pts[count - 1].branch ? "buckled" : "straight", (long long)count,
+           pts[count - 1].turns, pts[count - 1].extension, pts[count - 1].torque, pts[count - 1].writhe);
+    if (csv_path) printf("  path (CSV): %s\n", csv_path);
     if (vtk_path) printf("  %lld shapes (VTK, for ParaView): %s\n", (long long)ns, vtk_path);
 
     free(pts);

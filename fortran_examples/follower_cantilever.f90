@@ -188,7 +188,7 @@ program follower_cantilever
     print '(a)', 'A cantilever under a follower tip force (K_b = 1, L = 1, 8 elements), continued by the ANM to alpha = 10'
     print '(a, i0, a, i0, a)', '  ', count, ' loads alpha = 0.5 ... 10 from one run of ', info%steps, &
         ' steps (Pade), each within the residual tolerance 1e-10'
-    print '(a, 2f11.6, a, f11.6, a)', '  tip at alpha = 10: (x, z) = (', dense(20)%tip_x, dense(20)%tip_z, &
+    print '(a, f9.6, a, f9.6, a, f6.2, a)', '  tip at alpha = 10: (x, z) = (', dense(20)%tip_x, ', ', dense(20)%tip_z, &
         '), tip rotation ', dense(20)%tip_rotation * 180.0_c_double / pi, ' deg'
     if (len_trim(vtk_path) > 0) print '(a)', '  shapes at alpha = 1, 2, 5, 10 (VTK, for ParaView): ' // trim(vtk_path)
     if (len_trim(csv_path) > 0) print '(a, i0, a)', '  samples (', count, ', CSV): ' // trim(csv_path)

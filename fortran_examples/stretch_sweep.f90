@@ -104,7 +104,7 @@ program stretch_sweep
             states(i)%applied_force, states(i)%deformed_outer_radius
     end do
     print '(a)', 'A DNA-like thick tube (orthotropic SVK wall, A = 0.8 nm, B = 1.2 nm, helix 60 deg) stretched at zero torque'
-    print '(a, f6.3, a, f8.2, a, f9.5, a, f8.5, a)', '  at stretch ', states(n)%stretch, ': force ', &
+    print '(a, f5.3, a, f0.2, a, f7.5, a, f7.5, a)', '  at stretch ', states(n)%stretch, ': force ', &
         states(n)%applied_force, ' pN, twist ', states(n)%twist * 180.0_c_double / pi, ' deg/nm (overwinds), outer radius ', &
         states(n)%deformed_outer_radius, ' nm'
     ! rodkit writes the sweep, loadings and states, as CSV when a path is given.

@@ -1,8 +1,11 @@
 # rodkit: the library, its C / C++ / Fortran drivers, the tests, the install.
 #
-#   make run      build the library (release) and run every driver on its
-#                 bundled default input, printing the results; then a small
-#                 force x salt DNA map (CSV + SVG in rodkit-out/dna_map)
+#   make run      build the library (release) and the drivers, then one
+#                 short report per capability (tubes, rods, DNA): what each
+#                 driver computed and where its CSV / VTK / SVG files went,
+#                 all under OUT (default rodkit-out in the repository; works
+#                 from any directory: make -C /path/to/rodkit run OUT=/tmp/x)
+#   make run-drivers  the same reports on drivers already built
 #   make test     every test: Rust, C, C++, Fortran, valgrind, SUNDIALS, and
 #                 the quick fuzz run (fuzz-quick)
 #   make fuzz     the fuzz targets of tests/fuzz/ (ASan + UBSan), longer:
@@ -77,7 +80,7 @@ EXES := $(foreach d,$(C_DRIVERS),$(BUILD)/c_$(d)_shared $(BUILD)/c_$(d)_static) 
 LIBS := $(OUTDIR)/librodkit.so $(OUTDIR)/librodkit.a $(OUTDIR)/$(SONAME) $(STATIC_LIBS_FILE)
 HEADER := $(ROOT)/include/rodkit.h
 
-.PHONY: all deps lib drivers run test install downstream clean-native fuzz fuzz-quick fuzz-build
+.PHONY: all deps lib drivers run run-drivers test install downstream clean-native fuzz fuzz-quick fuzz-build
 all: lib drivers
 
 deps:
@@ -135,27 +138,60 @@ $(BUILD)/f_%_shared: $(ROOT)/fortran_examples/%.f90 $(BUILD)/rodkit_mod.o $(LIBS
 $(BUILD)/f_%_static: $(ROOT)/fortran_examples/%.f90 $(BUILD)/rodkit_mod.o $(LIBS)
 	$(FC) $(FFLAGS) $< $(BUILD)/rodkit_mod.o $(STATIC) -o $@
 
-# The main job: every driver on its bundled default input (run from the
-# repository root, where the default input paths point), then the DNA
-# force x salt map (c_examples/dna_map.c) on a small subset: 300 bp, 1 and
-# 2 pN x 0.05 and 0.1 M, to 2.2 turns (~31 s on the 2-core machine); its
-# CSV and SVG files go to $(DNA_MAP_OUT). The full map (1 kbp, 3 forces x
-# 4 salts, to 12 turns) is `target/release/native/c_dna_map_shared` without
-# options (README: "The force x salt map").
+# The main job: one short report per capability (tubes, rods, DNA), each
+# driver once on its bundled input, saying what it computed and where its
+# files went. Every file goes under one folder, OUT (default rodkit-out in
+# the repository; a relative OUT is taken from the directory make runs in,
+# which `make -C <repo>` makes the repository): tubes/, rods/, dna/ and
+# dna/map. The drivers get absolute input and output paths, so `make -C
+# /path/to/rodkit run` works from any directory and writes nothing outside
+# OUT (besides the build in target/). The DNA force x salt map
+# (c_examples/dna_map.c) runs on a small subset: 300 bp, 1 and 2 pN x 0.05
+# and 0.1 M, to 2.2 turns (~31 s on the 2-core machine); the full map (1
+# kbp, 3 forces x 4 salts, to 12 turns) is
+# `target/release/native/c_dna_map_shared` without options (README: "The
+# force x salt map"). Each driver's `--values` adds the name = value lines
+# the tests read.
+OUT ?= $(ROOT)/rodkit-out
+RUN_OUT := $(abspath $(OUT))
 DNA_MAP_SUBSET ?= --bp 300 --forces 1,2 --salts 0.05,0.1 --turns 2.2 --elements 40 --steps 300
-DNA_MAP_OUT ?= rodkit-out/dna_map
+DNA_MAP_OUT ?= $(RUN_OUT)/dna/map
+# The supercoiling run: continuation steps, then elements and base pairs.
+DNA_SUPERCOIL_STEPS ?= 60
+DNA_SUPERCOIL_SCENE ?= 100 1000
 # Each driver once (the static and C++ link modes are `make test`'s).
 run:
 	@bash $(ROOT)/.ci/deps run
-	@$(MAKE) --no-print-directory lib
+	@$(MAKE) --no-print-directory -s lib
 	@$(MAKE) --no-print-directory -s drivers
-	@cd $(ROOT) && for exe in c_tube_stiffness_shared f_tube_stiffness_shared c_bad_input_shared c_artery_shared \
-	    c_dna_tube_shared f_stretch_sweep_shared c_rod_buckling_shared f_follower_cantilever_shared f_greenhill_shared \
-	    $(SUNDIALS_DRIVER) f_charged_curve_shared c_dna_supercoil_shared c_dna_supercoil_resume_shared \
-	    f_dna_supercoil_shared; do \
-	  echo "=== $$exe"; $(BUILD)/$$exe || exit 1; done
-	@echo "=== c_dna_map_shared $(DNA_MAP_SUBSET) $(DNA_MAP_OUT)"
-	@cd $(ROOT) && $(BUILD)/c_dna_map_shared $(DNA_MAP_SUBSET) $(DNA_MAP_OUT)
+	@$(MAKE) --no-print-directory -s run-drivers
+
+# The reports alone, on drivers already built (`make run` builds them).
+run-drivers:
+	@mkdir -p $(RUN_OUT)/tubes $(RUN_OUT)/rods $(RUN_OUT)/dna
+	@echo "rodkit $(VERSION): each driver once on its bundled input; files under $(RUN_OUT)/"
+	@echo
+	@echo "== Tubes: helically reinforced tubes, thin and thick walls (C, Fortran)"
+	@$(BUILD)/c_tube_stiffness_shared $(ROOT)/c_examples/data/dna_tube.txt
+	@$(BUILD)/c_dna_tube_shared $(RUN_OUT)/tubes/dna_tube_stretch.csv
+	@$(BUILD)/f_stretch_sweep_shared $(RUN_OUT)/tubes/dna_wall_stretch.csv
+	@$(BUILD)/c_artery_shared $(RUN_OUT)/tubes/artery_stretch.csv
+	@echo
+	@echo "== Rods: Cosserat rods continued by the asymptotic numerical method (C, Fortran)"
+	@$(BUILD)/c_rod_buckling_shared $(RUN_OUT)/rods/buckling.csv $(RUN_OUT)/rods/buckling.vtk
+	@$(BUILD)/f_follower_cantilever_shared $(RUN_OUT)/rods/follower.vtk $(RUN_OUT)/rods/follower_samples.csv
+	@$(BUILD)/f_greenhill_shared
+	$(if $(SUNDIALS_DRIVER),@$(BUILD)/$(SUNDIALS_DRIVER))
+	@echo
+	@echo "== DNA: charged rods and supercoiling (Fortran, C)"
+	@$(BUILD)/f_charged_curve_shared
+	@$(BUILD)/c_dna_supercoil_shared 0.1 $(DNA_SUPERCOIL_STEPS) $(RUN_OUT)/dna/supercoil.csv \
+	  $(RUN_OUT)/dna/supercoil.vtk $(DNA_SUPERCOIL_SCENE)
+	@echo "A force x salt map of supercoiling curves ($(DNA_MAP_SUBSET)):"
+	@$(BUILD)/c_dna_map_shared $(DNA_MAP_SUBSET) $(DNA_MAP_OUT)
+	@echo
+	@echo "== Errors: what a bad call returns (C)"
+	@$(BUILD)/c_bad_input_shared
 
 # All tests: one cargo invocation for the Rust suites, the drivers (built here
 # by tests/native.rs through this Makefile, compared with the Rust results,

@@ -8,16 +8,27 @@
  * media alone, stress-free in the reference tube (no adventitia, no opening
  * angle), so it inflates far more than the two-layer artery of the paper.
  *
- * Usage: artery [out.csv]   (default target/artery_stretch.csv)
+ * Usage: artery [--values] [out.csv]
  * Units: mm and kPa, so forces are in kPa*mm^2 = mN.
- * Prints "name = value" lines for the state at the last stretch and writes
- * the whole sweep as CSV.
+ * Prints a short report (--values: also "name = value" lines for the state
+ * at the last stretch, progress and a table); with a path, rodkit writes the
+ * whole sweep, loadings and states, as CSV (rodkit_tube_sweep_write_csv).
  */
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 #include <stdlib.h>
 
 #include "rodkit.h"
+
+/* --values (first argument): also print the details, every result as a
+ * "name = value" line (the channel rodkit's tests read) and the tables;
+ * without it, a short report. */
+static int values;
+#define DETAIL(...)                      \
+    do {                                 \
+        if (values) printf(__VA_ARGS__); \
+    } while (0)
 
 #define N_STEPS 31
 
@@ -30,12 +41,17 @@ static int fail(int32_t st, const char *what) {
 static int32_t report(const RodkitProgress *p, void *user_data) {
     int *every = (int *)user_data;
     if (p->done % *every == 0 || p->done == p->total)
-        printf("# progress %lld/%lld\n", (long long)p->done, (long long)p->total);
+        DETAIL("# progress %lld/%lld\n", (long long)p->done, (long long)p->total);
     return 0; /* continue */
 }
 
 int main(int argc, char **argv) {
-    const char *out_path = argc > 1 ? argv[1] : "target/artery_stretch.csv";
+    if (argc > 1 && strcmp(argv[1], "--values") == 0) {
+        values = 1;
+        ++argv;
+        --argc;
+    }
+    const char *out_path = argc > 1 ? argv[1] : NULL;
     const double deg = acos(-1.0) / 180.0;
 
     RodkitTubeSpec spec;
@@ -78,31 +94,28 @@ int main(int argc, char **argv) {
         return fail(st, "rodkit_tube_sweep");
     }
 
-    FILE *csv = fopen(out_path, "w");
-    if (!csv) {
-        perror(out_path);
+    if (out_path && (st = rodkit_tube_sweep_write_csv(loadings, states, done, "mm", "mN", out_path)) < 0) {
         rodkit_tube_free(tube);
-        return 1;
+        return fail(st, "rodkit_tube_sweep_write_csv");
     }
-    fprintf(csv, "stretch,applied_force_mN,wall_force_mN,twist_per_mm,inner_radius_mm,outer_radius_mm,torque\n");
-    for (int64_t i = 0; i < done; ++i)
-        fprintf(csv, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", states[i].stretch, states[i].applied_force,
-                states[i].wall_force, states[i].twist, states[i].deformed_inner_radius,
-                states[i].deformed_outer_radius, states[i].torque);
-    fclose(csv);
 
     const RodkitTubeState *s = &states[done - 1];
-    printf("# rodkit %s: HGO artery, p = 13.33 kPa, closed ends, torsion-free stretch; CSV: %s\n",
-           RODKIT_VERSION_STRING, out_path);
-    printf("states = %lld\n", (long long)done);
-    printf("stretch = %.17g\napplied_force = %.17g\nwall_force = %.17g\ntwist = %.17g\n", s->stretch,
+    DETAIL("# rodkit %s: HGO artery, p = 13.33 kPa, closed ends, torsion-free stretch\n", RODKIT_VERSION_STRING);
+    DETAIL("states = %lld\n", (long long)done);
+    DETAIL("stretch = %.17g\napplied_force = %.17g\nwall_force = %.17g\ntwist = %.17g\n", s->stretch,
            s->applied_force, s->wall_force, s->twist);
-    printf("inner_radius = %.17g\nouter_radius = %.17g\nerror_estimate = %.3g\nintervals = %lld\n",
+    DETAIL("inner_radius = %.17g\nouter_radius = %.17g\nerror_estimate = %.3g\nintervals = %lld\n",
            s->deformed_inner_radius, s->deformed_outer_radius, s->error_estimate, (long long)s->intervals);
-    printf("# stretch  axial force (mN)  inner radius (mm)\n");
+    DETAIL("# stretch  axial force (mN)  inner radius (mm)\n");
     for (int64_t i = 0; i < done; i += 5)
-        printf("# %6.3f  %14.6f  %12.6f\n", states[i].stretch, states[i].applied_force,
+        DETAIL("# %6.3f  %14.6f  %12.6f\n", states[i].stretch, states[i].applied_force,
                states[i].deformed_inner_radius);
+    printf("Artery wall (HGO media, fibres at +-29 deg; 13.33 kPa inside, closed ends) stretched %.2f -> %.2f at zero torque\n",
+           states[0].stretch, s->stretch);
+    printf("  axial force %.4f -> %.4f mN, lumen radius %.4f -> %.4f mm, twist %.1e rad/mm (balanced fibres)\n",
+           states[0].applied_force, s->applied_force, states[0].deformed_inner_radius, s->deformed_inner_radius,
+           s->twist);
+    if (out_path) printf("  sweep (%lld states, CSV): %s\n", (long long)done, out_path);
     rodkit_tube_free(tube);
     return 0;
 }

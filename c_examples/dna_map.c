@@ -34,6 +34,7 @@
  *                     the end loop crosses (65 folds, stuck at 3 turns after
  *                     3000 steps; benches/README.md, 2026-11-26)
  *   --steps N         continuation steps per branch (default 1000)
+ *   --values          also print the counts as "name = value" lines
  * The plateau torque and slope are measured on the plectonemic leg from
  * coexistence to the run's end: past the turns where the plectoneme has
  * taken most of the rod (1 kbp, 1 pN, 0.1 M: ~9 turns) the torque rises
@@ -358,8 +359,13 @@ int main(int argc, char **argv) {
     long long bp = 1000, elements = 0, steps = 1000;
     double turns = 12.0;
     const char *dir = "rodkit-out/dna_map";
+    int values = 0; /* --values: also the counts as "name = value" lines (the tests read them) */
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "--values")) {
+            values = 1;
+            continue;
+        }
         int takes = a[0] == '-' && a[1] == '-';
         if (takes && !v) { fprintf(stderr, "%s needs a value\n", a); return 2; }
         if (!strcmp(a, "--forces")) nf = parse_list(v, forces);
@@ -414,7 +420,7 @@ int main(int argc, char **argv) {
     if (write_svg(dir, "torque_vs_turns.svg", 1, cs, n, forces, nf, salts, ns) != 0) return 1;
     int failed = 0;
     for (int k = 0; k < n; ++k) failed += cs[k].status < 0;
-    printf("curves = %d\nfailed_curves = %d\nseconds_total = %.1f\n", n, failed, now() - t0);
+    if (values) printf("curves = %d\nfailed_curves = %d\nseconds_total = %.1f\n", n, failed, now() - t0);
     char *abs = realpath(dir, NULL);
     const char *where = abs ? abs : dir;
     printf("# files in %s/: summary.csv, curve_F<force>_S<salt>.csv (%d), extension_vs_turns.svg, torque_vs_turns.svg\n",

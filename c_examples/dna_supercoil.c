@@ -9,11 +9,13 @@
  * Prints the extension and torque vs turns table with the twist/writhe
  * partition (Tw + Wr = turns), the buckling point and the work, the last
  * point re-solved under the other charge model (continuum <-> base pairs)
- * by Newton-Krylov and by the direct solver, and writes
- *   - the path as CSV (turns, extension, torque, tension, twist, writhe, branch),
+ * by Newton-Krylov and by the direct solver (a short report; --values adds
+ * the table and every result as a "name = value" line), and has rodkit
+ * write, when their paths are given ("-": none)
+ *   - the path as CSV (rodkit_supercoil_write_csv),
  *   - the shapes as VTK polydata (one polyline per written point) for ParaView.
- * Usage: c_dna_supercoil [salt M] [max steps] [csv path] [vtk path] [elements] [base pairs] [model] [control]
- * (defaults 0.1, 60, target/dna_supercoil.csv, target/dna_supercoil.vtk, 100, 1000, continuum, rotation);
+ * Usage: c_dna_supercoil [--values] [salt M] [max steps] [csv path] [vtk path] [elements] [base pairs] [model] [control]
+ * (defaults 0.1, 60, no CSV, no VTK, 100, 1000, continuum, rotation);
  * model "discrete" uses the base-pair point charges (the thesis's comparison);
  * control "torque" continues in the end torque (a torque clamp) instead of
  * the end rotation: the same equilibria, the turns read from each shape.
@@ -24,19 +26,33 @@
 
 #include "rodkit.h"
 
+/* --values (first argument): also print the details, every result as a
+ * "name = value" line (the channel rodkit's tests read) and the tables;
+ * without it, a short report. */
+static int values;
+#define DETAIL(...)                      \
+    do {                                 \
+        if (values) printf(__VA_ARGS__); \
+    } while (0)
+
 static int fail(int32_t st, const char *what) {
     fprintf(stderr, "%s failed: %s (%d): %s\n", what, rodkit_status_string(st), (int)st, rodkit_last_error_message());
     return 1;
 }
 
 int main(int argc, char **argv) {
+    if (argc > 1 && strcmp(argv[1], "--values") == 0) {
+        values = 1;
+        ++argv;
+        --argc;
+    }
     RodkitDnaSupercoilSpec spec;
     int32_t st = rodkit_dna_supercoil_spec_default(&spec);
     if (st < 0) return fail(st, "rodkit_dna_supercoil_spec_default");
     spec.salt = argc > 1 ? atof(argv[1]) : 0.1;
     spec.max_steps = argc > 2 ? atoll(argv[2]) : 60;
-    const char *csv_path = argc > 3 ? argv[3] : "target/dna_supercoil.csv";
-    const char *vtk_path = argc > 4 ? argv[4] : "target/dna_supercoil.vtk";
+    const char *csv_path = argc > 3 && strcmp(argv[3], "-") ? argv[3] : NULL;
+    const char *vtk_path = argc > 4 && strcmp(argv[4], "-") ? argv[4] : NULL;
     spec.elements = argc > 5 ? atoll(argv[5]) : 100;
     if (argc > 6) spec.base_pairs = atoll(argv[6]);
     if (argc > 7) spec.discrete_base_pairs = argv[7][0] == 'd';
@@ -57,40 +73,40 @@ int main(int argc, char **argv) {
     int64_t count = 0;
     if ((st = rodkit_supercoil_points(run, pts, info.points, &count)) < 0) return fail(st, "rodkit_supercoil_points");
 
-    printf("# DNA supercoiling: %lld bp, %.3g pN, %.3g M salt (Debye length %.4g nm), nu = %.4g e/nm, a = %.3g nm\n",
+    DETAIL("# DNA supercoiling: %lld bp, %.3g pN, %.3g M salt (Debye length %.4g nm), nu = %.4g e/nm, a = %.3g nm\n",
            (long long)spec.base_pairs, spec.tension, spec.salt, 1.0 / info.kappa, spec.charge_per_length, spec.radius);
-    printf("# %lld elements of Gauss(%lld); screening cutoff %.4g..%.4g nm (tolerance %.1e); continued in the end %s\n", (long long)spec.elements,
+    DETAIL("# %lld elements of Gauss(%lld); screening cutoff %.4g..%.4g nm (tolerance %.1e); continued in the end %s\n", (long long)spec.elements,
            (long long)spec.stages, info.cutoff_on, info.cutoff_off, spec.cutoff_tolerance,
            spec.end_control == RODKIT_END_CONTROL_TORQUE ? "torque (torque clamp)" : "rotation");
     if (info.base_pair_charges > 0)
-        printf("# model: discrete base pairs, %lld point charges\n", (long long)info.base_pair_charges);
+        DETAIL("# model: discrete base pairs, %lld point charges\n", (long long)info.base_pair_charges);
     else
-        printf("# model: continuum line charge (near zone regularised)\n");
-    printf("base_pair_charges = %lld\n", (long long)info.base_pair_charges);
-    printf("bjerrum_length_nm = %.15g\nline_charge_squared_pN = %.15g\n", info.bjerrum_length, info.line_charge_squared);
-    printf("points = %lld\nstraight_points = %lld\n", (long long)info.points, (long long)info.straight_points);
-    printf("buckling_turns = %.15g\nbuckling_torque_pN_nm = %.15g\n", info.buckling_turns, info.buckling_torque);
-    printf("crossing = %d\n", (int)info.crossing);
+        DETAIL("# model: continuum line charge (near zone regularised)\n");
+    DETAIL("base_pair_charges = %lld\n", (long long)info.base_pair_charges);
+    DETAIL("bjerrum_length_nm = %.15g\nline_charge_squared_pN = %.15g\n", info.bjerrum_length, info.line_charge_squared);
+    DETAIL("points = %lld\nstraight_points = %lld\n", (long long)info.points, (long long)info.straight_points);
+    DETAIL("buckling_turns = %.15g\nbuckling_torque_pN_nm = %.15g\n", info.buckling_turns, info.buckling_torque);
+    DETAIL("crossing = %d\n", (int)info.crossing);
     if (info.crossing)
-        printf("crossing_distance_nm = %.6g\n# strands crossed at s = %.4g and %.4g nm\n", info.crossing_distance, info.crossing_s1, info.crossing_s2);
-    printf("# the buckled branch stopped at: %s\n", stop);
-    printf("steps = %lld\nfactorisations = %lld\nresiduals = %lld\npair_lists = %lld\nseconds = %.4g\n", (long long)info.steps,
+        DETAIL("crossing_distance_nm = %.6g\n# strands crossed at s = %.4g and %.4g nm\n", info.crossing_distance, info.crossing_s1, info.crossing_s2);
+    DETAIL("# the buckled branch stopped at: %s\n", stop);
+    DETAIL("steps = %lld\nfactorisations = %lld\nresiduals = %lld\npair_lists = %lld\nseconds = %.4g\n", (long long)info.steps,
            (long long)info.factorisations, (long long)info.residuals, (long long)info.pair_lists, info.seconds);
 
     /* The table: every point of the straight branch would repeat the line
      * z = L, so it prints every 4th point, and the last. */
-    printf("#  branch    turns   extension(nm)  torque(pN nm)     Tw       Wr    Tw+Wr-turns\n");
+    DETAIL("#  branch    turns   extension(nm)  torque(pN nm)     Tw       Wr    Tw+Wr-turns\n");
     double worst_lk = 0.0;
     for (int64_t i = 0; i < count; ++i) {
         double lk = pts[i].twist + pts[i].writhe - pts[i].turns;
         if (lk < 0) lk = -lk;
         if (lk > worst_lk) worst_lk = lk;
         if (i % 4 == 0 || i == count - 1)
-            printf("#  %6s %8.4f %12.4f %14.5f %8.4f %8.4f %10.2e\n", pts[i].branch ? "buckled" : "straight", pts[i].turns,
+            DETAIL("#  %6s %8.4f %12.4f %14.5f %8.4f %8.4f %10.2e\n", pts[i].branch ? "buckled" : "straight", pts[i].turns,
                    pts[i].extension, pts[i].torque, pts[i].twist, pts[i].writhe, pts[i].twist + pts[i].writhe - pts[i].turns);
     }
-    printf("worst_linking_error = %.3e\n", worst_lk);
-    printf("last_turns = %.15g\nlast_extension_nm = %.15g\nlast_torque_pN_nm = %.15g\nlast_writhe = %.15g\n", pts[count - 1].turns,
+    DETAIL("worst_linking_error = %.3e\n", worst_lk);
+    DETAIL("last_turns = %.15g\nlast_extension_nm = %.15g\nlast_torque_pN_nm = %.15g\nlast_writhe = %.15g\n", pts[count - 1].turns,
            pts[count - 1].extension, pts[count - 1].torque, pts[count - 1].writhe);
 
     /* The thesis's comparison on the path's last shape: the same end
@@ -119,28 +135,24 @@ int main(int argc, char **argv) {
          * scaled residual of 4.4e-7): reported, not fatal. */
         if (st < 0) {
             direct_status = st;
-            printf("# the direct solver failed: %s (%d): %s\n", rodkit_status_string(st), (int)st, rodkit_last_error_message());
+            DETAIL("# the direct solver failed: %s (%d): %s\n", rodkit_status_string(st), (int)st, rodkit_last_error_message());
         }
     }
-    printf("# last point under the %s model: Newton-Krylov %lld Newton / %lld GMRES iterations (preconditioner band %lld), direct %lld factorisations\n",
+    DETAIL("# last point under the %s model: Newton-Krylov %lld Newton / %lld GMRES iterations (preconditioner band %lld), direct %lld factorisations\n",
            es.discrete_base_pairs ? "base-pair" : "continuum", (long long)eq[0].newton_iterations, (long long)eq[0].linear_iterations,
            (long long)eq[0].preconditioner_band, (long long)eq[1].factorisations);
-    printf("seconds_newton_krylov = %.4g\n", eq[0].seconds);
-    printf("other_model_torque_pN_nm = %.15g\nother_model_extension_nm = %.15g\nother_model_shift_nm = %.6g\n", eq[0].torque,
+    DETAIL("seconds_newton_krylov = %.4g\n", eq[0].seconds);
+    DETAIL("other_model_torque_pN_nm = %.15g\nother_model_extension_nm = %.15g\nother_model_shift_nm = %.6g\n", eq[0].torque,
            eq[0].extension, eq[0].shift);
-    printf("direct_status = %d\n", (int)direct_status);
+    DETAIL("direct_status = %d\n", (int)direct_status);
     if (direct_status == 0)
-        printf("seconds_direct = %.4g\ndirect_torque_pN_nm = %.15g\nsolver_torque_difference = %.3e\n", eq[1].seconds, eq[1].torque,
+        DETAIL("seconds_direct = %.4g\ndirect_torque_pN_nm = %.15g\nsolver_torque_difference = %.3e\n", eq[1].seconds, eq[1].torque,
                eq[0].torque - eq[1].torque);
-    printf("other_model_tip_z_nm = %.15g\n", xyz[3 * (info.nodes - 1) + 2]);
+    DETAIL("other_model_tip_z_nm = %.15g\n", xyz[3 * (info.nodes - 1) + 2]);
 
-    FILE *csv = fopen(csv_path, "w");
-    if (!csv) { perror(csv_path); return 1; }
-    fprintf(csv, "turns,extension_nm,torque_pN_nm,tension_pN,twist,writhe,branch\n");
-    for (int64_t i = 0; i < count; ++i)
-        fprintf(csv, "%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%d\n", pts[i].turns, pts[i].extension, pts[i].torque, pts[i].tension,
-                pts[i].twist, pts[i].writhe, (int)pts[i].branch);
-    fclose(csv);
+    /* rodkit writes the path as CSV (turns, extension, torque, tension,
+     * twist, writhe, branch, residual at full precision). */
+    if (csv_path && (st = rodkit_supercoil_write_csv(run, csv_path)) < 0) return fail(st, "rodkit_supercoil_write_csv");
 
     /* Shapes: the buckling point's neighbour on the straight branch and
      * every 10th buckled point (and the last). */
@@ -150,8 +162,17 @@ int main(int argc, char **argv) {
     if (shapes[ns - 1] != count - 1) shapes[ns++] = count - 1;
     /* rodkit writes them (legacy VTK polydata, cell data turns, extension,
      * torque, writhe). */
-    if ((st = rodkit_supercoil_write_vtk(run, shapes, ns, vtk_path)) < 0) return fail(st, "rodkit_supercoil_write_vtk");
-    printf("# wrote %s (%lld points) and %s (%lld shapes)\n", csv_path, (long long)count, vtk_path, (long long)ns);
+    if (vtk_path && (st = rodkit_supercoil_write_vtk(run, shapes, ns, vtk_path)) < 0)
+        return fail(st, "rodkit_supercoil_write_vtk");
+
+    printf("DNA supercoiling: %lld bp at %.3g pN in %.3g M salt (%s charges), twisted from the straight rod\n",
+           (long long)spec.base_pairs, spec.tension, spec.salt, info.base_pair_charges ? "base-pair" : "continuum");
+    printf("  the straight rod buckles at %.3f turns (torque %.2f pN nm); the path's last point (%s branch, %lld points):\n"
+           "  %.3f turns, extension %.1f nm, torque %.2f pN nm, writhe %.3f\n",
+           info.buckling_turns, info.buckling_torque, pts[count - 1].branch ? "buckled" : "straight", (long long)count,
+           pts[count - 1].turns, pts[count - 1].extension, pts[count - 1].torque, pts[count - 1].writhe);
+    if (csv_path) printf("  path (CSV): %s\n", csv_path);
+    if (vtk_path) printf("  %lld shapes (VTK, for ParaView): %s\n", (long long)ns, vtk_path);
 
     free(pts);
     free(xyz);

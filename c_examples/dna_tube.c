@@ -7,14 +7,28 @@
  *    material evaluated with the thick wall (t/R = 0.4 is not thin).
  * 2. The family of fits over t and nu12 (the fit is not unique).
  * 3. Torsion-free finite stretching of the fitted wall as a thick SVK tube:
- *    twist and radius vs stretch, written to CSV (default
- *    target/dna_stretch.csv), with the overwind/unwind pattern detected.
+ *    twist and radius vs stretch, with the overwind/unwind pattern
+ *    detected; with a path, rodkit writes the sweep as CSV
+ *    (rodkit_tube_sweep_write_csv).
+ * Usage: dna_tube [--values] [stretch.csv]
+ * Prints a short report; --values adds every result as a "name = value"
+ * line and the family of fits as a table.
  * Units: nm, pN.
  */
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "rodkit.h"
+
+/* --values (first argument): also print the details, every result as a
+ * "name = value" line (the channel rodkit's tests read) and the tables;
+ * without it, a short report. */
+static int values;
+#define DETAIL(...)                      \
+    do {                                 \
+        if (values) printf(__VA_ARGS__); \
+    } while (0)
 
 static int fail(int32_t st, const char *what) {
     fprintf(stderr, "%s failed: %s (%d): %s\n", what, rodkit_status_string(st), (int)st,
@@ -23,43 +37,48 @@ static int fail(int32_t st, const char *what) {
 }
 
 int main(int argc, char **argv) {
-    const char *csv_path = argc > 1 ? argv[1] : "target/dna_stretch.csv";
+    if (argc > 1 && strcmp(argv[1], "--values") == 0) {
+        values = 1;
+        ++argv;
+        --argc;
+    }
+    const char *csv_path = argc > 1 ? argv[1] : NULL;
     const double pi = acos(-1.0), alpha = pi / 3.0, radius = 1.0, t = 0.4, nu12 = 0.3;
     const double S = 1100.0, C = 440.0, g = -90.0;
 
     RodkitDnaFit fit;
     int32_t st = rodkit_dna_fit_thin_wall(S, C, g, radius, alpha, t, nu12, &fit);
     if (st < 0) return fail(st, "rodkit_dna_fit_thin_wall");
-    printf("# rodkit %s: DNA as a helically reinforced tube (pN, nm)\n", RODKIT_VERSION_STRING);
-    printf("# 1. thin-wall fit at R = 1 nm, alpha = 60 deg, t = 0.4 nm, nu12 = 0.3\n");
-    printf("e1 = %.17g\ne2 = %.17g\ng12 = %.17g\n", fit.spec.e1, fit.spec.e2, fit.spec.g12);
-    printf("stretch_S = %.17g\ntwist_C = %.17g\ncoupling_g = %.17g\n", fit.stretch, fit.twist, fit.coupling);
-    printf("twist_rate = %.17g\nturns_per_pn_per_10kbp = %.17g\noverwinds = %d\n", fit.twist_rate,
+    DETAIL("# rodkit %s: DNA as a helically reinforced tube (pN, nm)\n", RODKIT_VERSION_STRING);
+    DETAIL("# 1. thin-wall fit at R = 1 nm, alpha = 60 deg, t = 0.4 nm, nu12 = 0.3\n");
+    DETAIL("e1 = %.17g\ne2 = %.17g\ng12 = %.17g\n", fit.spec.e1, fit.spec.e2, fit.spec.g12);
+    DETAIL("stretch_S = %.17g\ntwist_C = %.17g\ncoupling_g = %.17g\n", fit.stretch, fit.twist, fit.coupling);
+    DETAIL("twist_rate = %.17g\nturns_per_pn_per_10kbp = %.17g\noverwinds = %d\n", fit.twist_rate,
            fit.turns_per_pn_per_10kbp, (int)fit.overwinds);
     if (fit.thick_status < 0) {
-        printf("# thick evaluation failed: %s\n", rodkit_status_string(fit.thick_status));
+        DETAIL("# thick evaluation failed: %s\n", rodkit_status_string(fit.thick_status));
     } else {
-        printf("thick_stretch_S = %.17g\nthick_twist_C = %.17g\nthick_coupling_g = %.17g\n", fit.thick_stretch,
+        DETAIL("thick_stretch_S = %.17g\nthick_twist_C = %.17g\nthick_coupling_g = %.17g\n", fit.thick_stretch,
                fit.thick_twist, fit.thick_coupling);
-        printf("thick_turns_per_pn_per_10kbp = %.17g\n", fit.thick_turns_per_pn_per_10kbp);
-        printf("# thick vs thin: S %+.2f %%, C %+.2f %%, g %+.2f %%\n", 100 * (fit.thick_stretch / fit.stretch - 1),
+        DETAIL("thick_turns_per_pn_per_10kbp = %.17g\n", fit.thick_turns_per_pn_per_10kbp);
+        DETAIL("# thick vs thin: S %+.2f %%, C %+.2f %%, g %+.2f %%\n", 100 * (fit.thick_stretch / fit.stretch - 1),
                100 * (fit.thick_twist / fit.twist - 1), 100 * (fit.thick_coupling / fit.coupling - 1));
     }
 
-    printf("# 2. family of fits (E1, E2, G12 in pN/nm^2; rate in turns/pN/10 kbp)\n");
-    printf("#    t    nu12        E1        E2       G12   thin rate  thick rate\n");
+    DETAIL("# 2. family of fits (E1, E2, G12 in pN/nm^2; rate in turns/pN/10 kbp)\n");
+    DETAIL("#    t    nu12        E1        E2       G12   thin rate  thick rate\n");
     const double ts[] = {0.2, 0.3, 0.4, 0.5}, nus[] = {0.0, 0.3, 0.5, 1.0};
     for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j) {
             RodkitDnaFit f;
             int32_t s2 = rodkit_dna_fit_thin_wall(S, C, g, radius, alpha, ts[i], nus[j], &f);
             if (s2 < 0)
-                printf("# %5.2f %6.2f   no physical fit: %s\n", ts[i], nus[j], rodkit_last_error_message());
+                DETAIL("# %5.2f %6.2f   no physical fit: %s\n", ts[i], nus[j], rodkit_last_error_message());
             else if (f.thick_status < 0)
-                printf("# %5.2f %6.2f %9.2f %9.2f %9.2f %11.5f   (3-D completion not positive definite)\n", ts[i],
+                DETAIL("# %5.2f %6.2f %9.2f %9.2f %9.2f %11.5f   (3-D completion not positive definite)\n", ts[i],
                        nus[j], f.spec.e1, f.spec.e2, f.spec.g12, f.turns_per_pn_per_10kbp);
             else
-                printf("# %5.2f %6.2f %9.2f %9.2f %9.2f %11.5f %11.5f\n", ts[i], nus[j], f.spec.e1, f.spec.e2,
+                DETAIL("# %5.2f %6.2f %9.2f %9.2f %9.2f %11.5f %11.5f\n", ts[i], nus[j], f.spec.e1, f.spec.e2,
                        f.spec.g12, f.turns_per_pn_per_10kbp, f.thick_turns_per_pn_per_10kbp);
         }
 
@@ -84,12 +103,12 @@ int main(int argc, char **argv) {
     /* The section as a hemitropic rod for a rod solver: 6x6 in (u1, u2, u3, v1, v2, v3). */
     double rod[36], rod_err;
     if ((st = rodkit_tube_rod_stiffness(tube, rod, 6, &rod_err)) < 0) return fail(st, "rodkit_tube_rod_stiffness");
-    printf("# the fitted section as a rod (thick wall; bending and shear layer by layer)\n");
-    printf("rod_bending = %.17g\nrod_twist = %.17g\nrod_shear = %.17g\nrod_stretch = %.17g\n", rod[0], rod[2 + 6 * 2],
+    DETAIL("# the fitted section as a rod (thick wall; bending and shear layer by layer)\n");
+    DETAIL("rod_bending = %.17g\nrod_twist = %.17g\nrod_shear = %.17g\nrod_stretch = %.17g\n", rod[0], rod[2 + 6 * 2],
            rod[3 + 6 * 3], rod[5 + 6 * 5]);
-    printf("rod_twist_stretch = %.17g\nrod_bend_shear = %.17g\nrod_error_estimate = %.3g\n", rod[2 + 6 * 5],
+    DETAIL("rod_twist_stretch = %.17g\nrod_bend_shear = %.17g\nrod_error_estimate = %.3g\n", rod[2 + 6 * 5],
            rod[0 + 6 * 3], rod_err);
-    printf("# bending persistence length K_b/kT = %.1f nm (DNA: about 50 nm; the tube fit knows only S, C, g)\n",
+    DETAIL("# bending persistence length K_b/kT = %.1f nm (DNA: about 50 nm; the tube fit knows only S, C, g)\n",
            rod[0] / 4.114);
     enum { N = 41 };
     RodkitTubeLoading loads[N];
@@ -103,16 +122,10 @@ int main(int argc, char **argv) {
     st = rodkit_tube_sweep(tube, loads, N, states, NULL, NULL, &done);
     rodkit_tube_free(tube);
     if (st < 0) return fail(st, "rodkit_tube_sweep");
-    FILE *csv = fopen(csv_path, "w");
-    if (!csv) {
-        perror(csv_path);
-        return 1;
-    }
-    fprintf(csv, "stretch,force_pN,twist_rad_per_nm,outer_radius_nm,inner_radius_nm\n");
+    if (csv_path && (st = rodkit_tube_sweep_write_csv(loads, states, done, "nm", "pN", csv_path)) < 0)
+        return fail(st, "rodkit_tube_sweep_write_csv");
     int turns_back = 0, radius_turns = 0;
     for (int64_t i = 0; i < done; ++i) {
-        fprintf(csv, "%.17g,%.17g,%.17g,%.17g,%.17g\n", states[i].stretch, states[i].applied_force, states[i].twist,
-                states[i].deformed_outer_radius, states[i].deformed_inner_radius);
         if (i >= 2) {
             double d1 = states[i - 1].twist - states[i - 2].twist, d2 = states[i].twist - states[i - 1].twist;
             double r1 = states[i - 1].deformed_outer_radius - states[i - 2].deformed_outer_radius;
@@ -121,12 +134,23 @@ int main(int argc, char **argv) {
             radius_turns += r1 * r2 < 0;
         }
     }
-    fclose(csv);
-    printf("# 3. torsion-free stretching of the fitted wall as a thick SVK tube -> %s\n", csv_path);
-    printf("final_stretch = %.17g\nfinal_twist = %.17g\nfinal_force = %.17g\n", states[done - 1].stretch,
+    DETAIL("# 3. torsion-free stretching of the fitted wall as a thick SVK tube\n");
+    DETAIL("final_stretch = %.17g\nfinal_twist = %.17g\nfinal_force = %.17g\n", states[done - 1].stretch,
            states[done - 1].twist, states[done - 1].applied_force);
-    printf("twist_reversals = %d\nradius_reversals = %d\n", turns_back, radius_turns);
-    printf("# %s\n", turns_back ? "the twist reverses: overwinding followed by unwinding"
+    DETAIL("twist_reversals = %d\nradius_reversals = %d\n", turns_back, radius_turns);
+    DETAIL("# %s\n", turns_back ? "the twist reverses: overwinding followed by unwinding"
                                 : "psi(lambda) is monotone: this wall overwinds throughout (no unwinding)");
+    printf("DNA as a helically reinforced tube (R = 1 nm, t = 0.4 nm, helix 60 deg) fitted to S = %g pN, C = %g pN nm^2,\n"
+           "  g = %g pN nm: E1 = %.1f, E2 = %.1f, G12 = %.1f pN/nm^2; it %s when pulled, %.4f turns/pN per 10 kbp\n",
+           S, C, g, fit.spec.e1, fit.spec.e2, fit.spec.g12, fit.overwinds ? "overwinds" : "unwinds",
+           fit.turns_per_pn_per_10kbp);
+    if (fit.thick_status >= 0)
+        printf("  the same wall as a thick tube: S %+.1f %%, C %+.1f %%, g %+.1f %% from the thin-wall law\n",
+               100 * (fit.thick_stretch / fit.stretch - 1), 100 * (fit.thick_twist / fit.twist - 1),
+               100 * (fit.thick_coupling / fit.coupling - 1));
+    printf("  stretched to %.2f at zero torque (thick SVK wall): force %.1f pN, twist %.4f rad/nm, %s\n",
+           states[done - 1].stretch, states[done - 1].applied_force, states[done - 1].twist,
+           turns_back ? "the twist reverses" : "overwinding throughout");
+    if (csv_path) printf("  sweep (%lld states, CSV): %s\n", (long long)done, csv_path);
     return 0;
 }

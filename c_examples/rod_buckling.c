@@ -10,15 +10,28 @@
  *     Euler load P(1 + P(1/GA - 1/EA)) = pi^2 K_b/(4 L^2);
  *  2. the buckled branch by the ANM from that point (rodkit chooses a phase
  *     condition for the symmetric rod) until the tip has turned by 170 deg;
- *  3. the branch as CSV (default target/rod_buckling.csv) and the shapes as
- *     VTK polydata for ParaView (default target/rod_buckling.vtk).
- * Usage: c_rod_buckling [csv path] [vtk path]
+ *  3. the buckled branch's records as CSV and its shapes as VTK polydata
+ *     for ParaView, written by rodkit (rodkit_branch_write_csv, _vtk) when
+ *     their paths are given.
+ * Usage: c_rod_buckling [--values] [csv path] [vtk path]
+ * Prints a short report; --values adds every result as a "name = value"
+ * line and the branch as a table.
  */
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 #include <stdlib.h>
 
 #include "rodkit.h"
+
+/* --values (first argument): also print the details, every result as a
+ * "name = value" line (the channel rodkit's tests read) and the tables;
+ * without it, a short report. */
+static int values;
+#define DETAIL(...)                      \
+    do {                                 \
+        if (values) printf(__VA_ARGS__); \
+    } while (0)
 
 static int fail(int32_t st, const char *what) {
     fprintf(stderr, "%s failed: %s (%d): %s\n", what, rodkit_status_string(st), (int)st, rodkit_last_error_message());
@@ -33,8 +46,13 @@ static int32_t stop_past_171(const RodkitBranchProgress *p, void *user_data) {
 }
 
 int main(int argc, char **argv) {
-    const char *csv_path = argc > 1 ? argv[1] : "target/rod_buckling.csv";
-    const char *vtk_path = argc > 2 ? argv[2] : "target/rod_buckling.vtk";
+    if (argc > 1 && strcmp(argv[1], "--values") == 0) {
+        values = 1;
+        ++argv;
+        --argc;
+    }
+    const char *csv_path = argc > 1 ? argv[1] : NULL;
+    const char *vtk_path = argc > 2 ? argv[2] : NULL;
     const double pi = acos(-1.0), ga = 300.0, ea = 1000.0;
 
     RodkitRodSpec spec;
@@ -81,12 +99,12 @@ int main(int argc, char **argv) {
     }
     const double c = 1.0 / ga - 1.0 / ea, pe = pi * pi / 4.0;
     const double formula = (-1.0 + sqrt(1.0 + 4.0 * c * pe)) / (2.0 * c);
-    printf("# rodkit %s: Euler buckling and post-buckling of a clamped-free Cosserat rod\n", RODKIT_VERSION_STRING);
-    printf("# 1. straight branch (Newton continuation, bifurcation detection)\n");
-    printf("bifurcations = %lld\n", (long long)nbif);
-    printf("critical_load = %.15g\nmultiplicity = %lld\n", bif.lambda, (long long)bif.multiplicity);
-    printf("extensible_euler_formula = %.15g\nrelative_error = %.3e\n", formula, fabs(bif.lambda - formula) / formula);
-    printf("inextensible_euler_load = %.15g\n", pe);
+    DETAIL("# rodkit %s: Euler buckling and post-buckling of a clamped-free Cosserat rod\n", RODKIT_VERSION_STRING);
+    DETAIL("# 1. straight branch (Newton continuation, bifurcation detection)\n");
+    DETAIL("bifurcations = %lld\n", (long long)nbif);
+    DETAIL("critical_load = %.15g\nmultiplicity = %lld\n", bif.lambda, (long long)bif.multiplicity);
+    DETAIL("extensible_euler_formula = %.15g\nrelative_error = %.3e\n", formula, fabs(bif.lambda - formula) / formula);
+    DETAIL("inextensible_euler_load = %.15g\n", pe);
     /* Where the point lies on the branch, and what said it is there: the
        record it follows, the evidence (det of the bordered tangent, the
        test function), and no bracket left unresolved. */
@@ -107,9 +125,9 @@ int main(int argc, char **argv) {
     int64_t unresolved = -1;
     st = rodkit_branch_unresolved(straight, NULL, 0, &unresolved);
     if (st < 0) return fail(st, "rodkit_branch_unresolved");
-    printf("bifurcation_record = %lld\nbracket_lambda_low = %.15g\nbracket_lambda_high = %.15g\n",
+    DETAIL("bifurcation_record = %lld\nbracket_lambda_low = %.15g\nbracket_lambda_high = %.15g\n",
            (long long)where.record, around[0].lambda, around[1].lambda);
-    printf("det_sign_change = %d\ntest_function_change = %d\nunresolved = %lld\n", where.det_sign_change,
+    DETAIL("det_sign_change = %d\ntest_function_change = %d\nunresolved = %lld\n", where.det_sign_change,
            where.test_function_change, (long long)unresolved);
 
     /* 2. Buckled branch by the ANM, stopped by the callback past 171 deg. */
@@ -131,40 +149,41 @@ int main(int argc, char **argv) {
     RodkitBranchRecord *rec = malloc((size_t)info.records * sizeof(RodkitBranchRecord));
     int64_t count = 0;
     rodkit_branch_records(buckled, rec, info.records, &count);
-    printf("# 2. buckled branch (ANM P = 20, eps = 1e-10, phase condition %s): %lld points, %lld steps, "
+    DETAIL("# 2. buckled branch (ANM P = 20, eps = 1e-10, phase condition %s): %lld points, %lld steps, "
            "%lld factorisations, status %s\n",
            info.phase_condition ? "on" : "off", (long long)count, (long long)info.steps,
            (long long)info.factorisations, rodkit_status_string(st));
-    printf("#   lambda      tip x       tip z    tip rotation(deg)  unfolding\n");
+    DETAIL("#   lambda      tip x       tip z    tip rotation(deg)  unfolding\n");
     int64_t last = 0;
     for (int64_t i = 0; i < count; ++i) {
         if (rec[i].tip_rotation * 180.0 / pi > 171.0) break;
         last = i;
-        if (i % 5 == 0) printf("# %9.5f %10.6f %10.6f %12.4f %12.2e\n", rec[i].lambda, rec[i].tip_x, rec[i].tip_z,
+        if (i % 5 == 0) DETAIL("# %9.5f %10.6f %10.6f %12.4f %12.2e\n", rec[i].lambda, rec[i].tip_x, rec[i].tip_z,
                                rec[i].tip_rotation * 180.0 / pi, rec[i].unfolding);
     }
-    printf("points_to_170_deg = %lld\ncallback_calls = %lld\n", (long long)(last + 1), (long long)calls);
-    printf("final_load = %.15g\nfinal_tip_rotation_deg = %.15g\n", rec[last].lambda, rec[last].tip_rotation * 180.0 / pi);
-    printf("final_tip_x = %.15g\nfinal_tip_y = %.15g\nfinal_tip_z = %.15g\n", rec[last].tip_x, rec[last].tip_y, rec[last].tip_z);
+    DETAIL("points_to_170_deg = %lld\ncallback_calls = %lld\n", (long long)(last + 1), (long long)calls);
+    DETAIL("final_load = %.15g\nfinal_tip_rotation_deg = %.15g\n", rec[last].lambda, rec[last].tip_rotation * 180.0 / pi);
+    DETAIL("final_tip_x = %.15g\nfinal_tip_y = %.15g\nfinal_tip_z = %.15g\n", rec[last].tip_x, rec[last].tip_y, rec[last].tip_z);
 
-    /* 3. CSV and VTK. */
-    FILE *csv = fopen(csv_path, "w");
-    if (!csv) {
-        perror(csv_path);
-        return 1;
-    }
-    fprintf(csv, "lambda,tip_x,tip_y,tip_z,tip_rotation_deg,base_moment_y,residual,unfolding\n");
-    for (int64_t i = 0; i <= last; ++i)
-        fprintf(csv, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.3e,%.3e\n", rec[i].lambda, rec[i].tip_x, rec[i].tip_y,
-                rec[i].tip_z, rec[i].tip_rotation * 180.0 / pi, rec[i].base_moment_y, rec[i].residual, rec[i].unfolding);
-    fclose(csv);
+    DETAIL("records = %lld\n", (long long)count);
+
+    /* 3. The buckled branch's records as CSV and eight shapes up to 170 deg
+     * as VTK polydata (cell data lambda and end_rotation), written by rodkit
+     * when paths are given. */
+    if (csv_path && (st = rodkit_branch_write_csv(buckled, rod, csv_path)) < 0)
+        return fail(st, "rodkit_branch_write_csv");
     int64_t shapes[8], ns = 0;
     for (int64_t k = 0; k < 8; ++k) shapes[ns++] = k * last / 7;
-    /* rodkit writes the shapes (legacy VTK polydata, cell data lambda and
-     * end_rotation). */
-    st = rodkit_branch_write_vtk(buckled, rod, shapes, ns, vtk_path);
-    if (st < 0) return fail(st, "rodkit_branch_write_vtk");
-    printf("# 3. branch -> %s, %lld shapes -> %s\n", csv_path, (long long)ns, vtk_path);
+    if (vtk_path && (st = rodkit_branch_write_vtk(buckled, rod, shapes, ns, vtk_path)) < 0)
+        return fail(st, "rodkit_branch_write_vtk");
+
+    printf("Euler buckling of a clamped-free Cosserat rod (K_b = 1, GA = %g, EA = %g, L = 1, 16 elements)\n", ga, ea);
+    printf("  critical load %.10f (double point), extensible Euler formula %.10f (relative difference %.1e)\n",
+           bif.lambda, formula, fabs(bif.lambda - formula) / formula);
+    printf("  buckled branch by the ANM: %lld points to a tip rotation of %.1f deg at load %.4f\n", (long long)(last + 1),
+           rec[last].tip_rotation * 180.0 / pi, rec[last].lambda);
+    if (csv_path) printf("  records (%lld, CSV): %s\n", (long long)count, csv_path);
+    if (vtk_path) printf("  %lld shapes (VTK, for ParaView): %s\n", (long long)ns, vtk_path);
 
     free(rec);
     rodkit_branch_free(buckled);

@@ -14,11 +14,21 @@ program charged_curve
     real(c_double), parameter :: pi = acos(-1.0_c_double)
     real(c_double), parameter :: radius = 1.0_c_double, pitch = 3.0_c_double, length = 20.0_c_double
     real(c_double) :: s(n), xyz(3, n), tan(3, n), sm(m), xm(3, m), tm(3, m)
-    real(c_double) :: c, w, th, phi, rho, drho, dx(3), e_bp, wr
+    real(c_double) :: c, w, th, phi, rho, drho, dx(3), e_bp, wr, wr_helix
     type(rodkit_electrostatics_spec) :: spec
     type(rodkit_electrostatic_energy) :: energy, energy_narrow
     integer(c_int32_t) :: status
     integer :: k
+    logical :: values
+    character(len=16) :: flag
+
+    ! --values (first argument): also every result as a "name = value" line
+    ! (the channel rodkit's tests read); else a short report.
+    values = .false.
+    if (command_argument_count() >= 1) then
+        call get_command_argument(1, flag)
+        values = flag == '--values'
+    end if
 
     c = pitch / (2.0_c_double * pi)
     w = sqrt(radius**2 + c**2)
@@ -44,13 +54,14 @@ program charged_curve
     call check(status, 'rodkit_curve_base_pair_energy')
     status = rodkit_curve_writhe(s, xyz, 3_c_int64_t, tan, 3_c_int64_t, int(n, c_int64_t), 0, 10_c_int64_t, wr)
     call check(status, 'rodkit_curve_writhe')
-    print '(a)', '# rodkit ' // RODKIT_VERSION_STRING // ': open helix, radius 1, pitch 3, length 20, kappa 1, a 0.3'
-    print '(a, es24.16)', 'energy = ', energy%total
-    print '(a, es24.16)', 'energy_near = ', energy%near
-    print '(a, es24.16)', 'energy_far = ', energy%far
-    print '(a, es24.16)', 'energy_narrow_near_zone = ', energy_narrow%total
-    print '(a, es24.16)', 'base_pair_energy = ', e_bp
-    print '(a, es24.16)', 'helix_writhe = ', wr
+    if (values) print '(a)', '# rodkit ' // RODKIT_VERSION_STRING // ': open helix, radius 1, pitch 3, length 20, kappa 1, a 0.3'
+    if (values) print '(a, es24.16)', 'energy = ', energy%total
+    if (values) print '(a, es24.16)', 'energy_near = ', energy%near
+    if (values) print '(a, es24.16)', 'energy_far = ', energy%far
+    if (values) print '(a, es24.16)', 'energy_narrow_near_zone = ', energy_narrow%total
+    if (values) print '(a, es24.16)', 'base_pair_energy = ', e_bp
+    if (values) print '(a, es24.16)', 'helix_writhe = ', wr
+    wr_helix = wr
 
     ! A closed toroidal helix, nodes equally spaced in phi; the arc lengths
     ! s(k) by Simpson's rule on |dr/dphi| (8 panels per interval); the last
@@ -66,7 +77,12 @@ program charged_curve
     end do
     status = rodkit_curve_writhe(sm, xm, 3_c_int64_t, tm, 3_c_int64_t, int(m, c_int64_t), 1, 10_c_int64_t, wr)
     call check(status, 'rodkit_curve_writhe (toroidal)')
-    print '(a, es24.16)', 'toroidal_writhe = ', wr
+    if (values) print '(a, es24.16)', 'toroidal_writhe = ', wr
+    print '(a)', 'Electrostatics and writhe of given curves (screened line charge, kappa = 1, radius a = 0.3):'
+    print '(a, f12.6, a, f12.6, a)', '  open helix (radius 1, pitch 3, length 20): energy', energy%total, &
+        ' (base pairs every 0.05:', e_bp, ')'
+    print '(a, f9.5, a, f10.6, a)', '  writhe: open helix', wr_helix, ', closed toroidal helix', wr, &
+        ' (Fuller: -2.924540)'
 
 contains
     subroutine toroidal(phi, r, dr)

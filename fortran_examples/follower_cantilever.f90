@@ -5,12 +5,14 @@
 ! (order 20, eps 1e-10, residual 1e-10) from alpha = Lambda L^2/K_b = 0 to 1,
 ! 2, 5 and 10, each a target reached by resuming the previous branch. A
 ! progress callback counts the points. Prints "name = value" lines and a
-! table; the tip curls past 90 degrees and beyond. The four shapes go to a
-! VTK polydata file for ParaView (argument 1; default
-! target/follower_cantilever.vtk). Then the same branch once more in a
-! single run with dense output: 20 loads alpha = 0.5, 1, ..., 10 delivered
-! from the ANM's series (Pade approximants on), each within the residual
-! tolerance.
+! table; the tip curls past 90 degrees and beyond. Then the same branch
+! once more in a single run with dense output: 20 loads alpha = 0.5, 1, ...,
+! 10 delivered from the ANM's series (Pade approximants on), each within the
+! residual tolerance; rodkit writes the shapes at alpha = 1, 2, 5, 10 as VTK
+! polydata for ParaView (rodkit_branch_write_samples_vtk) and all 20 samples
+! as CSV (rodkit_branch_write_samples_csv) when their paths are given.
+! Usage: f_follower_cantilever [--values] [vtk path] [csv path]
+! Prints a short report (--values: also "name = value" lines and tables).
 module follower_progress
     use, intrinsic :: iso_c_binding, only: c_int32_t, c_int64_t, c_ptr, c_f_pointer
     use rodkit, only: rodkit_branch_progress
@@ -45,10 +47,10 @@ program follower_cantilever
     real(c_double), parameter :: alphas(4) = [1.0_c_double, 2.0_c_double, 5.0_c_double, 10.0_c_double]
     real(c_double), parameter :: pi = acos(-1.0_c_double)
     character(len=2) :: tag
-    character(len=512) :: vtk_path
-    integer :: k, i, unit, plen
-    integer(c_int64_t), parameter :: nodes = 9
-    real(c_double) :: xyz(3, nodes), shapes(3, nodes, 4)
+    character(len=1024) :: vtk_path, csv_path
+    character(len=16) :: flag
+    logical :: values
+    integer :: k, i, first
     real(c_double), allocatable, target :: loads(:)
     type(rodkit_branch_record), allocatable :: dense(:)
     type(rodkit_record_error), allocatable :: estimates(:)
@@ -56,6 +58,20 @@ program follower_cantilever
     integer(c_int64_t) :: n_fine
     real(c_double), allocatable :: x_fine(:)
     real(c_double) :: tip_r(3), tip_q(4), tip_f(3), tip_m(3), tip_rot(3)
+
+    ! --values (first argument): also every result as a "name = value" line
+    ! (the channel rodkit's tests read) and the tables; else a short report.
+    values = .false.
+    first = 1
+    if (command_argument_count() >= 1) then
+        call get_command_argument(1, flag)
+        values = flag == '--values'
+        if (values) first = 2
+    end if
+    vtk_path = ''
+    csv_path = ''
+    if (command_argument_count() >= first) call get_command_argument(first, vtk_path)
+    if (command_argument_count() >= first + 1) call get_command_argument(first + 1, csv_path)
 
     status = rodkit_rod_spec_default(spec)
     spec%length = 1.0_c_double
@@ -88,8 +104,8 @@ program follower_cantilever
     calls = 0
     steps = 0
     factorisations = 0
-    print '(a)', '# rodkit ' // RODKIT_VERSION_STRING // ': follower cantilever, ANM (P = 20, eps = 1e-10)'
-    print '(a)', '#  alpha      tip x         tip z     tip rotation(deg)  steps'
+    if (values) print '(a)', '# rodkit ' // RODKIT_VERSION_STRING // ': follower cantilever, ANM (P = 20, eps = 1e-10)'
+    if (values) print '(a)', '#  alpha      tip x         tip z     tip rotation(deg)  steps'
     branch = c_null_ptr
     do k = 1, 4
         opts%target_lambda = alphas(k)
@@ -110,52 +126,17 @@ program follower_cantilever
         allocate(rec(info%records))
         status = rodkit_branch_records(branch, rec, info%records, count)
         write(tag, '(i0)') nint(alphas(k))
-        print '(f7.2, 2f14.9, f14.4, i7)', rec(count)%lambda, rec(count)%tip_x, rec(count)%tip_z, &
+        if (values) print '(f7.2, 2f14.9, f14.4, i7)', rec(count)%lambda, rec(count)%tip_x, rec(count)%tip_z, &
             rec(count)%tip_rotation * 180.0_c_double / pi, info%steps
-        print '(a, es24.16)', 'tip_x_' // trim(tag) // ' = ', rec(count)%tip_x
-        print '(a, es24.16)', 'tip_y_' // trim(tag) // ' = ', rec(count)%tip_y
-        print '(a, es24.16)', 'tip_z_' // trim(tag) // ' = ', rec(count)%tip_z
-        status = rodkit_branch_positions(branch, rod, count - 1, xyz, 3_c_int64_t, nodes)
-        if (status /= RODKIT_STATUS_OK) then
-            print '(a)', 'rodkit_branch_positions failed: ' // rodkit_last_error()
-            error stop 1
-        end if
-        shapes(:, :, k) = xyz
+        if (values) print '(a, es24.16)', 'tip_x_' // trim(tag) // ' = ', rec(count)%tip_x
+        if (values) print '(a, es24.16)', 'tip_y_' // trim(tag) // ' = ', rec(count)%tip_y
+        if (values) print '(a, es24.16)', 'tip_z_' // trim(tag) // ' = ', rec(count)%tip_z
         deallocate(rec)
     end do
-    print '(a, i0)', 'steps = ', steps
-    print '(a, i0)', 'factorisations = ', factorisations
-    print '(a, i0)', 'callback_calls = ', calls
+    if (values) print '(a, i0)', 'steps = ', steps
+    if (values) print '(a, i0)', 'factorisations = ', factorisations
+    if (values) print '(a, i0)', 'callback_calls = ', calls
     call rodkit_branch_free(branch)
-
-    ! The shapes as VTK polydata: one polyline per alpha, alpha as point data.
-    vtk_path = 'target/follower_cantilever.vtk'
-    if (command_argument_count() >= 1) call get_command_argument(1, vtk_path, plen)
-    open(newunit=unit, file=trim(vtk_path), status='replace', action='write')
-    write(unit, '(a)') '# vtk DataFile Version 3.0'
-    write(unit, '(a)') 'rodkit follower cantilever: shapes at alpha = 1, 2, 5, 10'
-    write(unit, '(a)') 'ASCII'
-    write(unit, '(a)') 'DATASET POLYDATA'
-    write(unit, '(a, i0, a)') 'POINTS ', 4 * nodes, ' double'
-    do k = 1, 4
-        do i = 1, nodes
-            write(unit, '(3es24.16)') shapes(:, i, k)
-        end do
-    end do
-    write(unit, '(a, i0, 1x, i0)') 'LINES ', 4, 4 * (nodes + 1)
-    do k = 1, 4
-        write(unit, '(i0, *(1x, i0))') nodes, ((k - 1) * nodes + i - 1, i = 1, nodes)
-    end do
-    write(unit, '(a, i0)') 'POINT_DATA ', 4 * nodes
-    write(unit, '(a)') 'SCALARS alpha double 1'
-    write(unit, '(a)') 'LOOKUP_TABLE default'
-    do k = 1, 4
-        do i = 1, nodes
-            write(unit, '(es24.16)') alphas(k)
-        end do
-    end do
-    close(unit)
-    print '(a)', 'vtk = ' // trim(vtk_path)
 
     ! Dense output in one run: 20 loads from the series (Pade on).
     allocate(loads(20))
@@ -173,20 +154,44 @@ program follower_cantilever
     status = rodkit_branch_summary(branch, info)
     allocate(dense(info%samples))
     status = rodkit_branch_samples(branch, dense, info%samples, count)
-    print '(a)', '# dense output, one run (ANM P = 20, eps = 1e-10, Pade):'
-    print '(a)', '#  alpha      tip x         tip z       residual'
+    if (values) print '(a)', '# dense output, one run (ANM P = 20, eps = 1e-10, Pade):'
+    if (values) print '(a)', '#  alpha      tip x         tip z       residual'
     do i = 1, int(count)
-        print '(f7.2, 2f14.9, es12.2)', dense(i)%lambda, dense(i)%tip_x, dense(i)%tip_z, dense(i)%residual
+        if (values) print '(f7.2, 2f14.9, es12.2)', dense(i)%lambda, dense(i)%tip_x, dense(i)%tip_z, dense(i)%residual
     end do
-    print '(a, i0)', 'dense_samples = ', count
-    print '(a, i0)', 'dense_missed = ', info%missed_samples
-    print '(a, i0)', 'dense_steps = ', info%steps
-    print '(a, i0)', 'dense_factorisations = ', info%factorisations
-    print '(a, es24.16)', 'dense_tip_x_5 = ', dense(10)%tip_x
-    print '(a, es24.16)', 'dense_tip_z_5 = ', dense(10)%tip_z
-    print '(a, es24.16)', 'dense_tip_x_10 = ', dense(20)%tip_x
-    print '(a, es24.16)', 'dense_tip_z_10 = ', dense(20)%tip_z
-    print '(a, es24.16)', 'dense_max_residual = ', maxval(dense(:)%residual)
+    if (values) print '(a, i0)', 'dense_samples = ', count
+    if (values) print '(a, i0)', 'dense_missed = ', info%missed_samples
+    if (values) print '(a, i0)', 'dense_steps = ', info%steps
+    if (values) print '(a, i0)', 'dense_factorisations = ', info%factorisations
+    if (values) print '(a, es24.16)', 'dense_tip_x_5 = ', dense(10)%tip_x
+    if (values) print '(a, es24.16)', 'dense_tip_z_5 = ', dense(10)%tip_z
+    if (values) print '(a, es24.16)', 'dense_tip_x_10 = ', dense(20)%tip_x
+    if (values) print '(a, es24.16)', 'dense_tip_z_10 = ', dense(20)%tip_z
+    if (values) print '(a, es24.16)', 'dense_max_residual = ', maxval(dense(:)%residual)
+    ! rodkit writes the shapes at alpha = 1, 2, 5, 10 (samples 2, 4, 10, 20;
+    ! 0-based indices) as VTK, cell data lambda, and every sample as CSV.
+    if (len_trim(vtk_path) > 0) then
+        status = rodkit_branch_write_samples_vtk(branch, rod, [1_c_int64_t, 3_c_int64_t, 9_c_int64_t, 19_c_int64_t], &
+            4_c_int64_t, trim(vtk_path) // c_null_char)
+        if (status < 0) then
+            print '(a)', 'rodkit_branch_write_samples_vtk failed: ' // rodkit_last_error()
+            error stop 1
+        end if
+    end if
+    if (len_trim(csv_path) > 0) then
+        status = rodkit_branch_write_samples_csv(branch, rod, trim(csv_path) // c_null_char)
+        if (status < 0) then
+            print '(a)', 'rodkit_branch_write_samples_csv failed: ' // rodkit_last_error()
+            error stop 1
+        end if
+    end if
+    print '(a)', 'A cantilever under a follower tip force (K_b = 1, L = 1, 8 elements), continued by the ANM to alpha = 10'
+    print '(a, i0, a, i0, a)', '  ', count, ' loads alpha = 0.5 ... 10 from one run of ', info%steps, &
+        ' steps (Pade), each within the residual tolerance 1e-10'
+    print '(a, f9.6, a, f9.6, a, f6.2, a)', '  tip at alpha = 10: (x, z) = (', dense(20)%tip_x, ', ', dense(20)%tip_z, &
+        '), tip rotation ', dense(20)%tip_rotation * 180.0_c_double / pi, ' deg'
+    if (len_trim(vtk_path) > 0) print '(a)', '  shapes at alpha = 1, 2, 5, 10 (VTK, for ParaView): ' // trim(vtk_path)
+    if (len_trim(csv_path) > 0) print '(a, i0, a)', '  samples (', count, ', CSV): ' // trim(csv_path)
     call rodkit_branch_free(branch)
 
     ! To a tolerance: rodkit chooses the elements (from this rod's 8) so
@@ -209,20 +214,22 @@ program follower_cantilever
     ! The tip frame at α = 10 from the last state, through the accessor.
     status = rodkit_branch_state(branch, count - 1, x_fine, n_fine)
     status = rodkit_rod_node_state(fine_rod, x_fine, n_fine, (n_fine / 13 - 1) / 5, tip_r, tip_q, tip_f, tip_m)
-    print '(a)', '# to a tolerance of 1e-6 (ANM defaults): elements chosen, worst estimate, tip at alpha = 10'
-    print '(a, i0)', 'tolerance_elements = ', (n_fine / 13 - 1) / 5
-    print '(a, es24.16)', 'tolerance_worst_estimate = ', maxval(estimates(:)%scaled)
-    print '(a, i0)', 'tolerance_estimated = ', sum(estimates(:)%estimated)
-    print '(a, i0)', 'tolerance_records = ', count
-    print '(a, es24.16)', 'tolerance_tip_x_10 = ', rec(count)%tip_x
-    print '(a, es24.16)', 'tolerance_tip_z_10 = ', rec(count)%tip_z
-    print '(a, es24.16)', 'tolerance_tip_q0_10 = ', tip_q(1)
-    print '(a, es24.16)', 'tolerance_tip_q2_10 = ', tip_q(3)
-    print '(a, es24.16)', 'tolerance_tip_rx_10 = ', tip_r(1)
+    if (values) print '(a)', '# to a tolerance of 1e-6 (ANM defaults): elements chosen, worst estimate, tip at alpha = 10'
+    if (values) print '(a, i0)', 'tolerance_elements = ', (n_fine / 13 - 1) / 5
+    if (values) print '(a, es24.16)', 'tolerance_worst_estimate = ', maxval(estimates(:)%scaled)
+    if (values) print '(a, i0)', 'tolerance_estimated = ', sum(estimates(:)%estimated)
+    if (values) print '(a, i0)', 'tolerance_records = ', count
+    if (values) print '(a, es24.16)', 'tolerance_tip_x_10 = ', rec(count)%tip_x
+    if (values) print '(a, es24.16)', 'tolerance_tip_z_10 = ', rec(count)%tip_z
+    if (values) print '(a, es24.16)', 'tolerance_tip_q0_10 = ', tip_q(1)
+    if (values) print '(a, es24.16)', 'tolerance_tip_q2_10 = ', tip_q(3)
+    if (values) print '(a, es24.16)', 'tolerance_tip_rx_10 = ', tip_r(1)
     ! The tip's signed rotation (the rotation vector of its frame): about
     ! +e2 for this rod bent towards +e1, the shortest rotation (|angle| <= pi).
     status = rodkit_rod_node_rotation(fine_rod, x_fine, n_fine, (n_fine / 13 - 1) / 5, tip_rot)
-    print '(a, es24.16)', 'tolerance_tip_rotation_e2_10 = ', tip_rot(2)
+    if (values) print '(a, es24.16)', 'tolerance_tip_rotation_e2_10 = ', tip_rot(2)
+    print '(a, i0, a, es9.2, a)', '  to a tolerance of 1e-6: rodkit chose ', (n_fine / 13 - 1) / 5, &
+        ' elements (worst estimated error ', maxval(estimates(:)%scaled), ')'
     call rodkit_branch_free(branch)
     call rodkit_rod_free(fine_rod)
     call rodkit_rod_free(rod)

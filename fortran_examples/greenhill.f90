@@ -29,6 +29,16 @@ program greenhill
     real(c_double) :: theta, worst
     character(len=2) :: tag
     integer :: k
+    logical :: values
+    character(len=16) :: flag
+
+    ! --values (first argument): also every result as a "name = value" line
+    ! (the channel rodkit's tests read) and the tables; else a short report.
+    values = .false.
+    if (command_argument_count() >= 1) then
+        call get_command_argument(1, flag)
+        values = flag == '--values'
+    end if
 
     status = rodkit_rod_spec_default(spec)
     spec%length = 1.0_c_double
@@ -81,27 +91,31 @@ program greenhill
         error stop 1
     end if
 
-    print '(a)', '# rodkit ' // RODKIT_VERSION_STRING // ': Greenhill''s rod turned to phi = 25, tolerance 1e-6'
-    print '(a, i0, a, i0, a)', '# ', elements, ' elements chosen, ', info%records, ' records'
-    print '(a)', '#  k  record  mult   critical phi      estimate       theta_k (closed form)   true error'
+    if (values) print '(a)', '# rodkit ' // RODKIT_VERSION_STRING // ': Greenhill''s rod turned to phi = 25, tolerance 1e-6'
+    if (values) print '(a, i0, a, i0, a)', '# ', elements, ' elements chosen, ', info%records, ' records'
+    if (values) print '(a)', '#  k  record  mult   critical phi      estimate       theta_k (closed form)   true error'
     worst = 0.0_c_double
     do k = 1, int(n_points)
         theta = greenhill_root(k)
-        print '(i4, i8, i6, f17.10, es14.3, f17.10, es18.3)', k, points(k)%record, points(k)%multiplicity, &
+        if (values) print '(i4, i8, i6, f17.10, es14.3, f17.10, es18.3)', k, points(k)%record, points(k)%multiplicity, &
             points(k)%end_rotation, errors(k)%end_rotation, theta, abs(points(k)%end_rotation - theta)
         write(tag, '(i0)') k
-        print '(a, es24.16)', 'critical_phi_' // trim(tag) // ' = ', points(k)%end_rotation
-        print '(a, es24.16)', 'critical_phi_estimate_' // trim(tag) // ' = ', errors(k)%end_rotation
-        print '(a, i0)', 'critical_estimated_' // trim(tag) // ' = ', errors(k)%estimated
-        print '(a, i0)', 'critical_record_' // trim(tag) // ' = ', points(k)%record
-        print '(a, i0)', 'critical_multiplicity_' // trim(tag) // ' = ', points(k)%multiplicity
+        if (values) print '(a, es24.16)', 'critical_phi_' // trim(tag) // ' = ', points(k)%end_rotation
+        if (values) print '(a, es24.16)', 'critical_phi_estimate_' // trim(tag) // ' = ', errors(k)%end_rotation
+        if (values) print '(a, i0)', 'critical_estimated_' // trim(tag) // ' = ', errors(k)%estimated
+        if (values) print '(a, i0)', 'critical_record_' // trim(tag) // ' = ', points(k)%record
+        if (values) print '(a, i0)', 'critical_multiplicity_' // trim(tag) // ' = ', points(k)%multiplicity
         worst = max(worst, errors(k)%scaled)
     end do
-    print '(a, i0)', 'elements = ', elements
-    print '(a, i0)', 'records = ', info%records
-    print '(a, i0)', 'points = ', n_points
-    print '(a, es24.16)', 'final_end_rotation = ', rec(info%records)%end_rotation
-    print '(a, es24.16)', 'worst_critical_estimate = ', worst
+    if (values) print '(a, i0)', 'elements = ', elements
+    if (values) print '(a, i0)', 'records = ', info%records
+    if (values) print '(a, i0)', 'points = ', n_points
+    if (values) print '(a, es24.16)', 'final_end_rotation = ', rec(info%records)%end_rotation
+    if (values) print '(a, es24.16)', 'worst_critical_estimate = ', worst
+    print '(a)', 'Greenhill''s problem: a Kirchhoff rod (K_b = C = 1, L = 1) turned to phi = 25 by rotation control'
+    print '(a, i0, a, *(f11.6))', '  ', n_points, ' critical twists found at phi =', points(1:n_points)%end_rotation
+    print '(a, *(f11.6))', '  closed form (tan(theta/2) = theta/2):', [(greenhill_root(k), k = 1, int(n_points))]
+    print '(a, i0, a, es9.2, a)', '  ', elements, ' elements chosen by rodkit for 1e-6 (worst estimate ', worst, ')'
     deallocate(rec)
     call rodkit_branch_free(branch)
     call rodkit_rod_free(fine_rod)

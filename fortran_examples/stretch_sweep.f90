@@ -6,17 +6,22 @@
 ! rodkit::tube::dna), completed transversely isotropically (E3 = E2,
 ! nu13 = nu23 = nu12, G13 = G12, G23 = E2/(2(1 + nu23))).
 ! Zero torque and pressure, stretch 1 -> 1.05 in 26 steps; a progress
-! callback prints every 5th step. Prints "name = value" lines and a table.
+! callback prints every 5th step. Usage: f_stretch_sweep [--values] [csv path].
+! Prints a short report (--values: also "name = value" lines and a table);
+! with a path, rodkit writes the sweep as CSV (rodkit_tube_sweep_write_csv).
 module sweep_progress
     use, intrinsic :: iso_c_binding, only: c_int32_t, c_ptr, c_associated
     use rodkit, only: rodkit_progress
     implicit none
+    ! --values (first argument): also every result as a "name = value" line
+    ! (the channel rodkit's tests read), the progress and a table.
+    logical :: values = .false.
 contains
     function on_progress(progress, user_data) result(stop_now) bind(c)
         type(rodkit_progress), intent(in) :: progress
         type(c_ptr), value :: user_data
         integer(c_int32_t) :: stop_now
-        if (mod(progress%done, 5_8) == 0) print '(a, i0, a, i0)', '# progress ', progress%done, '/', progress%total
+        if (values .and. mod(progress%done, 5_8) == 0) print '(a, i0, a, i0)', '# progress ', progress%done, '/', progress%total
         stop_now = 0
         if (c_associated(user_data)) stop_now = 0 ! user_data is unused here
     end function on_progress
@@ -35,7 +40,18 @@ program stretch_sweep
     integer(c_int32_t) :: status
     integer(c_int64_t) :: completed
     real(c_double), parameter :: pi = acos(-1.0_c_double)
-    integer :: i
+    integer :: i, first
+    character(len=1024) :: csv_path
+    character(len=16) :: flag
+
+    first = 1
+    if (command_argument_count() >= 1) then
+        call get_command_argument(1, flag)
+        values = flag == '--values'
+        if (values) first = 2
+    end if
+    csv_path = ''
+    if (command_argument_count() >= first) call get_command_argument(first, csv_path)
 
     status = rodkit_tube_spec_default(spec)
     spec%inner_radius = 0.8_c_double
@@ -75,17 +91,31 @@ program stretch_sweep
         error stop 1
     end if
 
-    print '(a, a)', '# rodkit ', RODKIT_VERSION_STRING // ': torsion-free stretching of a DNA-like thick tube (nm, pN)'
-    print '(a, i0)', 'states = ', completed
-    print '(a, es25.17e3)', 'stretch = ', states(n)%stretch
-    print '(a, es25.17e3)', 'twist = ', states(n)%twist
-    print '(a, es25.17e3)', 'applied_force = ', states(n)%applied_force
-    print '(a, es25.17e3)', 'outer_radius = ', states(n)%deformed_outer_radius
-    print '(a, es25.17e3)', 'torque = ', states(n)%torque
-    print '(a)', '#  stretch    twist (deg/nm)   force (pN)   outer radius (nm)'
+    if (values) print '(a, a)', '# rodkit ', RODKIT_VERSION_STRING // ': torsion-free stretching of a DNA-like thick tube (nm, pN)'
+    if (values) print '(a, i0)', 'states = ', completed
+    if (values) print '(a, es25.17e3)', 'stretch = ', states(n)%stretch
+    if (values) print '(a, es25.17e3)', 'twist = ', states(n)%twist
+    if (values) print '(a, es25.17e3)', 'applied_force = ', states(n)%applied_force
+    if (values) print '(a, es25.17e3)', 'outer_radius = ', states(n)%deformed_outer_radius
+    if (values) print '(a, es25.17e3)', 'torque = ', states(n)%torque
+    if (values) print '(a)', '#  stretch    twist (deg/nm)   force (pN)   outer radius (nm)'
     do i = 1, n, 5
-        print '(a, f8.4, f14.6, f13.4, f14.6)', '# ', states(i)%stretch, states(i)%twist * 180.0_c_double / pi, &
+        if (values) print '(a, f8.4, f14.6, f13.4, f14.6)', '# ', states(i)%stretch, states(i)%twist * 180.0_c_double / pi, &
             states(i)%applied_force, states(i)%deformed_outer_radius
     end do
+    print '(a)', 'A DNA-like thick tube (orthotropic SVK wall, A = 0.8 nm, B = 1.2 nm, helix 60 deg) stretched at zero torque'
+    print '(a, f5.3, a, f0.2, a, f7.5, a, f7.5, a)', '  at stretch ', states(n)%stretch, ': force ', &
+        states(n)%applied_force, ' pN, twist ', states(n)%twist * 180.0_c_double / pi, ' deg/nm (overwinds), outer radius ', &
+        states(n)%deformed_outer_radius, ' nm'
+    ! rodkit writes the sweep, loadings and states, as CSV when a path is given.
+    if (len_trim(csv_path) > 0) then
+        status = rodkit_tube_sweep_write_csv(loadings, states, completed, 'nm' // c_null_char, 'pN' // c_null_char, &
+            trim(csv_path) // c_null_char)
+        if (status < 0) then
+            print '(a)', 'rodkit_tube_sweep_write_csv failed: ' // rodkit_last_error()
+            error stop 1
+        end if
+        print '(a, i0, a)', '  sweep (', completed, ' states, CSV): ' // trim(csv_path)
+    end if
     call rodkit_tube_free(tube)
 end program stretch_sweep

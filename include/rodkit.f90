@@ -809,6 +809,50 @@ module rodkit
     end type rodkit_unresolved_bifurcation
 
     ! -------------------------------------------------------------------------
+    ! RodkitTubeLoading (type rodkit_tube_loading): A loading.
+    ! -------------------------------------------------------------------------
+    ! A loading. Initialise with `rodkit_tube_loading_default` (λ = 1, ψ = 0,
+    ! no pressure, open ends).
+    type, bind(c) :: rodkit_tube_loading
+        ! RodkitAxialControl and its value.
+        integer(c_int32_t) :: axial_control
+        real(c_double) :: axial
+        ! RodkitTorsionControl and its value.
+        integer(c_int32_t) :: torsion_control
+        real(c_double) :: torsion
+        ! Pressure on the inner and outer surfaces.
+        real(c_double) :: inner_pressure
+        real(c_double) :: outer_pressure
+        ! 1: closed (capped) ends, the wall also carries πa²p − πb²p_o; 0: open.
+        integer(c_int32_t) :: closed_ends
+    end type rodkit_tube_loading
+
+    ! -------------------------------------------------------------------------
+    ! RodkitTubeState (type rodkit_tube_state): An equilibrium state.
+    ! -------------------------------------------------------------------------
+    ! An equilibrium state.
+    type, bind(c) :: rodkit_tube_state
+        real(c_double) :: stretch
+        real(c_double) :: twist
+        ! Axial force carried by the wall, 2π∫σ_zz r dr.
+        real(c_double) :: wall_force
+        ! Axial force applied besides the cap pressure (= wall_force when open).
+        real(c_double) :: applied_force
+        real(c_double) :: torque
+        real(c_double) :: inner_pressure
+        real(c_double) :: outer_pressure
+        real(c_double) :: deformed_inner_radius
+        real(c_double) :: deformed_outer_radius
+        ! The answering model's error estimate (see RodkitTubeSpec.rel_tol).
+        real(c_double) :: error_estimate
+        ! Chebyshev intervals (thick) or 0 (membrane).
+        integer(c_int64_t) :: intervals
+        integer(c_int64_t) :: newton_iterations
+        ! RodkitTubeModel that produced the state (thick or membrane).
+        integer(c_int32_t) :: model
+    end type rodkit_tube_state
+
+    ! -------------------------------------------------------------------------
     ! RodkitDnaSupercoilSpec (type rodkit_dna_supercoil_spec): A supercoiling
     ! scene in nm, pN, mol/L.
     ! -------------------------------------------------------------------------
@@ -1139,50 +1183,6 @@ module rodkit
         ! Fixed Chebyshev intervals for the thick model, 4…256; 0: adaptive.
         integer(c_int64_t) :: intervals
     end type rodkit_tube_spec
-
-    ! -------------------------------------------------------------------------
-    ! RodkitTubeLoading (type rodkit_tube_loading): A loading.
-    ! -------------------------------------------------------------------------
-    ! A loading. Initialise with `rodkit_tube_loading_default` (λ = 1, ψ = 0,
-    ! no pressure, open ends).
-    type, bind(c) :: rodkit_tube_loading
-        ! RodkitAxialControl and its value.
-        integer(c_int32_t) :: axial_control
-        real(c_double) :: axial
-        ! RodkitTorsionControl and its value.
-        integer(c_int32_t) :: torsion_control
-        real(c_double) :: torsion
-        ! Pressure on the inner and outer surfaces.
-        real(c_double) :: inner_pressure
-        real(c_double) :: outer_pressure
-        ! 1: closed (capped) ends, the wall also carries πa²p − πb²p_o; 0: open.
-        integer(c_int32_t) :: closed_ends
-    end type rodkit_tube_loading
-
-    ! -------------------------------------------------------------------------
-    ! RodkitTubeState (type rodkit_tube_state): An equilibrium state.
-    ! -------------------------------------------------------------------------
-    ! An equilibrium state.
-    type, bind(c) :: rodkit_tube_state
-        real(c_double) :: stretch
-        real(c_double) :: twist
-        ! Axial force carried by the wall, 2π∫σ_zz r dr.
-        real(c_double) :: wall_force
-        ! Axial force applied besides the cap pressure (= wall_force when open).
-        real(c_double) :: applied_force
-        real(c_double) :: torque
-        real(c_double) :: inner_pressure
-        real(c_double) :: outer_pressure
-        real(c_double) :: deformed_inner_radius
-        real(c_double) :: deformed_outer_radius
-        ! The answering model's error estimate (see RodkitTubeSpec.rel_tol).
-        real(c_double) :: error_estimate
-        ! Chebyshev intervals (thick) or 0 (membrane).
-        integer(c_int64_t) :: intervals
-        integer(c_int64_t) :: newton_iterations
-        ! RodkitTubeModel that produced the state (thick or membrane).
-        integer(c_int32_t) :: model
-    end type rodkit_tube_state
 
     ! -------------------------------------------------------------------------
     ! RodkitProgress (type rodkit_progress): What a progress callback is told.
@@ -1945,6 +1945,42 @@ module rodkit
             integer(c_int32_t) :: status
         end function rodkit_branch_write_csv
 
+        ! The dense-output samples' shapes: as rodkit_branch_write_vtk for the
+        ! points delivered at the requested sample loads
+        ! (RodkitContinuationOptions.samples; rodkit_branch_samples gives their
+        ! records): one polyline per sample `samples` (n indices; NULL: every
+        ! sample), cell data `lambda` and `end_rotation`. A branch without samples:
+        ! RODKIT_STATUS_ERR_OUT_OF_RANGE. Writes nothing on failure.
+        !
+        ! # Safety
+        ! As rodkit_branch_write_vtk, with `samples` for `records`.
+        function rodkit_branch_write_samples_vtk(branch, rod, samples, n, path) &
+                result(status) bind(c, name="rodkit_branch_write_samples_vtk")
+            import :: c_char, c_int32_t, c_int64_t, c_ptr
+            type(c_ptr), value :: branch
+            type(c_ptr), value :: rod
+            integer(c_int64_t), intent(in) :: samples(*)
+            integer(c_int64_t), value :: n
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int32_t) :: status
+        end function rodkit_branch_write_samples_vtk
+
+        ! The dense-output samples as CSV: the columns of rodkit_branch_write_csv,
+        ! one row per sample as rodkit_branch_samples gives it (step and
+        ! determinant signs 0, test_function NaN: not tracked). A branch without
+        ! samples: RODKIT_STATUS_ERR_OUT_OF_RANGE. Writes nothing on failure.
+        !
+        ! # Safety
+        ! As rodkit_branch_write_vtk.
+        function rodkit_branch_write_samples_csv(branch, rod, path) &
+                result(status) bind(c, name="rodkit_branch_write_samples_csv")
+            import :: c_char, c_int32_t, c_ptr
+            type(c_ptr), value :: branch
+            type(c_ptr), value :: rod
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int32_t) :: status
+        end function rodkit_branch_write_samples_csv
+
         ! Write the shapes of the points `points` (n indices; NULL: every point)
         ! of a supercoiling path to `path` as legacy VTK polydata: one polyline
         ! per point through the rod's nodes (nm), with the
@@ -1978,6 +2014,45 @@ module rodkit
             character(kind=c_char), intent(in) :: path(*)
             integer(c_int32_t) :: status
         end function rodkit_supercoil_write_csv
+
+        ! Write a tube sweep to `path` as CSV: the `count` loadings given to
+        ! rodkit_tube_sweep and the states it returned for them (pass its
+        ! `completed` count after a cancelled or failed sweep), one row each. The
+        ! header names every column with its unit in brackets, in the caller's
+        ! length and force units (`length_unit`, `force_unit`, e.g. "mm" and "mN",
+        ! or "nm" and "pN"; rodkit itself is unit-free), e.g. `twist [rad/mm]`,
+        ! `torque [mN*mm]`, `inner_pressure [mN/mm^2]`:
+        !
+        ! - the loading: load_stretch [1], load_force [F] (one of them, the other
+        !   cell empty, as axial_control says), load_twist [rad/L], load_torque
+        !   [F*L] (likewise), load_inner_pressure, load_outer_pressure [F/L^2],
+        !   closed_ends (1 or 0);
+        ! - the state, as RodkitTubeState: stretch [1], twist [rad/L], wall_force,
+        !   applied_force [F], torque [F*L], inner_pressure, outer_pressure
+        !   [F/L^2], inner_radius, outer_radius [L] (deformed), error_estimate
+        !   [1], intervals, newton_iterations, model (RodkitTubeModel).
+        !
+        ! Numbers at full precision (they parse back to the same doubles). Every
+        ! loading is checked as rodkit_tube_sweep checks it, and every state must
+        ! be finite (else RODKIT_STATUS_ERR_NOT_FINITE) with counts ≥ 0 and a thick
+        ! or membrane model (else RODKIT_STATUS_ERR_OUT_OF_RANGE), so that a state
+        ! the sweep did not write is refused rather than written; the message names
+        ! the entry. Writes nothing on failure.
+        !
+        ! # Safety
+        ! `loadings` and `states` must be NULL or hold `count` readable values,
+        ! `length_unit`, `force_unit` and `path` NULL or NUL-terminated strings.
+        function rodkit_tube_sweep_write_csv(loadings, states, count, length_unit, force_unit, path) &
+                result(status) bind(c, name="rodkit_tube_sweep_write_csv")
+            import :: c_char, c_int32_t, c_int64_t, rodkit_tube_loading, rodkit_tube_state
+            type(rodkit_tube_loading), intent(in) :: loadings(*)
+            type(rodkit_tube_state), intent(in) :: states(*)
+            integer(c_int64_t), value :: count
+            character(kind=c_char), intent(in) :: length_unit(*)
+            character(kind=c_char), intent(in) :: force_unit(*)
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int32_t) :: status
+        end function rodkit_tube_sweep_write_csv
 
         ! Fill `spec` with the defaults above.
         function rodkit_dna_supercoil_spec_default(spec) &

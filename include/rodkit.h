@@ -924,6 +924,44 @@ typedef struct RodkitUnresolvedBifurcation {
   int32_t test_function_change;
 } RodkitUnresolvedBifurcation;
 
+// A loading. Initialise with `rodkit_tube_loading_default` (λ = 1, ψ = 0,
+// no pressure, open ends).
+typedef struct RodkitTubeLoading {
+  // RodkitAxialControl and its value.
+  int32_t axial_control;
+  double axial;
+  // RodkitTorsionControl and its value.
+  int32_t torsion_control;
+  double torsion;
+  // Pressure on the inner and outer surfaces.
+  double inner_pressure;
+  double outer_pressure;
+  // 1: closed (capped) ends, the wall also carries πa²p − πb²p_o; 0: open.
+  int32_t closed_ends;
+} RodkitTubeLoading;
+
+// An equilibrium state.
+typedef struct RodkitTubeState {
+  double stretch;
+  double twist;
+  // Axial force carried by the wall, 2π∫σ_zz r dr.
+  double wall_force;
+  // Axial force applied besides the cap pressure (= wall_force when open).
+  double applied_force;
+  double torque;
+  double inner_pressure;
+  double outer_pressure;
+  double deformed_inner_radius;
+  double deformed_outer_radius;
+  // The answering model's error estimate (see RodkitTubeSpec.rel_tol).
+  double error_estimate;
+  // Chebyshev intervals (thick) or 0 (membrane).
+  int64_t intervals;
+  int64_t newton_iterations;
+  // RodkitTubeModel that produced the state (thick or membrane).
+  int32_t model;
+} RodkitTubeState;
+
 // A supercoiling scene in nm, pN, mol/L. Call
 // `rodkit_dna_supercoil_spec_default` first: 1 kbp, 1 pN, 0.1 M, ν = 1/l_B
 // (Manning), a = 1 nm, A = 50 nm, P = 95 nm, 298.15 K, ε_r = 78.4; the
@@ -1215,44 +1253,6 @@ typedef struct RodkitTubeSpec {
   // Fixed Chebyshev intervals for the thick model, 4…256; 0: adaptive.
   int64_t intervals;
 } RodkitTubeSpec;
-
-// A loading. Initialise with `rodkit_tube_loading_default` (λ = 1, ψ = 0,
-// no pressure, open ends).
-typedef struct RodkitTubeLoading {
-  // RodkitAxialControl and its value.
-  int32_t axial_control;
-  double axial;
-  // RodkitTorsionControl and its value.
-  int32_t torsion_control;
-  double torsion;
-  // Pressure on the inner and outer surfaces.
-  double inner_pressure;
-  double outer_pressure;
-  // 1: closed (capped) ends, the wall also carries πa²p − πb²p_o; 0: open.
-  int32_t closed_ends;
-} RodkitTubeLoading;
-
-// An equilibrium state.
-typedef struct RodkitTubeState {
-  double stretch;
-  double twist;
-  // Axial force carried by the wall, 2π∫σ_zz r dr.
-  double wall_force;
-  // Axial force applied besides the cap pressure (= wall_force when open).
-  double applied_force;
-  double torque;
-  double inner_pressure;
-  double outer_pressure;
-  double deformed_inner_radius;
-  double deformed_outer_radius;
-  // The answering model's error estimate (see RodkitTubeSpec.rel_tol).
-  double error_estimate;
-  // Chebyshev intervals (thick) or 0 (membrane).
-  int64_t intervals;
-  int64_t newton_iterations;
-  // RodkitTubeModel that produced the state (thick or membrane).
-  int32_t model;
-} RodkitTubeState;
 
 // What a progress callback is told.
 typedef struct RodkitProgress {
@@ -1755,6 +1755,32 @@ int32_t rodkit_branch_write_csv(const struct RodkitBranch *branch,
                                 const struct RodkitRod *rod,
                                 const char *path);
 
+// The dense-output samples' shapes: as rodkit_branch_write_vtk for the
+// points delivered at the requested sample loads
+// (RodkitContinuationOptions.samples; rodkit_branch_samples gives their
+// records): one polyline per sample `samples` (n indices; NULL: every
+// sample), cell data `lambda` and `end_rotation`. A branch without samples:
+// RODKIT_STATUS_ERR_OUT_OF_RANGE. Writes nothing on failure.
+//
+// # Safety
+// As rodkit_branch_write_vtk, with `samples` for `records`.
+int32_t rodkit_branch_write_samples_vtk(const struct RodkitBranch *branch,
+                                        const struct RodkitRod *rod,
+                                        const int64_t *samples,
+                                        int64_t n,
+                                        const char *path);
+
+// The dense-output samples as CSV: the columns of rodkit_branch_write_csv,
+// one row per sample as rodkit_branch_samples gives it (step and
+// determinant signs 0, test_function NaN: not tracked). A branch without
+// samples: RODKIT_STATUS_ERR_OUT_OF_RANGE. Writes nothing on failure.
+//
+// # Safety
+// As rodkit_branch_write_vtk.
+int32_t rodkit_branch_write_samples_csv(const struct RodkitBranch *branch,
+                                        const struct RodkitRod *rod,
+                                        const char *path);
+
 // Write the shapes of the points `points` (n indices; NULL: every point)
 // of a supercoiling path to `path` as legacy VTK polydata: one polyline
 // per point through the rod's nodes (nm), with the
@@ -1777,6 +1803,40 @@ int32_t rodkit_supercoil_write_vtk(const struct RodkitSupercoil *run,
 // # Safety
 // As rodkit_supercoil_write_vtk.
 int32_t rodkit_supercoil_write_csv(const struct RodkitSupercoil *run, const char *path);
+
+// Write a tube sweep to `path` as CSV: the `count` loadings given to
+// rodkit_tube_sweep and the states it returned for them (pass its
+// `completed` count after a cancelled or failed sweep), one row each. The
+// header names every column with its unit in brackets, in the caller's
+// length and force units (`length_unit`, `force_unit`, e.g. "mm" and "mN",
+// or "nm" and "pN"; rodkit itself is unit-free), e.g. `twist [rad/mm]`,
+// `torque [mN*mm]`, `inner_pressure [mN/mm^2]`:
+//
+// - the loading: load_stretch [1], load_force [F] (one of them, the other
+//   cell empty, as axial_control says), load_twist [rad/L], load_torque
+//   [F*L] (likewise), load_inner_pressure, load_outer_pressure [F/L^2],
+//   closed_ends (1 or 0);
+// - the state, as RodkitTubeState: stretch [1], twist [rad/L], wall_force,
+//   applied_force [F], torque [F*L], inner_pressure, outer_pressure
+//   [F/L^2], inner_radius, outer_radius [L] (deformed), error_estimate
+//   [1], intervals, newton_iterations, model (RodkitTubeModel).
+//
+// Numbers at full precision (they parse back to the same doubles). Every
+// loading is checked as rodkit_tube_sweep checks it, and every state must
+// be finite (else RODKIT_STATUS_ERR_NOT_FINITE) with counts ≥ 0 and a thick
+// or membrane model (else RODKIT_STATUS_ERR_OUT_OF_RANGE), so that a state
+// the sweep did not write is refused rather than written; the message names
+// the entry. Writes nothing on failure.
+//
+// # Safety
+// `loadings` and `states` must be NULL or hold `count` readable values,
+// `length_unit`, `force_unit` and `path` NULL or NUL-terminated strings.
+int32_t rodkit_tube_sweep_write_csv(const struct RodkitTubeLoading *loadings,
+                                    const struct RodkitTubeState *states,
+                                    int64_t count,
+                                    const char *length_unit,
+                                    const char *force_unit,
+                                    const char *path);
 
 // Fill `spec` with the defaults above.
 int32_t rodkit_dna_supercoil_spec_default(struct RodkitDnaSupercoilSpec *spec);

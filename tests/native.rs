@@ -63,6 +63,14 @@ fn run(exe: &str, args: &[&str]) -> String {
     check(out, exe)
 }
 
+/// A driver with `--values`: its short report and every result as a
+/// `name = value` line (the channel these tests read).
+fn run_values(exe: &str, args: &[&str]) -> String {
+    let mut all = vec!["--values"];
+    all.extend_from_slice(args);
+    run(exe, &all)
+}
+
 /// Every `name = number` line of a driver's output.
 fn values(text: &str) -> BTreeMap<String, f64> {
     text.lines()
@@ -121,10 +129,10 @@ fn assert_matches_rust(driver: &str, text: &str) {
 
 #[test]
 fn c_driver_shared_and_static_match_rust() {
-    let shared = run("c_tube_stiffness_shared", &[]);
+    let shared = run_values("c_tube_stiffness_shared", &[]);
     assert_matches_rust("c shared", &shared);
     assert_eq!(values(&shared)["winding"], 1.0, "the bundled DNA-like tube overwinds");
-    let stat = run("c_tube_stiffness_static", &["c_examples/data/dna_tube.txt"]);
+    let stat = run_values("c_tube_stiffness_static", &["c_examples/data/dna_tube.txt"]);
     assert_eq!(shared, stat, "shared and static builds print the same");
 }
 
@@ -134,7 +142,7 @@ fn c_driver_reads_another_input() {
     std::fs::create_dir_all(&dir).unwrap();
     let input = dir.join("iso.txt");
     std::fs::write(&input, "mid_radius = 2.5\nthickness = 0.01 # thin\nintrinsic_twist = -0.3\ne1 = 70e3\ne2 = 70e3\nnu12 = 0.33\ng12 = 26315.789473684212\n").unwrap();
-    let out = run("c_tube_stiffness_shared", &[input.to_str().unwrap()]);
+    let out = run_values("c_tube_stiffness_shared", &[input.to_str().unwrap()]);
     assert_matches_rust("c shared, isotropic input", &out);
     assert_eq!(values(&out)["winding"], 0.0, "an isotropic tube does not twist when pulled");
 }
@@ -295,7 +303,7 @@ fn fortran_driver_shared_and_static_match_rust() {
     let stat = run("f_tube_stiffness_static", &["fortran_examples/dna_tube.nml"]);
     assert_eq!(shared, stat);
     // Same tube as the C driver's default input: same numbers.
-    let c = values(&run("c_tube_stiffness_shared", &[]));
+    let c = values(&run_values("c_tube_stiffness_shared", &[]));
     for (k, v) in values(&shared) {
         if let Some(cv) = c.get(&k) {
             assert_eq!(*cv, v, "C and Fortran differ on {k}");
@@ -310,12 +318,20 @@ fn fortran_driver_shared_and_static_match_rust() {
 #[test]
 fn bad_input_driver_passes_all_checks() {
     for exe in ["c_bad_input_shared", "c_bad_input_static"] {
-        let out = Command::new(drivers().join(exe)).current_dir(ROOT).env("RUST_BACKTRACE", "1").output().unwrap();
+        let cmd = |args: &[&str]| {
+            Command::new(drivers().join(exe)).args(args).current_dir(ROOT).env("RUST_BACKTRACE", "1").output().unwrap()
+        };
+        let out = cmd(&["--values"]);
         let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
         let out = check(out, exe);
         assert!(!out.contains("FAIL"), "{exe}:\n{out}");
         assert!(out.lines().any(|l| l == "14 passed, 0 failed"), "{exe}:\n{out}");
         assert!(!stderr.contains("panicked") && !stderr.contains("backtrace"), "{exe} stderr:\n{stderr}");
+        // Without --values, the report: the same count, two lines, quiet.
+        let out = cmd(&[]);
+        assert!(out.stderr.is_empty(), "{exe} stderr:\n{}", String::from_utf8_lossy(&out.stderr));
+        let out = check(out, exe);
+        assert!(out.starts_with("Error handling: 14 of 14 bad calls") && out.lines().count() == 2, "{exe}:\n{out}");
     }
 }
 
@@ -389,7 +405,7 @@ fn artery_driver_matches_rust_sweep() {
     let dir = std::env::temp_dir().join(format!("rodkit-artery-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let csv = dir.join("artery.csv");
-    let out = run("c_artery_shared", &[csv.to_str().unwrap()]);
+    let out = run_values("c_artery_shared", &[csv.to_str().unwrap()]);
     assert_eq!(values(&out)["states"], 31.0);
     let deg = std::f64::consts::PI / 180.0;
     let fam = |angle: f64| FibreFamily { angle: FibreAngle::Fixed(angle), k1: 2.3632, k2: 0.8393 };
@@ -409,19 +425,34 @@ fn artery_driver_matches_rust_sweep() {
         })
         .collect();
     let (sweep, _) = scene.sweep(&loadings, |_, _| true).unwrap();
+    // rodkit_tube_sweep_write_csv's columns, found by their headers (units
+    // mm and mN); the state columns full, the load_force and load_twist
+    // cells empty (stretch and torque control).
     let text = std::fs::read_to_string(&csv).unwrap();
-    let rows: Vec<Vec<f64>> =
-        text.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let col =
+        |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no `{name}` in {header:?}"));
+    let (stretch, force, twist, inner) =
+        (col("stretch [1]"), col("applied_force [mN]"), col("twist [rad/mm]"), col("inner_radius [mm]"));
+    let (load_force, load_twist) = (col("load_force [mN]"), col("load_twist [rad/mm]"));
+    let rows: Vec<Vec<Option<f64>>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| (!v.is_empty()).then(|| v.parse().unwrap())).collect())
+        .collect();
     assert_eq!(rows.len(), 31);
     for (row, s) in rows.iter().zip(&sweep.states) {
-        assert_eq!(row[0], s.stretch);
-        assert_eq!(row[1], s.applied_force);
-        assert_eq!(row[4], s.deformed_inner_radius);
-        assert!(row[3].abs() < 1e-12, "± families: no twist");
+        assert_eq!(row[stretch], Some(s.stretch));
+        assert_eq!(row[force], Some(s.applied_force));
+        assert_eq!(row[inner], Some(s.deformed_inner_radius));
+        assert!(row[twist].unwrap().abs() < 1e-12, "± families: no twist");
+        assert_eq!((row[load_force], row[load_twist]), (None, None));
     }
+    let rows: Vec<Vec<f64>> =
+        rows.iter().map(|r| vec![r[stretch].unwrap(), r[force].unwrap(), 0.0, 0.0, r[inner].unwrap()]).collect();
     // Stretching at fixed pressure narrows the lumen and raises the force.
     assert!(rows.windows(2).all(|w| w[1][4] < w[0][4] && w[1][1] > w[0][1]));
-    let stat = run("c_artery_static", &[csv.to_str().unwrap()]);
+    let stat = run_values("c_artery_static", &[csv.to_str().unwrap()]);
     assert_eq!(values(&stat), values(&out));
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -433,7 +464,11 @@ fn fortran_stretch_sweep_matches_rust() {
     use rodkit::tube::material::SaintVenantKirchhoff;
     use rodkit::tube::scene::{TubeModel, TubeScene, WallLaw};
     use rodkit::tube::Orthotropic;
-    let out = run("f_stretch_sweep_shared", &[]);
+    let dir = std::env::temp_dir().join(format!("rodkit-stretch-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("sweep.csv");
+    let csv_arg = csv.to_str().unwrap();
+    let out = run_values("f_stretch_sweep_shared", &[csv_arg]);
     let got = values(&out);
     let o = Orthotropic::new(467.2, 516.2, 516.2, 0.3, 0.3, 0.3, 139.8, 139.8, 516.2 / 2.6).unwrap();
     let tau0 = (std::f64::consts::PI / 3.0).tan();
@@ -456,7 +491,21 @@ fn fortran_stretch_sweep_matches_rust() {
     }
     assert!(got["twist"] > 0.0, "the DNA-like wall overwinds (τ0 > 0)");
     assert_eq!(out.matches("# progress").count(), 5);
-    assert_eq!(run("f_stretch_sweep_static", &[]), out);
+    // The CSV rodkit wrote from Fortran: every state of the Rust sweep,
+    // bitwise (nm, pN in the header).
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let col =
+        |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no `{name}` in {header:?}"));
+    let (stretch, twist, force) = (col("stretch [1]"), col("twist [rad/nm]"), col("applied_force [pN]"));
+    let rows: Vec<Vec<&str>> = text.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), sweep.states.len());
+    for (row, s) in rows.iter().zip(&sweep.states) {
+        let v = |c: usize| row[c].parse::<f64>().unwrap();
+        assert_eq!((v(stretch), v(twist), v(force)), (s.stretch, s.twist, s.applied_force));
+    }
+    assert_eq!(run_values("f_stretch_sweep_static", &[csv_arg]), out);
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// The DNA scene driver's fit and thick evaluation equal the Rust DNA module
@@ -468,7 +517,7 @@ fn dna_driver_matches_rust_fit() {
     let dir = std::env::temp_dir().join(format!("rodkit-dna-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let csv = dir.join("dna.csv");
-    let got = values(&run("c_dna_tube_shared", &[csv.to_str().unwrap()]));
+    let got = values(&run_values("c_dna_tube_shared", &[csv.to_str().unwrap()]));
     let fit = fit_thin_wall(DnaTargets::literature(), 1.0, std::f64::consts::PI / 3.0, 0.4, 0.3).unwrap();
     let thick = thick_comparison(&fit, OutOfPlane::default_for(&fit.material)).unwrap();
     for (k, want) in [
@@ -515,7 +564,7 @@ fn c_rod_buckling_driver() {
     let dir = std::env::temp_dir().join(format!("rodkit-rod-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let (csv, vtk) = (dir.join("b.csv"), dir.join("b.vtk"));
-    let out = run("c_rod_buckling_shared", &[csv.to_str().unwrap(), vtk.to_str().unwrap()]);
+    let out = run_values("c_rod_buckling_shared", &[csv.to_str().unwrap(), vtk.to_str().unwrap()]);
     let got = values(&out);
     let formula = got["extensible_euler_formula"];
     assert!((got["critical_load"] - formula).abs() < 1e-9 * formula, "{out}");
@@ -545,8 +594,13 @@ fn c_rod_buckling_driver() {
     assert_eq!(got["test_function_change"], b.bifurcations[0].test_function_change as u8 as f64);
     assert!(got["final_tip_rotation_deg"] > 170.0 && got["final_tip_rotation_deg"] < 172.0);
     assert!(got["callback_calls"] >= got["points_to_170_deg"]);
-    let rows = std::fs::read_to_string(&csv).unwrap().lines().count() - 1;
-    assert_eq!(rows as f64, got["points_to_170_deg"]);
+    // Every record of the buckled branch (rodkit_branch_write_csv), the
+    // unfolding parameter its last column.
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.lines().next().unwrap().ends_with(",unfolding"));
+    let rows = text.lines().count() - 1;
+    assert_eq!(rows as f64, got["records"]);
+    assert!(got["records"] > got["points_to_170_deg"], "the branch goes past 170 degrees");
     for line in std::fs::read_to_string(&csv).unwrap().lines().skip(1) {
         let mu: f64 = line.rsplit(',').next().unwrap().parse().unwrap();
         assert!(mu.abs() < 1e-9, "unfolding parameter {mu}");
@@ -557,7 +611,7 @@ fn c_rod_buckling_driver() {
             && vtk_text.contains("POINTS 136 double")
             && vtk_text.contains("LINES 8 144")
     );
-    assert_eq!(run("c_rod_buckling_static", &[csv.to_str().unwrap(), vtk.to_str().unwrap()]), out);
+    assert_eq!(run_values("c_rod_buckling_static", &[csv.to_str().unwrap(), vtk.to_str().unwrap()]), out);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -576,7 +630,8 @@ fn fortran_follower_cantilever_driver() {
     let dir = std::env::temp_dir().join(format!("rodkit-follower-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let vtk = dir.join("shapes.vtk");
-    let out = run("f_follower_cantilever_shared", &[vtk.to_str().unwrap()]);
+    let csv = dir.join("samples.csv");
+    let out = run_values("f_follower_cantilever_shared", &[vtk.to_str().unwrap(), csv.to_str().unwrap()]);
     let got = values(&out);
     let rod = |n| {
         let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap();
@@ -606,18 +661,41 @@ fn fortran_follower_cantilever_driver() {
             assert!((v - fine[k][c]).abs() < 1e-8, "α = {a}: tip {name} {v} vs converged {}", fine[k][c]);
         }
     }
-    // The four shapes as VTK polydata: 4 polylines of 9 nodes, the last
-    // node of each at the printed tip.
+    // The dense run's shapes at α = 1, 2, 5, 10 as VTK polydata (written by
+    // rodkit_branch_write_samples_vtk): 4 polylines of 9 nodes, λ as cell
+    // data, the last node of the last at the printed dense tip (the same
+    // state, 1e-15) and so within 1e-8 of the targeted tip (as below).
     let text = std::fs::read_to_string(&vtk).unwrap();
     assert!(
         text.starts_with("# vtk DataFile")
             && text.contains("POINTS 36 double")
             && text.contains("LINES 4 40")
-            && text.contains("POINT_DATA 36")
+            && text.contains("CELL_DATA 4")
     );
     let points: Vec<Vec<f64>> =
         text.lines().skip(5).take(36).map(|l| l.split_whitespace().map(|v| v.parse().unwrap()).collect()).collect();
-    assert!((points[35][0] - got["tip_x_10"]).abs() < 1e-15 && (points[35][2] - got["tip_z_10"]).abs() < 1e-15);
+    let (tx, tz) = (got["dense_tip_x_10"], got["dense_tip_z_10"]);
+    assert!((points[35][0] - tx).abs() < 1e-15 && (points[35][2] - tz).abs() < 1e-15);
+    assert!((points[35][0] - got["tip_x_10"]).abs() < 1e-8 && (points[35][2] - got["tip_z_10"]).abs() < 1e-8);
+    let lambda: Vec<f64> = text
+        .lines()
+        .skip_while(|l| !l.starts_with("SCALARS lambda"))
+        .skip(2)
+        .take(4)
+        .map(|l| l.parse().unwrap())
+        .collect();
+    assert_eq!(lambda, [1.0, 2.0, 5.0, 10.0]);
+    // Every sample as CSV (rodkit_branch_write_samples_csv): 20 rows at
+    // α = 0.5, 1, …, 10, the last one's tip the printed dense tip.
+    let rows: Vec<Vec<f64>> = std::fs::read_to_string(&csv)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 20);
+    assert!(rows.iter().enumerate().all(|(k, r)| r[0] == 0.5 * (k + 1) as f64));
+    assert!((rows[19][2] - tx).abs() < 1e-15 && (rows[19][4] - tz).abs() < 1e-15);
     // Dense output in one run (20 loads, Padé): every load delivered within
     // the tolerance, the ones at α = 5 and 10 equal to the targeted points
     // (same discrete equations, residual 1e-10 each) and to the converged tip.
@@ -662,7 +740,8 @@ fn fortran_follower_cantilever_driver() {
     assert!(
         (got["tolerance_tip_x_10"] - fine[3][0]).abs() < 1e-6 && (got["tolerance_tip_z_10"] - fine[3][2]).abs() < 1e-6
     );
-    assert_eq!(run("f_follower_cantilever_static", &[vtk.to_str().unwrap()]), out);
+    assert_eq!(run_values("f_follower_cantilever_static", &[vtk.to_str().unwrap(), csv.to_str().unwrap()]), out);
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// The Fortran Greenhill driver (rotation control to φ = 25 exactly through
@@ -680,7 +759,7 @@ fn fortran_greenhill_driver() {
     use rodkit::rod::scheme::Scheme;
     use rodkit::rod::target::until_rotation;
     use rodkit::rod::{Loads, RodLaw};
-    let out = run("f_greenhill_shared", &[]);
+    let out = run_values("f_greenhill_shared", &[]);
     let got = values(&out);
     let template = Rod::new(
         RodLaw::kirchhoff(1.0, 1.0, 1.0).unwrap(),
@@ -721,7 +800,7 @@ fn fortran_greenhill_driver() {
         assert!(truth <= key("critical_phi_estimate") && truth <= 1e-6 * theta, "root {k}: true {truth:e}");
     }
     assert!(got["worst_critical_estimate"] <= 1e-6);
-    assert_eq!(run("f_greenhill_static", &[]), out);
+    assert_eq!(run_values("f_greenhill_static", &[]), out);
 }
 
 /// The C driver that solves the follower cantilever at α = 5 with its own
@@ -731,7 +810,7 @@ fn fortran_greenhill_driver() {
 /// ANM state to 1e−10.
 #[test]
 fn c_rod_sundials_driver() {
-    let got = values(&run("c_rod_sundials_shared", &[]));
+    let got = values(&run_values("c_rod_sundials_shared", &[]));
     assert!(got["tip_difference_ida_vs_anm"] < 1e-9, "{got:?}");
     assert!(got["state_difference_kinsol_vs_anm"] < 1e-10, "{got:?}");
     assert!(got["kinsol_discrete_iterations"] <= 5.0);
@@ -751,7 +830,7 @@ fn c_rod_sundials_driver() {
 fn fortran_charged_curve_driver() {
     use rodkit::electrostatics::{discrete, energy, EnergyQuadrature, HermiteCurve, LineCharge, Screening};
     use rodkit::geometry::writhe::writhe;
-    let out = run("f_charged_curve_shared", &[]);
+    let out = run_values("f_charged_curve_shared", &[]);
     let got = values(&out);
     let (radius, pitch, length, n) = (1.0f64, 3.0f64, 20.0f64, 81usize);
     let c = pitch / (2.0 * std::f64::consts::PI);
@@ -788,7 +867,7 @@ fn fortran_charged_curve_driver() {
     assert!(rel(got["base_pair_energy"], got["energy"]) < 0.02);
     assert!(rel(got["helix_writhe"], writhe(&helix, 10).unwrap()) < 1e-12);
     assert!((got["toroidal_writhe"] - (-2.9245397422)).abs() < 1e-5, "{}", got["toroidal_writhe"]);
-    assert_eq!(run("f_charged_curve_static", &[]), out);
+    assert_eq!(run_values("f_charged_curve_static", &[]), out);
 }
 
 /// The Fortran DNA-supercoiling driver (300 bp, 40 elements, 20 steps; the
@@ -902,7 +981,7 @@ fn c_dna_supercoil_driver() {
     std::fs::create_dir_all(&dir).unwrap();
     let (csv, vtk) = (dir.join("d.csv"), dir.join("d.vtk"));
     let args = ["0.1", "20", csv.to_str().unwrap(), vtk.to_str().unwrap(), "40", "300"];
-    let out = run("c_dna_supercoil_shared", &args);
+    let out = run_values("c_dna_supercoil_shared", &args);
     let got = values(&out);
     let scene = DnaScene { base_pairs: 300, ..Default::default() };
     let settings = SupercoilSettings { elements: 40, max_steps: 20, ..Default::default() };
@@ -925,7 +1004,7 @@ fn c_dna_supercoil_driver() {
     assert!(v.starts_with("# vtk DataFile") && v.contains("LINES ") && v.contains("SCALARS turns"));
     // Timing aside, the static build prints the same.
     let untimed = |t: &str| t.lines().filter(|l| !l.starts_with("seconds")).collect::<Vec<_>>().join("\n");
-    assert_eq!(untimed(&run("c_dna_supercoil_static", &args)), untimed(&out));
+    assert_eq!(untimed(&run_values("c_dna_supercoil_static", &args)), untimed(&out));
     assert_eq!(got["base_pair_charges"], 0.0, "the continuum is the default model");
     // The last point re-solved with base-pair charges: the Rust API's
     // solve_point (1e-12); Newton–Krylov and the direct solver agree; the
@@ -946,7 +1025,7 @@ fn c_dna_supercoil_driver() {
     // charges, the Rust API's buckling point to 1e-12, and within 2e-3 of
     // the continuum's (the models differ by near-field terms).
     let args_d = ["0.1", "10", csv.to_str().unwrap(), vtk.to_str().unwrap(), "40", "300", "discrete"];
-    let got_d = values(&run("c_dna_supercoil_shared", &args_d));
+    let got_d = values(&run_values("c_dna_supercoil_shared", &args_d));
     let rd =
         run_scene(&scene, &SupercoilSettings { elements: 40, max_steps: 10, base_pairs: true, ..Default::default() })
             .unwrap();
@@ -963,7 +1042,7 @@ fn c_dna_supercoil_driver() {
     // Under a torque clamp: the Rust API's torque-controlled run (1e-12),
     // the same buckling point as rotation control (1e-6).
     let args_t = ["0.1", "20", csv.to_str().unwrap(), vtk.to_str().unwrap(), "40", "300", "continuum", "torque"];
-    let out_t = run("c_dna_supercoil_shared", &args_t);
+    let out_t = run_values("c_dna_supercoil_shared", &args_t);
     assert!(out_t.contains("continued in the end torque"), "{out_t}");
     let got_t = values(&out_t);
     let settings_t = SupercoilSettings { control: rodkit::charged::dna::EndControl::Torque, ..settings };
@@ -1003,7 +1082,7 @@ fn c_dna_map_driver() {
         ["--bp", "300", "--forces", "1", "--salts", "0.1,0.05", "--turns", "1.7", "--elements", "40", "--steps", "300"];
     let mut all: Vec<&str> = args.to_vec();
     all.push(out_dir.to_str().unwrap());
-    let out = run("c_dna_map_shared", &all);
+    let out = run_values("c_dna_map_shared", &all);
     let got = values(&out);
     assert_eq!((got["curves"], got["failed_curves"]), (2.0, 0.0), "{out}");
     assert!(out.contains(&format!("{}/", out_dir.canonicalize().unwrap().display())), "{out}");
@@ -1061,4 +1140,71 @@ fn c_dna_map_driver() {
         assert_eq!(text.matches("<polyline").count(), 2, "{svg}");
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `make run` as a user sees it (its reports, `make run-drivers`, on the
+/// drivers built above), started from an empty temporary directory with
+/// `make -C <repo>` and OUT elsewhere: one section per capability, no
+/// `name = value` dump, every file a report names is under OUT and exists,
+/// nothing is written to the working directory, and nothing on stderr (the
+/// error demo is quiet). The DNA runs are shrunk (150 bp; the variables the
+/// Makefile offers for that) to keep this test short (~15 s on an idle machine).
+#[test]
+fn make_run_reports_from_any_directory() {
+    drivers();
+    let tmp = std::env::temp_dir().join(format!("rodkit-make-run-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&tmp);
+    let (cwd, out_dir) = (tmp.join("elsewhere"), tmp.join("out"));
+    std::fs::create_dir_all(&cwd).unwrap();
+    let out = Command::new("make")
+        .current_dir(&cwd)
+        .args(["-s", "--no-print-directory", "-C", ROOT, "run-drivers", &format!("PROFILE={}", profile())])
+        .arg(format!("OUT={}", out_dir.display()))
+        .arg("DNA_MAP_SUBSET=--bp 150 --elements 12 --steps 20 --turns 1.5 --forces 1 --salts 0.1")
+        .args(["DNA_SUPERCOIL_STEPS=10", "DNA_SUPERCOIL_SCENE=20 150"])
+        .env("RUST_BACKTRACE", "1")
+        .output()
+        .expect("run make");
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    let text = check(out, "make run-drivers");
+    assert!(stderr.is_empty(), "stderr:\n{stderr}");
+    for section in ["== Tubes", "== Rods", "== DNA", "== Errors"] {
+        assert_eq!(text.matches(section).count(), 1, "{section}:\n{text}");
+    }
+    assert!(values(&text).is_empty(), "name = value lines in the report:\n{text}");
+    // The reports' figures: the extensible Euler load (physics.md §2.6,
+    // 2.4533568605 to the printed 10 decimals) and Greenhill's first root.
+    assert!(text.contains("critical load 2.4533568605"), "{text}");
+    assert!(text.contains("8.986819"), "{text}");
+    // Every path a report names lies under OUT and exists; the folders the
+    // Makefile promises hold what the drivers wrote.
+    let out_str = out_dir.display().to_string();
+    let named: Vec<&str> = text
+        .split_whitespace()
+        .filter(|w| w.starts_with('/') && !w.contains("c_examples/data"))
+        .map(|w| w.trim_end_matches(['/', ':', ')', ',']))
+        .filter(|w| !w.is_empty())
+        .collect();
+    assert!(named.len() >= 10, "{named:?}");
+    for p in &named {
+        assert!(p.starts_with(&out_str), "{p} is outside {out_str}");
+        assert!(Path::new(p).exists(), "{p} is named but missing");
+    }
+    for f in [
+        "tubes/artery_stretch.csv",
+        "tubes/dna_tube_stretch.csv",
+        "tubes/dna_wall_stretch.csv",
+        "rods/buckling.csv",
+        "rods/buckling.vtk",
+        "rods/follower.vtk",
+        "rods/follower_samples.csv",
+        "dna/supercoil.csv",
+        "dna/supercoil.vtk",
+        "dna/map/summary.csv",
+        "dna/map/extension_vs_turns.svg",
+    ] {
+        assert!(out_dir.join(f).is_file(), "{f} missing under {out_str}");
+    }
+    assert_eq!(std::fs::read_dir(&cwd).unwrap().count(), 0, "files in the working directory");
+    let _ = std::fs::remove_dir_all(&tmp);
 }

@@ -56,7 +56,7 @@ pub type BranchCallback = Option<unsafe extern "C" fn(progress: *const BranchPro
 pub struct Branch {
     pub(super) branch: RodBranch,
     pub(super) records: Vec<BranchRecord>,
-    samples: Vec<BranchRecord>,
+    pub(super) samples: Vec<BranchRecord>,
     state_length: usize,
     /// The rod it was computed with: a branch handed back with another rod
     /// is refused (its states would be misread).

@@ -122,7 +122,7 @@ c_enum!(TubeModel, "a RodkitTubeModel 0…2", [TubeModel::Auto, TubeModel::Thick
 c_enum!(AxialControl, "0 (stretch) or 1 (force)", [AxialControl::Stretch, AxialControl::Force]);
 c_enum!(TorsionControl, "0 (twist) or 1 (torque)", [TorsionControl::Twist, TorsionControl::Torque]);
 
-fn loading(l: &TubeLoading) -> Result<Loading> {
+pub(super) fn loading(l: &TubeLoading) -> Result<Loading> {
     let axial = match enum_arg::<AxialControl>("axial_control", l.axial_control)? {
         AxialControl::Stretch => Axial::Stretch(l.axial),
         AxialControl::Force => Axial::Force(l.axial),

@@ -119,6 +119,12 @@ static void fuzz_one(void) {
         memset(pat, 0x5a, sizeof pat);
         if (memcmp(&out[3], pat, sizeof pat) != 0)
             fuzz_violation("rodkit_tube_sweep", "overflow", "states written past count");
+        /* The sweep as CSV: the states written, or all three (the unwritten
+         * ones' 0x5a bytes must be refused with a status, not written). */
+        int64_t rows = fuzz_below(2) && done > 0 ? done : 3;
+        const char *path = "/tmp/rodkit-fuzz-tube-sweep.csv";
+        fuzz_status("rodkit_tube_sweep_write_csv", rodkit_tube_sweep_write_csv(ls, out, rows, "mm", "mN", path));
+        remove(path);
         break;
     }
     case 2: matrix("rodkit_tube_coupling_stiffness", rodkit_tube_coupling_stiffness, t, 3); break;

@@ -177,11 +177,12 @@ run-drivers:
 	@$(BUILD)/f_stretch_sweep_shared $(RUN_OUT)/tubes/dna_wall_stretch.csv
 	@$(BUILD)/c_artery_shared $(RUN_OUT)/tubes/artery_stretch.csv
 	@echo
-	@echo "== Rods: Cosserat rods continued by the asymptotic numerical method (C, Fortran)"
+	@echo "== Rods: Cosserat rods continued by the asymptotic numerical method (C, Fortran, C++)"
 	@$(BUILD)/c_rod_buckling_shared $(RUN_OUT)/rods/buckling.csv $(RUN_OUT)/rods/buckling.vtk
 	@$(BUILD)/f_follower_cantilever_shared $(RUN_OUT)/rods/follower.vtk $(RUN_OUT)/rods/follower_samples.csv
 	@$(BUILD)/f_greenhill_shared
 	$(if $(SUNDIALS_DRIVER),@$(BUILD)/$(SUNDIALS_DRIVER))
+	@$(BUILD)/cpp_fe_beam
 	@echo
 	@echo "== DNA: charged rods and supercoiling (Fortran, C)"
 	@$(BUILD)/f_charged_curve_shared

@@ -35,7 +35,8 @@
 //      the check therefore resolves; the bend-shear coupling c2 changes the
 //      deflection by a factor of about 4 for this wall.
 //
-// Usage: cpp_fe_beam [elements] [load_steps]   (defaults 16 and 10)
+// Usage: cpp_fe_beam [--values] [elements] [load_steps]   (defaults 16 and 10;
+//        --values adds every figure as a `name = value` line)
 // Units: N, mm, MPa (N/mm^2).
 #include <algorithm>
 #include <array>
@@ -52,6 +53,9 @@
 #include "rodkit.h"
 
 namespace {
+
+// Print the `name = value` lines too (--values).
+bool g_values = false;
 
 // ---------------------------------------------------------------------------
 // rodkit statuses: every call is checked; < 0 is a failure (c-api.md).
@@ -350,7 +354,7 @@ class FeSolver {
                 x = trial;
                 lambda = next;
                 ++stats_.steps;
-                std::printf("#   step %2lld: Lambda = %-8.5g Newton iterations %d, residual %.2e\n",
+                if (g_values) std::printf("  step %2lld: Lambda = %-8.5g Newton iterations %d, residual %.2e\n",
                             (long long)stats_.steps, lambda, iters, stats_.final_residual);
                 // The predictor for the next step, from J and dR/dLambda at the
                 // converged state (evaluated by the convergence test).
@@ -438,38 +442,44 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 int run(int argc, char **argv) {
+    // --values (first) adds every figure as a `name = value` line (the tests read them).
+    if (argc > 1 && std::string(argv[1]) == "--values") {
+        g_values = true;
+        --argc;
+        ++argv;
+    }
     const int64_t elements = argc > 1 ? std::atoll(argv[1]) : 16;
     const int load_steps = argc > 2 ? std::atoi(argv[2]) : 10;
     if (elements < 1 || load_steps < 1) {
-        std::fprintf(stderr, "usage: cpp_fe_beam [elements >= 1] [load_steps >= 1]\n");
+        std::fprintf(stderr, "usage: cpp_fe_beam [--values] [elements >= 1] [load_steps >= 1]\n");
         return 2;
     }
     constexpr double LENGTH = 1000.0, LAMBDA_MAX = 5.0, LAMBDA_LINEAR = 1e-4;
     constexpr double TIP_TOL = 1e-9, LINEAR_TOL = 1e-7;
     const auto t_start = std::chrono::steady_clock::now();
 
-    std::printf("# rodkit %s embedded in a C++ FE beam program (own load stepping, Newton, sparse LU)\n",
+    std::printf("rodkit %s embedded in a C++ FE beam program (own load stepping, Newton, sparse LU)\n",
                 RODKIT_VERSION_STRING);
 
     // 1. Section law from the tube.
     const Wall wall;
     double section_error = 0.0;
     const auto k = section_stiffness(wall, &section_error);
-    std::printf("# 1. section: fibre-reinforced hose, A = %g mm, B = %g mm, cords at 30 deg (mid radius)\n",
+    std::printf("1. section: fibre-reinforced hose, A = %g mm, B = %g mm, cords at 30 deg (mid radius)\n",
                 wall.inner, wall.outer);
-    std::printf("inner_radius = %.17g\nouter_radius = %.17g\nintrinsic_twist = %.17g\n", wall.inner, wall.outer,
+    if (g_values) std::printf("inner_radius = %.17g\nouter_radius = %.17g\nintrinsic_twist = %.17g\n", wall.inner, wall.outer,
                 wall.tau0);
-    std::printf("e1 = %.17g\ne2 = %.17g\ne3 = %.17g\nnu12 = %.17g\nnu13 = %.17g\nnu23 = %.17g\n", wall.e1, wall.e2,
+    if (g_values) std::printf("e1 = %.17g\ne2 = %.17g\ne3 = %.17g\nnu12 = %.17g\nnu13 = %.17g\nnu23 = %.17g\n", wall.e1, wall.e2,
                 wall.e3, wall.nu12, wall.nu13, wall.nu23);
-    std::printf("g12 = %.17g\ng13 = %.17g\ng23 = %.17g\n", wall.g12, wall.g13, wall.g23);
+    if (g_values) std::printf("g12 = %.17g\ng13 = %.17g\ng23 = %.17g\n", wall.g12, wall.g13, wall.g23);
     const char *names[6] = {"u1", "u2", "u3", "v1", "v2", "v3"};
     for (int i = 0; i < 6; ++i)
         for (int j = i; j < 6; ++j)
-            if (k[i + 6 * j] != 0.0) std::printf("K_%s_%s = %.17g\n", names[i], names[j], k[i + 6 * j]);
-    std::printf("section_error_estimate = %.3e\n", section_error);
-    std::printf("#   bending K_b = %.6g N mm^2, shear G = %.6g N, bend-shear c2 = %.6g N mm, twist C = %.6g N mm^2,\n"
-                "#   stretch S = %.6g N, twist-stretch g = %.6g N mm (chiral: the cords wind one way); under a\n"
-                "#   transverse load the coupling leaves an effective bending stiffness K_b - c2^2/G = %.6g N mm^2\n",
+            if (g_values && k[i + 6 * j] != 0.0) std::printf("K_%s_%s = %.17g\n", names[i], names[j], k[i + 6 * j]);
+    if (g_values) std::printf("section_error_estimate = %.3e\n", section_error);
+    std::printf("  bending K_b = %.6g N mm^2, shear G = %.6g N, bend-shear c2 = %.6g N mm, twist C = %.6g N mm^2,\n"
+                "  stretch S = %.6g N, twist-stretch g = %.6g N mm (chiral: the cords wind one way); under a\n"
+                "  transverse load the coupling leaves an effective bending stiffness K_b - c2^2/G = %.6g N mm^2\n",
                 k[0], k[21], k[18], k[14], k[35], k[2 + 6 * 5], k[0] - k[18] * k[18] / k[21]);
 
     // 2. The rod: cantilever, dead tip force Lambda * P_ref e1, with P_ref =
@@ -503,9 +513,9 @@ int run(int argc, char **argv) {
         scale[i] = c < 3 ? LENGTH : c < 7 ? 1.0 : c < 10 ? p_ref : p_ref * LENGTH;
     }
     FeSolver fe(rod.p, scale);
-    std::printf("# 2. rod: L = %g mm, Gauss-Legendre 4 stages x %lld elements, %lld unknowns, %lld Jacobian entries\n",
+    std::printf("2. rod: L = %g mm, Gauss-Legendre 4 stages x %lld elements, %lld unknowns, %lld Jacobian entries\n",
                 LENGTH, (long long)elements, (long long)n, (long long)fe.nnz());
-    std::printf("length = %.17g\nelements = %lld\nunknowns = %lld\njacobian_nnz = %lld\nload_per_lambda = %.17g\n",
+    if (g_values) std::printf("length = %.17g\nelements = %lld\nunknowns = %lld\njacobian_nnz = %lld\nload_per_lambda = %.17g\n",
                 LENGTH, (long long)elements, (long long)n, (long long)fe.nnz(), p_ref);
 
     // 3. The FE solve: a small step (the linear check), then uniform steps.
@@ -514,7 +524,7 @@ int run(int argc, char **argv) {
     std::vector<double> loads{LAMBDA_LINEAR};
     for (int s = 1; s <= load_steps; ++s) loads.push_back(LAMBDA_MAX * s / load_steps);
     Tip lin_tip{};
-    std::printf("# 3. FE Newton: dead tip force P = Lambda * %.6g N along x, Lambda 0 -> %g\n", p_ref, LAMBDA_MAX);
+    std::printf("3. FE Newton: dead tip force P = Lambda * %.6g N along x, Lambda 0 -> %g\n", p_ref, LAMBDA_MAX);
     const auto t_fe = std::chrono::steady_clock::now();
     fe.follow(x, 0.0, loads, [&](double lambda) {
         if (lambda == LAMBDA_LINEAR) lin_tip = tip_of(rod.p, x, elements);
@@ -550,25 +560,29 @@ int run(int argc, char **argv) {
     const double tip_angle = std::sqrt(fe_tip.rot[0] * fe_tip.rot[0] + fe_tip.rot[1] * fe_tip.rot[1] +
                                        fe_tip.rot[2] * fe_tip.rot[2]);
 
-    std::printf("#   tip at Lambda = %g (P = %.6g N): x = %.6f mm, y = %.6f mm, z = %.6f mm, rotation %.4f deg\n",
+    std::printf("  tip at Lambda = %g (P = %.6g N): x = %.6f mm, y = %.6f mm, z = %.6f mm, rotation %.4f deg\n",
                 LAMBDA_MAX, LAMBDA_MAX * p_ref, fe_tip.r[0], fe_tip.r[1], fe_tip.r[2], tip_angle * 180.0 / M_PI);
-    std::printf("lambda_max = %.17g\n", LAMBDA_MAX);
-    for (int c = 0; c < 3; ++c) std::printf("fe_tip_%c = %.17g\n", "xyz"[c], fe_tip.r[c]);
-    for (int c = 0; c < 3; ++c) std::printf("fe_tip_rot%d = %.17g\n", c + 1, fe_tip.rot[c]);
-    std::printf("newton_steps = %lld\nnewton_iterations = %lld\nfactorisations = %lld\nstep_cuts = %lld\n",
+    std::printf("  its own Newton: %lld load steps, %lld iterations, %lld sparse LU factorisations (%lld entries after\n"
+                "  fill), %lld step cuts, final scaled residual %.1e; %.2f s\n",
+                (long long)st.steps, (long long)st.iterations, (long long)st.factorisations, (long long)fe.lu_nnz(),
+                (long long)st.cuts, st.final_residual, fe_seconds);
+    if (g_values) std::printf("lambda_max = %.17g\n", LAMBDA_MAX);
+    for (int c = 0; c < 3 && g_values; ++c) std::printf("fe_tip_%c = %.17g\n", "xyz"[c], fe_tip.r[c]);
+    for (int c = 0; c < 3 && g_values; ++c) std::printf("fe_tip_rot%d = %.17g\n", c + 1, fe_tip.rot[c]);
+    if (g_values) std::printf("newton_steps = %lld\nnewton_iterations = %lld\nfactorisations = %lld\nstep_cuts = %lld\n",
                 (long long)st.steps, (long long)st.iterations, (long long)st.factorisations, (long long)st.cuts);
-    std::printf("final_residual = %.3e\nfinal_residual_abs = %.3e\nlu_nnz = %lld\nfe_seconds = %.3f\n",
+    if (g_values) std::printf("final_residual = %.3e\nfinal_residual_abs = %.3e\nlu_nnz = %lld\nfe_seconds = %.3f\n",
                 st.final_residual, st.final_residual_abs, (long long)fe.lu_nnz(), fe_seconds);
-    std::printf("# 4. rodkit_rod_continue (ANM) on the same rod to Lambda = %g: %lld steps, %lld factorisations\n",
+    std::printf("4. rodkit_rod_continue (ANM) on the same rod to Lambda = %g: %lld steps, %lld factorisations\n",
                 LAMBDA_MAX, (long long)info.steps, (long long)info.factorisations);
-    for (int c = 0; c < 3; ++c) std::printf("anm_tip_%c = %.17g\n", "xyz"[c], anm_tip.r[c]);
-    for (int c = 0; c < 3; ++c) std::printf("anm_tip_rot%d = %.17g\n", c + 1, anm_tip.rot[c]);
-    std::printf("anm_steps = %lld\nanm_seconds = %.3f\n", (long long)info.steps, anm_seconds);
-    std::printf("tip_position_difference = %.3e\ntip_rotation_difference = %.3e\nstate_difference = %.3e\n", dpos,
+    for (int c = 0; c < 3 && g_values; ++c) std::printf("anm_tip_%c = %.17g\n", "xyz"[c], anm_tip.r[c]);
+    for (int c = 0; c < 3 && g_values; ++c) std::printf("anm_tip_rot%d = %.17g\n", c + 1, anm_tip.rot[c]);
+    if (g_values) std::printf("anm_steps = %lld\nanm_seconds = %.3f\n", (long long)info.steps, anm_seconds);
+    if (g_values) std::printf("tip_position_difference = %.3e\ntip_rotation_difference = %.3e\nstate_difference = %.3e\n", dpos,
                 drot, dstate);
-    std::printf("tip_tolerance = %.1e\n", TIP_TOL);
+    if (g_values) std::printf("tip_tolerance = %.1e\n", TIP_TOL);
     const bool agree = dpos <= TIP_TOL && drot <= TIP_TOL;
-    std::printf("#   FE vs rodkit: tip position %.2e L, rotation %.2e rad (tolerance %.0e): %s\n", dpos, drot,
+    std::printf("  FE vs rodkit: tip position %.2e L, rotation %.2e rad (tolerance %.0e): %s\n", dpos, drot,
                 TIP_TOL, agree ? "agree" : "DISAGREE");
 
     // 5. The small step against linear theory.
@@ -579,22 +593,22 @@ int run(int argc, char **argv) {
                                     std::fabs(lin_tip.rot[0] - lt.rot1) / std::fabs(lt.rot2));
     const double err_y = std::fabs(lin_tip.r[1]) / lt.x;
     const double linear_error = std::max({err_x, err_rot, err_y});
-    std::printf("# 5. small load Lambda = %g (P = %.6g N) vs linear theory with the section's K_b, G, c2:\n",
+    std::printf("5. small load Lambda = %g (P = %.6g N) vs linear theory with the section's K_b, G, c2:\n",
                 LAMBDA_LINEAR, p_lin);
-    std::printf("lambda_linear = %.17g\n", LAMBDA_LINEAR);
-    std::printf("fe_linear_tip_x = %.17g\nfe_linear_tip_y = %.17g\n", lin_tip.r[0], lin_tip.r[1]);
-    std::printf("fe_linear_rot1 = %.17g\nfe_linear_rot2 = %.17g\n", lin_tip.rot[0], lin_tip.rot[1]);
-    std::printf("linear_theory_tip_x = %.17g\nlinear_theory_rot1 = %.17g\nlinear_theory_rot2 = %.17g\n", lt.x,
+    if (g_values) std::printf("lambda_linear = %.17g\n", LAMBDA_LINEAR);
+    if (g_values) std::printf("fe_linear_tip_x = %.17g\nfe_linear_tip_y = %.17g\n", lin_tip.r[0], lin_tip.r[1]);
+    if (g_values) std::printf("fe_linear_rot1 = %.17g\nfe_linear_rot2 = %.17g\n", lin_tip.rot[0], lin_tip.rot[1]);
+    if (g_values) std::printf("linear_theory_tip_x = %.17g\nlinear_theory_rot1 = %.17g\nlinear_theory_rot2 = %.17g\n", lt.x,
                 lt.rot1, lt.rot2);
-    std::printf("linear_relative_error = %.3e\nlinear_tolerance = %.1e\n", linear_error, LINEAR_TOL);
-    std::printf("#   tip deflection %.10g mm, theory %.10g mm (its shear term %.2e of it; without the bend-shear\n"
-                "#   coupling it would be %.6g mm); tip rotation about y %.6e rad, theory %.6e; about x (out of\n"
-                "#   plane, from the coupling) %.6e rad, theory %.6e\n",
+    if (g_values) std::printf("linear_relative_error = %.3e\nlinear_tolerance = %.1e\n", linear_error, LINEAR_TOL);
+    std::printf("  tip deflection %.10g mm, theory %.10g mm (its shear term %.2e of it; without the bend-shear\n"
+                "  coupling it would be %.6g mm); tip rotation about y %.6e rad, theory %.6e; about x (out of\n"
+                "  plane, from the coupling) %.6e rad, theory %.6e\n",
                 lin_tip.r[0], lt.x, lt.shear, lt.uncoupled, lin_tip.rot[1], lt.rot2, lin_tip.rot[0], lt.rot1);
-    std::printf("linear_shear_share = %.3e\n", lt.shear);
+    if (g_values) std::printf("linear_shear_share = %.3e\n", lt.shear);
     const bool linear_ok = linear_error <= LINEAR_TOL;
-    std::printf("#   linear check (tolerance %.0e): %s\n", LINEAR_TOL, linear_ok ? "passed" : "FAILED");
-    std::printf("total_seconds = %.3f\n", seconds_since(t_start));
+    std::printf("  linear check (tolerance %.0e): %s\n", LINEAR_TOL, linear_ok ? "passed" : "FAILED");
+    if (g_values) std::printf("total_seconds = %.3f\n", seconds_since(t_start));
     return agree && linear_ok ? 0 : 1;
 }
 

@@ -200,7 +200,7 @@ fn cpp_fe_beam_embeds_the_rod_kernels() {
     use rodkit::tube::material::SaintVenantKirchhoff;
     use rodkit::tube::scene::{TubeModel, TubeScene, WallLaw};
     use rodkit::tube::Orthotropic;
-    let out = run("cpp_fe_beam", &[]);
+    let out = run("cpp_fe_beam", &["--values"]);
     let got = values(&out);
     let g = |k: &str| *got.get(k).unwrap_or_else(|| panic!("cpp_fe_beam did not print `{k}`:\n{out}"));
 
@@ -285,7 +285,7 @@ fn cpp_fe_beam_is_clean_under_valgrind() {
         .args(["-q", "--error-exitcode=99", "--leak-check=full", "--errors-for-leak-kinds=definite"])
         .args(["--show-leak-kinds=definite"])
         .arg(drivers().join("cpp_fe_beam"))
-        .args(["8", "4"])
+        .args(["--values", "8", "4"])
         .current_dir(ROOT)
         .output()
         .expect("run valgrind");

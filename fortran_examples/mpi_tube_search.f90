@@ -77,12 +77,14 @@
 ! jump does not shrink with the step). Only confirmed hits go to hits.csv.
 !
 ! CHECKPOINTS. Each finished chunk is written to OUTDIR/checkpoints/
-! chunk_<c>.bin (binary: a header naming the format, seed, chunk and its
-! samples, then the raw records) through a temporary file and rename(2), so
-! a killed run leaves whole files or none. A restarted run with the same
-! seed takes every valid chunk file instead of computing it (a file of
-! another seed or layout is recomputed and replaced) and reports how many
-! it skipped; the gathered output is bitwise the same.
+! chunk_<c>.bin (binary: a header naming the format, the rodkit version, the
+! seed, the chunk and its samples, then the raw records) through a temporary
+! file and rename(2), so a killed run leaves whole files or none (a killed
+! rank may leave a chunk_<c>.bin.tmp-rank<r>, overwritten by the next write).
+! A restarted run, with any number of ranks, takes every valid chunk file
+! instead of computing it (a file of another seed, chunk size or rodkit
+! version is recomputed and replaced) and reports how many it skipped; the
+! gathered output is bitwise the same.
 !
 ! GATHER. Rank 0 gathers every rank's records (MPI_Gatherv), orders them by
 ! sample index and writes the CSVs (numbers with 17 significant digits,
@@ -727,12 +729,16 @@ module tube_search_files
     use, intrinsic :: iso_c_binding
     use, intrinsic :: iso_fortran_env, only: int32, int64, real64
     use tube_search_model, only: nr, nk, ml
+    use rodkit, only: RODKIT_VERSION_STRING
     implicit none
     private
     public :: make_dir, rename_file, chunk_path, write_chunk, read_chunk
 
-    ! The checkpoint format: change it with the search's settings.
+    ! The checkpoint format: change it with the search's settings. The
+    ! header also names the rodkit version: another version's chunks are
+    ! recomputed.
     character(len=16), parameter :: magic = 'rodkit-ts-v1    '
+    character(len=32), parameter :: version = RODKIT_VERSION_STRING
 
     interface
         function c_mkdir(path, mode) result(r) bind(c, name='mkdir')
@@ -790,7 +796,7 @@ contains
         open (newunit=u, file=tmp, access='stream', form='unformatted', status='replace', action='write', iostat=ios)
         ok = ios == 0
         if (.not. ok) return
-        write (u, iostat=ios) magic, seed, chunk, first, count, int(nk, int32), int(nr, int32), int(ml, int32), &
+        write (u, iostat=ios) magic, version, seed, chunk, first, count, int(nk, int32), int(nr, int32), int(ml, int32), &
             k(:, 1:count), r(:, 1:count), msg(1:count)
         ok = ios == 0
         close (u, iostat=ios)
@@ -808,6 +814,7 @@ contains
         character(len=ml), intent(inout) :: msg(:)
         logical, intent(out) :: found, stale
         character(len=16) :: m
+        character(len=32) :: v
         integer(int64) :: s, c, f, n
         integer(int32) :: a, b, d
         integer :: u, ios
@@ -820,8 +827,8 @@ contains
         open (newunit=u, file=chunk_path(dir, chunk), access='stream', form='unformatted', status='old', &
             action='read', iostat=ios)
         if (ios /= 0) return
-        read (u, iostat=ios) m, s, c, f, n, a, b, d
-        if (ios == 0 .and. m == magic .and. s == seed .and. c == chunk .and. f == first .and. n == count &
+        read (u, iostat=ios) m, v, s, c, f, n, a, b, d
+        if (ios == 0 .and. m == magic .and. v == version .and. s == seed .and. c == chunk .and. f == first .and. n == count &
             .and. a == nk .and. b == nr .and. d == ml) then
             read (u, iostat=ios) k(:, 1:count), r(:, 1:count), msg(1:count)
             found = ios == 0
@@ -834,6 +841,7 @@ end module tube_search_files
 program mpi_tube_search
     use, intrinsic :: iso_fortran_env, only: int64, real64, output_unit
     use mpi_f08
+    use rodkit, only: RODKIT_VERSION_STRING
     use tube_search_model
     use tube_search_files
     implicit none
@@ -966,8 +974,9 @@ program mpi_tube_search
             if (kord(k_fine_status, i) < 0) fine_failed = fine_failed + 1
         end do
         t_total = MPI_Wtime() - t0
-        print '(a, i0, a, i0, a, i0, a, i0, a, i0, a)', 'mpi_tube_search: ', nsamples, ' samples, seed ', seed, &
-            ', ', nchunks, ' chunks of ', chunk_size, ' on ', nranks, ' ranks -> ' // trim(outdir)
+        print '(a, i0, a, i0, a, i0, a, i0, a, i0, a)', 'mpi_tube_search (rodkit ' // RODKIT_VERSION_STRING // &
+            '): ', nsamples, ' samples, seed ', seed, ', ', nchunks, ' chunks of ', chunk_size, ' on ', nranks, &
+            ' ranks -> ' // trim(outdir)
         print '(a, 4(a, a, a, i0))', 'classes:', (' ', trim(class_name(j)), ' ', counts(j), j = 1, nclass)
         if (totals(1) > 0) then
             print '(a, i0, a, i0, a, i0, a)', 'restart: skipped ', totals(1), ' samples (', totals(2), &

@@ -76,6 +76,11 @@ fn driver() -> &'static PathBuf {
         if profile() == "release" {
             cargo.arg("--release");
         }
+        // The features of this test build, as tests/native.rs (`make test`
+        // builds with sundials): the same library, no rebuild in between.
+        if cfg!(feature = "sundials") {
+            cargo.args(["--features", "sundials"]);
+        }
         check(cargo.output().expect("run cargo build"), "cargo build --lib");
         let exe = Path::new(ROOT).join("target").join(profile()).join("native").join("f_mpi_tube_search");
         let make = Command::new("make")

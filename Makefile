@@ -138,6 +138,24 @@ $(BUILD)/f_%_shared: $(ROOT)/fortran_examples/%.f90 $(BUILD)/rodkit_mod.o $(LIBS
 $(BUILD)/f_%_static: $(ROOT)/fortran_examples/%.f90 $(BUILD)/rodkit_mod.o $(LIBS)
 	$(FC) $(FFLAGS) $< $(BUILD)/rodkit_mod.o $(STATIC) -o $@
 
+# ---- MPI, Fortran (issue 21): the tube material search over MPI ranks ------
+# fortran_examples/mpi_tube_search.f90, built with $(MPIF90) (OpenMPI's
+# wrapper around gfortran; Debian: libopenmpi-dev, openmpi-bin) only when it
+# exists, as part of `drivers`; the generated module rodkit_mod.o comes from
+# gfortran above (the wrapper must wrap the same gfortran). OpenMPI 4.1's
+# mpi_f08 compiles clean with -std=f2008. Its own modules go to fmod-mpi, not
+# to the installed fmod. Run: mpirun -np P $(BUILD)/f_mpi_tube_search OUTDIR
+# (tests/mpi_tube_search.rs).
+MPIF90 ?= mpif90
+HAVE_MPIF90 := $(if $(shell command -v $(MPIF90) 2>/dev/null),yes,)
+MPI_FFLAGS := -std=f2008 -O2 -g -Wall -Wextra -J$(BUILD)/fmod-mpi -I$(BUILD)/fmod
+drivers: $(if $(HAVE_MPIF90),$(BUILD)/f_mpi_tube_search)
+
+$(BUILD)/f_mpi_tube_search: $(ROOT)/fortran_examples/mpi_tube_search.f90 $(BUILD)/rodkit_mod.o $(LIBS)
+	@mkdir -p $(BUILD)/fmod-mpi
+	$(MPIF90) $(MPI_FFLAGS) $< $(BUILD)/rodkit_mod.o $(SHARED) -o $@
+# ---- end of MPI, Fortran ----------------------------------------------------
+
 # The main job: one short report per capability (tubes, rods, DNA), each
 # driver once on its bundled input, saying what it computed and where its
 # files went. Every file goes under one folder, OUT (default rodkit-out in

@@ -439,6 +439,10 @@ fn signatures() -> BTreeMap<String, String> {
             .arg(dir.join("rodkit.o")),
         "gfortran on include/rodkit.f90",
     );
+    // The program records the soname (librodkit.so.<ABI>), which cargo does
+    // not create (the Makefile does): link it here, next to the program.
+    let soname = format!("librodkit.so.{}", rodkit::version::ABI_VERSION);
+    std::os::unix::fs::symlink(lib.join("librodkit.so"), dir.join(&soname)).unwrap();
     run(
         Command::new("gfortran")
             .args(flags)
@@ -447,7 +451,7 @@ fn signatures() -> BTreeMap<String, String> {
             .arg(dir.join("rodkit.o"))
             .arg(format!("-L{}", lib.display()))
             .arg("-lrodkit")
-            .arg(format!("-Wl,-rpath,{}", lib.display()))
+            .arg(format!("-Wl,-rpath,{}", dir.display()))
             .arg("-o")
             .arg(dir.join("signatures")),
         "gfortran on tests/fortran/signatures.f90",

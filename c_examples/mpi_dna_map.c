@@ -63,7 +63,8 @@
  * for any number of ranks (tests/mpi.rs: 1, 2 and 4). With --threads 2 or
  * more the library's points equal the one-thread points only to rounding
  * (rodkit.h, RodkitDnaSupercoilSpec.threads): bitwise the same for any
- * number of ranks at a given thread count, not across thread counts.
+ * number of ranks at a given thread count, not across thread counts (seen:
+ * the last bits of the points, an energy's 12th digit in the curve CSV).
  *
  * Threads and MPI: MPI_THREAD_FUNNELED is requested, and it suffices: only
  * the main thread calls MPI (the progress callback runs on the thread that

@@ -8,7 +8,7 @@
 //!   checkpoint record) are bitwise the same for 1, 2 and 4 ranks, at 1
 //!   and at 2 threads per rank; every scene is run exactly once, and by
 //!   more than one rank when there are several. 2 threads agree with 1 to
-//!   rounding (the library's energies differ in the 12th digit).
+//!   rounding (the library's points differ in their last bits).
 //! - summary.csv's numbers equal the Rust API's run and summary of each
 //!   scene (`run_scene` + `summarise`, which tests/supercoil_summary.rs
 //!   checks against independent references) to the CSV's 10 significant
@@ -229,11 +229,11 @@ fn assert_close_text(a: &str, b: &str, rel: f64, abs: f64, what: &str) {
 }
 
 /// 2 threads per rank (RodkitDnaSupercoilSpec.threads): bitwise the same
-/// for 1 and 2 ranks. Not bitwise the same as 1 thread: the library's
-/// curve energies (rodkit_supercoil_curve_points) of 2 threads differ from
-/// 1 thread's in the 12th digit at some points (seen on this map: one
-/// point's energy, 97.9819353489 vs ...488), and rodkit.h says the points
-/// of 2 threads equal 1 thread's to rounding. So against the 1-thread
+/// for 1 and 2 ranks. Not bitwise the same as 1 thread: rodkit.h says the
+/// points of 2 threads equal 1 thread's to rounding, and on this map they
+/// differ in their last bits (the records' hexadecimal turns, extension,
+/// torque, superhelix radius), which shows in the CSVs at one point's
+/// energy, 97.9819353489 vs ...488 (12 digits). So against the 1-thread
 /// reference: every CSV number within 1e-9 of its size (+1e-12 for
 /// zeros; the CSVs print 10-12 digits), the findings and words equal, and
 /// the plots' pixel coordinates (2 decimals) within 0.01.

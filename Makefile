@@ -119,6 +119,36 @@ $(BUILD)/c_rod_sundials_shared: $(ROOT)/c_examples/rod_sundials.c $(HEADER) $(LI
 	@mkdir -p $(BUILD)
 	$(CC) $(CFLAGS) $< $(SHARED) $(SUNDIALS_LIBS) -o $@
 
+# The serial DNA map shares its curve, CSV and plot code with the MPI map
+# (c_examples/dna_map_common.c).
+DNA_MAP_COMMON := $(ROOT)/c_examples/dna_map_common.c
+$(BUILD)/c_dna_map_shared: $(ROOT)/c_examples/dna_map.c $(DNA_MAP_COMMON) $(ROOT)/c_examples/dna_map_common.h $(HEADER) $(LIBS)
+	@mkdir -p $(BUILD)
+	$(CC) $(CFLAGS) $< $(DNA_MAP_COMMON) $(SHARED) -lm -o $@
+
+$(BUILD)/c_dna_map_static: $(ROOT)/c_examples/dna_map.c $(DNA_MAP_COMMON) $(ROOT)/c_examples/dna_map_common.h $(HEADER) $(LIBS)
+	@mkdir -p $(BUILD)
+	$(CC) $(CFLAGS) $< $(DNA_MAP_COMMON) $(STATIC) -o $@
+
+# ---- MPI drivers (issue 21) ----------------------------------------------
+# Built by `make drivers` only where an MPI C compiler exists (OpenMPI:
+# libopenmpi-dev, openmpi-bin; .ci/deps installs them for the tests).
+# MPI_CC names the wrapper; HAVE_MPI is empty without one. Run them with
+# mpirun (tests/mpi.rs; README "From a laptop to a cluster").
+MPI_CC ?= mpicc
+HAVE_MPI := $(if $(shell command -v $(MPI_CC) 2>/dev/null),yes,)
+#   mpi_dna_map: the DNA length x force x salt map (c_examples/mpi_dna_map.c).
+MPI_DNA_EXES := $(if $(HAVE_MPI),$(BUILD)/mpi_dna_map_shared)
+.PHONY: mpi-dna
+drivers: $(MPI_DNA_EXES)
+# What tests/mpi.rs needs: the MPI map and the serial map it is checked with.
+mpi-dna: $(MPI_DNA_EXES) $(BUILD)/c_dna_map_shared
+$(BUILD)/mpi_dna_map_shared: $(ROOT)/c_examples/mpi_dna_map.c $(DNA_MAP_COMMON) $(ROOT)/c_examples/dna_map_common.h \
+                             $(HEADER) $(LIBS)
+	@mkdir -p $(BUILD)
+	$(MPI_CC) $(CFLAGS) $< $(DNA_MAP_COMMON) $(SHARED) -lm -o $@
+# ---- end of the MPI drivers ----------------------------------------------
+
 $(BUILD)/cpp_%: $(ROOT)/c_examples/%.cpp $(HEADER) $(LIBS)
 	@mkdir -p $(BUILD)
 	$(CXX) $(CXXFLAGS) $< $(SHARED) -o $@

@@ -13,8 +13,23 @@
  *    owned by the caller and borrowed for the duration of the call only.
  *  - "physics.md §N.M" cites the physics reference doc/physics.md (installed
  *    as share/doc/rodkit/physics.md): equations, symbols, units and signs.
- *  - Every function is reentrant and thread-safe on distinct arguments;
- *    rodkit starts no threads unless asked per call or per handle.
+ *  - Threads: every function is reentrant and may run on several threads
+ *    at once on distinct handles and arrays, with the results of a serial
+ *    call, bitwise; an immutable handle (RodkitTube) may also be shared.
+ *    A handle that a call extends or that holds a run (RodkitRod,
+ *    RodkitBranch, RodkitSupercoil) is used by one thread at a time and
+ *    may move between threads (each type says which). No global mutable
+ *    state, no process-wide switch; the error message is per thread.
+ *  - rodkit starts no threads unless asked per call or per handle (e.g.
+ *    RodkitDnaSupercoilSpec.threads). Those threads are internal: they run
+ *    rodkit's own work only - never a callback (callbacks run on the
+ *    calling thread), never MPI - and end with the call or the handle
+ *    that asked for them.
+ *  - MPI: rodkit never calls MPI. A program that calls MPI from its main
+ *    thread only needs MPI_THREAD_FUNNELED, whatever threads it asks of
+ *    rodkit (MPI_THREAD_SINGLE when it asks for none); calling rodkit
+ *    from other threads of the rank is covered by the rule above
+ *    (c_examples/mpi_dna_map.c).
  *  - Callbacks passed to rodkit must not unwind through it (no C++ throw, no
  *    longjmp).
  */

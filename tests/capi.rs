@@ -204,6 +204,85 @@ fn error_channel_is_thread_local() {
     }
 }
 
+/// The header's thread statement (cbindgen.toml: "Threads", "MPI"): the
+/// same supercoiling runs, their curve summaries and curve points, and a
+/// thin-tube call, from 4 threads at once on distinct handles, equal the
+/// serial calls bitwise; one of the concurrent runs asks for 2 threads of
+/// its own (RodkitDnaSupercoilSpec.threads) and equals its serial
+/// 2-thread run. Reference: the serial calls on this thread (every f64
+/// compared by its bits). Scenes: 150 bp, 12 elements, at most 20 steps a
+/// branch, to 1.5 turns, at 0.05, 0.1 and 0.2 M (buckled, summarised;
+/// ~0.3 s each).
+#[test]
+fn concurrent_calls_on_distinct_handles_equal_serial_ones() {
+    use rodkit::capi::supercoil::*;
+    use rodkit::capi::supercoil_curve::*;
+    fn scene(salt: f64, threads: i64) -> DnaSupercoilSpec {
+        let mut s = std::mem::MaybeUninit::<DnaSupercoilSpec>::uninit();
+        assert_eq!(unsafe { rodkit_dna_supercoil_spec_default(s.as_mut_ptr()) }, 0);
+        let mut s = unsafe { s.assume_init() };
+        (s.base_pairs, s.elements, s.max_steps, s.max_turns, s.salt, s.threads) = (150, 12, 20, 1.5, salt, threads);
+        s
+    }
+    /// Every number of a run, as bits: its points, curve points, summary
+    /// and a tube's coupling stiffness.
+    fn bits(salt: f64, threads: i64) -> Vec<u64> {
+        let spec = scene(salt, threads);
+        let mut run = ptr::null_mut();
+        let st = unsafe { rodkit_dna_supercoil_run(&spec, &mut run) };
+        assert!(st >= 0 && !run.is_null(), "status {st}: {}", last_error());
+        let mut info = SupercoilInfo::default();
+        assert_eq!(unsafe { rodkit_supercoil_summary(run, &mut info) }, 0);
+        let n = info.points;
+        assert!(info.buckled == 1 && n > 5, "{info:?}");
+        let mut pts = vec![SupercoilPoint::default(); n as usize];
+        let mut cpts = vec![SupercoilCurvePoint::default(); n as usize];
+        let mut sum = SupercoilCurveInfo::default();
+        let mut count = 0;
+        unsafe {
+            assert_eq!(rodkit_supercoil_points(run, pts.as_mut_ptr(), n, &mut count), 0);
+            assert_eq!(rodkit_supercoil_curve_points(run, cpts.as_mut_ptr(), n, &mut count), 0);
+            assert_eq!(rodkit_supercoil_curve_summary(run, &mut sum), 0);
+            rodkit_supercoil_free(run);
+        }
+        let mut out = vec![];
+        for p in &pts {
+            out.extend([p.turns, p.extension, p.torque, p.tension, p.twist, p.writhe, p.residual].map(f64::to_bits));
+            out.push(p.branch as u64);
+        }
+        for c in &cpts {
+            out.extend([c.turns, c.extension, c.torque, c.energy].map(f64::to_bits));
+            out.extend([c.kind as u64, c.negative_modes as u64, c.branch as u64]);
+        }
+        out.extend(format!("{sum:?}").bytes().map(u64::from));
+        let mut k = [0.0; 9];
+        assert_eq!(unsafe { rodkit_thin_tube_coupling_stiffness(&dna_spec(), k.as_mut_ptr(), 3) }, 0);
+        out.extend(k.map(f64::to_bits));
+        out
+    }
+    let jobs = [(0.1, 1), (0.05, 1), (0.2, 1), (0.1, 2)];
+    let serial: Vec<Vec<u64>> = jobs.iter().map(|&(c, t)| bits(c, t)).collect();
+    assert_ne!(serial[0], serial[1], "distinct scenes give distinct numbers");
+    let barrier = std::sync::Arc::new(std::sync::Barrier::new(jobs.len()));
+    let handles: Vec<_> = jobs
+        .iter()
+        .map(|&(c, t)| {
+            let barrier = barrier.clone();
+            std::thread::spawn(move || {
+                barrier.wait();
+                bits(c, t)
+            })
+        })
+        .collect();
+    for (k, h) in handles.into_iter().enumerate() {
+        assert!(
+            h.join().unwrap() == serial[k],
+            "job {k} {:?}: the concurrent call differs from the serial one",
+            jobs[k]
+        );
+    }
+}
+
 /// The header promises an empty message after a successful call, even when
 /// a callback inside it made a failing rodkit call (issue 17: the inner
 /// call's message survived a successful `rodkit_tube_sweep` and

@@ -10,14 +10,16 @@
 //!   the generator maps, and its numbers match closed forms and the same C
 //!   functions called from Rust.
 //!
-//! Needs gfortran and gcc (`.ci/deps`).
+//! Needs gfortran, gcc and make (`.ci/deps`).
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-const ROOT: &str = env!("CARGO_MANIFEST_DIR");
+#[path = "support/native_build.rs"]
+mod native_build;
+use native_build::ROOT;
 
 fn read(path: &str) -> String {
     std::fs::read_to_string(Path::new(ROOT).join(path)).unwrap_or_else(|e| panic!("{path}: {e}"))
@@ -417,16 +419,12 @@ fn the_checks_catch_a_drifting_module() {
 /// Build tests/fortran/signatures.f90 against the module (compiled with
 /// -std=f2008 -Wall -Wextra -Werror) and the shared library, run it.
 fn signatures() -> BTreeMap<String, String> {
-    let mut cargo = Command::new(env!("CARGO"));
-    cargo.current_dir(ROOT).args(["build", "--lib", "--quiet"]);
-    if !cfg!(debug_assertions) {
-        cargo.arg("--release");
-    }
-    if cfg!(feature = "sundials") {
-        cargo.args(["--features", "sundials"]);
-    }
-    run(&mut cargo, "cargo build --lib");
-    let lib = Path::new(ROOT).join("target").join(if cfg!(debug_assertions) { "debug" } else { "release" });
+    // The library with this test build's profile and features, and its
+    // soname link (librodkit.so.<ABI>, which the program records; the
+    // Makefile makes it, cargo does not).
+    let lib = Path::new(ROOT).join("target").join(native_build::profile());
+    let soname = lib.join(format!("librodkit.so.{}", rodkit::version::ABI_VERSION));
+    native_build::build_lib_and_make(&[soname.to_str().unwrap()]);
     let dir = scratch("signatures");
     let flags = ["-std=f2008", "-Wall", "-Wextra", "-Werror", "-J"];
     run(
@@ -439,10 +437,6 @@ fn signatures() -> BTreeMap<String, String> {
             .arg(dir.join("rodkit.o")),
         "gfortran on include/rodkit.f90",
     );
-    // The program records the soname (librodkit.so.<ABI>), which cargo does
-    // not create (the Makefile does): link it here, next to the program.
-    let soname = format!("librodkit.so.{}", rodkit::version::ABI_VERSION);
-    std::os::unix::fs::symlink(lib.join("librodkit.so"), dir.join(&soname)).unwrap();
     run(
         Command::new("gfortran")
             .args(flags)
@@ -451,7 +445,7 @@ fn signatures() -> BTreeMap<String, String> {
             .arg(dir.join("rodkit.o"))
             .arg(format!("-L{}", lib.display()))
             .arg("-lrodkit")
-            .arg(format!("-Wl,-rpath,{}", dir.display()))
+            .arg(format!("-Wl,-rpath,{}", lib.display()))
             .arg("-o")
             .arg(dir.join("signatures")),
         "gfortran on tests/fortran/signatures.f90",

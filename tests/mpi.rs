@@ -22,25 +22,19 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 use std::sync::OnceLock;
 use std::time::{Duration, Instant, SystemTime};
 
-const ROOT: &str = env!("CARGO_MANIFEST_DIR");
+#[path = "support/native_build.rs"]
+mod native_build;
+use native_build::{build_lib_and_make, check, profile, ROOT};
 
 /// The small map (also the Rust reference's scene and settings below).
 const MAP: &[&str] =
     &["--bp", "250", "--forces", "1,2", "--salts", "0.05,0.1", "--turns", "1.6", "--elements", "24", "--steps", "300"];
 const FORCES: [f64; 2] = [1.0, 2.0];
 const SALTS: [f64; 2] = [0.05, 0.1];
-
-fn profile() -> &'static str {
-    if cfg!(debug_assertions) {
-        "debug"
-    } else {
-        "release"
-    }
-}
 
 fn have_mpi() -> bool {
     let ok = Command::new("mpicc").arg("--version").output().map(|o| o.status.success()).unwrap_or(false);
@@ -53,36 +47,11 @@ fn have_mpi() -> bool {
     ok
 }
 
-fn check(out: Output, what: &str) -> String {
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(
-        out.status.success(),
-        "{what} failed ({}):\n{stdout}\n{}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
-    );
-    stdout
-}
-
 /// The library (cdylib) and the MPI driver, built through the Makefile.
 fn driver() -> &'static PathBuf {
     static BUILT: OnceLock<PathBuf> = OnceLock::new();
     BUILT.get_or_init(|| {
-        let mut cargo = Command::new(env!("CARGO"));
-        cargo.current_dir(ROOT).args(["build", "--lib", "--quiet"]);
-        if profile() == "release" {
-            cargo.arg("--release");
-        }
-        if cfg!(feature = "sundials") {
-            cargo.args(["--features", "sundials"]);
-        }
-        check(cargo.output().expect("run cargo build"), "cargo build --lib");
-        let make = Command::new("make")
-            .current_dir(ROOT)
-            .args(["--no-print-directory", "-s", "mpi-dna", &format!("PROFILE={}", profile())])
-            .output()
-            .expect("run make");
-        check(make, "make mpi-dna");
+        build_lib_and_make(&["mpi-dna"]);
         Path::new(ROOT).join("target").join(profile()).join("native").join("mpi_dna_map_shared")
     })
 }

@@ -21,23 +21,17 @@ use rodkit::tube::scene::{TubeModel, TubeScene, WallLaw};
 use rodkit::tube::Orthotropic;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 use std::sync::{Mutex, MutexGuard, OnceLock};
 use std::time::{Duration, Instant};
 
-const ROOT: &str = env!("CARGO_MANIFEST_DIR");
+#[path = "support/native_build.rs"]
+mod native_build;
+use native_build::{build_lib_and_make, check, profile, ROOT};
 /// The search every test runs (the reference is its 1-rank run).
 const SEARCH: [&str; 6] = ["--samples", "48", "--seed", "1", "--chunk", "4"];
 const SAMPLES: usize = 48;
 const CHUNK: usize = 4;
-
-fn profile() -> &'static str {
-    if cfg!(debug_assertions) {
-        "debug"
-    } else {
-        "release"
-    }
-}
 
 fn out_root() -> PathBuf {
     Path::new(ROOT).join("target").join(profile()).join("mpi_tube_search")
@@ -47,17 +41,6 @@ fn out_root() -> PathBuf {
 fn serial() -> MutexGuard<'static, ()> {
     static LOCK: Mutex<()> = Mutex::new(());
     LOCK.lock().unwrap_or_else(|e| e.into_inner())
-}
-
-fn check(out: Output, what: &str) -> String {
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(
-        out.status.success(),
-        "{what} failed ({}):\n{stdout}\n{}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
-    );
-    stdout
 }
 
 /// The library (release cdylib) and the driver, through the Makefile.
@@ -71,25 +54,8 @@ fn driver() -> &'static PathBuf {
                 "{tool} is missing: install OpenMPI (.ci/deps installs libopenmpi-dev and openmpi-bin)"
             );
         }
-        let mut cargo = Command::new(env!("CARGO"));
-        cargo.current_dir(ROOT).args(["build", "--lib", "--quiet"]);
-        if profile() == "release" {
-            cargo.arg("--release");
-        }
-        // The features of this test build, as tests/native.rs (`make test`
-        // builds with sundials): the same library, no rebuild in between.
-        if cfg!(feature = "sundials") {
-            cargo.args(["--features", "sundials"]);
-        }
-        check(cargo.output().expect("run cargo build"), "cargo build --lib");
         let exe = Path::new(ROOT).join("target").join(profile()).join("native").join("f_mpi_tube_search");
-        let make = Command::new("make")
-            .current_dir(ROOT)
-            .args(["--no-print-directory", "-s", &format!("PROFILE={}", profile())])
-            .arg(&exe)
-            .output()
-            .expect("run make");
-        check(make, "make f_mpi_tube_search");
+        build_lib_and_make(&[exe.to_str().unwrap()]);
         exe
     })
 }

@@ -6,56 +6,20 @@
 use rodkit::tube::{OrthotropicSurface, ThinTube};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 use std::sync::OnceLock;
 
-const ROOT: &str = env!("CARGO_MANIFEST_DIR");
+#[path = "support/native_build.rs"]
+mod native_build;
+use native_build::{build_dir, build_lib_and_make, check, profile, ROOT};
 
-fn profile() -> &'static str {
-    if cfg!(debug_assertions) {
-        "debug"
-    } else {
-        "release"
-    }
-}
-
-fn build_dir() -> PathBuf {
-    Path::new(ROOT).join("target").join(profile()).join("native")
-}
-
-/// `cargo test` builds only the rlib: build the cdylib and staticlib with the
-/// same profile and features (a no-op when current), then the drivers.
+/// The library, then the drivers (through the Makefile).
 fn drivers() -> &'static PathBuf {
     static BUILT: OnceLock<PathBuf> = OnceLock::new();
     BUILT.get_or_init(|| {
-        let mut cargo = Command::new(env!("CARGO"));
-        cargo.current_dir(ROOT).args(["build", "--lib", "--quiet"]);
-        if profile() == "release" {
-            cargo.arg("--release");
-        }
-        if cfg!(feature = "sundials") {
-            cargo.args(["--features", "sundials"]);
-        }
-        check(cargo.output().expect("run cargo build"), "cargo build --lib");
-        let make = Command::new("make")
-            .current_dir(ROOT)
-            .args(["--no-print-directory", "-s", "drivers", &format!("PROFILE={}", profile())])
-            .output()
-            .expect("run make");
-        check(make, "make drivers");
+        build_lib_and_make(&["drivers"]);
         build_dir()
     })
-}
-
-fn check(out: Output, what: &str) -> String {
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(
-        out.status.success(),
-        "{what} failed ({}):\n{stdout}\n{}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
-    );
-    stdout
 }
 
 fn run(exe: &str, args: &[&str]) -> String {

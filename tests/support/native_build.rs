@@ -1,0 +1,58 @@
+//! Building the native side for the tests that run programs against the
+//! library (tests/native.rs, tests/mpi.rs, tests/mpi_tube_search.rs): the
+//! cdylib and staticlib with this test build's profile and features (so
+//! `make test`'s sundials build is not rebuilt in between), then Makefile
+//! targets.
+
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+pub const ROOT: &str = env!("CARGO_MANIFEST_DIR");
+
+pub fn profile() -> &'static str {
+    if cfg!(debug_assertions) {
+        "debug"
+    } else {
+        "release"
+    }
+}
+
+/// target/<profile>/native, where the Makefile puts the programs.
+pub fn build_dir() -> PathBuf {
+    Path::new(ROOT).join("target").join(profile()).join("native")
+}
+
+/// stdout of a finished command, or a panic with both streams.
+pub fn check(out: Output, what: &str) -> String {
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "{what} failed ({}):\n{stdout}\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    stdout
+}
+
+/// `cargo test` builds only the rlib: build the library with the same
+/// profile and features (a no-op when current), then `make <targets>`.
+pub fn build_lib_and_make(targets: &[&str]) {
+    let mut cargo = Command::new(env!("CARGO"));
+    cargo.current_dir(ROOT).args(["build", "--lib", "--quiet"]);
+    if profile() == "release" {
+        cargo.arg("--release");
+    }
+    if cfg!(feature = "sundials") {
+        cargo.args(["--features", "sundials"]);
+    }
+    check(cargo.output().expect("run cargo build"), "cargo build --lib");
+    let make = Command::new("make")
+        .current_dir(ROOT)
+        .args(["--no-print-directory", "-s", &format!("PROFILE={}", profile())])
+        .args(targets)
+        .output()
+        .expect("run make");
+    check(make, &format!("make {}", targets.join(" ")));
+}

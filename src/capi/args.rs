@@ -6,7 +6,9 @@
 
 use crate::error::{self, Error, Result};
 use crate::status::Status;
+use std::ffi::{c_char, CStr};
 use std::fmt::Display;
+use std::path::PathBuf;
 
 /// Borrow a required input struct.
 ///
@@ -241,6 +243,30 @@ pub(crate) unsafe fn free_handle<T>(handle: *mut T) {
     if !handle.is_null() {
         drop(Box::from_raw(handle));
     }
+}
+
+/// A NUL-terminated path from C (bytes as the system takes them).
+///
+/// # Safety
+/// `path` must be NULL or a NUL-terminated string.
+pub(super) unsafe fn path_arg(path: *const c_char) -> Result<PathBuf> {
+    if path.is_null() {
+        return Err(Error::new(Status::ErrNullPointer, "argument `path` is NULL"));
+    }
+    let bytes = CStr::from_ptr(path).to_bytes();
+    if bytes.is_empty() {
+        return Err(Error::new(Status::ErrOutOfRange, "argument `path` is empty"));
+    }
+    #[cfg(unix)]
+    let path = {
+        use std::os::unix::ffi::OsStrExt;
+        PathBuf::from(std::ffi::OsStr::from_bytes(bytes))
+    };
+    #[cfg(not(unix))]
+    let path = PathBuf::from(
+        std::str::from_utf8(bytes).map_err(|_| Error::new(Status::ErrOutOfRange, "argument `path` is not UTF-8"))?,
+    );
+    Ok(path)
 }
 
 #[cfg(test)]

@@ -4,8 +4,7 @@
 //! as CSV. Opt-in, the path given by the caller, written whole or not at all
 //! (RODKIT_STATUS_ERR_IO names the path and the system's reason).
 
-use super::args::arg_ref;
-use super::args::{null_error, qualify_argument};
+use super::args::{arg_ref, null_error, path_arg, qualify_argument};
 use super::branch::{same_rod, Branch};
 use super::branch_record::BranchRecord;
 use super::guard;
@@ -18,28 +17,19 @@ use crate::status::Status;
 use std::ffi::{c_char, CStr};
 use std::path::PathBuf;
 
-/// A NUL-terminated path from C (bytes as the system takes them).
+/// The arguments every branch writer takes: the rod, its branch (checked to
+/// be the rod's) and the path.
 ///
 /// # Safety
-/// `path` must be NULL or a NUL-terminated string.
-unsafe fn path_arg(path: *const c_char) -> Result<PathBuf> {
-    if path.is_null() {
-        return Err(Error::new(Status::ErrNullPointer, "argument `path` is NULL"));
-    }
-    let bytes = CStr::from_ptr(path).to_bytes();
-    if bytes.is_empty() {
-        return Err(Error::new(Status::ErrOutOfRange, "argument `path` is empty"));
-    }
-    #[cfg(unix)]
-    let path = {
-        use std::os::unix::ffi::OsStrExt;
-        PathBuf::from(std::ffi::OsStr::from_bytes(bytes))
-    };
-    #[cfg(not(unix))]
-    let path = PathBuf::from(
-        std::str::from_utf8(bytes).map_err(|_| Error::new(Status::ErrOutOfRange, "argument `path` is not UTF-8"))?,
-    );
-    Ok(path)
+/// As rodkit_branch_write_vtk.
+unsafe fn branch_args<'a>(
+    branch: *const Branch,
+    rod: *const Rod,
+    path: *const c_char,
+) -> Result<(&'a Rod, &'a Branch, PathBuf)> {
+    let rod = arg_ref("rod", rod)?;
+    let b = same_rod(rod, arg_ref("branch", branch)?)?;
+    Ok((rod, b, path_arg(path)?))
 }
 
 /// The items to write: `selection` (n indices, each in 0..len) in its order,
@@ -83,9 +73,7 @@ pub unsafe extern "C" fn rodkit_branch_write_vtk(
     path: *const c_char,
 ) -> i32 {
     guard(|| {
-        let rod = arg_ref("rod", rod)?;
-        let b = same_rod(rod, arg_ref("branch", branch)?)?;
-        let path = path_arg(path)?;
+        let (rod, b, path) = branch_args(branch, rod, path)?;
         let chosen = chosen(records, n, b.records.len(), "records")?;
         write_shapes(rod, &b.branch.states, &b.records, &chosen, "rodkit branch shapes", &path)?;
         Ok(Status::Ok)
@@ -143,9 +131,7 @@ const RECORD_COLUMNS: [&str; 19] = [
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_branch_write_csv(branch: *const Branch, rod: *const Rod, path: *const c_char) -> i32 {
     guard(|| {
-        let rod = arg_ref("rod", rod)?;
-        let b = same_rod(rod, arg_ref("branch", branch)?)?;
-        let path = path_arg(path)?;
+        let (_, b, path) = branch_args(branch, rod, path)?;
         csv::write_table(&path, &RECORD_COLUMNS, &record_rows(&b.records))?;
         Ok(Status::Ok)
     })
@@ -170,9 +156,7 @@ pub unsafe extern "C" fn rodkit_branch_write_samples_vtk(
     path: *const c_char,
 ) -> i32 {
     guard(|| {
-        let rod = arg_ref("rod", rod)?;
-        let b = same_rod(rod, arg_ref("branch", branch)?)?;
-        let path = path_arg(path)?;
+        let (rod, b, path) = branch_args(branch, rod, path)?;
         has_samples(b)?;
         let chosen = chosen(samples, n, b.samples.len(), "samples")?;
         write_shapes(rod, &b.branch.sample_states, &b.samples, &chosen, "rodkit branch samples", &path)?;
@@ -194,9 +178,7 @@ pub unsafe extern "C" fn rodkit_branch_write_samples_csv(
     path: *const c_char,
 ) -> i32 {
     guard(|| {
-        let rod = arg_ref("rod", rod)?;
-        let b = same_rod(rod, arg_ref("branch", branch)?)?;
-        let path = path_arg(path)?;
+        let (_, b, path) = branch_args(branch, rod, path)?;
         has_samples(b)?;
         csv::write_table(&path, &RECORD_COLUMNS, &record_rows(&b.samples))?;
         Ok(Status::Ok)

@@ -896,9 +896,9 @@ module rodkit
         real(c_double) :: hard_core
         ! Threads (1…256) for the pair forces; with 2 or more the buckled
         ! branch's records also take their determinant signs on a second
-        ! thread while the next step is corrected (the same signs, stops and
-        ! steps; the points equal to rounding). The progress callback is
-        ! always called on the calling thread.
+        ! thread while the next step is corrected. Results are bitwise the
+        ! same for any count. The progress callback is always called on the
+        ! calling thread.
         integer(c_int64_t) :: threads
         real(c_double) :: max_turns
         integer(c_int64_t) :: max_steps

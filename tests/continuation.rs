@@ -333,15 +333,19 @@ fn hermite_predictor_and_chord_corrections_stay_on_the_branch() {
     assert_eq!(joined, reference, "a resumed branch takes the uninterrupted one's steps");
 }
 
-/// Records' signs on a second thread (`Options::overlap_records`) against
-/// the same run on one thread (the reference): the circle through its fold
+/// Records' signs from their own factorisation (`Options::overlap_records`),
+/// on a second thread and on the calling one (`Options::overlap_thread`),
+/// against the run that reads them off each point's factorisation (the
+/// reference): the circle through its fold
 /// (det R_x = 2x1 flips once there; reference: the closed form) with every
 /// way a run ends — past the Λ range, at a target, at the step limit, and
 /// stopped by the callback after record k (the step corrected meanwhile is
 /// dropped: the same records and resume point; at a start on its target
 /// the stop wins, as on one thread). Same records (Λ, outputs
 /// to 1e-12: the tangents differ only by rounding; signs and pivots
-/// equal), same stop, same resume point to 1e-12.
+/// equal), same stop, same resume point to 1e-12; with and without the
+/// second thread, the same records and resume point bitwise (c-api.md:
+/// results bitwise identical for any thread count).
 #[test]
 fn signs_on_a_second_thread_give_the_one_thread_run() {
     let base = through_the_fold();
@@ -353,10 +357,10 @@ fn signs_on_a_second_thread_give_the_one_thread_run() {
         ("cancelled at a start on its target", Options { target_lambda: Some(0.0), ..base.clone() }, 0),
     ];
     for (name, opts, stop_after) in cases {
-        let run = |overlap_records: bool| {
+        let run = |overlap_records: bool, overlap_thread: bool| {
             let mut sys = circle();
             let start = Start::Point { x: vec![1.0, 0.0, 0.0], lambda: 0.0, increasing: true };
-            let opts = Options { overlap_records, ..opts.clone() };
+            let opts = Options { overlap_records, overlap_thread, ..opts.clone() };
             let mut told = 0;
             let b = continue_newton(
                 &mut sys,
@@ -371,7 +375,15 @@ fn signs_on_a_second_thread_give_the_one_thread_run() {
             .unwrap();
             (b, told)
         };
-        let ((one, told1), (two, told2)) = (run(false), run(true));
+        let ((one, told1), (two, told2)) = (run(false, false), run(true, true));
+        let (here, told_here) = run(true, false);
+        assert_eq!((here.stop, told_here), (two.stop, told2), "{name}: without the thread");
+        assert!(here.records == two.records, "{name}: the records differ without the second thread");
+        assert_eq!(
+            (here.resume.lambda.to_bits(), here.resume.step.to_bits(), &here.resume.x, &here.resume.tangent_x),
+            (two.resume.lambda.to_bits(), two.resume.step.to_bits(), &two.resume.x, &two.resume.tangent_x),
+            "{name}: resume point without the thread"
+        );
         assert_eq!((one.stop, one.records.len(), told1), (two.stop, two.records.len(), told2), "{name}");
         assert_eq!(one.column_order, two.column_order, "{name}: the order carried on");
         assert_eq!(one.counts.times.overlapped, std::time::Duration::ZERO, "{name}");

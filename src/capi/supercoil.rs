@@ -58,9 +58,9 @@ pub struct DnaSupercoilSpec {
     pub hard_core: f64,
     /// Threads (1…256) for the pair forces; with 2 or more the buckled
     /// branch's records also take their determinant signs on a second
-    /// thread while the next step is corrected (the same signs, stops and
-    /// steps; the points equal to rounding). The progress callback is
-    /// always called on the calling thread.
+    /// thread while the next step is corrected. Results are bitwise the
+    /// same for any count. The progress callback is always called on the
+    /// calling thread.
     pub threads: i64,
     pub max_turns: f64,
     pub max_steps: i64,

@@ -229,9 +229,11 @@ pub struct SupercoilSettings {
     pub hard_core: Option<f64>,
     /// Threads for the pair forces; with 2 or more, the buckled branch's
     /// records also take their determinant signs on a second thread while
-    /// the next step is corrected ([`Options::overlap_records`]). Results
-    /// are the same signs, stops and steps; the paths equal to rounding
-    /// (the tangents then come from the block elimination).
+    /// the next step is corrected ([`Options::overlap_thread`]). Results
+    /// are bitwise the same for any count: the buckled branch's points are
+    /// factorised for their tangents and their records' signs taken from
+    /// a factorisation of their own on one thread too
+    /// ([`Options::overlap_records`]), only later.
     pub threads: usize,
     /// The buckled branch stops past this many turns (or when turns fall
     /// to zero), at the step limit, or at a strand crossing.
@@ -915,7 +917,10 @@ fn buckled_path(
         hermite_predictor: settings.engine == Engine::Hermite,
         corrector_aim: if settings.engine == Engine::Hermite { settings.corrector_aim } else { 3.0 },
         lu_kind: settings.lu_kind,
-        overlap_records: settings.threads >= 2,
+        // The same numbers on any thread count (c-api.md): one thread
+        // takes the records' signs as two do, after each point.
+        overlap_records: true,
+        overlap_thread: settings.threads >= 2,
         unfolding_retakes: settings.unfolding_retakes,
         ..Default::default()
     };

@@ -305,13 +305,19 @@ pub struct Options {
     /// Newton continuation without bifurcation detection, σ_min tracking
     /// or samples: each point is factorised for solves only (the pattern's
     /// fastest kind, block elimination on a supernodal LU where it takes
-    /// one) and its record's determinant signs and pivots — B's own
-    /// simplicial LU — are taken on a second thread while the next step
-    /// is corrected; the record is told (and may stop the run) once the
-    /// next step is done, whose point is then dropped. Same signs and
-    /// pivots as on one thread; the tangents come from the fast
-    /// factorisation (equal to rounding). Worth it with a core to spare.
+    /// one; its tangent comes from there) and its record's determinant
+    /// signs and pivots from B's own simplicial LU, a factorisation of its
+    /// own — on a second thread while the next step is corrected with
+    /// [`Options::overlap_thread`]. The record is told (and may stop the
+    /// run) once the next step is done, whose point is then dropped. The
+    /// same records, bitwise, with or without the thread; against false,
+    /// the same signs and pivots, the tangents equal to rounding. Worth it
+    /// with a core to spare.
     pub overlap_records: bool,
+    /// With [`Options::overlap_records`]: the records' sign factorisations
+    /// run on a second thread (true, the default) or on the calling one,
+    /// after each point (the same numbers; one thread's wall clock).
+    pub overlap_thread: bool,
     /// How often a point of a charged rod's branch followed with a phase
     /// condition that left μ = 0 is taken again, each time from the point
     /// before with half the step, before the branch ends there
@@ -376,6 +382,7 @@ impl Default for Options {
             lu_kind: None,
             corrector_aim: 3.0,
             overlap_records: false,
+            overlap_thread: true,
             unfolding_retakes: 4,
             series_indicator: true,
         }
@@ -440,9 +447,9 @@ pub struct Times {
     pub monitor: std::time::Duration,
     /// Bifurcation location (inclusive).
     pub location: std::time::Duration,
-    /// Records' factorisations on a second thread
-    /// ([`Options::overlap_records`]): they overlap the rest and are not
-    /// part of its wall clock.
+    /// Records' sign factorisations ([`Options::overlap_records`]): on a
+    /// second thread ([`Options::overlap_thread`]) they overlap the rest
+    /// and are not part of its wall clock; on the calling thread they are.
     pub overlapped: std::time::Duration,
     /// Problem construction reported by the caller (pair lists, patterns).
     pub setup: std::time::Duration,

@@ -1,15 +1,21 @@
-//! Records' determinant signs on a second thread
-//! ([`super::Options::overlap_records`]).
+//! Records' determinant signs from their own factorisation
+//! ([`super::Options::overlap_records`]), on a second thread or not
+//! ([`super::Options::overlap_thread`]).
 //!
 //! A Newton step's cost on a wide Jacobian (a charged rod's plectoneme) is
 //! its corrections — block eliminations on a supernodal LU, ~22 ms at 5–12
 //! turns of the 1 kbp DNA scene — and its record's sign det B, which needs
 //! B's own simplicial LU (~75 ms: faer's supernodal factors do not give
 //! U's diagonal). The sign is needed by nothing the next step does, so it
-//! is taken on a second thread from a copy of B while the next step is
-//! predicted and corrected, and the record is told once both are done:
-//! the same factorisation of the same matrix as on one thread (the same
-//! signs and pivots, bitwise), the wall clock of the longer of the two.
+//! can be taken on a second thread from a copy of B while the next step
+//! is predicted and corrected, and the record is told once both are done.
+//!
+//! The numbers do not depend on the thread: the point is factorised for
+//! solves (its tangent) and the signs come from B's simplicial LU of the
+//! same values, in the same column order, either way; only where that LU
+//! runs differs. So a run gives the same records, bitwise, with or
+//! without the second thread (c-api.md: results bitwise identical for
+//! any thread count), and one thread costs the wall clock of both.
 
 use super::tangent::Bordered;
 use super::{Counts, Record};
@@ -40,8 +46,8 @@ struct Waiting {
     signs: Signs,
 }
 
-/// Where they are taken: on the second thread, or (no thread could be
-/// started) already here.
+/// Where they are taken: on the second thread, or (one thread, or no
+/// thread could be started) already here.
 enum Signs {
     Thread(JoinHandle<Signed>),
     Here(Box<Signed>),
@@ -66,11 +72,12 @@ pub(crate) struct Overlap {
 
 impl Overlap {
     /// Take the signs of `record` — B the bordered tangent just evaluated
-    /// at its point — on a second thread (here, if the system refuses a
-    /// thread). Any record still waiting must have been
-    /// [`Overlap::finish`]ed. Returns the record as it waits (signs 0, no
-    /// pivots).
-    pub fn start(&mut self, bordered: &Bordered, record: Record, orientation: f64) -> Result<&Record> {
+    /// at its point — on a second thread when `thread` (here, if not, or
+    /// if the system refuses a thread: the same LU in the same column
+    /// order, so the same numbers). Any record still waiting must have
+    /// been [`Overlap::finish`]ed. Returns the record as it waits (signs
+    /// 0, no pivots).
+    pub fn start(&mut self, bordered: &Bordered, record: Record, orientation: f64, thread: bool) -> Result<&Record> {
         debug_assert!(self.waiting.is_none(), "a record is still waiting");
         let (lu, mut values) = match self.spare.take() {
             Some(kept) => kept,
@@ -78,11 +85,23 @@ impl Overlap {
         };
         values.clear();
         values.extend_from_slice(bordered.values());
-        let signs =
+        let signs = if thread {
+            // The LU moves into the thread; should the spawn fail, a twin
+            // takes the order the moved one had chosen.
+            let order = (lu.factorisations > 0).then(|| lu.column_order());
             match std::thread::Builder::new().name("rodkit-record-signs".into()).spawn(move || signed(lu, values)) {
                 Ok(handle) => Signs::Thread(handle),
-                Err(_) => Signs::Here(Box::new(signed(bordered.exact_twin()?, bordered.values().to_vec()))),
-            };
+                Err(_) => {
+                    let mut twin = bordered.exact_twin()?;
+                    if let Some(order) = order {
+                        twin.prefer(order);
+                    }
+                    Signs::Here(Box::new(signed(twin, bordered.values().to_vec())))
+                }
+            }
+        } else {
+            Signs::Here(Box::new(signed(lu, values)))
+        };
         Ok(&self.waiting.insert(Waiting { record, orientation, signs }).record)
     }
 
@@ -93,7 +112,8 @@ impl Overlap {
     }
 
     /// The waiting record with its signs (None if none waits). Its
-    /// factorisation is counted, its time in `times.overlapped`.
+    /// factorisation is counted, its time in `times.overlapped` (on this
+    /// thread too: part of the wall clock then).
     pub fn finish(&mut self, counts: &mut Counts) -> Option<Record> {
         let Waiting { mut record, orientation, signs } = self.waiting.take()?;
         let joined = match signs {

@@ -43,10 +43,17 @@
 !                  with hands +1 and -1, tau0 uniform in [0.3, 6], A
 !                  log-uniform in [0.05, 0.9]
 !
-! SPLIT. Samples are grouped in chunks of K consecutive samples; chunk c goes
-! to rank mod(c, P) (static cyclic: the classes alternate inside a chunk, so
-! the cost per chunk is even enough; a restarted run takes the finished
-! chunks from the checkpoints, whatever P was).
+! SPLIT. Samples are grouped in chunks of K consecutive samples. The chunks
+! are dealt dynamically: every rank, rank 0 included, takes the next chunk
+! from a counter held by rank 0 (an MPI window; MPI_Fetch_and_op under a
+! shared passive-target lock) until none is left, so a rank that drew
+! cheap samples (sweeps that stop early, no hit to confirm) takes more
+! chunks and one that drew costly ones fewer (a chunk's cost varies ~4x).
+! Which rank computes a chunk changes from run to run; what it computes
+! does not (sample i is a function of (seed, i)), and rank 0 puts the
+! gathered records in sample order. A restarted run takes the finished
+! chunks from the checkpoints, whatever P was. The report says how many
+! chunks each rank took.
 !
 ! CLASSIFICATION (per curve; the rules of benches/tube_search.rs `analyse`).
 ! Coarse sweep: rodkit_tube_sweep, thick model on 16 fixed Chebyshev
@@ -840,6 +847,7 @@ end module tube_search_files
 
 program mpi_tube_search
     use, intrinsic :: iso_fortran_env, only: int64, real64, output_unit
+    use, intrinsic :: iso_c_binding, only: c_ptr, c_f_pointer
     use mpi_f08
     use rodkit, only: RODKIT_VERSION_STRING
     use tube_search_model
@@ -848,7 +856,12 @@ program mpi_tube_search
     integer :: rank, nranks, ios, u, j
     integer(int64) :: nsamples, seed, chunk_size, nchunks, c, first, cnt, mine, pos, i, hits_rev, hits_dip
     integer(int64) :: coarse_rev, coarse_dip, failed, stopped, counts(nclass), fine_failed
-    integer(int64) :: skipped(2), computed, totals(4)
+    integer(int64) :: skipped(2), computed, totals(4), taken, next, one
+    integer(int64), allocatable :: taken_by(:)
+    integer(int64), pointer :: counter
+    type(c_ptr) :: base
+    type(MPI_Win) :: win
+    integer(MPI_ADDRESS_KIND) :: window_size
     integer(int64), allocatable :: k(:, :), kall(:, :), kord(:, :)
     real(real64), allocatable :: r(:, :), rall(:, :), rord(:, :)
     character(len=ml), allocatable :: msg(:), mall(:), mord(:)
@@ -884,18 +897,38 @@ program mpi_tube_search
     end if
     call MPI_Barrier(MPI_COMM_WORLD)
 
-    ! This rank's chunks: c = rank, rank + P, ...
+    ! The chunk counter: 8 bytes in rank 0's window, set to 0 before any
+    ! rank takes from it (the barrier).
+    window_size = 0
+    if (rank == 0) window_size = 8
+    call MPI_Win_allocate(window_size, 8, MPI_INFO_NULL, MPI_COMM_WORLD, base, win)
+    if (rank == 0) then
+        call c_f_pointer(base, counter)
+        call MPI_Win_lock(MPI_LOCK_EXCLUSIVE, 0, 0, win)
+        counter = 0
+        call MPI_Win_unlock(0, win)
+    end if
+    call MPI_Barrier(MPI_COMM_WORLD)
+
+    ! Take chunks until none is left; this rank's records in the order it
+    ! took them (each carries its sample index).
+    allocate (k(nk, chunk_size), r(nr, chunk_size), msg(chunk_size))
     mine = 0
-    do c = rank, nchunks - 1, nranks
-        mine = mine + min(chunk_size, nsamples - c * chunk_size)
-    end do
-    allocate (k(nk, max(mine, 1_int64)), r(nr, max(mine, 1_int64)), msg(max(mine, 1_int64)))
-    pos = 0
+    taken = 0
     skipped = 0
     computed = 0
-    do c = rank, nchunks - 1, nranks
+    one = 1
+    do
+        call MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, win)
+        call MPI_Fetch_and_op(one, next, MPI_INTEGER8, 0, 0_MPI_ADDRESS_KIND, MPI_SUM, win)
+        call MPI_Win_unlock(0, win)
+        if (next >= nchunks) exit
+        c = next
+        taken = taken + 1
         first = c * chunk_size
         cnt = min(chunk_size, nsamples - first)
+        call reserve(mine + cnt)
+        pos = mine
         call read_chunk(outdir, seed, c, first, cnt, k(:, pos + 1:), r(:, pos + 1:), msg(pos + 1:), found, stale)
         if (found) then
             skipped(1) = skipped(1) + cnt
@@ -913,8 +946,9 @@ program mpi_tube_search
                 call MPI_Abort(MPI_COMM_WORLD, 1)
             end if
         end if
-        pos = pos + cnt
+        mine = mine + cnt
     end do
+    call MPI_Win_free(win)
     t_compute = MPI_Wtime() - t0
 
     ! Gather every record on rank 0, in rank order, then in sample order.
@@ -938,6 +972,8 @@ program mpi_tube_search
     call MPI_Reduce(t_compute, t_max, 1, MPI_DOUBLE_PRECISION, MPI_MAX, 0, MPI_COMM_WORLD)
     call MPI_Reduce(t_compute, t_sum, 1, MPI_DOUBLE_PRECISION, MPI_SUM, 0, MPI_COMM_WORLD)
     call MPI_Reduce([skipped, computed, mine], totals, 4, MPI_INTEGER8, MPI_SUM, 0, MPI_COMM_WORLD)
+    allocate (taken_by(nranks))
+    call MPI_Gather(taken, 1, MPI_INTEGER8, taken_by, 1, MPI_INTEGER8, 0, MPI_COMM_WORLD)
 
     if (rank == 0) then
         allocate (kord(nk, nsamples), rord(nr, nsamples), mord(nsamples))
@@ -990,6 +1026,7 @@ program mpi_tube_search
         print '(a, i0, a, i0)', 'deflate-then-inflate: coarse ', coarse_dip, ', confirmed ', hits_dip
         print '(a, i0, a)', 'confirmation: ', fine_failed, ' candidates had a fine sweep or solve stop ' // &
             '(not confirmed unless both fine curves show the turn)'
+        print '(a, *(1x, i0))', 'chunks taken per rank:', taken_by
         print '(a)', 'time: ' // secs(t_total) // ' s (slowest rank ' // secs(t_max) // ' s; all ranks ' // &
             secs(t_sum) // ' s)'
         if (totals(3) > 0) print '(a, es10.3, a)', 'cost: ', t_sum / real(totals(3), real64), &
@@ -999,6 +1036,24 @@ program mpi_tube_search
     call MPI_Finalize()
 
 contains
+    ! Room for n records in k, r and msg (doubled when short; kept).
+    subroutine reserve(n)
+        integer(int64), intent(in) :: n
+        integer(int64) :: cap
+        integer(int64), allocatable :: k2(:, :)
+        real(real64), allocatable :: r2(:, :)
+        character(len=ml), allocatable :: m2(:)
+        if (n <= size(msg, kind=int64)) return
+        cap = max(n, 2 * size(msg, kind=int64))
+        allocate (k2(nk, cap), r2(nr, cap), m2(cap))
+        k2(:, :mine) = k(:, :mine)
+        r2(:, :mine) = r(:, :mine)
+        m2(:mine) = msg(:mine)
+        call move_alloc(k2, k)
+        call move_alloc(r2, r)
+        call move_alloc(m2, msg)
+    end subroutine reserve
+
     function secs(t) result(text)
         real(real64), intent(in) :: t
         character(len=:), allocatable :: text

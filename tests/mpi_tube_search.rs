@@ -2,8 +2,10 @@
 //! built through the Makefile (`f_mpi_tube_search`, with mpif90) and run with
 //! `mpirun --oversubscribe -np 1/2/4` on a small search (48 samples, seed 1,
 //! chunks of 4; a few seconds per run on the 2-core machine):
-//!   - the gathered CSVs are bitwise identical for 1, 2 and 4 ranks, and a
-//!     shorter search (--samples 8, --chunk 3) reproduces the first rows;
+//!   - the gathered CSVs are bitwise identical for 1, 2 and 4 ranks, whose
+//!     chunks are dealt dynamically (each taken once, by more than one
+//!     rank), and a shorter search (--samples 8, --chunk 3) reproduces the
+//!     first rows;
 //!   - the numbers are re-evaluated here with the Rust API (`rodkit::tube`),
 //!     from the parameters read back from the CSV, by a classifier written
 //!     here from the rules the driver documents;
@@ -131,15 +133,30 @@ fn reported(report: &str, prefix: &str, label: &str) -> i64 {
     rest.trim_start().split(|c: char| !c.is_ascii_digit()).next().unwrap().parse().unwrap()
 }
 
+/// The report's `chunks taken per rank: a b c` (rank order).
+fn taken_per_rank(report: &str) -> Vec<usize> {
+    let line = report.lines().find_map(|l| l.strip_prefix("chunks taken per rank:"));
+    line.unwrap_or_else(|| panic!("no chunk counts in\n{report}"))
+        .split_whitespace()
+        .map(|t| t.parse().unwrap())
+        .collect()
+}
+
 #[test]
 fn gathered_csv_is_bitwise_identical_for_1_2_and_4_ranks() {
     let _g = serial();
     let (report, one) = reference();
+    assert_eq!(taken_per_rank(report), vec![SAMPLES.div_ceil(CHUNK)]);
     for np in [2, 4] {
-        let (_, dir) = fresh_run(np, &SEARCH, &format!("np{np}"));
+        let (report, dir) = fresh_run(np, &SEARCH, &format!("np{np}"));
         for f in ["samples.csv", "hits.csv"] {
             assert!(read(&one.join(f)) == read(&dir.join(f)), "{f}: -np {np} differs from -np 1");
         }
+        // Dynamic balance: every chunk taken once, by more than one rank.
+        let taken = taken_per_rank(&report);
+        assert_eq!(taken.len(), np, "{report}");
+        assert_eq!(taken.iter().sum::<usize>(), SAMPLES.div_ceil(CHUNK), "{report}");
+        assert!(taken.iter().filter(|&&t| t > 0).count() >= 2, "one rank took every chunk: {taken:?}");
     }
     // Sample i is a function of (seed, i) alone: a shorter search with
     // other chunks gives the first rows byte for byte.

@@ -93,10 +93,15 @@
 ! version is recomputed and replaced) and reports how many it skipped; the
 ! gathered output is bitwise the same.
 !
-! GATHER. Rank 0 gathers every rank's records (MPI_Gatherv), orders them by
-! sample index and writes the CSVs (numbers with 17 significant digits,
-! which read back exactly; an inapplicable field is empty) through a
-! temporary file and rename. Nothing in the CSVs depends on P or on time.
+! GATHER. Rank 0 learns which rank took each chunk (MPI_Gatherv of the chunk
+! numbers), then receives the chunks in chunk order, each from its rank
+! (every rank sends its own in the order it took them, which is increasing:
+! no deadlock), and writes each chunk's rows as it comes, checking that
+! every sample is there once. Rank 0 holds the chunk owners and one chunk,
+! not the search: its memory does not grow with the samples. The CSVs
+! (numbers with 17 significant digits, which read back exactly; an
+! inapplicable field is empty) are written through temporary files and
+! renamed. Nothing in them depends on P or on time.
 !
 ! MPI: only the main thread calls MPI or rodkit (MPI_Init; rodkit starts no
 ! threads of its own).
@@ -853,7 +858,7 @@ program mpi_tube_search
     use tube_search_model
     use tube_search_files
     implicit none
-    integer :: rank, nranks, ios, u, j
+    integer :: rank, nranks, ios, j
     integer(int64) :: nsamples, seed, chunk_size, nchunks, c, first, cnt, mine, pos, i, hits_rev, hits_dip
     integer(int64) :: coarse_rev, coarse_dip, failed, stopped, counts(nclass), fine_failed
     integer(int64) :: skipped(2), computed, totals(4), taken, next, one
@@ -862,10 +867,14 @@ program mpi_tube_search
     type(c_ptr) :: base
     type(MPI_Win) :: win
     integer(MPI_ADDRESS_KIND) :: window_size
-    integer(int64), allocatable :: k(:, :), kall(:, :), kord(:, :)
-    real(real64), allocatable :: r(:, :), rall(:, :), rord(:, :)
-    character(len=ml), allocatable :: msg(:), mall(:), mord(:)
-    integer, allocatable :: recv(:), displ(:)
+    integer(int64), allocatable :: k(:, :)
+    real(real64), allocatable :: r(:, :)
+    character(len=ml), allocatable :: msg(:)
+    integer, allocatable :: recv(:), displ(:), owner(:)
+    integer(int64), allocatable :: mychunks(:), chunks(:), kc(:, :)
+    real(real64), allocatable :: rc(:, :)
+    character(len=ml), allocatable :: mc(:)
+    integer :: u_all, u_hits
     character(len=1024) :: outdir
     real(real64) :: t0, t_compute, t_max, t_sum, t_total
     logical :: found, stale, ok
@@ -951,64 +960,84 @@ program mpi_tube_search
     call MPI_Win_free(win)
     t_compute = MPI_Wtime() - t0
 
-    ! Gather every record on rank 0, in rank order, then in sample order.
-    allocate (recv(nranks), displ(nranks))
-    call MPI_Gather(int(mine), 1, MPI_INTEGER, recv, 1, MPI_INTEGER, 0, MPI_COMM_WORLD)
+    call MPI_Reduce(t_compute, t_max, 1, MPI_DOUBLE_PRECISION, MPI_MAX, 0, MPI_COMM_WORLD)
+    call MPI_Reduce(t_compute, t_sum, 1, MPI_DOUBLE_PRECISION, MPI_SUM, 0, MPI_COMM_WORLD)
+    call MPI_Reduce([skipped, computed, mine], totals, 4, MPI_INTEGER8, MPI_SUM, 0, MPI_COMM_WORLD)
+
+    ! Who took each chunk: rank 0 gathers every rank's chunk numbers (a
+    ! rank's records are its chunks' samples in the order it took them).
+    allocate (taken_by(nranks), recv(nranks), displ(nranks), mychunks(max(taken, 1_int64)))
+    pos = 0
+    do j = 1, int(taken)
+        mychunks(j) = k(k_index, pos + 1) / chunk_size
+        pos = pos + min(chunk_size, nsamples - mychunks(j) * chunk_size)
+    end do
+    call MPI_Gather(taken, 1, MPI_INTEGER8, taken_by, 1, MPI_INTEGER8, 0, MPI_COMM_WORLD)
     if (rank == 0) then
+        recv = int(taken_by)
         displ(1) = 0
         do j = 2, nranks
             displ(j) = displ(j - 1) + recv(j - 1)
         end do
-        allocate (kall(nk, nsamples), rall(nr, nsamples), mall(nsamples))
+        allocate (chunks(nchunks), owner(nchunks))
     else
-        allocate (kall(nk, 1), rall(nr, 1), mall(1))
+        allocate (chunks(1), owner(1))
     end if
-    call MPI_Gatherv(k, int(mine) * nk, MPI_INTEGER8, kall, recv * nk, displ * nk, MPI_INTEGER8, 0, &
-        MPI_COMM_WORLD)
-    call MPI_Gatherv(r, int(mine) * nr, MPI_DOUBLE_PRECISION, rall, recv * nr, displ * nr, &
-        MPI_DOUBLE_PRECISION, 0, MPI_COMM_WORLD)
-    call MPI_Gatherv(msg, int(mine) * ml, MPI_CHARACTER, mall, recv * ml, displ * ml, MPI_CHARACTER, 0, &
-        MPI_COMM_WORLD)
-    call MPI_Reduce(t_compute, t_max, 1, MPI_DOUBLE_PRECISION, MPI_MAX, 0, MPI_COMM_WORLD)
-    call MPI_Reduce(t_compute, t_sum, 1, MPI_DOUBLE_PRECISION, MPI_SUM, 0, MPI_COMM_WORLD)
-    call MPI_Reduce([skipped, computed, mine], totals, 4, MPI_INTEGER8, MPI_SUM, 0, MPI_COMM_WORLD)
-    allocate (taken_by(nranks))
-    call MPI_Gather(taken, 1, MPI_INTEGER8, taken_by, 1, MPI_INTEGER8, 0, MPI_COMM_WORLD)
+    call MPI_Gatherv(mychunks, int(taken), MPI_INTEGER8, chunks, recv, displ, MPI_INTEGER8, 0, MPI_COMM_WORLD)
 
-    if (rank == 0) then
-        allocate (kord(nk, nsamples), rord(nr, nsamples), mord(nsamples))
-        kord = -1
-        do i = 1, nsamples
-            pos = kall(k_index, i) + 1
-            kord(:, pos) = kall(:, i)
-            rord(:, pos) = rall(:, i)
-            mord(pos) = mall(i)
+    if (rank /= 0) then
+        ! Send this rank's chunks to rank 0, in the order taken.
+        pos = 0
+        do j = 1, int(taken)
+            cnt = min(chunk_size, nsamples - mychunks(j) * chunk_size)
+            call MPI_Send(k(:, pos + 1:pos + cnt), int(cnt) * nk, MPI_INTEGER8, 0, 1, MPI_COMM_WORLD)
+            call MPI_Send(r(:, pos + 1:pos + cnt), int(cnt) * nr, MPI_DOUBLE_PRECISION, 0, 2, MPI_COMM_WORLD)
+            call MPI_Send(msg(pos + 1:pos + cnt), int(cnt) * ml, MPI_CHARACTER, 0, 3, MPI_COMM_WORLD)
+            pos = pos + cnt
         end do
-        do i = 1, nsamples
-            if (kord(k_index, i) /= i - 1) then
-                print '(a, i0, a)', 'mpi_tube_search: sample ', i - 1, ' is missing from the gathered records'
-                call MPI_Abort(MPI_COMM_WORLD, 1)
-            end if
+    else
+        ! Every chunk taken exactly once.
+        owner = -1
+        do j = 1, nranks
+            do i = displ(j) + 1, displ(j) + recv(j)
+                c = chunks(i)
+                if (c < 0 .or. c >= nchunks) call give_up('a rank reports a chunk out of range')
+                if (owner(c + 1) /= -1) call give_up('a chunk was taken twice')
+                owner(c + 1) = j - 1
+            end do
         end do
-        call write_csv(trim(outdir) // '/samples.csv', .false.)
-        call write_csv(trim(outdir) // '/hits.csv', .true.)
-
-        ! The report.
+        if (any(owner == -1)) call give_up('a chunk was taken by no rank')
+        allocate (kc(nk, chunk_size), rc(nr, chunk_size), mc(chunk_size))
+        call open_csv(trim(outdir) // '/samples.csv', u_all)
+        call open_csv(trim(outdir) // '/hits.csv', u_hits)
         counts = 0
         failed = 0; stopped = 0; coarse_rev = 0; coarse_dip = 0; hits_rev = 0; hits_dip = 0; fine_failed = 0
-        do i = 1, nsamples
-            counts(kord(k_class, i)) = counts(kord(k_class, i)) + 1
-            if (kord(k_failed, i) /= 0) then
-                failed = failed + 1
-                cycle
+        pos = 0
+        do c = 0, nchunks - 1
+            first = c * chunk_size
+            cnt = min(chunk_size, nsamples - first)
+            if (owner(c + 1) == 0) then
+                kc(:, :cnt) = k(:, pos + 1:pos + cnt)
+                rc(:, :cnt) = r(:, pos + 1:pos + cnt)
+                mc(:cnt) = msg(pos + 1:pos + cnt)
+                pos = pos + cnt
+            else
+                call MPI_Recv(kc, int(cnt) * nk, MPI_INTEGER8, owner(c + 1), 1, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+                call MPI_Recv(rc, int(cnt) * nr, MPI_DOUBLE_PRECISION, owner(c + 1), 2, MPI_COMM_WORLD, &
+                    MPI_STATUS_IGNORE)
+                call MPI_Recv(mc, int(cnt) * ml, MPI_CHARACTER, owner(c + 1), 3, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
             end if
-            if (kord(k_coarse_status, i) < 0) stopped = stopped + 1
-            coarse_rev = coarse_rev + kord(k_coarse_rev, i)
-            coarse_dip = coarse_dip + kord(k_coarse_dip, i)
-            hits_rev = hits_rev + kord(k_conf_rev, i)
-            hits_dip = hits_dip + kord(k_conf_dip, i)
-            if (kord(k_fine_status, i) < 0) fine_failed = fine_failed + 1
+            do i = 1, cnt
+                if (kc(k_index, i) /= first + i - 1) then
+                    print '(a, i0, a)', 'mpi_tube_search: sample ', first + i - 1, ' is missing from the gathered records'
+                    call MPI_Abort(MPI_COMM_WORLD, 1)
+                end if
+                call take_row(kc(:, i), rc(:, i), mc(i))
+            end do
         end do
+        call close_csv(trim(outdir) // '/samples.csv', u_all)
+        call close_csv(trim(outdir) // '/hits.csv', u_hits)
+
         t_total = MPI_Wtime() - t0
         print '(a, i0, a, i0, a, i0, a, i0, a, i0, a)', 'mpi_tube_search (rodkit ' // RODKIT_VERSION_STRING // &
             '): ', nsamples, ' samples, seed ', seed, ', ', nchunks, ' chunks of ', chunk_size, ' on ', nranks, &
@@ -1102,26 +1131,49 @@ contains
             '[--seed S >= 0] [--chunk K >= 1] OUTDIR'
     end subroutine parse_arguments
 
-    ! samples.csv (every sample) or hits.csv (confirmed hits), through a
-    ! temporary file and rename.
-    subroutine write_csv(path, hits_only)
+    ! Open path's temporary file and write the header (rank 0).
+    subroutine open_csv(path, unit)
         character(len=*), intent(in) :: path
-        logical, intent(in) :: hits_only
-        integer(int64) :: s
-        open (newunit=u, file=path // '.tmp', status='replace', action='write', iostat=ios)
-        if (ios /= 0) then
-            print '(a)', 'mpi_tube_search: cannot write ' // path // '.tmp'
-            call MPI_Abort(MPI_COMM_WORLD, 1)
+        integer, intent(out) :: unit
+        open (newunit=unit, file=path // '.tmp', status='replace', action='write', iostat=ios)
+        if (ios /= 0) call give_up('cannot write ' // path // '.tmp')
+        write (unit, '(a)') csv_header()
+    end subroutine open_csv
+
+    ! Close the temporary file and rename it to path.
+    subroutine close_csv(path, unit)
+        character(len=*), intent(in) :: path
+        integer, intent(in) :: unit
+        close (unit)
+        if (.not. rename_file(path // '.tmp', path)) call give_up('cannot rename ' // path // '.tmp')
+    end subroutine close_csv
+
+    ! One sample, in sample order: its row in samples.csv (and hits.csv if
+    ! confirmed), and the report's counts.
+    subroutine take_row(kk, rr, mm)
+        integer(int64), intent(in) :: kk(nk)
+        real(real64), intent(in) :: rr(nr)
+        character(len=ml), intent(in) :: mm
+        character(len=:), allocatable :: row
+        row = csv_row(kk, rr, mm)
+        write (u_all, '(a)') row
+        if (is_hit(kk)) write (u_hits, '(a)') row
+        counts(kk(k_class)) = counts(kk(k_class)) + 1
+        if (kk(k_failed) /= 0) then
+            failed = failed + 1
+            return
         end if
-        write (u, '(a)') csv_header()
-        do s = 1, nsamples
-            if (hits_only .and. .not. is_hit(kord(:, s))) cycle
-            write (u, '(a)') csv_row(kord(:, s), rord(:, s), mord(s))
-        end do
-        close (u)
-        if (.not. rename_file(path // '.tmp', path)) then
-            print '(a)', 'mpi_tube_search: cannot rename ' // path // '.tmp'
-            call MPI_Abort(MPI_COMM_WORLD, 1)
-        end if
-    end subroutine write_csv
+        if (kk(k_coarse_status) < 0) stopped = stopped + 1
+        coarse_rev = coarse_rev + kk(k_coarse_rev)
+        coarse_dip = coarse_dip + kk(k_coarse_dip)
+        hits_rev = hits_rev + kk(k_conf_rev)
+        hits_dip = hits_dip + kk(k_conf_dip)
+        if (kk(k_fine_status) < 0) fine_failed = fine_failed + 1
+    end subroutine take_row
+
+    subroutine give_up(text)
+        character(len=*), intent(in) :: text
+        print '(a)', 'mpi_tube_search: ' // text
+        call MPI_Abort(MPI_COMM_WORLD, 1)
+    end subroutine give_up
 end program mpi_tube_search

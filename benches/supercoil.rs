@@ -15,7 +15,8 @@
 //! twice the elements, as the baseline: the discretisation error) and
 //! RODKIT_SUPERCOIL_DISCRETE=1, the discrete base-pair charges;
 //! RODKIT_SUPERCOIL_THREADS, default 1: with 2 the records' signs are
-//! taken on a second thread, `Options::overlap_records`). Writes
+//! taken on a second thread, `Options::overlap_thread`, the same path
+//! bitwise: RODKIT_SUPERCOIL_BASELINE=serial shows a distance 0). Writes
 //! target/bench/supercoil (or RODKIT_SUPERCOIL_OUT)/{path_<salt>M.csv (and the baseline's,
 //! path_<salt>M_baseline.csv), mu_<salt>M.csv (μ at each buckled record),
 //! extension.svg, torque.svg, twist_writhe.svg, report.txt}: the curves users compare with

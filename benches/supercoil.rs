@@ -135,7 +135,7 @@ fn profile_line(name: &str, c: &Counts, newton: usize, points: usize, lists: usi
     let ms = |d: std::time::Duration| d.as_secs_f64();
     let per = |v: usize| v as f64 / c.steps.max(1) as f64;
     format!(
-        "  {name}: {} steps ({} rejected), {} points, {} factorisations ({:.2}/step; {} in {} bifurcation locations; {} by block elimination, {:.2} s; {:.2} s on the records' thread), \
+        "  {name}: {} steps ({} rejected), {} points, {} factorisations ({:.2}/step; {} in {} bifurcation locations; {} by block elimination, {:.2} s; {:.2} s on the records' signs, on their own thread with 2 threads), \
          {} corrector iterations on accepted points ({:.2}/point), {} solves ({} σ_min monitor), {} residuals, {} Jacobians, {} pair lists ({:.1} steps/list), {} series orders (ANM)\n    \
          time: residual {:.2} s, Jacobian {:.2} s, LU factorisation {:.2} s, solves {:.2} s, σ_min monitor {:.2} s, setup (pair lists, patterns) {:.2} s; location (inclusive) {:.2} s",
         c.steps,

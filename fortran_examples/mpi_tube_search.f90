@@ -97,8 +97,9 @@
 ! numbers), then receives the chunks in chunk order, each from its rank
 ! (every rank sends its own in the order it took them, which is increasing:
 ! no deadlock), and writes each chunk's rows as it comes, checking that
-! every sample is there once. Rank 0 holds the chunk owners and one chunk,
-! not the search: its memory does not grow with the samples. The CSVs
+! every sample is there once. So rank 0 needs what every rank needs (the
+! records of the chunks it took, about N/P, and the chunk numbers) plus
+! one chunk, not a copy of the whole search. The CSVs
 ! (numbers with 17 significant digits, which read back exactly; an
 ! inapplicable field is empty) are written through temporary files and
 ! renamed. Nothing in them depends on P or on time.
@@ -861,7 +862,10 @@ program mpi_tube_search
     integer :: rank, nranks, ios, j
     integer(int64) :: nsamples, seed, chunk_size, nchunks, c, first, cnt, mine, pos, i, hits_rev, hits_dip
     integer(int64) :: coarse_rev, coarse_dip, failed, stopped, counts(nclass), fine_failed
-    integer(int64) :: skipped(2), computed, totals(4), taken, next, one
+    integer(int64) :: skipped(2), computed, totals(4), taken, one
+    ! The counter's value as fetched: an RMA result buffer (MPI 4.1,
+    ! 19.1.17: asynchronous, and synchronised after the epoch).
+    integer(int64), asynchronous :: next
     integer(int64), allocatable :: taken_by(:)
     integer(int64), pointer :: counter
     type(c_ptr) :: base
@@ -915,13 +919,14 @@ program mpi_tube_search
         call c_f_pointer(base, counter)
         call MPI_Win_lock(MPI_LOCK_EXCLUSIVE, 0, 0, win)
         counter = 0
+        call MPI_F_sync_reg(counter)
         call MPI_Win_unlock(0, win)
     end if
     call MPI_Barrier(MPI_COMM_WORLD)
 
     ! Take chunks until none is left; this rank's records in the order it
-    ! took them (each carries its sample index).
-    allocate (k(nk, chunk_size), r(nr, chunk_size), msg(chunk_size))
+    ! took them (each carries its sample index), and the chunks' numbers.
+    allocate (k(nk, chunk_size), r(nr, chunk_size), msg(chunk_size), mychunks(nchunks))
     mine = 0
     taken = 0
     skipped = 0
@@ -931,9 +936,11 @@ program mpi_tube_search
         call MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, win)
         call MPI_Fetch_and_op(one, next, MPI_INTEGER8, 0, 0_MPI_ADDRESS_KIND, MPI_SUM, win)
         call MPI_Win_unlock(0, win)
+        call MPI_F_sync_reg(next)
         if (next >= nchunks) exit
         c = next
         taken = taken + 1
+        mychunks(taken) = c
         first = c * chunk_size
         cnt = min(chunk_size, nsamples - first)
         call reserve(mine + cnt)
@@ -957,8 +964,9 @@ program mpi_tube_search
         end if
         mine = mine + cnt
     end do
-    call MPI_Win_free(win)
+    ! This rank's work ends here: MPI_Win_free waits for every rank.
     t_compute = MPI_Wtime() - t0
+    call MPI_Win_free(win)
 
     call MPI_Reduce(t_compute, t_max, 1, MPI_DOUBLE_PRECISION, MPI_MAX, 0, MPI_COMM_WORLD)
     call MPI_Reduce(t_compute, t_sum, 1, MPI_DOUBLE_PRECISION, MPI_SUM, 0, MPI_COMM_WORLD)
@@ -966,14 +974,12 @@ program mpi_tube_search
 
     ! Who took each chunk: rank 0 gathers every rank's chunk numbers (a
     ! rank's records are its chunks' samples in the order it took them).
-    allocate (taken_by(nranks), recv(nranks), displ(nranks), mychunks(max(taken, 1_int64)))
-    pos = 0
-    do j = 1, int(taken)
-        mychunks(j) = k(k_index, pos + 1) / chunk_size
-        pos = pos + min(chunk_size, nsamples - mychunks(j) * chunk_size)
-    end do
+    allocate (taken_by(nranks), recv(nranks), displ(nranks))
     call MPI_Gather(taken, 1, MPI_INTEGER8, taken_by, 1, MPI_INTEGER8, 0, MPI_COMM_WORLD)
     if (rank == 0) then
+        ! The counter hands out each chunk once: anything else is a bug (and
+        ! would overflow the buffer below), so it stops the job.
+        if (sum(taken_by) /= nchunks) call give_up('the ranks took another number of chunks than there are')
         recv = int(taken_by)
         displ(1) = 0
         do j = 2, nranks

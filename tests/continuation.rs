@@ -336,18 +336,34 @@ fn hermite_predictor_and_chord_corrections_stay_on_the_branch() {
 /// Records' signs from their own factorisation (`Options::overlap_records`),
 /// on a second thread and on the calling one (`Options::overlap_thread`),
 /// against the run that reads them off each point's factorisation (the
-/// reference): the circle through its fold
-/// (det R_x = 2x1 flips once there; reference: the closed form) with every
-/// way a run ends — past the Λ range, at a target, at the step limit, and
-/// stopped by the callback after record k (the step corrected meanwhile is
-/// dropped: the same records and resume point; at a start on its target
-/// the stop wins, as on one thread). Same records (Λ, outputs
-/// to 1e-12: the tangents differ only by rounding; signs and pivots
-/// equal), same stop, same resume point to 1e-12; with and without the
-/// second thread, the same records and resume point bitwise (c-api.md:
-/// results bitwise identical for any thread count).
+/// reference): the circle through its fold (det R_x = 2x1 flips once
+/// there; reference: the closed form) with every way a run ends — past
+/// the Λ range, at a target, at the step limit, and stopped by the
+/// callback after record k (the step corrected meanwhile is dropped: the
+/// same records and resume point; at a start on its target the stop wins,
+/// as without overlap). Two factorisation kinds:
+/// - block elimination forced (`LuKind::Supernodal`): each record's signs
+///   come from a simplicial LU of their own, on the second thread or here
+///   (both counted: one factorisation more a record than the reference);
+///   records equal the reference's to 1e-12 (the tangents differ only by
+///   rounding; signs and pivots equal);
+/// - B's own simplicial LU (the default on this 3×3): the signs are read
+///   off the point's factorisation, no factorisation more.
+///
+/// With and without the thread, the same records and resume point,
+/// bitwise (every f64 by its bits; c-api.md: results bitwise identical
+/// for any thread count).
 #[test]
 fn signs_on_a_second_thread_give_the_one_thread_run() {
+    use rodkit::continuation::Record;
+    use rodkit::linalg::LuKind;
+    fn bits(r: &Record) -> Vec<u64> {
+        let mut v = [r.lambda, r.residual, r.step, r.det_sign, r.bordered_det_sign].map(f64::to_bits).to_vec();
+        v.extend(r.outputs.iter().map(|x| x.to_bits()));
+        v.extend(r.smallest_singular_value.map(f64::to_bits));
+        v.extend([r.negative_pivots.map_or(u64::MAX, |p| p as u64), r.newton_iterations as u64]);
+        v
+    }
     let base = through_the_fold();
     let cases = [
         ("range", base.clone(), usize::MAX),
@@ -356,58 +372,70 @@ fn signs_on_a_second_thread_give_the_one_thread_run() {
         ("cancelled", base.clone(), 9),
         ("cancelled at a start on its target", Options { target_lambda: Some(0.0), ..base.clone() }, 0),
     ];
-    for (name, opts, stop_after) in cases {
-        let run = |overlap_records: bool, overlap_thread: bool| {
-            let mut sys = circle();
-            let start = Start::Point { x: vec![1.0, 0.0, 0.0], lambda: 0.0, increasing: true };
-            let opts = Options { overlap_records, overlap_thread, ..opts.clone() };
-            let mut told = 0;
-            let b = continue_newton(
-                &mut sys,
-                start,
-                &opts,
-                |x, _| x.to_vec(),
-                |_| {
-                    told += 1;
-                    told <= stop_after
-                },
-            )
-            .unwrap();
-            (b, told)
-        };
-        let ((one, told1), (two, told2)) = (run(false, false), run(true, true));
-        let (here, told_here) = run(true, false);
-        assert_eq!((here.stop, told_here), (two.stop, told2), "{name}: without the thread");
-        assert!(here.records == two.records, "{name}: the records differ without the second thread");
-        assert_eq!(
-            (here.resume.lambda.to_bits(), here.resume.step.to_bits(), &here.resume.x, &here.resume.tangent_x),
-            (two.resume.lambda.to_bits(), two.resume.step.to_bits(), &two.resume.x, &two.resume.tangent_x),
-            "{name}: resume point without the thread"
-        );
-        assert_eq!((one.stop, one.records.len(), told1), (two.stop, two.records.len(), told2), "{name}");
-        assert_eq!(one.column_order, two.column_order, "{name}: the order carried on");
-        assert_eq!(one.counts.times.overlapped, std::time::Duration::ZERO, "{name}");
-        for (k, (a, b)) in one.records.iter().zip(&two.records).enumerate() {
-            assert!((a.lambda - b.lambda).abs() < 1e-12, "{name} record {k}: Λ {} vs {}", a.lambda, b.lambda);
-            for (p, q) in a.outputs.iter().zip(&b.outputs) {
-                assert!((p - q).abs() < 1e-12, "{name} record {k}: {p} vs {q}");
-            }
+    for (kind, own_lu) in [(Some(LuKind::Supernodal), true), (None, false)] {
+        for (name, opts, stop_after) in cases.clone() {
+            let name = format!("{name}, {kind:?}");
+            let run = |overlap_records: bool, overlap_thread: bool| {
+                let mut sys = circle();
+                let start = Start::Point { x: vec![1.0, 0.0, 0.0], lambda: 0.0, increasing: true };
+                let opts = Options { overlap_records, overlap_thread, lu_kind: kind, ..opts.clone() };
+                let mut told = 0;
+                let b = continue_newton(
+                    &mut sys,
+                    start,
+                    &opts,
+                    |x, _| x.to_vec(),
+                    |_| {
+                        told += 1;
+                        told <= stop_after
+                    },
+                )
+                .unwrap();
+                (b, told)
+            };
+            let ((one, told1), (two, told2)) = (run(false, false), run(true, true));
+            let (here, told_here) = run(true, false);
+            assert_eq!((here.stop, told_here), (two.stop, told2), "{name}: without the thread");
+            let all = |b: &rodkit::continuation::Branch| b.records.iter().map(bits).collect::<Vec<_>>();
+            assert!(all(&here) == all(&two), "{name}: the records differ without the second thread");
             assert_eq!(
-                (a.det_sign, a.bordered_det_sign, a.negative_pivots),
-                (b.det_sign, b.bordered_det_sign, b.negative_pivots),
-                "{name} record {k}"
+                (here.resume.lambda.to_bits(), here.resume.step.to_bits(), &here.resume.x, &here.resume.tangent_x),
+                (two.resume.lambda.to_bits(), two.resume.step.to_bits(), &two.resume.x, &two.resume.tangent_x),
+                "{name}: resume point without the thread"
             );
+            // Where the signs came from: their own factorisations (one a
+            // record, timed) or the points' own. (A cancelled run with
+            // overlap also corrected the step it then dropped.)
+            let extra = if own_lu { two.records.len() } else { 0 };
+            assert_eq!(here.counts.factorisations, two.counts.factorisations, "{name}: factorisations");
+            if stop_after == usize::MAX {
+                assert_eq!(two.counts.factorisations, one.counts.factorisations + extra, "{name}: factorisations");
+            }
+            for (b, how) in [(&two, "thread"), (&here, "here")] {
+                assert_eq!(b.counts.times.overlapped > std::time::Duration::ZERO, own_lu, "{name} ({how})");
+            }
+            assert_eq!((one.stop, one.records.len(), told1), (two.stop, two.records.len(), told2), "{name}");
+            assert_eq!(one.column_order, two.column_order, "{name}: the order carried on");
+            assert_eq!(one.counts.times.overlapped, std::time::Duration::ZERO, "{name}");
+            for (k, (a, b)) in one.records.iter().zip(&two.records).enumerate() {
+                assert!((a.lambda - b.lambda).abs() < 1e-12, "{name} record {k}: Λ {} vs {}", a.lambda, b.lambda);
+                for (p, q) in a.outputs.iter().zip(&b.outputs) {
+                    assert!((p - q).abs() < 1e-12, "{name} record {k}: {p} vs {q}");
+                }
+                assert_eq!(
+                    (a.det_sign, a.bordered_det_sign, a.negative_pivots),
+                    (b.det_sign, b.bordered_det_sign, b.negative_pivots),
+                    "{name} record {k}"
+                );
+            }
+            let (r1, r2) = (&one.resume, &two.resume);
+            assert!((r1.lambda - r2.lambda).abs() < 1e-12 && (r1.step - r2.step).abs() < 1e-12, "{name}: resume");
+            // The reference itself: one flip of det R_x on the whole arc.
+            if name.starts_with("range") {
+                assert_eq!(one.records.windows(2).filter(|w| w[0].det_sign != w[1].det_sign).count(), 1, "{name}");
+            }
         }
-        let (r1, r2) = (&one.resume, &two.resume);
-        assert!((r1.lambda - r2.lambda).abs() < 1e-12 && (r1.step - r2.step).abs() < 1e-12, "{name}: resume");
     }
-    // The reference itself: one flip of det R_x on the whole arc.
-    let mut sys = circle();
-    let start = Start::Point { x: vec![1.0, 0.0, 0.0], lambda: 0.0, increasing: true };
-    let opts = Options { overlap_records: true, ..base };
-    let b = continue_newton(&mut sys, start, &opts, |x, _| x.to_vec(), |_| true).unwrap();
-    assert!(b.counts.times.overlapped > std::time::Duration::ZERO, "no record's signs on the second thread");
-    assert_eq!(b.records.windows(2).filter(|w| w[0].det_sign != w[1].det_sign).count(), 1);
 }
 
 /// The ANM's series bifurcation indicator (continuation::indicator) on a

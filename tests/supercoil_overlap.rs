@@ -13,7 +13,10 @@
 //! steps per branch, to 2.5 turns (buckling at 1.316 turns, then into the
 //! plectoneme), the supernodal kind forced (at 30 elements the structure
 //! alone would keep B's simplicial LU and there would be nothing to
-//! overlap); ~2 s a run.
+//! overlap) and separate signs asked for at any size
+//! (`separate_signs_from` 0; by default they start at 3000 unknowns);
+//! ~2 s a run. The default, signs off each point's own LU, is checked
+//! for the same thread invariance too.
 
 use rodkit::charged::dna::{self, DnaScene, RunStop, SupercoilRun, SupercoilSettings};
 use rodkit::linalg::LuKind;
@@ -26,6 +29,7 @@ fn settings(threads: usize) -> (DnaScene, SupercoilSettings) {
         max_turns: 2.5,
         threads,
         lu_kind: Some(LuKind::Supernodal),
+        separate_signs_from: 0,
         ..Default::default()
     };
     (scene, settings)
@@ -55,6 +59,38 @@ fn signs_taken_on_a_second_thread_equal_one_threads() {
     // The path passes the fold of the buckled branch (sign det R_x flips
     // there): the comparison covers a change, not only a constant sign.
     assert!(flips >= 1, "no det R_x flip on the buckled branch");
+}
+
+/// Below `separate_signs_from` (the default 3000; this rod has 30
+/// elements) each point's tangent and signs come from its own simplicial
+/// LU, no factorisation of their own: 1 and 2 threads give the same
+/// points and records, bitwise, and the signs flip at the fold as with
+/// separate signs.
+#[test]
+fn signs_at_the_points_are_the_same_on_two_threads() {
+    let (scene, settings) = settings(1);
+    let at_points = |threads| {
+        let s = SupercoilSettings {
+            threads,
+            separate_signs_from: SupercoilSettings::default().separate_signs_from,
+            ..settings.clone()
+        };
+        dna::run_scene(&scene, &s).unwrap()
+    };
+    let (one, two) = (at_points(1), at_points(2));
+    assert!(one.rod.unknowns() < SupercoilSettings::default().separate_signs_from);
+    let (b1, b2) = (one.buckled.as_ref().unwrap(), two.buckled.as_ref().unwrap());
+    assert_eq!(b1.counts.times.overlapped, std::time::Duration::ZERO, "a record took a factorisation of its own");
+    assert!(one.points == two.points && b1.records == b2.records, "2 threads differ from 1");
+    let flips = b1.records.windows(2).filter(|w| w[0].det_sign != w[1].det_sign).count();
+    assert!(flips >= 1, "no det R_x flip on the buckled branch");
+    // The same signs as with separate signs, record by record along the
+    // two (equal to rounding) paths.
+    let separate = run(1);
+    let signs = |b: &rodkit::charged::branch::ChargedBranch| b.records.iter().map(|r| r.det_sign).collect::<Vec<_>>();
+    let b3 = separate.buckled.as_ref().unwrap();
+    assert_eq!(signs(b1).len().min(signs(b3).len()) > 20, true);
+    assert_eq!(signs(b1)[..20], signs(b3)[..20], "signs at the points vs separate signs");
 }
 
 /// A run stopped on one thread and resumed on two (the handle's threads

@@ -229,12 +229,24 @@ pub struct SupercoilSettings {
     pub hard_core: Option<f64>,
     /// Threads for the pair forces; with 2 or more, the buckled branch's
     /// records also take their determinant signs on a second thread while
-    /// the next step is corrected ([`Options::overlap_thread`]). Results
-    /// are bitwise the same for any count: the buckled branch's points are
-    /// factorised for their tangents and their records' signs taken from
-    /// a factorisation of their own on one thread too
-    /// ([`Options::overlap_records`]), only later.
+    /// the next step is corrected, where they have a factorisation of
+    /// their own ([`SupercoilSettings::separate_signs_from`]). Results are
+    /// bitwise the same for any count: one thread factorises as two do.
     pub threads: usize,
+    /// From this many unknowns of the rod, the buckled branch's points are
+    /// factorised for their tangents only (block elimination) and their
+    /// records' determinant signs taken from B's simplicial LU, a
+    /// factorisation of their own ([`Options::overlap_records`]), which a
+    /// second thread runs while the next step is corrected
+    /// ([`SupercoilSettings::threads`] ≥ 2); below, each point's tangent
+    /// and signs come from its own simplicial LU. Not a thread choice: the
+    /// path is the same, bitwise, for any thread count. Default 3000,
+    /// measured (benches/README.md, 2026-11-27): at 6645 unknowns (1 kbp,
+    /// 170 elements) separate signs cost +2.6 % on one thread and two
+    /// threads are 1.17× faster; at 950 (250 bp, 24 elements) they cost
+    /// +16–19 % on one thread, and two threads did not beat one thread
+    /// with the signs at the points.
+    pub separate_signs_from: usize,
     /// The buckled branch stops past this many turns (or when turns fall
     /// to zero), at the step limit, or at a strand crossing.
     pub max_turns: f64,
@@ -381,6 +393,7 @@ impl Default for SupercoilSettings {
             cutoff_tolerance: Some(1e-4),
             hard_core: None,
             threads: 1,
+            separate_signs_from: 3000,
             max_turns: 12.0,
             max_steps: 600,
             residual_tol: 1e-8,
@@ -917,9 +930,10 @@ fn buckled_path(
         hermite_predictor: settings.engine == Engine::Hermite,
         corrector_aim: if settings.engine == Engine::Hermite { settings.corrector_aim } else { 3.0 },
         lu_kind: settings.lu_kind,
-        // The same numbers on any thread count (c-api.md): one thread
-        // takes the records' signs as two do, after each point.
-        overlap_records: true,
+        // The same numbers on any thread count (c-api.md): the choice is
+        // the rod's size, and one thread takes the records' signs as two
+        // do, after each point.
+        overlap_records: rod.unknowns() >= settings.separate_signs_from,
         overlap_thread: settings.threads >= 2,
         unfolding_retakes: settings.unfolding_retakes,
         ..Default::default()

@@ -308,7 +308,9 @@ pub struct Options {
     /// one; its tangent comes from there) and its record's determinant
     /// signs and pivots from B's own simplicial LU, a factorisation of its
     /// own — on a second thread while the next step is corrected with
-    /// [`Options::overlap_thread`]. The record is told (and may stop the
+    /// [`Options::overlap_thread`] — unless the point's factorisation is
+    /// that LU already (a pattern too narrow for block elimination), whose
+    /// signs are read off it. The record is told (and may stop the
     /// run) once the next step is done, whose point is then dropped. The
     /// same records, bitwise, with or without the thread; against false,
     /// the same signs and pivots, the tangents equal to rounding. Worth it

@@ -209,7 +209,7 @@ fn record_later<'o, P: Problem + ?Sized>(
 ) -> Result<&'o Record> {
     let rec = run.unsigned_record(problem, at, step, iterations, observe);
     let orientation = run.ctx.bordered.orientation(&run.ctx.scaling, &at.tx, at.tl);
-    overlap.start(&run.ctx.bordered, rec, orientation, run.opts.overlap_thread)
+    overlap.start(&mut run.ctx.bordered, rec, orientation, run.opts.overlap_thread)
 }
 
 /// Tell the record waiting for its signs, if any ([`Overlap`]): false

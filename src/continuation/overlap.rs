@@ -16,12 +16,16 @@
 //! runs differs. So a run gives the same records, bitwise, with or
 //! without the second thread (c-api.md: results bitwise identical for
 //! any thread count), and one thread costs the wall clock of both.
+//! Where the point's own factorisation is B's simplicial LU already (a
+//! pattern too narrow for block elimination), the signs are read off it
+//! at once, on any thread count: no second factorisation.
 
 use super::tangent::Bordered;
 use super::{Counts, Record};
 use crate::error::Result;
 use crate::linalg::sparse::ColumnOrder;
 use crate::linalg::SparseLu;
+use std::sync::{Arc, Mutex, PoisonError};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -47,10 +51,12 @@ struct Waiting {
 }
 
 /// Where they are taken: on the second thread, or (one thread, or no
-/// thread could be started) already here.
+/// thread could be started) already here, or read off the point's own
+/// factorisation (sign det B, negative pivots).
 enum Signs {
     Thread(JoinHandle<Signed>),
     Here(Box<Signed>),
+    InHand(f64, usize),
 }
 
 /// B's simplicial LU of `values` with `lu`: its signs and pivots.
@@ -72,13 +78,25 @@ pub(crate) struct Overlap {
 
 impl Overlap {
     /// Take the signs of `record` — B the bordered tangent just evaluated
-    /// at its point — on a second thread when `thread` (here, if not, or
-    /// if the system refuses a thread: the same LU in the same column
-    /// order, so the same numbers). Any record still waiting must have
-    /// been [`Overlap::finish`]ed. Returns the record as it waits (signs
-    /// 0, no pivots).
-    pub fn start(&mut self, bordered: &Bordered, record: Record, orientation: f64, thread: bool) -> Result<&Record> {
+    /// at its point — off its factorisation when that is B's simplicial
+    /// LU ([`Bordered::signs_in_hand`]), else from B's own simplicial LU on
+    /// a second thread when `thread` (here, if not, or if the system
+    /// refuses a thread: the same LU in the same column order, so the
+    /// same numbers). Any record still waiting must have been
+    /// [`Overlap::finish`]ed. Returns the record as it waits (signs 0, no
+    /// pivots).
+    pub fn start(
+        &mut self,
+        bordered: &mut Bordered,
+        record: Record,
+        orientation: f64,
+        thread: bool,
+    ) -> Result<&Record> {
         debug_assert!(self.waiting.is_none(), "a record is still waiting");
+        if bordered.signs_in_hand() {
+            let signs = Signs::InHand(bordered.determinant_sign(), bordered.negative_pivots());
+            return Ok(&self.waiting.insert(Waiting { record, orientation, signs }).record);
+        }
         let (lu, mut values) = match self.spare.take() {
             Some(kept) => kept,
             None => (bordered.exact_twin()?, Vec::new()),
@@ -86,17 +104,23 @@ impl Overlap {
         values.clear();
         values.extend_from_slice(bordered.values());
         let signs = if thread {
-            // The LU moves into the thread; should the spawn fail, a twin
-            // takes the order the moved one had chosen.
-            let order = (lu.factorisations > 0).then(|| lu.column_order());
-            match std::thread::Builder::new().name("rodkit-record-signs".into()).spawn(move || signed(lu, values)) {
+            // The thread takes the LU from a shared slot; should the spawn
+            // fail, the closure is dropped unrun and the LU is taken back.
+            let job = Arc::new(Mutex::new(Some((lu, values))));
+            let theirs = Arc::clone(&job);
+            let spawned = std::thread::Builder::new().name("rodkit-record-signs".into()).spawn(move || {
+                let (lu, values) = theirs.lock().unwrap_or_else(PoisonError::into_inner).take().expect("the job");
+                signed(lu, values)
+            });
+            match spawned {
                 Ok(handle) => Signs::Thread(handle),
                 Err(_) => {
-                    let mut twin = bordered.exact_twin()?;
-                    if let Some(order) = order {
-                        twin.prefer(order);
-                    }
-                    Signs::Here(Box::new(signed(twin, bordered.values().to_vec())))
+                    let taken = job.lock().unwrap_or_else(PoisonError::into_inner).take();
+                    let (lu, values) = match taken {
+                        Some(job) => job,
+                        None => (bordered.exact_twin()?, bordered.values().to_vec()),
+                    };
+                    Signs::Here(Box::new(signed(lu, values)))
                 }
             }
         } else {
@@ -119,26 +143,32 @@ impl Overlap {
         let joined = match signs {
             Signs::Thread(handle) => handle.join(),
             Signs::Here(signed) => Ok(*signed),
+            Signs::InHand(sign, pivots) => {
+                set_signs(&mut record, sign, orientation, Some(pivots));
+                return Some(record);
+            }
         };
         match joined {
             Ok(signed) => {
                 counts.factorisations += 1;
                 counts.times.overlapped += signed.time;
-                record.bordered_det_sign = signed.sign;
-                record.det_sign = if orientation == 0.0 { 0.0 } else { signed.sign * orientation };
-                record.negative_pivots = Some(signed.pivots);
+                set_signs(&mut record, signed.sign, orientation, Some(signed.pivots));
                 self.spare = Some((signed.lu, signed.values));
             }
             // The thread panicked (a bug): the record says its signs are
             // unknown rather than taking the host down.
-            Err(_) => {
-                record.bordered_det_sign = 0.0;
-                record.det_sign = 0.0;
-                record.negative_pivots = None;
-            }
+            Err(_) => set_signs(&mut record, 0.0, 0.0, None),
         }
         Some(record)
     }
+}
+
+/// sign det B, sign det R_x = sign det B × the orientation (0 when that
+/// is 0), and the negative pivots into `record`.
+fn set_signs(record: &mut Record, sign: f64, orientation: f64, pivots: Option<usize>) {
+    record.bordered_det_sign = sign;
+    record.det_sign = if orientation == 0.0 { 0.0 } else { sign * orientation };
+    record.negative_pivots = pivots;
 }
 
 /// A record still waiting when the run unwinds (a panicking callback):

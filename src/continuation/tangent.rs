@@ -273,6 +273,16 @@ impl Bordered {
         self.lu.condensed()
     }
 
+    /// See [`BorderedLu::signs_in_hand`].
+    pub fn signs_in_hand(&self) -> bool {
+        self.lu.signs_in_hand()
+    }
+
+    /// sign det B of the current factorisation.
+    pub fn determinant_sign(&mut self) -> f64 {
+        self.lu.determinant_sign()
+    }
+
     /// See [`BorderedLu::exact_twin`].
     pub fn exact_twin(&self) -> Result<crate::linalg::SparseLu> {
         self.lu.exact_twin()

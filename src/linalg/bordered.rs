@@ -334,6 +334,13 @@ impl BorderedLu {
         self.lu.determinant_sign_and_log().0
     }
 
+    /// Whether B's own simplicial factors hold the last matrix (not a
+    /// block elimination, not a condensation, not B's supernodal LU): its
+    /// [`BorderedLu::determinant_sign`] and pivots are read off them.
+    pub fn signs_in_hand(&self) -> bool {
+        !self.blocks_active && self.lu.exact_in_hand()
+    }
+
     /// Negative pivots of the current factors (see
     /// [`SparseLu::negative_pivots`]; B's own LU's).
     pub fn negative_pivots(&mut self) -> usize {

@@ -657,6 +657,12 @@ impl SparseLu {
     /// supernodal factors, from a simplicial factorisation of the same
     /// matrix, done on the first request: (0, −∞) if that one finds it
     /// singular).
+    /// Whether the last successful factorisation left simplicial factors
+    /// (its determinant sign and pivots then cost nothing more).
+    pub fn exact_in_hand(&self) -> bool {
+        self.factorised && self.exact
+    }
+
     pub fn determinant_sign_and_log(&mut self) -> (f64, f64) {
         assert!(self.factorised, "determinant before a successful factorisation");
         if self.ensure_exact().is_err() {

@@ -89,7 +89,7 @@ fn signs_at_the_points_are_the_same_on_two_threads() {
     let separate = run(1);
     let signs = |b: &rodkit::charged::branch::ChargedBranch| b.records.iter().map(|r| r.det_sign).collect::<Vec<_>>();
     let b3 = separate.buckled.as_ref().unwrap();
-    assert_eq!(signs(b1).len().min(signs(b3).len()) > 20, true);
+    assert!(signs(b1).len().min(signs(b3).len()) > 20, "fewer than 20 buckled records");
     assert_eq!(signs(b1)[..20], signs(b3)[..20], "signs at the points vs separate signs");
 }
 

@@ -183,9 +183,10 @@ fn ranks_give_bitwise_identical_outputs() {
 /// included, byte for byte the 1-thread reference's, on 1 and on 2 ranks.
 /// And a record does not depend on the threads that wrote it: the 2-thread
 /// map restarted with 1 thread skips every scene and keeps its bytes.
-/// Before rodkit took one thread's record signs as two do, the 2-thread
-/// points differed from 1 thread's in their last bits (a curve CSV energy
-/// 97.9819353489 vs ...488): this test failed there.
+/// While the thread count chose how the records' signs were taken (before
+/// 2026-11-27; now the rod's size does, `separate_signs_from`), the
+/// 2-thread points differed from 1 thread's in their last bits (a curve
+/// CSV energy 97.9819353489 vs ...488): this test failed there.
 #[test]
 fn threads_per_rank_are_deterministic() {
     if !have_mpi() {

@@ -1023,23 +1023,16 @@ program mpi_tube_search
             first = c * chunk_size
             cnt = min(chunk_size, nsamples - first)
             if (owner(c + 1) == 0) then
-                kc(:, :cnt) = k(:, pos + 1:pos + cnt)
-                rc(:, :cnt) = r(:, pos + 1:pos + cnt)
-                mc(:cnt) = msg(pos + 1:pos + cnt)
+                ! Its own chunk: the rows straight from its records.
+                call take_chunk(k(:, pos + 1:pos + cnt), r(:, pos + 1:pos + cnt), msg(pos + 1:pos + cnt), first, cnt)
                 pos = pos + cnt
             else
                 call MPI_Recv(kc, int(cnt) * nk, MPI_INTEGER8, owner(c + 1), 1, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
                 call MPI_Recv(rc, int(cnt) * nr, MPI_DOUBLE_PRECISION, owner(c + 1), 2, MPI_COMM_WORLD, &
                     MPI_STATUS_IGNORE)
                 call MPI_Recv(mc, int(cnt) * ml, MPI_CHARACTER, owner(c + 1), 3, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+                call take_chunk(kc, rc, mc, first, cnt)
             end if
-            do i = 1, cnt
-                if (kc(k_index, i) /= first + i - 1) then
-                    print '(a, i0, a)', 'mpi_tube_search: sample ', first + i - 1, ' is missing from the gathered records'
-                    call MPI_Abort(MPI_COMM_WORLD, 1)
-                end if
-                call take_row(kc(:, i), rc(:, i), mc(i))
-            end do
         end do
         call close_csv(trim(outdir) // '/samples.csv', u_all)
         call close_csv(trim(outdir) // '/hits.csv', u_hits)
@@ -1153,6 +1146,23 @@ contains
         close (unit)
         if (.not. rename_file(path // '.tmp', path)) call give_up('cannot rename ' // path // '.tmp')
     end subroutine close_csv
+
+    ! A chunk's samples first, ..., first + cnt - 1, in order (each checked
+    ! to be the sample expected there).
+    subroutine take_chunk(kk, rr, mm, first, cnt)
+        integer(int64), intent(in) :: first, cnt
+        integer(int64), intent(in) :: kk(nk, *)
+        real(real64), intent(in) :: rr(nr, *)
+        character(len=ml), intent(in) :: mm(*)
+        integer(int64) :: s
+        do s = 1, cnt
+            if (kk(k_index, s) /= first + s - 1) then
+                print '(a, i0, a)', 'mpi_tube_search: sample ', first + s - 1, ' is missing from the gathered records'
+                call MPI_Abort(MPI_COMM_WORLD, 1)
+            end if
+            call take_row(kk(:, s), rr(:, s), mm(s))
+        end do
+    end subroutine take_chunk
 
     ! One sample, in sample order: its row in samples.csv (and hits.csv if
     ! confirmed), and the report's counts.

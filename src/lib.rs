@@ -29,6 +29,7 @@ pub mod electrostatics;
 pub mod geometry;
 pub mod rod;
 pub mod tube;
+pub mod tweezers;
 
 // Files for other tools (VTK shapes, CSV tables), written on request.
 pub mod io;

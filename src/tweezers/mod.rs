@@ -122,6 +122,12 @@ pub struct TweezersScene {
     pub counting_length: f64,
     /// The largest number of plectonemes summed in (2).
     pub max_plectonemes: usize,
+    /// 0: the superhelix of [`superhelix`]. P > 0 (nm): J. F. Marko's
+    /// phenomenological plectoneme instead, free energy ½ kT P (2π l)² per
+    /// length at linking density l (Phys. Rev. E 76, 021926 (2007)): a
+    /// reference with closed-form limits (doc/physics.md §3.7.5), no
+    /// superhelix geometry (radius and angle reported as 0).
+    pub marko_plectoneme: f64,
     pub end_loop: EndLoopSource,
 }
 
@@ -147,6 +153,7 @@ impl Default for TweezersScene {
             hard_core: crate::charged::dna::auto_hard_core(1.0, 1.380_649e-23 * 298.15 * 1e21),
             counting_length: 0.0,
             max_plectonemes: 4,
+            marko_plectoneme: 0.0,
             end_loop: EndLoopSource::Elastic,
         }
     }
@@ -262,39 +269,24 @@ impl Model {
         // as R → ∞: no plectoneme), found going down from τ_cap/2 by
         // factors of 0.85 until R exceeds half the largest radius searched.
         let tau_cap = 2.0 * (s.bending * s.force).sqrt();
-        let r_far = 0.5 * plectoneme.max_radius();
-        let first = plectoneme.optimum(0.5 * tau_cap, None)?;
-        if first.radius >= r_far {
-            return Err(Error::new(
-                Status::ErrNotConverged,
-                format!(
-                    "no superhelix at half the straight chain's instability torque ({:.2} pN nm): no plectoneme",
-                    0.5 * tau_cap
-                ),
-            ));
-        }
-        let mut t_lo = 0.5 * tau_cap;
-        let mut start = (first.radius, first.angle);
-        while t_lo > 0.02 * tau_cap {
-            let t = 0.85 * t_lo;
-            match plectoneme.optimum(t, Some(start)) {
-                Ok(o) if o.radius < r_far => {
-                    t_lo = t;
-                    start = (o.radius, o.angle);
-                }
-                _ => break,
-            }
-        }
+        let marko = s.marko_plectoneme;
+        let (t_lo, vals, _nodes) = if marko > 0.0 {
+            // h_p = −τ²/(2kTP) and linking per length τ/(2π kT P), i.e.
+            // w = τ/(2π) (1/(kT P) − 1/K_t): quadratic and linear in τ, so
+            // the tables are exact.
+            let t_lo = 0.02 * tau_cap;
+            let nodes = cheb::points(DEGREE, t_lo, tau_cap);
+            let vals: Vec<[f64; 4]> = nodes
+                .iter()
+                .map(|&t| {
+                    [-t * t / (2.0 * s.kt * marko), t / (2.0 * PI) * (1.0 / (s.kt * marko) - 1.0 / s.twist), 0.0, 0.0]
+                })
+                .collect();
+            (t_lo, vals, nodes)
+        } else {
+            superhelix_tables(&plectoneme, tau_cap)?
+        };
         let t_hi = tau_cap;
-        let nodes = cheb::points(DEGREE, t_lo, t_hi);
-        let mut vals = vec![[0.0; 4]; nodes.len()];
-        // From the top down (nodes descend), each optimum warm-starting the next.
-        let mut prev = None;
-        for (k, &t) in nodes.iter().enumerate() {
-            let o = plectoneme.optimum(t, prev)?;
-            prev = Some((o.radius, o.angle));
-            vals[k] = [plectoneme.grand(&o), o.writhe, o.radius, o.angle];
-        }
         let col = |i: usize| -> Vec<f64> { vals.iter().map(|v| v[i]).collect() };
         let hp = cheb::Series::interpolate(t_lo, t_hi, &col(0));
         let w = cheb::Series::interpolate(t_lo, t_hi, &col(1));
@@ -327,8 +319,24 @@ impl Model {
                 b = c;
             }
         }
-        let star = plectoneme.optimum(0.5 * (a + b), Some((radius.eval(a), angle.eval(a))))?;
-        let table_error = (hp.eval(star.torque) - plectoneme.grand(&star)).abs();
+        let t_star = 0.5 * (a + b);
+        let (star, table_error) = if marko > 0.0 {
+            let o = Optimum {
+                torque: t_star,
+                radius: 0.0,
+                angle: 0.0,
+                phi: hp.eval(t_star) + t_star * t_star / (2.0 * s.twist),
+                writhe: w.eval(t_star),
+                bending: 0.0,
+                electrostatic: 0.0,
+                confinement: 0.0,
+            };
+            (o, 0.0)
+        } else {
+            let o = plectoneme.optimum(t_star, Some((radius.eval(a), angle.eval(a))))?;
+            let e = (hp.eval(o.torque) - plectoneme.grand(&o)).abs();
+            (o, e)
+        };
         let (loop_offset, loop_offset_slope) = loop_offset(s)?;
         let counting = if s.counting_length > 0.0 { s.counting_length } else { (s.bending / s.force).sqrt() };
         Ok(Model {
@@ -762,12 +770,59 @@ fn validate(s: &TweezersScene) -> Result<()> {
         }
     }
     crate::error::finite("twist_stretch", s.twist_stretch)?;
+    crate::error::finite("marko_plectoneme", s.marko_plectoneme)?;
+    if s.marko_plectoneme < 0.0 || (s.marko_plectoneme > 0.0 && s.kt == 0.0) {
+        return Err(Error::new(Status::ErrOutOfRange, "Marko's plectoneme needs P ≥ 0 and kT > 0"));
+    }
     if s.twist_stretch != 0.0 && s.stretch_modulus == 0.0 {
         return Err(Error::new(Status::ErrOutOfRange, "a twist–stretch coupling needs a stretch modulus"));
     }
     crate::error::count_in_range("max_plectonemes", s.max_plectonemes as i64, 1, 16)?;
     crate::error::in_range("base_pairs", s.base_pairs, 50.0, 1e6)?;
     Ok(())
+}
+
+/// The superhelix's tables on [τ_lo, τ_cap]: τ_lo is where the superhelix
+/// still has a minimum at a finite radius (below, φ → 0⁺ as R → ∞: no
+/// plectoneme), found going down from τ_cap/2 by factors of 0.85 until R
+/// exceeds half the largest radius searched; τ_cap = 2√(K_b F) is the
+/// infinite straight rod's instability (no end loop exists beyond it).
+/// Returns (τ_lo, [h_p, w, R, α] at the nodes, the nodes).
+#[allow(clippy::type_complexity)]
+fn superhelix_tables(plectoneme: &Plectoneme, tau_cap: f64) -> Result<(f64, Vec<[f64; 4]>, Vec<f64>)> {
+    let r_far = 0.5 * plectoneme.max_radius();
+    let first = plectoneme.optimum(0.5 * tau_cap, None)?;
+    if first.radius >= r_far {
+        return Err(Error::new(
+            Status::ErrNotConverged,
+            format!(
+                "no superhelix at half the straight chain's instability torque ({:.2} pN nm): no plectoneme",
+                0.5 * tau_cap
+            ),
+        ));
+    }
+    let mut t_lo = 0.5 * tau_cap;
+    let mut start = (first.radius, first.angle);
+    while t_lo > 0.02 * tau_cap {
+        let t = 0.85 * t_lo;
+        match plectoneme.optimum(t, Some(start)) {
+            Ok(o) if o.radius < r_far => {
+                t_lo = t;
+                start = (o.radius, o.angle);
+            }
+            _ => break,
+        }
+    }
+    let nodes = cheb::points(DEGREE, t_lo, tau_cap);
+    let mut vals = vec![[0.0; 4]; nodes.len()];
+    // From the top down (nodes descend), each optimum warm-starting the next.
+    let mut prev = None;
+    for (k, &t) in nodes.iter().enumerate() {
+        let o = plectoneme.optimum(t, prev)?;
+        prev = Some((o.radius, o.angle));
+        vals[k] = [plectoneme.grand(&o), o.writhe, o.radius, o.angle];
+    }
+    Ok((t_lo, vals, nodes))
 }
 
 /// The end loop's E_nuc offset (E_nuc = offset + ΔG_loop(τ)) and the
@@ -966,7 +1021,11 @@ impl Model {
         let plateau = range.iter().map(|p| p.torque).sum::<f64>() / k;
         let tmin = range.iter().map(|p| p.torque).fold(f64::INFINITY, f64::min);
         let tmax = range.iter().map(|p| p.torque).fold(f64::NEG_INFINITY, f64::max);
-        let sh = self.plectoneme.optimum(plateau, Some((self.coexistence.radius, self.coexistence.angle)))?;
+        let sh = if self.scene.marko_plectoneme > 0.0 {
+            self.coexistence
+        } else {
+            self.plectoneme.optimum(plateau, Some((self.coexistence.radius, self.coexistence.angle)))?
+        };
         let buckling_torque = 2.0 * PI * nb * self.extended.twist / self.length;
         // The buckled level: the buckled states' mean extension at n_b (at
         // kT = 0 the lowest buckled state, just past n_b).

@@ -36,6 +36,7 @@
 //! smallest term: the zero-temperature two-phase model with the full rod's
 //! end loop, which is what rodkit's full rod computes.
 
+pub mod charge;
 pub mod cheb;
 pub mod superhelix;
 pub mod wlc;
@@ -101,7 +102,10 @@ pub struct TweezersScene {
     /// Bending and twist moduli K_b = A kT, K_t = C kT (pN nm²).
     pub bending: f64,
     pub twist: f64,
-    /// Effective line charge ν (e/nm) and relative permittivity.
+    /// Effective line charge ν (e/nm); 0: the Poisson–Boltzmann effective
+    /// charge of a 1 nm cylinder carrying 2 e per 0.34 nm at the scene's
+    /// salt ([`charge::effective_charge`], 5.6 e/nm at 0.1 M, 2.4 at
+    /// 0.01 M). And the relative permittivity.
     pub charge_per_length: f64,
     pub permittivity: f64,
     /// DNA radius a (nm): the electrostatics' arc-length cutoff and the
@@ -132,8 +136,9 @@ pub struct TweezersScene {
 }
 
 impl Default for TweezersScene {
-    /// 1 kbp at 1 pN in 0.1 M, kT 4.11 pN nm, A = 50 nm, C = 100 nm,
-    /// Manning's charge 1/l_B, a = 1 nm, inextensible, the elastic end loop.
+    /// 1 kbp at 1 pN in 0.1 M, kT 4.11 pN nm, A = 50 nm, C = 100 nm, the
+    /// Poisson–Boltzmann effective charge, a = 1 nm, inextensible, the
+    /// elastic end loop.
     fn default() -> Self {
         let kt = 4.11;
         TweezersScene {
@@ -144,7 +149,7 @@ impl Default for TweezersScene {
             kt,
             bending: 50.0 * kt,
             twist: 100.0 * kt,
-            charge_per_length: 1.0 / 0.7150,
+            charge_per_length: 0.0,
             permittivity: 78.4,
             radius: 1.0,
             stretch_modulus: 0.0,
@@ -198,6 +203,8 @@ pub struct Extended {
 #[derive(Clone, Debug)]
 pub struct Model {
     pub scene: TweezersScene,
+    /// The line charge used (e/nm): the scene's, or the Poisson–Boltzmann one.
+    pub charge: f64,
     /// Contour length (nm).
     pub length: f64,
     pub extended: Extended,
@@ -252,12 +259,19 @@ impl Model {
         if !(extended.twist > 0.0) {
             return Err(Error::new(Status::ErrOutOfRange, "twist–stretch coupling g²/S exceeds the twist modulus"));
         }
+        let kappa = inverse_debye_length(s.salt, s.permittivity);
+        let nu = if s.charge_per_length > 0.0 {
+            s.charge_per_length
+        } else {
+            let lb = coulomb_constant(s.permittivity) / (1.380_649e-23 * 298.15 * 1e21);
+            charge::effective_charge(2.0 / 0.34, 1.0, kappa, lb)?
+        };
         let plectoneme = Plectoneme {
             bending: s.bending,
             twist: s.twist,
             kt: s.kt,
-            charge2: coulomb_constant(s.permittivity) * s.charge_per_length * s.charge_per_length,
-            kappa: inverse_debye_length(s.salt, s.permittivity),
+            charge2: coulomb_constant(s.permittivity) * nu * nu,
+            kappa,
             radius: s.radius,
             confinement: s.confinement,
             hard_core: s.hard_core,
@@ -340,6 +354,7 @@ impl Model {
         let (loop_offset, loop_offset_slope) = loop_offset(s)?;
         let counting = if s.counting_length > 0.0 { s.counting_length } else { (s.bending / s.force).sqrt() };
         Ok(Model {
+            charge: nu,
             scene: s.clone(),
             length,
             extended,
@@ -407,6 +422,14 @@ impl Model {
         // dLk_loop/dτ = −(2/π)/√(1 − m²) · 1/(2√(K_b F)).
         let sk = (self.scene.bending * self.scene.force).sqrt();
         let mm = tau / (2.0 * sk);
+        // Each loop must fit in the tails: the elastic loop decays over
+        // ξ = √(K_b/F)/√(1 − m²) on either side, so it takes ~4ξ of chain;
+        // near the straight chain's instability (m → 1) ξ diverges and no
+        // loop fits (the elastic loop's energy and deficit vanish there, and
+        // without this bound loops would multiply for nothing).
+        if mm >= 1.0 || ls < mf * 4.0 * (self.scene.bending / self.scene.force).sqrt() / (1.0 - mm * mm).sqrt() {
+            return None;
+        }
         let dlk = if mm < 1.0 { -(2.0 / PI) / (1.0 - mm * mm).sqrt() / (2.0 * sk) } else { 0.0 };
         let dlp = (-l / (2.0 * PI * ce) - mf * dlk - lp * dweff) / weff;
         let hp = self.hp.eval(tau);
@@ -661,7 +684,9 @@ impl Model {
             extension_buckled: stats.zb,
             superhelix_radius: self.radius.eval(tb),
             superhelix_angle: self.angle.eval(tb),
+            in_range: true,
         };
+        let point = Point { in_range: self.in_range(&point, &s0), ..point };
         for v in [point.extension, point.torque, point.writhe, point.plectoneme_length, point.buckled_probability] {
             if !v.is_finite() {
                 return Err(Error::new(
@@ -671,6 +696,15 @@ impl Model {
             }
         }
         Ok(point)
+    }
+
+    /// Whether a point is inside the model's range (see [`Point::in_range`]).
+    fn in_range(&self, p: &Point, s0: &State) -> bool {
+        let cap = self.torque_range.1;
+        let z_free = self.length * self.extended.zeta;
+        let unbuckled_ok = p.buckled_probability > 0.5 || s0.tau <= cap;
+        let buckled_ok = p.buckled_probability < 0.5 || p.torque < 0.98 * cap;
+        unbuckled_ok && buckled_ok && p.extension > 0.05 * z_free
     }
 
     /// log Z_buckled − log Z_unbuckled at linking n (kT > 0), or
@@ -730,6 +764,13 @@ pub struct Point {
     /// The superhelix at the buckled states' mean torque (nm, rad).
     pub superhelix_radius: f64,
     pub superhelix_angle: f64,
+    /// False where the model does not describe the molecule: the
+    /// unbuckled chain beyond its instability torque τ_cap with no buckled
+    /// state to take over, the buckled states pinned at the tables' top
+    /// torque τ_cap, or the tails used up (⟨z⟩ below 5 % of the zero-turn
+    /// extension). Such points carry the model's numbers but are not a
+    /// prediction; summaries skip them.
+    pub in_range: bool,
 }
 
 fn ln_factorial(k: usize) -> f64 {

@@ -45,7 +45,10 @@ pub fn bessel_k01(x: f64) -> (f64, f64) {
 /// `lb` (nm).
 pub fn effective_charge(bare: f64, a: f64, kappa: f64, lb: f64) -> Result<f64> {
     if !(bare > 0.0 && a > 0.0 && kappa > 0.0 && lb > 0.0) || ![bare, a, kappa, lb].iter().all(|v| v.is_finite()) {
-        return Err(Error::new(Status::ErrOutOfRange, "effective charge: bare charge, radius, κ and l_B must be positive"));
+        return Err(Error::new(
+            Status::ErrOutOfRange,
+            "effective charge: bare charge, radius, κ and l_B must be positive",
+        ));
     }
     let target = -2.0 * lb * bare / a;
     // ψ'(a) for amplitude A: integrate (1) as a system in x = ln r:

@@ -230,7 +230,7 @@ pub struct Model {
 }
 
 /// Chebyshev degree of the plectoneme's tables in torque.
-const DEGREE: usize = 20;
+const DEGREE: usize = 32;
 
 impl Model {
     /// Validate the scene and tabulate its phases.

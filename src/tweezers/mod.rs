@@ -227,6 +227,8 @@ pub struct Model {
     loop_offset: f64,
     loop_offset_slope: f64,
     counting: f64,
+    /// The buckling turns, found once.
+    buckling: std::sync::OnceLock<f64>,
 }
 
 /// Chebyshev degree of the plectoneme's tables in torque.
@@ -370,6 +372,7 @@ impl Model {
             loop_offset,
             loop_offset_slope,
             counting,
+            buckling: std::sync::OnceLock::new(),
         })
     }
 
@@ -499,7 +502,7 @@ impl Model {
             return Some(lo);
         }
         let (mut a, mut b) = (top, lo);
-        for _ in 0..32 {
+        for _ in 0..24 {
             let c = 0.5 * (a + b);
             if valid(c) {
                 a = c;
@@ -565,7 +568,7 @@ impl Model {
             let (mut a, mut b) = (t0, t1);
             let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
             let (mut fc, mut fd) = (li(c), li(d));
-            for _ in 0..40 {
+            for _ in 0..28 {
                 if fc > fd {
                     b = d;
                     d = c;
@@ -989,8 +992,16 @@ impl Model {
     /// its log-odds, or on the lowest state at kT = 0), searched from 0
     /// up to the turns where the straight chain reaches τ_cap.
     pub fn buckling_turns(&self) -> Result<f64> {
+        if let Some(&nb) = self.buckling.get() {
+            return Ok(nb);
+        }
+        let nb = self.find_buckling()?;
+        Ok(*self.buckling.get_or_init(|| nb))
+    }
+
+    fn find_buckling(&self) -> Result<f64> {
         let n_cap = self.torque_range.1 * self.length / (2.0 * PI * self.extended.twist);
-        let k = 64;
+        let k = 16;
         let mut prev = (0.0, self.buckling_balance(0.0)?);
         if prev.1 > 0.0 {
             return Err(Error::new(Status::ErrNotConverged, "the molecule is buckled at zero turns"));
@@ -999,16 +1010,35 @@ impl Model {
             let n = 1.5 * n_cap * i as f64 / k as f64;
             let b = self.buckling_balance(n)?;
             if b > 0.0 {
-                let (mut lo, mut hi) = (prev.0, n);
-                for _ in 0..60 {
-                    let c = 0.5 * (lo + hi);
-                    if self.buckling_balance(c)? > 0.0 {
+                // Regula falsi (Illinois) on the log-odds, which is smooth at
+                // kT > 0; bisection on the lowest state's sign at kT = 0.
+                let (mut lo, mut glo, mut hi, mut ghi) = (prev.0, prev.1, n, b);
+                let smooth = self.scene.kt > 0.0;
+                let mut side = 0;
+                for _ in 0..100 {
+                    let c = if smooth && glo.is_finite() && ghi.is_finite() && ghi != glo {
+                        (hi - ghi * (hi - lo) / (ghi - glo)).clamp(lo + 1e-3 * (hi - lo), hi - 1e-3 * (hi - lo))
+                    } else {
+                        0.5 * (lo + hi)
+                    };
+                    let g = self.buckling_balance(c)?;
+                    if g > 0.0 {
                         hi = c;
+                        ghi = g;
+                        if side == 1 {
+                            glo *= 0.5;
+                        }
+                        side = 1;
                     } else {
                         lo = c;
+                        glo = g;
+                        if side == -1 {
+                            ghi *= 0.5;
+                        }
+                        side = -1;
                     }
-                    if hi - lo < 1e-10 * hi {
-                        break;
+                    if hi - lo < 1e-10 * hi || (smooth && g.abs() < 1e-9) {
+                        return Ok(c);
                     }
                 }
                 return Ok(0.5 * (lo + hi));

@@ -69,8 +69,8 @@ FFLAGS := -std=f2008 -O2 -g -Wall -Wextra -J$(BUILD)/fmod -I$(BUILD)/fmod
 SHARED := -L$(OUTDIR) -lrodkit -Wl,-rpath,$(OUTDIR)
 STATIC = $(OUTDIR)/librodkit.a $(STATIC_LIBS)
 
-C_DRIVERS := tube_stiffness bad_input artery dna_tube rod_buckling dna_supercoil dna_supercoil_resume dna_map
-F_DRIVERS := tube_stiffness stretch_sweep follower_cantilever greenhill charged_curve dna_supercoil
+C_DRIVERS := tube_stiffness bad_input artery dna_tube rod_buckling dna_supercoil dna_supercoil_resume dna_map dna_tweezers
+F_DRIVERS := tube_stiffness stretch_sweep follower_cantilever greenhill charged_curve dna_supercoil dna_tweezers
 # The SUNDIALS driver only where SUNDIALS is installed (libsundials-dev).
 HAVE_SUNDIALS := $(wildcard /usr/include/kinsol/kinsol.h)
 SUNDIALS_DRIVER := $(if $(HAVE_SUNDIALS),c_rod_sundials_shared)
@@ -129,6 +129,16 @@ $(BUILD)/c_dna_map_shared: $(ROOT)/c_examples/dna_map.c $(DNA_MAP_COMMON) $(ROOT
 $(BUILD)/c_dna_map_static: $(ROOT)/c_examples/dna_map.c $(DNA_MAP_COMMON) $(ROOT)/c_examples/dna_map_common.h $(HEADER) $(LIBS)
 	@mkdir -p $(BUILD)
 	$(CC) $(CFLAGS) $< $(DNA_MAP_COMMON) $(STATIC) -o $@
+
+# The tweezers driver borrows the map's atomic file writes and clock; its
+# family runs on two threads of its own (--threads).
+$(BUILD)/c_dna_tweezers_shared: $(ROOT)/c_examples/dna_tweezers.c $(DNA_MAP_COMMON) $(ROOT)/c_examples/dna_map_common.h $(HEADER) $(LIBS)
+	@mkdir -p $(BUILD)
+	$(CC) $(CFLAGS) -pthread $< $(DNA_MAP_COMMON) $(SHARED) -lm -o $@
+
+$(BUILD)/c_dna_tweezers_static: $(ROOT)/c_examples/dna_tweezers.c $(DNA_MAP_COMMON) $(ROOT)/c_examples/dna_map_common.h $(HEADER) $(LIBS)
+	@mkdir -p $(BUILD)
+	$(CC) $(CFLAGS) -pthread $< $(DNA_MAP_COMMON) $(STATIC) -o $@
 
 # ---- MPI drivers (issue 21) ----------------------------------------------
 # Built by `make drivers` only where an MPI C compiler exists (OpenMPI:
@@ -207,6 +217,11 @@ DNA_MAP_OUT ?= $(RUN_OUT)/dna/map
 # The supercoiling run: continuation steps, then elements and base pairs.
 DNA_SUPERCOIL_STEPS ?= 60
 DNA_SUPERCOIL_SCENE ?= 100 1000
+# The tweezers family at 25 C (c_examples/dna_tweezers.c --family: 4 forces
+# x 2 salts x 2 lengths, on two threads: ~0.3 s) and where its
+# files go.
+DNA_TWEEZERS_FAMILY ?= --family
+DNA_TWEEZERS_OUT ?= $(RUN_OUT)/dna/tweezers
 # Each driver once (the static and C++ link modes are `make test`'s).
 run:
 	@bash $(ROOT)/.ci/deps run
@@ -232,12 +247,13 @@ run-drivers:
 	$(if $(SUNDIALS_DRIVER),@$(BUILD)/$(SUNDIALS_DRIVER))
 	@$(BUILD)/cpp_fe_beam
 	@echo
-	@echo "== DNA: charged rods and supercoiling (Fortran, C)"
+	@echo "== DNA: charged rods and supercoiling, at zero and at finite temperature (Fortran, C)"
 	@$(BUILD)/f_charged_curve_shared
 	@$(BUILD)/c_dna_supercoil_shared 0.1 $(DNA_SUPERCOIL_STEPS) $(RUN_OUT)/dna/supercoil.csv \
 	  $(RUN_OUT)/dna/supercoil.vtk $(DNA_SUPERCOIL_SCENE)
 	@echo "A force x salt map of supercoiling curves ($(DNA_MAP_SUBSET)):"
 	@$(BUILD)/c_dna_map_shared $(DNA_MAP_SUBSET) $(DNA_MAP_OUT)
+	@$(BUILD)/c_dna_tweezers_shared $(DNA_TWEEZERS_FAMILY) --out $(DNA_TWEEZERS_OUT)
 	@echo
 	@echo "== Errors: what a bad call returns (C)"
 	@$(BUILD)/c_bad_input_shared

@@ -51,6 +51,37 @@ module rodkit
     integer(c_int32_t), parameter :: RODKIT_ABI_VERSION = 2
 
     ! -------------------------------------------------------------------------
+    ! enum RodkitSupercoilModel: Which model computed a supercoiling curve or
+    ! summary.
+    ! -------------------------------------------------------------------------
+    ! The thermal two-phase model (extended chain, plectonemes, end
+    ! loops; thermal averages over the number and length of
+    ! plectonemes) at kT > 0: rodkit_tweezers_*.
+    integer(c_int32_t), parameter :: RODKIT_SUPERCOIL_MODEL_THERMAL_TWO_PHASE = 1
+    ! The same model's zero-temperature limit (kT = 0: the lowest state
+    ! at each linking number): rodkit_tweezers_* with `kt` 0.
+    integer(c_int32_t), parameter :: RODKIT_SUPERCOIL_MODEL_ZERO_TEMPERATURE_TWO_PHASE = 2
+    ! rodkit's full charged Kirchhoff rod at zero temperature
+    ! (rodkit_dna_supercoil_run); no tweezers summary reports it.
+    integer(c_int32_t), parameter :: RODKIT_SUPERCOIL_MODEL_FULL_ROD = 3
+
+    ! -------------------------------------------------------------------------
+    ! enum RodkitTweezersEndLoop: Where a plectoneme's nucleation (end-loop)
+    ! energy comes from (`RodkitTweezersSpec.end_loop`).
+    ! -------------------------------------------------------------------------
+    ! The table rodkit ships, computed with the full zero-temperature
+    ! charged rod over force × salt (interpolated; a scene outside it is
+    ! refused with RODKIT_STATUS_ERR_OUT_OF_RANGE). Until the table ships,
+    ! the elastic loop stands in for it (and the summary's `end_loop`
+    ! says ELASTIC).
+    integer(c_int32_t), parameter :: RODKIT_TWEEZERS_END_LOOP_BUILTIN_TABLE = 0
+    ! The elastic (uncharged Kirchhoff) end loop alone.
+    integer(c_int32_t), parameter :: RODKIT_TWEEZERS_END_LOOP_ELASTIC = 1
+    ! A given nucleation energy `end_loop_energy` (pN nm) at the torque
+    ! `end_loop_torque` (pN nm), with the elastic loop's torque dependence.
+    integer(c_int32_t), parameter :: RODKIT_TWEEZERS_END_LOOP_VALUE = 2
+
+    ! -------------------------------------------------------------------------
     ! enum RodkitStatus: Status returned by every fallible rodkit function (as
     ! `int32_t`).
     ! -------------------------------------------------------------------------
@@ -1040,6 +1071,149 @@ module rodkit
         ! 0: straight branch, 1: buckled branch.
         integer(c_int32_t) :: branch
     end type rodkit_supercoil_curve_point
+
+    ! -------------------------------------------------------------------------
+    ! RodkitTweezersSpec (type rodkit_tweezers_spec): A tweezers scene in nm,
+    ! pN, mol/L.
+    ! -------------------------------------------------------------------------
+    ! A tweezers scene in nm, pN, mol/L. Call `rodkit_tweezers_spec_default`
+    ! first: 1 kbp of rise 0.34 nm, 1 pN, 0.1 M, kT = 4.11 pN nm (25 °C),
+    ! bending modulus 50 kT·nm and twist modulus 100 kT·nm (kT 4.11, pN nm²),
+    ! the Poisson–Boltzmann effective charge, ε_r 78.4, a = 1 nm,
+    ! inextensible, the default confinement and hard core, the automatic
+    ! counting length, up to 4 plectonemes, and the default end loop.
+    type, bind(c) :: rodkit_tweezers_spec
+        ! Length in base pairs (50 … 1e6) and rise per base pair (nm).
+        real(c_double) :: base_pairs
+        real(c_double) :: rise
+        ! Pulling force (pN, > 0).
+        real(c_double) :: force
+        ! Monovalent salt (mol/L, > 0).
+        real(c_double) :: salt
+        ! Thermal energy kT (pN nm, ≥ 0): 4.11 at 25 °C; 0 = the
+        ! zero-temperature limit (the lowest state at each linking number).
+        ! The moduli below are in pN nm², not in units of kT: changing `kt`
+        ! keeps them.
+        real(c_double) :: kt
+        ! Bending modulus K_b = A kT and twist modulus K_t = C kT (pN nm²).
+        real(c_double) :: bending
+        real(c_double) :: twist
+        ! Effective line charge ν (e/nm, ≥ 0); 0 (the default): the
+        ! Poisson–Boltzmann effective charge of a 1 nm cylinder carrying 2 e
+        ! per 0.34 nm at the spec's salt. And the relative permittivity.
+        real(c_double) :: charge_per_length
+        real(c_double) :: permittivity
+        ! DNA radius a (nm): the electrostatics' cutoff and the strands'
+        ! contact distance 2a.
+        real(c_double) :: radius
+        ! Stretch modulus S (pN; 0: inextensible) and twist–stretch coupling
+        ! g (pN nm; needs S).
+        real(c_double) :: stretch_modulus
+        real(c_double) :: twist_stretch
+        ! Confinement coefficient of the plectoneme's strands (≥ 0; 0: off).
+        real(c_double) :: confinement
+        ! Hard core between the strands (pN/nm⁴, ≥ 0; 0: none).
+        real(c_double) :: hard_core
+        ! Counting length b of the partition function (nm, ≥ 0); 0: √(K_b/F).
+        real(c_double) :: counting_length
+        ! The largest number of plectonemes summed (1 … 16).
+        integer(c_int64_t) :: max_plectonemes
+        ! A RodkitTweezersEndLoop.
+        integer(c_int32_t) :: end_loop
+        ! RODKIT_TWEEZERS_END_LOOP_VALUE only (else ignored, but finite): the
+        ! torque (pN nm, > 0) at which the nucleation energy `end_loop_energy`
+        ! (pN nm) is given.
+        real(c_double) :: end_loop_torque
+        real(c_double) :: end_loop_energy
+    end type rodkit_tweezers_spec
+
+    ! -------------------------------------------------------------------------
+    ! RodkitTweezersPoint (type rodkit_tweezers_point): One point of a thermal
+    ! curve: averages over the molecule's states at the given turns (never NaN).
+    ! -------------------------------------------------------------------------
+    ! One point of a thermal curve: averages over the molecule's states at
+    ! the given turns (never NaN).
+    type, bind(c) :: rodkit_tweezers_point
+        ! Turns n (the excess linking number).
+        real(c_double) :: turns
+        ! ⟨z⟩ (nm), ⟨τ⟩ (pN nm), ⟨Tw⟩ = n − ⟨Wr⟩ and ⟨Wr⟩ (turns).
+        real(c_double) :: extension
+        real(c_double) :: torque
+        real(c_double) :: twist
+        real(c_double) :: writhe
+        ! ⟨ℓ_p⟩ (nm), the mean total plectoneme length, and ⟨m⟩, the mean
+        ! number of plectonemes.
+        real(c_double) :: plectoneme_length
+        real(c_double) :: plectonemes
+        ! The buckled population P(m ≥ 1) (0 … 1; at kT = 0, 0 or 1).
+        real(c_double) :: buckled_probability
+        ! The extension of the unbuckled state (nm): the upper level a
+        ! hopping molecule visits.
+        real(c_double) :: extension_unbuckled
+        ! 1 when buckled states exist at these turns; then
+        ! `extension_buckled` is their mean extension (nm, the lower level),
+        ! else it is 0.
+        integer(c_int32_t) :: has_buckled
+        real(c_double) :: extension_buckled
+        ! The superhelix at the buckled states' mean torque: radius (nm) and
+        ! opening angle (rad).
+        real(c_double) :: superhelix_radius
+        real(c_double) :: superhelix_angle
+        ! 1 inside the model's range; 0 where the model does not describe the
+        ! molecule (the unbuckled chain beyond its instability torque with no
+        ! buckled state to take over, the buckled states pinned at the top
+        ! torque of the tables, or the tails used up: ⟨z⟩ below 5 % of the
+        ! zero-turn extension): such a point carries the model's numbers but
+        ! is not a prediction; rodkit_tweezers_summary skips it.
+        integer(c_int32_t) :: in_range
+    end type rodkit_tweezers_point
+
+    ! -------------------------------------------------------------------------
+    ! RodkitTweezersInfo (type rodkit_tweezers_info): The numbers a tweezers
+    ! experiment reports for one curve (rodkit_tweezers_summary; never NaN).
+    ! -------------------------------------------------------------------------
+    ! The numbers a tweezers experiment reports for one curve
+    ! (rodkit_tweezers_summary; never NaN).
+    type, bind(c) :: rodkit_tweezers_info
+        ! The model that computed the curve (THERMAL_TWO_PHASE, or
+        ! ZERO_TEMPERATURE_TWO_PHASE at kT = 0) and the end-loop source it
+        ! used.
+        integer(c_int32_t) :: model
+        integer(c_int32_t) :: end_loop
+        ! The thermal energy (pN nm) of the handle's spec.
+        real(c_double) :: kt
+        ! Turns where the buckled population reaches ½ (at kT = 0: where the
+        ! lowest state changes) and the unbuckled state's torque there
+        ! (pN nm, the peak before the plectoneme forms).
+        real(c_double) :: buckling_turns
+        real(c_double) :: buckling_torque
+        ! The mean torque on the plectonemic range (pN nm), its min and max,
+        ! and buckling_torque − plateau_torque (the overshoot).
+        real(c_double) :: plateau_torque
+        real(c_double) :: plateau_torque_min
+        real(c_double) :: plateau_torque_max
+        real(c_double) :: overshoot
+        ! The infinite molecule's coexistence torque τ* (pN nm).
+        real(c_double) :: coexistence_torque
+        ! dz/dn by least squares on the plectonemic range (nm/turn, negative).
+        real(c_double) :: slope
+        ! Unbuckled minus buckled extension at buckling (nm).
+        real(c_double) :: extension_jump
+        ! ⟨z⟩ at zero turns (nm).
+        real(c_double) :: extension_zero_turns
+        ! The superhelix at the plateau torque: radius (nm), angle (rad).
+        real(c_double) :: superhelix_radius
+        real(c_double) :: superhelix_angle
+        ! The nucleation energy of one plectoneme at the plateau torque (pN nm).
+        real(c_double) :: end_loop_energy
+        ! The plectonemic range: its first and last turns and its points
+        ! (buckled population ≥ 0.99, extension ≥ 0.3 z(0), past buckling).
+        real(c_double) :: plateau_turns_from
+        real(c_double) :: plateau_turns_to
+        integer(c_int64_t) :: plateau_points
+        ! The plectoneme tables' interpolation error at τ* (pN): a diagnostic.
+        real(c_double) :: table_error
+    end type rodkit_tweezers_info
 
     ! -------------------------------------------------------------------------
     ! RodkitEquilibriumSpec (type rodkit_equilibrium_spec): A point of a path
@@ -2218,6 +2392,78 @@ module rodkit
             integer(c_int64_t), intent(out) :: count
             integer(c_int32_t) :: status
         end function rodkit_supercoil_curve_points
+
+        ! Fill `spec` with the defaults above.
+        function rodkit_tweezers_spec_default(spec) &
+                result(status) bind(c, name="rodkit_tweezers_spec_default")
+            import :: c_int32_t, rodkit_tweezers_spec
+            type(rodkit_tweezers_spec), intent(out) :: spec
+            integer(c_int32_t) :: status
+        end function rodkit_tweezers_spec_default
+
+        ! Validate the spec and tabulate its phases (the superhelix's optimum at
+        ! ~25 torques, milliseconds to a few tenths of a second): `*out` receives
+        ! a handle to free with rodkit_tweezers_free (NULL on every failure).
+        ! Failures: a field out of range (its name as `spec.<field>` in the
+        ! message), RODKIT_STATUS_ERR_NOT_CONVERGED when the scene has no
+        ! plectoneme (no superhelix coexists with the extended chain below its
+        ! instability torque, e.g. at too high a force for the salt).
+        function rodkit_tweezers_new(spec, out) result(status) bind(c, name="rodkit_tweezers_new")
+            import :: c_int32_t, c_ptr, rodkit_tweezers_spec
+            type(rodkit_tweezers_spec), intent(in) :: spec
+            type(c_ptr), intent(out) :: out
+            integer(c_int32_t) :: status
+        end function rodkit_tweezers_new
+
+        ! The default turns of a curve: `points` (2 … 1e6) values evenly from 0
+        ! to twice the buckling turns into `turns` (the buckling point is located
+        ! first: ~0.1 s). Failures: RODKIT_STATUS_ERR_OUT_OF_RANGE for `points`,
+        ! RODKIT_STATUS_ERR_NOT_CONVERGED when the molecule does not buckle.
+        function rodkit_tweezers_default_turns(tweezers, points, turns) &
+                result(status) bind(c, name="rodkit_tweezers_default_turns")
+            import :: c_double, c_int32_t, c_int64_t, c_ptr
+            type(c_ptr), value :: tweezers
+            integer(c_int64_t), value :: points
+            real(c_double), intent(inout) :: turns(*)
+            integer(c_int32_t) :: status
+        end function rodkit_tweezers_default_turns
+
+        ! The thermal curve at `n` turns (each finite and ≥ 0, any order) into
+        ! `points[0 … n−1]`. Sized first: a call whose thermal sums would exceed
+        ! 2e8 state evaluations (n × max_plectonemes × ~250: 6 to 20 s) is
+        ! refused with RODKIT_STATUS_ERR_WORK_LIMIT, its cost in the message,
+        ! before anything is computed. Writes nothing on failure.
+        function rodkit_tweezers_curve(tweezers, turns, n, points) &
+                result(status) bind(c, name="rodkit_tweezers_curve")
+            import :: c_double, c_int32_t, c_int64_t, c_ptr, rodkit_tweezers_point
+            type(c_ptr), value :: tweezers
+            real(c_double), intent(in) :: turns(*)
+            integer(c_int64_t), value :: n
+            type(rodkit_tweezers_point), intent(inout) :: points(*)
+            integer(c_int32_t) :: status
+        end function rodkit_tweezers_curve
+
+        ! The summary of a curve computed by rodkit_tweezers_curve on this handle
+        ! (`n` ≥ 2 points, turns ascending from exactly 0, e.g. the default
+        ! turns) into `*out`. Failures: RODKIT_STATUS_ERR_OUT_OF_RANGE when the
+        ! curve does not start at 0 turns or has fewer than 3 points on the
+        ! plectonemic range (extend it: the message says how many it has),
+        ! RODKIT_STATUS_ERR_NOT_CONVERGED when the molecule does not buckle.
+        function rodkit_tweezers_summary(tweezers, points, n, out) &
+                result(status) bind(c, name="rodkit_tweezers_summary")
+            import :: c_int32_t, c_int64_t, c_ptr, rodkit_tweezers_info, rodkit_tweezers_point
+            type(c_ptr), value :: tweezers
+            type(rodkit_tweezers_point), intent(in) :: points(*)
+            integer(c_int64_t), value :: n
+            type(rodkit_tweezers_info), intent(out) :: out
+            integer(c_int32_t) :: status
+        end function rodkit_tweezers_summary
+
+        ! Free a handle (NULL is ignored).
+        subroutine rodkit_tweezers_free(tweezers) bind(c, name="rodkit_tweezers_free")
+            import :: c_ptr
+            type(c_ptr), value :: tweezers
+        end subroutine rodkit_tweezers_free
 
         ! Fill `spec` with the defaults above.
         function rodkit_equilibrium_spec_default(spec) &

@@ -49,6 +49,58 @@
 #define RODKIT_ABI_VERSION 2
 
 
+// Which model computed a supercoiling curve or summary.
+enum RodkitSupercoilModel
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // The thermal two-phase model (extended chain, plectonemes, end
+  // loops; thermal averages over the number and length of
+  // plectonemes) at kT > 0: rodkit_tweezers_*.
+  RODKIT_SUPERCOIL_MODEL_THERMAL_TWO_PHASE = 1,
+  // The same model's zero-temperature limit (kT = 0: the lowest state
+  // at each linking number): rodkit_tweezers_* with `kt` 0.
+  RODKIT_SUPERCOIL_MODEL_ZERO_TEMPERATURE_TWO_PHASE = 2,
+  // rodkit's full charged Kirchhoff rod at zero temperature
+  // (rodkit_dna_supercoil_run); no tweezers summary reports it.
+  RODKIT_SUPERCOIL_MODEL_FULL_ROD = 3,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum RodkitSupercoilModel RodkitSupercoilModel;
+#else
+typedef int32_t RodkitSupercoilModel;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// Where a plectoneme's nucleation (end-loop) energy comes from
+// (`RodkitTweezersSpec.end_loop`).
+enum RodkitTweezersEndLoop
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : int32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // The table rodkit ships, computed with the full zero-temperature
+  // charged rod over force × salt (interpolated; a scene outside it is
+  // refused with RODKIT_STATUS_ERR_OUT_OF_RANGE). Until the table ships,
+  // the elastic loop stands in for it (and the summary's `end_loop`
+  // says ELASTIC).
+  RODKIT_TWEEZERS_END_LOOP_BUILTIN_TABLE = 0,
+  // The elastic (uncharged Kirchhoff) end loop alone.
+  RODKIT_TWEEZERS_END_LOOP_ELASTIC = 1,
+  // A given nucleation energy `end_loop_energy` (pN nm) at the torque
+  // `end_loop_torque` (pN nm), with the elastic loop's torque dependence.
+  RODKIT_TWEEZERS_END_LOOP_VALUE = 2,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum RodkitTweezersEndLoop RodkitTweezersEndLoop;
+#else
+typedef int32_t RodkitTweezersEndLoop;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // Status returned by every fallible rodkit function (as `int32_t`).
 enum RodkitStatus
 #if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
@@ -459,6 +511,11 @@ typedef struct RodkitSupercoil RodkitSupercoil;
 // creation: it may be moved between threads and used by several threads at
 // once.
 typedef struct RodkitTube RodkitTube;
+
+// An opaque tweezers model (rodkit_tweezers_new / rodkit_tweezers_free):
+// the scene with its phases tabulated. Immutable after creation: it may be
+// moved between threads and used by several threads at once.
+typedef struct RodkitTweezers RodkitTweezers;
 
 // A thin helically reinforced tube in its stress-free state (physics.md
 // §1.4): geometry, intrinsic twist and in-surface orthotropic constants.
@@ -1147,6 +1204,137 @@ typedef struct RodkitSupercoilCurvePoint {
   // 0: straight branch, 1: buckled branch.
   int32_t branch;
 } RodkitSupercoilCurvePoint;
+
+// A tweezers scene in nm, pN, mol/L. Call `rodkit_tweezers_spec_default`
+// first: 1 kbp of rise 0.34 nm, 1 pN, 0.1 M, kT = 4.11 pN nm (25 °C),
+// bending modulus 50 kT·nm and twist modulus 100 kT·nm (kT 4.11, pN nm²),
+// the Poisson–Boltzmann effective charge, ε_r 78.4, a = 1 nm,
+// inextensible, the default confinement and hard core, the automatic
+// counting length, up to 4 plectonemes, and the default end loop.
+typedef struct RodkitTweezersSpec {
+  // Length in base pairs (50 … 1e6) and rise per base pair (nm).
+  double base_pairs;
+  double rise;
+  // Pulling force (pN, > 0).
+  double force;
+  // Monovalent salt (mol/L, > 0).
+  double salt;
+  // Thermal energy kT (pN nm, ≥ 0): 4.11 at 25 °C; 0 = the
+  // zero-temperature limit (the lowest state at each linking number).
+  // The moduli below are in pN nm², not in units of kT: changing `kt`
+  // keeps them.
+  double kt;
+  // Bending modulus K_b = A kT and twist modulus K_t = C kT (pN nm²).
+  double bending;
+  double twist;
+  // Effective line charge ν (e/nm, ≥ 0); 0 (the default): the
+  // Poisson–Boltzmann effective charge of a 1 nm cylinder carrying 2 e
+  // per 0.34 nm at the spec's salt. And the relative permittivity.
+  double charge_per_length;
+  double permittivity;
+  // DNA radius a (nm): the electrostatics' cutoff and the strands'
+  // contact distance 2a.
+  double radius;
+  // Stretch modulus S (pN; 0: inextensible) and twist–stretch coupling
+  // g (pN nm; needs S).
+  double stretch_modulus;
+  double twist_stretch;
+  // Confinement coefficient of the plectoneme's strands (≥ 0; 0: off).
+  double confinement;
+  // Hard core between the strands (pN/nm⁴, ≥ 0; 0: none).
+  double hard_core;
+  // Counting length b of the partition function (nm, ≥ 0); 0: √(K_b/F).
+  double counting_length;
+  // The largest number of plectonemes summed (1 … 16).
+  int64_t max_plectonemes;
+  // A RodkitTweezersEndLoop.
+  int32_t end_loop;
+  // RODKIT_TWEEZERS_END_LOOP_VALUE only (else ignored, but finite): the
+  // torque (pN nm, > 0) at which the nucleation energy `end_loop_energy`
+  // (pN nm) is given.
+  double end_loop_torque;
+  double end_loop_energy;
+} RodkitTweezersSpec;
+
+// One point of a thermal curve: averages over the molecule's states at
+// the given turns (never NaN).
+typedef struct RodkitTweezersPoint {
+  // Turns n (the excess linking number).
+  double turns;
+  // ⟨z⟩ (nm), ⟨τ⟩ (pN nm), ⟨Tw⟩ = n − ⟨Wr⟩ and ⟨Wr⟩ (turns).
+  double extension;
+  double torque;
+  double twist;
+  double writhe;
+  // ⟨ℓ_p⟩ (nm), the mean total plectoneme length, and ⟨m⟩, the mean
+  // number of plectonemes.
+  double plectoneme_length;
+  double plectonemes;
+  // The buckled population P(m ≥ 1) (0 … 1; at kT = 0, 0 or 1).
+  double buckled_probability;
+  // The extension of the unbuckled state (nm): the upper level a
+  // hopping molecule visits.
+  double extension_unbuckled;
+  // 1 when buckled states exist at these turns; then
+  // `extension_buckled` is their mean extension (nm, the lower level),
+  // else it is 0.
+  int32_t has_buckled;
+  double extension_buckled;
+  // The superhelix at the buckled states' mean torque: radius (nm) and
+  // opening angle (rad).
+  double superhelix_radius;
+  double superhelix_angle;
+  // 1 inside the model's range; 0 where the model does not describe the
+  // molecule (the unbuckled chain beyond its instability torque with no
+  // buckled state to take over, the buckled states pinned at the top
+  // torque of the tables, or the tails used up: ⟨z⟩ below 5 % of the
+  // zero-turn extension): such a point carries the model's numbers but
+  // is not a prediction; rodkit_tweezers_summary skips it.
+  int32_t in_range;
+} RodkitTweezersPoint;
+
+// The numbers a tweezers experiment reports for one curve
+// (rodkit_tweezers_summary; never NaN).
+typedef struct RodkitTweezersInfo {
+  // The model that computed the curve (THERMAL_TWO_PHASE, or
+  // ZERO_TEMPERATURE_TWO_PHASE at kT = 0) and the end-loop source it
+  // used.
+  RodkitSupercoilModel model;
+  RodkitTweezersEndLoop end_loop;
+  // The thermal energy (pN nm) of the handle's spec.
+  double kt;
+  // Turns where the buckled population reaches ½ (at kT = 0: where the
+  // lowest state changes) and the unbuckled state's torque there
+  // (pN nm, the peak before the plectoneme forms).
+  double buckling_turns;
+  double buckling_torque;
+  // The mean torque on the plectonemic range (pN nm), its min and max,
+  // and buckling_torque − plateau_torque (the overshoot).
+  double plateau_torque;
+  double plateau_torque_min;
+  double plateau_torque_max;
+  double overshoot;
+  // The infinite molecule's coexistence torque τ* (pN nm).
+  double coexistence_torque;
+  // dz/dn by least squares on the plectonemic range (nm/turn, negative).
+  double slope;
+  // Unbuckled minus buckled extension at buckling (nm).
+  double extension_jump;
+  // ⟨z⟩ at zero turns (nm).
+  double extension_zero_turns;
+  // The superhelix at the plateau torque: radius (nm), angle (rad).
+  double superhelix_radius;
+  double superhelix_angle;
+  // The nucleation energy of one plectoneme at the plateau torque (pN nm).
+  double end_loop_energy;
+  // The plectonemic range: its first and last turns and its points
+  // (buckled population ≥ 0.99, extension ≥ 0.3 z(0), past buckling).
+  double plateau_turns_from;
+  double plateau_turns_to;
+  int64_t plateau_points;
+  // The plectoneme tables' interpolation error at τ* (pN): a diagnostic.
+  double table_error;
+} RodkitTweezersInfo;
 
 // A point of a path re-solved under another electrostatic model or with
 // another solver (the scene, its salt, charge, radius, hard core and
@@ -1958,6 +2146,50 @@ int32_t rodkit_supercoil_curve_points(const struct RodkitSupercoil *run,
                                       struct RodkitSupercoilCurvePoint *points,
                                       int64_t capacity,
                                       int64_t *count);
+
+// Fill `spec` with the defaults above.
+int32_t rodkit_tweezers_spec_default(struct RodkitTweezersSpec *spec);
+
+// Validate the spec and tabulate its phases (the superhelix's optimum at
+// ~25 torques, milliseconds to a few tenths of a second): `*out` receives
+// a handle to free with rodkit_tweezers_free (NULL on every failure).
+// Failures: a field out of range (its name as `spec.<field>` in the
+// message), RODKIT_STATUS_ERR_NOT_CONVERGED when the scene has no
+// plectoneme (no superhelix coexists with the extended chain below its
+// instability torque, e.g. at too high a force for the salt).
+int32_t rodkit_tweezers_new(const struct RodkitTweezersSpec *spec, struct RodkitTweezers **out);
+
+// The default turns of a curve: `points` (2 … 1e6) values evenly from 0
+// to twice the buckling turns into `turns` (the buckling point is located
+// first: ~0.1 s). Failures: RODKIT_STATUS_ERR_OUT_OF_RANGE for `points`,
+// RODKIT_STATUS_ERR_NOT_CONVERGED when the molecule does not buckle.
+int32_t rodkit_tweezers_default_turns(const struct RodkitTweezers *tweezers,
+                                      int64_t points,
+                                      double *turns);
+
+// The thermal curve at `n` turns (each finite and ≥ 0, any order) into
+// `points[0 … n−1]`. Sized first: a call whose thermal sums would exceed
+// 2e8 state evaluations (n × max_plectonemes × ~250: 6 to 20 s) is
+// refused with RODKIT_STATUS_ERR_WORK_LIMIT, its cost in the message,
+// before anything is computed. Writes nothing on failure.
+int32_t rodkit_tweezers_curve(const struct RodkitTweezers *tweezers,
+                              const double *turns,
+                              int64_t n,
+                              struct RodkitTweezersPoint *points);
+
+// The summary of a curve computed by rodkit_tweezers_curve on this handle
+// (`n` ≥ 2 points, turns ascending from exactly 0, e.g. the default
+// turns) into `*out`. Failures: RODKIT_STATUS_ERR_OUT_OF_RANGE when the
+// curve does not start at 0 turns or has fewer than 3 points on the
+// plectonemic range (extend it: the message says how many it has),
+// RODKIT_STATUS_ERR_NOT_CONVERGED when the molecule does not buckle.
+int32_t rodkit_tweezers_summary(const struct RodkitTweezers *tweezers,
+                                const struct RodkitTweezersPoint *points,
+                                int64_t n,
+                                struct RodkitTweezersInfo *out);
+
+// Free a handle (NULL is ignored).
+void rodkit_tweezers_free(struct RodkitTweezers *tweezers);
 
 // Fill `spec` with the defaults above.
 int32_t rodkit_equilibrium_spec_default(struct RodkitEquilibriumSpec *spec);

@@ -37,6 +37,7 @@ pub mod branch_record;
 pub mod output;
 pub mod supercoil;
 pub mod supercoil_curve;
+pub mod tweezers;
 
 pub mod equilibrium;
 pub mod thin_tube;

@@ -44,7 +44,8 @@ pub fn bessel_k01(x: f64) -> (f64, f64) {
 /// (e/nm) in salt of inverse Debye length `kappa` (1/nm), Bjerrum length
 /// `lb` (nm).
 pub fn effective_charge(bare: f64, a: f64, kappa: f64, lb: f64) -> Result<f64> {
-    if !(bare > 0.0 && a > 0.0 && kappa > 0.0 && lb > 0.0) || ![bare, a, kappa, lb].iter().all(|v| v.is_finite()) {
+    let positive = |v: f64| v > 0.0 && v.is_finite();
+    if ![bare, a, kappa, lb].into_iter().all(positive) {
         return Err(Error::new(
             Status::ErrOutOfRange,
             "effective charge: bare charge, radius, κ and l_B must be positive",

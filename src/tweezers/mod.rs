@@ -523,6 +523,12 @@ impl Model {
         // Collect (log-integrand, state, quadrature weight) per m.
         let mut terms: Vec<(f64, State, usize)> = Vec::new();
         let mut best_buckled: Option<(f64, State, usize)> = None;
+        // The peak log-integrand of each m so far: once a further
+        // plectoneme lowers the peak and it lies 60 below the best
+        // (e^{-60} ≈ 1e-26 of the sum), more plectonemes only lower it
+        // further (each costs another end loop) and the sum stops.
+        let mut best_peak = -s0.free / kt.max(f64::MIN_POSITIVE);
+        let mut last_peak = f64::NEG_INFINITY;
         for m in 1..=self.scene.max_plectonemes {
             let Some((t0, t1)) = self.torque_interval(n, m) else { continue };
             if kt == 0.0 {
@@ -552,7 +558,7 @@ impl Model {
                     }
                 }
                 if let Some(st) = self.state(n, m, 0.5 * (a + b)) {
-                    if best_buckled.as_ref().map_or(true, |b| st.free < b.0) {
+                    if best_buckled.as_ref().is_none_or(|b| st.free < b.0) {
                         best_buckled = Some((st.free, st, m));
                     }
                 }
@@ -596,6 +602,11 @@ impl Model {
             if top == f64::NEG_INFINITY {
                 continue;
             }
+            if m >= 2 && top < last_peak && top < best_peak - 60.0 {
+                break;
+            }
+            last_peak = top;
+            best_peak = best_peak.max(top);
             let h = 1e-4 * (t1 - t0);
             let (lm, lp) = (li((peak - h).max(t0)), li((peak + h).min(t1)));
             let curv = (lp - 2.0 * top + lm) / (h * h);
@@ -859,11 +870,21 @@ fn superhelix_tables(plectoneme: &Plectoneme, tau_cap: f64) -> Result<(f64, Vec<
     }
     let nodes = cheb::points(DEGREE, t_lo, tau_cap);
     let mut vals = vec![[0.0; 4]; nodes.len()];
-    // From the top down (nodes descend), each optimum warm-starting the next.
-    let mut prev = None;
+    // From the top down (nodes descend), each optimum warm-starting the
+    // next from the secant through the two before (in τ).
+    let mut prev: Vec<(f64, f64, f64)> = Vec::new();
     for (k, &t) in nodes.iter().enumerate() {
-        let o = plectoneme.optimum(t, prev)?;
-        prev = Some((o.radius, o.angle));
+        let start = match prev.as_slice() {
+            [.., (t1, r1, a1), (t2, r2, a2)] => {
+                let x = (t - t2) / (t2 - t1);
+                let r = r2 + x * (r2 - r1);
+                Some((if r > plectoneme.radius { r } else { *r2 }, a2 + x * (a2 - a1)))
+            }
+            [(_, r, a)] => Some((*r, *a)),
+            _ => None,
+        };
+        let o = plectoneme.optimum(t, start)?;
+        prev.push((t, o.radius, o.angle));
         vals[k] = [plectoneme.grand(&o), o.writhe, o.radius, o.angle];
     }
     Ok((t_lo, vals, nodes))

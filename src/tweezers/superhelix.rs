@@ -141,9 +141,9 @@ impl Plectoneme {
         // Panels: geometric from 0 to 2R (the cross integrand's width is R,
         // the self difference varies on h ~ R), then of length ≤ 1/κ_D and
         // ≤ an eighth of the helical period 2π/k, until e^{−κ_D h cos α}
-        // is below 1e-17 of the integrals' scale.
+        // is below 1e-12 of the integrals' scale.
         let period = 2.0 * PI / k;
-        let reach = (40.0 / (kd * ca.max(1e-3))).max(4.0 * r) + a;
+        let reach = (28.0 / (kd * ca.max(1e-3))).max(4.0 * r) + a;
         let mut breaks: Vec<f64> = Vec::with_capacity(64);
         breaks.push(0.0);
         let mut x = a.min(0.25 * r);
@@ -160,7 +160,7 @@ impl Plectoneme {
             x += (0.5 * x).min(3.0 / kd).min(period / 6.0).max(1e-3 * r);
         }
         breaks.push(reach);
-        if !breaks.iter().any(|&b| b == a) {
+        if !breaks.contains(&a) {
             breaks.push(a);
         }
         breaks.sort_by(|p, q| p.partial_cmp(q).unwrap());
@@ -183,7 +183,7 @@ impl Plectoneme {
             }
         }
         // Tails beyond `reach`: the straight reference's ∫ e^{−κh}/h is
-        // subtracted exactly; the superhelix's own tail is below 1e-17.
+        // subtracted exactly; the superhelix's own tail is below e^{-28} ≈ 7e-13.
         selfpart -= crate::electrostatics::special::e1(kd * reach);
         (selfpart, cross)
     }
@@ -377,7 +377,10 @@ impl Plectoneme {
                 }
                 t *= 0.5;
             }
-            let small = (t * du).abs() < 1e-9 && (t * da).abs() < 1e-9;
+            // A full Newton step below 1e-6 leaves an error ~1e-12 (quadratic
+            // convergence): done without another Hessian.
+            let small =
+                (t == 1.0 && du.abs() < 1e-6 && da.abs() < 1e-6) || ((t * du).abs() < 1e-9 && (t * da).abs() < 1e-9);
             if !moved || small {
                 converged = !moved || small;
                 break;

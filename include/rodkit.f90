@@ -1159,6 +1159,9 @@ module rodkit
         ! opening angle (rad).
         real(c_double) :: superhelix_radius
         real(c_double) :: superhelix_angle
+        ! −kT ln Z(n) (pN nm; at kT = 0 the lowest state's free energy),
+        ! relative to the relaxed straight chain: its slope in turns is 2π × torque.
+        real(c_double) :: free_energy
         ! 1 inside the model's range; 0 where the model does not describe the
         ! molecule (the unbuckled chain beyond its instability torque with no
         ! buckled state to take over, the buckled states pinned at the top

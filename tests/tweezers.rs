@@ -346,3 +346,29 @@ fn plateau_torque_against_tweezers_data() {
     }
     assert!(checked >= 5, "{checked}");
 }
+
+#[test]
+fn torque_is_the_derivative_of_the_free_energy() {
+    // The work theorem at finite temperature: F(n) = −kT ln Z(n) has
+    // dF/dn = 2π⟨τ⟩ exactly (each state's F has dF/dn = 2πτ and the
+    // weights of (2) do not depend on n). A wrong Jacobian dℓ_p/dτ, weight
+    // or quadrature in τ breaks it. Central differences with h = 1e-3 turn
+    // (truncation ~h² F''' ≲ 1e-6 pN nm): held at 1e-4 of 2π⟨τ⟩, before,
+    // at and after buckling, on 1 and 10 kbp.
+    for kbp in [1.0, 10.0] {
+        let m = Model::new(&TweezersScene { base_pairs: kbp * 1000.0, ..Default::default() }).unwrap();
+        let nb = m.buckling_turns().unwrap();
+        for n in [0.5 * nb, 0.98 * nb, nb, 1.02 * nb, 1.5 * nb] {
+            let h = 1e-3;
+            let (fp, fm) = (m.point(n + h).unwrap().free_energy, m.point(n - h).unwrap().free_energy);
+            let p = m.point(n).unwrap();
+            let lhs = (fp - fm) / (2.0 * h);
+            let rhs = 2.0 * PI * p.torque;
+            assert!(
+                (lhs - rhs).abs() < 1e-4 * rhs,
+                "{kbp} kbp, {n:.3} turns (P_b {:.3}): dF/dn {lhs} vs 2π⟨τ⟩ {rhs}",
+                p.buckled_probability
+            );
+        }
+    }
+}

@@ -135,6 +135,9 @@ pub struct TweezersPoint {
     /// opening angle (rad).
     pub superhelix_radius: f64,
     pub superhelix_angle: f64,
+    /// −kT ln Z(n) (pN nm; at kT = 0 the lowest state's free energy),
+    /// relative to the relaxed straight chain: its slope in turns is 2π × torque.
+    pub free_energy: f64,
     /// 1 inside the model's range; 0 where the model does not describe the
     /// molecule (the unbuckled chain beyond its instability torque with no
     /// buckled state to take over, the buckled states pinned at the top
@@ -336,6 +339,7 @@ fn c_point(p: &Point) -> TweezersPoint {
         extension_buckled: p.extension_buckled.unwrap_or(0.0),
         superhelix_radius: p.superhelix_radius,
         superhelix_angle: p.superhelix_angle,
+        free_energy: p.free_energy,
         in_range: p.in_range as i32,
     }
 }
@@ -356,6 +360,7 @@ fn rust_point(p: &TweezersPoint, i: usize) -> Result<Point> {
         ("extension_buckled", p.extension_buckled),
         ("superhelix_radius", p.superhelix_radius),
         ("superhelix_angle", p.superhelix_angle),
+        ("free_energy", p.free_energy),
     ] {
         error::finite(&name(f), v)?;
     }
@@ -374,6 +379,7 @@ fn rust_point(p: &TweezersPoint, i: usize) -> Result<Point> {
         extension_buckled: buckled.then_some(p.extension_buckled),
         superhelix_radius: p.superhelix_radius,
         superhelix_angle: p.superhelix_angle,
+        free_energy: p.free_energy,
         in_range,
     })
 }
@@ -468,6 +474,7 @@ pub unsafe extern "C" fn rodkit_tweezers_curve(
                     p.extension_buckled,
                     p.superhelix_radius,
                     p.superhelix_angle,
+                    p.free_energy,
                 ],
             )?;
         }

@@ -644,6 +644,7 @@ impl Model {
                 None => (s0, 0.0, 0.0),
             };
             Stats {
+                free: st.free,
                 z: st.extension,
                 tau: st.tau,
                 wr: st.writhe,
@@ -674,6 +675,7 @@ impl Model {
             }
             let pb = zb / z;
             Stats {
+                free: -kt * (top + z.ln()),
                 z: ez / z,
                 tau: et / z,
                 wr: ew / z,
@@ -698,6 +700,7 @@ impl Model {
             extension_buckled: stats.zb,
             superhelix_radius: self.radius.eval(tb),
             superhelix_angle: self.angle.eval(tb),
+            free_energy: stats.free,
             in_range: true,
         };
         let point = Point { in_range: self.in_range(&point, &s0), ..point };
@@ -745,6 +748,7 @@ struct State {
 }
 
 struct Stats {
+    free: f64,
     z: f64,
     tau: f64,
     wr: f64,
@@ -778,6 +782,10 @@ pub struct Point {
     /// The superhelix at the buckled states' mean torque (nm, rad).
     pub superhelix_radius: f64,
     pub superhelix_angle: f64,
+    /// The free energy −kT ln Z(n) (pN nm; at kT = 0 the lowest state's F),
+    /// relative to the straight relaxed chain's L·(−g_e): its slope in n is
+    /// 2π⟨τ⟩ (the work theorem, held in tests/tweezers.rs).
+    pub free_energy: f64,
     /// False where the model does not describe the molecule: the
     /// unbuckled chain beyond its instability torque τ_cap with no buckled
     /// state to take over, the buckled states pinned at the tables' top

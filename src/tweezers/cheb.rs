@@ -78,6 +78,42 @@ impl Series {
     }
 }
 
+/// A function and its derivative sampled on a uniform grid, evaluated by
+/// cubic Hermite interpolation: O(1) per evaluation where a series of
+/// degree d costs O(d). Built from a series and its derivative; its error
+/// is h⁴/384 · max|f''''| (h the spacing), checked against the series in
+/// the tests below.
+#[derive(Clone, Debug)]
+pub struct Grid {
+    lo: f64,
+    step: f64,
+    v: Vec<f64>,
+    d: Vec<f64>,
+}
+
+impl Grid {
+    pub fn new(f: &Series, df: &Series, intervals: usize) -> Self {
+        let (lo, hi) = (f.lo, f.hi);
+        let step = (hi - lo) / intervals as f64;
+        let xs = (0..=intervals).map(|i| if i == intervals { hi } else { lo + step * i as f64 });
+        let (v, d) = xs.map(|x| (f.eval(x), df.eval(x))).unzip();
+        Grid { lo, step, v, d }
+    }
+
+    pub fn eval(&self, x: f64) -> f64 {
+        let n = self.v.len() - 1;
+        let u = ((x - self.lo) / self.step).max(0.0);
+        let i = (u as usize).min(n - 1);
+        let t = u - i as f64;
+        let (t2, t3) = (t * t, t * t * t);
+        let h00 = 2.0 * t3 - 3.0 * t2 + 1.0;
+        let h10 = t3 - 2.0 * t2 + t;
+        let h01 = -2.0 * t3 + 3.0 * t2;
+        let h11 = t3 - t2;
+        h00 * self.v[i] + h10 * self.step * self.d[i] + h01 * self.v[i + 1] + h11 * self.step * self.d[i + 1]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -93,6 +129,12 @@ mod tests {
         for x in [0.5, 0.77, 1.3, 2.0] {
             assert!((s.eval(x) - x.exp()).abs() < 1e-13 * x.exp(), "{x}");
             assert!((d.eval(x) - x.exp()).abs() < 1e-11 * x.exp(), "{x}");
+        }
+        // The Hermite grid of 512 intervals: h⁴/384 · e² ≈ 1.7e-14.
+        let g = Grid::new(&s, &d, 512);
+        for k in 0..=97 {
+            let x = lo + (hi - lo) * k as f64 / 97.0;
+            assert!((g.eval(x) - x.exp()).abs() < 1e-12 * x.exp(), "{x}");
         }
     }
 }

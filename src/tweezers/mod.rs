@@ -219,7 +219,6 @@ pub struct Model {
     pub torque_range: (f64, f64),
     hp: cheb::Series,
     w: cheb::Series,
-    dw: cheb::Series,
     radius: cheb::Series,
     angle: cheb::Series,
     /// E_nuc(τ) = offset + ΔG_loop(τ) and the offset's dE/dF part of the
@@ -229,6 +228,18 @@ pub struct Model {
     counting: f64,
     /// The buckling turns, found once.
     buckling: std::sync::OnceLock<f64>,
+    /// h_p, w and w' on Hermite grids for the partition sums.
+    fast: Fast,
+}
+
+/// The tables the partition sums read at every state, as Hermite grids of
+/// 1024 intervals (their error against the series is below 1e-12 of the
+/// values: h ≈ 0.03 pN nm).
+#[derive(Clone, Debug)]
+struct Fast {
+    hp: cheb::Grid,
+    w: cheb::Grid,
+    dw: cheb::Grid,
 }
 
 /// Chebyshev degree of the plectoneme's tables in torque.
@@ -353,6 +364,11 @@ impl Model {
             let e = (hp.eval(o.torque) - plectoneme.grand(&o)).abs();
             (o, e)
         };
+        let fast = Fast {
+            hp: cheb::Grid::new(&hp, &hp.derivative(), 1024),
+            w: cheb::Grid::new(&w, &dw, 1024),
+            dw: cheb::Grid::new(&dw, &dw.derivative(), 1024),
+        };
         let (loop_offset, loop_offset_slope) = loop_offset(s)?;
         let counting = if s.counting_length > 0.0 { s.counting_length } else { (s.bending / s.force).sqrt() };
         Ok(Model {
@@ -366,13 +382,13 @@ impl Model {
             torque_range: (t_lo, t_hi),
             hp,
             w,
-            dw,
             radius,
             angle,
             loop_offset,
             loop_offset_slope,
             counting,
             buckling: std::sync::OnceLock::new(),
+            fast,
         })
     }
 
@@ -407,8 +423,8 @@ impl Model {
         let l = self.length;
         let ce = self.extended.twist;
         let kt_mod = self.scene.twist;
-        let w = self.w.eval(tau);
-        let dw = self.dw.eval(tau);
+        let w = self.fast.w.eval(tau);
+        let dw = self.fast.dw.eval(tau);
         let weff = w + tau / (2.0 * PI) * (1.0 / kt_mod - 1.0 / ce);
         let dweff = dw + (1.0 / kt_mod - 1.0 / ce) / (2.0 * PI);
         if !(weff > 0.0) {
@@ -435,7 +451,7 @@ impl Model {
         }
         let dlk = if mm < 1.0 { -(2.0 / PI) / (1.0 - mm * mm).sqrt() / (2.0 * sk) } else { 0.0 };
         let dlp = (-l / (2.0 * PI * ce) - mf * dlk - lp * dweff) / weff;
-        let hp = self.hp.eval(tau);
+        let hp = self.fast.hp.eval(tau);
         let free = ls * self.extended_grand(tau) + lp * hp + mf * enuc + 2.0 * PI * tau * n;
         let b = self.counting;
         let log_weight =

@@ -109,21 +109,14 @@ static void run_curve(Curve *c, int64_t points) {
     c->seconds = dm_now() - t0;
 }
 
-/* The curve as CSV (atomic): one row per point. */
+/* The curve as CSV through the library's writer (atomic): one row per point. */
 static int write_curve_csv(const char *path, const Curve *c) {
-    char tmp[4300];
-    FILE *f = dm_open_tmp(path, tmp, sizeof tmp);
-    if (!f) return -1;
-    fprintf(f, "turns,extension_nm,torque_pN_nm,twist,writhe,plectoneme_length_nm,plectonemes,buckled_probability,"
-               "extension_unbuckled_nm,extension_buckled_nm,superhelix_radius_nm,superhelix_angle_rad,in_range\n");
-    for (int64_t i = 0; i < c->n; ++i) {
-        const RodkitTweezersPoint *p = &c->pts[i];
-        fprintf(f, "%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,%.15g,", p->turns, p->extension, p->torque, p->twist,
-                p->writhe, p->plectoneme_length, p->plectonemes, p->buckled_probability, p->extension_unbuckled);
-        if (p->has_buckled) fprintf(f, "%.15g", p->extension_buckled);
-        fprintf(f, ",%.15g,%.15g,%d\n", p->superhelix_radius, p->superhelix_angle, (int)p->in_range);
+    int32_t st = rodkit_tweezers_write_csv(c->pts, c->n, c->sum.kt, path);
+    if (st < 0) {
+        fprintf(stderr, "rodkit_tweezers_write_csv(%s): %s: %s\n", path, rodkit_status_string(st), rodkit_last_error_message());
+        return -1;
     }
-    return dm_commit(f, tmp, path);
+    return 0;
 }
 
 /* summary.csv of a family (atomic): one row per curve, empty cells for a failed one. */

@@ -2462,6 +2462,30 @@ module rodkit
             integer(c_int32_t) :: status
         end function rodkit_tweezers_summary
 
+        ! Write `n` points of a curve (as rodkit_tweezers_curve filled them) to
+        ! `path` as CSV through the library's writer: a header row (turns,
+        ! extension_nm, torque_pNnm, twist, writhe, plectoneme_length_nm,
+        ! plectonemes, buckled_probability, extension_unbuckled_nm,
+        ! extension_buckled_nm — empty where has_buckled is 0 —,
+        ! superhelix_radius_nm, superhelix_angle_rad, free_energy_pNnm, in_range,
+        ! model_kt_pNnm), then one row per point; written atomically, nothing on
+        ! failure.
+        !
+        ! `kt` is the model's kT (pN nm, as RodkitTweezersInfo.kt), written in
+        ! every row so the file says which model made it.
+        !
+        ! # Safety
+        ! `points` an array of `n` points, `path` a NUL-terminated string.
+        function rodkit_tweezers_write_csv(points, n, kt, path) &
+                result(status) bind(c, name="rodkit_tweezers_write_csv")
+            import :: c_char, c_double, c_int32_t, c_int64_t, rodkit_tweezers_point
+            type(rodkit_tweezers_point), intent(in) :: points
+            integer(c_int64_t), value :: n
+            real(c_double), value :: kt
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int32_t) :: status
+        end function rodkit_tweezers_write_csv
+
         ! Free a handle (NULL is ignored).
         subroutine rodkit_tweezers_free(tweezers) bind(c, name="rodkit_tweezers_free")
             import :: c_ptr

@@ -2191,6 +2191,25 @@ int32_t rodkit_tweezers_summary(const struct RodkitTweezers *tweezers,
                                 int64_t n,
                                 struct RodkitTweezersInfo *out);
 
+// Write `n` points of a curve (as rodkit_tweezers_curve filled them) to
+// `path` as CSV through the library's writer: a header row (turns,
+// extension_nm, torque_pNnm, twist, writhe, plectoneme_length_nm,
+// plectonemes, buckled_probability, extension_unbuckled_nm,
+// extension_buckled_nm — empty where has_buckled is 0 —,
+// superhelix_radius_nm, superhelix_angle_rad, free_energy_pNnm, in_range,
+// model_kt_pNnm), then one row per point; written atomically, nothing on
+// failure.
+//
+// `kt` is the model's kT (pN nm, as RodkitTweezersInfo.kt), written in
+// every row so the file says which model made it.
+//
+// # Safety
+// `points` an array of `n` points, `path` a NUL-terminated string.
+int32_t rodkit_tweezers_write_csv(const struct RodkitTweezersPoint *points,
+                                  int64_t n,
+                                  double kt,
+                                  const char *path);
+
 // Free a handle (NULL is ignored).
 void rodkit_tweezers_free(struct RodkitTweezers *tweezers);
 

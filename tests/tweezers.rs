@@ -372,3 +372,29 @@ fn torque_is_the_derivative_of_the_free_energy() {
         }
     }
 }
+
+#[test]
+fn curve_csv_round_trips() {
+    // The library's CSV writer: every number read back equals the point's
+    // (shortest round-trip formatting), the buckled level empty where no
+    // buckled state exists, and the model's kT in every row.
+    let m = Model::new(&TweezersScene::default()).unwrap();
+    let turns = m.default_turns(40).unwrap();
+    let pts = m.curve(&turns).unwrap();
+    let path = std::env::temp_dir().join(format!("rodkit_tweezers_{}.csv", std::process::id()));
+    tweezers::write_csv(&path, &pts, KT).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::remove_file(&path).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next().unwrap(), tweezers::CSV_HEADER.join(","));
+    for (line, p) in lines.zip(&pts) {
+        let c: Vec<&str> = line.split(',').collect();
+        let num = |i: usize| c[i].parse::<f64>().unwrap();
+        assert_eq!((num(0), num(1), num(2), num(12)), (p.turns, p.extension, p.torque, p.free_energy));
+        match p.extension_buckled {
+            Some(z) => assert_eq!(num(9), z),
+            None => assert_eq!(c[9], ""),
+        }
+        assert_eq!(num(14), KT);
+    }
+}

@@ -571,6 +571,44 @@ pub unsafe extern "C" fn rodkit_tweezers_summary(
     })
 }
 
+/// Write `n` points of a curve (as rodkit_tweezers_curve filled them) to
+/// `path` as CSV through the library's writer: a header row (turns,
+/// extension_nm, torque_pNnm, twist, writhe, plectoneme_length_nm,
+/// plectonemes, buckled_probability, extension_unbuckled_nm,
+/// extension_buckled_nm — empty where has_buckled is 0 —,
+/// superhelix_radius_nm, superhelix_angle_rad, free_energy_pNnm, in_range,
+/// model_kt_pNnm), then one row per point; written atomically, nothing on
+/// failure.
+///
+/// `kt` is the model's kT (pN nm, as RodkitTweezersInfo.kt), written in
+/// every row so the file says which model made it.
+///
+/// # Safety
+/// `points` an array of `n` points, `path` a NUL-terminated string.
+#[no_mangle]
+pub unsafe extern "C" fn rodkit_tweezers_write_csv(
+    points: *const TweezersPoint,
+    n: i64,
+    kt: f64,
+    path: *const std::ffi::c_char,
+) -> i32 {
+    guard(|| {
+        error::dimension("n", n, 1, i64::MAX / 1024)?;
+        error::finite("kt", kt)?;
+        if kt < 0.0 {
+            return Err(Error::new(Status::ErrOutOfRange, format!("argument `kt` must be ≥ 0 (got {kt:e})")));
+        }
+        if points.is_null() {
+            return Err(null_error("points"));
+        }
+        let path = super::args::path_arg(path)?;
+        let input = std::slice::from_raw_parts(points, n as usize);
+        let curve = input.iter().enumerate().map(|(i, p)| rust_point(p, i)).collect::<Result<Vec<_>>>()?;
+        crate::tweezers::write_csv(&path, &curve, kt)?;
+        Ok(Status::Ok)
+    })
+}
+
 /// Free a handle (NULL is ignored).
 #[no_mangle]
 pub unsafe extern "C" fn rodkit_tweezers_free(tweezers: *mut Tweezers) {

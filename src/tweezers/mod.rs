@@ -1168,3 +1168,52 @@ impl Model {
         })
     }
 }
+
+/// The CSV columns of [`write_csv`].
+pub const CSV_HEADER: [&str; 15] = [
+    "turns",
+    "extension_nm",
+    "torque_pNnm",
+    "twist",
+    "writhe",
+    "plectoneme_length_nm",
+    "plectonemes",
+    "buckled_probability",
+    "extension_unbuckled_nm",
+    "extension_buckled_nm",
+    "superhelix_radius_nm",
+    "superhelix_angle_rad",
+    "free_energy_pNnm",
+    "in_range",
+    "model_kt_pNnm",
+];
+
+/// Write a curve as CSV through the library's writer (atomically; an
+/// empty cell where the buckled level does not exist), with the model's kT
+/// in every row so a file says which model made it (kT = 0: the
+/// zero-temperature limit).
+pub fn write_csv(path: &std::path::Path, points: &[Point], kt: f64) -> Result<()> {
+    let rows: Vec<Vec<Option<f64>>> = points
+        .iter()
+        .map(|p| {
+            vec![
+                Some(p.turns),
+                Some(p.extension),
+                Some(p.torque),
+                Some(p.twist),
+                Some(p.writhe),
+                Some(p.plectoneme_length),
+                Some(p.plectonemes),
+                Some(p.buckled_probability),
+                Some(p.extension_unbuckled),
+                p.extension_buckled,
+                Some(p.superhelix_radius),
+                Some(p.superhelix_angle),
+                Some(p.free_energy),
+                Some(if p.in_range { 1.0 } else { 0.0 }),
+                Some(kt),
+            ]
+        })
+        .collect();
+    crate::io::csv::write_cells(path, &CSV_HEADER, &rows)
+}

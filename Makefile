@@ -204,12 +204,16 @@ $(BUILD)/f_mpi_tube_search: $(ROOT)/fortran_examples/mpi_tube_search.f90 $(BUILD
 # dna/map. The drivers get absolute input and output paths, so `make -C
 # /path/to/rodkit run` works from any directory and writes nothing outside
 # OUT (besides the build in target/). The DNA force x salt map
-# (c_examples/dna_map.c) runs on a small subset: 300 bp, 1 and 2 pN x 0.05
-# and 0.1 M, to 2.2 turns (~31 s on the 2-core machine); the full map (1
-# kbp, 3 forces x 4 salts, to 12 turns) is
-# `target/release/native/c_dna_map_shared` without options (README: "The
-# force x salt map"). Each driver's `--values` adds the name = value lines
-# the tests read.
+# (c_examples/dna_map.c) runs twice: with the full zero-temperature rod (the
+# reference, --model full-rod) on a small subset: 300 bp, 1 and 2 pN x 0.05
+# and 0.1 M, to 2.2 turns (~31 s on the 2-core machine; the full map, 1
+# kbp, 3 forces x 4 salts, to 12 turns, is `c_dna_map_shared --model
+# full-rod`, README: "The force x salt map"), and with the thermal
+# two-phase model (its default) at 10 kbp over 0.25-4 pN x 0.01, 0.1 M,
+# whose plateau torque vs force is set beside the tweezers data of
+# tests/data/tweezers/buckling_torque.csv (plateau_torque_vs_force.svg and
+# a "model vs data" table; ~0.3 s; with the tweezers family ~1 s in all).
+# Each driver's `--values` adds the name = value lines the tests read.
 OUT ?= $(ROOT)/rodkit-out
 RUN_OUT := $(abspath $(OUT))
 DNA_MAP_SUBSET ?= --bp 300 --forces 1,2 --salts 0.05,0.1 --turns 2.2 --elements 40 --steps 300
@@ -222,6 +226,10 @@ DNA_SUPERCOIL_SCENE ?= 100 1000
 # files go.
 DNA_TWEEZERS_FAMILY ?= --family
 DNA_TWEEZERS_OUT ?= $(RUN_OUT)/dna/tweezers
+# The thermal map of the plateau torque vs force beside the tweezers data.
+DNA_PLATEAU_MAP ?= --bp 10000 --forces 0.25,0.5,1,2,3,4 --salts 0.01,0.1 --turns auto --points 100
+DNA_PLATEAU_DATA ?= $(ROOT)/tests/data/tweezers/buckling_torque.csv
+DNA_PLATEAU_OUT ?= $(RUN_OUT)/dna/plateau
 # Each driver once (the static and C++ link modes are `make test`'s).
 run:
 	@bash $(ROOT)/.ci/deps run
@@ -251,9 +259,11 @@ run-drivers:
 	@$(BUILD)/f_charged_curve_shared
 	@$(BUILD)/c_dna_supercoil_shared 0.1 $(DNA_SUPERCOIL_STEPS) $(RUN_OUT)/dna/supercoil.csv \
 	  $(RUN_OUT)/dna/supercoil.vtk $(DNA_SUPERCOIL_SCENE)
-	@echo "A force x salt map of supercoiling curves ($(DNA_MAP_SUBSET)):"
-	@$(BUILD)/c_dna_map_shared $(DNA_MAP_SUBSET) $(DNA_MAP_OUT)
+	@echo "A force x salt map of supercoiling curves, the full rod at zero temperature ($(DNA_MAP_SUBSET)):"
+	@$(BUILD)/c_dna_map_shared --model full-rod $(DNA_MAP_SUBSET) $(DNA_MAP_OUT)
 	@$(BUILD)/c_dna_tweezers_shared $(DNA_TWEEZERS_FAMILY) --out $(DNA_TWEEZERS_OUT)
+	@echo "The thermal model's plateau torque vs force beside tweezers data ($(DNA_PLATEAU_MAP)):"
+	@$(BUILD)/c_dna_map_shared --model thermal $(DNA_PLATEAU_MAP) --data $(DNA_PLATEAU_DATA) $(DNA_PLATEAU_OUT)
 	@echo
 	@echo "== Errors: what a bad call returns (C)"
 	@$(BUILD)/c_bad_input_shared

@@ -14,11 +14,29 @@
  * write, when their paths are given ("-": none)
  *   - the path as CSV (rodkit_supercoil_write_csv),
  *   - the shapes as VTK polydata (one polyline per written point) for ParaView.
- * Usage: c_dna_supercoil [--values] [salt M] [max steps] [csv path] [vtk path] [elements] [base pairs] [model] [control]
- * (defaults 0.1, 60, no CSV, no VTK, 100, 1000, continuum, rotation);
- * model "discrete" uses the base-pair point charges (the thesis's comparison);
+ * Usage: c_dna_supercoil [--values] [--model full-rod|thermal] [--kT E] [salt M] [max steps] [csv path] [vtk path]
+ *                        [elements] [base pairs] [charges] [control]
+ * (defaults full-rod, 0.1, 60, no CSV, no VTK, 100, 1000, continuum, rotation);
+ * charges "discrete" uses the base-pair point charges (the thesis's comparison);
  * control "torque" continues in the end torque (a torque clamp) instead of
  * the end rotation: the same equilibria, the turns read from each shape.
+ *
+ * --model (issue 37): full-rod (the default: this program's reference run,
+ * the charged rod at zero temperature, whose values the tests read) or
+ * thermal: the thermal two-phase model (rodkit_tweezers_*, physics.md
+ * 3.7) at kT (--kT, default 4.11 pN nm; 0: its zero-temperature limit) for
+ * the same molecule (base pairs), salt and force (1 pN): 200 points from 0
+ * to twice its buckling turns, the curve as CSV when a path is given. It
+ * has no shapes (a VTK path is refused), no continuation (steps and
+ * elements are not used) and a line charge only (charges "discrete" and
+ * control "torque" are refused). Its report names the model; its --values
+ * lines are two_phase_buckling_turns / two_phase_buckling_torque_pN_nm
+ * (where the buckled population reaches 1/2 and the unbuckled torque
+ * there: the equilibrium transition, NOT the full rod's buckling_turns,
+ * the straight rod's own instability), extension_jump_nm,
+ * plateau_torque_pN_nm, slope_nm_per_turn, superhelix_radius_nm, points,
+ * out_of_range_points, and last_turns, last_extension_nm,
+ * last_torque_pN_nm, last_writhe (the last point's thermal means).
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -40,12 +58,110 @@ static int fail(int32_t st, const char *what) {
     return 1;
 }
 
-int main(int argc, char **argv) {
-    if (argc > 1 && strcmp(argv[1], "--values") == 0) {
-        values = 1;
-        ++argv;
-        --argc;
+static const char *model_name(int32_t m) {
+    return m == RODKIT_SUPERCOIL_MODEL_THERMAL_TWO_PHASE           ? "thermal_two_phase"
+           : m == RODKIT_SUPERCOIL_MODEL_ZERO_TEMPERATURE_TWO_PHASE ? "zero_temperature_two_phase"
+                                                                    : "full_rod";
+}
+
+/* --model thermal: the two-phase curve of the scene (positional arguments as
+ * for the full rod; those that do not apply are refused or unused). */
+static int thermal(int argc, char **argv, double kT) {
+    if (argc > 4 && strcmp(argv[4], "-")) {
+        fprintf(stderr, "--model thermal has no shapes: give \"-\" as the VTK path\n");
+        return 2;
     }
+    if ((argc > 7 && argv[7][0] == 'd') || (argc > 8 && argv[8][0] == 't')) {
+        fprintf(stderr, "--model thermal: a continuum line charge in the end rotation only (no \"discrete\" charges, no \"torque\" control)\n");
+        return 2;
+    }
+    RodkitTweezersSpec spec;
+    RodkitTweezers *h = NULL;
+    int32_t st = rodkit_tweezers_spec_default(&spec);
+    if (st < 0) return fail(st, "rodkit_tweezers_spec_default");
+    RodkitDnaSupercoilSpec rod;
+    if ((st = rodkit_dna_supercoil_spec_default(&rod)) < 0) return fail(st, "rodkit_dna_supercoil_spec_default");
+    spec.salt = argc > 1 ? atof(argv[1]) : 0.1;
+    spec.base_pairs = argc > 6 ? atof(argv[6]) : (double)rod.base_pairs;
+    spec.force = rod.tension;
+    spec.kt = kT;
+    const char *csv_path = argc > 3 && strcmp(argv[3], "-") ? argv[3] : NULL;
+    enum { N = 200 };
+    double turns[N];
+    RodkitTweezersPoint pts[N];
+    RodkitTweezersInfo s;
+    if ((st = rodkit_tweezers_new(&spec, &h)) < 0) return fail(st, "rodkit_tweezers_new");
+    if ((st = rodkit_tweezers_default_turns(h, N, turns)) < 0) return fail(st, "rodkit_tweezers_default_turns");
+    if ((st = rodkit_tweezers_curve(h, turns, N, pts)) < 0) return fail(st, "rodkit_tweezers_curve");
+    if ((st = rodkit_tweezers_summary(h, pts, N, &s)) < 0) return fail(st, "rodkit_tweezers_summary");
+    rodkit_tweezers_free(h);
+    int64_t outside = 0;
+    for (int i = 0; i < N; ++i) outside += !pts[i].in_range;
+    const RodkitTweezersPoint *last = &pts[N - 1];
+    DETAIL("# model: %s (kT %g pN nm)\n", model_name(s.model), kT);
+    DETAIL("points = %d\nout_of_range_points = %lld\nkT_pN_nm = %.15g\n", N, (long long)outside, kT);
+    DETAIL("two_phase_buckling_turns = %.15g\ntwo_phase_buckling_torque_pN_nm = %.15g\nextension_jump_nm = %.15g\n",
+           s.buckling_turns, s.buckling_torque, s.extension_jump);
+    DETAIL("plateau_torque_pN_nm = %.15g\nslope_nm_per_turn = %.15g\nsuperhelix_radius_nm = %.15g\n", s.plateau_torque, s.slope,
+           s.superhelix_radius);
+    DETAIL("last_turns = %.15g\nlast_extension_nm = %.15g\nlast_torque_pN_nm = %.15g\nlast_writhe = %.15g\n", last->turns,
+           last->extension, last->torque, last->writhe);
+    if (csv_path) {
+        FILE *f = fopen(csv_path, "w");
+        if (!f) {
+            perror(csv_path);
+            return 1;
+        }
+        fprintf(f, "turns,extension_nm,torque_pN_nm,twist,writhe,plectoneme_length_nm,plectonemes,buckled_probability,in_range\n");
+        for (int i = 0; i < N; ++i)
+            fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d\n", pts[i].turns, pts[i].extension, pts[i].torque,
+                    pts[i].twist, pts[i].writhe, pts[i].plectoneme_length, pts[i].plectonemes, pts[i].buckled_probability,
+                    (int)pts[i].in_range);
+        if (fclose(f) != 0) {
+            perror(csv_path);
+            return 1;
+        }
+    }
+    printf("DNA supercoiling (model %s, kT %g pN nm): %g bp at %.3g pN in %.3g M salt, %d points to twice the buckling turns\n",
+           model_name(s.model), kT, spec.base_pairs, spec.force, spec.salt, N);
+    printf("  buckles (buckled population 1/2) at %.3f turns (torque %.2f pN nm, the extension jumping by %.1f nm);\n"
+           "  plectonemes: plateau torque %.2f pN nm, slope %.2f nm/turn, superhelix radius %.2f nm\n",
+           s.buckling_turns, s.buckling_torque, s.extension_jump, s.plateau_torque, s.slope, s.superhelix_radius);
+    if (csv_path) printf("  curve (CSV): %s\n", csv_path);
+    return 0;
+}
+
+int main(int argc, char **argv) {
+    int full_rod = 1;
+    double kT = 4.11;
+    int kT_given = 0;
+    for (;;) {
+        if (argc > 1 && strcmp(argv[1], "--values") == 0) {
+            values = 1;
+            ++argv;
+            --argc;
+        } else if (argc > 2 && strcmp(argv[1], "--model") == 0) {
+            if (strcmp(argv[2], "thermal") == 0) full_rod = 0;
+            else if (strcmp(argv[2], "full-rod") == 0) full_rod = 1;
+            else {
+                fprintf(stderr, "--model: full-rod or thermal (got %s)\n", argv[2]);
+                return 2;
+            }
+            argv += 2;
+            argc -= 2;
+        } else if (argc > 2 && strcmp(argv[1], "--kT") == 0) {
+            kT = atof(argv[2]);
+            kT_given = 1;
+            argv += 2;
+            argc -= 2;
+        } else
+            break;
+    }
+    if (full_rod && kT_given) {
+        fprintf(stderr, "--kT applies to --model thermal only (the full rod is at zero temperature)\n");
+        return 2;
+    }
+    if (!full_rod) return thermal(argc, argv, kT);
     RodkitDnaSupercoilSpec spec;
     int32_t st = rodkit_dna_supercoil_spec_default(&spec);
     if (st < 0) return fail(st, "rodkit_dna_supercoil_spec_default");
@@ -165,7 +281,7 @@ int main(int argc, char **argv) {
     if (vtk_path && (st = rodkit_supercoil_write_vtk(run, shapes, ns, vtk_path)) < 0)
         return fail(st, "rodkit_supercoil_write_vtk");
 
-    printf("DNA supercoiling: %lld bp at %.3g pN in %.3g M salt (%s charges), twisted from the straight rod\n",
+    printf("DNA supercoiling (model full_rod, zero temperature): %lld bp at %.3g pN in %.3g M salt (%s charges), twisted from the straight rod\n",
            (long long)spec.base_pairs, spec.tension, spec.salt, info.base_pair_charges ? "base-pair" : "continuum");
     printf("  the straight rod buckles at %.3f turns (torque %.2f pN nm); the path's last point (%s branch, %lld points):\n"
            "  %.3f turns, extension %.1f nm, torque %.2f pN nm, writhe %.3f\n",

@@ -6,6 +6,12 @@
  * summarised by rodkit_supercoil_curve_summary.
  *
  * Usage: mpirun -np R mpi_dna_map [options] <output folder>
+ *   --model full-rod  the only model here: the full zero-temperature rod
+ *                     (summary.csv's `model` column says full_rod). Unlike
+ *                     the serial map (dna_map.c, whose default is the
+ *                     thermal two-phase model), --model thermal is refused
+ *                     with a message: a thermal curve takes milliseconds,
+ *                     so the serial map is the place for it
  *   --lengths a,b,..  base pairs (default 1000; --bp N is one length)
  *   --forces a,b,..   pN      (default 0.5,1,2)
  *   --salts a,b,..    mol/L   (default 0.01,0.05,0.1,0.2)
@@ -314,7 +320,12 @@ static int parse_args(int argc, char **argv, Map *m) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int takes = a[0] == '-' && a[1] == '-';
         if (takes && !v) return usage("a value is needed after ", a);
-        if (!strcmp(a, "--forces")) m->nf = dm_parse_list(v, m->forces);
+        if (!strcmp(a, "--model")) {
+            if (!strcmp(v, "thermal"))
+                return usage("--model thermal is not offered over MPI (a thermal map takes milliseconds a curve: run c_dna_map "
+                             "--model thermal, the serial map's default); this map is the full rod's", "");
+            if (strcmp(v, "full-rod")) return usage("--model: full-rod (the only model of the MPI map), not ", v);
+        } else if (!strcmp(a, "--forces")) m->nf = dm_parse_list(v, m->forces);
         else if (!strcmp(a, "--salts")) m->ns = dm_parse_list(v, m->salts);
         else if (!strcmp(a, "--lengths")) m->nl = dm_parse_list(v, m->lengths);
         else if (!strcmp(a, "--bp")) m->nl = 1, m->lengths[0] = atof(v);

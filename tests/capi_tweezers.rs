@@ -7,7 +7,9 @@
 //! zero-temperature limit, the family) and the Fortran example
 //! fortran_examples/dna_tweezers.f90, built through the Makefile, their
 //! printed numbers against the Rust API for the same scene (to the printed
-//! digits). Needs gcc, gfortran and make (`.ci/deps`).
+//! digits); the force × salt map c_examples/dna_map.c and
+//! c_examples/dna_supercoil.c with `--model thermal` (issue 37) against the
+//! Rust API too. Needs gcc, gfortran and make (`.ci/deps`).
 
 use rodkit::capi::error::rodkit_last_error_message;
 use rodkit::capi::tweezers::*;
@@ -352,6 +354,7 @@ fn drivers() -> &'static PathBuf {
         let exes: Vec<String> =
             ["c_dna_tweezers_shared", "c_dna_tweezers_static", "f_dna_tweezers_shared", "f_dna_tweezers_static"]
                 .iter()
+                .chain(&["c_dna_map_shared", "c_dna_supercoil_shared"])
                 .map(|e| dir.join(e).display().to_string())
                 .collect();
         let make = Command::new("make")
@@ -447,10 +450,9 @@ fn c_driver_values_match_rust() {
     assert!(got["slope"] < 0.0, "{out}");
     let csv = std::fs::read_to_string(out_dir.join("curve.csv")).unwrap();
     assert_eq!(csv.lines().count(), 151);
-    assert!(csv.starts_with(
-        "turns,extension_nm,torque_pN_nm,twist,writhe,plectoneme_length_nm,plectonemes,buckled_probability,"
-    ));
-    let row: Vec<f64> = csv.lines().last().unwrap().split(',').map(|v| v.parse().unwrap()).collect();
+    // Written by the library's writer (rodkit_tweezers_write_csv).
+    assert!(csv.starts_with(&rodkit::tweezers::CSV_HEADER.join(",")));
+    let row: Vec<f64> = csv.lines().last().unwrap().split(',').map(|v| v.parse().unwrap_or(f64::NAN)).collect();
     assert!((row[1] - last.extension).abs() <= 1e-13 * last.extension, "{row:?}");
     let svg = std::fs::read_to_string(out_dir.join("curve.svg")).unwrap();
     assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>") && svg.matches("<polyline").count() == 2);
@@ -554,8 +556,9 @@ fn fortran_example_matches_rust() {
     assert_eq!(run("f_dna_tweezers_static", &[]), out);
 }
 
-/// The C driver under valgrind (no invalid access, no definite leak): one
-/// curve of 1 kbp, 40 points, written as CSV and SVG (the threaded family
+/// The C drivers under valgrind (no invalid access, no definite leak): one
+/// curve of 1 kbp, 40 points, written as CSV and SVG, and the thermal map
+/// with its data comparison (the threaded family
 /// would take minutes there: it runs natively above, on 2 threads, and on
 /// 1 thread with the same numbers).
 #[test]
@@ -571,5 +574,243 @@ fn c_driver_is_clean_under_valgrind() {
         .expect("run valgrind (.ci/deps installs it)");
     check(out, "valgrind c_dna_tweezers_shared");
     assert!(dir.join("curve.csv").is_file() && dir.join("curve.svg").is_file());
+    // The thermal map with the data comparison (issue 37): 2 curves of 30
+    // points, the table and every plot (~4 s under valgrind).
+    let data = Path::new(ROOT).join("tests/data/tweezers/buckling_torque.csv");
+    let map = dir.join("map");
+    let out = Command::new("valgrind")
+        .args(["-q", "--error-exitcode=99", "--leak-check=full", "--errors-for-leak-kinds=definite"])
+        .args(["--show-leak-kinds=definite"])
+        .arg(drivers().join("c_dna_map_shared"))
+        .args(["--bp", "1000", "--forces", "0.5,1", "--salts", "0.1", "--turns", "auto", "--points", "30", "--data"])
+        .args([data.to_str().unwrap(), map.to_str().unwrap()])
+        .current_dir(ROOT)
+        .output()
+        .expect("run valgrind");
+    check(out, "valgrind c_dna_map_shared --model thermal");
+    assert!(map.join("plateau_torque_vs_force.svg").is_file());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Rows of a CSV by its header's names.
+fn csv_rows(text: &str) -> Vec<BTreeMap<String, String>> {
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    lines
+        .map(|l| {
+            let cells: Vec<&str> = l.split(',').collect();
+            assert_eq!(cells.len(), header.len(), "a row of {} cells, header {}: {l}", cells.len(), header.len());
+            header.iter().zip(cells).map(|(h, c)| (h.to_string(), c.to_string())).collect()
+        })
+        .collect()
+}
+
+/// The force × salt map (c_examples/dna_map.c, issue 37) with `--model
+/// thermal` on a small map (1 kbp, 0.5 and 1 pN × 0.01 and 0.1 M, 60
+/// points to 8 turns; and at --kT 0): every summary.csv row names its model
+/// (`thermal_two_phase`, `zero_temperature_two_phase`) and kT, and holds
+/// the Rust API's values for the same scene and turns (rodkit::tweezers::
+/// Model: curve at turns 8 i/59, then summarise) to the CSV's 10 digits
+/// under the columns of the same meaning (dna_map.c's header comment):
+/// buckling turns and torque under coexistence turns and straight torque,
+/// the extension jump, plateau torque/min/max, slope, plateau range,
+/// superhelix radius; the columns without a two-phase meaning are empty
+/// (instability, plectoneme torque at coexistence, hard-core switch,
+/// superhelix turns) and the instability finding is `not_in_model`. The
+/// printed table names the model on each row; each curve's CSV has every
+/// point with its in_range flag; the SVG families have one polyline per
+/// curve. Options of the other model are refused (exit 2, a message).
+#[test]
+fn c_dna_map_thermal_matches_rust() {
+    let dir = std::env::temp_dir().join(format!("rodkit-tweezers-map-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let map = ["--bp", "1000", "--forces", "0.5,1", "--salts", "0.01,0.1", "--turns", "8", "--points", "60"];
+    for (kt, model) in [(4.11, "thermal_two_phase"), (0.0, "zero_temperature_two_phase")] {
+        let out_dir = dir.join(format!("kT{kt}"));
+        let mut args = vec!["--values", "--model", "thermal"];
+        let kt_text = format!("{kt}");
+        if kt == 0.0 {
+            args.extend(["--kT", &kt_text]);
+        }
+        args.extend(map);
+        args.push(out_dir.to_str().unwrap());
+        let out = run("c_dna_map_shared", &args);
+        let got = values(&out);
+        assert_eq!((got["curves"], got["failed_curves"]), (4.0, 0.0), "{out}");
+        let table: Vec<&str> = out.lines().filter(|l| l.starts_with("  ") && l.contains('|')).collect();
+        assert!(table.len() == 4 && table.iter().all(|l| l.ends_with(&format!("| {model}"))), "{out}");
+        let rows = csv_rows(&std::fs::read_to_string(out_dir.join("summary.csv")).unwrap());
+        assert_eq!(rows.len(), 4);
+        let turns: Vec<f64> = (0..60).map(|i| 8.0 * i as f64 / 59.0).collect();
+        for r in &rows {
+            let num = |k: &str| r[k].parse::<f64>().unwrap_or_else(|_| panic!("{k} = {:?} in {r:?}", r[k]));
+            assert_eq!((r["model"].as_str(), num("kT_pN_nm"), r["end_loop"].as_str()), (model, kt, "elastic"), "{r:?}");
+            let scene = TweezersScene {
+                force: num("force_pN"),
+                salt: num("salt_M"),
+                base_pairs: num("base_pairs"),
+                kt,
+                ..Default::default()
+            };
+            let m = Model::new(&scene).unwrap();
+            let curve = m.curve(&turns).unwrap();
+            let s = m.summarise(&curve).unwrap();
+            let close = |k: &str, want: f64| {
+                let g = num(k);
+                assert!((g - want).abs() <= 1e-9 * want.abs().max(1e-12), "{k} = {g}, Rust {want}: {r:?}");
+            };
+            assert_eq!((num("status"), num("points")), (0.0, 60.0));
+            close("last_turns", 8.0);
+            close("out_of_range_points", curve.iter().filter(|p| !p.in_range).count() as f64);
+            assert_eq!(r["instability_finding"], "not_in_model");
+            for empty in [
+                "hard_core_switched",
+                "instability_turns",
+                "instability_torque_pN_nm",
+                "coexistence_torque_plectoneme_pN_nm",
+                "superhelix_turns",
+            ] {
+                assert_eq!(r[empty], "", "{empty} in {r:?}");
+            }
+            for f in ["coexistence_finding", "plateau_finding", "superhelix_finding"] {
+                assert_eq!(r[f], "found", "{f}");
+            }
+            close("coexistence_turns", s.buckling_turns);
+            close("coexistence_torque_straight_pN_nm", s.buckling_torque);
+            close("coexistence_extension_jump_nm", s.extension_jump);
+            close("plateau_torque_pN_nm", s.plateau_torque);
+            close("plateau_torque_min_pN_nm", s.plateau_torque_min);
+            close("plateau_torque_max_pN_nm", s.plateau_torque_max);
+            close("slope_nm_per_turn", s.slope);
+            close("plateau_turns_from", s.plateau_turns.0);
+            close("plateau_turns_to", s.plateau_turns.1);
+            close("superhelix_radius_nm", s.superhelix_radius);
+            // The curve's CSV: every point, its thermal means and in_range.
+            let name = format!("curve_F{}_S{}.csv", r["force_pN"], r["salt_M"]);
+            let pts = csv_rows(&std::fs::read_to_string(out_dir.join(&name)).unwrap());
+            assert_eq!(pts.len(), 60, "{name}");
+            for (p, q) in pts.iter().zip(&curve) {
+                let ext: f64 = p["extension_nm"].parse().unwrap();
+                assert!((ext - q.extension).abs() <= 1e-9 * q.extension.abs().max(1.0), "{name}: {p:?}");
+                assert_eq!(p["in_range"] == "1", q.in_range, "{name}: {p:?}");
+            }
+        }
+        for svg in ["extension_vs_turns.svg", "torque_vs_turns.svg"] {
+            let text = std::fs::read_to_string(out_dir.join(svg)).unwrap();
+            assert!(text.starts_with("<svg") && text.trim_end().ends_with("</svg>"));
+            assert_eq!(text.matches("<polyline").count(), 4, "{svg}");
+        }
+    }
+    // Options of the other model: refused, with a message.
+    for (args, says) in [
+        (vec!["--elements", "40"], "--elements applies to --model full-rod only"),
+        (vec!["--model", "full-rod", "--kT", "1"], "--kT applies to --model thermal only"),
+        (vec!["--model", "full-rod", "--turns", "auto"], "--turns applies to --model thermal only"),
+        (vec!["--model", "rod"], "--model: thermal or full-rod"),
+    ] {
+        let mut all = args.clone();
+        all.push(dir.to_str().unwrap());
+        let out = Command::new(drivers().join("c_dna_map_shared")).args(&all).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The map's plateau torque vs force beside the tweezers data (issue 37,
+/// `make run`'s report): with --data tests/data/tweezers/buckling_torque.csv
+/// the "model vs data" table lists every data row (the two Lee 2023
+/// plateaus, the spec's four unverified typical values, labelled so) with
+/// the model at its force for each salt - at a force of the map the Rust
+/// API's plateau torque (to the printed 2 decimals), between forces the
+/// linear interpolation, outside them "outside the map" - and
+/// plateau_torque_vs_force.svg has one line per salt, six data points
+/// (four with error bars) and a legend naming the sources.
+#[test]
+fn c_dna_map_plateau_vs_data() {
+    let dir = std::env::temp_dir().join(format!("rodkit-tweezers-plateau-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let data = Path::new(ROOT).join("tests/data/tweezers/buckling_torque.csv");
+    let args = [
+        "--bp",
+        "10000",
+        "--forces",
+        "0.5,1,2",
+        "--salts",
+        "0.01,0.1",
+        "--turns",
+        "auto",
+        "--points",
+        "100",
+        "--data",
+        data.to_str().unwrap(),
+        dir.to_str().unwrap(),
+    ];
+    let out = run("c_dna_map_shared", &args);
+    assert!(out.contains("model vs data (tests/data/tweezers/buckling_torque.csv"), "{out}");
+    let rows: Vec<&str> = out.lines().skip_while(|l| !l.contains("model vs data")).skip(2).take(6).collect();
+    let model = |force: f64, salt: f64| {
+        let scene = TweezersScene { force, salt, base_pairs: 10000.0, ..Default::default() };
+        rust_summary(&scene, 100).1.plateau_torque
+    };
+    let cell = |row: &str, k: usize| row.split('|').nth(k).unwrap().split_whitespace().next().unwrap().to_string();
+    // Lee 2023 at 0.5 pN (both signs) and the spec's 0.5 and 1 pN: a map force.
+    for (i, force) in [(0, 0.5), (1, 0.5), (2, 0.5), (3, 1.0)] {
+        assert!(rows[i].trim_start().starts_with(&format!("{force} ")), "{}", rows[i]);
+        assert_eq!(cell(rows[i], 1), format!("{:.2}", model(force, 0.01)), "{}", rows[i]);
+        assert_eq!(cell(rows[i], 2), format!("{:.2}", model(force, 0.1)), "{}", rows[i]);
+    }
+    assert!(rows[0].contains("Lee2023") && rows[0].contains("+7.7 +- 0.2") && rows[1].contains("-7.6 +- 0.3"), "{out}");
+    assert!(rows[2..].iter().all(|r| r.contains("spec_unverified")), "{out}");
+    assert!(rows[5].trim_start().starts_with("4 ") && rows[5].contains("outside the map"), "{out}");
+    let svg = std::fs::read_to_string(dir.join("plateau_torque_vs_force.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    assert_eq!(svg.matches("<polyline").count(), 2);
+    assert!(svg.contains("model, 0.01 M salt") && svg.contains("model, 0.1 M salt"));
+    assert!(svg.contains("Lee et al., Nat. Commun. 2023") && svg.contains("UNVERIFIED"));
+    // Data markers: 3 squares (Lee 2023 twice in the plot, its legend
+    // entries twice) and the spec's diamonds (4 + 1 in the legend).
+    assert_eq!(svg.matches("<rect x=").count() - 1, 4, "{svg}");
+    assert_eq!(svg.matches("<path d=").count(), 5);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// c_examples/dna_supercoil.c with `--model thermal` (issue 37): the same
+/// molecule (1 kbp, 1 pN, 0.05 M) in the thermal two-phase model, its
+/// --values lines the Rust API's (200 default turns) to the printed 15
+/// digits, its report naming the model; a VTK path is refused. The default
+/// stays the full rod (tests/native.rs reads its values).
+#[test]
+fn c_dna_supercoil_thermal_matches_rust() {
+    let csv = std::env::temp_dir().join(format!("rodkit-tweezers-supercoil-{}.csv", std::process::id()));
+    let out = run("c_dna_supercoil_shared", &["--values", "--model", "thermal", "0.05", "60", csv.to_str().unwrap()]);
+    let got = values(&out);
+    let scene = TweezersScene { salt: 0.05, ..Default::default() };
+    let (curve, s) = rust_summary(&scene, 200);
+    let last = curve.last().unwrap();
+    let want = [
+        ("two_phase_buckling_turns", s.buckling_turns),
+        ("two_phase_buckling_torque_pN_nm", s.buckling_torque),
+        ("extension_jump_nm", s.extension_jump),
+        ("plateau_torque_pN_nm", s.plateau_torque),
+        ("slope_nm_per_turn", s.slope),
+        ("superhelix_radius_nm", s.superhelix_radius),
+        ("last_turns", last.turns),
+        ("last_extension_nm", last.extension),
+        ("last_torque_pN_nm", last.torque),
+        ("points", 200.0),
+        ("kT_pN_nm", 4.11),
+    ];
+    assert_values(&out, &got, &want, 1e-14);
+    assert!(!got.contains_key("buckling_turns"), "the full rod's instability is not the two-phase buckling: {out}");
+    assert!(out.contains("DNA supercoiling (model thermal_two_phase, kT 4.11 pN nm)"), "{out}");
+    assert_eq!(std::fs::read_to_string(&csv).unwrap().lines().count(), 201);
+    let _ = std::fs::remove_file(&csv);
+    let refused = Command::new(drivers().join("c_dna_supercoil_shared"))
+        .args(["--model", "thermal", "0.1", "60", "-", "/tmp/x.vtk"])
+        .output()
+        .unwrap();
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("no shapes"));
 }

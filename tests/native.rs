@@ -11,13 +11,44 @@ use std::sync::OnceLock;
 
 #[path = "support/native_build.rs"]
 mod native_build;
-use native_build::{build_dir, build_lib_and_make, check, profile, ROOT};
+use native_build::{check, profile, ROOT};
 
-/// The library, then the drivers (through the Makefile).
+/// The target directory of this test build (CARGO_TARGET_DIR when set,
+/// else the repository's target/): the test executable lives in
+/// <target>/<profile>/deps. The Makefile gets it as TARGET_DIR, so a build
+/// in another target directory neither uses nor overwrites target/.
+fn target_dir() -> PathBuf {
+    let exe = std::env::current_exe().unwrap();
+    exe.parent().and_then(Path::parent).and_then(Path::parent).unwrap().to_path_buf()
+}
+
+/// <target>/<profile>/native, where the Makefile puts the programs.
+fn build_dir() -> PathBuf {
+    target_dir().join(profile()).join("native")
+}
+
+/// The library (cargo, this build's profile and features), then the
+/// drivers (through the Makefile, with this target directory).
 fn drivers() -> &'static PathBuf {
     static BUILT: OnceLock<PathBuf> = OnceLock::new();
     BUILT.get_or_init(|| {
-        build_lib_and_make(&["drivers"]);
+        let mut cargo = Command::new(env!("CARGO"));
+        cargo.current_dir(ROOT).args(["build", "--lib", "--quiet"]).env("CARGO_TARGET_DIR", target_dir());
+        if profile() == "release" {
+            cargo.arg("--release");
+        }
+        if cfg!(feature = "sundials") {
+            cargo.args(["--features", "sundials"]);
+        }
+        check(cargo.output().expect("run cargo build"), "cargo build --lib");
+        let make = Command::new("make")
+            .current_dir(ROOT)
+            .args(["--no-print-directory", "-s", &format!("PROFILE={}", profile())])
+            .arg(format!("TARGET_DIR={}", target_dir().display()))
+            .arg("drivers")
+            .output()
+            .expect("run make");
+        check(make, "make drivers");
         build_dir()
     })
 }
@@ -328,12 +359,25 @@ fn c_drivers_are_clean_under_valgrind() {
         // c_dna_map: one curve of 150 bp, 12 elements, 20 steps (buckled,
         // summarised, written as CSV and SVG).
         let map_dir = dir.join("map").display().to_string();
-        let map_args: Vec<String> =
-            ["--bp", "150", "--elements", "12", "--steps", "20", "--turns", "1.5", "--forces", "1", "--salts", "0.1"]
-                .iter()
-                .map(|s| s.to_string())
-                .chain([map_dir])
-                .collect();
+        let map_args: Vec<String> = [
+            "--model",
+            "full-rod",
+            "--bp",
+            "150",
+            "--elements",
+            "12",
+            "--steps",
+            "20",
+            "--turns",
+            "1.5",
+            "--forces",
+            "1",
+        ]
+        .iter()
+        .chain(&["--salts", "0.1"])
+        .map(|s| s.to_string())
+        .chain([map_dir])
+        .collect();
         let args: &[String] = match exe {
             "c_dna_supercoil_shared" => &dna_args,
             "c_dna_supercoil_resume_shared" => &resume_args,
@@ -1026,7 +1070,8 @@ fn c_dna_supercoil_driver() {
 }
 
 /// The force × salt map driver (c_examples/dna_map.c, issue 18 deliverable
-/// 5) on a small map: 300 bp, 1 pN × 0.1 and 0.05 M, to 1.7 turns (40
+/// 5) with `--model full-rod` (the map's default is the thermal model since
+/// issue 37) on a small map: 300 bp, 1 pN × 0.1 and 0.05 M, to 1.7 turns (40
 /// elements, 300 steps; ~12 s). It writes its files into the one folder
 /// given: one CSV per curve with every path point (the count of the Rust
 /// run of the same scene), summary.csv with one row per curve and the
@@ -1042,8 +1087,22 @@ fn c_dna_map_driver() {
     let dir = std::env::temp_dir().join(format!("rodkit-dna-map-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let out_dir = dir.join("nested/map");
-    let args =
-        ["--bp", "300", "--forces", "1", "--salts", "0.1,0.05", "--turns", "1.7", "--elements", "40", "--steps", "300"];
+    let args = [
+        "--model",
+        "full-rod",
+        "--bp",
+        "300",
+        "--forces",
+        "1",
+        "--salts",
+        "0.1,0.05",
+        "--turns",
+        "1.7",
+        "--elements",
+        "40",
+        "--steps",
+        "300",
+    ];
     let mut all: Vec<&str> = args.to_vec();
     all.push(out_dir.to_str().unwrap());
     let out = run_values("c_dna_map_shared", &all);
@@ -1058,7 +1117,11 @@ fn c_dna_map_driver() {
     assert_eq!(rows.len(), 2);
     for r in &rows {
         assert_eq!(r.len(), header.len(), "a short row: {r:?}");
+        // The model behind the row (issue 37): the full rod at zero temperature.
+        assert_eq!((r["model"], r["kT_pN_nm"], r["end_loop"]), ("full_rod", "0", ""), "{r:?}");
     }
+    let table: Vec<&str> = out.lines().filter(|l| l.starts_with("  ") && l.contains('|')).collect();
+    assert!(table.len() == 2 && table.iter().all(|l| l.ends_with("| full_rod")), "{out}");
     let row = rows.iter().find(|r| r["salt_M"] == "0.1").expect("the 0.1 M row");
     let scene = DnaScene { base_pairs: 300, tension: 1.0, salt: 0.1, ..Default::default() };
     let settings = SupercoilSettings { elements: 40, max_turns: 1.7, max_steps: 300, ..Default::default() };
@@ -1123,6 +1186,7 @@ fn make_run_reports_from_any_directory() {
     let out = Command::new("make")
         .current_dir(&cwd)
         .args(["-s", "--no-print-directory", "-C", ROOT, "run-drivers", &format!("PROFILE={}", profile())])
+        .arg(format!("TARGET_DIR={}", target_dir().display()))
         .arg(format!("OUT={}", out_dir.display()))
         .arg("DNA_MAP_SUBSET=--bp 150 --elements 12 --steps 20 --turns 1.5 --forces 1 --salts 0.1")
         .args(["DNA_SUPERCOIL_STEPS=10", "DNA_SUPERCOIL_SCENE=20 150"])
@@ -1140,6 +1204,13 @@ fn make_run_reports_from_any_directory() {
     // 2.4533568605 to the printed 10 decimals) and Greenhill's first root.
     assert!(text.contains("critical load 2.4533568605"), "{text}");
     assert!(text.contains("8.986819"), "{text}");
+    // The thermal model beside the tweezers data (issue 37): the table
+    // names the data file, its sources and the unverified rows.
+    for want in
+        ["model vs data", "tests/data/tweezers/buckling_torque.csv", "Lee2023", "spec_unverified", "thermal_two_phase"]
+    {
+        assert!(text.contains(want), "{want}:\n{text}");
+    }
     // Every path a report names lies under OUT and exists; the folders the
     // Makefile promises hold what the drivers wrote.
     let out_str = out_dir.display().to_string();
@@ -1166,6 +1237,8 @@ fn make_run_reports_from_any_directory() {
         "dna/supercoil.vtk",
         "dna/map/summary.csv",
         "dna/map/extension_vs_turns.svg",
+        "dna/plateau/summary.csv",
+        "dna/plateau/plateau_torque_vs_force.svg",
     ] {
         assert!(out_dir.join(f).is_file(), "{f} missing under {out_str}");
     }

@@ -129,6 +129,7 @@ static const char *end_loop_name(int32_t e) {
     case RODKIT_TWEEZERS_END_LOOP_BUILTIN_TABLE: return "builtin_table";
     case RODKIT_TWEEZERS_END_LOOP_ELASTIC: return "elastic";
     case RODKIT_TWEEZERS_END_LOOP_VALUE: return "value";
+    case RODKIT_TWEEZERS_END_LOOP_COMPUTED: return "computed";
     default: return "unknown";
     }
 }

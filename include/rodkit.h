@@ -82,16 +82,19 @@ enum RodkitTweezersEndLoop
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
   // The table rodkit ships, computed with the full zero-temperature
-  // charged rod over force × salt (interpolated; a scene outside it is
-  // refused with RODKIT_STATUS_ERR_OUT_OF_RANGE). Until the table ships,
-  // the elastic loop stands in for it (and the summary's `end_loop`
-  // says ELASTIC).
+  // charged rod over force × salt, interpolated where it covers the
+  // scene; elsewhere the elastic loop, and the summary's `end_loop` says
+  // ELASTIC (in a spec: the default).
   RODKIT_TWEEZERS_END_LOOP_BUILTIN_TABLE = 0,
   // The elastic (uncharged Kirchhoff) end loop alone.
   RODKIT_TWEEZERS_END_LOOP_ELASTIC = 1,
   // A given nucleation energy `end_loop_energy` (pN nm) at the torque
   // `end_loop_torque` (pN nm), with the elastic loop's torque dependence.
   RODKIT_TWEEZERS_END_LOOP_VALUE = 2,
+  // This scene's own entry, computed by the full zero-temperature
+  // charged rod when the handle is made: minutes (a 300–1000 bp
+  // supercoiling run), on request only.
+  RODKIT_TWEEZERS_END_LOOP_COMPUTED = 3,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L

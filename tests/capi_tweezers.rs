@@ -208,9 +208,9 @@ fn bad_inputs_get_their_status_and_message() {
         ),
         (
             "end loop 3",
-            Box::new(|s| s.end_loop = 3),
+            Box::new(|s| s.end_loop = 4),
             Status::ErrOutOfRange,
-            "argument `spec.end_loop` out of range: must be a RodkitTweezersEndLoop 0…2 (got 3)",
+            "argument `spec.end_loop` out of range: must be a RodkitTweezersEndLoop 0…3 (got 4)",
         ),
         (
             "end-loop torque 0",
@@ -441,12 +441,14 @@ fn c_driver_values_match_rust() {
     let last = curve.last().unwrap();
     let mut want = named(&s);
     want.extend([("force", 2.0), ("salt", 0.05), ("base_pairs", 2000.0), ("kT", 4.11), ("points", 150.0)]);
-    want.extend([("model", 1.0), ("end_loop", 1.0)]);
+    // 2 pN, 0.05 M lies in the shipped end-loop table (builtin_table, 0).
+    assert_eq!(rodkit::tweezers::Model::new(&scene).unwrap().end_loop_used(), rodkit::tweezers::EndLoopUsed::Table);
+    want.extend([("model", 1.0), ("end_loop", 0.0)]);
     want.extend([("last_turns", last.turns), ("last_extension", last.extension), ("last_torque", last.torque)]);
     want.push(("last_plectonemes", last.plectonemes));
     want.push(("out_of_range_points", curve.iter().filter(|p| !p.in_range).count() as f64));
     assert_values(&out, &got, &want, 1e-9);
-    assert!(out.contains("model_name = thermal_two_phase") && out.contains("end_loop_name = elastic"), "{out}");
+    assert!(out.contains("model_name = thermal_two_phase") && out.contains("end_loop_name = builtin_table"), "{out}");
     assert!(got["slope"] < 0.0, "{out}");
     let csv = std::fs::read_to_string(out_dir.join("curve.csv")).unwrap();
     assert_eq!(csv.lines().count(), 151);
@@ -644,7 +646,6 @@ fn c_dna_map_thermal_matches_rust() {
         let turns: Vec<f64> = (0..60).map(|i| 8.0 * i as f64 / 59.0).collect();
         for r in &rows {
             let num = |k: &str| r[k].parse::<f64>().unwrap_or_else(|_| panic!("{k} = {:?} in {r:?}", r[k]));
-            assert_eq!((r["model"].as_str(), num("kT_pN_nm"), r["end_loop"].as_str()), (model, kt, "elastic"), "{r:?}");
             let scene = TweezersScene {
                 force: num("force_pN"),
                 salt: num("salt_M"),
@@ -653,6 +654,13 @@ fn c_dna_map_thermal_matches_rust() {
                 ..Default::default()
             };
             let m = Model::new(&scene).unwrap();
+            // The end loop the Rust model used (the shipped table where it
+            // covers the scene, else the elastic loop).
+            let end_loop = match m.end_loop_used() {
+                rodkit::tweezers::EndLoopUsed::Table => "builtin_table",
+                _ => "elastic",
+            };
+            assert_eq!((r["model"].as_str(), num("kT_pN_nm"), r["end_loop"].as_str()), (model, kt, end_loop), "{r:?}");
             let curve = m.curve(&turns).unwrap();
             let s = m.summarise(&curve).unwrap();
             let close = |k: &str, want: f64| {

@@ -419,3 +419,24 @@ fn curve_csv_round_trips() {
         assert_eq!(num(14), KT);
     }
 }
+
+#[test]
+fn end_loop_table_inside_and_elastic_loop_outside_said_so() {
+    // The shipped table (src/charged/end_loops.csv, the full rod's E_nuc):
+    // at one of its own entries the model's E_nuc at the entry's torque is
+    // the entry's value (the elastic loop's torque dependence is added to
+    // the offset, so it vanishes there); outside the table the elastic
+    // loop is used and the model says so.
+    let table = tweezers::builtin_end_loops();
+    assert!(table.len() >= 4, "{table:?}");
+    let e = table[0];
+    let m = Model::new(&TweezersScene { force: e.force, salt: e.salt, ..Default::default() }).unwrap();
+    assert_eq!(m.end_loop_used(), tweezers::EndLoopUsed::Table);
+    assert!(m.end_loop_note().is_none());
+    assert!((m.end_loop(e.torque).0 - e.energy).abs() < 1e-9 * e.energy, "{} vs {}", m.end_loop(e.torque).0, e.energy);
+    let outside = Model::new(&TweezersScene { force: 1.0, salt: 0.005, ..Default::default() }).unwrap();
+    assert_eq!(outside.end_loop_used(), tweezers::EndLoopUsed::Elastic);
+    assert!(outside.end_loop_note().unwrap().contains("outside the end-loop table"), "{:?}", outside.end_loop_note());
+    let elastic = tweezers::elastic_loop(outside.scene.bending, 1.0, 3.0).0;
+    assert!((outside.end_loop(3.0).0 - elastic).abs() < 1e-12);
+}

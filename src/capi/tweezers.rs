@@ -10,7 +10,7 @@ use super::args::{null_error, out_slice, qualify_argument};
 use super::{guard, guard_value};
 use crate::error::{self, Error, Result};
 use crate::status::Status;
-use crate::tweezers::{EndLoopSource, Model, Point, TweezersScene};
+use crate::tweezers::{EndLoopSource, EndLoopUsed, Model, Point, TweezersScene};
 
 /// Where a plectoneme's nucleation (end-loop) energy comes from
 /// (`RodkitTweezersSpec.end_loop`).
@@ -18,22 +18,25 @@ use crate::tweezers::{EndLoopSource, Model, Point, TweezersScene};
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TweezersEndLoop {
     /// The table rodkit ships, computed with the full zero-temperature
-    /// charged rod over force × salt (interpolated; a scene outside it is
-    /// refused with RODKIT_STATUS_ERR_OUT_OF_RANGE). Until the table ships,
-    /// the elastic loop stands in for it (and the summary's `end_loop`
-    /// says ELASTIC).
+    /// charged rod over force × salt, interpolated where it covers the
+    /// scene; elsewhere the elastic loop, and the summary's `end_loop` says
+    /// ELASTIC (in a spec: the default).
     BuiltinTable = 0,
     /// The elastic (uncharged Kirchhoff) end loop alone.
     Elastic = 1,
     /// A given nucleation energy `end_loop_energy` (pN nm) at the torque
     /// `end_loop_torque` (pN nm), with the elastic loop's torque dependence.
     Value = 2,
+    /// This scene's own entry, computed by the full zero-temperature
+    /// charged rod when the handle is made: minutes (a 300–1000 bp
+    /// supercoiling run), on request only.
+    Computed = 3,
 }
 
 c_enum!(
     TweezersEndLoop,
-    "a RodkitTweezersEndLoop 0…2",
-    [TweezersEndLoop::BuiltinTable, TweezersEndLoop::Elastic, TweezersEndLoop::Value]
+    "a RodkitTweezersEndLoop 0…3",
+    [TweezersEndLoop::BuiltinTable, TweezersEndLoop::Elastic, TweezersEndLoop::Value, TweezersEndLoop::Computed]
 );
 
 /// Which model computed a supercoiling curve or summary.
@@ -214,7 +217,8 @@ const MAX_TWEEZERS_EVALUATIONS: f64 = 2e8;
 fn spec_default() -> TweezersSpec {
     let d = TweezersScene::default();
     let (end_loop, end_loop_torque, end_loop_energy) = match d.end_loop {
-        EndLoopSource::Table(_) => (TweezersEndLoop::BuiltinTable, 0.0, 0.0),
+        EndLoopSource::Auto | EndLoopSource::Table(_) => (TweezersEndLoop::BuiltinTable, 0.0, 0.0),
+        EndLoopSource::Compute => (TweezersEndLoop::Computed, 0.0, 0.0),
         EndLoopSource::Elastic => (TweezersEndLoop::Elastic, 0.0, 0.0),
         EndLoopSource::Value { torque, energy } => (TweezersEndLoop::Value, torque, energy),
     };
@@ -243,7 +247,7 @@ fn spec_default() -> TweezersSpec {
 
 /// The scene of a spec (messages name the spec's fields without `spec.`)
 /// and the end-loop source it asks for.
-fn scene_of(s: &TweezersSpec) -> Result<(TweezersScene, TweezersEndLoop)> {
+fn scene_of(s: &TweezersSpec) -> Result<TweezersScene> {
     finite_fields(&[
         ("base_pairs", s.base_pairs),
         ("rise", s.rise),
@@ -266,21 +270,13 @@ fn scene_of(s: &TweezersSpec) -> Result<(TweezersScene, TweezersEndLoop)> {
     error::count_in_range("max_plectonemes", s.max_plectonemes, 1, 16)?;
     let kind = enum_arg::<TweezersEndLoop>("end_loop", s.end_loop)?;
     let end_loop = match kind {
-        // TODO(lead): tweezers::builtin_end_loops() does not exist yet; the
-        // built-in table maps to the elastic loop until it does
-        // (EndLoopSource::Table(crate::tweezers::builtin_end_loops())).
-        TweezersEndLoop::BuiltinTable => EndLoopSource::Elastic,
+        TweezersEndLoop::BuiltinTable => EndLoopSource::Auto,
+        TweezersEndLoop::Computed => EndLoopSource::Compute,
         TweezersEndLoop::Elastic => EndLoopSource::Elastic,
         TweezersEndLoop::Value => {
             error::positive("end_loop_torque", s.end_loop_torque)?;
             EndLoopSource::Value { torque: s.end_loop_torque, energy: s.end_loop_energy }
         }
-    };
-    // The source actually used (the built-in table's stand-in above).
-    let used = match end_loop {
-        EndLoopSource::Table(_) => TweezersEndLoop::BuiltinTable,
-        EndLoopSource::Elastic => TweezersEndLoop::Elastic,
-        EndLoopSource::Value { .. } => TweezersEndLoop::Value,
     };
     let scene = TweezersScene {
         base_pairs: s.base_pairs,
@@ -303,7 +299,7 @@ fn scene_of(s: &TweezersSpec) -> Result<(TweezersScene, TweezersEndLoop)> {
         marko_plectoneme: 0.0,
         end_loop,
     };
-    Ok((scene, used))
+    Ok(scene)
 }
 
 /// Refuse, before anything is computed, a curve of `points` whose thermal
@@ -405,8 +401,14 @@ pub unsafe extern "C" fn rodkit_tweezers_new(spec: *const TweezersSpec, out: *mu
     guard(|| {
         let out = arg_mut("out", out)?;
         *out = std::ptr::null_mut();
-        let (scene, end_loop) = scene_of(arg_ref("spec", spec)?).map_err(|e| qualify_argument(e, "spec."))?;
+        let scene = scene_of(arg_ref("spec", spec)?).map_err(|e| qualify_argument(e, "spec."))?;
         let model = Model::new(&scene).map_err(|e| qualify_argument(e, "spec."))?;
+        let end_loop = match model.end_loop_used() {
+            EndLoopUsed::Table => TweezersEndLoop::BuiltinTable,
+            EndLoopUsed::Elastic => TweezersEndLoop::Elastic,
+            EndLoopUsed::Value => TweezersEndLoop::Value,
+            EndLoopUsed::Computed => TweezersEndLoop::Computed,
+        };
         *out = Box::into_raw(Box::new(Tweezers { model, end_loop }));
         Ok(Status::Ok)
     })
@@ -630,6 +632,8 @@ mod tests {
             let body = chunk.split("\n}\n").next().unwrap();
             assert!(body.contains("guard(") || body.contains("guard_value("), "{name} does not run inside guard()");
         }
-        assert_eq!(exports, 6);
+        // The file's seven exports (spec_default, new, default_turns, curve,
+        // summary, write_csv, free): the split found them all.
+        assert_eq!(exports, 7);
     }
 }

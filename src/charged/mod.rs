@@ -14,6 +14,7 @@ mod assembly;
 pub mod branch;
 pub mod coexistence;
 pub mod dna;
+pub mod end_loop;
 pub mod equilibrium;
 pub mod rod;
 mod sites;

@@ -69,6 +69,14 @@ pub fn inverse_debye_length(salt: f64, permittivity: f64) -> f64 {
 /// Where a plectoneme's nucleation energy comes from.
 #[derive(Clone, Debug, PartialEq)]
 pub enum EndLoopSource {
+    /// The built-in table ([`builtin_end_loops`]) where it covers the
+    /// scene's force and salt; elsewhere the elastic loop, and the model
+    /// says so ([`Model::end_loop_used`], [`Model::end_loop_note`]).
+    Auto,
+    /// Compute the scene's own entry with the full zero-temperature charged
+    /// rod (`charged::end_loop::end_loop_entry` on the table's scene for
+    /// this force and salt): minutes, on request only.
+    Compute,
     /// Interpolated in a table computed by rodkit's full zero-temperature
     /// charged rod over force × salt: entries (force pN, salt M, the rod's
     /// plateau torque τ₀ pN nm, E_nuc(τ₀) pN nm).
@@ -77,6 +85,35 @@ pub enum EndLoopSource {
     Elastic,
     /// A given E_nuc at torque τ₀ (the elastic loop's torque dependence).
     Value { torque: f64, energy: f64 },
+}
+
+/// Which end loop a model uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EndLoopUsed {
+    /// Interpolated in a table (the built-in one or the caller's).
+    Table,
+    /// The elastic loop alone.
+    Elastic,
+    /// The caller's value.
+    Value,
+    /// Computed for this scene by the full rod.
+    Computed,
+}
+
+/// The end-loop table rodkit ships (src/charged/end_loops.csv, computed by
+/// the full zero-temperature charged rod; its header says how to
+/// regenerate it), as (force, salt, plateau torque τ₀, E_nuc(τ₀)).
+pub fn builtin_end_loops() -> Vec<EndLoopEntry> {
+    static TABLE: std::sync::OnceLock<Vec<EndLoopEntry>> = std::sync::OnceLock::new();
+    TABLE
+        .get_or_init(|| {
+            crate::charged::end_loop::parse_table(include_str!("../charged/end_loops.csv"))
+                .expect("the shipped end-loop table parses (tests/tweezers.rs)")
+                .iter()
+                .map(|e| EndLoopEntry { force: e.force, salt: e.salt, torque: e.tau_plateau, energy: e.e_nuc })
+                .collect()
+        })
+        .clone()
 }
 
 /// One entry of the end-loop table.
@@ -138,7 +175,8 @@ pub struct TweezersScene {
 impl Default for TweezersScene {
     /// 1 kbp at 1 pN in 0.1 M, kT 4.11 pN nm, A = 50 nm, C = 100 nm, the
     /// Poisson–Boltzmann effective charge, a = 1 nm, inextensible, the
-    /// elastic end loop.
+    /// built-in end-loop table where it covers the scene (else the elastic
+    /// loop, said so).
     fn default() -> Self {
         let kt = 4.11;
         TweezersScene {
@@ -159,7 +197,7 @@ impl Default for TweezersScene {
             counting_length: 0.0,
             max_plectonemes: 4,
             marko_plectoneme: 0.0,
-            end_loop: EndLoopSource::Elastic,
+            end_loop: EndLoopSource::Auto,
         }
     }
 }
@@ -230,6 +268,8 @@ pub struct Model {
     buckling: std::sync::OnceLock<f64>,
     /// h_p, w and w' on Hermite grids for the partition sums.
     fast: Fast,
+    end_loop_used: EndLoopUsed,
+    end_loop_note: Option<String>,
 }
 
 /// The tables the partition sums read at every state, as Hermite grids of
@@ -369,7 +409,7 @@ impl Model {
             w: cheb::Grid::new(&w, &dw, 1024),
             dw: cheb::Grid::new(&dw, &dw.derivative(), 1024),
         };
-        let (loop_offset, loop_offset_slope) = loop_offset(s)?;
+        let (loop_offset, loop_offset_slope, end_loop_used, end_loop_note) = loop_offset(s)?;
         let counting = if s.counting_length > 0.0 { s.counting_length } else { (s.bending / s.force).sqrt() };
         Ok(Model {
             charge: nu,
@@ -389,7 +429,20 @@ impl Model {
             counting,
             buckling: std::sync::OnceLock::new(),
             fast,
+            end_loop_used,
+            end_loop_note,
         })
+    }
+
+    /// Which end loop the model uses.
+    pub fn end_loop_used(&self) -> EndLoopUsed {
+        self.end_loop_used
+    }
+
+    /// Why the end loop is not the one asked for (the scene outside the
+    /// built-in table), or how it was computed; None otherwise.
+    pub fn end_loop_note(&self) -> Option<&str> {
+        self.end_loop_note.as_deref()
     }
 
     /// The extended phase's grand free energy per length h_s(τ) (pN).
@@ -914,31 +967,49 @@ fn superhelix_tables(plectoneme: &Plectoneme, tau_cap: f64) -> Result<(f64, Vec<
     Ok((t_lo, vals, nodes))
 }
 
-/// The end loop's E_nuc offset (E_nuc = offset + ΔG_loop(τ)) and the
-/// offset's −d/dF (its part of the extension deficit).
-fn loop_offset(s: &TweezersScene) -> Result<(f64, f64)> {
-    let at = |force: f64| -> Result<f64> {
-        match &s.end_loop {
-            EndLoopSource::Elastic => Ok(0.0),
-            EndLoopSource::Value { torque, energy } => Ok(energy - elastic_loop(s.bending, force, *torque).0),
-            EndLoopSource::Table(entries) => {
-                let (tau0, e) = interpolate_table(entries, force, s.salt)?;
-                Ok(e - elastic_loop(s.bending, force, tau0).0)
-            }
+/// The end loop's E_nuc offset (E_nuc = offset + ΔG_loop(τ)), the
+/// offset's −d/dF (its part of the extension deficit), which source was
+/// used and why, when it is not the one asked for.
+fn loop_offset(s: &TweezersScene) -> Result<(f64, f64, EndLoopUsed, Option<String>)> {
+    let table_at = |entries: &[EndLoopEntry], force: f64| -> Result<f64> {
+        let (tau0, e) = interpolate_table(entries, force, s.salt)?;
+        Ok(e - elastic_loop(s.bending, force, tau0).0)
+    };
+    // −d(offset)/dF by central differences across the table (0 where a
+    // neighbour force leaves it).
+    let slope_of = |entries: &[EndLoopEntry]| {
+        let h = 1e-3 * s.force;
+        match (table_at(entries, s.force + h), table_at(entries, s.force - h)) {
+            (Ok(p), Ok(m)) => -(p - m) / (2.0 * h),
+            _ => 0.0,
         }
     };
-    let d = at(s.force)?;
-    let slope = match &s.end_loop {
-        EndLoopSource::Table(_) => {
-            let h = 1e-3 * s.force;
-            match (at(s.force + h), at(s.force - h)) {
-                (Ok(p), Ok(m)) => -(p - m) / (2.0 * h),
-                _ => 0.0,
+    match &s.end_loop {
+        EndLoopSource::Elastic => Ok((0.0, 0.0, EndLoopUsed::Elastic, None)),
+        EndLoopSource::Value { torque, energy } => {
+            Ok((energy - elastic_loop(s.bending, s.force, *torque).0, 0.0, EndLoopUsed::Value, None))
+        }
+        EndLoopSource::Table(entries) => Ok((table_at(entries, s.force)?, slope_of(entries), EndLoopUsed::Table, None)),
+        EndLoopSource::Auto => {
+            let entries = builtin_end_loops();
+            match table_at(&entries, s.force) {
+                Ok(d) => Ok((d, slope_of(&entries), EndLoopUsed::Table, None)),
+                Err(e) => {
+                    Ok((0.0, 0.0, EndLoopUsed::Elastic, Some(format!("{}; the elastic end loop is used", e.message))))
+                }
             }
         }
-        _ => 0.0,
-    };
-    Ok((d, slope))
+        EndLoopSource::Compute => {
+            let (scene, settings) = crate::charged::end_loop::table_scene(s.force, s.salt);
+            let e = crate::charged::end_loop::end_loop_entry(&scene, &settings)?;
+            let d = e.e_nuc - elastic_loop(s.bending, s.force, e.tau_plateau).0;
+            let note = format!(
+                "end loop computed by the full rod for this scene: {} bp, E_nuc {:.2} pN nm at {:.3} pN nm, {:.0} s",
+                e.base_pairs, e.e_nuc, e.tau_plateau, e.seconds
+            );
+            Ok((d, 0.0, EndLoopUsed::Computed, Some(note)))
+        }
+    }
 }
 
 /// Bilinear interpolation in (ln F, ln c) of the table's τ₀ and E_nuc on
@@ -955,7 +1026,8 @@ pub fn interpolate_table(entries: &[EndLoopEntry], force: f64, salt: f64) -> Res
             Status::ErrOutOfRange,
             format!(
                 "force {force} pN, salt {salt} M lies outside the end-loop table (forces {:?} pN × salts {:?} M); \
-                 compute its entry with the full rod (minutes) and pass it as an end-loop value",
+                 EndLoopSource::Compute (C: RODKIT_TWEEZERS_END_LOOP_COMPUTED) computes its entry with the full rod \
+                 (minutes)",
                 forces, salts
             ),
         )

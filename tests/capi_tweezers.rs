@@ -106,7 +106,11 @@ fn handle_matches_the_rust_api() {
         assert_eq!(p.in_range == 1, q.in_range);
     }
     assert!(pts.iter().any(|p| p.has_buckled == 0) && pts.iter().any(|p| p.has_buckled == 1));
-    assert_eq!((sum.model, sum.end_loop, sum.kt), (SupercoilModel::ThermalTwoPhase, TweezersEndLoop::Elastic, d.kt));
+    // The default scene (1 pN, 0.1 M) lies in the shipped end-loop table.
+    assert_eq!(
+        (sum.model, sum.end_loop, sum.kt),
+        (SupercoilModel::ThermalTwoPhase, TweezersEndLoop::BuiltinTable, d.kt)
+    );
     assert_eq!(
         (sum.buckling_turns, sum.buckling_torque, sum.plateau_torque),
         (r.buckling_turns, r.buckling_torque, r.plateau_torque)
@@ -549,7 +553,8 @@ fn fortran_example_matches_rust() {
     let (curve, s) = rust_summary(&TweezersScene::default(), 200);
     let last = curve.last().unwrap();
     let mut want = named(&s);
-    want.extend([("model", 1.0), ("end_loop", 1.0), ("points", 200.0), ("kT", 4.11)]);
+    // The default scene (1 pN, 0.1 M) lies in the shipped end-loop table (0).
+    want.extend([("model", 1.0), ("end_loop", 0.0), ("points", 200.0), ("kT", 4.11)]);
     want.extend([("last_turns", last.turns), ("last_extension", last.extension), ("last_torque", last.torque)]);
     assert_values(&out, &got, &want, 1e-15);
     assert_eq!(got["negative_force_status"], Status::ErrNotPositive.code() as f64, "{out}");

@@ -1046,24 +1046,32 @@ pub fn interpolate_table(entries: &[EndLoopEntry], force: f64, salt: f64) -> Res
     let (f0, f1, tf) = bracket(&forces, force).ok_or_else(outside)?;
     let (c0, c1, tc) = bracket(&salts, salt).ok_or_else(outside)?;
     let get = |f: f64, c: f64| entries.iter().find(|e| e.force == f && e.salt == c).map(|e| (e.torque, e.energy));
+    // The four corners with their bilinear weights; a corner of weight 0
+    // (the scene on a grid line) is not needed, so a hole beside a grid
+    // line does not refuse a scene on it.
     let corners = [
-        get(forces[f0], salts[c0]),
-        get(forces[f1], salts[c0]),
-        get(forces[f0], salts[c1]),
-        get(forces[f1], salts[c1]),
+        (get(forces[f0], salts[c0]), (1.0 - tf) * (1.0 - tc)),
+        (get(forces[f1], salts[c0]), tf * (1.0 - tc)),
+        (get(forces[f0], salts[c1]), (1.0 - tf) * tc),
+        (get(forces[f1], salts[c1]), tf * tc),
     ];
-    if corners.iter().any(|c| c.is_none()) {
-        return Err(Error::new(
-            Status::ErrOutOfRange,
-            format!("the end-loop table has a hole next to force {force} pN, salt {salt} M (an entry the full rod could not compute)"),
-        ));
+    let (mut tau, mut energy) = (0.0, 0.0);
+    for (value, weight) in corners {
+        if weight == 0.0 {
+            continue;
+        }
+        let Some((t, e)) = value else {
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                format!(
+                    "the end-loop table has a hole next to force {force} pN, salt {salt} M (an entry not computed or that the full rod could not compute)"
+                ),
+            ));
+        };
+        tau += weight * t;
+        energy += weight * e;
     }
-    let c: Vec<(f64, f64)> = corners.iter().map(|c| c.unwrap()).collect();
-    let mix = |i: usize| {
-        let v = |k: usize| if i == 0 { c[k].0 } else { c[k].1 };
-        (1.0 - tc) * ((1.0 - tf) * v(0) + tf * v(1)) + tc * ((1.0 - tf) * v(2) + tf * v(3))
-    };
-    Ok((mix(0), mix(1)))
+    Ok((tau, energy))
 }
 
 /// The numbers a tweezers experiment reports for one curve.

@@ -107,8 +107,10 @@ pub fn builtin_end_loops() -> Vec<EndLoopEntry> {
     static TABLE: std::sync::OnceLock<Vec<EndLoopEntry>> = std::sync::OnceLock::new();
     TABLE
         .get_or_init(|| {
+            // The shipped file parses (tests/charged_end_loop.rs); were it
+            // not to, the table would be empty and Auto would say so.
             crate::charged::end_loop::parse_table(include_str!("../charged/end_loops.csv"))
-                .expect("the shipped end-loop table parses (tests/tweezers.rs)")
+                .unwrap_or_default()
                 .iter()
                 .map(|e| EndLoopEntry { force: e.force, salt: e.salt, torque: e.tau_plateau, energy: e.e_nuc })
                 .collect()

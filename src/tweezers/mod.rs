@@ -46,24 +46,31 @@ use crate::status::Status;
 use std::f64::consts::PI;
 use superhelix::{Optimum, Plectoneme};
 
-/// e²/(4πε₀ε_r) in pN nm² at ε_r = 78.4 (= k_BT·l_B at 298.15 K, l_B =
-/// 0.7150 nm): the pair energy of two elementary charges times their
-/// distance. The same constants as [`crate::charged::dna::DnaScene`].
-pub fn coulomb_constant(permittivity: f64) -> f64 {
-    let e = 1.602_176_634e-19;
-    let eps0 = 8.854_187_812_8e-12;
-    e * e / (4.0 * PI * eps0 * permittivity) * 1e30
+/// The 298.15 K water of the full rod's DNA scene
+/// ([`crate::charged::dna::DnaScene`], whose constants these are): the
+/// screening and the charges' pair energy stay those of room temperature
+/// when the model's kT is varied (kT = 0 is a limit of the thermal terms,
+/// as the zero-temperature rod keeps its screening).
+fn room_water(salt: f64, permittivity: f64) -> crate::charged::dna::DnaScene {
+    crate::charged::dna::DnaScene { salt, permittivity, temperature: 298.15, ..Default::default() }
 }
 
-/// κ_D (1/nm) of a 1:1 salt of molar concentration `salt` at thermal
-/// energy `kt` (pN nm) and permittivity ε_r: κ_D² = 8π l_B n. The Debye
-/// length of the experiment's temperature: at kT = 0 (the model's limit) the
-/// screening of 298.15 K is kept, as the zero-temperature rod keeps it.
+/// k_BT at 298.15 K (pN nm).
+pub fn kt_room() -> f64 {
+    room_water(0.1, 78.4).kt()
+}
+
+/// e²/(4πε₀ε_r) in pN nm² (= k_BT·l_B at 298.15 K; 2.94 at ε_r = 78.4):
+/// the pair energy of two elementary charges times their distance.
+pub fn coulomb_constant(permittivity: f64) -> f64 {
+    let w = room_water(0.1, permittivity);
+    w.kt() * w.bjerrum_length()
+}
+
+/// κ_D (1/nm) of a 1:1 salt of molar concentration `salt` at 298.15 K and
+/// permittivity ε_r: κ_D² = 8π l_B n ([`crate::charged::dna::DnaScene::kappa`]).
 pub fn inverse_debye_length(salt: f64, permittivity: f64) -> f64 {
-    let kt_room = 1.380_649e-23 * 298.15 * 1e21;
-    let lb = coulomb_constant(permittivity) / kt_room;
-    let n = salt * 6.022_140_76e23 * 1e3 * 1e-27;
-    (8.0 * PI * lb * n).sqrt()
+    room_water(salt, permittivity).kappa()
 }
 
 /// Where a plectoneme's nucleation energy comes from.
@@ -195,7 +202,7 @@ impl Default for TweezersScene {
             stretch_modulus: 0.0,
             twist_stretch: 0.0,
             confinement: superhelix::CONFINEMENT,
-            hard_core: crate::charged::dna::auto_hard_core(1.0, 1.380_649e-23 * 298.15 * 1e21),
+            hard_core: crate::charged::dna::auto_hard_core(1.0, kt_room()),
             counting_length: 0.0,
             max_plectonemes: 4,
             marko_plectoneme: 0.0,
@@ -318,7 +325,7 @@ impl Model {
         let nu = if s.charge_per_length > 0.0 {
             s.charge_per_length
         } else {
-            let lb = coulomb_constant(s.permittivity) / (1.380_649e-23 * 298.15 * 1e21);
+            let lb = room_water(s.salt, s.permittivity).bjerrum_length();
             charge::effective_charge(2.0 / 0.34, 1.0, kappa, lb)?
         };
         let plectoneme = Plectoneme {

@@ -329,47 +329,29 @@ fn bad_inputs_get_their_status_and_message() {
 // (CARGO_TARGET_DIR when set: the Makefile's TARGET_DIR).
 // ---------------------------------------------------------------------------
 
-/// The target directory of this test build: the test executable lives in
-/// <target>/<profile>/deps.
-fn target_dir() -> PathBuf {
-    let exe = std::env::current_exe().unwrap();
-    exe.parent().and_then(Path::parent).and_then(Path::parent).unwrap().to_path_buf()
-}
-
 fn build_dir() -> PathBuf {
-    target_dir().join(profile()).join("native")
+    native_build::test_target_dir().join(profile()).join("native")
 }
 
-/// The library (cargo, this build's profile and features), then the
-/// tweezers drivers (make, with this target directory).
+/// The library, then the tweezers drivers (and the map and supercoil
+/// drivers these tests run), in this test build's target directory.
 fn drivers() -> &'static PathBuf {
     static BUILT: OnceLock<PathBuf> = OnceLock::new();
     BUILT.get_or_init(|| {
-        let mut cargo = Command::new(env!("CARGO"));
-        cargo.current_dir(ROOT).args(["build", "--lib", "--quiet"]).env("CARGO_TARGET_DIR", target_dir());
-        if profile() == "release" {
-            cargo.arg("--release");
-        }
-        if cfg!(feature = "sundials") {
-            cargo.args(["--features", "sundials"]);
-        }
-        check(cargo.output().expect("run cargo build"), "cargo build --lib");
         let dir = build_dir();
-        let exes: Vec<String> =
-            ["c_dna_tweezers_shared", "c_dna_tweezers_static", "f_dna_tweezers_shared", "f_dna_tweezers_static"]
-                .iter()
-                .chain(&["c_dna_map_shared", "c_dna_supercoil_shared"])
-                .map(|e| dir.join(e).display().to_string())
-                .collect();
-        let make = Command::new("make")
-            .current_dir(ROOT)
-            .args(["--no-print-directory", "-s", &format!("PROFILE={}", profile())])
-            .arg(format!("TARGET_DIR={}", target_dir().display()))
-            .args(&exes)
-            .output()
-            .expect("run make");
-        check(make, "make (tweezers drivers)");
-        dir
+        let exes: Vec<String> = [
+            "c_dna_tweezers_shared",
+            "c_dna_tweezers_static",
+            "f_dna_tweezers_shared",
+            "f_dna_tweezers_static",
+            "c_dna_map_shared",
+            "c_dna_supercoil_shared",
+        ]
+        .iter()
+        .map(|e| dir.join(e).display().to_string())
+        .collect();
+        let targets: Vec<&str> = exes.iter().map(String::as_str).collect();
+        native_build::build_in_test_target(&targets)
     })
 }
 

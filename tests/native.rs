@@ -13,44 +13,10 @@ use std::sync::OnceLock;
 mod native_build;
 use native_build::{check, profile, ROOT};
 
-/// The target directory of this test build (CARGO_TARGET_DIR when set,
-/// else the repository's target/): the test executable lives in
-/// <target>/<profile>/deps. The Makefile gets it as TARGET_DIR, so a build
-/// in another target directory neither uses nor overwrites target/.
-fn target_dir() -> PathBuf {
-    let exe = std::env::current_exe().unwrap();
-    exe.parent().and_then(Path::parent).and_then(Path::parent).unwrap().to_path_buf()
-}
-
-/// <target>/<profile>/native, where the Makefile puts the programs.
-fn build_dir() -> PathBuf {
-    target_dir().join(profile()).join("native")
-}
-
-/// The library (cargo, this build's profile and features), then the
-/// drivers (through the Makefile, with this target directory).
+/// The library, then the drivers, in this test build's target directory.
 fn drivers() -> &'static PathBuf {
     static BUILT: OnceLock<PathBuf> = OnceLock::new();
-    BUILT.get_or_init(|| {
-        let mut cargo = Command::new(env!("CARGO"));
-        cargo.current_dir(ROOT).args(["build", "--lib", "--quiet"]).env("CARGO_TARGET_DIR", target_dir());
-        if profile() == "release" {
-            cargo.arg("--release");
-        }
-        if cfg!(feature = "sundials") {
-            cargo.args(["--features", "sundials"]);
-        }
-        check(cargo.output().expect("run cargo build"), "cargo build --lib");
-        let make = Command::new("make")
-            .current_dir(ROOT)
-            .args(["--no-print-directory", "-s", &format!("PROFILE={}", profile())])
-            .arg(format!("TARGET_DIR={}", target_dir().display()))
-            .arg("drivers")
-            .output()
-            .expect("run make");
-        check(make, "make drivers");
-        build_dir()
-    })
+    BUILT.get_or_init(|| native_build::build_in_test_target(&["drivers"]))
 }
 
 fn run(exe: &str, args: &[&str]) -> String {
@@ -1186,7 +1152,7 @@ fn make_run_reports_from_any_directory() {
     let out = Command::new("make")
         .current_dir(&cwd)
         .args(["-s", "--no-print-directory", "-C", ROOT, "run-drivers", &format!("PROFILE={}", profile())])
-        .arg(format!("TARGET_DIR={}", target_dir().display()))
+        .arg(format!("TARGET_DIR={}", native_build::test_target_dir().display()))
         .arg(format!("OUT={}", out_dir.display()))
         .arg("DNA_MAP_SUBSET=--bp 150 --elements 12 --steps 20 --turns 1.5 --forces 1 --salts 0.1")
         .args(["DNA_SUPERCOIL_STEPS=10", "DNA_SUPERCOIL_SCENE=20 150"])

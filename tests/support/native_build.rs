@@ -56,3 +56,38 @@ pub fn build_lib_and_make(targets: &[&str]) {
         .expect("run make");
     check(make, &format!("make {}", targets.join(" ")));
 }
+
+/// The target directory of this test build (CARGO_TARGET_DIR when set,
+/// else the repository's target/): the test executable lives in
+/// <target>/<profile>/deps.
+pub fn test_target_dir() -> PathBuf {
+    let exe = std::env::current_exe().unwrap();
+    exe.parent().and_then(Path::parent).and_then(Path::parent).unwrap().to_path_buf()
+}
+
+/// The library (cargo, this build's profile and features), then `make
+/// <targets>`, both in this test build's target directory (the Makefile
+/// gets it as TARGET_DIR, so a build in another target directory neither
+/// uses nor overwrites target/). Returns <target>/<profile>/native, where
+/// the Makefile puts the programs.
+pub fn build_in_test_target(targets: &[&str]) -> PathBuf {
+    let target = test_target_dir();
+    let mut cargo = Command::new(env!("CARGO"));
+    cargo.current_dir(ROOT).args(["build", "--lib", "--quiet"]).env("CARGO_TARGET_DIR", &target);
+    if profile() == "release" {
+        cargo.arg("--release");
+    }
+    if cfg!(feature = "sundials") {
+        cargo.args(["--features", "sundials"]);
+    }
+    check(cargo.output().expect("run cargo build"), "cargo build --lib");
+    let make = Command::new("make")
+        .current_dir(ROOT)
+        .args(["--no-print-directory", "-s", &format!("PROFILE={}", profile())])
+        .arg(format!("TARGET_DIR={}", target.display()))
+        .args(targets)
+        .output()
+        .expect("run make");
+    check(make, &format!("make {}", targets.join(" ")));
+    target.join(profile()).join("native")
+}

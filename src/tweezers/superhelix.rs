@@ -145,30 +145,9 @@ impl Plectoneme {
         // is below 1e-12 of the integrals' scale.
         let period = 2.0 * PI / k;
         let reach = (28.0 / (kd * ca.max(1e-3))).max(4.0 * r) + a;
-        let mut breaks: Vec<f64> = Vec::with_capacity(64);
-        breaks.push(0.0);
-        let mut x = a.min(0.25 * r);
-        while x < 2.0 * r {
-            breaks.push(x);
-            x *= 2.0;
-        }
-        // Beyond 2R panels grow with h (the integrands flatten like 1/h) but
-        // stay below 3/κ_D (e^{−3} across a panel) and a sixth of the
-        // helical period.
-        let mut x = 2.0 * r;
-        while x < reach {
-            breaks.push(x);
-            x += (0.5 * x).min(3.0 / kd).min(period / 6.0).max(1e-3 * r);
-        }
-        breaks.push(reach);
-        if !breaks.contains(&a) {
-            breaks.push(a);
-        }
-        breaks.sort_by(|p, q| p.partial_cmp(q).unwrap());
-        breaks.dedup();
         let (mut selfpart, mut cross) = (0.0, 0.0);
-        for w in breaks.windows(2) {
-            let (h0, h1) = (w[0], w[1]);
+        // One Gauss panel [h0, h1] of both integrals (the self part from a).
+        let mut panel = |h0: f64, h1: f64| {
             let half = 0.5 * (h1 - h0);
             for (xi, wi) in gx.iter().zip(gw.iter()) {
                 let h = h0 + half * (1.0 + xi);
@@ -182,7 +161,37 @@ impl Plectoneme {
                     selfpart += wt * ((-kd * ds).exp() / ds - (-kd * h).exp() / h);
                 }
             }
+        };
+        // The panels in ascending order, made as they are integrated (no
+        // list: this runs ~2000 times a scene), split at h = a where the
+        // self part starts.
+        let mut prev = 0.0;
+        let mut close = |b: f64, panel: &mut dyn FnMut(f64, f64)| {
+            if b <= prev {
+                return;
+            }
+            if prev < a && a < b {
+                panel(prev, a);
+                panel(a, b);
+            } else {
+                panel(prev, b);
+            }
+            prev = b;
+        };
+        let mut x = a.min(0.25 * r);
+        while x < 2.0 * r {
+            close(x, &mut panel);
+            x *= 2.0;
         }
+        // Beyond 2R panels grow with h (the integrands flatten like 1/h) but
+        // stay below 3/κ_D (e^{−3} across a panel) and a sixth of the
+        // helical period.
+        let mut x = 2.0 * r;
+        while x < reach {
+            close(x, &mut panel);
+            x += (0.5 * x).min(3.0 / kd).min(period / 6.0).max(1e-3 * r);
+        }
+        close(reach, &mut panel);
         // Tails beyond `reach`: the straight reference's ∫ e^{−κh}/h is
         // subtracted exactly; the superhelix's own tail is below e^{-28} ≈ 7e-13.
         selfpart -= crate::electrostatics::special::e1(kd * reach);

@@ -38,6 +38,7 @@
 
 pub mod charge;
 pub mod cheb;
+pub mod loop_fluct;
 pub mod superhelix;
 pub mod wlc;
 
@@ -273,6 +274,13 @@ pub struct Model {
     loop_offset: f64,
     loop_offset_slope: f64,
     counting: f64,
+    /// The end loop's fluctuation factor ln g(m) (loop_fluct.rs (3)); None
+    /// at kT = 0 or with a caller's counting length (whose plain
+    /// combinatorial weights then stand alone, as in the references of (2)).
+    loop_table: Option<&'static loop_fluct::LnG>,
+    /// kT ln Φ(τ*) and kT ∂ln Φ/∂F there (pN nm, nm): the loop's thermal
+    /// correction to its free energy and deficit (zero without a table).
+    loop_shift: (f64, f64),
     /// The buckling turns, found once.
     buckling: std::sync::OnceLock<f64>,
     /// h_p, w and w' on Hermite grids for the partition sums.
@@ -420,7 +428,8 @@ impl Model {
         };
         let (loop_offset, loop_offset_slope, end_loop_used, end_loop_note) = loop_offset(s)?;
         let counting = if s.counting_length > 0.0 { s.counting_length } else { (s.bending / s.force).sqrt() };
-        Ok(Model {
+        let loop_table = if s.counting_length > 0.0 || s.kt == 0.0 { None } else { Some(loop_fluct::LnG::shipped()?) };
+        let mut model = Model {
             charge: nu,
             scene: s.clone(),
             length,
@@ -436,11 +445,23 @@ impl Model {
             loop_offset,
             loop_offset_slope,
             counting,
+            loop_table,
+            loop_shift: (0.0, 0.0),
             buckling: std::sync::OnceLock::new(),
             fast,
             end_loop_used,
             end_loop_note,
-        })
+        };
+        if let Some((ln_phi, dln_phi)) = model.loop_correction(model.coexistence.torque) {
+            model.loop_shift = (s.kt * ln_phi, s.kt * dln_phi);
+        }
+        Ok(model)
+    }
+
+    /// The end loop's thermal correction used: kT ln Φ at the coexistence
+    /// torque (pN nm; 0 at kT = 0 or with a caller's counting length).
+    pub fn end_loop_correction(&self) -> f64 {
+        self.loop_shift.0
     }
 
     /// Which end loop the model uses.
@@ -464,10 +485,49 @@ impl Model {
         (self.hp.eval(tau), self.w.eval(tau))
     }
 
-    /// E_nuc(τ), the loop's linking and its extension deficit.
+    /// E_nuc(τ), the loop's zero-temperature grand energy, its linking and
+    /// its extension deficit.
     pub fn end_loop(&self, tau: f64) -> (f64, f64, f64) {
         let (g, lk, deficit) = elastic_loop(self.scene.bending, self.scene.force, tau);
         (self.loop_offset + g, lk, deficit + self.loop_offset_slope)
+    }
+
+    /// The end loop's thermal correction at torque τ, loop_fluct.rs (3): ln Φ,
+    /// Φ = (w ξ₀)(kT/√(K_b F))^{−3/2}(2π)^{−1/2} g(m) the factor its Gaussian
+    /// fluctuations give each plectoneme (per (L_s/ξ₀)(dℓ_p/ξ₀)), and
+    /// ∂ ln Φ/∂F at fixed τ. None at kT = 0, with a caller's counting
+    /// length, or where the plectoneme's writhe per length is not positive.
+    pub fn loop_correction(&self, tau: f64) -> Option<(f64, f64)> {
+        let table = self.loop_table?;
+        let w = self.fast.w.eval(tau);
+        if !(w > 0.0) {
+            return None;
+        }
+        let (kt, f) = (self.scene.kt, self.scene.force);
+        let sk = (self.scene.bending * f).sqrt();
+        let mu = tau / (2.0 * sk);
+        let (lg, dlg) = table.eval(mu);
+        let ln_phi = lg + (w * self.counting).ln() - 1.5 * (kt / sk).ln() - 0.5 * (2.0 * PI).ln();
+        // ∂/∂F at fixed τ: ln(w ξ₀) → −1/(2F), −(3/2) ln(kT/√(K_b F)) →
+        // 3/(4F), g(m) with dm/dF = −m/(2F).
+        Some((ln_phi, (0.25 - 0.5 * mu * dlg) / f))
+    }
+
+    /// The end loop at finite temperature: its grand free energy, linking,
+    /// dLk/dτ and extension deficit. The thermal correction −kT ln Φ is
+    /// taken at the coexistence torque τ* and held constant in τ: across
+    /// the plateau and the overshoot it varies by ~0.1 kT, while its
+    /// τ-derivatives (a linking kT/2π · d ln Φ/dτ) diverge where the
+    /// harmonic loop fails — at the tabulated torque's ends, where w → 0
+    /// or the loop spreads out (m → 1). A constant keeps F(n) = −kT ln Z
+    /// exact in dF/dn = 2π⟨τ⟩.
+    fn thermal_loop(&self, tau: f64) -> (f64, f64, f64, f64) {
+        let (enuc, lk, deficit) = self.end_loop(tau);
+        let sk = (self.scene.bending * self.scene.force).sqrt();
+        let mm = tau / (2.0 * sk);
+        // dLk_loop/dτ = −(2/π)/√(1 − m²) · 1/(2√(K_b F)).
+        let dlk = if mm.abs() < 1.0 { -(2.0 / PI) / (1.0 - mm * mm).sqrt() / (2.0 * sk) } else { 0.0 };
+        (enuc - self.loop_shift.0, lk, dlk, deficit - self.loop_shift.1)
     }
 
     /// The extension per length of the extended phase at torque τ.
@@ -492,7 +552,7 @@ impl Model {
         if !(weff > 0.0) {
             return None;
         }
-        let (enuc, lk, deficit) = self.end_loop(tau);
+        let (enuc, lk, dlk, deficit) = self.thermal_loop(tau);
         let mf = m as f64;
         let num = n - l * tau / (2.0 * PI * ce) - mf * lk;
         let lp = num / weff;
@@ -511,7 +571,6 @@ impl Model {
         if mm >= 1.0 || ls < mf * 4.0 * (self.scene.bending / self.scene.force).sqrt() / (1.0 - mm * mm).sqrt() {
             return None;
         }
-        let dlk = if mm < 1.0 { -(2.0 / PI) / (1.0 - mm * mm).sqrt() / (2.0 * sk) } else { 0.0 };
         let dlp = (-l / (2.0 * PI * ce) - mf * dlk - lp * dweff) / weff;
         let hp = self.fast.hp.eval(tau);
         let free = ls * self.extended_grand(tau) + lp * hp + mf * enuc + 2.0 * PI * tau * n;
@@ -519,7 +578,15 @@ impl Model {
         let log_weight =
             mf * (ls / b).ln() - ln_factorial(m) + (mf - 1.0) * (lp / b).ln() - ln_factorial(m - 1) - b.ln()
                 + dlp.abs().max(1e-300).ln();
-        let extension = ls * self.extended_extension(tau) - mf * deficit;
+        let mut extension = ls * self.extended_extension(tau) - mf * deficit;
+        if self.loop_table.is_some() {
+            if !(w > 0.0) {
+                return None;
+            }
+            // The counting on b = ξ₀ = √(K_b/F) depends on the force: its
+            // m + (m − 1) + 1 powers of 1/ξ₀ add kT ∂ln W/∂F = kT m/F.
+            extension += self.scene.kt * mf / self.scene.force;
+        }
         // The tails must hold the loops: no state with a negative extension.
         if extension <= 0.0 {
             return None;
@@ -544,7 +611,7 @@ impl Model {
         let (lo, hi) = self.torque_range;
         let l = self.length;
         let ce = self.extended.twist;
-        let num = |t: f64| n - l * t / (2.0 * PI * ce) - m as f64 * self.end_loop(t).1;
+        let num = |t: f64| n - l * t / (2.0 * PI * ce) - m as f64 * self.thermal_loop(t).1;
         if num(lo) <= 0.0 {
             return None;
         }

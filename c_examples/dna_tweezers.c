@@ -394,8 +394,9 @@ int main(int argc, char **argv) {
                s->plateau_torque_min, s->plateau_torque_max, s->overshoot, s->coexistence_torque);
         printf("slope = %.10g\nextension_jump = %.10g\nextension_zero_turns = %.10g\n", s->slope, s->extension_jump,
                s->extension_zero_turns);
-        printf("superhelix_radius = %.10g\nsuperhelix_angle = %.10g\nend_loop_energy = %.10g\n", s->superhelix_radius,
-               s->superhelix_angle, s->end_loop_energy);
+        printf("superhelix_radius = %.10g\nsuperhelix_angle = %.10g\nend_loop_energy = %.10g\n"
+               "end_loop_correction = %.10g\n",
+               s->superhelix_radius, s->superhelix_angle, s->end_loop_energy, s->end_loop_correction);
         printf("plateau_turns_from = %.10g\nplateau_turns_to = %.10g\nplateau_points = %lld\ntable_error = %.10g\n",
                s->plateau_turns_from, s->plateau_turns_to, (long long)s->plateau_points, s->table_error);
         const RodkitTweezersPoint *last = &c.pts[c.n - 1];

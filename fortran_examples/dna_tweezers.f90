@@ -50,6 +50,7 @@ program dna_tweezers
     print '(a, es24.16)', 'superhelix_radius = ', summary%superhelix_radius
     print '(a, es24.16)', 'superhelix_angle = ', summary%superhelix_angle
     print '(a, es24.16)', 'end_loop_energy = ', summary%end_loop_energy
+    print '(a, es24.16)', 'end_loop_correction = ', summary%end_loop_correction
     print '(a, es24.16)', 'plateau_turns_from = ', summary%plateau_turns_from
     print '(a, es24.16)', 'plateau_turns_to = ', summary%plateau_turns_to
     print '(a, i0)', 'plateau_points = ', summary%plateau_points

@@ -1210,8 +1210,12 @@ module rodkit
         ! The superhelix at the plateau torque: radius (nm), angle (rad).
         real(c_double) :: superhelix_radius
         real(c_double) :: superhelix_angle
-        ! The nucleation energy of one plectoneme at the plateau torque (pN nm).
+        ! The nucleation energy of one plectoneme at the plateau torque (pN nm),
+        ! zero-temperature, and its thermal correction kT ln Φ (pN nm; 0 at
+        ! kT = 0 or with a given counting length): the loop's free energy is
+        ! end_loop_energy − end_loop_correction (doc/physics.md §3.7.3).
         real(c_double) :: end_loop_energy
+        real(c_double) :: end_loop_correction
         ! The plectonemic range: its first and last turns and its points
         ! (buckled population ≥ 0.99, extension ≥ 0.3 z(0), past buckling).
         real(c_double) :: plateau_turns_from

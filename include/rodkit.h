@@ -1331,8 +1331,12 @@ typedef struct RodkitTweezersInfo {
   // The superhelix at the plateau torque: radius (nm), angle (rad).
   double superhelix_radius;
   double superhelix_angle;
-  // The nucleation energy of one plectoneme at the plateau torque (pN nm).
+  // The nucleation energy of one plectoneme at the plateau torque (pN nm),
+  // zero-temperature, and its thermal correction kT ln Φ (pN nm; 0 at
+  // kT = 0 or with a given counting length): the loop's free energy is
+  // end_loop_energy − end_loop_correction (doc/physics.md §3.7.3).
   double end_loop_energy;
+  double end_loop_correction;
   // The plectonemic range: its first and last turns and its points
   // (buckled population ≥ 0.99, extension ≥ 0.3 z(0), past buckling).
   double plateau_turns_from;

@@ -132,6 +132,7 @@ fn handle_matches_the_rust_api() {
         (r.end_loop_energy, r.plateau_turns.0, r.plateau_turns.1)
     );
     assert_eq!(sum.plateau_points, r.plateau_points as i64);
+    assert_eq!(sum.end_loop_correction, r.end_loop_correction);
     assert!(sum.slope < 0.0 && sum.extension_jump > 0.0 && sum.superhelix_radius > 0.0);
 }
 
@@ -388,6 +389,7 @@ fn named(s: &Summary) -> Vec<(&'static str, f64)> {
         ("superhelix_radius", s.superhelix_radius),
         ("superhelix_angle", s.superhelix_angle),
         ("end_loop_energy", s.end_loop_energy),
+        ("end_loop_correction", s.end_loop_correction),
         ("plateau_turns_from", s.plateau_turns.0),
         ("plateau_turns_to", s.plateau_turns.1),
         ("plateau_points", s.plateau_points as f64),

@@ -184,8 +184,12 @@ pub struct TweezersInfo {
     /// The superhelix at the plateau torque: radius (nm), angle (rad).
     pub superhelix_radius: f64,
     pub superhelix_angle: f64,
-    /// The nucleation energy of one plectoneme at the plateau torque (pN nm).
+    /// The nucleation energy of one plectoneme at the plateau torque (pN nm),
+    /// zero-temperature, and its thermal correction kT ln Φ (pN nm; 0 at
+    /// kT = 0 or with a given counting length): the loop's free energy is
+    /// end_loop_energy − end_loop_correction (doc/physics.md §3.7.3).
     pub end_loop_energy: f64,
+    pub end_loop_correction: f64,
     /// The plectonemic range: its first and last turns and its points
     /// (buckled population ≥ 0.99, extension ≥ 0.3 z(0), past buckling).
     pub plateau_turns_from: f64,
@@ -542,6 +546,7 @@ pub unsafe extern "C" fn rodkit_tweezers_summary(
             superhelix_radius: s.superhelix_radius,
             superhelix_angle: s.superhelix_angle,
             end_loop_energy: s.end_loop_energy,
+            end_loop_correction: s.end_loop_correction,
             plateau_turns_from: s.plateau_turns.0,
             plateau_turns_to: s.plateau_turns.1,
             plateau_points: s.plateau_points as i64,
@@ -563,6 +568,7 @@ pub unsafe extern "C" fn rodkit_tweezers_summary(
                 summary.superhelix_radius,
                 summary.superhelix_angle,
                 summary.end_loop_energy,
+                summary.end_loop_correction,
                 summary.plateau_turns_from,
                 summary.plateau_turns_to,
                 summary.table_error,

@@ -1176,8 +1176,11 @@ pub struct Summary {
     /// The superhelix at the plateau torque (nm, rad).
     pub superhelix_radius: f64,
     pub superhelix_angle: f64,
-    /// E_nuc at the plateau torque (pN nm).
+    /// E_nuc at the plateau torque (pN nm), zero-temperature, and the
+    /// loop's thermal correction kT ln Φ(τ*) ([`Model::end_loop_correction`]):
+    /// its free energy is the difference.
     pub end_loop_energy: f64,
+    pub end_loop_correction: f64,
     /// The plectonemic range: turns (first, last) and its number of points.
     pub plateau_turns: (f64, f64),
     pub plateau_points: usize,
@@ -1319,6 +1322,7 @@ impl Model {
             superhelix_radius: sh.radius,
             superhelix_angle: sh.angle,
             end_loop_energy: self.end_loop(plateau).0,
+            end_loop_correction: self.loop_shift.0,
             plateau_turns: (range[0].turns, range[range.len() - 1].turns),
             plateau_points: range.len(),
         })

@@ -1194,7 +1194,9 @@ module rodkit
         real(c_double) :: buckling_turns
         real(c_double) :: buckling_torque
         ! The mean torque on the plectonemic range (pN nm), its min and max,
-        ! and buckling_torque − plateau_torque (the overshoot).
+        ! and buckling_torque − plateau_torque (the overshoot; negative for a
+        ! gradual transition through several small plectonemes, when the
+        ! loop's free energy is only a few kT: low salt, long molecules).
         real(c_double) :: plateau_torque
         real(c_double) :: plateau_torque_min
         real(c_double) :: plateau_torque_max

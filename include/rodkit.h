@@ -1315,7 +1315,9 @@ typedef struct RodkitTweezersInfo {
   double buckling_turns;
   double buckling_torque;
   // The mean torque on the plectonemic range (pN nm), its min and max,
-  // and buckling_torque − plateau_torque (the overshoot).
+  // and buckling_torque − plateau_torque (the overshoot; negative for a
+  // gradual transition through several small plectonemes, when the
+  // loop's free energy is only a few kT: low salt, long molecules).
   double plateau_torque;
   double plateau_torque_min;
   double plateau_torque_max;

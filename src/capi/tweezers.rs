@@ -168,7 +168,9 @@ pub struct TweezersInfo {
     pub buckling_turns: f64,
     pub buckling_torque: f64,
     /// The mean torque on the plectonemic range (pN nm), its min and max,
-    /// and buckling_torque − plateau_torque (the overshoot).
+    /// and buckling_torque − plateau_torque (the overshoot; negative for a
+    /// gradual transition through several small plectonemes, when the
+    /// loop's free energy is only a few kT: low salt, long molecules).
     pub plateau_torque: f64,
     pub plateau_torque_min: f64,
     pub plateau_torque_max: f64,

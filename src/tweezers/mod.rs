@@ -1163,7 +1163,12 @@ pub struct Summary {
     pub plateau_torque: f64,
     pub plateau_torque_min: f64,
     pub plateau_torque_max: f64,
-    /// buckling_torque − plateau_torque (pN nm).
+    /// buckling_torque − plateau_torque (pN nm). Negative when the buckled
+    /// population passes ½ before the torque reaches the later plateau: a
+    /// cheap nucleation (loop free energy of a few kT — low salt, long
+    /// molecules, torques near the straight chain's 2√(K_b F)) gives a
+    /// gradual transition through several small plectonemes, with no
+    /// abrupt buckling to measure an overshoot on.
     pub overshoot: f64,
     /// The infinite molecule's coexistence torque τ* (pN nm).
     pub coexistence_torque: f64,

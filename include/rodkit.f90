@@ -1117,9 +1117,13 @@ module rodkit
         real(c_double) :: confinement
         ! Hard core between the strands (pN/nm⁴, ≥ 0; 0: none).
         real(c_double) :: hard_core
-        ! Counting length b of the partition function (nm, ≥ 0); 0: √(K_b/F).
+        ! Counting length b of the partition function (nm, ≥ 0); 0: √(K_b/F)
+        ! with the end loop's computed fluctuation factor (a given b turns
+        ! the factor off).
         real(c_double) :: counting_length
-        ! The largest number of plectonemes summed (1 … 16).
+        ! The largest number of plectonemes summed (1 … 64, default 64; the
+        ! sum stops earlier by itself; points where states at the cap still
+        ! weigh > 1e-6 of the sum are flagged out of range).
         integer(c_int64_t) :: max_plectonemes
         ! A RodkitTweezersEndLoop.
         integer(c_int32_t) :: end_loop

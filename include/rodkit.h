@@ -1246,9 +1246,13 @@ typedef struct RodkitTweezersSpec {
   double confinement;
   // Hard core between the strands (pN/nm⁴, ≥ 0; 0: none).
   double hard_core;
-  // Counting length b of the partition function (nm, ≥ 0); 0: √(K_b/F).
+  // Counting length b of the partition function (nm, ≥ 0); 0: √(K_b/F)
+  // with the end loop's computed fluctuation factor (a given b turns
+  // the factor off).
   double counting_length;
-  // The largest number of plectonemes summed (1 … 16).
+  // The largest number of plectonemes summed (1 … 64, default 64; the
+  // sum stops earlier by itself; points where states at the cap still
+  // weigh > 1e-6 of the sum are flagged out of range).
   int64_t max_plectonemes;
   // A RodkitTweezersEndLoop.
   int32_t end_loop;

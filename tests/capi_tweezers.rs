@@ -209,7 +209,7 @@ fn bad_inputs_get_their_status_and_message() {
             "no plectonemes",
             Box::new(|s| s.max_plectonemes = 0),
             Status::ErrOutOfRange,
-            "argument `spec.max_plectonemes` out of range: must lie in [1, 16] (got 0)",
+            "argument `spec.max_plectonemes` out of range: must lie in [1, 64] (got 0)",
         ),
         (
             "end loop 3",
@@ -270,7 +270,7 @@ fn bad_inputs_get_their_status_and_message() {
         assert_eq!(rodkit_tweezers_curve(h, null(), 1 << 40, null_mut()), Status::ErrWorkLimit.code());
         let e = last_error();
         assert!(
-            e.contains("1099511627776 points × 4 plectoneme numbers")
+            e.contains("1099511627776 points × 64 plectoneme numbers")
                 && e.contains("state evaluations")
                 && e.contains("bound 2e8"),
             "{e}"

@@ -466,3 +466,22 @@ fn end_loop_table_inside_and_elastic_loop_outside_said_so() {
     let elastic = tweezers::elastic_loop(outside.scene.bending, 1.0, 3.0).0;
     assert!((outside.end_loop(3.0).0 - elastic).abs() < 1e-12);
 }
+
+#[test]
+fn plectoneme_number_cap_is_flagged_when_it_truncates() {
+    // A long molecule at low salt and high force, where a loop costs ~ 0 kT
+    // and tens of plectonemes form (the multiplectoneme phase): a cap of 2
+    // truncates the sum of (2), and the point says so (out of range); the
+    // default cap lets the sum stop by itself, and raising or lowering the
+    // cap beyond where it stopped changes nothing (reference: the converged
+    // sum itself, the same point with the cap at 40).
+    let scene = TweezersScene { force: 4.0, salt: 0.01, base_pairs: 10_000.0, ..Default::default() };
+    let full = Model::new(&scene).unwrap();
+    let n = 1.3 * full.buckling_turns().unwrap();
+    let p = full.point(n).unwrap();
+    assert!(p.in_range && p.plectonemes > 5.0, "⟨m⟩ {}", p.plectonemes);
+    let capped = Model::new(&TweezersScene { max_plectonemes: 2, ..scene.clone() }).unwrap();
+    assert!(!capped.point(n).unwrap().in_range);
+    let forty = Model::new(&TweezersScene { max_plectonemes: 40, ..scene.clone() }).unwrap().point(n).unwrap();
+    assert!((forty.torque - p.torque).abs() < 1e-12 * p.torque && forty.in_range, "{} vs {}", forty.torque, p.torque);
+}

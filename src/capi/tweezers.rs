@@ -95,9 +95,13 @@ pub struct TweezersSpec {
     pub confinement: f64,
     /// Hard core between the strands (pN/nm⁴, ≥ 0; 0: none).
     pub hard_core: f64,
-    /// Counting length b of the partition function (nm, ≥ 0); 0: √(K_b/F).
+    /// Counting length b of the partition function (nm, ≥ 0); 0: √(K_b/F)
+    /// with the end loop's computed fluctuation factor (a given b turns
+    /// the factor off).
     pub counting_length: f64,
-    /// The largest number of plectonemes summed (1 … 16).
+    /// The largest number of plectonemes summed (1 … 64, default 64; the
+    /// sum stops earlier by itself; points where states at the cap still
+    /// weigh > 1e-6 of the sum are flagged out of range).
     pub max_plectonemes: i64,
     /// A RodkitTweezersEndLoop.
     pub end_loop: i32,
@@ -273,7 +277,7 @@ fn scene_of(s: &TweezersSpec) -> Result<TweezersScene> {
         ("end_loop_torque", s.end_loop_torque),
         ("end_loop_energy", s.end_loop_energy),
     ])?;
-    error::count_in_range("max_plectonemes", s.max_plectonemes, 1, 16)?;
+    error::count_in_range("max_plectonemes", s.max_plectonemes, 1, crate::tweezers::MAX_PLECTONEMES as i64)?;
     let kind = enum_arg::<TweezersEndLoop>("end_loop", s.end_loop)?;
     let end_loop = match kind {
         TweezersEndLoop::BuiltinTable => EndLoopSource::Auto,

@@ -171,7 +171,10 @@ pub struct TweezersScene {
     /// Counting length b of (2) (nm); 0: √(K_b/F), the tensioned chain's
     /// correlation length, which is also the end loop's size.
     pub counting_length: f64,
-    /// The largest number of plectonemes summed in (2).
+    /// The largest number of plectonemes summed in (2) (1–64). The sum
+    /// stops earlier by itself once more plectonemes only lower it; a
+    /// point whose states at this cap still carry more than 1e-6 of the
+    /// partition function is flagged out of range (the sum is truncated).
     pub max_plectonemes: usize,
     /// 0: the superhelix of [`superhelix`]. P > 0 (nm): J. F. Marko's
     /// phenomenological plectoneme instead, free energy ½ kT P (2π l)² per
@@ -205,7 +208,7 @@ impl Default for TweezersScene {
             confinement: superhelix::CONFINEMENT,
             hard_core: crate::charged::dna::auto_hard_core(1.0, kt_room()),
             counting_length: 0.0,
-            max_plectonemes: 4,
+            max_plectonemes: MAX_PLECTONEMES,
             marko_plectoneme: 0.0,
             end_loop: EndLoopSource::Auto,
         }
@@ -298,6 +301,11 @@ struct Fast {
     w: cheb::Grid,
     dw: cheb::Grid,
 }
+
+/// The default and largest cap on the number of plectonemes: long
+/// molecules at low salt or low force, where a loop costs a few kT, form
+/// tens of them (the multiplectoneme phase); each loop needs ≥ 4ξ₀ of tail.
+pub const MAX_PLECTONEMES: usize = 64;
 
 /// Chebyshev degree of the plectoneme's tables in torque.
 const DEGREE: usize = 32;
@@ -665,6 +673,8 @@ impl Model {
         }
         let kt = self.scene.kt;
         let s0 = self.straight(n);
+        // Whether the states at the cap on m carry weight (kT > 0).
+        let mut truncated = false;
         // Collect (log-integrand, state, quadrature weight) per m.
         let mut terms: Vec<(f64, State, usize)> = Vec::new();
         let mut best_buckled: Option<(f64, State, usize)> = None;
@@ -819,6 +829,9 @@ impl Model {
                 etb += wgt * st.tau;
             }
             let pb = zb / z;
+            let cap = self.scene.max_plectonemes;
+            let at_cap: f64 = terms.iter().filter(|t| t.2 == cap).map(|t| (t.0 - top).exp()).sum();
+            truncated = at_cap > 1e-6 * z;
             Stats {
                 free: -kt * (top + z.ln()),
                 z: ez / z,
@@ -848,7 +861,7 @@ impl Model {
             free_energy: stats.free,
             in_range: true,
         };
-        let point = Point { in_range: self.in_range(&point, &s0), ..point };
+        let point = Point { in_range: !truncated && self.in_range(&point, &s0), ..point };
         for v in [point.extension, point.torque, point.writhe, point.plectoneme_length, point.buckled_probability] {
             if !v.is_finite() {
                 return Err(Error::new(
@@ -985,7 +998,7 @@ fn validate(s: &TweezersScene) -> Result<()> {
     if s.twist_stretch != 0.0 && s.stretch_modulus == 0.0 {
         return Err(Error::new(Status::ErrOutOfRange, "a twist–stretch coupling needs a stretch modulus"));
     }
-    crate::error::count_in_range("max_plectonemes", s.max_plectonemes as i64, 1, 16)?;
+    crate::error::count_in_range("max_plectonemes", s.max_plectonemes as i64, 1, MAX_PLECTONEMES as i64)?;
     crate::error::in_range("base_pairs", s.base_pairs, 50.0, 1e6)?;
     Ok(())
 }

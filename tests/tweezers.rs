@@ -204,6 +204,54 @@ fn superhelix_derivatives_are_those_of_phi() {
 }
 
 #[test]
+fn effective_charge_matches_a_fine_fixed_step_shooting() {
+    // Reference: (1) of tweezers::charge shot from a + 30/κ inward with
+    // 12000 classical RK4 steps in ln r (error ~1e-9 relative) and
+    // bisection in ln A. The model's 1500 steps leave 1e-6–4e-6 (RK4's h⁴:
+    // 8⁴ × the reference's), which the tolerance allows; the Newton
+    // iteration's own error is ~1e-13.
+    let (bare, a, lb) = (2.0 / 0.34, 1.0, 0.7135);
+    for kappa in [0.33, 1.04, 2.3] {
+        let slope = |amp: f64| -> f64 {
+            let r0 = a + 30.0 / kappa;
+            let (k0, k1) = tweezers::charge::bessel_k01(kappa * r0);
+            let (mut u, mut v) = (amp * k0, -amp * kappa * r0 * k1);
+            let (x0, x1) = (r0.ln(), f64::ln(a));
+            let steps = 12000;
+            let h = (x1 - x0) / steps as f64;
+            let f = |x: f64, u: f64, v: f64| (v, kappa * kappa * (2.0 * x).exp() * u.sinh());
+            let mut x = x0;
+            for _ in 0..steps {
+                let (a1, b1) = f(x, u, v);
+                let (a2, b2) = f(x + 0.5 * h, u + 0.5 * h * a1, v + 0.5 * h * b1);
+                let (a3, b3) = f(x + 0.5 * h, u + 0.5 * h * a2, v + 0.5 * h * b2);
+                let (a4, b4) = f(x + h, u + h * a3, v + h * b3);
+                u += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+                v += h / 6.0 * (b1 + 2.0 * b2 + 2.0 * b3 + b4);
+                x += h;
+                if !(u.abs() < 700.0) {
+                    return f64::NEG_INFINITY;
+                }
+            }
+            v / a
+        };
+        let target = -2.0 * lb * bare / a;
+        let (mut lo, mut hi) = (-5.0f64, 8.0f64);
+        for _ in 0..50 {
+            let m = 0.5 * (lo + hi);
+            if slope(m.exp()) > target {
+                lo = m;
+            } else {
+                hi = m;
+            }
+        }
+        let reference = (0.5 * (lo + hi)).exp() / (2.0 * lb);
+        let nu = tweezers::charge::effective_charge(bare, a, kappa, lb).unwrap();
+        assert!((nu / reference - 1.0).abs() < 1e-5, "κ {kappa}: {nu} vs {reference}");
+    }
+}
+
+#[test]
 fn marko_limit_gives_the_closed_forms() {
     // Marko's phenomenological plectoneme ½ kT P (2πl)² (doc/physics.md
     // §3.7.5): τ* = √(2 kT P g / (1 − kT P/C_s)) and, for a long molecule,

@@ -1031,8 +1031,10 @@ fn superhelix_tables(plectoneme: &Plectoneme, tau_cap: f64) -> Result<(f64, Vec<
     let nodes = cheb::points(DEGREE, t_lo, tau_cap);
     let mut vals = vec![[0.0; 4]; nodes.len()];
     // From the top down (nodes descend), each optimum warm-starting the
-    // next from the secant through the two before (in τ).
-    let mut prev: Vec<(f64, f64, f64)> = Vec::new();
+    // next from the secant through the two before (in τ); the top one from
+    // the optimum at τ_cap/2 (φ has one minimum at kT > 0, and at kT = 0
+    // [`Plectoneme::optimum`] still compares a warm start with its grid).
+    let mut prev: Vec<(f64, f64, f64)> = Vec::with_capacity(nodes.len());
     for (k, &t) in nodes.iter().enumerate() {
         let start = match prev.as_slice() {
             [.., (t1, r1, a1), (t2, r2, a2)] => {
@@ -1041,7 +1043,7 @@ fn superhelix_tables(plectoneme: &Plectoneme, tau_cap: f64) -> Result<(f64, Vec<
                 Some((if r > plectoneme.radius { r } else { *r2 }, a2 + x * (a2 - a1)))
             }
             [(_, r, a)] => Some((*r, *a)),
-            _ => None,
+            _ => Some((first.radius, first.angle)),
         };
         let o = plectoneme.optimum(t, start)?;
         prev.push((t, o.radius, o.angle));

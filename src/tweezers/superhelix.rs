@@ -357,7 +357,7 @@ impl Plectoneme {
     /// its gradient [∂_u, ∂_α] and Hessian [∂_uu, ∂_uα, ∂_αα], all
     /// analytic: in R the bending K_b s⁴/(2R²) and the writhe work
     /// τ sin 2α/(2R) are differentiated by hand, the electrostatics and the
-    /// hard core under their integrals ([`Plectoneme::integrals`]); the
+    /// hard core under their integrals (the panels of (1)); the
     /// confinement is C e^{−2u/3}. Then ∂_u = ρ∂_R, ∂_uu = ρ∂_R + ρ²∂_RR,
     /// ∂_uα = ρ∂_Rα with ρ = dR/du = R − a. The value is [`Plectoneme::phi`]'s.
     pub fn phi_derivatives(&self, tau: f64, u: f64, alpha: f64) -> (f64, [f64; 2], [f64; 3]) {
@@ -581,8 +581,7 @@ impl Plectoneme {
 /// The derivatives [D_R, D_α, D_RR, D_Rα, D_αα] of a squared distance
 /// D = 2R²(1 + σ cos ϑ) + h² cos²α, ϑ = h sin α/R, between the superhelix's
 /// points h apart (σ = −1: the same strand; +1: the other one), from
-/// sin α, cos α, sin ϑ, cos ϑ ([`Plectoneme::integrals`] derives them).
-#[allow(clippy::too_many_arguments)]
+/// sin α, cos α, sin ϑ, cos ϑ (`Plectoneme::integrals` derives them).
 fn distance_derivatives(sigma: f64, r: f64, h: f64, sa: f64, ca: f64, sv: f64, cv: f64) -> [f64; 5] {
     let th = h * sa / r;
     let h2 = h * h;

@@ -155,6 +155,103 @@ fn superhelix_self_term_is_the_librarys_continuum_energy_of_a_helix() {
 }
 
 #[test]
+fn superhelix_derivatives_are_those_of_phi() {
+    // The minimisation's analytic gradient and Hessian in (u = ln(R − a), α)
+    // against central differences of φ and of the gradient (step 1e-4:
+    // O(1e-8) truncation), with the electrostatics, the confinement and the
+    // writhe work, and with the hard core where it acts (R < 1.25a; there
+    // its 6-point quadrature moves with (R, α), which the analytic
+    // derivatives leave out, so the check is looser).
+    for (kappa, hard_core, tau, r, alpha, tol) in [
+        (1.04, 0.0, 10.0, 2.5, 0.6, 1e-6),
+        (0.33, 0.0, 8.0, 6.0, 0.3, 1e-6),
+        (1.04, 0.0, 14.0, 1.2, 1.2, 1e-6),
+        (3.0, 0.0, 12.0, 1.1, 0.9, 1e-6),
+        (1.04, 30.0, 12.0, 1.1, 0.9, 1e-3),
+    ] {
+        let p = Plectoneme { charge2: 2.94 * 25.0, hard_core, ..plectoneme(kappa) };
+        let u = (r - p.radius).ln();
+        let (v, g, h) = p.phi_derivatives(tau, u, alpha);
+        assert_eq!(v, p.phi(tau, p.radius + u.exp(), alpha).0);
+        let f = |u: f64, al: f64| p.phi(tau, p.radius + u.exp(), al).0;
+        let gd = |u: f64, al: f64| p.phi_derivatives(tau, u, al).1;
+        let e = 1e-4;
+        let fd_g = [(f(u + e, alpha) - f(u - e, alpha)) / (2.0 * e), (f(u, alpha + e) - f(u, alpha - e)) / (2.0 * e)];
+        let fd_h = [
+            (gd(u + e, alpha)[0] - gd(u - e, alpha)[0]) / (2.0 * e),
+            (gd(u, alpha + e)[0] - gd(u, alpha - e)[0]) / (2.0 * e),
+            (gd(u, alpha + e)[1] - gd(u, alpha - e)[1]) / (2.0 * e),
+        ];
+        let scale_g = g[0].abs().max(g[1].abs());
+        let scale_h = h[0].abs().max(h[2].abs());
+        for i in 0..2 {
+            assert!(
+                (g[i] - fd_g[i]).abs() < tol * scale_g,
+                "κ {kappa}, R {r}, α {alpha}: ∂{i} {} vs {}",
+                g[i],
+                fd_g[i]
+            );
+        }
+        for i in 0..3 {
+            assert!(
+                (h[i] - fd_h[i]).abs() < tol * scale_h,
+                "κ {kappa}, R {r}, α {alpha}: H{i} {} vs {}",
+                h[i],
+                fd_h[i]
+            );
+        }
+    }
+}
+
+#[test]
+fn effective_charge_matches_a_fine_fixed_step_shooting() {
+    // Reference: (1) of tweezers::charge shot from a + 30/κ inward with
+    // 12000 classical RK4 steps in ln r (error ~1e-9 relative) and
+    // bisection in ln A. The model's 1500 steps leave 1e-6–4e-6 (RK4's h⁴:
+    // 8⁴ × the reference's), which the tolerance allows; the Newton
+    // iteration's own error is ~1e-13.
+    let (bare, a, lb) = (2.0 / 0.34, 1.0, 0.7135);
+    for kappa in [0.33, 1.04, 2.3] {
+        let slope = |amp: f64| -> f64 {
+            let r0 = a + 30.0 / kappa;
+            let (k0, k1) = tweezers::charge::bessel_k01(kappa * r0);
+            let (mut u, mut v) = (amp * k0, -amp * kappa * r0 * k1);
+            let (x0, x1) = (r0.ln(), f64::ln(a));
+            let steps = 12000;
+            let h = (x1 - x0) / steps as f64;
+            let f = |x: f64, u: f64, v: f64| (v, kappa * kappa * (2.0 * x).exp() * u.sinh());
+            let mut x = x0;
+            for _ in 0..steps {
+                let (a1, b1) = f(x, u, v);
+                let (a2, b2) = f(x + 0.5 * h, u + 0.5 * h * a1, v + 0.5 * h * b1);
+                let (a3, b3) = f(x + 0.5 * h, u + 0.5 * h * a2, v + 0.5 * h * b2);
+                let (a4, b4) = f(x + h, u + h * a3, v + h * b3);
+                u += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+                v += h / 6.0 * (b1 + 2.0 * b2 + 2.0 * b3 + b4);
+                x += h;
+                if !(u.abs() < 700.0) {
+                    return f64::NEG_INFINITY;
+                }
+            }
+            v / a
+        };
+        let target = -2.0 * lb * bare / a;
+        let (mut lo, mut hi) = (-5.0f64, 8.0f64);
+        for _ in 0..50 {
+            let m = 0.5 * (lo + hi);
+            if slope(m.exp()) > target {
+                lo = m;
+            } else {
+                hi = m;
+            }
+        }
+        let reference = (0.5 * (lo + hi)).exp() / (2.0 * lb);
+        let nu = tweezers::charge::effective_charge(bare, a, kappa, lb).unwrap();
+        assert!((nu / reference - 1.0).abs() < 1e-5, "κ {kappa}: {nu} vs {reference}");
+    }
+}
+
+#[test]
 fn marko_limit_gives_the_closed_forms() {
     // Marko's phenomenological plectoneme ½ kT P (2πl)² (doc/physics.md
     // §3.7.5): τ* = √(2 kT P g / (1 − kT P/C_s)) and, for a long molecule,

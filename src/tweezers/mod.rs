@@ -550,13 +550,23 @@ impl Model {
     /// The state with m ≥ 1 plectonemes at torque τ, linking n: its ℓ_p
     /// from (1), free energy, log-weight of (2) per unit τ, and observables.
     fn state(&self, n: f64, m: usize, tau: f64) -> Option<State> {
+        self.state_or_validity::<true>(n, m, tau)
+    }
+
+    /// Whether the state with m plectonemes at torque τ exists (the
+    /// bisections for the ends of its τ interval need no more).
+    fn valid(&self, n: f64, m: usize, tau: f64) -> bool {
+        self.state_or_validity::<false>(n, m, tau).is_some()
+    }
+
+    /// [`Model::state`]; with `FULL` false only its validity (Some with the
+    /// free energy and weight left 0: no h_p, w' or logarithms).
+    fn state_or_validity<const FULL: bool>(&self, n: f64, m: usize, tau: f64) -> Option<State> {
         let l = self.length;
         let ce = self.extended.twist;
         let kt_mod = self.scene.twist;
         let w = self.fast.w.eval(tau);
-        let dw = self.fast.dw.eval(tau);
         let weff = w + tau / (2.0 * PI) * (1.0 / kt_mod - 1.0 / ce);
-        let dweff = dw + (1.0 / kt_mod - 1.0 / ce) / (2.0 * PI);
         if !(weff > 0.0) {
             return None;
         }
@@ -568,7 +578,6 @@ impl Model {
         if !(lp > 0.0) || ls <= 0.0 {
             return None;
         }
-        // dLk_loop/dτ = −(2/π)/√(1 − m²) · 1/(2√(K_b F)).
         let sk = (self.scene.bending * self.scene.force).sqrt();
         let mm = tau / (2.0 * sk);
         // Each loop must fit in the tails: the elastic loop decays over
@@ -579,13 +588,6 @@ impl Model {
         if mm >= 1.0 || ls < mf * 4.0 * (self.scene.bending / self.scene.force).sqrt() / (1.0 - mm * mm).sqrt() {
             return None;
         }
-        let dlp = (-l / (2.0 * PI * ce) - mf * dlk - lp * dweff) / weff;
-        let hp = self.fast.hp.eval(tau);
-        let free = ls * self.extended_grand(tau) + lp * hp + mf * enuc + 2.0 * PI * tau * n;
-        let b = self.counting;
-        let log_weight =
-            mf * (ls / b).ln() - ln_factorial(m) + (mf - 1.0) * (lp / b).ln() - ln_factorial(m - 1) - b.ln()
-                + dlp.abs().max(1e-300).ln();
         let mut extension = ls * self.extended_extension(tau) - mf * deficit;
         if self.loop_table.is_some() {
             if !(w > 0.0) {
@@ -600,6 +602,18 @@ impl Model {
             return None;
         }
         let writhe = lp * w + mf * lk;
+        if !FULL {
+            return Some(State { free: 0.0, log_weight: 0.0, tau, lp, extension, writhe });
+        }
+        let dw = self.fast.dw.eval(tau);
+        let dweff = dw + (1.0 / kt_mod - 1.0 / ce) / (2.0 * PI);
+        let dlp = (-l / (2.0 * PI * ce) - mf * dlk - lp * dweff) / weff;
+        let hp = self.fast.hp.eval(tau);
+        let free = ls * self.extended_grand(tau) + lp * hp + mf * enuc + 2.0 * PI * tau * n;
+        let b = self.counting;
+        let log_weight =
+            mf * (ls / b).ln() - ln_factorial(m) + (mf - 1.0) * (lp / b).ln() - ln_factorial(m - 1) - b.ln()
+                + dlp.abs().max(1e-300).ln();
         Some(State { free, log_weight, tau, lp, extension, writhe })
     }
 
@@ -637,7 +651,7 @@ impl Model {
             }
             a
         };
-        let valid = |t: f64| self.state(n, m, t).is_some();
+        let valid = |t: f64| self.valid(n, m, t);
         if !valid(top) {
             // Just below the top ℓ_p is tiny and the state valid unless the
             // tables' w_eff fails there: scan down for a valid τ.
@@ -721,39 +735,23 @@ impl Model {
             }
             // The integral of (2) in τ over [t0, t1]: the log-integrand is
             // unimodal (the free energy along (1) is convex); its peak by
-            // golden section, its spread from the curvature there (or the
-            // slope, at an end), then Gauss–Legendre on two panels either
-            // side of the peak out to 10 spreads (e^{-50} of the peak).
+            // Brent's search (golden section with parabolic steps: the
+            // log-integrand is smooth, nearly quadratic at its peak, so ~10
+            // evaluations place it to 1e-8 of the interval where golden
+            // section alone took 30 for 1e-6), its spread from the curvature
+            // there (or the slope, at an end), then Gauss–Legendre on two
+            // panels either side of the peak out to 10 spreads (e^{-50} of
+            // the peak).
             let li = |t: f64| self.state(n, m, t).map_or(f64::NEG_INFINITY, |st| st.log_weight - st.free / kt);
-            let g = 0.5 * (5f64.sqrt() - 1.0);
-            let (mut a, mut b) = (t0, t1);
-            let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
-            let (mut fc, mut fd) = (li(c), li(d));
-            for _ in 0..28 {
-                if fc > fd {
-                    b = d;
-                    d = c;
-                    fd = fc;
-                    c = b - g * (b - a);
-                    fc = li(c);
-                } else {
-                    a = c;
-                    c = d;
-                    fc = fd;
-                    d = a + g * (b - a);
-                    fd = li(d);
-                }
-                if b - a < 1e-9 * (t1 - t0) {
-                    break;
-                }
-            }
-            let mut peak = 0.5 * (a + b);
+            let (peak_in, li_in) = brent_max(&li, t0, t1, 1e-8 * (t1 - t0));
+            let mut peak = peak_in;
+            let mut top = li_in;
             for end in [t0, t1] {
-                if li(end) > li(peak) {
-                    peak = end;
+                let v = li(end);
+                if v > top {
+                    (peak, top) = (end, v);
                 }
             }
-            let top = li(peak);
             if top == f64::NEG_INFINITY {
                 continue;
             }
@@ -953,6 +951,81 @@ pub struct Point {
     pub in_range: bool,
 }
 
+/// The maximum of a unimodal f on [a, b] by Brent's method (R. P. Brent,
+/// Algorithms for Minimization without Derivatives (1973), ch. 5: golden
+/// section safeguarding parabolic interpolation through the three best
+/// points), to the absolute tolerance `tol` in the abscissa: (x, f(x)).
+/// Values of −∞ (no state there) are taken as the lowest and never enter a
+/// parabola.
+fn brent_max(f: &dyn Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> (f64, f64) {
+    const C: f64 = 0.381_966_011_250_105_1; // (3 − √5)/2
+    let g = |t: f64| -f(t);
+    let (mut a, mut b) = (a, b);
+    let mut x = a + C * (b - a);
+    let (mut w, mut v) = (x, x);
+    let mut fx = g(x);
+    let (mut fw, mut fv) = (fx, fx);
+    let (mut d, mut e): (f64, f64) = (0.0, 0.0);
+    for _ in 0..100 {
+        let xm = 0.5 * (a + b);
+        let tol2 = 2.0 * tol;
+        if (x - xm).abs() <= tol2 - 0.5 * (b - a) {
+            break;
+        }
+        let golden = |x: f64| if x >= xm { a - x } else { b - x };
+        let mut parabolic = false;
+        if e.abs() > tol && fx.is_finite() && fw.is_finite() && fv.is_finite() {
+            let r = (x - w) * (fx - fv);
+            let mut q = (x - v) * (fx - fw);
+            let mut p = (x - v) * q - (x - w) * r;
+            q = 2.0 * (q - r);
+            if q > 0.0 {
+                p = -p;
+            }
+            q = q.abs();
+            let e_old = e;
+            if p.abs() < (0.5 * q * e_old).abs() && p > q * (a - x) && p < q * (b - x) {
+                e = d;
+                d = p / q;
+                let u = x + d;
+                if u - a < tol2 || b - u < tol2 {
+                    d = tol.copysign(xm - x);
+                }
+                parabolic = true;
+            }
+        }
+        if !parabolic {
+            e = golden(x);
+            d = C * e;
+        }
+        let u = if d.abs() >= tol { x + d } else { x + tol.copysign(d) };
+        let fu = g(u);
+        if fu <= fx {
+            if u >= x {
+                a = x;
+            } else {
+                b = x;
+            }
+            (v, fv) = (w, fw);
+            (w, fw) = (x, fx);
+            (x, fx) = (u, fu);
+        } else {
+            if u < x {
+                a = u;
+            } else {
+                b = u;
+            }
+            if fu <= fw || w == x {
+                (v, fv) = (w, fw);
+                (w, fw) = (u, fu);
+            } else if fu <= fv || v == x || v == w {
+                (v, fv) = (u, fu);
+            }
+        }
+    }
+    (x, -fx)
+}
+
 fn ln_factorial(k: usize) -> f64 {
     (2..=k).map(|i| (i as f64).ln()).sum()
 }
@@ -1037,8 +1110,10 @@ fn superhelix_tables(plectoneme: &Plectoneme, tau_cap: f64) -> Result<(f64, Vec<
     let nodes = cheb::points(DEGREE, t_lo, tau_cap);
     let mut vals = vec![[0.0; 4]; nodes.len()];
     // From the top down (nodes descend), each optimum warm-starting the
-    // next from the secant through the two before (in τ).
-    let mut prev: Vec<(f64, f64, f64)> = Vec::new();
+    // next from the secant through the two before (in τ); the top one from
+    // the optimum at τ_cap/2 (φ has one minimum at kT > 0, and at kT = 0
+    // [`Plectoneme::optimum`] still compares a warm start with its grid).
+    let mut prev: Vec<(f64, f64, f64)> = Vec::with_capacity(nodes.len());
     for (k, &t) in nodes.iter().enumerate() {
         let start = match prev.as_slice() {
             [.., (t1, r1, a1), (t2, r2, a2)] => {
@@ -1047,7 +1122,7 @@ fn superhelix_tables(plectoneme: &Plectoneme, tau_cap: f64) -> Result<(f64, Vec<
                 Some((if r > plectoneme.radius { r } else { *r2 }, a2 + x * (a2 - a1)))
             }
             [(_, r, a)] => Some((*r, *a)),
-            _ => None,
+            _ => Some((first.radius, first.angle)),
         };
         let o = plectoneme.optimum(t, start)?;
         prev.push((t, o.radius, o.angle));

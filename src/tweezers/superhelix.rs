@@ -134,6 +134,31 @@ impl Plectoneme {
     /// The electrostatic integrals of (1) (dimensionless; Δe = charge2 × the sum):
     /// (self part, cross part).
     pub fn electrostatic_integrals(&self, r: f64, alpha: f64) -> (f64, f64) {
+        let s = self.integrals::<false>(r, alpha);
+        (s[0], s[1])
+    }
+
+    /// The integrals of (1) on Gauss panels: [self part, cross part] and,
+    /// with `DERIVS`, the derivatives of their sum in (R, α): [∂_R, ∂_α,
+    /// ∂_RR, ∂_Rα, ∂_αα] (the panels' own motion with R and α is not
+    /// differentiated: it changes the sums only at the quadrature's error).
+    ///
+    /// The derivatives: both distances are d² = D = 2R²(1 + σ cos ϑ) +
+    /// h² cos²α with ϑ = kh = h sin α/R, σ = −1 for the strand's own points
+    /// and +1 for the other strand's. With ϑ_R = −ϑ/R and R ϑ_α = h cos α,
+    ///
+    ///   D_R  = 4R(1 + σ cos ϑ) + 2σRϑ sin ϑ,
+    ///   D_α  = −2σRh cos α sin ϑ − 2h² sin α cos α,
+    ///   D_RR = 4(1 + σ cos ϑ) + 4σϑ sin ϑ − 2σϑ² cos ϑ,
+    ///   D_Rα = 2σh cos α (ϑ cos ϑ − sin ϑ),
+    ///   D_αα = 2σRh sin α sin ϑ − 2σh² cos²α cos ϑ − 2h²(cos²α − sin²α),
+    ///
+    /// and for the pair term f(d) = e^{−κ_D d}/d, with d_p = D_p/(2d) and
+    /// d_pq = (D_pq − 2 d_p d_q)/(2d): ∂_pq f = f''(d) d_p d_q + f'(d) d_pq,
+    /// f' = −e^{−κ_D d}(1 + κ_D d)/d², f'' = e^{−κ_D d}(2 + 2κ_D d + κ_D²d²)/d³.
+    /// The straight reference's part does not depend on (R, α): its
+    /// subtracted integral plus its exact tail is E₁(κ_D a) for any reach.
+    fn integrals<const DERIVS: bool>(&self, r: f64, alpha: f64) -> [f64; 7] {
         let (sa, ca) = alpha.sin_cos();
         let k = sa / r;
         let kd = self.kappa;
@@ -145,7 +170,23 @@ impl Plectoneme {
         // is below 1e-12 of the integrals' scale.
         let period = 2.0 * PI / k;
         let reach = (28.0 / (kd * ca.max(1e-3))).max(4.0 * r) + a;
-        let (mut selfpart, mut cross) = (0.0, 0.0);
+        let mut sums = [0.0; 7];
+        // The pair term's derivatives from D's: adds wt × ∂f to sums[2..].
+        let pair = |sums: &mut [f64; 7], wt: f64, d: f64, e: f64, dd: [f64; 5]| {
+            let kdd = kd * d;
+            let f1 = -e * (1.0 + kdd) / (d * d);
+            let f2 = e * (2.0 + kdd * (2.0 + kdd)) / (d * d * d);
+            let inv = 0.5 / d;
+            let (dr, da) = (dd[0] * inv, dd[1] * inv);
+            let drr = (dd[2] - 2.0 * dr * dr) * inv;
+            let dra = (dd[3] - 2.0 * dr * da) * inv;
+            let daa = (dd[4] - 2.0 * da * da) * inv;
+            sums[2] += wt * f1 * dr;
+            sums[3] += wt * f1 * da;
+            sums[4] += wt * (f2 * dr * dr + f1 * drr);
+            sums[5] += wt * (f2 * dr * da + f1 * dra);
+            sums[6] += wt * (f2 * da * da + f1 * daa);
+        };
         // One Gauss panel [h0, h1] of both integrals (the self part from a).
         let mut panel = |h0: f64, h1: f64| {
             let half = 0.5 * (h1 - h0);
@@ -155,10 +196,27 @@ impl Plectoneme {
                 let (sh, ch) = (0.5 * k * h).sin_cos();
                 let hc = h * ca;
                 let dc = (4.0 * r * r * ch * ch + hc * hc).sqrt();
-                cross += wt * (-kd * dc).exp() / dc;
-                if h0 >= a {
-                    let ds = (4.0 * r * r * sh * sh + hc * hc).sqrt();
-                    selfpart += wt * ((-kd * ds).exp() / ds - (-kd * h).exp() / h);
+                let ec = (-kd * dc).exp();
+                sums[1] += wt * ec / dc;
+                let self_part = h0 >= a;
+                let mut ds = 0.0;
+                let mut es = 0.0;
+                if self_part {
+                    ds = (4.0 * r * r * sh * sh + hc * hc).sqrt();
+                    es = (-kd * ds).exp();
+                    sums[0] += wt * (es / ds - (-kd * h).exp() / h);
+                }
+                if DERIVS {
+                    // sin ϑ, cos ϑ of ϑ = kh from the half angle's.
+                    let (sv, cv) = (2.0 * sh * ch, ch * ch - sh * sh);
+                    for sigma in [1.0, -1.0] {
+                        if sigma < 0.0 && !self_part {
+                            continue;
+                        }
+                        let dd = distance_derivatives(sigma, r, h, sa, ca, sv, cv);
+                        let (d, e) = if sigma > 0.0 { (dc, ec) } else { (ds, es) };
+                        pair(&mut sums, wt, d, e, dd);
+                    }
                 }
             }
         };
@@ -194,8 +252,8 @@ impl Plectoneme {
         close(reach, &mut panel);
         // Tails beyond `reach`: the straight reference's ∫ e^{−κh}/h is
         // subtracted exactly; the superhelix's own tail is below e^{-28} ≈ 7e-13.
-        selfpart -= crate::electrostatics::special::e1(kd * reach);
-        (selfpart, cross)
+        sums[0] -= crate::electrostatics::special::e1(kd * reach);
+        sums
     }
 
     /// The hard core's energy per length (pN): ∫₀^∞ k_hc (2.5a − d_c)³₊ dh
@@ -203,9 +261,19 @@ impl Plectoneme {
     /// 2.5a beyond the rod's 1.25πa exclusion for every superhelix with
     /// R ≥ a).
     pub fn hard_core_energy(&self, r: f64, alpha: f64) -> f64 {
+        self.hard_core_terms::<false>(r, alpha)[0]
+    }
+
+    /// The hard core's energy and, with `DERIVS`, its derivatives in
+    /// (R, α) [∂_R, ∂_α, ∂_RR, ∂_Rα, ∂_αα]: those of (2.5a − d_c)³ under
+    /// the integral (the moving end of the support adds nothing: the
+    /// integrand vanishes there to third order), with d_c's from
+    /// [`distance_derivatives`].
+    fn hard_core_terms<const DERIVS: bool>(&self, r: f64, alpha: f64) -> [f64; 6] {
+        let mut out = [0.0; 6];
         let range = crate::charged::rod::HARD_CORE_RANGE * self.radius;
         if self.hard_core == 0.0 || 2.0 * r >= range {
-            return 0.0;
+            return out;
         }
         let (sa, ca) = alpha.sin_cos();
         let k = sa / r;
@@ -229,13 +297,29 @@ impl Plectoneme {
         }
         let (gx, gw) = gauss_rule();
         let half = 0.5 * lo;
-        let mut sum = 0.0;
         for (xi, wi) in gx.iter().zip(gw.iter()) {
             let h = half * (1.0 + xi);
-            let g = (range - dc(h)).max(0.0);
-            sum += half * wi * g * g * g;
+            let d = dc(h);
+            let g = (range - d).max(0.0);
+            let wt = half * wi;
+            out[0] += wt * g * g * g;
+            if DERIVS && g > 0.0 {
+                let (sh, ch) = (0.5 * k * h).sin_cos();
+                let dd = distance_derivatives(1.0, r, h, sa, ca, 2.0 * sh * ch, ch * ch - sh * sh);
+                let inv = 0.5 / d;
+                let (dr, da) = (dd[0] * inv, dd[1] * inv);
+                let drr = (dd[2] - 2.0 * dr * dr) * inv;
+                let dra = (dd[3] - 2.0 * dr * da) * inv;
+                let daa = (dd[4] - 2.0 * da * da) * inv;
+                let (f1, f2) = (-3.0 * g * g, 6.0 * g);
+                out[1] += wt * f1 * dr;
+                out[2] += wt * f1 * da;
+                out[3] += wt * (f2 * dr * dr + f1 * drr);
+                out[4] += wt * (f2 * dr * da + f1 * dra);
+                out[5] += wt * (f2 * da * da + f1 * daa);
+            }
         }
-        self.hard_core * sum
+        out.map(|v| self.hard_core * v)
     }
 
     /// Δe of (1) (pN).
@@ -267,6 +351,53 @@ impl Plectoneme {
         let conf = self.confinement_energy(r) + self.hard_core_energy(r, alpha);
         let writhe_work = tau * (2.0 * alpha).sin() / (2.0 * r);
         (bend + el + conf - writhe_work, [bend, el, conf])
+    }
+
+    /// φ of (2) in the minimisation's unknowns u = ln(R − a) and α, with
+    /// its gradient [∂_u, ∂_α] and Hessian [∂_uu, ∂_uα, ∂_αα], all
+    /// analytic: in R the bending K_b s⁴/(2R²) and the writhe work
+    /// τ sin 2α/(2R) are differentiated by hand, the electrostatics and the
+    /// hard core under their integrals (the panels of (1)); the
+    /// confinement is C e^{−2u/3}. Then ∂_u = ρ∂_R, ∂_uu = ρ∂_R + ρ²∂_RR,
+    /// ∂_uα = ρ∂_Rα with ρ = dR/du = R − a. The value is [`Plectoneme::phi`]'s.
+    pub fn phi_derivatives(&self, tau: f64, u: f64, alpha: f64) -> (f64, [f64; 2], [f64; 3]) {
+        let rho = u.exp();
+        let r = self.radius + rho;
+        let (sa, ca) = alpha.sin_cos();
+        let (s2, c2) = (2.0 * sa * ca, ca * ca - sa * sa);
+        let (r2, r3) = (r * r, r * r * r);
+        let s3 = sa * sa * sa;
+        let kb = self.bending;
+        // [∂_R, ∂_α, ∂_RR, ∂_Rα, ∂_αα] in (R, α): bending and writhe work,
+        // then the electrostatics and the hard core.
+        let mut t = [
+            -kb * s3 * sa / r3 + tau * s2 / (2.0 * r2),
+            2.0 * kb * s3 * ca / r2 - tau * c2 / r,
+            3.0 * kb * s3 * sa / (r3 * r) - tau * s2 / r3,
+            -4.0 * kb * s3 * ca / r3 + tau * c2 / r2,
+            2.0 * kb * sa * sa * (3.0 * ca * ca - sa * sa) / r2 + 2.0 * tau * s2 / r,
+        ];
+        let mut el = 0.0;
+        if self.charge2 != 0.0 {
+            let e = self.integrals::<true>(r, alpha);
+            el = self.charge2 * (e[0] + e[1]);
+            for i in 0..5 {
+                t[i] += self.charge2 * e[i + 2];
+            }
+        }
+        let hc = self.hard_core_terms::<true>(r, alpha);
+        for i in 0..5 {
+            t[i] += hc[i + 1];
+        }
+        let conf = self.confinement_energy(r);
+        // The value summed as [`Plectoneme::phi`] sums it, to the bit (the
+        // minimisation compares the two).
+        let bend = kb * sa.powi(4) / (2.0 * r * r);
+        let writhe_work = tau * (2.0 * alpha).sin() / (2.0 * r);
+        let value = bend + el + (conf + hc[0]) - writhe_work;
+        let grad = [rho * t[0] - 2.0 / 3.0 * conf, t[1]];
+        let hess = [rho * t[0] + rho * rho * t[2] + 4.0 / 9.0 * conf, rho * t[3], t[4]];
+        (value, grad, hess)
     }
 
     /// The optimum of (2) at torque `tau`, from the start (R, α) if given,
@@ -325,8 +456,9 @@ impl Plectoneme {
         // strands no longer interact and a minimum there means no
         // plectoneme at this torque ([`Optimum::radius`] at the bound).
         let u_max = (self.max_radius() - a).ln();
+        let inside = |u: f64, al: f64| al > 1e-4 && al < 0.5 * PI - 1e-4 && u <= u_max && u >= -30.0;
         let f = |u: f64, al: f64| -> f64 {
-            if !(al > 1e-4 && al < 0.5 * PI - 1e-4) || u > u_max || u < -30.0 {
+            if !inside(u, al) {
                 return f64::INFINITY;
             }
             self.phi(tau, a + u.exp(), al).0
@@ -340,60 +472,76 @@ impl Plectoneme {
                 ((r - a).ln(), al)
             }
         };
-        // Damped Newton with central differences (gradient and Hessian),
-        // backtracking on φ; gradient steps where the Hessian is not positive.
-        let mut fc = f(u, al);
+        // Damped Newton on the analytic gradient and Hessian
+        // ([`Plectoneme::phi_derivatives`]), backtracking on φ; gradient
+        // steps where the Hessian is not positive. A full step is tried with
+        // the derivatives (it is the next iterate), a shortened one with φ
+        // alone.
+        let (mut fc, mut grad, mut hess) =
+            if inside(u, al) { self.phi_derivatives(tau, u, al) } else { (f64::INFINITY, [0.0; 2], [0.0; 3]) };
         if !fc.is_finite() {
             return Err(Error::new(
                 Status::ErrNotConverged,
                 format!("superhelix at torque {tau:.4} pN nm: no finite start"),
             ));
         }
-        let (hu, ha) = (1e-4, 1e-4);
         let mut converged = false;
         for _ in 0..80 {
-            let (fup, fum) = (f(u + hu, al), f(u - hu, al));
-            let (fap, fam) = (f(u, al + ha), f(u, al - ha));
-            let fpp = f(u + hu, al + ha);
-            let fpm = f(u + hu, al - ha);
-            let fmp = f(u - hu, al + ha);
-            let fmm = f(u - hu, al - ha);
-            let gu = (fup - fum) / (2.0 * hu);
-            let ga = (fap - fam) / (2.0 * ha);
-            let huu = (fup - 2.0 * fc + fum) / (hu * hu);
-            let haa = (fap - 2.0 * fc + fam) / (ha * ha);
-            let hua = (fpp - fpm - fmp + fmm) / (4.0 * hu * ha);
+            let [gu, ga] = grad;
+            let [huu, hua, haa] = hess;
             let det = huu * haa - hua * hua;
-            let (mut du, mut da) = if huu > 0.0 && det > 0.0 {
+            let newton = huu > 0.0 && det > 0.0;
+            let (mut du, mut da) = if newton {
                 (-(haa * gu - hua * ga) / det, -(huu * ga - hua * gu) / det)
             } else {
                 let g2 = (gu * gu + ga * ga).sqrt().max(1e-300);
                 (-0.1 * gu / g2, -0.1 * ga / g2)
             };
+            // A full Newton step below 1e-6 leaves an error ~1e-12 (quadratic
+            // convergence): it is taken as it is, the last one. (The
+            // decrease of φ it brings, ~1e-12 × φ'', is below φ's rounding:
+            // testing it only rejected good steps.)
+            if newton && du.abs() < 1e-6 && da.abs() < 1e-6 {
+                if inside(u + du, al + da) {
+                    u += du;
+                    al += da;
+                }
+                converged = true;
+                break;
+            }
             // Bound the step (a trust region of 1 in ln(R − a), 0.2 rad).
             let scale = (du.abs() / 1.0).max(da.abs() / 0.2).max(1.0);
             du /= scale;
             da /= scale;
             let mut t = 1.0;
             let mut moved = false;
+            let mut stale = false;
             for _ in 0..30 {
-                let fnew = f(u + t * du, al + t * da);
-                if fnew.is_finite() && fnew <= fc {
-                    u += t * du;
-                    al += t * da;
-                    fc = fnew;
-                    moved = true;
-                    break;
+                let (un, an) = (u + t * du, al + t * da);
+                if t == 1.0 && inside(un, an) {
+                    let (fnew, gn, hn) = self.phi_derivatives(tau, un, an);
+                    if fnew.is_finite() && fnew <= fc {
+                        (u, al, fc, grad, hess) = (un, an, fnew, gn, hn);
+                        moved = true;
+                        break;
+                    }
+                } else {
+                    let fnew = f(un, an);
+                    if fnew.is_finite() && fnew <= fc {
+                        (u, al, fc) = (un, an, fnew);
+                        moved = true;
+                        stale = true;
+                        break;
+                    }
                 }
                 t *= 0.5;
             }
-            // A full Newton step below 1e-6 leaves an error ~1e-12 (quadratic
-            // convergence): done without another Hessian.
-            let small =
-                (t == 1.0 && du.abs() < 1e-6 && da.abs() < 1e-6) || ((t * du).abs() < 1e-9 && (t * da).abs() < 1e-9);
-            if !moved || small {
-                converged = !moved || small;
+            if !moved || ((t * du).abs() < 1e-9 && (t * da).abs() < 1e-9) {
+                converged = true;
                 break;
+            }
+            if stale {
+                (_, grad, hess) = self.phi_derivatives(tau, u, al);
             }
         }
         if !converged {
@@ -428,6 +576,22 @@ impl Plectoneme {
     pub fn grand(&self, o: &Optimum) -> f64 {
         o.phi - o.torque * o.torque / (2.0 * self.twist)
     }
+}
+
+/// The derivatives [D_R, D_α, D_RR, D_Rα, D_αα] of a squared distance
+/// D = 2R²(1 + σ cos ϑ) + h² cos²α, ϑ = h sin α/R, between the superhelix's
+/// points h apart (σ = −1: the same strand; +1: the other one), from
+/// sin α, cos α, sin ϑ, cos ϑ (`Plectoneme::integrals` derives them).
+fn distance_derivatives(sigma: f64, r: f64, h: f64, sa: f64, ca: f64, sv: f64, cv: f64) -> [f64; 5] {
+    let th = h * sa / r;
+    let h2 = h * h;
+    [
+        4.0 * r * (1.0 + sigma * cv) + 2.0 * sigma * r * th * sv,
+        -2.0 * sigma * r * h * ca * sv - 2.0 * h2 * sa * ca,
+        4.0 * (1.0 + sigma * cv) + 4.0 * sigma * th * sv - 2.0 * sigma * th * th * cv,
+        2.0 * sigma * h * ca * (th * cv - sv),
+        2.0 * sigma * r * h * sa * sv - 2.0 * sigma * h2 * ca * ca * cv - 2.0 * h2 * (ca * ca - sa * sa),
+    ]
 }
 
 /// The Gauss rule of (1)'s panels (computed once per thread).

@@ -39,8 +39,18 @@ pub fn check(out: Output, what: &str) -> String {
 /// `cargo test` builds only the rlib: build the library with the same
 /// profile and features (a no-op when current), then `make <targets>`.
 pub fn build_lib_and_make(targets: &[&str]) {
+    cargo_then_make(targets, None);
+}
+
+/// `cargo build --lib` with this build's profile and features, then `make
+/// <targets>`; with `target`, both in that target directory (the Makefile
+/// gets it as TARGET_DIR).
+fn cargo_then_make(targets: &[&str], target: Option<&Path>) {
     let mut cargo = Command::new(env!("CARGO"));
     cargo.current_dir(ROOT).args(["build", "--lib", "--quiet"]);
+    if let Some(t) = target {
+        cargo.env("CARGO_TARGET_DIR", t);
+    }
     if profile() == "release" {
         cargo.arg("--release");
     }
@@ -48,13 +58,12 @@ pub fn build_lib_and_make(targets: &[&str]) {
         cargo.args(["--features", "sundials"]);
     }
     check(cargo.output().expect("run cargo build"), "cargo build --lib");
-    let make = Command::new("make")
-        .current_dir(ROOT)
-        .args(["--no-print-directory", "-s", &format!("PROFILE={}", profile())])
-        .args(targets)
-        .output()
-        .expect("run make");
-    check(make, &format!("make {}", targets.join(" ")));
+    let mut make = Command::new("make");
+    make.current_dir(ROOT).args(["--no-print-directory", "-s", &format!("PROFILE={}", profile())]);
+    if let Some(t) = target {
+        make.arg(format!("TARGET_DIR={}", t.display()));
+    }
+    check(make.args(targets).output().expect("run make"), &format!("make {}", targets.join(" ")));
 }
 
 /// The target directory of this test build (CARGO_TARGET_DIR when set,
@@ -72,22 +81,6 @@ pub fn test_target_dir() -> PathBuf {
 /// the Makefile puts the programs.
 pub fn build_in_test_target(targets: &[&str]) -> PathBuf {
     let target = test_target_dir();
-    let mut cargo = Command::new(env!("CARGO"));
-    cargo.current_dir(ROOT).args(["build", "--lib", "--quiet"]).env("CARGO_TARGET_DIR", &target);
-    if profile() == "release" {
-        cargo.arg("--release");
-    }
-    if cfg!(feature = "sundials") {
-        cargo.args(["--features", "sundials"]);
-    }
-    check(cargo.output().expect("run cargo build"), "cargo build --lib");
-    let make = Command::new("make")
-        .current_dir(ROOT)
-        .args(["--no-print-directory", "-s", &format!("PROFILE={}", profile())])
-        .arg(format!("TARGET_DIR={}", target.display()))
-        .args(targets)
-        .output()
-        .expect("run make");
-    check(make, &format!("make {}", targets.join(" ")));
+    cargo_then_make(targets, Some(&target));
     target.join(profile()).join("native")
 }

@@ -327,20 +327,23 @@ fn tr2(a: &[[f64; 2]; 2]) -> [[f64; 2]; 2] {
 /// D_{i−1}⁻¹ B_{i−1}. Sylvester's law: H − σI has as many negative
 /// eigenvalues as the pivots.
 struct BlockLdl {
-    piv: Vec<[[f64; 2]; 2]>,
-    off: Vec<[[f64; 2]; 2]>,
+    piv: Vec<Block>,
+    /// D_i⁻¹, formed once here for the eliminations and every solve.
+    inv: Vec<Block>,
+    off: Vec<Block>,
 }
 
 impl BlockLdl {
-    fn new(d: &[[[f64; 2]; 2]], off: &[[[f64; 2]; 2]], sigma: f64) -> Result<Self> {
+    fn new(d: &[Block], off: &[Block], sigma: f64) -> Result<Self> {
         let mut piv = Vec::with_capacity(d.len());
+        let mut inv: Vec<Block> = Vec::with_capacity(d.len());
         for i in 0..d.len() {
             let mut a = d[i];
             a[0][0] -= sigma;
             a[1][1] -= sigma;
             if i > 0 {
                 let b = off[i - 1];
-                let s = mul2(&tr2(&b), &mul2(&inv2(&piv[i - 1]), &b));
+                let s = mul2(&tr2(&b), &mul2(&inv[i - 1], &b));
                 for p in 0..2 {
                     for q in 0..2 {
                         a[p][q] -= s[p][q];
@@ -350,9 +353,10 @@ impl BlockLdl {
             if !(det2(&a).abs() > 0.0) || !det2(&a).is_finite() {
                 return Err(Error::new(Status::ErrNotConverged, "loop Hessian: a singular pivot block"));
             }
+            inv.push(inv2(&a));
             piv.push(a);
         }
-        Ok(BlockLdl { piv, off: off.to_vec() })
+        Ok(BlockLdl { piv, inv, off: off.to_vec() })
     }
 
     /// ln |det| and the number of negative eigenvalues.
@@ -379,7 +383,7 @@ impl BlockLdl {
         let n = self.piv.len();
         // Forward: y_i = b_i − B_{i−1}ᵀ D_{i−1}⁻¹ y_{i−1}.
         for i in 1..n {
-            let w = mv2(&inv2(&self.piv[i - 1]), [b[2 * i - 2], b[2 * i - 1]]);
+            let w = mv2(&self.inv[i - 1], [b[2 * i - 2], b[2 * i - 1]]);
             let c = mv2(&tr2(&self.off[i - 1]), w);
             b[2 * i] -= c[0];
             b[2 * i + 1] -= c[1];
@@ -392,7 +396,7 @@ impl BlockLdl {
                 r[0] -= c[0];
                 r[1] -= c[1];
             }
-            let x = mv2(&inv2(&self.piv[i]), r);
+            let x = mv2(&self.inv[i], r);
             b[2 * i] = x[0];
             b[2 * i + 1] = x[1];
         }
@@ -629,9 +633,14 @@ pub const M_MAX: f64 = 0.99;
 /// Chebyshev degree of the table.
 pub const TABLE_DEGREE: usize = 20;
 
+/// The table's variable x = ln √(1 − m²).
+fn table_variable(m: f64) -> f64 {
+    (1.0 - m * m).sqrt().ln()
+}
+
 /// The table's nodes m_j (descending in x = ln √(1 − m²), i.e. ascending in m).
 pub fn table_nodes() -> Vec<f64> {
-    let x = |m: f64| (1.0 - m * m).sqrt().ln();
+    let x = table_variable;
     super::cheb::points(TABLE_DEGREE, x(M_MAX), x(M_MIN)).into_iter().map(|x| (1.0 - (2.0 * x).exp()).sqrt()).collect()
 }
 
@@ -698,7 +707,7 @@ impl LnG {
         if vals.len() != nodes.len() || vals.iter().zip(&nodes).any(|(v, m)| (v.0 - m).abs() > 1e-12) {
             return Err(bad("the rows are not the table's nodes"));
         }
-        let x = |m: f64| (1.0 - m * m).sqrt().ln();
+        let x = table_variable;
         let values: Vec<f64> = vals.iter().map(|v| v.1).collect();
         let series = super::cheb::Series::interpolate(x(M_MAX), x(M_MIN), &values);
         Ok(LnG { slope: series.derivative(), series, error })
@@ -711,7 +720,7 @@ impl LnG {
     /// out and vanishes at m = 1).
     pub fn eval(&self, m: f64) -> (f64, f64) {
         let m = m.max(M_MIN);
-        let x = |m: f64| (1.0 - m * m).sqrt().ln();
+        let x = table_variable;
         // dx/dm = −m/(1 − m²).
         if m >= M_MAX {
             let (x0, s) = (x(M_MAX), self.slope.eval(x(M_MAX)));

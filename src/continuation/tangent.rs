@@ -241,6 +241,18 @@ impl Bordered {
 
     /// Negative pivots of the factorised bordered tangent (see
     /// [`crate::linalg::SparseLu::negative_pivots`]).
+    /// Solve R_x Z = F in place for the k columns of `rhs` (column-major,
+    /// n×k) with the current factorisation, unrefined
+    /// ([`BorderedLu::solve_inner_many`]): false when R_x is singular to
+    /// working precision or nothing is factorised.
+    pub fn solve_inner_many(&mut self, rhs: &mut [f64], k: usize, counts: &mut Counts) -> bool {
+        let t = Instant::now();
+        let solved = self.lu.solve_inner_many(rhs, k);
+        counts.times.solves += t.elapsed();
+        counts.solves += k;
+        solved
+    }
+
     pub fn negative_pivots(&mut self) -> usize {
         self.lu.negative_pivots()
     }

@@ -91,6 +91,9 @@ struct Factors<I: faer::Index> {
     row_perm_inv: Vec<I>,
     lu: SimplicialLu<I, f64>,
     buffer: MemBuffer,
+    /// Scratch of multi-column solves and the column count it is sized
+    /// for (grown on demand, kept: `buffer` is sized for one column).
+    many: (usize, MemBuffer),
 }
 
 impl<I: faer::Index> Factors<I> {
@@ -109,6 +112,7 @@ impl<I: faer::Index> Factors<I> {
             row_perm_inv: vec![I::truncate(0); n],
             lu: SimplicialLu::new(),
             buffer: MemBuffer::new(req),
+            many: (0, MemBuffer::new(StackReq::EMPTY)),
         }
     }
 
@@ -180,6 +184,20 @@ impl<I: faer::Index> Factors<I> {
         } else {
             self.lu.solve_in_place_with_conj(row_perm, col_perm, Conj::No, rhs, Par::Seq, stack);
         }
+    }
+
+    /// Solve A X = B in place for the k columns of `b` (column-major, n×k).
+    fn solve_many(&mut self, b: &mut [f64], k: usize) {
+        let n = self.n();
+        if self.many.0 < k {
+            let req = lu::simplicial::solve_in_place_scratch::<I, f64>(n, k, Par::Seq);
+            self.many = (k, MemBuffer::new(req));
+        }
+        let rhs = MatMut::from_column_major_slice_mut(b, n, k);
+        let row_perm = PermRef::new_checked(&self.row_perm_fwd, &self.row_perm_inv, n);
+        let col_perm = PermRef::new_checked(&self.col_perm_fwd, &self.col_perm_inv, n);
+        let stack = MemStack::new(&mut self.many.1);
+        self.lu.solve_in_place_with_conj(row_perm, col_perm, Conj::No, rhs, Par::Seq, stack);
     }
 
     /// Parity of the row and column permutations together.
@@ -631,6 +649,25 @@ impl SparseLu {
             with_factors!(&mut self.factors, f => f.solve_with(b, transpose));
         }
         self.solves += 1;
+    }
+
+    /// Solve A X = B in place for the k columns of `b` (column-major, n×k)
+    /// with the factors of the last matrix, whichever kind, in one pass
+    /// through them (the factors stream from memory once for all k) and
+    /// without refinement: for uses that need a backward-stable solve, not
+    /// a residual at rounding level (a subspace iteration, whose Ritz
+    /// values and residuals are measured afterwards).
+    pub fn solve_many_unrefined(&mut self, b: &mut [f64], k: usize) {
+        assert!(self.factorised, "solve before a successful factorisation");
+        assert_eq!(b.len(), self.pattern.n * k, "right-hand sides do not match the matrix");
+        if k == 0 {
+            return;
+        }
+        match self.supernodal.as_mut().filter(|_| self.fast) {
+            Some(sn) => sn.solve_many(b, k),
+            None => with_factors!(&mut self.factors, f => f.solve_many(b, k)),
+        }
+        self.solves += k;
     }
 
     /// A solve on the supernodal factors, refined against A until the

@@ -48,6 +48,9 @@ pub(super) struct Supernodal<I: faer::Index> {
     symbolic: SymbolicSupernodalLu<I>,
     lu: SupernodalLu<I, f64>,
     buffer: MemBuffer,
+    /// Scratch of multi-column solves and the column count it is sized
+    /// for (grown on demand, kept: `buffer` is sized for one column).
+    many: (usize, MemBuffer),
 }
 
 impl<I: faer::Index> Supernodal<I> {
@@ -111,6 +114,7 @@ impl<I: faer::Index> Supernodal<I> {
             symbolic,
             lu: SupernodalLu::new(),
             buffer: MemBuffer::try_new(req).ok()?,
+            many: (0, MemBuffer::new(StackReq::EMPTY)),
         })
     }
 
@@ -171,6 +175,23 @@ impl<I: faer::Index> Supernodal<I> {
         } else {
             self.lu.solve_in_place_with_conj(row_perm, col_perm, Conj::No, rhs, Par::Seq, stack);
         }
+    }
+}
+
+impl<I: faer::Index> Supernodal<I> {
+    /// Solve A X = B in place for the k columns of `b` (column-major, n×k),
+    /// unrefined.
+    pub(super) fn solve_many(&mut self, b: &mut [f64], k: usize) {
+        let n = self.dim();
+        if self.many.0 < k {
+            let req = supernodal::solve_in_place_scratch::<I, f64>(n, k, Par::Seq);
+            self.many = (k, MemBuffer::new(req));
+        }
+        let rhs = MatMut::from_column_major_slice_mut(b, n, k);
+        let row_perm = PermRef::new_checked(&self.row_perm_fwd, &self.row_perm_inv, n);
+        let col_perm = PermRef::new_checked(&self.col_perm_fwd, &self.col_perm_inv, n);
+        let stack = MemStack::new(&mut self.many.1);
+        self.lu.solve_in_place_with_conj(row_perm, col_perm, Conj::No, rhs, Par::Seq, stack);
     }
 }
 

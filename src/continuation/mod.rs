@@ -29,6 +29,7 @@ pub mod newton;
 mod overlap;
 mod pade;
 pub(crate) mod run;
+pub mod stability;
 pub mod system;
 pub mod tangent;
 
@@ -67,6 +68,13 @@ pub trait Problem {
     /// factorises only the kept system. Default none.
     fn private_blocks(&self) -> Vec<Vec<usize>> {
         Vec::new()
+    }
+    /// The metric of the stability count at state x
+    /// ([`stability::Metric`]): the stage positions, their weights and how
+    /// a dead force density enters the rows. None (the default): the
+    /// problem's stability is not counted.
+    fn stability_metric(&self, _x: &[f64]) -> Option<stability::Metric> {
+        None
     }
 }
 

@@ -3,6 +3,8 @@
 
 use super::kinematics::{mat_vec, rotation};
 use super::model::Rod;
+use super::scheme::Scheme;
+use crate::continuation::stability::Metric;
 
 impl Rod {
     /// The angle between the tip tangent d3(L) and e3 (radians, 0…π), as
@@ -85,6 +87,53 @@ impl Rod {
     }
 }
 
+impl Rod {
+    /// The stability metric of state x ([`Metric`]): the stage positions,
+    /// their weights h_e b_j (the stage quadrature of ∫|δr|² ds), and the
+    /// rows a dead force density p_j at stage j enters — its element's n
+    /// rows, h_e a_ij R(q_j)ᵀ p_j in stage row i and h_e b_j R(q_j)ᵀ p_j in
+    /// the update, as the right-hand side n_b' = … − R(q)ᵀp does through
+    /// the residual Y_i − y_0 − h Σ_j a_ij f(Y_j). With `phase` (the
+    /// system with a phase condition and its unfolding μ, one more
+    /// unknown), the rotation about e3 is the zero mode. None for the
+    /// midpoint scheme (no stage unknowns).
+    pub fn stage_metric(&self, x: &[f64], phase: bool) -> Option<Metric> {
+        let Scheme::Gauss(s) = self.scheme else { return None };
+        let tab = self.tableau();
+        let points = self.elements * s;
+        let mut metric = Metric {
+            dim: self.unknowns() + phase as usize,
+            coords: Vec::with_capacity(points),
+            weights: Vec::with_capacity(points),
+            rows_per_point: s + 1,
+            rows: Vec::with_capacity(points * (s + 1)),
+            coefs: Vec::with_capacity(points * (s + 1)),
+            rotations: Vec::with_capacity(points),
+            zero_modes: Vec::new(),
+        };
+        for e in 0..self.elements {
+            let h = self.element_h(e);
+            for j in 0..s {
+                let o = self.stage_offset(e, j);
+                metric.coords.push(o);
+                metric.weights.push(h * tab.b[j]);
+                for (i, a) in tab.a.iter().enumerate() {
+                    metric.rows.push(self.stage_offset(e, i) + 7);
+                    metric.coefs.push(h * a[j]);
+                }
+                metric.rows.push(self.node(e + 1) + 7);
+                metric.coefs.push(h * tab.b[j]);
+                metric.rotations.push(rotation(&[x[o + 3], x[o + 4], x[o + 5], x[o + 6]]));
+            }
+        }
+        if phase {
+            let r: Vec<[f64; 3]> = metric.coords.iter().map(|&o| [x[o], x[o + 1], x[o + 2]]).collect();
+            metric.zero_modes.extend(metric.axial_rotation_mode(&r, self.length));
+        }
+        Some(metric)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use crate::rod::model::{Rod, Supports};
@@ -107,5 +156,53 @@ mod tests {
             let got = rod.tip_rotation(&x);
             assert!((got - eps).abs() <= 1e-15 * eps, "ε {eps}: {got}");
         }
+    }
+
+    /// The metric's injection M′ is the rows' own derivative with respect
+    /// to a dead distributed force: a rod loaded by Λ·w (w dead, spatial)
+    /// has ∂R/∂Λ = M′(w, w, …, w) exactly, whatever the state (a
+    /// cantilever: no Λ in its boundary rows). Reference:
+    /// the assembled system's Jacobian column (its tapes differentiate the
+    /// kinematics' −R(q)ᵀΛw independently of the metric's bookkeeping), at
+    /// a perturbed state whose stage quaternions are not unit, on a graded
+    /// mesh (h per element), Gauss(3): to 1e-15 of the column's size.
+    /// With a phase condition the zero mode is e3 × r_j, W-normalised.
+    #[test]
+    fn metric_injects_as_a_dead_distributed_force() {
+        use crate::continuation::Problem;
+        use crate::rod::Load;
+        let law = RodLaw::kirchhoff(1.0, 1.0, 1.3).unwrap();
+        let w = [0.3, -0.7, 0.5];
+        let loads = Loads { distributed_force: Some(Load::dead(w)), ..Default::default() };
+        let rod = Rod::new(law, 1.7, loads, Supports::Cantilever, Scheme::Gauss(3), 5)
+            .unwrap()
+            .graded(&[0.0, 0.1, 0.3, 0.55, 0.8, 1.0])
+            .unwrap();
+        let mut x = rod.straight_state();
+        for (k, v) in x.iter_mut().enumerate() {
+            *v += 0.05 * ((k as f64) * 0.713).sin();
+        }
+        let mut sys = rod.system().unwrap();
+        let n = sys.dim();
+        let (mut jx, mut jl) = (vec![0.0; sys.pattern().nnz()], vec![0.0; n]);
+        sys.jacobian(&x, 0.2, &mut jx, &mut jl);
+        let metric = rod.stage_metric(&x, false).unwrap();
+        assert_eq!(metric.points(), 15);
+        let force: Vec<f64> = (0..metric.points()).flat_map(|_| w).collect();
+        let mut injected = vec![0.0; n];
+        metric.inject(&force, &mut injected);
+        let scale = jl.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let err = jl.iter().zip(&injected).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        assert!(scale > 0.01 && err <= 1e-15 * scale, "∂R/∂Λ vs M′w: {err:e} of {scale:e}");
+        let metric = rod.stage_metric(&x, true).unwrap();
+        assert_eq!((metric.dim, metric.zero_modes.len()), (n + 1, 1));
+        let z = &metric.zero_modes[0];
+        assert!((metric.dot(z, z) - 1.0).abs() < 1e-14);
+        for (p, &o) in metric.coords.iter().enumerate() {
+            let ratio = z[3 * p] / -x[o + 1];
+            assert!((z[3 * p + 1] - ratio * x[o]).abs() < 1e-14 && z[3 * p + 2] == 0.0);
+        }
+        let straight = rod.straight_state();
+        assert!(rod.stage_metric(&straight, true).unwrap().zero_modes.is_empty());
     }
 }

@@ -239,8 +239,6 @@ impl Bordered {
         Ok((tx.iter().map(|v| sign * v / norm).collect(), sign * tl / norm))
     }
 
-    /// Negative pivots of the factorised bordered tangent (see
-    /// [`crate::linalg::SparseLu::negative_pivots`]).
     /// Solve R_x Z = F in place for the k columns of `rhs` (column-major,
     /// n×k) with the current factorisation, unrefined
     /// ([`BorderedLu::solve_inner_many`]): false when R_x is singular to
@@ -253,6 +251,8 @@ impl Bordered {
         solved
     }
 
+    /// Negative pivots of the factorised bordered tangent (see
+    /// [`crate::linalg::SparseLu::negative_pivots`]).
     pub fn negative_pivots(&mut self) -> usize {
         self.lu.negative_pivots()
     }

@@ -162,11 +162,7 @@ pub struct ModeBasis {
 impl ModeBasis {
     /// Columns held.
     pub fn columns(&self) -> usize {
-        if self.coordinates == 0 {
-            0
-        } else {
-            self.vectors.len() / self.coordinates
-        }
+        self.vectors.len().checked_div(self.coordinates).unwrap_or(0)
     }
 }
 

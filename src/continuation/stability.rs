@@ -135,9 +135,10 @@ pub struct StabilityOptions {
     pub guard: usize,
     /// Multi-column solves at most (each is one application of K).
     pub max_iterations: usize,
-    /// Converged when every decided Ritz pair's residual ‖Kx − θx‖_W is
-    /// below `tol`·|θ₁| (θ₁ the largest: σ nearest zero). The Ritz values
-    /// are then accurate to ~tol²|θ₁|²/gap.
+    /// Converged when, for the window and its closer, the part of Kx
+    /// outside the subspace (‖Kx_c − Σ_k x_k G_kc‖_W, G the Ritz matrix in
+    /// the Ritz basis) is below `tol`·|θ₁| (θ₁ the largest: σ nearest
+    /// zero). The Ritz values are then accurate to ~tol²|θ₁|²/gap.
     pub tol: f64,
 }
 
@@ -253,8 +254,9 @@ pub struct Stability {
 /// one k-column solve, gather, project) → Rayleigh–Ritz in W: G = QᵀWKQ,
 /// symmetrised (K is W-self-adjoint up to the skew part reported), its
 /// eigenpairs (θ_i, s_i) by |θ| descending, Ritz vectors x_i = Qs_i with
-/// Kx_i = (KQ)s_i exactly and residuals ρ_i = ‖Kx_i − θ_ix_i‖_W; the next
-/// Q is KX orthonormalised.
+/// Kx_i = (KQ)s_i exactly and residuals ρ_i = ‖Kx_i − Σ_k x_k G_ki‖_W
+/// (G = Θ + Ñ in the Ritz basis, Ñ its skew part: what iterating
+/// reduces; the skew part is K's own); the next Q is KX orthonormalised.
 ///
 /// Certification. The window is closed by the first Ritz value with
 /// |θ_p| < t = −1/σ_floor: every eigenvalue the iteration has not found
@@ -263,14 +265,14 @@ pub struct Stability {
 /// when |θ_p| plus the window's residual is below t. The Ritz values'
 /// classification against t is certified by a bound (`certificate` < 1)
 /// on what can move an eigenvalue of K across t: the window's residuals
-/// ‖Kx − Σ_k x_k G̃_kc‖_W (Kahan's theorem — Parlett, *The Symmetric
+/// ρ_i (Kahan's theorem — Parlett, *The Symmetric
 /// Eigenvalue Problem*, 11.5 — Weinstein's one-vector bound made to hold
 /// for clusters such as the straight rod's exact pairs) relative to the
 /// nearest distance |θ_i − t|, and the Ritz matrix's skew coupling across
 /// t scaled by those distances (derivation at its computation: a skew
 /// coupling between modes far from t, or on the same side of it, moves
-/// no real part across t). The count is then #{i < p: θ_i ≥ t}; σ in
-/// (σ_floor, 0) is θ > t.
+/// no real part across t). The count is then #{i < p: θ_i ≥ t}: σ in
+/// [σ_floor, 0) is θ ≥ t.
 ///
 /// The start: `basis` (the last point's Ritz vectors) when its size
 /// matches, completed by smooth shapes sin(kπs/L)·sin(πs/L) in x and y

@@ -11,8 +11,11 @@
 //! (σ > 0 stable) and the count of unstable modes.
 
 use nalgebra::{Complex, DMatrix};
+use rodkit::charged::branch::{self, ChargedBranch};
 use rodkit::charged::rod::{ChargedRod, RodCharge};
+use rodkit::continuation::newton::Start;
 use rodkit::continuation::stability::{unstable_modes, ModeBasis, ModeWork, Stability, StabilityOptions};
+use rodkit::continuation::Options;
 use rodkit::continuation::Problem;
 use rodkit::electrostatics::Screening;
 use rodkit::linalg::bordered::BorderedLu;
@@ -94,7 +97,21 @@ fn dense(p: &mut ChargedRod, x: &[f64], phi: f64) -> Dense {
         injected.column_mut(c).copy_from_slice(&column);
     }
     let solved = a.lu().solve(&injected).expect("regular Jacobian");
-    let k = DMatrix::from_fn(m, m, |i, j| solved[(metric.coords[i / 3] + i % 3, j)]);
+    let mut k = DMatrix::from_fn(m, m, |i, j| solved[(metric.coords[i / 3] + i % 3, j)]);
+    // With a phase condition (the buckled branch) the symmetric problem is
+    // K on V₁ = v₀^⊥W (v₀ = e3 × r_j, the rotation about the axis): with
+    // the W-orthogonal projector P = I − Σ v₀v₀ᵀW the dense operator is
+    // PKP, whose eigenvalues are K's on V₁ and one θ = 0 for v₀ itself
+    // (σ = ∞, left out by `Dense::sigma` with the axial directions). The
+    // projector is formed here from the zero modes' values, densely,
+    // independent of `Metric::project`.
+    if !metric.zero_modes.is_empty() {
+        let mut proj = DMatrix::<f64>::identity(m, m);
+        for v in &metric.zero_modes {
+            proj -= DMatrix::from_fn(m, m, |i, j| v[i] * v[j] * metric.weights[j / 3]);
+        }
+        k = &proj * k * &proj;
+    }
     let wk = DMatrix::from_fn(m, m, |i, j| metric.weights[i / 3] * k[(i, j)]);
     let skew = (&wk - wk.transpose()).norm() / wk.norm();
     Dense { theta: k.complex_eigenvalues().iter().copied().collect(), skew }
@@ -420,4 +437,145 @@ fn uncertified_counts_are_none() {
     assert_eq!(s.unstable, None);
     let s = iterate(&mut p, &x, phi, floor, LuKind::Simplicial, &mut ModeBasis::default(), &Default::default());
     assert_eq!(s.unstable, Some(4));
+}
+
+/// The straight Greenhill rod (Gauss(4) × 8, zero charge, φ as the
+/// parameter) to φ = 10 with detection, then its buckled branch switched
+/// at the first double point θ₁ = 8.987 (the phase condition on: the
+/// fixture of tests/charged_rod.rs's 300 bp scene, here on Greenhill's rod).
+fn buckled_greenhill(steps: usize) -> (Rod, f64, ChargedBranch) {
+    let rod = rod(4, 8);
+    let charge = RodCharge::new(0.0, Screening { kappa: 1.0, a: 0.01 });
+    let opts = Options {
+        target_lambda: Some(10.0),
+        residual_tol: 1e-11,
+        initial_step: 0.5,
+        max_step: 1.0,
+        detect_bifurcations: true,
+        bifurcation_tol: 1e-9,
+        max_steps: 100,
+        ..Default::default()
+    };
+    let start = Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true };
+    let straight = branch::follow(&rod, &charge, start, None, &opts, |_| true).unwrap();
+    let phi_b = straight.bifurcations[0].lambda;
+    let opts =
+        Options { residual_tol: 1e-11, initial_step: 0.05, max_step: 2.0, max_steps: steps, ..Default::default() };
+    let b = branch::switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap();
+    (rod, phi_b, b)
+}
+
+/// The window on the buckled branch: σ ≥ −1e4 (K_b = L = 1). Off the
+/// straight state the Rayleigh bound −27M⁴/(256K_b³) of
+/// `greenhill_counts` does not hold: the buckled branch's unstable σ falls
+/// to −380 at φ ≈ 4.4 where that bound (with M = φ) is −40. The fixed
+/// window is checked against the dense spectrum at every point (no σ
+/// below it, the unstable one at ≥ −381.7: a gap of 26×).
+const BUCKLED_FLOOR: f64 = -1e4;
+
+/// The buckled Greenhill branch (150 steps, φ from θ₁ = 8.987 down to
+/// 2.18: subcritical), phase-conditioned, warm-started along it. At every
+/// point the subspace iteration projected ⊥_W the rotation about the axis
+/// counts as the dense oracle of the phase-conditioned Jacobian projected
+/// the same way (`dense`: PKP), with σ nearest zero equal to 1e-6
+/// relative (measured ≤ 5.5e-11, 5.5e-11 at the first point, σ₁ =
+/// −4.4e-3, ≤ 2e-13 past it). Every solve's unfolding parameter μ stays
+/// ~0 against the μ of the zero mode itself (⟨v₀, w⟩_W = 0 ⇒ μ = 0,
+/// `Metric::unfolding`): measured 1.0e-6 … 4.2e-6, of the size of the
+/// Ritz matrix's skew part (1.3e-6 … 5.9e-6: the scheme's
+/// non-variational part makes the left null vector differ from Wv₀ by
+/// that much); asserted below `StabilityOptions::unfolding_tol` = 1e-4.
+///
+/// The count's changes (the design's rule): only at a fold in φ, by ±1
+/// in the direction of Maddocks' slope rule as src/charged/coexistence.rs
+/// codes it (σ ≈ −M′φ′/(v·x′)²: the leg with dM/dφ > 0 next to the fold
+/// has the extra unstable mode), or where the bordered determinant's sign
+/// flips (a simple bifurcation); and the first point's count is
+/// coexistence.rs's start rule: 1 when the branch leaves θ₁ towards
+/// smaller φ (subcritical), 0 towards larger. This branch has no fold on
+/// its 150 steps (φ monotone): its count is 1 throughout (dense and
+/// iteration), and the recorded det sign of the phased Jacobian keeps
+/// s_ref·(−1)^count (design §2's derived signs).
+#[test]
+fn buckled_branch_counts_with_the_zero_mode() {
+    let (rod, phi_b, b) = buckled_greenhill(150);
+    let charge = RodCharge::new(0.0, Screening { kappa: 1.0, a: 0.01 });
+    println!("θ₁ located at {phi_b:.9}; buckled branch {} records, phase {:?}", b.records.len(), b.phase);
+    let mut basis = ModeBasis::default();
+    let (mut counts, mut worst_mu, mut lowest) = (Vec::new(), 0.0f64, 0.0f64);
+    for (k, (r, x)) in b.records.iter().zip(&b.states).enumerate() {
+        let phi = r.lambda;
+        let mut p = ChargedRod::new(&rod, &charge, b.phase, x).unwrap();
+        let metric = p.stability_metric(x).unwrap();
+        assert_eq!(metric.zero_modes.len(), 1, "record {k}: the buckled shape has the axial zero mode");
+        let d = dense(&mut p, x, phi);
+        let (expected, below) = d.unstable(BUCKLED_FLOOR);
+        assert_eq!(below, 0, "record {k}: dense σ below the window");
+        lowest = lowest.min(d.sigma()[0].re);
+        let reference = nearest_zero(&d, BUCKLED_FLOOR);
+        let s = iterate(&mut p, x, phi, BUCKLED_FLOOR, LuKind::Simplicial, &mut basis, &StabilityOptions::default());
+        let rel = (s.sigma[0] - reference[0]).abs() / reference[0].abs();
+        println!(
+            "record {k}: φ = {phi:.6}, μ = {:.1e}, {:?} unstable (dense {expected}), σ₁ {:.6} ({rel:.1e}), {} \
+             iterations, μ ratio {:.1e}, skew {:.1e}, certificate {:.1e}, det {} bordered {}",
+            x[x.len() - 1],
+            s.unstable,
+            s.sigma[0],
+            s.iterations,
+            s.unfolding,
+            s.skew,
+            s.certificate,
+            r.det_sign,
+            r.bordered_det_sign
+        );
+        assert_eq!(s.unstable, Some(expected), "record {k}");
+        assert!(rel < 1e-6, "record {k}: σ₁ {} vs {}", s.sigma[0], reference[0]);
+        assert!(s.unfolding < 1e-4, "record {k}: μ ratio {:e}", s.unfolding);
+        worst_mu = worst_mu.max(s.unfolding);
+        counts.push(expected);
+    }
+    println!("largest μ ratio {worst_mu:.2e}, lowest σ {lowest:.1}");
+    assert!(lowest > BUCKLED_FLOOR / 20.0, "lowest σ {lowest} near the window");
+    let phi: Vec<f64> = b.records.iter().map(|r| r.lambda).collect();
+    let torque: Vec<f64> = b.states.iter().map(|x| rod.spatial_force_moment(x, rod.elements).1[2]).collect();
+    assert_eq!(counts[0], if phi[0] < phi_b { 1 } else { 0 }, "the start rule");
+    let fold_at = |j: usize| j > 0 && j + 1 < phi.len() && (phi[j] - phi[j - 1]) * (phi[j + 1] - phi[j]) < 0.0;
+    let mut folds = 0;
+    for k in 1..counts.len() {
+        let change = counts[k] as i64 - counts[k - 1] as i64;
+        let fold = [k - 1, k].into_iter().find(|&j| fold_at(j));
+        let bifurcation = b.records[k].bordered_det_sign != b.records[k - 1].bordered_det_sign;
+        folds += fold.is_some() as usize;
+        match (fold, bifurcation) {
+            (_, true) => assert!(change.abs() <= 1, "records {}–{k}: {change} at a simple bifurcation", k - 1),
+            (Some(j), false) => {
+                // The leg after the fold: its slope dM/dφ decides (+1 onto
+                // the leg with dM/dφ > 0).
+                let (a, c) = if j == k { (k, (k + 1).min(phi.len() - 1)) } else { (k - 1, k) };
+                let slope = (torque[c] - torque[a]) / (phi[c] - phi[a]);
+                let rule = if slope > 0.0 { 1 } else { -1 };
+                // A fold in the bracket [k−1, k+1] changes the count once,
+                // at k or k+1: checked when the change is seen.
+                assert!(change == 0 || change == rule, "records {}–{k}: {change}, Maddocks {rule}", k - 1);
+            }
+            (None, false) => {
+                assert_eq!(change, 0, "records {}–{k}: the count changed with no fold or bifurcation", k - 1)
+            }
+        }
+        assert_eq!(
+            b.records[k].det_sign * b.records[0].det_sign,
+            if (counts[k] + counts[0]) % 2 == 0 { 1.0 } else { -1.0 },
+            "record {k}: det sign against the count's parity"
+        );
+    }
+    println!(
+        "folds {folds}, counts {:?}",
+        counts.iter().fold(Vec::<(usize, usize)>::new(), |mut v, &c| {
+            match v.last_mut() {
+                Some((last, n)) if *last == c => *n += 1,
+                _ => v.push((c, 1)),
+            }
+            v
+        })
+    );
 }

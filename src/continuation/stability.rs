@@ -54,6 +54,14 @@ pub struct Metric {
     /// a rotation about the axis, e3 × r_j, when a phase condition fixes
     /// it. The eigen solver works on their W-orthogonal complement.
     pub zero_modes: Vec<Vec<f64>>,
+    /// Where in x (and in a solve's result) the unfolding parameter μ of
+    /// the phase condition sits, when there is one: the bordered system
+    /// [[H, b], [cᵀ, 0]] (b the unfolding column, c the phase row) gives
+    /// μ = ℓᵀM′w / ℓᵀb for a force density w, ℓ the left null vector of H.
+    /// With H's symmetry ℓ is the zero mode (up to the scheme's
+    /// non-variational part), so μ vanishes for w ⊥_W the zero modes:
+    /// [`unstable_modes`] checks it.
+    pub unfolding: Option<usize>,
 }
 
 impl Metric {
@@ -140,11 +148,16 @@ pub struct StabilityOptions {
     /// the Ritz basis) is below `tol`·|θ₁| (θ₁ the largest: σ nearest
     /// zero). The Ritz values are then accurate to ~tol²|θ₁|²/gap.
     pub tol: f64,
+    /// The largest unfolding parameter μ a solve may return, relative to
+    /// the μ of the (W-normalised) zero mode itself ([`Stability::unfolding`]):
+    /// above it the iteration's columns are not ⊥ the symmetry's true zero
+    /// mode (a wrong metric, an anisotropic law) and the count is refused.
+    pub unfolding_tol: f64,
 }
 
 impl Default for StabilityOptions {
     fn default() -> Self {
-        StabilityOptions { block: 12, guard: 3, max_iterations: 8, tol: 1e-6 }
+        StabilityOptions { block: 12, guard: 3, max_iterations: 8, tol: 1e-6, unfolding_tol: 1e-4 }
     }
 }
 
@@ -232,6 +245,13 @@ pub struct Stability {
     /// Applications of K (multi-column solves), and single solves.
     pub iterations: usize,
     pub solves: usize,
+    /// With a phase condition: max over the solves' columns q (W-unit,
+    /// ⊥_W the zero modes) of |μ(q)|/|μ(v₀)|, v₀ the metric's first zero
+    /// mode. μ is a linear functional of the injected force density,
+    /// ∝ ⟨v₀, w⟩_W when the zero mode is right ([`Metric::unfolding`]), so
+    /// this is the cosine between the columns and the true zero mode as
+    /// the rows see it; 0 without a phase condition.
+    pub unfolding: f64,
 }
 
 /// Unstable modes of δ²G at a point from its Jacobian's factors: block
@@ -274,6 +294,16 @@ pub struct Stability {
 /// no real part across t). The count is then #{i < p: θ_i ≥ t}: σ in
 /// [σ_floor, 0) is θ ≥ t.
 ///
+/// The zero modes. With a phase condition the iteration runs on V₁ =
+/// v₀^⊥W (every column projected): there the bordered operator is K of
+/// the symmetric problem on V₁, and since v₀ is in δ²G's radical the
+/// count on V₁ is the count on the whole space with the zero removed.
+/// Without the projection the phase-bordered pencil is a non-symmetric
+/// rank-one modification whose eigenvalues may pass through ∞ and change
+/// sign. That the projection removed the true zero mode is checked on
+/// every solve: the unfolding parameter μ it returns must be ~0
+/// ([`Stability::unfolding`] ≤ `unfolding_tol`), else the count is None.
+///
 /// The start: `basis` (the last point's Ritz vectors) when its size
 /// matches, completed by smooth shapes sin(kπs/L)·sin(πs/L) in x and y
 /// with a small deterministic all-direction component (no mode exactly
@@ -287,7 +317,7 @@ pub fn unstable_modes(
     options: &StabilityOptions,
 ) -> Stability {
     assert!(sigma_floor < 0.0 && sigma_floor.is_finite(), "the floor σ_floor must be negative and finite");
-    let StabilityOptions { block: b, guard, max_iterations, tol } = *options;
+    let StabilityOptions { block: b, guard, max_iterations, tol, unfolding_tol } = *options;
     assert!(b > guard + 1, "a block needs a decided column and one to close the window beside the guards");
     let (n, m) = (metric.dim, metric.coordinates());
     let decided = b - guard;
@@ -300,6 +330,22 @@ pub fn unstable_modes(
         certificate: f64::INFINITY,
         iterations: 0,
         solves: 0,
+        unfolding: 0.0,
+    };
+
+    // μ of the zero mode itself: the unit the columns' μ are measured in.
+    // One extra single solve a point.
+    let mu_of_zero = match (metric.unfolding, metric.zero_modes.first()) {
+        (Some(at), Some(v0)) => {
+            let rows = &mut work.rows[..n];
+            metric.inject(v0, rows);
+            stability.solves += 1;
+            if !solve(rows, 1) {
+                return stability;
+            }
+            Some((at, rows[at].abs()))
+        }
+        _ => None,
     };
 
     // The start, W-orthonormal and ⊥_W the zero modes.
@@ -326,6 +372,10 @@ pub fn unstable_modes(
         stability.solves += b;
         if !solve(&mut work.rows, b) {
             return stability;
+        }
+        if let Some((at, unit)) = mu_of_zero {
+            let largest = work.rows.chunks_exact(n).fold(0.0f64, |m, rc| m.max(rc[at].abs()));
+            stability.unfolding = stability.unfolding.max(largest / unit);
         }
         for (rc, kc) in work.rows.chunks_exact(n).zip(work.kq.chunks_exact_mut(m)) {
             metric.gather(rc, kc);
@@ -458,7 +508,11 @@ pub fn unstable_modes(
     // the bound from t, and the closer's |θ| below t by the bound, so that
     // what the subspace has not found (|θ| below the block's) is below t
     // too. Unstable modes are then the θ ≥ t: σ_floor ≤ σ < 0.
-    if let Some(p) = closing {
+    // A solve that moved μ means the projection did not remove the
+    // symmetry's zero mode: the operator iterated is not the symmetric
+    // one on V₁ = v₀^⊥ and its count is not certified (NaN refuses too).
+    let unfolded = !(stability.unfolding <= unfolding_tol);
+    if let (Some(p), false) = (closing, unfolded) {
         if stability.certificate < 1.0 && work.theta[p].abs() + residual < t {
             stability.unstable = Some(work.theta[..p].iter().filter(|&&th| th >= t).count());
         }

@@ -110,6 +110,7 @@ impl Rod {
             coefs: Vec::with_capacity(points * (s + 1)),
             rotations: Vec::with_capacity(points),
             zero_modes: Vec::new(),
+            unfolding: phase.then(|| self.unknowns()),
         };
         for e in 0..self.elements {
             let h = self.element_h(e);
@@ -196,6 +197,8 @@ mod tests {
         assert!(scale > 0.01 && err <= 1e-15 * scale, "∂R/∂Λ vs M′w: {err:e} of {scale:e}");
         let metric = rod.stage_metric(&x, true).unwrap();
         assert_eq!((metric.dim, metric.zero_modes.len()), (n + 1, 1));
+        // μ is the unknown after the rod's own (Rod::system_with_phase).
+        assert_eq!((rod.stage_metric(&x, false).unwrap().unfolding, metric.unfolding), (None, Some(n)));
         let z = &metric.zero_modes[0];
         assert!((metric.dot(z, z) - 1.0).abs() < 1e-14);
         for (p, &o) in metric.coords.iter().enumerate() {

@@ -579,3 +579,66 @@ fn buckled_branch_counts_with_the_zero_mode() {
         })
     );
 }
+
+/// A deliberately non-orthogonal injection is refused: at the 30th point
+/// of the buckled Greenhill branch (φ = 8.376, one unstable mode) the
+/// metric's zero mode replaced by the rotation about a wrong axis,
+/// e3 × (r_j − a) with a = 0.05 e1 (5 % of L off the rod's axis; W-normalised
+/// here). That is v₀ minus a rigid translation, which the clamps forbid,
+/// so the iteration's columns, W-orthogonal to it, keep a component along
+/// the true v₀ and every solve returns μ ≠ 0: the count is None. The
+/// reference is the same point with the metric's own zero mode (count 1,
+/// as `buckled_branch_counts_with_the_zero_mode` and its dense oracle).
+/// Measured: the wrong mode's cosine to v₀ 0.938; μ ratio 2.3e-6 with the
+/// right axis (cold start), 0.29 with the wrong one (asserted > 1e-2).
+/// Only the μ check refuses it: the wrong operator's certificate is 4.6e-3
+/// (< 1), its σ₁ −67.961 against the right −67.708 — a count that would
+/// otherwise have passed.
+#[test]
+fn a_wrong_zero_mode_is_refused() {
+    let (rod, _, b) = buckled_greenhill(30);
+    let charge = RodCharge::new(0.0, Screening { kappa: 1.0, a: 0.01 });
+    let (x, phi) = (&b.states[30], b.records[30].lambda);
+    let mut p = ChargedRod::new(&rod, &charge, b.phase, x).unwrap();
+    let options = StabilityOptions::default();
+    let mut lu = factors(&mut p, x, phi, LuKind::Simplicial);
+    let metric = p.stability_metric(x).unwrap();
+    let right = unstable_modes(
+        |f, k| lu.solve_inner_many(f, k),
+        &metric,
+        BUCKLED_FLOOR,
+        &mut ModeBasis::default(),
+        &mut ModeWork::new(),
+        &options,
+    );
+    let mut wrong = metric.clone();
+    let mut mode: Vec<f64> = metric.coords.iter().flat_map(|&o| [-x[o + 1], x[o] - 0.05, 0.0]).collect();
+    let norm = metric.dot(&mode, &mode).sqrt();
+    mode.iter_mut().for_each(|v| *v /= norm);
+    let cosine = metric.dot(&mode, &metric.zero_modes[0]);
+    wrong.zero_modes = vec![mode];
+    let refused = unstable_modes(
+        |f, k| lu.solve_inner_many(f, k),
+        &wrong,
+        BUCKLED_FLOOR,
+        &mut ModeBasis::default(),
+        &mut ModeWork::new(),
+        &options,
+    );
+    println!(
+        "φ = {phi:.4}: right axis {:?} (μ ratio {:.1e}, certificate {:.1e}); wrong axis (cos to v₀ {cosine:.4}) {:?} \
+         (μ ratio {:.2e}, certificate {:.1e}, σ₁ {:.3})",
+        right.unstable,
+        right.unfolding,
+        right.certificate,
+        refused.unstable,
+        refused.unfolding,
+        refused.certificate,
+        refused.sigma[0]
+    );
+    assert_eq!(right.unstable, Some(1));
+    assert!(right.unfolding < 1e-4);
+    assert_eq!(refused.unstable, None);
+    assert!(refused.unfolding > 1e-2, "μ ratio {:e}", refused.unfolding);
+    assert!(refused.certificate < 1.0, "the certificate alone would have refused: {}", refused.certificate);
+}

@@ -444,10 +444,17 @@ fn uncertified_counts_are_none() {
 /// at the first double point θ₁ = 8.987 (the phase condition on: the
 /// fixture of tests/charged_rod.rs's 300 bp scene, here on Greenhill's rod).
 fn buckled_greenhill(steps: usize) -> (Rod, f64, ChargedBranch) {
-    let rod = rod(4, 8);
+    buckled_under(0.0, 10.0, steps)
+}
+
+/// The buckled branch of the rod of `rod(4, 8)` under a dead tension,
+/// switched at the straight rod's first double point (below `phi_max`).
+fn buckled_under(tension: f64, phi_max: f64, steps: usize) -> (Rod, f64, ChargedBranch) {
+    let law = RodLaw::kirchhoff(1.0, 1.0, 1.0).unwrap();
+    let rod = Rod::new(law, 1.0, Loads::default(), Supports::Twisted { tension }, Scheme::Gauss(4), 8).unwrap();
     let charge = RodCharge::new(0.0, Screening { kappa: 1.0, a: 0.01 });
     let opts = Options {
-        target_lambda: Some(10.0),
+        target_lambda: Some(phi_max),
         residual_tol: 1e-11,
         initial_step: 0.5,
         max_step: 1.0,
@@ -467,42 +474,67 @@ fn buckled_greenhill(steps: usize) -> (Rod, f64, ChargedBranch) {
 
 /// The window on the buckled branch: σ ≥ −1e4 (K_b = L = 1). Off the
 /// straight state the Rayleigh bound −27M⁴/(256K_b³) of
-/// `greenhill_counts` does not hold: the buckled branch's unstable σ falls
-/// to −380 at φ ≈ 4.4 where that bound (with M = φ) is −40. The fixed
-/// window is checked against the dense spectrum at every point (no σ
-/// below it, the unstable one at ≥ −381.7: a gap of 26×).
+/// `greenhill_counts` does not hold: the unstable σ of the T = 0 buckled
+/// branch falls below it from φ ≈ 6.8 on (−226 against −224 there, and
+/// down to −381.7 near φ ≈ 4.5 on 150 steps). The fixed window is checked against the
+/// dense spectrum at every point instead: no σ below it, the lowest at
+/// −315.3 (T = 0) and −396.9 (T = 10), a gap of 25× at least (asserted
+/// 20×).
 const BUCKLED_FLOOR: f64 = -1e4;
 
-/// The buckled Greenhill branch (150 steps, φ from θ₁ = 8.987 down to
-/// 2.18: subcritical), phase-conditioned, warm-started along it. At every
-/// point the subspace iteration projected ⊥_W the rotation about the axis
-/// counts as the dense oracle of the phase-conditioned Jacobian projected
-/// the same way (`dense`: PKP), with σ nearest zero equal to 1e-6
-/// relative (measured ≤ 5.5e-11, 5.5e-11 at the first point, σ₁ =
-/// −4.4e-3, ≤ 2e-13 past it). Every solve's unfolding parameter μ stays
-/// ~0 against the μ of the zero mode itself (⟨v₀, w⟩_W = 0 ⇒ μ = 0,
-/// `Metric::unfolding`): measured 1.0e-6 … 4.2e-6, of the size of the
-/// Ritz matrix's skew part (1.3e-6 … 5.9e-6: the scheme's
-/// non-variational part makes the left null vector differ from Wv₀ by
-/// that much); asserted below `StabilityOptions::unfolding_tol` = 1e-4.
+/// The buckled Greenhill branch, phase-conditioned, warm-started along it:
+/// T = 0, 80 steps from θ₁ = 8.987 down to φ = 5.848 (subcritical, no
+/// fold); T = 10, from its first double point 10.429 down to a fold at φ
+/// = 3.6239 and 4 points past it, where the strands touch near the ends
+/// (contact at record 107: the branch stops).
+///
+/// At every point the subspace iteration, projected ⊥_W the rotation
+/// about the axis, counts as the dense oracle of the phase-conditioned
+/// Jacobian projected the same way (`dense`: PKP), with σ nearest zero
+/// equal to 1e-6 relative (measured ≤ 5.5e-11 at T = 0 — the first
+/// point, σ₁ = −4.4e-3 — and ≤ 1.2e-12 at T = 10), in 2–3 iterations.
+/// Every solve's unfolding parameter μ stays ~0 against the μ of the
+/// zero mode itself (⟨v₀, w⟩_W = 0 ⇒ μ = 0, `Metric::unfolding`):
+/// measured ≤ 3.3e-6 (T = 0) and ≤ 3.9e-6 (T = 10), of the size of the
+/// Ritz matrix's skew part (≤ 5.0e-6, ≤ 8.0e-6: the scheme's
+/// non-variational part moves the left null vector off Wv₀ by that
+/// much); asserted below `StabilityOptions::unfolding_tol` = 1e-4.
 ///
 /// The count's changes (the design's rule): only at a fold in φ, by ±1
 /// in the direction of Maddocks' slope rule as src/charged/coexistence.rs
 /// codes it (σ ≈ −M′φ′/(v·x′)²: the leg with dM/dφ > 0 next to the fold
 /// has the extra unstable mode), or where the bordered determinant's sign
-/// flips (a simple bifurcation); and the first point's count is
-/// coexistence.rs's start rule: 1 when the branch leaves θ₁ towards
-/// smaller φ (subcritical), 0 towards larger. This branch has no fold on
-/// its 150 steps (φ monotone): its count is 1 throughout (dense and
-/// iteration), and the recorded det sign of the phased Jacobian keeps
-/// s_ref·(−1)^count (design §2's derived signs).
+/// flips (a simple bifurcation: none here); and the first point's count
+/// is coexistence.rs's start rule: 1 when the branch leaves the double
+/// point towards smaller φ (subcritical, both here), 0 towards larger.
+/// Measured: 1 at every T = 0 point; at T = 10, 1 on the 104 points to
+/// the fold, 0 on the 4 past it (dM/dφ = −6.5 after it: −1, as the rule
+/// says). The records' det sign keeps s_ref·(−1)^count at every point
+/// (design §2's derived signs; it flips at the fold).
 #[test]
 fn buckled_branch_counts_with_the_zero_mode() {
-    let (rod, phi_b, b) = buckled_greenhill(150);
+    let mut folds = 0;
+    for (tension, phi_max, steps) in [(0.0, 10.0, 80), (10.0, 12.0, 200)] {
+        folds += buckled_counts(tension, phi_max, steps);
+    }
+    assert_eq!(folds, 1, "the tensioned branch's fold");
+}
+
+/// The checks of `buckled_branch_counts_with_the_zero_mode` on one
+/// branch; returns its folds in φ.
+fn buckled_counts(tension: f64, phi_max: f64, steps: usize) -> usize {
+    let (rod, phi_b, b) = buckled_under(tension, phi_max, steps);
     let charge = RodCharge::new(0.0, Screening { kappa: 1.0, a: 0.01 });
-    println!("θ₁ located at {phi_b:.9}; buckled branch {} records, phase {:?}", b.records.len(), b.phase);
+    println!(
+        "T = {tension}: first double point at {phi_b:.9}; buckled branch {} records ({:?}, contact {:?}), phase {:?}",
+        b.records.len(),
+        b.stop,
+        b.contact,
+        b.phase
+    );
     let mut basis = ModeBasis::default();
     let (mut counts, mut worst_mu, mut lowest) = (Vec::new(), 0.0f64, 0.0f64);
+    let (mut rels, mut iters, mut worst_skew) = (Vec::new(), Vec::new(), 0.0f64);
     for (k, (r, x)) in b.records.iter().zip(&b.states).enumerate() {
         let phi = r.lambda;
         let mut p = ChargedRod::new(&rod, &charge, b.phase, x).unwrap();
@@ -532,36 +564,40 @@ fn buckled_branch_counts_with_the_zero_mode() {
         assert!(rel < 1e-6, "record {k}: σ₁ {} vs {}", s.sigma[0], reference[0]);
         assert!(s.unfolding < 1e-4, "record {k}: μ ratio {:e}", s.unfolding);
         worst_mu = worst_mu.max(s.unfolding);
+        worst_skew = worst_skew.max(s.skew);
+        rels.push(rel);
+        iters.push(s.iterations);
         counts.push(expected);
     }
-    println!("largest μ ratio {worst_mu:.2e}, lowest σ {lowest:.1}");
+    let worst_rel = rels.iter().fold(0.0f64, |m, r| m.max(*r));
+    println!("largest μ ratio {worst_mu:.2e}, lowest σ {lowest:.1}, σ₁ rel. error ≤ {worst_rel:.1e}, skew ≤ {worst_skew:.1e}, iterations {iters:?}, φ {:.4} → {:.4}", b.records[0].lambda, b.records.last().unwrap().lambda);
     assert!(lowest > BUCKLED_FLOOR / 20.0, "lowest σ {lowest} near the window");
     let phi: Vec<f64> = b.records.iter().map(|r| r.lambda).collect();
     let torque: Vec<f64> = b.states.iter().map(|x| rod.spatial_force_moment(x, rod.elements).1[2]).collect();
     assert_eq!(counts[0], if phi[0] < phi_b { 1 } else { 0 }, "the start rule");
     let fold_at = |j: usize| j > 0 && j + 1 < phi.len() && (phi[j] - phi[j - 1]) * (phi[j + 1] - phi[j]) < 0.0;
+    let slope = |j: usize| (torque[j + 1] - torque[j]) / (phi[j + 1] - phi[j]);
     let mut folds = 0;
+    for j in (1..phi.len() - 1).filter(|&j| fold_at(j)) {
+        // Across the fold (records j−1 → j+1) the count changes by one,
+        // +1 onto a leg with dM/dφ > 0 (the leg from j on), −1 onto one
+        // with dM/dφ < 0.
+        let rule = if slope(j) > 0.0 { 1 } else { -1 };
+        let change = counts[j + 1] as i64 - counts[j - 1] as i64;
+        println!("fold at record {j}: φ = {:.6}, dM/dφ after it {:.3}, count change {change}", phi[j], slope(j));
+        assert_eq!(change, rule, "fold at record {j}: Maddocks' rule");
+        folds += 1;
+    }
     for k in 1..counts.len() {
         let change = counts[k] as i64 - counts[k - 1] as i64;
-        let fold = [k - 1, k].into_iter().find(|&j| fold_at(j));
+        let fold = fold_at(k - 1) || fold_at(k);
         let bifurcation = b.records[k].bordered_det_sign != b.records[k - 1].bordered_det_sign;
-        folds += fold.is_some() as usize;
-        match (fold, bifurcation) {
-            (_, true) => assert!(change.abs() <= 1, "records {}–{k}: {change} at a simple bifurcation", k - 1),
-            (Some(j), false) => {
-                // The leg after the fold: its slope dM/dφ decides (+1 onto
-                // the leg with dM/dφ > 0).
-                let (a, c) = if j == k { (k, (k + 1).min(phi.len() - 1)) } else { (k - 1, k) };
-                let slope = (torque[c] - torque[a]) / (phi[c] - phi[a]);
-                let rule = if slope > 0.0 { 1 } else { -1 };
-                // A fold in the bracket [k−1, k+1] changes the count once,
-                // at k or k+1: checked when the change is seen.
-                assert!(change == 0 || change == rule, "records {}–{k}: {change}, Maddocks {rule}", k - 1);
-            }
-            (None, false) => {
-                assert_eq!(change, 0, "records {}–{k}: the count changed with no fold or bifurcation", k - 1)
-            }
+        if bifurcation {
+            assert!(change.abs() <= 1, "records {}–{k}: {change} at a simple bifurcation", k - 1);
+        } else if !fold {
+            assert_eq!(change, 0, "records {}–{k}: the count changed with no fold or bifurcation", k - 1);
         }
+        // Design §2's derived signs: sign det R_x = s_ref·(−1)^count.
         assert_eq!(
             b.records[k].det_sign * b.records[0].det_sign,
             if (counts[k] + counts[0]) % 2 == 0 { 1.0 } else { -1.0 },
@@ -578,6 +614,7 @@ fn buckled_branch_counts_with_the_zero_mode() {
             v
         })
     );
+    folds
 }
 
 /// A deliberately non-orthogonal injection is refused: at the 30th point

@@ -638,8 +638,8 @@ fn buckled_counts(tension: f64, phi_max: f64, steps: usize, floor: f64) -> usize
 /// right axis (cold start), 0.29 with the wrong one (asserted > 1e-2).
 /// Only the μ check refuses it: the wrong operator's certificate is 4.6e-3
 /// (< 1), its σ₁ −67.961 against the right −67.708 — a count that would
-/// otherwise have passed. (Its Ritz skew part is 6.3e-3, against 2e-6 with
-/// the right axis: the wrong projection breaks K's W-symmetry too, but the
+/// otherwise have passed. (Its Ritz skew part is 6.3e-3, against 1.3e-6 at
+/// this point of the branch with the right axis: the wrong projection breaks K's W-symmetry too, but the
 /// skew part alone cannot tell that from an under-resolved scheme.)
 #[test]
 fn a_wrong_zero_mode_is_refused() {

@@ -615,6 +615,7 @@ fn non_planar_symmetric_branch_with_phase_condition() {
             tangent_lambda: 0.0,
             step: 0.0,
             previous: None,
+            modes: None,
         },
         phase: None,
         contact: None,

@@ -249,6 +249,7 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
         hard_core_auto: s.hard_core == 0.0,
         threads: s.threads as usize,
         separate_signs_from: SupercoilSettings::default().separate_signs_from,
+        stability: SupercoilSettings::default().stability,
         max_turns: s.max_turns,
         max_steps: s.max_steps as usize,
         residual_tol: s.residual_tol,

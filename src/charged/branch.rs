@@ -138,7 +138,7 @@ pub fn continue_with(
     let step = branch.records.get(k + 1).map_or(branch.resume.step, |r| r.step);
     branch.truncate(k + 1);
     branch.contact = None;
-    let start = Start::Resume(Resume { x, lambda, tangent_x, tangent_lambda, step, previous: None });
+    let start = Start::Resume(Resume { x, lambda, tangent_x, tangent_lambda, step, previous: None, modes: None });
     let phase = branch.phase;
     follow_on_into(rod, charge, start, None, phase, opts, progress, Some(branch))
 }

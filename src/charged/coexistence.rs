@@ -129,6 +129,22 @@ fn records(run: &SupercoilRun) -> Vec<&Record> {
 /// torque clamp the recorded determinants are those of another problem
 /// (whose folds are in M) and the run is refused.
 pub fn negative_modes(run: &SupercoilRun) -> Result<Vec<Option<usize>>> {
+    let mut out = parity_rules(run)?;
+    // Counted on the point's own factors where the run counted
+    // ([`crate::continuation::Options::stability`]): the count, None where
+    // it was not certified. The rules stay for the points without one (a
+    // switch's singular start) and for runs that did not count.
+    for (o, rec) in out.iter_mut().zip(records(run)) {
+        if let Some(s) = &rec.stability {
+            *o = s.unstable;
+        }
+    }
+    Ok(out)
+}
+
+/// The stability rules in the module documentation, from the records'
+/// determinant signs alone.
+fn parity_rules(run: &SupercoilRun) -> Result<Vec<Option<usize>>> {
     if run.rod.torqued() {
         return Err(Error::new(
             Status::ErrOutOfRange,

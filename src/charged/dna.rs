@@ -9,6 +9,7 @@ use super::branch::{continue_with, follow_on, hard_core_idle, switch_on, Charged
 use super::rod::{ListRule, RodCharge};
 use crate::continuation::anm::AnmOptions;
 use crate::continuation::newton::Start;
+use crate::continuation::stability::StabilityOptions;
 use crate::continuation::{Options, Record, Stop};
 use crate::error::{self, Error, Result};
 use crate::rod::model::{unwrap_rotation, Rod, Supports};
@@ -247,6 +248,14 @@ pub struct SupercoilSettings {
     /// +16–19 % on one thread, and two threads did not beat one thread
     /// with the signs at the points.
     pub separate_signs_from: usize,
+    /// Count every point's unstable modes on its own factorisation
+    /// ([`Options::stability`]: the eigenvalues of the second variation
+    /// nearest zero by shift-invert subspace iteration): the records'
+    /// determinant signs then follow from the counts, and no record is
+    /// factorised a second time (`separate_signs_from` does not apply).
+    /// None: the signs from B's simplicial LU as before, and the stability
+    /// from the parity rules of [`crate::charged::coexistence`].
+    pub stability: Option<StabilityOptions>,
     /// The buckled branch stops past this many turns (or when turns fall
     /// to zero), at the step limit, or at a strand crossing.
     pub max_turns: f64,
@@ -379,6 +388,14 @@ impl SupercoilSettings {
     }
 }
 
+/// The DNA scenes' neutral band ([`StabilityOptions::marginal`]): |σ| ≤
+/// 2e-3 of the state's scale (≈ T²/K_b on the plectoneme branch). On the
+/// 1 kbp, 1 pN, 0.1 M buckled branch the sliding modes of the localised
+/// structure sit at 8e-5 … 2e-3 T²/K_b and fall as it localises, the
+/// modes that cross zero at the branch's folds and bifurcations at
+/// 4e-2 T²/K_b and beyond a step away from them.
+pub const DNA_MARGINAL: f64 = 2e-3;
+
 impl Default for SupercoilSettings {
     /// The automatic mesh (elements of 2 nm, Gauss(2): 170 for 1 kbp), cutoff 1e-4, no hard
     /// core, 1 thread, to 12 turns in at most 600 steps, scaled residual
@@ -394,6 +411,7 @@ impl Default for SupercoilSettings {
             hard_core: None,
             threads: 1,
             separate_signs_from: 3000,
+            stability: Some(StabilityOptions { marginal: DNA_MARGINAL, ..Default::default() }),
             max_turns: 12.0,
             max_steps: 600,
             residual_tol: 1e-8,
@@ -829,6 +847,7 @@ fn straight_path(
         // points beyond it cost 5 of the 6 locations (issue 18's profile).
         stop_at_bifurcation: true,
         lu_kind: settings.lu_kind,
+        stability: settings.stability,
         ..Default::default()
     };
     let (mut straight, mut index, mut target, mut steps, mut anchor) = match from {
@@ -936,6 +955,7 @@ fn buckled_path(
         overlap_records: rod.unknowns() >= settings.separate_signs_from,
         overlap_thread: settings.threads >= 2,
         unfolding_retakes: settings.unfolding_retakes,
+        stability: settings.stability,
         ..Default::default()
     };
     let n = rod.unknowns();

@@ -171,10 +171,13 @@ fn begin<P: SeriesProblem + ?Sized>(run: &mut Run, problem: &mut P, start: Start
         }
         // Exactly singular: a resume at a bifurcation point; leave it as a
         // switch does.
-        Start::Resume(r) => match run.factorise_resume(problem, &r)? {
-            true => Ok((r.x, r.lambda, (r.tangent_x, r.tangent_lambda), 0)),
-            false => leave_singular(run, problem, &r),
-        },
+        Start::Resume(r) => {
+            run.carry(&r);
+            match run.factorise_resume(problem, &r)? {
+                true => Ok((r.x, r.lambda, (r.tangent_x, r.tangent_lambda), 0)),
+                false => leave_singular(run, problem, &r),
+            }
+        }
         // A switch at a (near-)singular point: the series needs a regular
         // expansion point and a tangent that is not the nearly singular
         // matrix's arbitrary null mix, so the first step is a Newton

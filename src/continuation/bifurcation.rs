@@ -388,5 +388,13 @@ pub fn branch_start(bif: &Bifurcation, direction: (&[f64], f64), step: f64, scal
     let norm = scaling.norm(&tx, tl);
     tx.iter_mut().for_each(|v| *v /= norm);
     tl /= norm;
-    Resume { x: bif.x.clone(), lambda: bif.lambda, tangent_x: tx, tangent_lambda: tl, step, previous: None }
+    Resume {
+        x: bif.x.clone(),
+        lambda: bif.lambda,
+        tangent_x: tx,
+        tangent_lambda: tl,
+        step,
+        previous: None,
+        modes: None,
+    }
 }

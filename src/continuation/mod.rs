@@ -161,6 +161,11 @@ pub struct Resume {
     /// its tangent as the border, as the uninterrupted run did — so a
     /// resumed branch takes the same steps (bitwise on the same problem).
     pub previous: Option<Box<Resume>>,
+    /// With [`Options::stability`]: the count's state at this point (its
+    /// Ritz vectors, the branch's reference determinant sign, the deepest
+    /// σ counted), so that a resume or the next pair list's segment
+    /// counts as the uninterrupted branch would.
+    pub modes: Option<std::sync::Arc<stability::ModeCarry>>,
 }
 
 /// One converged point of a branch.
@@ -195,6 +200,12 @@ pub struct Record {
     /// ANM: the scaled residual of the series' end point before the Newton
     /// correction (what ε bought); None for Newton continuation.
     pub series_residual: Option<f64>,
+    /// With [`Options::stability`]: the number of unstable modes of the
+    /// second variation at the point, counted on its own factors
+    /// ([`stability::count_unstable`]); the determinant signs above are
+    /// then derived from it (sign det R_x = s_ref·(−1)^count, s_ref the
+    /// branch's one exact sign) and `negative_pivots` is None.
+    pub stability: Option<stability::Stability>,
 }
 
 /// A point of the branch delivered at a requested load ([`Options::samples`]).
@@ -344,6 +355,13 @@ pub struct Options {
     /// ([`SeriesProblem::has_series_tangent`]: the plain rod; not the
     /// charged rod, whose pair forces are not a polynomial tape).
     pub series_indicator: bool,
+    /// Count each record's unstable modes on the point's own factors
+    /// ([`stability::count_unstable`]; the problem must give a metric,
+    /// [`Problem::stability_metric`], else records carry none). The
+    /// records' determinant signs are then derived from the count: no
+    /// factorisation of their own ([`Options::overlap_records`] is not
+    /// used), one exact sign per branch.
+    pub stability: Option<stability::StabilityOptions>,
 }
 
 /// The corrector iterations a chord step is sized for (each a residual and
@@ -395,6 +413,7 @@ impl Default for Options {
             overlap_thread: true,
             unfolding_retakes: 4,
             series_indicator: true,
+            stability: None,
         }
     }
 }
@@ -436,6 +455,9 @@ pub struct Counts {
     /// (part of `factorisations`; [`Problem::private_blocks`],
     /// [`crate::linalg::condensed`]).
     pub condensed: usize,
+    /// Single-column solves of the records' stability counts (part of
+    /// `solves`; [`Options::stability`]).
+    pub stability_solves: usize,
     /// Where the time went (wall clock).
     pub times: Times,
 }
@@ -461,6 +483,8 @@ pub struct Times {
     /// second thread ([`Options::overlap_thread`]) they overlap the rest
     /// and are not part of its wall clock; on the calling thread they are.
     pub overlapped: std::time::Duration,
+    /// The records' stability counts (their solves included).
+    pub stability: std::time::Duration,
     /// Problem construction reported by the caller (pair lists, patterns).
     pub setup: std::time::Duration,
 }
@@ -474,6 +498,7 @@ impl Times {
         self.monitor += o.monitor;
         self.location += o.location;
         self.overlapped += o.overlapped;
+        self.stability += o.stability;
         self.setup += o.setup;
     }
 }
@@ -497,6 +522,7 @@ impl Counts {
         self.block_eliminations += other.block_eliminations;
         self.condensed += other.condensed;
         self.block_time += other.block_time;
+        self.stability_solves += other.stability_solves;
         self.times.add(&other.times);
     }
 

@@ -252,6 +252,7 @@ fn begin<P: Problem + ?Sized>(
             Ok((State { x, lambda: l, tx, tl }, opts.initial_step, it, false, None))
         }
         Start::Resume(r) => {
+            run.carry(&r);
             let regular = run.factorise_resume(problem, &r)?;
             let step = resume_step(r.step, opts, opts.newton_max_step());
             let (tx, tl) = if regular { run.ctx.tangent()? } else { (r.tangent_x, r.tangent_lambda) };

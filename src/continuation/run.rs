@@ -6,6 +6,7 @@
 
 use super::bifurcation::{self, Bifurcation, Evidence, SeriesHint, State, Unresolved};
 use super::corrector::{correct, deliver_sample, Plane};
+use super::stability::{count_unstable, ModeCarry, ModeWork};
 use super::tangent::Bordered;
 use super::{Branch, Counts, Options, Problem, Record, Resume, Sample, Scaling};
 use crate::error::{self, Error, Result};
@@ -175,6 +176,10 @@ pub(crate) struct Run<'o> {
     pub series_hint: Option<SeriesHint>,
     pub samples: Vec<Sample>,
     pub missed: Vec<f64>,
+    /// The stability count's state along the branch and its scratch
+    /// ([`Options::stability`]).
+    modes: ModeCarry,
+    mode_work: ModeWork,
 }
 
 impl<'o> Run<'o> {
@@ -197,7 +202,17 @@ impl<'o> Run<'o> {
             series_hint: None,
             samples: Vec::new(),
             missed: Vec::new(),
+            modes: ModeCarry::default(),
+            mode_work: ModeWork::new(),
         })
+    }
+
+    /// A resumed branch's stability count goes on from where it stopped
+    /// (its warm start, reference sign and deepest σ).
+    pub fn carry(&mut self, r: &Resume) {
+        if let Some(m) = &r.modes {
+            self.modes = (**m).clone();
+        }
     }
 
     /// A start point corrected at its fixed Λ: (x, Λ, Newton iterations).
@@ -251,10 +266,68 @@ impl<'o> Run<'o> {
         observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
     ) -> Record {
         let mut rec = self.unsigned_record(problem, at, step, newton_iterations, observe);
+        if self.count_modes(problem, at, &mut rec) {
+            return rec;
+        }
         let ctx = &mut self.ctx;
         (rec.bordered_det_sign, rec.det_sign) = ctx.bordered.determinant_signs(&ctx.scaling, &at.tx, at.tl);
         rec.negative_pivots = Some(ctx.bordered.negative_pivots());
         rec
+    }
+
+    /// With [`Options::stability`] and a problem that gives its metric:
+    /// the record's count of unstable modes, on the factorisation in hand
+    /// (any of R_x at the point), and its determinant signs derived from
+    /// it: sign det R_x = s_ref·(−1)^count with the branch's reference
+    /// sign s_ref, sign det B = that × the orientation of the tangent. The
+    /// reference is taken once, from an exact (simplicial) factorisation
+    /// at the branch's first counted point; a point whose count is not
+    /// certified takes its signs that way too (and its count stays None).
+    /// Returns whether the record's signs are in.
+    fn count_modes<P: Problem + ?Sized>(&mut self, problem: &mut P, at: &State, rec: &mut Record) -> bool {
+        let Some(options) = self.opts.stability else { return false };
+        let Some(metric) = problem.stability_metric(&at.x) else { return false };
+        let t = std::time::Instant::now();
+        // The floor: the state's own scale, or twice the deepest σ counted
+        // at the last point when that is lower.
+        let floor = -(options.floor * metric.scale).max(-2.0 * self.modes.deepest);
+        let ctx = &mut self.ctx;
+        let solves = ctx.counts.solves;
+        let s = count_unstable(
+            |f, k| ctx.bordered.solve_inner_many(f, k, &mut ctx.counts),
+            &metric,
+            floor,
+            &mut self.modes.basis,
+            &mut self.mode_work,
+            &options,
+        );
+        ctx.counts.stability_solves += ctx.counts.solves - solves;
+        let orientation = ctx.bordered.orientation(&ctx.scaling, &at.tx, at.tl);
+        let parity = |c: usize| if c.is_multiple_of(2) { 1.0 } else { -1.0 };
+        match (s.negative, self.modes.reference_sign) {
+            (Some(c), Some(reference)) if orientation != 0.0 => {
+                rec.det_sign = reference * parity(c);
+                rec.bordered_det_sign = rec.det_sign * orientation;
+            }
+            _ => {
+                // Exact signs: B's own LU at the point (with its tangent
+                // as border) unless the factors in hand are that already.
+                let exact =
+                    ctx.bordered.signs_in_hand() || ctx.factorise(problem, &at.x, at.lambda, (&at.tx, at.tl)).is_ok();
+                if exact {
+                    (rec.bordered_det_sign, rec.det_sign) = ctx.bordered.determinant_signs(&ctx.scaling, &at.tx, at.tl);
+                    if let Some(c) = s.negative.filter(|_| rec.det_sign != 0.0) {
+                        self.modes.reference_sign = Some(rec.det_sign * parity(c));
+                    }
+                }
+            }
+        }
+        if s.negative.is_some() {
+            self.modes.deepest = s.sigma.iter().copied().filter(|v| *v >= s.floor).fold(0.0, f64::min);
+        }
+        ctx.counts.times.stability += t.elapsed();
+        rec.stability = Some(s);
+        true
     }
 
     /// As [`Run::record`] without the determinant signs and pivots (0, 0,
@@ -284,6 +357,7 @@ impl<'o> Run<'o> {
             negative_pivots: None,
             newton_iterations,
             series_residual: None,
+            stability: None,
         }
     }
 
@@ -295,6 +369,7 @@ impl<'o> Run<'o> {
     pub fn overlapping(&self) -> bool {
         let o = self.opts;
         o.overlap_records
+            && o.stability.is_none()
             && !o.track_singular
             && !o.detect_bifurcations
             && o.samples.is_empty()
@@ -311,7 +386,7 @@ impl<'o> Run<'o> {
         lambda: f64,
         v: (&[f64], f64),
     ) -> Result<()> {
-        if self.overlapping() {
+        if self.overlapping() || self.opts.stability.is_some() {
             self.ctx.factorise_for_solves(problem, x, lambda, v)
         } else {
             self.ctx.factorise(problem, x, lambda, v)
@@ -338,6 +413,7 @@ impl<'o> Run<'o> {
             negative_pivots: None,
             newton_iterations: 0,
             series_residual: None,
+            stability: None,
         }
     }
 
@@ -533,14 +609,24 @@ impl<'o> Run<'o> {
                 tangent_lambda: p.tl,
                 step: h,
                 previous: None,
+                modes: None,
             })
         });
+        let modes = self.opts.stability.map(|_| std::sync::Arc::new(self.modes));
         Branch {
             records: self.records,
             bifurcations: self.bifurcations,
             unresolved: self.unresolved,
             stop,
-            resume: Resume { x: at.x, lambda: at.lambda, tangent_x: at.tx, tangent_lambda: at.tl, step, previous },
+            resume: Resume {
+                x: at.x,
+                lambda: at.lambda,
+                tangent_x: at.tx,
+                tangent_lambda: at.tl,
+                step,
+                previous,
+                modes,
+            },
             counts: self.ctx.counts,
             samples: self.samples,
             missed_samples: self.missed,

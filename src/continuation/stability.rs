@@ -62,6 +62,14 @@ pub struct Metric {
     /// non-variational part), so μ vanishes for w ⊥_W the zero modes:
     /// [`unstable_modes`] checks it.
     pub unfolding: Option<usize>,
+    /// The state's own unit of σ (force per length² for a rod): the
+    /// largest of K_b/L⁴, F²/K_b and M⁴/K_b³, F and M the end forces and
+    /// moments. A straight rod under tension F and torque M has
+    /// σ ≥ min_k (K_b k⁴ − M k³ + F k²) ≥ −(27/256)M⁴/K_b³ (its Rayleigh
+    /// quotient, Plancherel), and σ of a buckled one are of the same
+    /// order; the window of the engines' counts starts at −`scale`
+    /// ([`StabilityOptions::floor`]).
+    pub scale: f64,
 }
 
 impl Metric {
@@ -152,12 +160,43 @@ pub struct StabilityOptions {
     /// the μ of the (W-normalised) zero mode itself ([`Stability::unfolding`]):
     /// above it the iteration's columns are not ⊥ the symmetry's true zero
     /// mode (a wrong metric, an anisotropic law) and the count is refused.
+    /// The level μ sits at on a right zero mode is that of the scheme's
+    /// non-variational part (the discrete left null vector is Wv₀ only to
+    /// O(h^{2s})), which the Ritz matrix's skew part measures: μ/skew was
+    /// 0.5–2 on resolved and under-resolved meshes alike, against 46 for
+    /// a zero mode about an axis 0.05 L off. So the bound is the larger of
+    /// this and 10 × the skew part.
     pub unfolding_tol: f64,
+    /// [`count_unstable`]: the window's floor σ_floor = −`floor`·scale
+    /// ([`Metric::scale`]), lowered to twice the deepest σ counted at the
+    /// branch's last point when that is below it.
+    pub floor: f64,
+    /// Neutral modes: σ with |σ| ≤ `marginal`·scale are counted apart
+    /// ([`Stability::marginal`]) and not as unstable. A localised
+    /// structure on long tails (a plectoneme, a loop) can slide along
+    /// them at a cost that falls as e^{−L_tail/ξ}: σ of 1e-4–1e-3 of the
+    /// scale on a 1 kbp DNA rod, a saddle only in a direction whose energy
+    /// changes by far less than k_BT, next to a state of equal energy.
+    /// Default 0 (every negative σ counts): a scene that knows its neutral
+    /// modes sets it ([`crate::charged::dna::SupercoilSettings::stability`]).
+    pub marginal: f64,
+    /// [`count_unstable`]: the block grows (doubling, warm) up to this
+    /// many columns while the window does not close within it.
+    pub max_block: usize,
 }
 
 impl Default for StabilityOptions {
     fn default() -> Self {
-        StabilityOptions { block: 12, guard: 3, max_iterations: 8, tol: 1e-6, unfolding_tol: 1e-4 }
+        StabilityOptions {
+            block: 12,
+            guard: 3,
+            max_iterations: 8,
+            tol: 1e-6,
+            unfolding_tol: 1e-4,
+            floor: 1.0,
+            marginal: 0.0,
+            max_block: 96,
+        }
     }
 }
 
@@ -178,6 +217,23 @@ impl ModeBasis {
     pub fn columns(&self) -> usize {
         self.vectors.len().checked_div(self.coordinates).unwrap_or(0)
     }
+}
+
+/// What a branch's stability count carries from one point to the next
+/// (and through a [`crate::continuation::Resume`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ModeCarry {
+    /// The last point's Ritz vectors: the next point's warm start.
+    pub basis: ModeBasis,
+    /// sign det R_x · (−1)^count, the same at every point of a branch
+    /// (det R_x changes sign exactly where an eigenvalue σ crosses zero):
+    /// taken once from an exact factorisation, then the records' signs
+    /// follow from their counts. None until then.
+    pub reference_sign: Option<f64>,
+    /// The most negative σ counted at the last point (0: none): the next
+    /// floor is at most twice it, so that a mode deepening along the
+    /// branch is not lost below a fixed floor.
+    pub deepest: f64,
 }
 
 /// The scratch blocks of [`unstable_modes`], kept between calls (sized on
@@ -228,6 +284,14 @@ pub struct Stability {
     /// closed within the block, or a Ritz value too close to the floor's
     /// t = −1/σ_floor for its bound, `certificate`): never a guess.
     pub unstable: Option<usize>,
+    /// The certified count of all σ in [σ_floor, 0), the marginal ones
+    /// included: det R_x changes sign where any σ crosses zero, so its
+    /// sign follows this count's parity.
+    pub negative: Option<usize>,
+    /// σ of the window with |σ| ≤ `marginal`·scale
+    /// ([`StabilityOptions::marginal`]): neutral, in `negative` when below
+    /// zero but not in `unstable`.
+    pub marginal: usize,
     /// σ = −1/θ of the window's Ritz pairs and of the one closing it (all
     /// decided ones if it did not close), by |σ| ascending (nearest zero
     /// first), in the metric's units (force per length² for a rod with
@@ -252,6 +316,13 @@ pub struct Stability {
     /// this is the cosine between the columns and the true zero mode as
     /// the rows see it; 0 without a phase condition.
     pub unfolding: f64,
+    /// Columns iterated, and whether the window was still open after two
+    /// iterations (more σ within the floor than the block decides: the
+    /// iteration stopped there, for a larger block to take over).
+    pub block: usize,
+    pub open: bool,
+    /// The floor the count was taken above.
+    pub floor: f64,
 }
 
 /// Unstable modes of δ²G at a point from its Jacobian's factors: block
@@ -317,7 +388,7 @@ pub fn unstable_modes(
     options: &StabilityOptions,
 ) -> Stability {
     assert!(sigma_floor < 0.0 && sigma_floor.is_finite(), "the floor σ_floor must be negative and finite");
-    let StabilityOptions { block: b, guard, max_iterations, tol, unfolding_tol } = *options;
+    let StabilityOptions { block: b, guard, max_iterations, tol, unfolding_tol, .. } = *options;
     assert!(b > guard + 1, "a block needs a decided column and one to close the window beside the guards");
     let (n, m) = (metric.dim, metric.coordinates());
     let decided = b - guard;
@@ -325,12 +396,17 @@ pub fn unstable_modes(
     work.size(n, m, b);
     let mut stability = Stability {
         unstable: None,
+        negative: None,
+        marginal: 0,
         sigma: Vec::new(),
         skew: 0.0,
         certificate: f64::INFINITY,
         iterations: 0,
         solves: 0,
         unfolding: 0.0,
+        block: b,
+        open: false,
+        floor: sigma_floor,
     };
 
     // μ of the zero mode itself: the unit the columns' μ are measured in.
@@ -439,7 +515,11 @@ pub fn unstable_modes(
         closing = work.theta[..decided].iter().position(|th| th.abs() < t);
         let Some(p) = closing else {
             stability.certificate = f64::INFINITY;
-            if iteration == max_iterations {
+            // Ritz values of largest |θ| grow toward the eigenvalues as
+            // the iteration goes on: a window still open after two
+            // iterations stays open, and a larger block must decide it.
+            if iteration == max_iterations || iteration >= 2 {
+                stability.open = true;
                 break;
             }
             // The next subspace: KX (Ritz order kept for the warm start).
@@ -511,13 +591,54 @@ pub fn unstable_modes(
     // A solve that moved μ means the projection did not remove the
     // symmetry's zero mode: the operator iterated is not the symmetric
     // one on V₁ = v₀^⊥ and its count is not certified (NaN refuses too).
-    let unfolded = !(stability.unfolding <= unfolding_tol);
+    let unfolded = !(stability.unfolding <= unfolding_tol.max(10.0 * stability.skew));
     if let (Some(p), false) = (closing, unfolded) {
         if stability.certificate < 1.0 && work.theta[p].abs() + residual < t {
-            stability.unstable = Some(work.theta[..p].iter().filter(|&&th| th >= t).count());
+            let negative = work.theta[..p].iter().filter(|&&th| th >= t).count();
+            // The neutral ones, by the reported σ (the window's, nearest
+            // zero first).
+            let level = options.marginal * metric.scale;
+            let marginal = stability.sigma.iter().filter(|s| s.abs() <= level);
+            let neutral_negative = marginal.clone().filter(|s| **s < 0.0).count();
+            stability.marginal = marginal.count();
+            stability.negative = Some(negative);
+            stability.unstable = Some(negative.saturating_sub(neutral_negative));
         }
     }
     stability
+}
+
+/// The count of [`unstable_modes`] with the block sized to the window:
+/// started at the basis' size (the last point's, at least
+/// `options.block`), doubled (warm: the Ritz vectors found so far kept)
+/// while the window stays open, up to `options.max_block`; a count is
+/// None when even that does not close it. The solves of every attempt are
+/// counted in the result.
+pub fn count_unstable(
+    mut solve: impl FnMut(&mut [f64], usize) -> bool,
+    metric: &Metric,
+    sigma_floor: f64,
+    basis: &mut ModeBasis,
+    work: &mut ModeWork,
+    options: &StabilityOptions,
+) -> Stability {
+    // The last point's window and closer, with guards and spares: the
+    // block it needed, or less when its window narrowed.
+    let warm = if basis.coordinates == metric.coordinates() { basis.sigma.len() + options.guard + 2 } else { 0 };
+    let mut block = warm.clamp(options.block, options.max_block.max(options.block));
+    let (mut solves, mut iterations) = (0, 0);
+    loop {
+        let opts = StabilityOptions { block, ..*options };
+        let mut s = unstable_modes(&mut solve, metric, sigma_floor, basis, work, &opts);
+        solves += s.solves;
+        iterations += s.iterations;
+        let next = (2 * block).min(options.max_block);
+        if !s.open || next <= block {
+            (s.solves, s.iterations) = (solves, iterations);
+            return s;
+        }
+        block = next;
+    }
 }
 
 /// The arclength of each stage point, from the weights (the stage

@@ -452,6 +452,7 @@ impl Rod {
             lambda: l,
             step,
             previous: None,
+            modes: None,
         })
     }
 

@@ -111,6 +111,7 @@ impl Rod {
             rotations: Vec::with_capacity(points),
             zero_modes: Vec::new(),
             unfolding: phase.then(|| self.unknowns()),
+            scale: self.sigma_scale(x),
         };
         for e in 0..self.elements {
             let h = self.element_h(e);
@@ -132,6 +133,22 @@ impl Rod {
             metric.zero_modes.extend(metric.axial_rotation_mode(&r, self.length));
         }
         Some(metric)
+    }
+
+    /// The unit of σ at state x ([`Metric::scale`]): max(K_b/L⁴, F²/K_b,
+    /// M⁴/K_b³) with K_b the smaller bending stiffness and F, M the
+    /// largest force and moment at the two ends (n_b, m_b of the end
+    /// nodes: the load the rod carries, not the bending moment of a loop
+    /// inside it).
+    pub fn sigma_scale(&self, x: &[f64]) -> f64 {
+        let kb = self.law.stiffness[(0, 0)].min(self.law.stiffness[(1, 1)]);
+        let norm = |v: &[f64]| v.iter().map(|a| a * a).sum::<f64>().sqrt();
+        let (mut f, mut m) = (0.0f64, 0.0f64);
+        for o in [self.node(0), self.node(self.elements)] {
+            f = f.max(norm(&x[o + 7..o + 10]));
+            m = m.max(norm(&x[o + 10..o + 13]));
+        }
+        (kb / self.length.powi(4)).max(f * f / kb).max(m.powi(4) / kb.powi(3))
     }
 }
 

@@ -168,8 +168,10 @@ fn land<M: Followed + ?Sized>(model: &M, branch: &mut RodBranch, target: f64, ph
         negative_pivots: None,
         newton_iterations: iterations,
         series_residual: None,
+        stability: None,
     };
-    branch.resume = Resume { x: x.clone(), lambda, tangent_x: tx, tangent_lambda: tl, step, previous: None };
+    branch.resume =
+        Resume { x: x.clone(), lambda, tangent_x: tx, tangent_lambda: tl, step, previous: None, modes: None };
     branch.records[k] = record;
     branch.states[k] = x;
     branch.counts.add(&ctx.counts);

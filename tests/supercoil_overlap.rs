@@ -30,6 +30,9 @@ fn settings(threads: usize) -> (DnaScene, SupercoilSettings) {
         threads,
         lu_kind: Some(LuKind::Supernodal),
         separate_signs_from: 0,
+        // The records' signs from their own factorisations (what this
+        // file tests), not derived from stability counts.
+        stability: None,
         ..Default::default()
     };
     (scene, settings)

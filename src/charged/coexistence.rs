@@ -28,8 +28,14 @@
 //! **Stability** (rotation control). The number of negative modes of G's
 //! second variation at fixed φ (the phase condition removing the buckled
 //! branch's rotation about the axis, a zero mode) — i.e. 0 for a local
-//! minimum — changes along a branch only where the Jacobian is singular: at
-//! folds in φ and at bifurcations. The rules ([`negative_modes`]):
+//! minimum. A run that counts them
+//! ([`crate::charged::dna::SupercoilSettings::stability`], the default)
+//! carries each point's count, from the eigenvalues nearest zero on its own
+//! factorisation ([`crate::continuation::stability`], physics.md §3.4),
+//! None where it is not certified; its neutral sliding modes are not
+//! counted as unstable. Without counts the number changes along a branch
+//! only where the Jacobian is singular: at folds in φ and at bifurcations,
+//! and these rules decide it ([`negative_modes`]):
 //! - the straight rod has none up to its first buckling point, a double
 //!   point (the rotational symmetry): `multiplicity` (2) beyond it;
 //! - the buckled branch leaves the double point with one (the buckle's

@@ -70,6 +70,10 @@ pub struct Metric {
     /// order; the window of the engines' counts starts at −`scale`
     /// ([`StabilityOptions::floor`]).
     pub scale: f64,
+    /// The unit of the neutral band ([`StabilityOptions::marginal`]):
+    /// max(K_b/L⁴, F²/K_b), the tension's own scale without the torque's
+    /// (a sliding mode's σ scales with the tails' tension, not the twist).
+    pub neutral_scale: f64,
 }
 
 impl Metric {
@@ -163,15 +167,19 @@ pub struct StabilityOptions {
     /// The level μ sits at on a right zero mode is that of the scheme's
     /// non-variational part (the discrete left null vector is Wv₀ only to
     /// O(h^{2s})), which the Ritz matrix's skew part measures: μ/skew was
-    /// 0.5–2 on resolved and under-resolved meshes alike, against 46 for
-    /// a zero mode about an axis 0.05 L off. So the bound is the larger of
-    /// this and 10 × the skew part.
+    /// 0.5–2 on the Greenhill rods, but up to 2.3e-2 (against a skew of
+    /// ~1e-4) on the 1 kbp DNA scene's buckled branch at 170 × Gauss(2),
+    /// where a sliding mode is nearly neutral; a zero mode about an axis
+    /// 0.05 L off gave 0.29 (and σ₁ 0.4 % off). So the default bound is
+    /// 0.1, or 10 × the skew part when that is larger.
     pub unfolding_tol: f64,
     /// [`count_unstable`]: the window's floor σ_floor = −`floor`·scale
     /// ([`Metric::scale`]), lowered to twice the deepest σ counted at the
     /// branch's last point when that is below it.
     pub floor: f64,
-    /// Neutral modes: σ with |σ| ≤ `marginal`·scale are counted apart
+    /// Neutral modes: σ with |σ| ≤ `marginal`·neutral_scale
+    /// ([`Metric::neutral_scale`]) on a state with a zero mode (off the
+    /// straight rod: a localised structure) are counted apart
     /// ([`Stability::marginal`]) and not as unstable. A localised
     /// structure on long tails (a plectoneme, a loop) can slide along
     /// them at a cost that falls as e^{−L_tail/ξ}: σ of 1e-4–1e-3 of the
@@ -192,7 +200,7 @@ impl Default for StabilityOptions {
             guard: 3,
             max_iterations: 8,
             tol: 1e-6,
-            unfolding_tol: 1e-4,
+            unfolding_tol: 0.1,
             floor: 1.0,
             marginal: 0.0,
             max_block: 96,
@@ -597,7 +605,8 @@ pub fn unstable_modes(
             let negative = work.theta[..p].iter().filter(|&&th| th >= t).count();
             // The neutral ones, by the reported σ (the window's, nearest
             // zero first).
-            let level = options.marginal * metric.scale;
+            let localised = !metric.zero_modes.is_empty();
+            let level = if localised { options.marginal * metric.neutral_scale } else { 0.0 };
             let marginal = stability.sigma.iter().filter(|s| s.abs() <= level);
             let neutral_negative = marginal.clone().filter(|s| **s < 0.0).count();
             stability.marginal = marginal.count();

@@ -111,7 +111,8 @@ impl Rod {
             rotations: Vec::with_capacity(points),
             zero_modes: Vec::new(),
             unfolding: phase.then(|| self.unknowns()),
-            scale: self.sigma_scale(x),
+            scale: self.sigma_scale(x).0,
+            neutral_scale: self.sigma_scale(x).1,
         };
         for e in 0..self.elements {
             let h = self.element_h(e);
@@ -135,12 +136,13 @@ impl Rod {
         Some(metric)
     }
 
-    /// The unit of σ at state x ([`Metric::scale`]): max(K_b/L⁴, F²/K_b,
+    /// The units of σ at state x ([`Metric::scale`], and
+    /// [`Metric::neutral_scale`] without the moment): max(K_b/L⁴, F²/K_b,
     /// M⁴/K_b³) with K_b the smaller bending stiffness and F, M the
     /// largest force and moment at the two ends (n_b, m_b of the end
     /// nodes: the load the rod carries, not the bending moment of a loop
     /// inside it).
-    pub fn sigma_scale(&self, x: &[f64]) -> f64 {
+    pub fn sigma_scale(&self, x: &[f64]) -> (f64, f64) {
         let kb = self.law.stiffness[(0, 0)].min(self.law.stiffness[(1, 1)]);
         let norm = |v: &[f64]| v.iter().map(|a| a * a).sum::<f64>().sqrt();
         let (mut f, mut m) = (0.0f64, 0.0f64);
@@ -148,7 +150,8 @@ impl Rod {
             f = f.max(norm(&x[o + 7..o + 10]));
             m = m.max(norm(&x[o + 10..o + 13]));
         }
-        (kb / self.length.powi(4)).max(f * f / kb).max(m.powi(4) / kb.powi(3))
+        let tension = (kb / self.length.powi(4)).max(f * f / kb);
+        (tension.max(m.powi(4) / kb.powi(3)), tension)
     }
 }
 

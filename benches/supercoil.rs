@@ -34,7 +34,8 @@
 //! factorisations as ratios, and the largest distance of the new path from
 //! the baseline's (RODKIT_SUPERCOIL_BASELINE=0 skips the baseline, =lu
 //! runs the default engine with the simplicial LU as the baseline,
-//! =serial the same settings on one thread).
+//! =serial the same settings on one thread, =signs the records' signs from
+//! their own factorisations and no stability counts).
 
 #[path = "support/plot.rs"]
 mod plot;
@@ -136,7 +137,7 @@ fn profile_line(name: &str, c: &Counts, newton: usize, points: usize, lists: usi
     let per = |v: usize| v as f64 / c.steps.max(1) as f64;
     format!(
         "  {name}: {} steps ({} rejected), {} points, {} factorisations ({:.2}/step; {} in {} bifurcation locations; {} by block elimination, {:.2} s; {:.2} s on the records' signs, on their own thread with 2 threads), \
-         {} corrector iterations on accepted points ({:.2}/point), {} solves ({} σ_min monitor), {} residuals, {} Jacobians, {} pair lists ({:.1} steps/list), {} series orders (ANM)\n    \
+         {} corrector iterations on accepted points ({:.2}/point), {} solves ({} σ_min monitor, {} stability counts in {:.2} s), {} residuals, {} Jacobians, {} pair lists ({:.1} steps/list), {} series orders (ANM)\n    \
          time: residual {:.2} s, Jacobian {:.2} s, LU factorisation {:.2} s, solves {:.2} s, σ_min monitor {:.2} s, setup (pair lists, patterns) {:.2} s; location (inclusive) {:.2} s",
         c.steps,
         c.rejected_steps,
@@ -152,6 +153,8 @@ fn profile_line(name: &str, c: &Counts, newton: usize, points: usize, lists: usi
         newton as f64 / points.max(1) as f64,
         c.solves,
         c.monitor_solves,
+        c.stability_solves,
+        ms(t.stability),
         c.residuals,
         c.jacobians,
         lists,
@@ -164,6 +167,30 @@ fn profile_line(name: &str, c: &Counts, newton: usize, points: usize, lists: usi
         ms(t.monitor),
         ms(t.setup),
         ms(t.location),
+    )
+}
+
+/// What the run decided of its points' stability and what the summary
+/// found from it: points whose count is undetermined, unstable and with
+/// neutral modes (counted runs), the coexistence point and the plateau.
+fn stability_line(run: &SupercoilRun) -> String {
+    let modes = rodkit::charged::coexistence::negative_modes(run).unwrap_or_default();
+    let undetermined = modes.iter().filter(|m| m.is_none()).count();
+    let unstable = modes.iter().filter(|m| m.is_some_and(|m| m > 0)).count();
+    let records = run.straight.records.iter().chain(run.buckled.iter().flat_map(|b| b.records.iter()));
+    let neutral = records.filter(|r| r.stability.as_ref().is_some_and(|s| s.marginal > 0)).count();
+    let summary = rodkit::charged::summary::summarise(run);
+    let (coexistence, plateau) = match &summary {
+        Ok(s) => (
+            format!("{:?} {:?}", s.coexistence.finding, s.coexistence.value.map(|c| c.turns)),
+            format!("{:?} {:?}", s.plateau.finding, s.plateau.value.map(|p| (p.torque, p.slope))),
+        ),
+        Err(e) => (e.message.clone(), String::new()),
+    };
+    format!(
+        "stability of {} points: {undetermined} undetermined, {unstable} unstable, {neutral} with neutral modes; \
+         coexistence {coexistence} turns; plateau {plateau} (pN nm, nm/turn)",
+        modes.len()
     )
 }
 
@@ -294,6 +321,10 @@ fn main() {
             Ok("0") => None,
             Ok("lu") => Some(SupercoilSettings { lu_kind: Some(LuKind::Simplicial), ..settings.clone() }),
             Ok("serial") => Some(SupercoilSettings { threads: 1, ..settings.clone() }),
+            // The records' signs from B's own simplicial LU (on the second
+            // thread with 2 threads) and stability by the parity rules, as
+            // before the counted modes: what counting saves.
+            Ok("signs") => Some(SupercoilSettings { stability: None, ..settings.clone() }),
             Ok("hermite") => Some(SupercoilSettings { engine: Engine::Hermite, ..settings.clone() }),
             Ok("verlet") => Some(SupercoilSettings { list_rule: ListRule::Displacement, ..settings.clone() }),
             // A reference discretisation (the path's own discretisation
@@ -342,6 +373,11 @@ fn main() {
                 dm,
                 dz
             );
+        }
+        for (name, run) in [("baseline", baseline.as_ref()), ("run", Some(&r))] {
+            if let Some(run) = run {
+                let _ = writeln!(report, "  {name}: {}", stability_line(run));
+            }
         }
         let two_pi = 2.0 * std::f64::consts::PI;
         let steps_done: usize = r.straight.counts.steps + r.buckled.as_ref().map_or(0, |b| b.counts.steps);

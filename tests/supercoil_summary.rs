@@ -268,18 +268,26 @@ fn nothing_made_up_before_the_plectoneme() {
     assert!(s.coexistence.value.is_none() && s.plateau.value.is_none() && s.note.is_some());
 }
 
-/// 300 bp at 2 pN, 0.1 M to 2.2 turns (40 elements): the buckled branch's
-/// stability becomes undetermined (a bifurcation on it), so the
-/// coexistence is Undetermined — no number, a note saying why — and the
-/// plateau is Unverified: measured on the branch's last leg increasing in
-/// turns, beyond the instability. Reference: the test's own walk back from
-/// the last point while φ decreases, and its own trapezoid φ-average and
-/// least-squares slope over those points (relative 1e-12: the same sums in
-/// another order).
+/// 300 bp at 2 pN, 0.1 M to 2.2 turns (40 elements), stability by the
+/// parity rules alone (no counts): the buckled branch's stability becomes
+/// undetermined (a bifurcation on it), so the coexistence is Undetermined
+/// — no number, a note saying why — and the plateau is Unverified:
+/// measured on the branch's last leg increasing in turns, beyond the
+/// instability. Reference: the test's own walk back from the last point
+/// while φ decreases, and its own trapezoid φ-average and least-squares
+/// slope over those points (relative 1e-12: the same sums in another
+/// order). With the counts (the default) the same scene has every point
+/// decided, and the summary says what the curve shows instead.
 #[test]
 fn undetermined_stability_gives_an_unverified_plateau() {
     let scene = DnaScene { base_pairs: BASE_PAIRS, tension: 2.0, ..Default::default() };
     let settings = SupercoilSettings { elements: ELEMENTS, max_turns: 2.2, max_steps: MAX_STEPS, ..Default::default() };
+    let counted = dna::run_scene(&scene, &settings).unwrap();
+    let modes = rodkit::charged::coexistence::negative_modes(&counted).unwrap();
+    assert!(modes.iter().all(|m| m.is_some()), "a counted point undetermined: {modes:?}");
+    let s = summarise_with(&counted, Some(&equilibrium_curve(&counted).unwrap()));
+    assert_ne!(s.coexistence.finding, Finding::Undetermined, "{:?}", s.note);
+    let settings = SupercoilSettings { stability: None, ..settings };
     let run = dna::run_scene(&scene, &settings).unwrap();
     let curve = equilibrium_curve(&run).unwrap();
     let s = summarise_with(&run, Some(&curve));

@@ -329,6 +329,10 @@ pub struct Stability {
     /// iteration stopped there, for a larger block to take over).
     pub block: usize,
     pub open: bool,
+    /// The window closed and the projection held, but a Ritz value sat
+    /// too near the floor's t for the bound (the closer, or one of the
+    /// window's): another floor decides it ([`count_unstable`] lowers it).
+    pub near_floor: bool,
     /// The floor the count was taken above.
     pub floor: f64,
 }
@@ -414,6 +418,7 @@ pub fn unstable_modes(
         unfolding: 0.0,
         block: b,
         open: false,
+        near_floor: false,
         floor: sigma_floor,
     };
 
@@ -601,7 +606,8 @@ pub fn unstable_modes(
     // one on V₁ = v₀^⊥ and its count is not certified (NaN refuses too).
     let unfolded = !(stability.unfolding <= unfolding_tol.max(10.0 * stability.skew));
     if let (Some(p), false) = (closing, unfolded) {
-        if stability.certificate < 1.0 && work.theta[p].abs() + residual < t {
+        stability.near_floor = !(stability.certificate < 1.0 && work.theta[p].abs() + residual < t);
+        if !stability.near_floor {
             let negative = work.theta[..p].iter().filter(|&&th| th >= t).count();
             // The neutral ones, by the reported σ (the window's, nearest
             // zero first).
@@ -622,7 +628,8 @@ pub fn unstable_modes(
 /// `options.block`), doubled (warm: the Ritz vectors found so far kept)
 /// while the window stays open, up to `options.max_block`; a count is
 /// None when even that does not close it. The solves of every attempt are
-/// counted in the result.
+/// counted in the result. A window that closes too near the floor for its
+/// bound is taken again with the floor twice as low (twice at most).
 pub fn count_unstable(
     mut solve: impl FnMut(&mut [f64], usize) -> bool,
     metric: &Metric,
@@ -635,13 +642,21 @@ pub fn count_unstable(
     // block it needed, or less when its window narrowed.
     let warm = if basis.coordinates == metric.coordinates() { basis.sigma.len() + options.guard + 2 } else { 0 };
     let mut block = warm.clamp(options.block, options.max_block.max(options.block));
-    let (mut solves, mut iterations) = (0, 0);
+    let (mut solves, mut iterations, mut floor, mut lowered) = (0, 0, sigma_floor, 0);
     loop {
         let opts = StabilityOptions { block, ..*options };
-        let mut s = unstable_modes(&mut solve, metric, sigma_floor, basis, work, &opts);
+        let mut s = unstable_modes(&mut solve, metric, floor, basis, work, &opts);
         solves += s.solves;
         iterations += s.iterations;
         let next = (2 * block).min(options.max_block);
+        // A window that closed too near its floor: any floor below the
+        // physical spectrum counts the same, so the floor is lowered
+        // (twice at most; the block grows with it when it must).
+        if s.near_floor && lowered < 2 {
+            floor *= 2.0;
+            lowered += 1;
+            continue;
+        }
         if !s.open || next <= block {
             (s.solves, s.iterations) = (solves, iterations);
             return s;

@@ -219,8 +219,8 @@ RUN_OUT := $(abspath $(OUT))
 DNA_MAP_SUBSET ?= --bp 300 --forces 1,2 --salts 0.05,0.1 --turns 2.2 --elements 40 --steps 300
 DNA_MAP_OUT ?= $(RUN_OUT)/dna/map
 # The supercoiling run: continuation steps, then elements and base pairs.
-DNA_SUPERCOIL_STEPS ?= 60
-DNA_SUPERCOIL_SCENE ?= 100 1000
+DNA_SUPERCOIL_STEPS ?= 90
+DNA_SUPERCOIL_SCENE ?= 51 300
 # The tweezers family at 25 C (c_examples/dna_tweezers.c --family: 4 forces
 # x 2 salts x 2 lengths, on two threads: ~0.3 s) and where its
 # files go.

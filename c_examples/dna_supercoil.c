@@ -287,6 +287,29 @@ int main(int argc, char **argv) {
            "  %.3f turns, extension %.1f nm, torque %.2f pN nm, writhe %.3f\n",
            info.buckling_turns, info.buckling_torque, pts[count - 1].branch ? "buckled" : "straight", (long long)count,
            pts[count - 1].turns, pts[count - 1].extension, pts[count - 1].torque, pts[count - 1].writhe);
+    /* The equilibrium curve's summary: every point's stability (its
+     * unstable modes counted on its own factorisation), the coexistence
+     * of straight rod and plectoneme where their energies cross, and the
+     * plateau beyond it, each with its finding. */
+    RodkitSupercoilCurveInfo ci;
+    if ((st = rodkit_supercoil_curve_summary(run, &ci)) < 0) return fail(st, "rodkit_supercoil_curve_summary");
+    const char *finding[] = {"?", "found", "unverified", "undetermined", "not reached"};
+#define FINDING(f) ((f) >= 1 && (f) <= 4 ? finding[f] : finding[0])
+    if (ci.coexistence_finding == RODKIT_SUMMARY_FINDING_FOUND)
+        printf("  coexistence (found): %.3f turns, torque %.2f pN nm straight / %.2f plectoneme, extension jump %.1f nm\n",
+               ci.coexistence_turns, ci.coexistence_torque_straight, ci.coexistence_torque_plectoneme, ci.coexistence_extension_jump);
+    else
+        printf("  coexistence: %s\n", FINDING(ci.coexistence_finding));
+    if (ci.plateau_finding == RODKIT_SUMMARY_FINDING_FOUND || ci.plateau_finding == RODKIT_SUMMARY_FINDING_UNVERIFIED)
+        printf("  plateau (%s): torque %.2f pN nm (%.2f-%.2f), slope %.1f nm/turn over %.3f-%.3f turns\n", FINDING(ci.plateau_finding),
+               ci.plateau_torque, ci.plateau_torque_min, ci.plateau_torque_max, ci.slope, ci.plateau_turns_from, ci.plateau_turns_to);
+    else
+        printf("  plateau: %s\n", FINDING(ci.plateau_finding));
+    DETAIL("coexistence_finding = %d\nplateau_finding = %d\n", (int)ci.coexistence_finding, (int)ci.plateau_finding);
+    if (ci.coexistence_finding == RODKIT_SUMMARY_FINDING_FOUND)
+        DETAIL("coexistence_turns = %.15g\nextension_jump_nm = %.15g\n", ci.coexistence_turns, ci.coexistence_extension_jump);
+    if (ci.plateau_finding == RODKIT_SUMMARY_FINDING_FOUND)
+        DETAIL("plateau_torque_pN_nm = %.15g\nslope_nm_per_turn = %.15g\n", ci.plateau_torque, ci.slope);
     if (csv_path) printf("  path (CSV): %s\n", csv_path);
     if (vtk_path) printf("  %lld shapes (VTK, for ParaView): %s\n", (long long)ns, vtk_path);
 

@@ -32,8 +32,9 @@
 //! ([`crate::charged::dna::SupercoilSettings::stability`], the default)
 //! carries each point's count, from the eigenvalues nearest zero on its own
 //! factorisation ([`crate::continuation::stability`], physics.md §3.4),
-//! None where it is not certified; its neutral sliding modes are not
-//! counted as unstable. Without counts the number changes along a branch
+//! None where it is not certified; its neutral modes (near zero, their
+//! sign within the model's own approximations) are not counted as
+//! unstable. Without counts the number changes along a branch
 //! only where the Jacobian is singular: at folds in φ and at bifurcations,
 //! and these rules decide it ([`negative_modes`]):
 //! - the straight rod has none up to its first buckling point, a double

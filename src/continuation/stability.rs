@@ -181,11 +181,12 @@ pub struct StabilityOptions {
     /// ([`Metric::neutral_scale`]) on a state with a zero mode (off the
     /// straight rod: a localised structure) are counted apart
     /// ([`Stability::marginal`]) and not as unstable. A localised
-    /// structure on long tails (a plectoneme, a loop) can slide along
-    /// them at a cost that falls as e^{−L_tail/ξ}: σ of 1e-4–1e-3 of the
-    /// scale on a 1 kbp DNA rod, a saddle only in a direction whose energy
-    /// changes by far less than k_BT, next to a state of equal energy.
-    /// Default 0 (every negative σ counts): a scene that knows its neutral
+    /// structure on long tails (a plectoneme, a loop) has modes whose σ
+    /// fall toward zero as it localises (its sliding along the tails, at
+    /// a cost ∝ e^{−L_tail/ξ}, and others): once they are within what the
+    /// model's own approximations decide (a pair list's cutoff, the mesh)
+    /// their sign flips from point to point and says nothing of the
+    /// physics (physics.md §3.4). Default 0 (every negative σ counts): a scene that knows its neutral
     /// modes sets it ([`crate::charged::dna::SupercoilSettings::stability`]).
     pub marginal: f64,
     /// [`count_unstable`]: the block grows (doubling, warm) up to this

@@ -72,7 +72,8 @@ pub struct Metric {
     pub scale: f64,
     /// The unit of the neutral band ([`StabilityOptions::marginal`]):
     /// max(K_b/L⁴, F²/K_b), the tension's own scale without the torque's
-    /// (a sliding mode's σ scales with the tails' tension, not the twist).
+    /// (a sliding mode's σ scales with the tails' tension, not the twist);
+    /// 0 on a state without a localised structure (no neutral band).
     pub neutral_scale: f64,
 }
 

@@ -112,7 +112,7 @@ impl Rod {
             zero_modes: Vec::new(),
             unfolding: phase.then(|| self.unknowns()),
             scale: self.sigma_scale(x).0,
-            neutral_scale: self.sigma_scale(x).1,
+            neutral_scale: if self.localised(x) { self.sigma_scale(x).1 } else { 0.0 },
         };
         for e in 0..self.elements {
             let h = self.element_h(e);
@@ -134,6 +134,29 @@ impl Rod {
             metric.zero_modes.extend(metric.axial_rotation_mode(&r, self.length));
         }
         Some(metric)
+    }
+
+    /// Whether the state carries a localised structure on straight tails:
+    /// some stage point lies off the axis by more than the tension length
+    /// ξ = √(K_b/F) (F the larger end force). Next to the straight rod's
+    /// bifurcation the buckled state is an extended helix of small
+    /// amplitude with no such structure, and its σ near zero are the
+    /// bifurcation's own modes, never neutral.
+    pub fn localised(&self, x: &[f64]) -> bool {
+        let Scheme::Gauss(s) = self.scheme else { return false };
+        let kb = self.law.stiffness[(0, 0)].min(self.law.stiffness[(1, 1)]);
+        let force = [self.node(0), self.node(self.elements)]
+            .iter()
+            .map(|&o| x[o + 7..o + 10].iter().map(|a| a * a).sum::<f64>().sqrt())
+            .fold(0.0, f64::max);
+        if !(force > 0.0) {
+            return false;
+        }
+        let xi = (kb / force).sqrt();
+        (0..self.elements).flat_map(|e| (0..s).map(move |j| (e, j))).any(|(e, j)| {
+            let o = self.stage_offset(e, j);
+            x[o].hypot(x[o + 1]) > xi
+        })
     }
 
     /// The units of σ at state x ([`Metric::scale`], and

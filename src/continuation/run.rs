@@ -292,7 +292,6 @@ impl<'o> Run<'o> {
         // at the last point when that is lower.
         let floor = -(options.floor * metric.scale).max(-2.0 * self.modes.deepest);
         let ctx = &mut self.ctx;
-        let solves = ctx.counts.solves;
         let s = count_unstable(
             |f, k| ctx.bordered.solve_inner_many(f, k, &mut ctx.counts),
             &metric,
@@ -301,7 +300,7 @@ impl<'o> Run<'o> {
             &mut self.mode_work,
             &options,
         );
-        ctx.counts.stability_solves += ctx.counts.solves - solves;
+        ctx.counts.stability_solves += s.solves;
         let orientation = ctx.bordered.orientation(&ctx.scaling, &at.tx, at.tl);
         let parity = |c: usize| if c.is_multiple_of(2) { 1.0 } else { -1.0 };
         match (s.negative, self.modes.reference_sign) {

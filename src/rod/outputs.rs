@@ -101,6 +101,7 @@ impl Rod {
         let Scheme::Gauss(s) = self.scheme else { return None };
         let tab = self.tableau();
         let points = self.elements * s;
+        let (scale, tension) = self.sigma_scale(x);
         let mut metric = Metric {
             dim: self.unknowns() + phase as usize,
             coords: Vec::with_capacity(points),
@@ -111,8 +112,8 @@ impl Rod {
             rotations: Vec::with_capacity(points),
             zero_modes: Vec::new(),
             unfolding: phase.then(|| self.unknowns()),
-            scale: self.sigma_scale(x).0,
-            neutral_scale: if self.localised(x) { self.sigma_scale(x).1 } else { 0.0 },
+            scale,
+            neutral_scale: if self.localised(x) { tension } else { 0.0 },
         };
         for e in 0..self.elements {
             let h = self.element_h(e);

@@ -263,6 +263,7 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
         lu_kind: None,
         corrector_aim: 3.0,
         unfolding_retakes: SupercoilSettings::default().unfolding_retakes,
+        tolerance: SupercoilSettings::default().tolerance,
         list_rule: Default::default(),
         anm: SupercoilSettings::default().anm,
     };

@@ -410,6 +410,11 @@ fn follow_list(
     // equations only, the branch is lost, and a long run that found out at
     // its end lost its whole path (1 kbp, 1 pN, 0.01 M: 433 s).
     let mu_scale = phase.map(|_| *problem.unknown_scales().0.last().expect("μ"));
+    // μ of the last point on the branch (the start's, then each told
+    // point's): a jump from it is a corrector landing elsewhere.
+    let previous_mu = std::cell::Cell::new(start_x(&start).get(rod.unknowns()).copied().unwrap_or(0.0));
+    let off =
+        |x: &[f64]| mu_scale.is_some_and(|scale| rod.off_branch(x, previous_mu.get(), scale, opts.unfolding_moment));
     let local = problem.list_is_local();
     let mut end = SegmentEnd::Branch;
     let mut crossing: Option<Contact> = None;
@@ -424,8 +429,7 @@ fn follow_list(
     // second thread).
     let ends = |rec: &Record| {
         let x = &rec.outputs[..rec.outputs.len() - 1];
-        mu_scale.is_some_and(|scale| rod.left_unfolding(x, scale))
-            || (local && *rec.outputs.last().expect("margin") < 0.0)
+        off(x) || (local && *rec.outputs.last().expect("margin") < 0.0)
     };
     let tell = |rec: &Record| {
         let x = &rec.outputs[..rec.outputs.len() - 1];
@@ -434,9 +438,12 @@ fn follow_list(
         if first == SegmentStart::Told && k == 0 {
             return true;
         }
-        if mu_scale.is_some_and(|scale| rod.left_unfolding(x, scale)) {
+        if off(x) {
             end = SegmentEnd::OffBranch;
             return false;
+        }
+        if let Some(&mu) = x.get(rod.unknowns()).filter(|_| mu_scale.is_some()) {
+            previous_mu.set(mu);
         }
         if first == SegmentStart::Reached && k == 0 {
             return progress(rec);

@@ -317,6 +317,17 @@ pub struct SupercoilSettings {
     /// the straight rod, where it had slid onto that family and the run,
     /// after 339 s, returned only the error.
     pub unfolding_retakes: usize,
+    /// The accuracy asked of the curve, relative (torque against the
+    /// larger of its value and one turn's torque on the straight rod,
+    /// 2πC/L). What it sets: the largest moment the buckled branch's
+    /// unfolding couple may carry, a tenth of this of that torque
+    /// ([`Options::unfolding_moment`]). μ on a tilted state of the
+    /// followed branch is the scheme's violation of the axial-moment
+    /// integral and grows with the plectoneme (1 kbp, 1 pN, 0.1 M at 170 ×
+    /// Gauss(2): a moment of 6.8e-5 pN nm at 10 turns, where μ beyond 1e-6
+    /// of its scale, the check before, ended the run). Default 1e-3, in
+    /// (0, 0.1].
+    pub tolerance: f64,
     /// When the branches rebuild their pair lists ([`ListRule`]: Verlet's
     /// half-skin displacement by default).
     pub list_rule: ListRule,
@@ -426,6 +437,7 @@ impl Default for SupercoilSettings {
             lu_kind: None,
             corrector_aim: 3.0,
             unfolding_retakes: 4,
+            tolerance: 1e-3,
             list_rule: ListRule::Displacement,
             anm: AnmOptions { order: 20, epsilon: 1e-4, pade: false },
         }
@@ -570,6 +582,7 @@ pub fn run_scene_with(
     error::positive("max_turns", settings.max_turns)?;
     error::count_in_range("max_steps", settings.max_steps as i64, 1, 1 << 24)?;
     error::positive("residual_tol", settings.residual_tol)?;
+    error::in_range("tolerance", settings.tolerance, f64::MIN_POSITIVE, 0.1)?;
     let torque = settings.control == EndControl::Torque;
     let mut tell = Reporter { rod: &rod, turns: Turns { torque, phi: 0.0 }, index: 0, branch: 0, user: &mut progress };
     let (straight, at) = straight_path(&rod, &charge, scene.tension, settings, None, &mut tell)?;
@@ -958,6 +971,7 @@ fn buckled_path(
         overlap_records: rod.unknowns() >= settings.separate_signs_from,
         overlap_thread: settings.threads >= 2,
         unfolding_retakes: settings.unfolding_retakes,
+        unfolding_moment: Some(0.1 * settings.tolerance * 2.0 * std::f64::consts::PI * rod.torque_per_radian()),
         stability: settings.stability,
         ..Default::default()
     };

@@ -345,6 +345,13 @@ pub struct Options {
     /// ([`crate::charged::branch`]; the plain rod's switch refuses such a
     /// branch instead, [`crate::rod::branch::switch`]).
     pub unfolding_retakes: usize,
+    /// A charged branch with a phase condition: the largest moment its
+    /// unfolding couple may carry on a tilted state, |μ|∫|Rᵀe3 − e3| ds
+    /// (the rod's moment units), once μ is beyond 1e-6 of its scale — and
+    /// then only if μ has not jumped from the point before (`Rod`'s
+    /// `off_branch`). None: μ beyond 1e-6 of its scale leaves the branch
+    /// (the strict check, kept for straight states either way).
+    pub unfolding_moment: Option<f64>,
     /// The ANM with bifurcation detection computes the series bifurcation
     /// indicator μ(a) of each step ([`indicator`]): its roots are where a
     /// search starts (and evidence for one), and a σ_min sign change
@@ -412,6 +419,7 @@ impl Default for Options {
             overlap_records: false,
             overlap_thread: true,
             unfolding_retakes: 4,
+            unfolding_moment: None,
             series_indicator: true,
             stability: None,
         }

@@ -8,6 +8,7 @@
 //! the C ABI and the drivers use; the generic engines do the work.
 
 use super::model::{unwrap_rotation, Rod};
+use super::scheme::Scheme;
 use crate::continuation::anm::{continue_anm, AnmOptions};
 use crate::continuation::bifurcation::{branch_start, Bifurcation, Unresolved};
 use crate::continuation::corrector::{correct, Plane};
@@ -334,7 +335,7 @@ pub fn switch<M: Followed + ?Sized>(
     let resume = rod.amplitude_start(&mut sys, scaling, &start, phase_condition, opts, &mut counts)?;
     let mut b = model.follow(Start::Resume(resume), phase, opts, progress)?;
     b.counts.add(&counts);
-    rod.check_unfolding(&b.states, mu_scale)?;
+    rod.check_unfolding(&b.states, mu_scale, opts.unfolding_moment)?;
     Ok(b)
 }
 
@@ -461,9 +462,13 @@ impl Rod {
     /// augmented system: a corrector can slide onto that spurious family
     /// (seen with twist–stretch coupling). Refuse such a branch (μ, the
     /// entry after the rod's unknowns, beyond 1e-6 of its scale).
-    pub(crate) fn check_unfolding(&self, states: &[Vec<f64>], mu_scale: f64) -> Result<()> {
+    pub(crate) fn check_unfolding(&self, states: &[Vec<f64>], mu_scale: f64, moment_tol: Option<f64>) -> Result<()> {
         let n = self.unknowns();
-        if let Some((k, x)) = states.iter().enumerate().find(|(_, x)| self.left_unfolding(x, mu_scale)) {
+        let off = |k: usize, x: &Vec<f64>| {
+            let previous = if k == 0 { 0.0 } else { states[k - 1][n] };
+            self.off_branch(x, previous, mu_scale, moment_tol)
+        };
+        if let Some((k, x)) = states.iter().enumerate().find(|(k, x)| off(*k, x)) {
             return Err(Error::new(
                 Status::ErrNotConverged,
                 format!(
@@ -483,6 +488,69 @@ impl Rod {
         x[self.unknowns()].abs() > 1e-6 * mu_scale
     }
 
+    /// The unfolding couple's whole moment on state `x` of a branch with a
+    /// phase condition: |μ| ∫|B| ds (B = Rᵀe3 − e3 at the stage points,
+    /// the stage quadrature), in the rod's moment units. The augmented
+    /// state solves the rod's equations with the extra couple density μB,
+    /// so this bounds how far the point's moments are from those of a
+    /// state without it.
+    pub fn unfolding_moment(&self, x: &[f64]) -> f64 {
+        let mu = x[self.unknowns()];
+        let Scheme::Gauss(s) = self.scheme else { return f64::INFINITY };
+        let b = self.tableau().b;
+        let mut integral = 0.0;
+        for e in 0..self.elements {
+            let h = self.element_h(e);
+            for (j, w) in b.iter().enumerate().take(s) {
+                let o = self.stage_offset(e, j);
+                let v = crate::rod::kinematics::unfolding_direction(&[x[o + 3], x[o + 4], x[o + 5], x[o + 6]]);
+                integral += h * w * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            }
+        }
+        mu.abs() * integral
+    }
+
+    /// Whether state `x` of a charged branch with a phase condition left
+    /// it, `previous_mu` the unfolding parameter of the branch's point
+    /// before it. With `moment_tol` None as [`Rod::left_unfolding`]. With
+    /// it, μ beyond 1e-6 of its scale is allowed on a tilted state that
+    /// (a) carries an unfolding moment ([`Rod::unfolding_moment`]) within
+    /// the tolerance and (b) has not jumped there: |μ| at most 10× the
+    /// point before's (or 1e-7 of the scale, if that is larger). On the
+    /// followed branch μ is the scheme's violation of the axial-moment
+    /// integral, which grows smoothly with the plectoneme (1 kbp, 1 pN,
+    /// 0.1 M at 170 × Gauss(2): from ~1e-15 to 1e-7 pN at 10 turns, a
+    /// moment of 6.8e-5 pN nm against a torque of 9 pN nm, where the
+    /// strict check ended the run). A corrector that lands on one of the
+    /// discretised equations' own solutions with μ ≠ 0 makes μ jump (300
+    /// bp, 2 pN, 0.1 M, aim 5: ×1000 in one step, a moment of 1e-4 pN nm,
+    /// and a branch of them that strays 5e-3 L in extension from the
+    /// reference path within a moment of 6e-4 pN nm: the moment alone
+    /// does not see it; tests/supercoil_hard_core.rs). A straight state
+    /// (largest tilt below 1e-3: μB vanishes, the spurious straight
+    /// family) keeps the strict check.
+    pub(crate) fn off_branch(&self, x: &[f64], previous_mu: f64, mu_scale: f64, moment_tol: Option<f64>) -> bool {
+        if !self.left_unfolding(x, mu_scale) {
+            return false;
+        }
+        let Some(tol) = moment_tol else { return true };
+        let mu = x[self.unknowns()].abs();
+        self.largest_tilt(x) < 1e-3
+            || !(self.unfolding_moment(x) <= tol)
+            || !(mu <= 10.0 * previous_mu.abs().max(1e-7 * mu_scale))
+    }
+
+    /// The largest section tilt |Rᵀe3 − e3| over the stage points.
+    fn largest_tilt(&self, x: &[f64]) -> f64 {
+        self.stage_offsets()
+            .into_iter()
+            .map(|o| {
+                let b = crate::rod::kinematics::unfolding_direction(&[x[o + 3], x[o + 4], x[o + 5], x[o + 6]]);
+                (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt()
+            })
+            .fold(0.0, f64::max)
+    }
+
     /// Why a state of a branch with a phase condition left μ = 0, for the
     /// error that ends it. The unfolding's couple μB (B = Rᵀe3 − e3, the
     /// section's tilt from the axis) vanishes on a straight state, so there
@@ -499,21 +567,15 @@ impl Rod {
     /// the followed one; 100 elements of Gauss(2) or Gauss(3) stay below
     /// 1e-10 pN; benches/README.md, 2026-11-26).
     pub(crate) fn unfolding_failure(&self, x: &[f64]) -> String {
-        let tilt = self
-            .stage_offsets()
-            .into_iter()
-            .map(|o| {
-                let b = crate::rod::kinematics::unfolding_direction(&[x[o + 3], x[o + 4], x[o + 5], x[o + 6]]);
-                (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt()
-            })
-            .fold(0.0, f64::max);
+        let tilt = self.largest_tilt(x);
         if tilt < 1e-3 {
             format!(
                 "the corrector slid onto the spurious straight family (a straight state: largest section tilt |Rᵀe3 − e3| {tilt:.1e}; any μ solves it)"
             )
         } else {
             format!(
-                "the state is not straight (largest section tilt |Rᵀe3 − e3| {tilt:.2}): a solution of the discretised equations that the undiscretised ones do not have (μ∫|Rᵀe3 − e3|² is the scheme's violation of the axial-moment integral), from a branch of them that meets the followed one; other elements or stages, or a shorter step, may keep the branch"
+                "the state is not straight (largest section tilt |Rᵀe3 − e3| {tilt:.2}; the unfolding couple's moment μ∫|Rᵀe3 − e3| = {:.3e}): a solution of the discretised equations that the undiscretised ones do not have (μ∫|Rᵀe3 − e3|² is the scheme's violation of the axial-moment integral), reached by a jump of μ from the point before or carrying more moment than the tolerance allows; other elements or stages, or a shorter step, may keep the branch",
+                self.unfolding_moment(x)
             )
         }
     }

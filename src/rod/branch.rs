@@ -460,8 +460,10 @@ impl Rod {
     /// μ = 0 on every tilted solution, but the unfolding vanishes on the
     /// straight branch, where (straight state, any μ) also solves the
     /// augmented system: a corrector can slide onto that spurious family
-    /// (seen with twist–stretch coupling). Refuse such a branch (μ, the
-    /// entry after the rod's unknowns, beyond 1e-6 of its scale).
+    /// (seen with twist–stretch coupling). Refuse such a branch
+    /// ([`Rod::off_branch`] at each state, from the state before it; with
+    /// `moment_tol` None, μ — the entry after the rod's unknowns — beyond
+    /// 1e-6 of its scale).
     pub(crate) fn check_unfolding(&self, states: &[Vec<f64>], mu_scale: f64, moment_tol: Option<f64>) -> Result<()> {
         let n = self.unknowns();
         let off = |k: usize, x: &Vec<f64>| {
@@ -481,9 +483,10 @@ impl Rod {
         Ok(())
     }
 
-    /// Whether state `x` of a branch with a phase condition left μ = 0
-    /// (beyond 1e-6 of its scale): the one threshold of
-    /// [`Rod::check_unfolding`] and of the charged branch's per-point check.
+    /// Whether state `x` of a branch with a phase condition has μ beyond
+    /// 1e-6 of its scale: the strict check of [`Rod::check_unfolding`] and
+    /// of the charged branch's per-point check, and where
+    /// [`Rod::off_branch`]'s tolerance starts to matter.
     pub(crate) fn left_unfolding(&self, x: &[f64], mu_scale: f64) -> bool {
         x[self.unknowns()].abs() > 1e-6 * mu_scale
     }

@@ -211,33 +211,15 @@ impl<'r> Resolver<'r> {
         if !(dl.is_finite() && t.iter().all(|v| v.is_finite())) {
             return Err(e.clone());
         }
-        let solved = correct_on_plane(&mut self.system, &mut self.bordered, &anchor, lambda, (&t, dl), residual_tol)?;
+        let ctx = match &mut self.bordered {
+            Some(c) => c,
+            slot => slot.insert(Context::new(&self.system, Scaling::of(&self.system))?),
+        };
+        let (mut y, mut l) = (anchor.clone(), lambda);
+        correct(&mut self.system, ctx, &mut y, &mut l, Plane::new((&anchor, lambda), (&t, dl)), residual_tol, false)?;
         self.planes += 1;
-        Ok(solved)
+        Ok((y, l))
     }
-}
-
-/// The point on the plane through (`anchor`, Λ = `lambda`) normal to the
-/// direction (`dx`, `dl`), corrected on `problem` (a re-solve at a fold
-/// in Λ, where fixed Λ may have no solution nearby): the state and its Λ.
-/// `bordered` holds the bordered corrector's context for the problem,
-/// made on first use (the caller drops it when the problem's pattern
-/// changes).
-pub(crate) fn correct_on_plane<P: Problem + ?Sized>(
-    problem: &mut P,
-    bordered: &mut Option<Context>,
-    anchor: &[f64],
-    lambda: f64,
-    (dx, dl): (&[f64], f64),
-    residual_tol: f64,
-) -> Result<(Vec<f64>, f64)> {
-    let ctx = match bordered {
-        Some(c) => c,
-        slot => slot.insert(Context::new(problem, Scaling::of(problem))?),
-    };
-    let (mut y, mut l) = (anchor.to_vec(), lambda);
-    correct(problem, ctx, &mut y, &mut l, Plane::new((anchor, lambda), (dx, dl)), residual_tol, false)?;
-    Ok((y, l))
 }
 
 /// The estimated error of a located bifurcation (absolute, in the rod's

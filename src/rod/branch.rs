@@ -498,19 +498,10 @@ impl Rod {
     /// so this bounds how far the point's moments are from those of a
     /// state without it.
     pub fn unfolding_moment(&self, x: &[f64]) -> f64 {
-        let mu = x[self.unknowns()];
-        let Scheme::Gauss(s) = self.scheme else { return f64::INFINITY };
-        let b = self.tableau().b;
-        let mut integral = 0.0;
-        for e in 0..self.elements {
-            let h = self.element_h(e);
-            for (j, w) in b.iter().enumerate().take(s) {
-                let o = self.stage_offset(e, j);
-                let v = crate::rod::kinematics::unfolding_direction(&[x[o + 3], x[o + 4], x[o + 5], x[o + 6]]);
-                integral += h * w * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-            }
+        match self.tilts(x).1 {
+            integral if integral.is_finite() => x[self.unknowns()].abs() * integral,
+            _ => f64::INFINITY,
         }
-        mu.abs() * integral
     }
 
     /// Whether state `x` of a charged branch with a phase condition left
@@ -538,20 +529,29 @@ impl Rod {
         }
         let Some(tol) = moment_tol else { return true };
         let mu = x[self.unknowns()].abs();
-        self.largest_tilt(x) < 1e-3
-            || !(self.unfolding_moment(x) <= tol)
-            || !(mu <= 10.0 * previous_mu.abs().max(1e-7 * mu_scale))
+        let (largest, integral) = self.tilts(x);
+        largest < 1e-3 || !(mu * integral <= tol) || !(mu <= 10.0 * previous_mu.abs().max(1e-7 * mu_scale))
     }
 
-    /// The largest section tilt |Rᵀe3 − e3| over the stage points.
-    fn largest_tilt(&self, x: &[f64]) -> f64 {
-        self.stage_offsets()
-            .into_iter()
-            .map(|o| {
-                let b = crate::rod::kinematics::unfolding_direction(&[x[o + 3], x[o + 4], x[o + 5], x[o + 6]]);
-                (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt()
-            })
-            .fold(0.0, f64::max)
+    /// The section tilt |B| = |Rᵀe3 − e3| over the stage points of state
+    /// x, in one pass: its largest value and its integral ∫|B| ds by the
+    /// stage quadrature (h_e b_j). A scheme without stages (the midpoint
+    /// rule) has neither: (0, ∞), so that no moment bound is met.
+    fn tilts(&self, x: &[f64]) -> (f64, f64) {
+        let Scheme::Gauss(s) = self.scheme else { return (0.0, f64::INFINITY) };
+        let b = self.tableau().b;
+        let (mut largest, mut integral) = (0.0f64, 0.0);
+        for e in 0..self.elements {
+            let h = self.element_h(e);
+            for (j, w) in b.iter().enumerate().take(s) {
+                let o = self.stage_offset(e, j);
+                let v = crate::rod::kinematics::unfolding_direction(&[x[o + 3], x[o + 4], x[o + 5], x[o + 6]]);
+                let tilt = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                largest = largest.max(tilt);
+                integral += h * w * tilt;
+            }
+        }
+        (largest, integral)
     }
 
     /// Why a state of a branch with a phase condition left μ = 0, for the
@@ -570,7 +570,7 @@ impl Rod {
     /// the followed one; 100 elements of Gauss(2) or Gauss(3) stay below
     /// 1e-10 pN; benches/README.md, 2026-11-26).
     pub(crate) fn unfolding_failure(&self, x: &[f64]) -> String {
-        let tilt = self.largest_tilt(x);
+        let tilt = self.tilts(x).0;
         if tilt < 1e-3 {
             format!(
                 "the corrector slid onto the spurious straight family (a straight state: largest section tilt |Rᵀe3 − e3| {tilt:.1e}; any μ solves it)"

@@ -59,7 +59,7 @@ fn reference_far_energy(rod: &Rod, charge: &RodCharge) -> f64 {
     let mut sum = 0.0;
     for (ei, ri, wi) in &pts {
         for (ej, rj, wj) in &pts {
-            if ei.abs_diff(*ej) > charge.near_elements {
+            if ei.abs_diff(*ej) > charge.near_elements_for(h, rod.elements) {
                 let d = ((ri[0] - rj[0]).powi(2) + (ri[1] - rj[1]).powi(2) + (ri[2] - rj[2]).powi(2)).sqrt();
                 sum += wi * wj * (-kappa * d).exp() / d;
             }
@@ -88,8 +88,9 @@ fn refined_far_energy_converges_to_the_double_integral() {
             assert_eq!(sites, 20 * m);
             // Every pair (no cutoff): each site with the m sites of every
             // element more than near_elements from its own.
-            let far_elements: usize =
-                (0..20usize).map(|e| (0..20usize).filter(|f| f.abs_diff(e) > c.near_elements).count()).sum();
+            let far_elements: usize = (0..20usize)
+                .map(|e| (0..20usize).filter(|f| f.abs_diff(e) > c.near_elements_for(rod.element_length(), 20)).count())
+                .sum();
             assert_eq!(pairs, far_elements * m * m, "directed site pairs");
             assert!(pairs > 0);
             assert!(p.base_pairs().is_none());

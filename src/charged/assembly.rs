@@ -59,7 +59,7 @@ pub(super) fn check_rod(rod: &Rod) -> Result<usize> {
 
 /// The stage points and, per stage, the near zone's bending stiffening
 /// λ²/24 (J₁ + κJ₂) and its curvature-free energy ½λ²J₋₁ over the sides
-/// within `near_elements` elements (none for base-pair charges, whose
+/// within the near zone's elements (none for base-pair charges, whose
 /// discrete sum has no near zone).
 pub(super) struct NearZone {
     pub(super) points: Vec<Point>,
@@ -69,7 +69,8 @@ pub(super) struct NearZone {
 
 impl NearZone {
     pub(super) fn new(rod: &Rod, charge: &RodCharge, tab: &Tableau) -> Self {
-        let (s, h, ne, m) = (tab.b.len(), rod.element_length(), rod.elements, charge.near_elements);
+        let (s, h, ne) = (tab.b.len(), rod.element_length(), rod.elements);
+        let m = charge.near_elements_for(h, ne);
         let (kappa, a) = (charge.screening.kappa, charge.screening.a);
         let l2 = charge.line_charge * charge.line_charge;
         let mut near = NearZone {
@@ -106,8 +107,8 @@ impl NearZone {
     }
 }
 
-/// The far pairs of stage points (elements more than `near_elements`
-/// apart) within r_off + skin of each other in the reference state (all
+/// The far pairs of stage points (elements more than the near zone's
+/// count apart) within r_off + skin of each other in the reference state (all
 /// of them without a cutoff; none without charge or hard core), in CSR
 /// form; for charge sites (base pairs, the refined far zone), each stage's
 /// partner stages.
@@ -132,7 +133,7 @@ impl PairList {
         reference_r: &[[f64; 3]],
         cutoff: Option<(f64, f64)>,
     ) -> Result<Self> {
-        let (m, a) = (charge.near_elements, charge.screening.a);
+        let (m, a) = (charge.near_elements_for(rod.element_length(), rod.elements), charge.screening.a);
         let l2 = charge.line_charge * charge.line_charge;
         let far = |j: usize, k: usize| points[j].element.abs_diff(points[k].element) > m;
         let any = l2 != 0.0 || charge.hard_core.is_some();

@@ -268,6 +268,9 @@ pub struct SupercoilSettings {
     /// The continuum's far zone on this many Gauss–Legendre points per
     /// element (0: the stage points; [`RodCharge::far_points`]).
     pub far_points: usize,
+    /// The near zone's least physical width (nm; [`RodCharge::near_width`]),
+    /// None: the charge's default (4a).
+    pub near_width: Option<f64>,
     /// End rotation (default) or end torque as the continuation parameter.
     pub control: EndControl,
     /// Switch the hard core on by itself ([`auto_hard_core`]) when the
@@ -431,6 +434,7 @@ impl Default for SupercoilSettings {
             residual_tol: 1e-8,
             base_pairs: false,
             far_points: 0,
+            near_width: None,
             control: EndControl::Rotation,
             hard_core_auto: true,
             engine: Engine::default(),
@@ -578,6 +582,9 @@ pub fn run_scene_with(
     charge.threads = settings.threads;
     charge.base_pairs = settings.base_pairs.then_some(scene.rise);
     charge.far_points = settings.far_points;
+    if settings.near_width.is_some() {
+        charge.near_width = settings.near_width;
+    }
     charge.list_rule = settings.list_rule;
     error::positive("max_turns", settings.max_turns)?;
     error::count_in_range("max_steps", settings.max_steps as i64, 1, 1 << 24)?;

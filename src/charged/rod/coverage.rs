@@ -89,7 +89,7 @@ impl ChargedRod {
         Some(ListCoverage {
             offsets: self.points.iter().map(|p| p.offset).collect(),
             elements: self.points.iter().map(|p| p.element).collect(),
-            near: self.charge.near_elements,
+            near: self.charge.near_elements_for(self.rod.element_length(), self.rod.elements),
             adj_ptr: self.adj_ptr.clone(),
             adj: self.adj.clone(),
             range,

@@ -34,7 +34,10 @@
 //! factorisation ([`crate::continuation::stability`], physics.md §3.4),
 //! None where it is not certified; its neutral modes (near zero, their
 //! sign within the model's own approximations) are not counted as
-//! unstable. Without counts the number changes along a branch
+//! unstable — except where a fold in φ says which they are: a fold's
+//! crossing mode inside the band is counted once it leaves the band below
+//! zero, and undetermined while it stays in it
+//! ([`hidden_fold_crossings`]). Without counts the number changes along a branch
 //! only where the Jacobian is singular: at folds in φ and at bifurcations,
 //! and these rules decide it ([`negative_modes`]):
 //! - the straight rod has none up to its first buckling point, a double
@@ -141,12 +144,86 @@ pub fn negative_modes(run: &SupercoilRun) -> Result<Vec<Option<usize>>> {
     // ([`crate::continuation::Options::stability`]): the count, None where
     // it was not certified. The rules stay for the points without one (a
     // switch's singular start) and for runs that did not count.
-    for (o, rec) in out.iter_mut().zip(records(run)) {
+    let recs = records(run);
+    for (o, rec) in out.iter_mut().zip(&recs) {
         if let Some(s) = &rec.stability {
             *o = s.unstable;
         }
     }
+    let counts: Vec<Option<(usize, usize)>> =
+        recs.iter().map(|r| r.stability.as_ref().and_then(|s| Some((s.negative?, s.unstable?)))).collect();
+    let phi: Vec<f64> = run.points.iter().map(|p| p.phi).collect();
+    for (o, hidden) in out.iter_mut().zip(hidden_fold_crossings(&phi, &counts, run.straight.records.len())) {
+        if let Some(mark) = hidden {
+            *o = mark;
+        }
+    }
     Ok(out)
+}
+
+/// The points whose counted stability a fold in φ contradicts, and what
+/// they are: at a fold one σ of the fixed-φ second variation crosses zero
+/// (the Jacobian at fixed φ is singular there), so the unstable counts on
+/// its two sides differ by one. Where they do not, the crossing mode sat
+/// in the neutral band ([`crate::continuation::stability::StabilityOptions::marginal`]),
+/// counted in `negative` but not in `unstable`, and one side's count is
+/// wrong: the side with more negative σ carries the crossing mode as a
+/// neutral one (both sides when their negative counts agree: a crossing
+/// missed altogether). That side's stretch runs from the fold while its
+/// (negative, unstable) counts stay those next to the fold (with the fold
+/// point when it has them too). Where the stretch ends in one more
+/// unstable mode and as many negative ones, the crossing mode has left
+/// the band below zero: it is that mode, and the stretch has one more
+/// unstable mode (`Some(Some(u + 1))`). Otherwise — the mode went back
+/// into or through the band, or the branch ended — its sign is within
+/// what the band calls undecided and the stretch is undetermined
+/// (`Some(None)`). `None`: the point's count stands. `counts` are each
+/// point's (negative, unstable), None where not certified; the branch
+/// starts at point `from` (its first point is no fold) and no stretch is
+/// marked before it.
+pub fn hidden_fold_crossings(
+    phi: &[f64],
+    counts: &[Option<(usize, usize)>],
+    from: usize,
+) -> Vec<Option<Option<usize>>> {
+    let n = phi.len().min(counts.len());
+    let mut hidden = vec![None; n];
+    for j in from + 1..n.saturating_sub(1) {
+        if (phi[j] - phi[j - 1]) * (phi[j + 1] - phi[j]) >= 0.0 {
+            continue;
+        }
+        let (Some((na, ua)), Some((nb, ub))) = (counts[j - 1], counts[j + 1]) else { continue };
+        if ua.abs_diff(ub) == 1 {
+            continue;
+        }
+        for (start, forward) in [(j - 1, false), (j + 1, true)] {
+            let (ns, us) = if forward { (nb, ub) } else { (na, ua) };
+            if ns < if forward { na } else { nb } {
+                continue;
+            }
+            let mut stretch = vec![start];
+            let mut k = start;
+            let end = loop {
+                let next = if forward { (k + 1 < n).then_some(k + 1) } else { (k > from).then_some(k - 1) };
+                match next {
+                    Some(m) if counts[m] == counts[start] => {
+                        stretch.push(m);
+                        k = m;
+                    }
+                    other => break other,
+                }
+            };
+            if counts[j] == counts[start] {
+                stretch.push(j);
+            }
+            let left_below = end.is_some_and(|m| counts[m] == Some((ns, us + 1)));
+            let mark = if left_below { Some(us + 1) } else { None };
+            for k in stretch {
+                hidden[k] = Some(mark);
+            }
+        }
+    }
+    hidden
 }
 
 /// The stability rules in the module documentation, from the records'
@@ -630,4 +707,55 @@ fn coexistence(curve: &EquilibriumCurve) -> std::result::Result<Coexistence, Str
         straight_leg: j.from,
         plectoneme_leg: j.to,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::hidden_fold_crossings;
+
+    /// A branch from point 0 with one fold at point 3 (φ rises, then
+    /// falls). The sides' counts decide the marks as documented.
+    fn marks(counts: [(usize, usize); 7]) -> Vec<Option<Option<usize>>> {
+        let phi = [0.0, 1.0, 2.0, 3.0, 2.5, 2.0, 1.5];
+        hidden_fold_crossings(&phi, &counts.map(Some), 0)
+    }
+
+    #[test]
+    fn a_counted_crossing_stands() {
+        assert!(marks([(0, 0), (0, 0), (0, 0), (0, 0), (1, 1), (1, 1), (1, 1)]).iter().all(|m| m.is_none()));
+    }
+
+    #[test]
+    fn a_neutral_crossing_that_leaves_below_zero_is_counted() {
+        // Past the fold the mode is negative inside the band (1, 0) for two
+        // points, then counted (1, 1): those two points have it too.
+        let m = marks([(0, 0), (0, 0), (0, 0), (0, 0), (1, 0), (1, 0), (1, 1)]);
+        assert_eq!(m, vec![None, None, None, None, Some(Some(1)), Some(Some(1)), None]);
+    }
+
+    #[test]
+    fn a_neutral_crossing_that_stays_in_the_band_is_undetermined() {
+        // Before the fold the mode is negative inside the band from point 1
+        // (the fold point too); it entered the band from above at point 1.
+        let m = marks([(0, 0), (1, 0), (1, 0), (1, 0), (0, 0), (0, 0), (0, 0)]);
+        assert_eq!(m, vec![None, Some(None), Some(None), Some(None), None, None, None]);
+        // The branch ends inside the stretch: undetermined too.
+        let m = marks([(0, 0), (0, 0), (0, 0), (0, 0), (1, 0), (1, 0), (1, 0)]);
+        assert_eq!(m[4..], [Some(None), Some(None), Some(None)]);
+    }
+
+    #[test]
+    fn a_missed_crossing_leaves_both_sides_undetermined() {
+        let m = marks([(0, 0), (0, 0), (2, 2), (2, 2), (2, 2), (3, 3), (3, 3)]);
+        assert_eq!(m, vec![None, None, Some(None), Some(None), Some(None), None, None]);
+    }
+
+    #[test]
+    fn the_branch_start_is_no_fold() {
+        // φ turns back between points 0 and 1 (the switch from the other
+        // branch): no fold there, nothing marked from `from` = 1 on.
+        let phi = [3.0, 2.0, 2.5, 3.0];
+        let counts = [Some((2, 2)), Some((0, 0)), Some((0, 0)), Some((0, 0))];
+        assert!(hidden_fold_crossings(&phi, &counts, 1).iter().all(|m| m.is_none()));
+    }
 }

@@ -153,12 +153,63 @@ pub fn negative_modes(run: &SupercoilRun) -> Result<Vec<Option<usize>>> {
     let counts: Vec<Option<(usize, usize)>> =
         recs.iter().map(|r| r.stability.as_ref().and_then(|s| Some((s.negative?, s.unstable?)))).collect();
     let phi: Vec<f64> = run.points.iter().map(|p| p.phi).collect();
-    for (o, hidden) in out.iter_mut().zip(hidden_fold_crossings(&phi, &counts, run.straight.records.len())) {
+    let from = run.straight.records.len();
+    for (o, hidden) in out.iter_mut().zip(hidden_fold_crossings(&phi, &counts, from)) {
         if let Some(mark) = hidden {
             *o = mark;
         }
     }
+    carry_band_entries(&phi, &counts, &mut out, from);
     Ok(out)
+}
+
+/// Unstable modes that enter the neutral band from below stay counted:
+/// between two points with as many negative σ (no sign changed) and no
+/// fold, a point with fewer unstable modes than the point before's marks
+/// has them inside the band, still negative — the band (the DNA scenes'
+/// |σ| ≤ 3e-2 T²/K_b) is for modes whose sign flips within the model's
+/// approximations, and these did not flip. The carried marks go on while
+/// the negative count stays; where it changes while band modes are
+/// carried (a σ crossed zero: the carried mode or another, which the
+/// counts cannot tell), the point and the following ones with the same
+/// counts are undetermined. A change of both counts with nothing carried
+/// is a counted crossing and stands. On the 1 kbp, 1 pN, 0.1 M scene (170 ×
+/// Gauss(2)) the buckled branch's mode at 3.77 turns (σ −1.2e-4 nm⁻²)
+/// entered the band when the state became localised, and the returning
+/// leg past the 10.011-turn fold carried its crossing mode into the band
+/// at 8.24 turns: both were counted stable. `marks` are the points'
+/// unstable counts so far (None: undetermined), changed in place.
+pub fn carry_band_entries(phi: &[f64], counts: &[Option<(usize, usize)>], marks: &mut [Option<usize>], from: usize) {
+    let n = phi.len().min(counts.len()).min(marks.len());
+    let fold = |j: usize| j > from && j + 1 < n && (phi[j] - phi[j - 1]) * (phi[j + 1] - phi[j]) < 0.0;
+    let mut ambiguous: Option<(usize, usize)> = None;
+    for k in from + 1..n {
+        let (Some((n0, u0)), Some((n1, u1))) = (counts[k - 1], counts[k]) else {
+            ambiguous = None;
+            continue;
+        };
+        if marks[k] != Some(u1) {
+            // The fold rule's mark stands.
+            ambiguous = None;
+            continue;
+        }
+        if ambiguous == Some((n1, u1)) && marks[k - 1].is_none() {
+            marks[k] = None;
+            continue;
+        }
+        ambiguous = None;
+        let Some(carried) = marks[k - 1] else { continue };
+        if carried <= u1 || fold(k - 1) || fold(k) {
+            continue;
+        }
+        if n1 == n0 {
+            marks[k] = Some(carried.min(n1));
+        } else if carried > u0 {
+            // Band modes were carried at k − 1 and a σ changed sign.
+            marks[k] = None;
+            ambiguous = Some((n1, u1));
+        }
+    }
 }
 
 /// The points whose counted stability a fold in φ contradicts, and what
@@ -711,7 +762,42 @@ fn coexistence(curve: &EquilibriumCurve) -> std::result::Result<Coexistence, Str
 
 #[cfg(test)]
 mod tests {
-    use super::hidden_fold_crossings;
+    use super::{carry_band_entries, hidden_fold_crossings};
+
+    fn carried(phi: &[f64], counts: &[(usize, usize)]) -> Vec<Option<usize>> {
+        let counts: Vec<_> = counts.iter().map(|&c| Some(c)).collect();
+        let mut marks: Vec<_> = counts.iter().map(|c| c.map(|c| c.1)).collect();
+        carry_band_entries(phi, &counts, &mut marks, 0);
+        marks
+    }
+
+    #[test]
+    fn an_unstable_mode_entering_the_band_stays_counted() {
+        let phi = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0];
+        // (negative, unstable): the mode enters the band at 2, leaves it below at 4.
+        let m = carried(&phi, &[(1, 1), (1, 1), (1, 0), (1, 0), (1, 1), (1, 1)]);
+        assert_eq!(m, vec![Some(1); 6]);
+        // A σ crosses zero inside the band at 4 (negative 1 → 0) while the
+        // mode is carried: the counts cannot tell which σ crossed, so 4 and
+        // the points with its counts after it are undetermined.
+        let m = carried(&phi, &[(1, 1), (1, 1), (1, 0), (1, 0), (0, 0), (0, 0)]);
+        assert_eq!(m, vec![Some(1), Some(1), Some(1), Some(1), None, None]);
+        // A counted crossing (both counts drop, nothing carried) stands.
+        let m = carried(&phi, &[(1, 1), (1, 1), (0, 0), (0, 0), (0, 0), (0, 0)]);
+        assert_eq!(m, vec![Some(1), Some(1), Some(0), Some(0), Some(0), Some(0)]);
+        // A neutral mode that was never counted (entered from above) is not carried.
+        let m = carried(&phi, &[(0, 0), (1, 0), (1, 0), (0, 0), (0, 0), (0, 0)]);
+        assert_eq!(m, vec![Some(0); 6]);
+    }
+
+    #[test]
+    fn band_entries_at_a_fold_are_the_fold_rules() {
+        let phi = [0.0, 1.0, 2.0, 1.5, 1.0, 0.5];
+        let m = carried(&phi, &[(1, 1), (1, 1), (1, 1), (1, 0), (1, 0), (1, 0)]);
+        // A drop next to a fold (point 2) is the fold rule's to judge (its
+        // sides here are one apart): not carried.
+        assert_eq!(m[3], Some(0));
+    }
 
     /// A branch from point 0 with one fold at point 3 (φ rises, then
     /// falls). The sides' counts decide the marks as documented.

@@ -48,7 +48,7 @@ module rodkit
     integer(c_int32_t), parameter :: RODKIT_VERSION_MINOR = 1
     integer(c_int32_t), parameter :: RODKIT_VERSION_PATCH = 0
     character(len=*), parameter :: RODKIT_VERSION_STRING = "0.1.0"
-    integer(c_int32_t), parameter :: RODKIT_ABI_VERSION = 2
+    integer(c_int32_t), parameter :: RODKIT_ABI_VERSION = 3
 
     ! -------------------------------------------------------------------------
     ! enum RodkitSupercoilModel: Which model computed a supercoiling curve or
@@ -895,7 +895,8 @@ module rodkit
     ! (Manning), a = 1 nm, A = 50 nm, P = 95 nm, 298.15 K, ε_r = 78.4; the
     ! automatic mesh (elements 0: 2 nm elements of Gauss(2), 170 for 1 kbp);
     ! cutoff tolerance 1e-4; no hard core; 1 thread; to
-    ! 12 turns in at most 600 steps; scaled residual 1e-8; the continuum model.
+    ! 12 turns in at most 600 steps; scaled residual 1e-8; the continuum model;
+    ! tolerance 1e-3.
     type, bind(c) :: rodkit_dna_supercoil_spec
         integer(c_int64_t) :: base_pairs
         ! Rise per base pair (nm).
@@ -945,6 +946,13 @@ module rodkit
         ! RodkitEndControl: the end rotation (default) or the end torque as
         ! the continuation parameter (the same equilibria; points report both).
         integer(c_int32_t) :: end_control
+        ! The accuracy asked of the curve, relative (torque against the larger
+        ! of its value and one turn's torque on the straight rod, 2πC/L), in
+        ! (0, 0.1]; default 1e-3. What it sets today: the largest moment the
+        ! buckled branch's unfolding couple may carry before a point is taken
+        ! off the branch, a tenth of this of that torque (doc/physics.md §2).
+        ! The mesh is not chosen from it yet: `elements` and `stages` are.
+        real(c_double) :: tolerance
     end type rodkit_dna_supercoil_spec
 
     ! -------------------------------------------------------------------------

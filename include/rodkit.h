@@ -46,7 +46,7 @@
 #define RODKIT_VERSION_MINOR 1
 #define RODKIT_VERSION_PATCH 0
 #define RODKIT_VERSION_STRING "0.1.0"
-#define RODKIT_ABI_VERSION 2
+#define RODKIT_ABI_VERSION 3
 
 
 // Which model computed a supercoiling curve or summary.
@@ -1042,7 +1042,8 @@ typedef struct RodkitTubeState {
 // (Manning), a = 1 nm, A = 50 nm, P = 95 nm, 298.15 K, ε_r = 78.4; the
 // automatic mesh (elements 0: 2 nm elements of Gauss(2), 170 for 1 kbp);
 // cutoff tolerance 1e-4; no hard core; 1 thread; to
-// 12 turns in at most 600 steps; scaled residual 1e-8; the continuum model.
+// 12 turns in at most 600 steps; scaled residual 1e-8; the continuum model;
+// tolerance 1e-3.
 typedef struct RodkitDnaSupercoilSpec {
   int64_t base_pairs;
   // Rise per base pair (nm).
@@ -1092,6 +1093,13 @@ typedef struct RodkitDnaSupercoilSpec {
   // RodkitEndControl: the end rotation (default) or the end torque as
   // the continuation parameter (the same equilibria; points report both).
   int32_t end_control;
+  // The accuracy asked of the curve, relative (torque against the larger
+  // of its value and one turn's torque on the straight rod, 2πC/L), in
+  // (0, 0.1]; default 1e-3. What it sets today: the largest moment the
+  // buckled branch's unfolding couple may carry before a point is taken
+  // off the branch, a tenth of this of that torque (doc/physics.md §2).
+  // The mesh is not chosen from it yet: `elements` and `stages` are.
+  double tolerance;
 } RodkitDnaSupercoilSpec;
 
 // What a run did.

@@ -5,7 +5,7 @@
 
 /// Bump when the binary interface changes incompatibly. The header's
 /// `RODKIT_ABI_VERSION` is written from this constant by `build.rs`.
-pub const ABI_VERSION: i32 = 2;
+pub const ABI_VERSION: i32 = 3;
 
 const fn parse(s: &str) -> i32 {
     let b = s.as_bytes();

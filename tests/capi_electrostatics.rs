@@ -325,3 +325,58 @@ fn the_automatic_mesh_takes_2_nm_elements_and_says_how_many() {
     spec.elements = 1;
     assert_eq!(unsafe { rodkit_dna_supercoil_run(&spec, &mut run) }, rodkit::Status::ErrOutOfRange.code());
 }
+
+/// `RodkitDnaSupercoilSpec.tolerance` (the curve's relative accuracy; what
+/// it sets today is the unfolding check's moment bound, a tenth of it of
+/// one turn's torque): the default is the Rust default (1e-3); outside
+/// (0, 0.1] it is a status naming it, before any work; inside, the C run
+/// equals the Rust run with the same tolerance (1e-12: the same
+/// arithmetic). The bound acts only once |μ| passes 1e-6 of its scale
+/// (the 1 kbp plectoneme past ~10 turns), so on this short scene every
+/// tolerance gives the same path; the check itself is tested in
+/// tests/supercoil_hard_core.rs.
+#[test]
+fn tolerance_through_the_c_abi() {
+    use rodkit::capi::supercoil::*;
+    use rodkit::charged::dna::{run_scene, DnaScene, SupercoilSettings};
+    let mut spec = std::mem::MaybeUninit::<DnaSupercoilSpec>::uninit();
+    assert_eq!(unsafe { rodkit_dna_supercoil_spec_default(spec.as_mut_ptr()) }, 0);
+    let mut spec = unsafe { spec.assume_init() };
+    assert_eq!(spec.tolerance, SupercoilSettings::default().tolerance);
+    assert_eq!(spec.tolerance, 1e-3);
+    (spec.base_pairs, spec.elements, spec.max_turns, spec.max_steps) = (300, 40, 1.5, 40);
+    let mut run: *mut Supercoil = std::ptr::null_mut();
+    for (bad, status) in [
+        (0.2, Status::ErrOutOfRange),
+        (0.0, Status::ErrOutOfRange),
+        (-1e-3, Status::ErrOutOfRange),
+        (f64::NAN, Status::ErrNotFinite),
+    ] {
+        spec.tolerance = bad;
+        assert_eq!(unsafe { rodkit_dna_supercoil_run(&spec, &mut run) }, status.code(), "{bad}");
+        assert!(last_error().contains("tolerance"), "{}", last_error());
+        assert!(run.is_null());
+    }
+    spec.tolerance = 0.05;
+    // The step limit (an INFO status, ≥ 0) ends both runs alike.
+    assert!(unsafe { rodkit_dna_supercoil_run(&spec, &mut run) } >= 0, "{}", last_error());
+    let mut info = SupercoilInfo::default();
+    assert_eq!(unsafe { rodkit_supercoil_summary(run, &mut info) }, 0);
+    let mut points = vec![SupercoilPoint::default(); info.points as usize];
+    let mut count = 0;
+    assert_eq!(unsafe { rodkit_supercoil_points(run, points.as_mut_ptr(), info.points, &mut count) }, 0);
+    unsafe { rodkit_supercoil_free(run) };
+    let scene = DnaScene { base_pairs: 300, ..Default::default() };
+    let settings =
+        SupercoilSettings { elements: 40, max_turns: 1.5, max_steps: 40, tolerance: 0.05, ..Default::default() };
+    let r = run_scene(&scene, &settings).unwrap();
+    assert_eq!(points.len(), r.points.len());
+    assert!(r.buckled.is_some());
+    for (c, p) in points.iter().zip(&r.points) {
+        let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-300);
+        assert!(
+            rel(c.torque, p.observables.torque) < 1e-12 && rel(c.turns, p.observables.turns) < 1e-12,
+            "{c:?} vs {p:?}"
+        );
+    }
+}

@@ -1154,6 +1154,7 @@ fn supercoil(w: &mut Walk) {
         f!(residual_tol),
         i32f!(discrete_base_pairs, FLAG),
         i32f!(end_control, &[0, 3]),
+        f!(tolerance),
     ];
     w.fields(func, "spec.", &spec, &sf, &|s| run(s, &mut null_mut()));
     w.null(func, "spec", run(null(), &mut null_mut()));

@@ -21,7 +21,8 @@ use std::ffi::{c_char, c_void};
 /// (Manning), a = 1 nm, A = 50 nm, P = 95 nm, 298.15 K, ε_r = 78.4; the
 /// automatic mesh (elements 0: 2 nm elements of Gauss(2), 170 for 1 kbp);
 /// cutoff tolerance 1e-4; no hard core; 1 thread; to
-/// 12 turns in at most 600 steps; scaled residual 1e-8; the continuum model.
+/// 12 turns in at most 600 steps; scaled residual 1e-8; the continuum model;
+/// tolerance 1e-3.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct DnaSupercoilSpec {
@@ -73,6 +74,13 @@ pub struct DnaSupercoilSpec {
     /// RodkitEndControl: the end rotation (default) or the end torque as
     /// the continuation parameter (the same equilibria; points report both).
     pub end_control: i32,
+    /// The accuracy asked of the curve, relative (torque against the larger
+    /// of its value and one turn's torque on the straight rod, 2πC/L), in
+    /// (0, 0.1]; default 1e-3. What it sets today: the largest moment the
+    /// buckled branch's unfolding couple may carry before a point is taken
+    /// off the branch, a tenth of this of that torque (doc/physics.md §2).
+    /// The mesh is not chosen from it yet: `elements` and `stages` are.
+    pub tolerance: f64,
 }
 
 /// What a supercoiling run controls at the rod's end
@@ -181,6 +189,7 @@ pub unsafe extern "C" fn rodkit_dna_supercoil_spec_default(spec: *mut DnaSuperco
             residual_tol: s.residual_tol,
             discrete_base_pairs: 0,
             end_control: EndControl::Rotation as i32,
+            tolerance: s.tolerance,
         };
         Ok(Status::Ok)
     })
@@ -228,6 +237,7 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
     error::finite("cutoff_tolerance", s.cutoff_tolerance)?;
     non_negative("cutoff_tolerance", s.cutoff_tolerance)?;
     error::finite("hard_core", s.hard_core)?;
+    error::in_range("tolerance", s.tolerance, f64::MIN_POSITIVE, 0.1)?;
     let scene = DnaScene {
         base_pairs: s.base_pairs as usize,
         rise: s.rise,
@@ -264,7 +274,7 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
         lu_kind: None,
         corrector_aim: 3.0,
         unfolding_retakes: SupercoilSettings::default().unfolding_retakes,
-        tolerance: SupercoilSettings::default().tolerance,
+        tolerance: s.tolerance,
         list_rule: Default::default(),
         anm: SupercoilSettings::default().anm,
     };

@@ -1081,6 +1081,22 @@ module rodkit
         integer(c_int64_t) :: negative_modes
         ! 0: straight branch, 1: buckled branch.
         integer(c_int32_t) :: branch
+        ! The point's count of negative eigenvalues σ of the second variation
+        ! in its window, the neutral ones included (their sign is within the
+        ! model's approximations); −1 where the run did not count or the
+        ! count is not certified.
+        integer(c_int64_t) :: negative_sigma
+        ! The window's σ within the neutral band (|σ| ≤ 3e-2 T²/K_b on a
+        ! localised buckled state), counted apart from the unstable modes; −1
+        ! where the run did not count.
+        integer(c_int64_t) :: neutral_modes
+        ! The σ nearest zero of the point's window (pN/nm²: force per length²
+        ! of the metric ∫|δr|² ds; σ < 0 unstable), when `has_sigma` is 1; 0
+        ! otherwise (no count, or no σ in the window). Where `negative_modes`
+        ! and `negative_sigma` differ, this says how near zero the neutral
+        ! modes are.
+        real(c_double) :: sigma_nearest
+        integer(c_int32_t) :: has_sigma
     end type rodkit_supercoil_curve_point
 
     ! -------------------------------------------------------------------------

@@ -230,14 +230,35 @@ fn c_summary_equals_rust() {
     assert_eq!(unsafe { rodkit_supercoil_curve_points(run, std::ptr::null_mut(), 0, &mut count) }, truncated);
     let mut pts = vec![SupercoilCurvePoint::default(); count as usize];
     assert_eq!(unsafe { rodkit_supercoil_curve_points(run, pts.as_mut_ptr(), count, &mut count) }, 0);
-    let (_, curve, _) = scene();
+    let (r, curve, _) = scene();
     assert_eq!(pts.len(), curve.points.len());
+    // Each point's σ: the run's own record (its window's negative count,
+    // neutral count and σ nearest zero), read here from the branches'
+    // records, not through the library's point lookup.
+    let recs: Vec<_> = r.straight.records.iter().chain(r.buckled.iter().flat_map(|b| b.records.iter())).collect();
+    let (mut with_sigma, mut neutral_negative) = (0, 0);
     for (a, b) in pts.iter().zip(&curve.points) {
         assert_eq!(
             (a.turns, a.energy, a.negative_modes),
             (b.turns, b.energy, b.negative_modes.map_or(-1, |m| m as i64))
         );
+        let st = recs[b.index].stability.as_ref().unwrap();
+        assert_eq!(a.negative_sigma, st.negative.map_or(-1, |m| m as i64));
+        assert_eq!(a.neutral_modes, st.marginal as i64);
+        assert_eq!((a.has_sigma, a.sigma_nearest), st.sigma.first().map_or((0, 0.0), |&v| (1, v)));
+        // Unstable modes are among the negative σ; with none negative the
+        // nearest σ is not below zero.
+        if a.negative_modes >= 0 && a.negative_sigma >= 0 {
+            assert!(a.negative_modes <= a.negative_sigma, "{a:?}");
+            neutral_negative += (a.negative_modes < a.negative_sigma) as usize;
+        }
+        if a.negative_sigma == 0 && a.has_sigma == 1 {
+            assert!(a.sigma_nearest >= 0.0, "{a:?}");
+        }
+        with_sigma += a.has_sigma as usize;
     }
+    println!("{} points, {with_sigma} with a σ, {neutral_negative} with neutral negative σ", pts.len());
+    assert!(with_sigma > pts.len() / 2);
     // NULL arguments are refused with a status, not a crash.
     assert!(unsafe { rodkit_supercoil_curve_summary(std::ptr::null(), &mut c) } < 0);
     assert!(unsafe { rodkit_supercoil_curve_summary(run, std::ptr::null_mut()) } < 0);

@@ -63,6 +63,22 @@ pub struct SupercoilCurvePoint {
     pub negative_modes: i64,
     /// 0: straight branch, 1: buckled branch.
     pub branch: i32,
+    /// The point's count of negative eigenvalues σ of the second variation
+    /// in its window, the neutral ones included (their sign is within the
+    /// model's approximations); −1 where the run did not count or the
+    /// count is not certified.
+    pub negative_sigma: i64,
+    /// The window's σ within the neutral band (|σ| ≤ 3e-2 T²/K_b on a
+    /// localised buckled state), counted apart from the unstable modes; −1
+    /// where the run did not count.
+    pub neutral_modes: i64,
+    /// The σ nearest zero of the point's window (pN/nm²: force per length²
+    /// of the metric ∫|δr|² ds; σ < 0 unstable), when `has_sigma` is 1; 0
+    /// otherwise (no count, or no σ in the window). Where `negative_modes`
+    /// and `negative_sigma` differ, this says how near zero the neutral
+    /// modes are.
+    pub sigma_nearest: f64,
+    pub has_sigma: i32,
 }
 
 /// The summary of one curve. Every `*_finding` is a RodkitSummaryFinding;
@@ -199,6 +215,7 @@ pub unsafe extern "C" fn rodkit_supercoil_curve_points(
         let r = &arg_ref("run", run)?.run;
         arg_mut("count", count)?;
         let curve = finite_curve(r)?;
+        let stability = |k: usize| crate::charged::coexistence::point_stability(r, k);
         copy_out("points", points, capacity, count, &curve.points, |p| SupercoilCurvePoint {
             turns: p.turns,
             extension: p.extension,
@@ -212,6 +229,13 @@ pub unsafe extern "C" fn rodkit_supercoil_curve_points(
             }) as i32,
             negative_modes: p.negative_modes.map_or(-1, |m| m as i64),
             branch: p.branch as i32,
+            negative_sigma: stability(p.index).and_then(|s| s.negative).map_or(-1, |m| m as i64),
+            neutral_modes: stability(p.index).map_or(-1, |s| s.marginal as i64),
+            sigma_nearest: stability(p.index)
+                .and_then(|s| s.sigma.first().copied())
+                .filter(|v| v.is_finite())
+                .unwrap_or(0.0),
+            has_sigma: stability(p.index).and_then(|s| s.sigma.first()).is_some_and(|v| v.is_finite()) as i32,
         })
     })
 }

@@ -124,6 +124,14 @@ pub fn state_energy(run: &SupercoilRun, x: &[f64]) -> Result<f64> {
     Ok(e.elastic + e.near + e.far + e.hard_core - run.scene.tension * run.rod.tip(x)[2])
 }
 
+/// The stability counted at point `k` of `run` (the order of
+/// `run.points`), None where the run did not count or has no such point.
+pub fn point_stability(run: &SupercoilRun, k: usize) -> Option<&crate::continuation::stability::Stability> {
+    let ns = run.straight.records.len();
+    let rec = if k < ns { run.straight.records.get(k) } else { run.buckled.as_ref()?.records.get(k - ns) };
+    rec?.stability.as_ref()
+}
+
 /// The records of `run`'s points, in the order of `run.points`.
 fn records(run: &SupercoilRun) -> Vec<&Record> {
     let mut r: Vec<&Record> = run.straight.records.iter().collect();

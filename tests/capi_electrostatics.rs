@@ -12,6 +12,28 @@ fn last_error() -> String {
     unsafe { CStr::from_ptr(rodkit_last_error_message()) }.to_string_lossy().into_owned()
 }
 
+/// `rodkit_dna_supercoil_spec_default`'s spec.
+fn supercoil_spec() -> rodkit::capi::supercoil::DnaSupercoilSpec {
+    use rodkit::capi::supercoil::*;
+    let mut spec = std::mem::MaybeUninit::<DnaSupercoilSpec>::uninit();
+    assert_eq!(unsafe { rodkit_dna_supercoil_spec_default(spec.as_mut_ptr()) }, 0);
+    unsafe { spec.assume_init() }
+}
+
+/// The summary of a C run and its points, as many as the summary counts.
+fn supercoil_points(
+    run: *mut rodkit::capi::supercoil::Supercoil,
+) -> (rodkit::capi::supercoil::SupercoilInfo, Vec<rodkit::capi::supercoil::SupercoilPoint>) {
+    use rodkit::capi::supercoil::*;
+    let mut info = SupercoilInfo::default();
+    assert_eq!(unsafe { rodkit_supercoil_summary(run, &mut info) }, 0);
+    let mut points = vec![SupercoilPoint::default(); info.points as usize];
+    let mut count = 0;
+    assert_eq!(unsafe { rodkit_supercoil_points(run, points.as_mut_ptr(), info.points, &mut count) }, 0);
+    assert_eq!(count, info.points);
+    (info, points)
+}
+
 #[test]
 fn ring_energy_writhe_and_validation() {
     // A unit ring through 201 nodes (the last repeats the first), tangents exact.
@@ -98,9 +120,7 @@ fn supercoil_solve_point_through_the_c_abi() {
     use rodkit::capi::supercoil::*;
     use rodkit::charged::dna::{run_scene, DnaScene, SupercoilSettings};
     use rodkit::charged::equilibrium::{solve_point, EquilibriumSolver as Solver};
-    let mut spec = std::mem::MaybeUninit::<DnaSupercoilSpec>::uninit();
-    assert_eq!(unsafe { rodkit_dna_supercoil_spec_default(spec.as_mut_ptr()) }, 0);
-    let mut spec = unsafe { spec.assume_init() };
+    let mut spec = supercoil_spec();
     (spec.base_pairs, spec.elements, spec.max_steps) = (300, 40, 20);
     let mut run: *mut Supercoil = std::ptr::null_mut();
     assert!(unsafe { rodkit_dna_supercoil_run(&spec, &mut run) } >= 0, "{}", last_error());
@@ -207,9 +227,7 @@ fn torque_clamp_supercoil_through_the_c_abi() {
     use rodkit::capi::equilibrium::*;
     use rodkit::capi::supercoil::*;
     use rodkit::charged::dna::{run_scene, DnaScene, EndControl as Control, SupercoilSettings};
-    let mut spec = std::mem::MaybeUninit::<DnaSupercoilSpec>::uninit();
-    assert_eq!(unsafe { rodkit_dna_supercoil_spec_default(spec.as_mut_ptr()) }, 0);
-    let mut spec = unsafe { spec.assume_init() };
+    let mut spec = supercoil_spec();
     assert_eq!(spec.end_control, EndControl::Rotation as i32);
     (spec.base_pairs, spec.elements, spec.max_steps) = (300, 40, 25);
     let mut run: *mut Supercoil = std::ptr::null_mut();
@@ -219,11 +237,7 @@ fn torque_clamp_supercoil_through_the_c_abi() {
     assert!(run.is_null());
     spec.end_control = EndControl::Torque as i32;
     assert!(unsafe { rodkit_dna_supercoil_run(&spec, &mut run) } >= 0, "{}", last_error());
-    let mut info = SupercoilInfo::default();
-    assert_eq!(unsafe { rodkit_supercoil_summary(run, &mut info) }, 0);
-    let mut points = vec![SupercoilPoint::default(); info.points as usize];
-    let mut count = 0;
-    assert_eq!(unsafe { rodkit_supercoil_points(run, points.as_mut_ptr(), info.points, &mut count) }, 0);
+    let (info, points) = supercoil_points(run);
     let settings = SupercoilSettings { elements: 40, max_steps: 25, ..Default::default() };
     let scene = DnaScene { base_pairs: 300, ..Default::default() };
     let r = run_scene(&scene, &SupercoilSettings { control: Control::Torque, ..settings.clone() }).unwrap();
@@ -307,9 +321,7 @@ fn the_automatic_mesh_takes_2_nm_elements_and_says_how_many() {
     assert_eq!((r.rod.elements, r.settings.elements), (51, 51));
     // The C default is the automatic mesh too, and the result's nodes say
     // which mesh was taken.
-    let mut spec = std::mem::MaybeUninit::<DnaSupercoilSpec>::uninit();
-    assert_eq!(unsafe { rodkit_dna_supercoil_spec_default(spec.as_mut_ptr()) }, 0);
-    let mut spec = unsafe { spec.assume_init() };
+    let mut spec = supercoil_spec();
     assert_eq!(spec.elements, 0);
     (spec.base_pairs, spec.max_steps) = (300, 3);
     let mut run: *mut Supercoil = std::ptr::null_mut();
@@ -339,9 +351,7 @@ fn the_automatic_mesh_takes_2_nm_elements_and_says_how_many() {
 fn tolerance_through_the_c_abi() {
     use rodkit::capi::supercoil::*;
     use rodkit::charged::dna::{run_scene, DnaScene, SupercoilSettings};
-    let mut spec = std::mem::MaybeUninit::<DnaSupercoilSpec>::uninit();
-    assert_eq!(unsafe { rodkit_dna_supercoil_spec_default(spec.as_mut_ptr()) }, 0);
-    let mut spec = unsafe { spec.assume_init() };
+    let mut spec = supercoil_spec();
     assert_eq!(spec.tolerance, SupercoilSettings::default().tolerance);
     assert_eq!(spec.tolerance, 1e-3);
     (spec.base_pairs, spec.elements, spec.max_turns, spec.max_steps) = (300, 40, 1.5, 40);
@@ -360,11 +370,7 @@ fn tolerance_through_the_c_abi() {
     spec.tolerance = 0.05;
     // The step limit (an INFO status, ≥ 0) ends both runs alike.
     assert!(unsafe { rodkit_dna_supercoil_run(&spec, &mut run) } >= 0, "{}", last_error());
-    let mut info = SupercoilInfo::default();
-    assert_eq!(unsafe { rodkit_supercoil_summary(run, &mut info) }, 0);
-    let mut points = vec![SupercoilPoint::default(); info.points as usize];
-    let mut count = 0;
-    assert_eq!(unsafe { rodkit_supercoil_points(run, points.as_mut_ptr(), info.points, &mut count) }, 0);
+    let (_, points) = supercoil_points(run);
     unsafe { rodkit_supercoil_free(run) };
     let scene = DnaScene { base_pairs: 300, ..Default::default() };
     let settings =

@@ -215,27 +215,27 @@ pub unsafe extern "C" fn rodkit_supercoil_curve_points(
         let r = &arg_ref("run", run)?.run;
         arg_mut("count", count)?;
         let curve = finite_curve(r)?;
-        let stability = |k: usize| crate::charged::coexistence::point_stability(r, k);
-        copy_out("points", points, capacity, count, &curve.points, |p| SupercoilCurvePoint {
-            turns: p.turns,
-            extension: p.extension,
-            torque: p.torque,
-            energy: p.energy,
-            kind: (match p.kind {
-                Kind::Lowest => StabilityKind::Lowest,
-                Kind::Metastable => StabilityKind::Metastable,
-                Kind::Unstable => StabilityKind::Unstable,
-                Kind::Undetermined => StabilityKind::Undetermined,
-            }) as i32,
-            negative_modes: p.negative_modes.map_or(-1, |m| m as i64),
-            branch: p.branch as i32,
-            negative_sigma: stability(p.index).and_then(|s| s.negative).map_or(-1, |m| m as i64),
-            neutral_modes: stability(p.index).map_or(-1, |s| s.marginal as i64),
-            sigma_nearest: stability(p.index)
-                .and_then(|s| s.sigma.first().copied())
-                .filter(|v| v.is_finite())
-                .unwrap_or(0.0),
-            has_sigma: stability(p.index).and_then(|s| s.sigma.first()).is_some_and(|v| v.is_finite()) as i32,
+        copy_out("points", points, capacity, count, &curve.points, |p| {
+            let stability = crate::charged::coexistence::point_stability(r, p.index);
+            let nearest = stability.and_then(|s| s.sigma.first().copied()).filter(|v| v.is_finite());
+            SupercoilCurvePoint {
+                turns: p.turns,
+                extension: p.extension,
+                torque: p.torque,
+                energy: p.energy,
+                kind: (match p.kind {
+                    Kind::Lowest => StabilityKind::Lowest,
+                    Kind::Metastable => StabilityKind::Metastable,
+                    Kind::Unstable => StabilityKind::Unstable,
+                    Kind::Undetermined => StabilityKind::Undetermined,
+                }) as i32,
+                negative_modes: p.negative_modes.map_or(-1, |m| m as i64),
+                branch: p.branch as i32,
+                negative_sigma: stability.and_then(|s| s.negative).map_or(-1, |m| m as i64),
+                neutral_modes: stability.map_or(-1, |s| s.marginal as i64),
+                sigma_nearest: nearest.unwrap_or(0.0),
+                has_sigma: nearest.is_some() as i32,
+            }
         })
     })
 }

@@ -171,6 +171,13 @@ pub fn negative_modes(run: &SupercoilRun) -> Result<Vec<Option<usize>>> {
     Ok(out)
 }
 
+/// Whether point `j` of a branch that starts at point `from` is a fold in
+/// φ: φ_j an extremum of φ_{j−1}, φ_j, φ_{j+1} (the branch's first point,
+/// where it leaves another branch, is none).
+fn fold_at(phi: &[f64], from: usize, j: usize) -> bool {
+    j > from && j + 1 < phi.len() && (phi[j] - phi[j - 1]) * (phi[j + 1] - phi[j]) < 0.0
+}
+
 /// Unstable modes that enter the neutral band from below stay counted:
 /// between two points with as many negative σ (no sign changed) and no
 /// fold, a point with fewer unstable modes than the point before's marks
@@ -189,7 +196,7 @@ pub fn negative_modes(run: &SupercoilRun) -> Result<Vec<Option<usize>>> {
 /// unstable counts so far (None: undetermined), changed in place.
 pub fn carry_band_entries(phi: &[f64], counts: &[Option<(usize, usize)>], marks: &mut [Option<usize>], from: usize) {
     let n = phi.len().min(counts.len()).min(marks.len());
-    let fold = |j: usize| j > from && j + 1 < n && (phi[j] - phi[j - 1]) * (phi[j + 1] - phi[j]) < 0.0;
+    let fold = |j: usize| fold_at(&phi[..n], from, j);
     let mut ambiguous: Option<(usize, usize)> = None;
     for k in from + 1..n {
         let (Some((n0, u0)), Some((n1, u1))) = (counts[k - 1], counts[k]) else {
@@ -248,7 +255,7 @@ pub fn hidden_fold_crossings(
     let n = phi.len().min(counts.len());
     let mut hidden = vec![None; n];
     for j in from + 1..n.saturating_sub(1) {
-        if (phi[j] - phi[j - 1]) * (phi[j + 1] - phi[j]) >= 0.0 {
+        if !fold_at(&phi[..n], from, j) {
             continue;
         }
         let (Some((na, ua)), Some((nb, ub))) = (counts[j - 1], counts[j + 1]) else { continue };
@@ -313,10 +320,11 @@ fn parity_rules(run: &SupercoilRun) -> Result<Vec<Option<usize>>> {
     // Supercritical (leaves towards larger φ): none; subcritical: one.
     let mut modes = Some(if run.points[ns].phi >= phi_b { 0 } else { 1 });
     out.push(modes);
-    let phi = |k: usize| run.points[k].phi;
+    let phis: Vec<f64> = run.points.iter().map(|p| p.phi).collect();
+    let phi = |k: usize| phis[k];
     let torque = |k: usize| run.points[k].observables.torque;
     // A fold at j: φ_j an extremum of φ_{j−1}, φ_j, φ_{j+1} on the branch.
-    let fold_at = |j: usize| j > ns && j + 1 < run.points.len() && (phi(j) - phi(j - 1)) * (phi(j + 1) - phi(j)) < 0.0;
+    let fold_at = |j: usize| fold_at(&phis, ns, j);
     let flip = |k: usize| k > ns && k < run.points.len() && recs[k].det_sign != recs[k - 1].det_sign;
     // A fold with no determinant flip next to it (two crossings within a
     // step, or a missed one) leaves the count undetermined from there.

@@ -582,9 +582,7 @@ pub fn run_scene_with(
     charge.threads = settings.threads;
     charge.base_pairs = settings.base_pairs.then_some(scene.rise);
     charge.far_points = settings.far_points;
-    if settings.near_width.is_some() {
-        charge.near_width = settings.near_width;
-    }
+    charge.near_width = settings.near_width.or(charge.near_width);
     charge.list_rule = settings.list_rule;
     error::positive("max_turns", settings.max_turns)?;
     error::count_in_range("max_steps", settings.max_steps as i64, 1, 1 << 24)?;

@@ -2,6 +2,7 @@
 //! near zone's stiffening per stage, the far-pair list built at a reference
 //! state, and the Jacobian's pattern with where the pair terms go in it.
 
+use super::gap::Gap;
 use super::rod::{RodCharge, HARD_CORE_RANGE};
 use super::sites::Sites;
 use crate::continuation::system::AssembledSystem;
@@ -84,7 +85,13 @@ impl NearZone {
                 let lo = e.saturating_sub(m) as f64 * h;
                 let hi = (e + m + 1).min(ne) as f64 * h;
                 let (mut dk, mut c0) = (0.0, 0.0);
-                for side in [sj - lo, hi - sj] {
+                // Cut at exactly δ: the rest of [lo, hi] is the gap's
+                // (super::gap), integrated with the exact kernel.
+                let exact = |side: f64| match (charge.exact_near_width, charge.near_width) {
+                    (true, Some(delta)) => side.min(delta),
+                    _ => side,
+                };
+                for side in [exact(sj - lo), exact(hi - sj)] {
                     if side > a && charge.base_pairs.is_none() {
                         let j1 = special::j(1, a, side, kappa);
                         let j2 = special::j(2, a, side, kappa);
@@ -202,10 +209,19 @@ pub(super) struct Layout {
     pub(super) adj_pos: Vec<[usize; 3]>,
     /// Base pairs: the positions of each partner block in the n-rows.
     pub(super) full_pos: Vec<usize>,
+    /// The exact near zone's gap blocks (x, y): positions of element(x)'s
+    /// 3(s+1) n-rows × r_y (3), block-major.
+    pub(super) gap_pos: Vec<usize>,
 }
 
 impl Layout {
-    pub(super) fn new(rod: &Rod, sys: &AssembledSystem, points: &[Point], list: &PairList) -> Result<Self> {
+    pub(super) fn new(
+        rod: &Rod,
+        sys: &AssembledSystem,
+        points: &[Point],
+        list: &PairList,
+        gap: Option<&Gap>,
+    ) -> Result<Self> {
         let n = sys.dim();
         let s = rod.scheme.stages();
         // Element e's n-rows: its stages' force rows and the next node's.
@@ -231,6 +247,16 @@ impl Layout {
                 for &k in list.partners(j) {
                     for &row in &rows {
                         entries.extend((0..3).map(|c| (row, points[k].offset + c)));
+                    }
+                }
+            }
+        }
+        if let Some(gap) = gap {
+            for (x, pt) in points.iter().enumerate() {
+                let rows = n_rows(pt.element);
+                for &y in &gap.block_col[gap.block_ptr[x]..gap.block_ptr[x + 1]] {
+                    for &row in &rows {
+                        entries.extend((0..3).map(|c| (row, points[y].offset + c)));
                     }
                 }
             }
@@ -275,6 +301,19 @@ impl Layout {
                 adj_pos.push(base);
             }
         }
-        Ok(Layout { pattern, rod_map, diag_pos, adj_pos, full_pos })
+        let mut gap_pos = Vec::new();
+        if let Some(gap) = gap {
+            for (x, pt) in points.iter().enumerate() {
+                let rows = n_rows(pt.element);
+                for &y in &gap.block_col[gap.block_ptr[x]..gap.block_ptr[x + 1]] {
+                    for &row in &rows {
+                        for c in 0..3 {
+                            gap_pos.push(position(row, points[y].offset + c, "gap block entry missing")?);
+                        }
+                    }
+                }
+            }
+        }
+        Ok(Layout { pattern, rod_map, diag_pos, adj_pos, full_pos, gap_pos })
     }
 }

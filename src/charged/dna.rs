@@ -271,6 +271,10 @@ pub struct SupercoilSettings {
     /// The near zone's least physical width (nm; [`RodCharge::near_width`]),
     /// None: the charge's default (4a).
     pub near_width: Option<f64>,
+    /// Cut the near zone at exactly its width
+    /// ([`RodCharge::exact_near_width`]; default false). Newton
+    /// continuation only.
+    pub exact_near_width: bool,
     /// End rotation (default) or end torque as the continuation parameter.
     pub control: EndControl,
     /// Switch the hard core on by itself ([`auto_hard_core`]) when the
@@ -435,6 +439,7 @@ impl Default for SupercoilSettings {
             base_pairs: false,
             far_points: 0,
             near_width: None,
+            exact_near_width: false,
             control: EndControl::Rotation,
             hard_core_auto: true,
             engine: Engine::default(),
@@ -583,6 +588,7 @@ pub fn run_scene_with(
     charge.base_pairs = settings.base_pairs.then_some(scene.rise);
     charge.far_points = settings.far_points;
     charge.near_width = settings.near_width.or(charge.near_width);
+    charge.exact_near_width = settings.exact_near_width;
     charge.list_rule = settings.list_rule;
     error::positive("max_turns", settings.max_turns)?;
     error::count_in_range("max_steps", settings.max_steps as i64, 1, 1 << 24)?;

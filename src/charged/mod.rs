@@ -16,6 +16,7 @@ pub mod coexistence;
 pub mod dna;
 pub mod end_loop;
 pub mod equilibrium;
+mod gap;
 pub mod rod;
 mod sites;
 pub mod summary;

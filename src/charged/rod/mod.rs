@@ -13,6 +13,9 @@
 //!   one-sided at the ends) and the far zone every stage of every other
 //!   element: the far double sum is Gauss–Legendre on whole elements at
 //!   least mh away (a smooth integrand) and the exclusion is symmetric.
+//!   With [`RodCharge::exact_near_width`] the near zone is cut at exactly
+//!   δ and the strip between δ and those elements is integrated with the
+//!   exact kernel ([`super::gap`]): the model no longer moves with the mesh.
 //!   Optionally ([`RodCharge::far_points`]) the far double sum runs on M
 //!   Gauss–Legendre sites per element on the stage interpolant instead
 //!   ([`super::sites`]): same exclusion, same unknowns, a finer rule where
@@ -72,6 +75,7 @@ mod series;
 pub use coverage::ListCoverage;
 
 use super::assembly::{check_rod, Layout, NearZone, PairList, Point};
+use super::gap::Gap;
 use super::sites::Sites;
 use crate::continuation::system::AssembledSystem;
 use crate::continuation::Problem;
@@ -112,6 +116,20 @@ pub struct RodCharge {
     /// Default 4a (4 nm for DNA: two elements of the 2 nm automatic mesh,
     /// so that mesh's model is unchanged). None: the count alone.
     pub near_width: Option<f64>,
+    /// Cut every stage's near zone at exactly `near_width` (one-sided
+    /// within it of an end) and integrate the rest of its elements, out to
+    /// the far zone's whole elements, with the exact kernel
+    /// ([`super::gap`]). false (the default): the near zone's sides reach
+    /// the element boundaries (between mh and (m+1)h). Why: the near
+    /// zone's expansion is truncated after the curvature, so its error
+    /// grows with the side; with sides that step with the mesh the model
+    /// itself moves under refinement, and on a buckled rod the mesh
+    /// convergence falls to first order (a half/double-mesh estimate then
+    /// undershoots the error). Exact, the model is the mesh's limit and
+    /// the discretisation converges at the stage rule's order. Needs
+    /// `near_width`; not with `base_pairs` (no near zone) or `anm` (no
+    /// series of the gap's terms).
+    pub exact_near_width: bool,
     /// Relative energy tolerance of the screening cutoff (None: every
     /// pair; Coulomb always keeps every pair).
     pub cutoff_tolerance: Option<f64>,
@@ -183,6 +201,7 @@ impl RodCharge {
             screening,
             near_elements: 2,
             near_width: Some(4.0 * screening.a),
+            exact_near_width: false,
             cutoff_tolerance: Some(1e-6),
             skin,
             hard_core: None,
@@ -226,6 +245,13 @@ impl RodCharge {
             return Err(Error::new(
                 Status::ErrOutOfRange,
                 "far_points refines the continuum's far zone for Newton continuation: not with base_pairs or anm",
+            ));
+        }
+        if self.exact_near_width && (self.near_width.is_none() || self.base_pairs.is_some() || self.anm.is_some()) {
+            return Err(Error::new(
+                Status::ErrOutOfRange,
+                "exact_near_width cuts the continuum's near zone at near_width for Newton continuation: \
+                 it needs near_width, and not base_pairs or anm",
             ));
         }
         if let Some(b) = self.base_pairs {
@@ -315,6 +341,10 @@ pub struct ChargedRod {
     /// element's n-rows).
     sites: Option<Sites>,
     full_pos: Vec<usize>,
+    /// The exact near zone's gap ([`RodCharge::exact_near_width`]) and its
+    /// blocks' positions ([`Layout::gap_pos`]).
+    gap: Option<Gap>,
+    gap_pos: Vec<usize>,
     weights: Vec<f64>,
     /// The stored Taylor series of the last expansion (the ANM, [`series`]).
     series: Option<series::Series>,
@@ -357,7 +387,13 @@ impl ChargedRod {
         let reference_r: Vec<[f64; 3]> =
             points.iter().map(|p| [reference[p.offset], reference[p.offset + 1], reference[p.offset + 2]]).collect();
         let list = PairList::new(rod, charge, &points, &reference_r, cutoff)?;
-        let layout = Layout::new(rod, &sys, &points, &list)?;
+        let gap = match (charge.exact_near_width, charge.near_width) {
+            (true, Some(delta)) if l2 != 0.0 => {
+                Gap::new(&points, &tab.c, ne, h, charge.near_elements_for(h, ne), delta)
+            }
+            _ => None,
+        };
+        let layout = Layout::new(rod, &sys, &points, &list, gap.as_ref())?;
         let twisted_phi = rod.twisted().then(|| rod.end_cosine().expect("twisted rods have c"));
         let (np, na) = (points.len(), list.adj.len());
         let weights = points.iter().map(|p| p.w).collect();
@@ -396,6 +432,8 @@ impl ChargedRod {
             weights,
             sites: list.sites,
             full_pos: layout.full_pos,
+            gap,
+            gap_pos: layout.gap_pos,
             series: None,
             list_coverage: None,
             r: vec![[0.0; 3]; np],
@@ -566,6 +604,18 @@ impl ChargedRod {
     /// blocks G_jk = ∂(−P'Δ/d)/∂r_k and their sums) at the positions in
     /// self.r, threads by chunks of stages.
     fn forces(&mut self, jacobian: bool) {
+        self.far_forces(jacobian);
+        if let Some(mut gap) = self.gap.take() {
+            let mut p = std::mem::take(&mut self.p);
+            let pair = |d: f64, along: f64| self.pair(d, self.hard_gap(along));
+            gap.forces(&self.r, &self.weights, &pair, &mut p, jacobian);
+            self.p = p;
+            self.gap = Some(gap);
+        }
+    }
+
+    /// The far zone's part of [`Self::forces`].
+    fn far_forces(&mut self, jacobian: bool) {
         if let Some(mut sites) = self.sites.take() {
             let (mut p, mut g) = (std::mem::take(&mut self.p), std::mem::take(&mut self.g));
             let pair = |d: f64, gap: f64| self.pair(d, self.hard_gap(gap));
@@ -770,6 +820,13 @@ impl ChargedRod {
             });
             self.sites = Some(sites);
         }
+        if let Some(gap) = &self.gap {
+            let (e, h) = gap.energy(&self.r, &self.weights, &|d, along| {
+                (self.potential(d), if self.hard_gap(along) { self.hard_potential(d) } else { 0.0 })
+            });
+            far += e;
+            hard += h;
+        }
         RodEnergy { near, far, hard_core: hard, elastic }
     }
 
@@ -791,6 +848,12 @@ impl ChargedRod {
     /// None for the continuum.
     pub fn base_pairs(&self) -> Option<(usize, f64, usize)> {
         self.sites.as_ref().and_then(|s| s.spacing().map(|b| (s.count(), b, s.site_pairs())))
+    }
+
+    /// The exact near zone's gap points ([`RodCharge::exact_near_width`];
+    /// 0 without).
+    pub fn gap_points(&self) -> usize {
+        self.gap.as_ref().map_or(0, Gap::points)
     }
 
     /// The refined far zone's (sites, directed site pairs), None on the
@@ -918,6 +981,20 @@ impl Problem for ChargedRod {
                     }
                     for i in 0..4 {
                         jx[self.diag_pos[at + 3 + i]] += coef * dq[c][i];
+                    }
+                }
+            }
+            if let Some(gap) = &self.gap {
+                let rows = 3 * (s + 1);
+                for b in gap.block_ptr[j]..gap.block_ptr[j + 1] {
+                    let block = rt_mul(&gap.blocks[b]);
+                    for rb in 0..=s {
+                        let coef = self.coefficient(rb, pt.stage);
+                        for c in 0..3 {
+                            for col in 0..3 {
+                                jx[self.gap_pos[(b * rows + rb * 3 + c) * 3 + col]] += coef * block[c][col];
+                            }
+                        }
                     }
                 }
             }

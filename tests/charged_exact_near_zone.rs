@@ -156,8 +156,8 @@ fn exact_near_zone_jacobian_matches_differences() {
     }
 }
 
-/// Refused where it has no meaning: without a width, with the base-pair
-/// model (no near zone) or the ANM (no series of the gap).
+/// Refused where it has no meaning: without a width, or with the
+/// base-pair model (no near zone).
 #[test]
 fn exact_near_zone_refuses_other_models() {
     let (rod, charge) = scene(20);
@@ -165,7 +165,6 @@ fn exact_near_zone_refuses_other_models() {
     for bad in [
         RodCharge { near_width: None, ..charge.clone() },
         RodCharge { base_pairs: Some(0.34), ..charge.clone() },
-        RodCharge { anm: Some(Default::default()), ..charge.clone() },
     ] {
         let e = ChargedRod::new(&rod, &bad, None, &x).err().expect("refused");
         assert_eq!(e.status, rodkit::status::Status::ErrOutOfRange, "{e}");

@@ -16,7 +16,8 @@
 mod charged;
 
 use charged::{coiled_state, small_scene};
-use rodkit::charged::rod::ChargedRod;
+use rodkit::charged::rod::{ChargedRod, RodCharge};
+use rodkit::rod::model::Rod;
 use rodkit::continuation::{Problem, SeriesProblem};
 
 fn max_norm(v: &[f64]) -> f64 {
@@ -59,12 +60,22 @@ fn remainder(p: &mut ChargedRod, x0: &[f64], dirs: &[Vec<f64>; 2], phi: [f64; 3]
     max_norm(&scaled(p, &r))
 }
 
+/// Both near zones: element-aligned, and cut at exactly δ (the gap's
+/// terms through the stage interpolant: RodCharge::exact_near_width).
 #[test]
 fn the_series_of_the_residual_is_its_taylor_polynomial_along_a_path() {
     let (rod, charge) = small_scene();
-    let x0 = coiled_state(&rod, 3.0, 3.0);
-    let mut p = ChargedRod::new(&rod, &charge, None, &x0).unwrap();
+    for exact in [false, true] {
+        println!("exact near zone: {exact}");
+        series_matches_the_residual(&rod, &RodCharge { exact_near_width: exact, ..charge.clone() }, exact);
+    }
+}
+
+fn series_matches_the_residual(rod: &Rod, charge: &RodCharge, exact: bool) {
+    let x0 = coiled_state(rod, 3.0, 3.0);
+    let mut p = ChargedRod::new(rod, charge, None, &x0).unwrap();
     assert!(p.pairs() > 100, "pairs {}", p.pairs());
+    assert_eq!(p.gap_points() > 0, exact);
     // Directions: every unknown moved, smoothly in the index (positions by
     // ~0.3 nm, quaternions and the rest by ~0.03 of their size).
     let n = x0.len();

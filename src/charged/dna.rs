@@ -272,8 +272,7 @@ pub struct SupercoilSettings {
     /// None: the charge's default (4a).
     pub near_width: Option<f64>,
     /// Cut the near zone at exactly its width
-    /// ([`RodCharge::exact_near_width`]; default false). Newton
-    /// continuation only.
+    /// ([`RodCharge::exact_near_width`]; default false).
     pub exact_near_width: bool,
     /// End rotation (default) or end torque as the continuation parameter.
     pub control: EndControl,

@@ -21,7 +21,9 @@
 //! between points farther apart along the rod than its range). Its exact
 //! gradient gives force densities on r_j and, through the interpolant, on
 //! the stencil's stages; the Jacobian is exact (blocks ∂p_x/∂r_y between
-//! stages at most the near zone and a stencil apart).
+//! stages at most the near zone and a stencil apart), and its Taylor
+//! series along a path (the ANM) is the far pairs' with Δ's series the
+//! same linear combination of the stages' (src/charged/rod/series.rs).
 
 use super::assembly::Point;
 use super::sites::REFINED_STENCIL;
@@ -46,7 +48,7 @@ pub(super) struct Gap {
 }
 
 /// Members of a gap point: its outer stage and its stencil.
-const MEMBERS: usize = 1 + REFINED_STENCIL;
+pub(super) const MEMBERS: usize = 1 + REFINED_STENCIL;
 
 impl Gap {
     /// The gaps of stage points `points` of a rod of `elements` elements of
@@ -154,6 +156,22 @@ impl Gap {
     /// Gap points (their count: the cost).
     pub(super) fn points(&self) -> usize {
         self.outer.len()
+    }
+
+    /// Gap point g's outer stage j, the factor ½ w_j ω_g of its pair
+    /// potential, its distance along the rod and its members' stages and
+    /// coefficients in Δ = r_j − R(t_g) (those of a short stencil's padding
+    /// are 0).
+    pub(super) fn point(&self, g: usize, w: &[f64]) -> (usize, f64, f64, [usize; MEMBERS], [f64; MEMBERS]) {
+        let ns = w.len();
+        let j = self.outer[g];
+        let mut stages = [0; MEMBERS];
+        let mut coef = [0.0; MEMBERS];
+        for k in 0..MEMBERS {
+            stages[k] = self.member(g, k, ns);
+            coef[k] = if k == 0 { 1.0 } else { -self.basis[g * REFINED_STENCIL + k - 1] };
+        }
+        (j, 0.5 * w[j] * self.weight[g], self.along[g], stages, coef)
     }
 
     /// R(t_g) and the members' coefficients in Δ = r_j − R(t_g).

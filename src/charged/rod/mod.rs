@@ -127,8 +127,7 @@ pub struct RodCharge {
     /// convergence falls to first order (a half/double-mesh estimate then
     /// undershoots the error). Exact, the model is the mesh's limit and
     /// the discretisation converges at the stage rule's order. Needs
-    /// `near_width`; not with `base_pairs` (no near zone) or `anm` (no
-    /// series of the gap's terms).
+    /// `near_width`; not with `base_pairs` (no near zone).
     pub exact_near_width: bool,
     /// Relative energy tolerance of the screening cutoff (None: every
     /// pair; Coulomb always keeps every pair).
@@ -247,11 +246,10 @@ impl RodCharge {
                 "far_points refines the continuum's far zone for Newton continuation: not with base_pairs or anm",
             ));
         }
-        if self.exact_near_width && (self.near_width.is_none() || self.base_pairs.is_some() || self.anm.is_some()) {
+        if self.exact_near_width && (self.near_width.is_none() || self.base_pairs.is_some()) {
             return Err(Error::new(
                 Status::ErrOutOfRange,
-                "exact_near_width cuts the continuum's near zone at near_width for Newton continuation: \
-                 it needs near_width, and not base_pairs or anm",
+                "exact_near_width cuts the continuum's near zone at near_width: it needs near_width, and not base_pairs",
             ));
         }
         if let Some(b) = self.base_pairs {

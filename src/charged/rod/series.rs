@@ -5,7 +5,9 @@
 //! The rod's own system (stiffened near zone included) is cubic and takes
 //! its series from its tapes ([`crate::taylor`]). What is added here:
 //!
-//! * the far-zone pair forces p_j = −Σ_k w_k P'(d_jk)/d_jk Δ_jk, Δ = r_j − r_k,
+//! * the far-zone pair forces p_j = −Σ_k w_k P'(d_jk)/d_jk Δ_jk, Δ = r_j − r_k
+//!   (and the exact near zone's gap points, Δ = r_j − Σ ℓ_i r_i on the
+//!   stage interpolant, their forces shared among its stages: [`super::gap`]),
 //!   by the elementary recurrences of [`crate::taylor::elementary`] along
 //!   d² = Δ·Δ → d = √ → 1/d, e^{−κd}, f0 = e/d, A = f0/d, B = A(1 + κd)
 //!   (P' = λ²(−B S + f0 S') with the C² switch S a quintic in
@@ -28,7 +30,7 @@
 //! evaluated near its radius. The base-pair model has no series (its
 //! continuation is Newton's).
 
-use super::{ChargedRod, HARD_CORE_RANGE};
+use super::{ChargedRod, Gap, HARD_CORE_RANGE};
 use crate::continuation::SeriesProblem;
 use crate::taylor::elementary::{exp, product, recip, sin_cos, sqrt};
 
@@ -124,6 +126,12 @@ impl ChargedRod {
                 s.p[(3 * j + c) * st + p] = pj[c];
             }
         }
+        if let Some(gap) = &self.gap {
+            let na = self.adj.len();
+            for g in 0..gap.points() {
+                self.gap_order(&mut s, gap, g, na + g, p);
+            }
+        }
         let nb = self.tab.b.len();
         for (j, pt) in self.points.iter().enumerate() {
             let rot = rotation_order(&s.q[4 * j * st..4 * (j + 1) * st], st, p);
@@ -158,13 +166,43 @@ impl ChargedRod {
                 s.delta[c * st + m] = s.r[(3 * j + c) * st + m] - s.r[(3 * k + c) * st + m];
             }
         }
+        self.delta_order(s, a, p, self.points[k].w, self.hard_pair(j, k))
+    }
+
+    /// Gap point g (slot `a`): Δ = r_j − Σ ℓ_i r_i, and its force's
+    /// order-p coefficient −(½ w_j ω_g) (P'/d Δ)_p on the unit stage weight;
+    /// the members' shares go to their p series ([`super::gap`]).
+    fn gap_order(&self, s: &mut Series, gap: &Gap, g: usize, a: usize, p: usize) {
+        let st = s.stride;
+        let (_, factor, along, stages, coef) = gap.point(g, &self.weights);
+        for c in 0..3 {
+            for m in 0..=p {
+                s.delta[c * st + m] =
+                    stages.iter().zip(&coef).map(|(&x, &l)| l * s.r[(3 * x + c) * st + m]).sum::<f64>();
+            }
+        }
+        let f = self.delta_order(s, a, p, factor, self.hard_gap(along));
+        for (&x, &l) in stages.iter().zip(&coef) {
+            if l != 0.0 {
+                for c in 0..3 {
+                    s.p[(3 * x + c) * st + p] += l * f[c] / self.weights[x];
+                }
+            }
+        }
+    }
+
+    /// The series of the pair potential's force along Δ (in `s.delta`),
+    /// slot `a`, order p (order 0 chooses its piece; the hard core acts
+    /// when `hard_pair`): Σ_m C_m Δ_{p−m} with C = −`weight` P'(d)/d.
+    fn delta_order(&self, s: &mut Series, a: usize, p: usize, weight: f64, hard_pair: bool) -> [f64; 3] {
+        let st = s.stride;
         let pair = &mut s.pair[a * SLOTS * st..(a + 1) * SLOTS * st];
         let slot = |i: usize| i * st..(i + 1) * st;
         let d2 = (0..3).map(|c| product(&s.delta[slot(c)], &s.delta[slot(c)], p)).sum::<f64>();
         pair[S2 * st + p] = d2;
         if p == 0 {
             let d = d2.sqrt();
-            let hard = d > 0.0 && self.hard_pair(j, k) && d < HARD_CORE_RANGE * self.charge.screening.a;
+            let hard = d > 0.0 && hard_pair && d < HARD_CORE_RANGE * self.charge.screening.a;
             let l2 = self.charge.line_charge * self.charge.line_charge;
             s.piece[a] = match self.cutoff {
                 _ if d == 0.0 || l2 == 0.0 => Piece::Off,
@@ -228,8 +266,7 @@ impl ChargedRod {
             pp += -3.0 * khc * product(&s.g[..st], &s.g[..st], p);
         }
         pair[PP * st + p] = pp;
-        let wk = self.points[k].w;
-        pair[C * st + p] = -wk * product(&pair[slot(PP)], &pair[slot(INV)], p);
+        pair[C * st + p] = -weight * product(&pair[slot(PP)], &pair[slot(INV)], p);
         let cs = &pair[slot(C)];
         [0, 1, 2].map(|c| product(cs, &s.delta[slot(c)], p))
     }
@@ -253,7 +290,9 @@ fn rotation_order(q: &[f64], stride: usize, p: usize) -> [[f64; 3]; 3] {
 impl SeriesProblem for ChargedRod {
     fn series_begin(&mut self, x0: &[f64], lambda0: f64, max_order: usize) {
         let st = max_order + 1;
-        let (np, na) = (self.points.len(), self.adj.len());
+        let np = self.points.len();
+        // Pair slots: the list's pairs, then the exact near zone's gap points.
+        let na = self.adj.len() + self.gap_points();
         let s = self.series.get_or_insert_with(Default::default);
         s.stride = st;
         for (v, len) in [

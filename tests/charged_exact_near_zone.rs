@@ -162,10 +162,9 @@ fn exact_near_zone_jacobian_matches_differences() {
 fn exact_near_zone_refuses_other_models() {
     let (rod, charge) = scene(20);
     let x = rod.straight_state();
-    for bad in [
-        RodCharge { near_width: None, ..charge.clone() },
-        RodCharge { base_pairs: Some(0.34), ..charge.clone() },
-    ] {
+    for bad in
+        [RodCharge { near_width: None, ..charge.clone() }, RodCharge { base_pairs: Some(0.34), ..charge.clone() }]
+    {
         let e = ChargedRod::new(&rod, &bad, None, &x).err().expect("refused");
         assert_eq!(e.status, rodkit::status::Status::ErrOutOfRange, "{e}");
         println!("refused: {e}");

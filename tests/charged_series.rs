@@ -17,8 +17,8 @@ mod charged;
 
 use charged::{coiled_state, small_scene};
 use rodkit::charged::rod::{ChargedRod, RodCharge};
-use rodkit::rod::model::Rod;
 use rodkit::continuation::{Problem, SeriesProblem};
+use rodkit::rod::model::Rod;
 
 fn max_norm(v: &[f64]) -> f64 {
     v.iter().fold(0.0_f64, |m, x| m.max(x.abs()))

@@ -26,10 +26,45 @@ pub(super) struct Point {
     pub(super) w: f64,
 }
 
+/// Each element's near run (first, last element): the elements whose stage
+/// pairs with it are not far. On a uniform mesh the m = max(`near_elements`,
+/// ⌈δ/h⌉) elements on each side ([`RodCharge::near_elements_for`]). On a
+/// graded mesh (only with the exact near zone, whose gap integrates the rest
+/// of the run with the exact kernel) every element nearer than δ, and at
+/// least `near_elements` on each side: element f is far from e when
+/// |e − f| > `near_elements` and the arc between them is at least δ, which is
+/// the uniform rule where h is constant. Contiguous, as the arc between e
+/// and f grows with |e − f|.
+pub(super) fn near_runs(rod: &Rod, charge: &RodCharge) -> Vec<(usize, usize)> {
+    let ne = rod.elements;
+    if rod.breakpoints.is_none() {
+        let m = charge.near_elements_for(rod.element_length(), ne);
+        return (0..ne).map(|e| (e.saturating_sub(m), (e + m).min(ne - 1))).collect();
+    }
+    let nodes = rod.node_positions();
+    let delta = charge.near_width.unwrap_or(0.0) * (1.0 - 1e-12);
+    let k = charge.near_elements;
+    (0..ne)
+        .map(|e| {
+            let mut first = e.saturating_sub(k);
+            while first > 0 && nodes[e] - nodes[first] < delta {
+                first -= 1;
+            }
+            let mut last = (e + k).min(ne - 1);
+            while last + 1 < ne && nodes[last + 1] - nodes[e + 1] < delta {
+                last += 1;
+            }
+            (first, last)
+        })
+        .collect()
+}
+
 /// The rod a charge can be put on: a straight Kirchhoff rod with
 /// uncoupled bending axes and a Gauss scheme (its stage points carry the
-/// charge). Returns the stage count.
-pub(super) fn check_rod(rod: &Rod) -> Result<usize> {
+/// charge); a graded mesh only with the exact near zone (its sides do not
+/// depend on the elements) and the stage points' far zone. Returns the
+/// stage count.
+pub(super) fn check_rod(rod: &Rod, charge: &RodCharge) -> Result<usize> {
     let s = match rod.scheme {
         Scheme::Gauss(s) => s,
         Scheme::Midpoint => {
@@ -48,11 +83,13 @@ pub(super) fn check_rod(rod: &Rod) -> Result<usize> {
     if rod.law.stiffness[(0, 1)] != 0.0 || rod.law.intrinsic_u != nalgebra::Vector3::zeros() {
         return Err(Error::new(Status::ErrOutOfRange, "a charged rod must be straight with uncoupled bending axes"));
     }
-    // The near zone's quadrature and pair list assume equal elements.
-    if rod.breakpoints.is_some() {
+    // The element-aligned near zone's sides, the refined far zone's sites
+    // and the base pairs' stencils assume equal elements.
+    if rod.breakpoints.is_some() && (!charge.exact_near_width || charge.far_points > 0 || charge.base_pairs.is_some()) {
         return Err(Error::new(
             Status::ErrOutOfRange,
-            "a charged rod needs a uniform mesh (its near zone assumes equal elements)",
+            "a charged rod on a graded mesh needs the exact near zone (exact_near_width), \
+             the stage points' far zone (far_points 0) and the continuum (no base_pairs)",
         ));
     }
     Ok(s)
@@ -69,9 +106,9 @@ pub(super) struct NearZone {
 }
 
 impl NearZone {
-    pub(super) fn new(rod: &Rod, charge: &RodCharge, tab: &Tableau) -> Self {
-        let (s, h, ne) = (tab.b.len(), rod.element_length(), rod.elements);
-        let m = charge.near_elements_for(h, ne);
+    pub(super) fn new(rod: &Rod, charge: &RodCharge, tab: &Tableau, runs: &[(usize, usize)]) -> Self {
+        let (s, ne) = (tab.b.len(), rod.elements);
+        let uniform = rod.breakpoints.is_none();
         let (kappa, a) = (charge.screening.kappa, charge.screening.a);
         let l2 = charge.line_charge * charge.line_charge;
         let mut near = NearZone {
@@ -80,10 +117,14 @@ impl NearZone {
             constant: Vec::with_capacity(ne * s),
         };
         for e in 0..ne {
+            let h = rod.element_h(e);
+            let (first, last) = runs[e];
             for j in 0..s {
-                let sj = (e as f64 + tab.c[j]) * h;
-                let lo = e.saturating_sub(m) as f64 * h;
-                let hi = (e + m + 1).min(ne) as f64 * h;
+                let (sj, lo, hi) = if uniform {
+                    ((e as f64 + tab.c[j]) * h, first as f64 * h, (last + 1) as f64 * h)
+                } else {
+                    (rod.node_position(e) + tab.c[j] * h, rod.node_position(first), rod.node_position(last + 1))
+                };
                 let (mut dk, mut c0) = (0.0, 0.0);
                 // Cut at exactly δ: the rest of [lo, hi] is the gap's
                 // (super::gap), integrated with the exact kernel.
@@ -142,7 +183,11 @@ impl PairList {
     ) -> Result<Self> {
         let (m, a) = (charge.near_elements_for(rod.element_length(), rod.elements), charge.screening.a);
         let l2 = charge.line_charge * charge.line_charge;
-        let far = |j: usize, k: usize| points[j].element.abs_diff(points[k].element) > m;
+        let runs = near_runs(rod, charge);
+        let far = |j: usize, k: usize| {
+            let (first, last) = runs[points[j].element];
+            points[k].element < first || points[k].element > last
+        };
         let any = l2 != 0.0 || charge.hard_core.is_some();
         let radius = match (cutoff, charge.hard_core) {
             (Some((_, off)), hc) => Some(off.max(if hc.is_some() { HARD_CORE_RANGE * a } else { 0.0 }) + charge.skin),

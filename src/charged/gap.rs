@@ -51,12 +51,19 @@ pub(super) struct Gap {
 pub(super) const MEMBERS: usize = 1 + REFINED_STENCIL;
 
 impl Gap {
-    /// The gaps of stage points `points` of a rod of `elements` elements of
-    /// length `h` and stage abscissae `c` (in the element), with a near
-    /// zone of `m` elements on each side cut at `delta`. None when no
-    /// stage has a gap (δ on an element boundary of every stage's zone).
-    pub(super) fn new(points: &[Point], c: &[f64], elements: usize, h: f64, m: usize, delta: f64) -> Option<Self> {
-        let s = c.len();
+    /// The gaps of stage points `points` (their stage count `stages` per
+    /// element) on a mesh with nodes at `nodes`, each element's near run
+    /// `runs` ([`super::assembly::near_runs`]) and the zone cut at `delta`.
+    /// None when no stage has a gap (δ on an element boundary of every
+    /// stage's run).
+    pub(super) fn new(
+        points: &[Point],
+        stages: usize,
+        nodes: &[f64],
+        runs: &[(usize, usize)],
+        delta: f64,
+    ) -> Option<Self> {
+        let s = stages;
         let (gx, gw) = gauss_legendre(s + 2);
         let stage_s: Vec<f64> = points.iter().map(|p| p.s).collect();
         let ns = stage_s.len();
@@ -73,11 +80,10 @@ impl Gap {
             slot: Vec::new(),
         };
         // Pieces shorter than this are rounding (δ on an element boundary).
-        let tiny = 1e-12 * h;
+        let tiny = 1e-12 * nodes[nodes.len() - 1];
         for (j, pt) in points.iter().enumerate() {
-            let e = pt.element;
-            let lo = e.saturating_sub(m) as f64 * h;
-            let hi = (e + m + 1).min(elements) as f64 * h;
+            let (first, last) = runs[pt.element];
+            let (lo, hi) = (nodes[first], nodes[last + 1]);
             for (from, to) in [(lo, pt.s - delta), (pt.s + delta, hi)] {
                 if to - from <= tiny {
                     continue;
@@ -86,8 +92,8 @@ impl Gap {
                 // within an element's stages.
                 let mut a = from;
                 while to - a > tiny {
-                    let b = (((a / h) + 1e-9).floor() + 1.0) * h;
-                    let b = b.min(to);
+                    let next = nodes.partition_point(|&v| v <= a + tiny);
+                    let b = nodes.get(next).copied().unwrap_or(to).min(to);
                     let half = 0.5 * (b - a);
                     for (x, w) in gx.iter().zip(&gw) {
                         let t = a + half * (1.0 + x);

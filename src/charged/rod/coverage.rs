@@ -29,7 +29,9 @@ use crate::geometry::proximity::CellList;
 pub struct ListCoverage {
     offsets: Vec<usize>,
     elements: Vec<usize>,
-    near: usize,
+    /// Each element's near run (first, last): the elements whose pairs
+    /// with it are not far ([`super::super::assembly::near_runs`]).
+    runs: Vec<(usize, usize)>,
     adj_ptr: Vec<usize>,
     adj: Vec<usize>,
     /// r_int: the potential's range.
@@ -50,8 +52,9 @@ impl ListCoverage {
             cells.neighbours_within(r, rj, reach, &mut found);
             let listed = &self.adj[self.adj_ptr[j]..self.adj_ptr[j + 1]];
             for &k in &found {
-                if k > j && self.elements[j].abs_diff(self.elements[k]) > self.near && listed.binary_search(&k).is_err()
-                {
+                let (first, last) = self.runs[self.elements[j]];
+                let far = self.elements[k] < first || self.elements[k] > last;
+                if k > j && far && listed.binary_search(&k).is_err() {
                     let d = crate::geometry::vec3::distance(rj, &r[k]);
                     gap = gap.min(d - self.range);
                 }
@@ -89,7 +92,7 @@ impl ChargedRod {
         Some(ListCoverage {
             offsets: self.points.iter().map(|p| p.offset).collect(),
             elements: self.points.iter().map(|p| p.element).collect(),
-            near: self.charge.near_elements_for(self.rod.element_length(), self.rod.elements),
+            runs: self.runs.clone(),
             adj_ptr: self.adj_ptr.clone(),
             adj: self.adj.clone(),
             range,
@@ -123,8 +126,10 @@ mod tests {
             adj.extend((0..n).filter(|&k| k != j && far(j, k) && d(&r0[j], &r0[k]) < range + skin));
             adj_ptr.push(adj.len());
         }
+        let ne = elements[n - 1] + 1;
+        let runs = (0..ne).map(|e| (e.saturating_sub(near), (e + near).min(ne - 1))).collect();
         let cover =
-            ListCoverage { offsets: vec![], elements: elements.clone(), near, adj_ptr, adj: adj.clone(), range, skin };
+            ListCoverage { offsets: vec![], elements: elements.clone(), runs, adj_ptr, adj: adj.clone(), range, skin };
         assert_eq!(cover.gap_at(&r0), skin, "every pair within range + skin is listed where it was built");
         for amplitude in [1.0, 3.0, 6.0] {
             let r: Vec<[f64; 3]> = r0.iter().map(|p| p.map(|v| v + amplitude * (rnd() - 0.5))).collect();

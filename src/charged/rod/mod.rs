@@ -74,7 +74,7 @@ mod series;
 
 pub use coverage::ListCoverage;
 
-use super::assembly::{check_rod, Layout, NearZone, PairList, Point};
+use super::assembly::{check_rod, near_runs, Layout, NearZone, PairList, Point};
 use super::gap::Gap;
 use super::sites::Sites;
 use crate::continuation::system::AssembledSystem;
@@ -126,8 +126,11 @@ pub struct RodCharge {
     /// itself moves under refinement, and on a buckled rod the mesh
     /// convergence falls to first order (a half/double-mesh estimate then
     /// undershoots the error). Exact, the model is the mesh's limit and
-    /// the discretisation converges at the stage rule's order. Needs
-    /// `near_width`; not with `base_pairs` (no near zone).
+    /// the discretisation converges at the stage rule's order. It also
+    /// admits graded meshes ([`Rod::graded`]: fine in a plectoneme, coarse
+    /// on the tails), whose near runs are the elements nearer than δ
+    /// ([`super::assembly::near_runs`]). Needs `near_width`; not with
+    /// `base_pairs` (no near zone).
     pub exact_near_width: bool,
     /// Relative energy tolerance of the screening cutoff (None: every
     /// pair; Coulomb always keeps every pair).
@@ -343,6 +346,8 @@ pub struct ChargedRod {
     /// blocks' positions ([`Layout::gap_pos`]).
     gap: Option<Gap>,
     gap_pos: Vec<usize>,
+    /// Each element's near run ([`near_runs`]).
+    runs: Vec<(usize, usize)>,
     weights: Vec<f64>,
     /// The stored Taylor series of the last expansion (the ANM, [`series`]).
     series: Option<series::Series>,
@@ -361,10 +366,11 @@ impl ChargedRod {
     /// rod's phase condition (node, azimuth) of a symmetric buckle.
     pub fn new(rod: &Rod, charge: &RodCharge, phase: Option<(usize, f64)>, reference: &[f64]) -> Result<Self> {
         charge.validate()?;
-        let s = check_rod(rod)?;
+        let s = check_rod(rod, charge)?;
+        let runs = near_runs(rod, charge);
         let h = rod.element_length();
         let tab = Tableau::gauss(s);
-        let near = NearZone::new(rod, charge, &tab);
+        let near = NearZone::new(rod, charge, &tab, &runs);
         let ne = rod.elements;
         let extra: Vec<Vec<f64>> = (0..ne).map(|e| near.stiffening[e * s..(e + 1) * s].to_vec()).collect();
         let sys = match phase {
@@ -386,9 +392,7 @@ impl ChargedRod {
             points.iter().map(|p| [reference[p.offset], reference[p.offset + 1], reference[p.offset + 2]]).collect();
         let list = PairList::new(rod, charge, &points, &reference_r, cutoff)?;
         let gap = match (charge.exact_near_width, charge.near_width) {
-            (true, Some(delta)) if l2 != 0.0 => {
-                Gap::new(&points, &tab.c, ne, h, charge.near_elements_for(h, ne), delta)
-            }
+            (true, Some(delta)) if l2 != 0.0 => Gap::new(&points, s, &rod.node_positions(), &runs, delta),
             _ => None,
         };
         let layout = Layout::new(rod, &sys, &points, &list, gap.as_ref())?;
@@ -432,6 +436,7 @@ impl ChargedRod {
             full_pos: layout.full_pos,
             gap,
             gap_pos: layout.gap_pos,
+            runs,
             series: None,
             list_coverage: None,
             r: vec![[0.0; 3]; np],
@@ -702,14 +707,16 @@ impl ChargedRod {
         }
     }
 
-    /// Row coefficients of stage `stage`'s body force in its element's
-    /// 3(s+1) n-rows: h a_i,stage for the stage rows, h b_stage for the update.
-    fn coefficient(&self, row_block: usize, stage: usize) -> f64 {
+    /// Row coefficients of a stage point's body force in its element's
+    /// 3(s+1) n-rows: h_e a_i,stage for the stage rows, h_e b_stage for the
+    /// update (h_e its element's length).
+    fn coefficient(&self, row_block: usize, point: &Point) -> f64 {
         let s = self.tab.b.len();
+        let h = if self.rod.breakpoints.is_some() { self.rod.element_h(point.element) } else { self.h };
         if row_block < s {
-            self.h * self.tab.a[row_block][stage]
+            h * self.tab.a[row_block][point.stage]
         } else {
-            self.h * self.tab.b[stage]
+            h * self.tab.b[point.stage]
         }
     }
 
@@ -911,7 +918,7 @@ impl Problem for ChargedRod {
             let p = self.p[j];
             let fb = [0, 1, 2].map(|c| rot[0][c] * p[0] + rot[1][c] * p[1] + rot[2][c] * p[2]);
             for rb in 0..=s {
-                let coef = self.coefficient(rb, pt.stage);
+                let coef = self.coefficient(rb, pt);
                 for c in 0..3 {
                     r[self.n_row(pt.element, rb, c)] += coef * fb[c];
                 }
@@ -971,7 +978,7 @@ impl Problem for ChargedRod {
             let dr = rt_mul(&d);
             let base = j * 3 * (s + 1) * 7;
             for rb in 0..=s {
-                let coef = self.coefficient(rb, pt.stage);
+                let coef = self.coefficient(rb, pt);
                 for c in 0..3 {
                     let at = base + (rb * 3 + c) * 7;
                     for col in 0..3 {
@@ -987,7 +994,7 @@ impl Problem for ChargedRod {
                 for b in gap.block_ptr[j]..gap.block_ptr[j + 1] {
                     let block = rt_mul(&gap.blocks[b]);
                     for rb in 0..=s {
-                        let coef = self.coefficient(rb, pt.stage);
+                        let coef = self.coefficient(rb, pt);
                         for c in 0..3 {
                             for col in 0..3 {
                                 jx[self.gap_pos[(b * rows + rb * 3 + c) * 3 + col]] += coef * block[c][col];
@@ -1003,7 +1010,7 @@ impl Problem for ChargedRod {
                 for a in self.adj_ptr[j]..self.adj_ptr[j + 1] {
                     let block = rt_mul(&self.g[a]);
                     for rb in 0..=s {
-                        let coef = self.coefficient(rb, pt.stage);
+                        let coef = self.coefficient(rb, pt);
                         for c in 0..3 {
                             for col in 0..3 {
                                 jx[self.full_pos[(a * rows + rb * 3 + c) * 3 + col]] += coef * block[c][col];
@@ -1017,7 +1024,7 @@ impl Problem for ChargedRod {
                 let block = rt_mul(&self.g[a]);
                 let pos = self.adj_pos[a];
                 for rb in 0..=s {
-                    let coef = self.coefficient(rb, pt.stage);
+                    let coef = self.coefficient(rb, pt);
                     for c in 0..3 {
                         for col in 0..3 {
                             jx[pos[col] + rb * 3 + c] += coef * block[c][col];
@@ -1092,7 +1099,7 @@ mod tests {
             for rb in 0..=s {
                 let at = j * (s + 1) + rb;
                 assert_eq!(metric.rows[at], problem.n_row(pt.element, rb, 0));
-                assert_eq!(metric.coefs[at], problem.coefficient(rb, pt.stage));
+                assert_eq!(metric.coefs[at], problem.coefficient(rb, pt));
             }
         }
         assert!(metric.zero_modes.is_empty());

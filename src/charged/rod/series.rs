@@ -148,7 +148,7 @@ impl ChargedRod {
                 }
             }
             for rb in 0..=nb {
-                let coef = self.coefficient(rb, pt.stage);
+                let coef = self.coefficient(rb, pt);
                 for c in 0..3 {
                     out[self.n_row(pt.element, rb, c)] += coef * fb[c];
                 }

@@ -15,7 +15,7 @@
 //!   least mh away (a smooth integrand) and the exclusion is symmetric.
 //!   With [`RodCharge::exact_near_width`] the near zone is cut at exactly
 //!   δ and the strip between δ and those elements is integrated with the
-//!   exact kernel ([`super::gap`]): the model no longer moves with the mesh.
+//!   exact kernel (src/charged/gap.rs): the model no longer moves with the mesh.
 //!   Optionally ([`RodCharge::far_points`]) the far double sum runs on M
 //!   Gauss–Legendre sites per element on the stage interpolant instead
 //!   ([`super::sites`]): same exclusion, same unknowns, a finer rule where
@@ -119,7 +119,7 @@ pub struct RodCharge {
     /// Cut every stage's near zone at exactly `near_width` (one-sided
     /// within it of an end) and integrate the rest of its elements, out to
     /// the far zone's whole elements, with the exact kernel
-    /// ([`super::gap`]). false (the default): the near zone's sides reach
+    /// (src/charged/gap.rs). false (the default): the near zone's sides reach
     /// the element boundaries (between mh and (m+1)h). Why: the near
     /// zone's expansion is truncated after the curvature, so its error
     /// grows with the side; with sides that step with the mesh the model
@@ -129,7 +129,7 @@ pub struct RodCharge {
     /// the discretisation converges at the stage rule's order. It also
     /// admits graded meshes ([`Rod::graded`]: fine in a plectoneme, coarse
     /// on the tails), whose near runs are the elements nearer than δ
-    /// ([`super::assembly::near_runs`]). Needs `near_width`; not with
+    /// (src/charged/assembly.rs, `near_runs`). Needs `near_width`; not with
     /// `base_pairs` (no near zone).
     pub exact_near_width: bool,
     /// Relative energy tolerance of the screening cutoff (None: every

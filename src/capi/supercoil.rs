@@ -267,6 +267,7 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
         far_points: 0,
         near_width: SupercoilSettings::default().near_width,
         exact_near_width: SupercoilSettings::default().exact_near_width,
+        breakpoints: None,
         control: match enum_arg::<EndControl>("end_control", s.end_control)? {
             EndControl::Rotation => dna::EndControl::Rotation,
             EndControl::Torque => dna::EndControl::Torque,

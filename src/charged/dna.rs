@@ -274,6 +274,11 @@ pub struct SupercoilSettings {
     /// Cut the near zone at exactly its width
     /// ([`RodCharge::exact_near_width`]; default false).
     pub exact_near_width: bool,
+    /// A graded mesh: the nodes as fractions of the length, 0 … 1
+    /// ([`Rod::graded`]; then `elements` is their count less one, or 0).
+    /// Needs `exact_near_width` (the element-aligned near zone assumes equal
+    /// elements). None (the default): equal elements.
+    pub breakpoints: Option<Vec<f64>>,
     /// End rotation (default) or end torque as the continuation parameter.
     pub control: EndControl,
     /// Switch the hard core on by itself ([`auto_hard_core`]) when the
@@ -386,6 +391,19 @@ impl SupercoilSettings {
     /// 1 kbp, 510 for 3 kbp). Refused (ErrOutOfRange) when that is more than
     /// 2¹⁸ elements, a mesh no run here could factorise (a 1 Mbp scene).
     pub fn elements_for(&self, scene: &DnaScene) -> Result<usize> {
+        if let Some(t) = &self.breakpoints {
+            let n = t.len().saturating_sub(1);
+            if self.elements != 0 && self.elements != n {
+                return Err(Error::new(
+                    Status::ErrInvalidDimension,
+                    format!(
+                        "`elements` ({}) and the graded mesh's {n} elements differ: give one of them",
+                        self.elements
+                    ),
+                ));
+            }
+            return Ok(n.max(1));
+        }
         if self.elements > 0 {
             return Ok(self.elements);
         }
@@ -439,6 +457,7 @@ impl Default for SupercoilSettings {
             far_points: 0,
             near_width: None,
             exact_near_width: false,
+            breakpoints: None,
             control: EndControl::Rotation,
             hard_core_auto: true,
             engine: Engine::default(),
@@ -578,6 +597,10 @@ pub fn run_scene_with(
 ) -> Result<SupercoilRun> {
     let start = std::time::Instant::now();
     let rod = scene.rod_controlled(settings.elements_for(scene)?, settings.stages, settings.control)?;
+    let rod = match &settings.breakpoints {
+        Some(t) => rod.graded(t)?,
+        None => rod,
+    };
     // The automatic mesh resolved: the run's settings say the elements taken.
     let settings = &SupercoilSettings { elements: rod.elements, ..settings.clone() };
     let mut charge = scene.charge();

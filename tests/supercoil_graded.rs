@@ -66,10 +66,10 @@ fn a_graded_mesh_buckles_where_a_finer_uniform_one_does() {
 #[test]
 fn a_graded_mesh_is_refused_without_the_exact_near_zone() {
     let base = SupercoilSettings { max_turns: 1.33, breakpoints: Some(graded(51)), ..Default::default() };
-    let e = dna::run_scene(&scene(), &base).err().expect("refused");
+    let Err(e) = dna::run_scene(&scene(), &base) else { panic!("a graded mesh without the exact zone ran") };
     assert_eq!(e.status, Status::ErrOutOfRange, "{e}");
-    let e = dna::run_scene(&scene(), &SupercoilSettings { exact_near_width: true, elements: 50, ..base })
-        .err()
-        .expect("refused");
+    let Err(e) = dna::run_scene(&scene(), &SupercoilSettings { exact_near_width: true, elements: 50, ..base }) else {
+        panic!("a count that disagrees ran")
+    };
     assert_eq!(e.status, Status::ErrInvalidDimension, "{e}");
 }

@@ -256,8 +256,8 @@ fn graded_meshes_converge_to_the_same_double_integral() {
 /// The graded path is the uniform one where the elements are equal: a
 /// "graded" mesh of equal breakpoints gives the uniform mesh's residual to
 /// rounding (1e-12 of the largest entry); and on a truly graded mesh the
-/// forces are the energy's gradient and the Jacobian the residual's
-/// differences (same tolerances as above).
+/// Jacobian is the residual's differences and the forces the energy's
+/// gradient (same tolerances as above).
 #[test]
 fn graded_meshes_are_consistent() {
     let (rod, mut charge) = scene(20);
@@ -284,6 +284,11 @@ fn graded_meshes_are_consistent() {
     let jac = charged::jacobian_fd_error(&mut p, &x, 7.3);
     println!("graded: worst relative Jacobian error {jac:e}");
     assert!(jac < 1e-6);
+    // Every stage pair far one way is far the other (the near runs are
+    // symmetric): otherwise the far sum is no energy's gradient.
+    let grad = charged::force_gradient_error(&mut p, &graded, &x);
+    println!("graded: force vs −gradient worst {grad:e}");
+    assert!(grad < 1e-6, "{grad:e}");
 }
 
 /// A graded mesh is refused where the near zone or the far zone assumes

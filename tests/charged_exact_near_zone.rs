@@ -289,19 +289,33 @@ fn graded_meshes_are_consistent() {
     let grad = charged::force_gradient_error(&mut p, &graded, &x);
     println!("graded: force vs −gradient worst {grad:e}");
     assert!(grad < 1e-6, "{grad:e}");
+
+    // A rod of fewer stage points than a stencil (20 bp, 6.8 nm, on 2
+    // elements: 4 stages, the stencil padded) still has gaps beyond δ.
+    let short = DnaScene { base_pairs: 20, salt: 0.1, ..Default::default() };
+    let rod = short.rod(2, 2).unwrap();
+    let x = coiled_on(&rod);
+    let mut p = ChargedRod::new(&rod, &charge, None, &x).unwrap();
+    assert!(p.gap_points() > 0);
+    let (jac, grad) = (charged::jacobian_fd_error(&mut p, &x, 7.3), charged::force_gradient_error(&mut p, &rod, &x));
+    println!("4 stages: Jacobian {jac:e}, force vs −gradient {grad:e}");
+    assert!(jac < 1e-6 && grad < 1e-6, "{jac:e} {grad:e}");
 }
 
 /// A graded mesh is refused where the near zone or the far zone assumes
 /// equal elements: the element-aligned zone, the refined far zone, the
-/// base pairs.
+/// base pairs (their stencils).
 #[test]
 fn graded_meshes_need_the_exact_near_zone() {
     let (rod, charge) = scene(20);
     let graded = graded_rod(&rod, 4.0, 20);
     let x = graded.straight_state();
     assert!(ChargedRod::new(&graded, &charge, None, &x).is_ok());
-    for bad in [RodCharge { exact_near_width: false, ..charge.clone() }, RodCharge { far_points: 4, ..charge.clone() }]
-    {
+    for bad in [
+        RodCharge { exact_near_width: false, ..charge.clone() },
+        RodCharge { far_points: 4, ..charge.clone() },
+        RodCharge { exact_near_width: false, base_pairs: Some(0.34), ..charge.clone() },
+    ] {
         let e = ChargedRod::new(&graded, &bad, None, &x).err().expect("refused");
         assert_eq!(e.status, rodkit::status::Status::ErrOutOfRange, "{e}");
         println!("refused: {e}");

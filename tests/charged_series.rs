@@ -69,6 +69,19 @@ fn the_series_of_the_residual_is_its_taylor_polynomial_along_a_path() {
         println!("exact near zone: {exact}");
         series_matches_the_residual(&rod, &RodCharge { exact_near_width: exact, ..charge.clone() }, exact);
     }
+    // A graded mesh (per-element row coefficients in the series too).
+    let t: Vec<f64> = (0..=rod.elements)
+        .map(|i| {
+            let u = i as f64 / rod.elements as f64;
+            u + 0.5 * (std::f64::consts::TAU * u).sin() / std::f64::consts::TAU
+        })
+        .collect();
+    println!("graded mesh, exact near zone");
+    series_matches_the_residual(
+        &rod.clone().graded(&t).unwrap(),
+        &RodCharge { exact_near_width: true, ..charge },
+        true,
+    );
 }
 
 fn series_matches_the_residual(rod: &Rod, charge: &RodCharge, exact: bool) {

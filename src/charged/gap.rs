@@ -88,18 +88,21 @@ impl Gap {
                 if to - from <= tiny {
                     continue;
                 }
-                // Split at element boundaries: the interpolant is smooth
-                // within an element's stages.
+                // Pieces split at element boundaries, one stencil per
+                // piece (centred on its middle): R(t) is then one
+                // polynomial on each piece and the piece's Gauss rule keeps
+                // its order (a stencil per point would switch polynomials
+                // at every stage abscissa inside the piece).
                 let mut a = from;
                 while to - a > tiny {
                     let next = nodes.partition_point(|&v| v <= a + tiny);
                     let b = nodes.get(next).copied().unwrap_or(to).min(to);
                     let half = 0.5 * (b - a);
+                    let centre = stage_s.partition_point(|&v| v < a + half);
+                    let j0 = centre.saturating_sub(order / 2).min(ns - order);
+                    let nodes = &stage_s[j0..j0 + order];
                     for (x, w) in gx.iter().zip(&gw) {
                         let t = a + half * (1.0 + x);
-                        let next = stage_s.partition_point(|&v| v < t);
-                        let j0 = next.saturating_sub(order / 2).min(ns - order);
-                        let nodes = &stage_s[j0..j0 + order];
                         for i in 0..order {
                             gap.basis.push(
                                 (0..order)

@@ -10,7 +10,7 @@
 #[path = "support/charged.rs"]
 mod charged;
 
-use charged::coiled_state;
+use charged::{coiled_state, helix};
 use rodkit::charged::dna::DnaScene;
 use rodkit::charged::rod::{ChargedRod, RodCharge};
 use rodkit::quadrature::gauss_legendre;
@@ -31,12 +31,6 @@ fn scene(elements: usize) -> (Rod, RodCharge) {
 /// 4.5 nm between turns — strands at a plectoneme's distance.
 const RADIUS: f64 = 5.0;
 const RISE: f64 = 4.5;
-
-fn helix(s: f64) -> [f64; 3] {
-    let per_turn = (4.0 * std::f64::consts::PI * std::f64::consts::PI * RADIUS * RADIUS + RISE * RISE).sqrt();
-    let t = 2.0 * std::f64::consts::PI * s / per_turn;
-    [RADIUS * t.cos(), RADIUS * t.sin(), RISE * s / per_turn]
-}
 
 /// Composite Gauss–Legendre (8 points) on [a, b] in panels of at most
 /// `panel`: (abscissa, weight).
@@ -66,7 +60,7 @@ fn reference(length: f64, delta: f64, charge: &RodCharge) -> f64 {
     outer.extend(composite(length - delta, length, 0.25));
     let mut sum = 0.0;
     for &(s, ws) in &outer {
-        let rs = helix(s);
+        let rs = helix(s, RADIUS, RISE);
         let mut inner = Vec::new();
         if s - delta > 0.0 {
             inner.extend(composite(0.0, s - delta, 0.25));
@@ -75,7 +69,7 @@ fn reference(length: f64, delta: f64, charge: &RodCharge) -> f64 {
             inner.extend(composite(s + delta, length, 0.25));
         }
         for (t, wt) in inner {
-            let rt = helix(t);
+            let rt = helix(t, RADIUS, RISE);
             let d = ((rs[0] - rt[0]).powi(2) + (rs[1] - rt[1]).powi(2) + (rs[2] - rt[2]).powi(2)).sqrt();
             sum += ws * wt * (-kappa * d).exp() / d;
         }
@@ -171,40 +165,6 @@ fn exact_near_zone_refuses_other_models() {
     }
 }
 
-/// A coiled state on any mesh (graded too): stage and node positions on
-/// the helix at their arc lengths, the other unknowns pseudo-random (the
-/// consistency checks hold for any state).
-fn coiled_on(rod: &Rod) -> Vec<f64> {
-    let mut x = rod.straight_state();
-    let mut seed = 4321u64;
-    let mut rnd = || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
-    };
-    let c = [0.5 - 3f64.sqrt() / 6.0, 0.5 + 3f64.sqrt() / 6.0];
-    let mut put = |x: &mut Vec<f64>, off: usize, s: f64| {
-        let r = helix(s);
-        x[off..off + 3].copy_from_slice(&r);
-        let q: Vec<f64> = (0..4).map(|_| rnd()).collect();
-        let nq = q.iter().map(|v| v * v).sum::<f64>().sqrt();
-        for i in 0..4 {
-            x[off + 3 + i] = q[i] / nq;
-        }
-        for i in 7..13 {
-            x[off + i] = rnd();
-        }
-    };
-    for e in 0..=rod.elements {
-        put(&mut x, rod.node(e), rod.node_position(e));
-        if e < rod.elements {
-            for (j, cj) in c.iter().enumerate() {
-                put(&mut x, rod.stage_offset(e, j), rod.node_position(e) + cj * rod.element_h(e));
-            }
-        }
-    }
-    x
-}
-
 /// A graded mesh on the 68 nm rod: elements from 0.45 nm mid-rod to ~5 nm
 /// at the ends (a smooth map of equal fractions), with δ and L − δ among
 /// the breakpoints (so the outer integrand's kinks sit on element ends).
@@ -240,7 +200,7 @@ fn graded_meshes_converge_to_the_same_double_integral() {
     let mut errors = Vec::new();
     for k in [4, 8, 16, 32] {
         let fine = base.subdivided(k).unwrap();
-        let x = coiled_on(&fine);
+        let x = coiled_state(&fine, RADIUS, RISE);
         let mut p = ChargedRod::new(&fine, &charge, None, &x).unwrap();
         let far = p.energy(&x).far;
         let e = (far - exact).abs() / exact.abs();
@@ -278,7 +238,7 @@ fn graded_meshes_are_consistent() {
     assert!(worst < 1e-12, "{worst:e}");
 
     let graded = graded_rod(&rod, 4.0, 20);
-    let x = coiled_on(&graded);
+    let x = coiled_state(&graded, RADIUS, RISE);
     let mut p = ChargedRod::new(&graded, &charge, None, &x).unwrap();
     assert!(p.gap_points() > 0);
     let jac = charged::jacobian_fd_error(&mut p, &x, 7.3);
@@ -294,7 +254,7 @@ fn graded_meshes_are_consistent() {
     // elements: 4 stages, the stencil padded) still has gaps beyond δ.
     let short = DnaScene { base_pairs: 20, salt: 0.1, ..Default::default() };
     let rod = short.rod(2, 2).unwrap();
-    let x = coiled_on(&rod);
+    let x = coiled_state(&rod, RADIUS, RISE);
     let mut p = ChargedRod::new(&rod, &charge, None, &x).unwrap();
     assert!(p.gap_points() > 0);
     let (jac, grad) = (charged::jacobian_fd_error(&mut p, &x, 7.3), charged::force_gradient_error(&mut p, &rod, &x));

@@ -9,7 +9,7 @@
 #[path = "support/charged.rs"]
 mod charged;
 
-use charged::coiled_state;
+use charged::{coiled_state, helix};
 use rodkit::charged::dna::DnaScene;
 use rodkit::charged::rod::{ChargedRod, RodCharge};
 use rodkit::quadrature::gauss_legendre;
@@ -32,12 +32,6 @@ fn scene() -> (Rod, RodCharge) {
 const RADIUS: f64 = 5.0;
 const RISE: f64 = 4.5;
 
-fn helix(s: f64) -> [f64; 3] {
-    let per_turn = (4.0 * std::f64::consts::PI * std::f64::consts::PI * RADIUS * RADIUS + RISE * RISE).sqrt();
-    let t = 2.0 * std::f64::consts::PI * s / per_turn;
-    [RADIUS * t.cos(), RADIUS * t.sin(), RISE * s / per_turn]
-}
-
 /// ½λ² ∫∫ e^{−κd}/d over pairs of elements more than `near` apart, on the
 /// exact helix: 16 panels of 8 Gauss–Legendre points per element (0.21 nm
 /// panels; the integrand's scale is ≥ 1/κ ≈ 1 nm, so ~1e-12 relative).
@@ -51,7 +45,7 @@ fn reference_far_energy(rod: &Rod, charge: &RodCharge) -> f64 {
             let a = e as f64 * h + p as f64 * h / panels as f64;
             let half = 0.5 * h / panels as f64;
             for (zi, wi) in z.iter().zip(&w) {
-                pts.push((e, helix(a + half * (1.0 + zi)), half * wi));
+                pts.push((e, helix(a + half * (1.0 + zi), RADIUS, RISE), half * wi));
             }
         }
     }

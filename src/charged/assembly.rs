@@ -155,8 +155,8 @@ impl NearZone {
     }
 }
 
-/// The far pairs of stage points (elements more than the near zone's
-/// count apart) within r_off + skin of each other in the reference state (all
+/// The far pairs of stage points (elements outside each other's near
+/// runs, [`near_runs`]) within r_off + skin of each other in the reference state (all
 /// of them without a cutoff; none without charge or hard core), in CSR
 /// form; for charge sites (base pairs, the refined far zone), each stage's
 /// partner stages.
@@ -180,10 +180,10 @@ impl PairList {
         points: &[Point],
         reference_r: &[[f64; 3]],
         cutoff: Option<(f64, f64)>,
+        runs: &[(usize, usize)],
     ) -> Result<Self> {
         let (m, a) = (charge.near_elements_for(rod.element_length(), rod.elements), charge.screening.a);
         let l2 = charge.line_charge * charge.line_charge;
-        let runs = near_runs(rod, charge);
         let far = |j: usize, k: usize| {
             let (first, last) = runs[points[j].element];
             points[k].element < first || points[k].element > last

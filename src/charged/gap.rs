@@ -124,19 +124,9 @@ impl Gap {
         if gap.outer.is_empty() {
             return None;
         }
-        let members = |g: usize| -> [usize; MEMBERS] {
-            let mut out = [0; MEMBERS];
-            out[0] = gap.outer[g];
-            for i in 0..REFINED_STENCIL {
-                // A stencil shorter than six (tiny rods) repeats its last
-                // stage with a zero basis weight.
-                out[1 + i] = (gap.stencil[g] + i).min(ns - 1);
-            }
-            out
-        };
         let mut cols: Vec<Vec<usize>> = vec![Vec::new(); ns];
         for g in 0..gap.outer.len() {
-            let mm = members(g);
+            let mm = gap.members(g, ns);
             for &x in &mm {
                 cols[x].extend_from_slice(&mm);
             }
@@ -150,7 +140,7 @@ impl Gap {
         }
         gap.blocks = vec![[0.0; 9]; gap.block_col.len()];
         for g in 0..gap.outer.len() {
-            let mm = members(g);
+            let mm = gap.members(g, ns);
             for &x in &mm {
                 let row = &gap.block_col[gap.block_ptr[x]..gap.block_ptr[x + 1]];
                 for &y in &mm {
@@ -169,44 +159,37 @@ impl Gap {
 
     /// Gap point g's outer stage j, the factor ½ w_j ω_g of its pair
     /// potential, its distance along the rod and its members' stages and
-    /// coefficients in Δ = r_j − R(t_g) (those of a short stencil's padding
-    /// are 0).
+    /// coefficients in Δ = r_j − R(t_g) = Σ_k coef_k r_{stage_k} (those of a
+    /// short stencil's padding are 0).
     pub(super) fn point(&self, g: usize, w: &[f64]) -> (usize, f64, f64, [usize; MEMBERS], [f64; MEMBERS]) {
-        let ns = w.len();
         let j = self.outer[g];
-        let mut stages = [0; MEMBERS];
-        let mut coef = [0.0; MEMBERS];
-        for k in 0..MEMBERS {
-            stages[k] = self.member(g, k, ns);
-            coef[k] = if k == 0 { 1.0 } else { -self.basis[g * REFINED_STENCIL + k - 1] };
+        let mut coef = [1.0; MEMBERS];
+        for (c, l) in coef[1..].iter_mut().zip(&self.basis[g * REFINED_STENCIL..(g + 1) * REFINED_STENCIL]) {
+            *c = -l;
         }
-        (j, 0.5 * w[j] * self.weight[g], self.along[g], stages, coef)
+        (j, 0.5 * w[j] * self.weight[g], self.along[g], self.members(g, w.len()), coef)
     }
 
-    /// R(t_g) and the members' coefficients in Δ = r_j − R(t_g).
-    fn at(&self, g: usize, r: &[[f64; 3]]) -> ([f64; 3], [f64; MEMBERS]) {
-        let mut coef = [0.0; MEMBERS];
-        coef[0] = 1.0;
-        let mut rg = [0.0; 3];
-        let j0 = self.stencil[g];
-        for i in 0..REFINED_STENCIL {
-            let l = self.basis[g * REFINED_STENCIL + i];
-            coef[1 + i] = -l;
-            if l != 0.0 {
-                for c in 0..3 {
-                    rg[c] += l * r[j0 + i][c];
-                }
+    /// Gap point g's members among `stages` stage points: its outer stage,
+    /// then its stencil (a stencil shorter than six, on tiny rods, repeats
+    /// its last stage with a zero basis weight).
+    fn members(&self, g: usize, stages: usize) -> [usize; MEMBERS] {
+        let mut out = [self.outer[g]; MEMBERS];
+        for (i, m) in out[1..].iter_mut().enumerate() {
+            *m = (self.stencil[g] + i).min(stages - 1);
+        }
+        out
+    }
+
+    /// Δ = r_j − R(t_g) from the members' positions.
+    fn delta(stages: &[usize; MEMBERS], coef: &[f64; MEMBERS], r: &[[f64; 3]]) -> [f64; 3] {
+        let mut dv = [0.0; 3];
+        for (&x, &l) in stages.iter().zip(coef) {
+            for c in 0..3 {
+                dv[c] += l * r[x][c];
             }
         }
-        (rg, coef)
-    }
-
-    fn member(&self, g: usize, k: usize, stages: usize) -> usize {
-        if k == 0 {
-            self.outer[g]
-        } else {
-            (self.stencil[g] + k - 1).min(stages - 1)
-        }
+        dv
     }
 
     /// Adds the gap's force densities p_x = −(1/w_x) ∂E_gap/∂r_x to `p`
@@ -223,25 +206,21 @@ impl Gap {
         if jacobian {
             self.blocks.iter_mut().for_each(|b| *b = [0.0; 9]);
         }
-        let ns = r.len();
         for g in 0..self.outer.len() {
-            let j = self.outer[g];
-            let (rg, coef) = self.at(g, r);
-            let dv = [r[j][0] - rg[0], r[j][1] - rg[1], r[j][2] - rg[2]];
+            let (_, scale, along, stages, coef) = self.point(g, w);
+            let dv = Self::delta(&stages, &coef, r);
             let d = (dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]).sqrt();
             if d <= 0.0 {
                 continue;
             }
-            let (p1, p2) = pair(d, self.along[g]);
+            let (p1, p2) = pair(d, along);
             // ∂E/∂Δ = ½ w_j ω P'(d) Δ/d, and ∂Δ/∂r_x = coef_x I.
-            let scale = 0.5 * w[j] * self.weight[g];
             let f = scale * p1 / d;
-            for k in 0..MEMBERS {
-                if coef[k] == 0.0 {
+            for (&x, &l) in stages.iter().zip(&coef) {
+                if l == 0.0 {
                     continue;
                 }
-                let x = self.member(g, k, ns);
-                let c = -coef[k] * f / w[x];
+                let c = -l * f / w[x];
                 for i in 0..3 {
                     p[x][i] += c * dv[i];
                 }
@@ -255,8 +234,7 @@ impl Gap {
                         hess[3 * a + b] = a1 * dv[a] * dv[b] + if a == b { a0 } else { 0.0 };
                     }
                 }
-                for kx in 0..MEMBERS {
-                    let x = self.member(g, kx, ns);
+                for (kx, &x) in stages.iter().enumerate() {
                     for ky in 0..MEMBERS {
                         let c = -coef[kx] * coef[ky] / w[x];
                         if c == 0.0 {
@@ -277,14 +255,13 @@ impl Gap {
     pub(super) fn energy(&self, r: &[[f64; 3]], w: &[f64], potential: &dyn Fn(f64, f64) -> (f64, f64)) -> (f64, f64) {
         let (mut e, mut hard) = (0.0, 0.0);
         for g in 0..self.outer.len() {
-            let j = self.outer[g];
-            let (rg, _) = self.at(g, r);
-            let d = crate::geometry::vec3::distance(&r[j], &rg);
+            let (_, scale, along, stages, coef) = self.point(g, w);
+            let dv = Self::delta(&stages, &coef, r);
+            let d = (dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]).sqrt();
             if d > 0.0 {
-                let (pe, ph) = potential(d, self.along[g]);
-                let ww = 0.5 * w[j] * self.weight[g];
-                e += ww * pe;
-                hard += ww * ph;
+                let (pe, ph) = potential(d, along);
+                e += scale * pe;
+                hard += scale * ph;
             }
         }
         (e, hard)

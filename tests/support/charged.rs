@@ -20,12 +20,20 @@ pub fn small_scene() -> (Rod, RodCharge) {
     (rod, charge)
 }
 
-/// A non-equilibrium state: stage and node positions on a tight coil
-/// (radius 3, rise 3.4 per turn: turns ~3.4 apart, inside the cutoff),
-/// quaternions, forces and moments pseudo-random.
+/// The arc-length parametrised helix of radius `radius` rising `rise` a
+/// turn, at arc length s.
+pub fn helix(s: f64, radius: f64, rise: f64) -> [f64; 3] {
+    let per_turn = (4.0 * std::f64::consts::PI * std::f64::consts::PI * radius * radius + rise * rise).sqrt();
+    let t = 2.0 * std::f64::consts::PI * s / per_turn;
+    [radius * t.cos(), radius * t.sin(), rise * s / per_turn]
+}
+
+/// A non-equilibrium state on any mesh (graded too): stage and node
+/// positions on a tight coil (e.g. radius 3, rise 3.4 per turn: turns ~3.4
+/// apart, inside the cutoff), quaternions, forces and moments
+/// pseudo-random.
 pub fn coiled_state(rod: &Rod, radius: f64, rise: f64) -> Vec<f64> {
     let mut x = rod.straight_state();
-    let per_turn = (4.0 * std::f64::consts::PI * std::f64::consts::PI * radius * radius + rise * rise).sqrt();
     let n = rod.unknowns();
     let mut seed = 12345u64;
     let mut rnd = || {
@@ -33,7 +41,6 @@ pub fn coiled_state(rod: &Rod, radius: f64, rise: f64) -> Vec<f64> {
         ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
     };
     let block = 13 * (1 + rod.scheme.stages());
-    let h = rod.element_length();
     let tab_c: Vec<f64> = match rod.scheme.stages() {
         2 => vec![0.5 - 3f64.sqrt() / 6.0, 0.5 + 3f64.sqrt() / 6.0],
         _ => unimplemented!(),
@@ -44,12 +51,9 @@ pub fn coiled_state(rod: &Rod, radius: f64, rise: f64) -> Vec<f64> {
             break;
         }
         let (e, j) = (off / block, (off % block) / 13);
-        let s = if j == 0 { e as f64 * h } else { (e as f64 + tab_c[j - 1]) * h };
-        let t = 2.0 * std::f64::consts::PI * s / per_turn;
-        x[off] = radius * t.cos();
-        x[off + 1] = radius * t.sin();
-        x[off + 2] = rise * s / per_turn;
-        let q: Vec<f64> = (0..4).map(|_| rnd() + if true { 0.0 } else { 1.0 }).collect();
+        let s = if j == 0 { rod.node_position(e) } else { rod.node_position(e) + tab_c[j - 1] * rod.element_h(e) };
+        x[off..off + 3].copy_from_slice(&helix(s, radius, rise));
+        let q: Vec<f64> = (0..4).map(|_| rnd()).collect();
         let nq = q.iter().map(|v| v * v).sum::<f64>().sqrt();
         for i in 0..4 {
             x[off + 3 + i] = q[i] / nq;

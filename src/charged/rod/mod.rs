@@ -390,7 +390,7 @@ impl ChargedRod {
         let cutoff = if l2 == 0.0 { None } else { charge.cutoff(rod.length) };
         let reference_r: Vec<[f64; 3]> =
             points.iter().map(|p| [reference[p.offset], reference[p.offset + 1], reference[p.offset + 2]]).collect();
-        let list = PairList::new(rod, charge, &points, &reference_r, cutoff)?;
+        let list = PairList::new(rod, charge, &points, &reference_r, cutoff, &runs)?;
         let gap = match (charge.exact_near_width, charge.near_width) {
             (true, Some(delta)) if l2 != 0.0 => Gap::new(&points, s, &rod.node_positions(), &runs, delta),
             _ => None,
@@ -989,34 +989,30 @@ impl Problem for ChargedRod {
                     }
                 }
             }
-            if let Some(gap) = &self.gap {
-                let rows = 3 * (s + 1);
-                for b in gap.block_ptr[j]..gap.block_ptr[j + 1] {
-                    let block = rt_mul(&gap.blocks[b]);
-                    for rb in 0..=s {
-                        let coef = self.coefficient(rb, pt);
-                        for c in 0..3 {
-                            for col in 0..3 {
-                                jx[self.gap_pos[(b * rows + rb * 3 + c) * 3 + col]] += coef * block[c][col];
-                            }
+            // Block k of a list whose every block has its own positions
+            // (element(j)'s 3(s+1) n-rows × 3 columns, row-major): the
+            // gap's, and the sites' (base pairs, the refined far zone,
+            // whose partners include the stage itself).
+            let rows = 3 * (s + 1);
+            let scatter = |jx: &mut [f64], block: &[f64; 9], pos: &[usize], k: usize| {
+                let block = rt_mul(block);
+                for rb in 0..=s {
+                    let coef = self.coefficient(rb, pt);
+                    for c in 0..3 {
+                        for col in 0..3 {
+                            jx[pos[(k * rows + rb * 3 + c) * 3 + col]] += coef * block[c][col];
                         }
                     }
                 }
+            };
+            if let Some(gap) = &self.gap {
+                for b in gap.block_ptr[j]..gap.block_ptr[j + 1] {
+                    scatter(jx, &gap.blocks[b], &self.gap_pos, b);
+                }
             }
             if self.sites.is_some() {
-                // Base pairs and the refined far zone: every block has its
-                // own positions (partners include the stage itself).
-                let rows = 3 * (s + 1);
                 for a in self.adj_ptr[j]..self.adj_ptr[j + 1] {
-                    let block = rt_mul(&self.g[a]);
-                    for rb in 0..=s {
-                        let coef = self.coefficient(rb, pt);
-                        for c in 0..3 {
-                            for col in 0..3 {
-                                jx[self.full_pos[(a * rows + rb * 3 + c) * 3 + col]] += coef * block[c][col];
-                            }
-                        }
-                    }
+                    scatter(jx, &self.g[a], &self.full_pos, a);
                 }
                 continue;
             }

@@ -207,3 +207,41 @@ fn sweep_reports_progress_and_cancels_cleanly() {
     assert!(last_error().contains("kinds"), "{}", last_error());
     unsafe { rodkit_tube_free(tube) };
 }
+
+/// The C call that stopped at λ = 1.0575 with ErrMaterialInstability (a
+/// thin auxetic helical SVK wall, RODKIT_TUBE_MODEL_MEMBRANE, rel_tol 1e-12,
+/// λ = 1 + 0.0025 i at zero torque): all 201 states, and the last equals the
+/// Rust membrane sweep's to 1e-13. The states themselves are held against an
+/// independent energy-stationarity solution in tests/membrane_tube.rs.
+#[test]
+fn membrane_sweep_of_an_auxetic_wall_reaches_the_last_stretch() {
+    let mut spec = svk_spec();
+    (spec.inner_radius, spec.outer_radius) = (0.995, 1.005);
+    let m = &mut spec.material;
+    m.intrinsic_twist = (61.0f64).to_radians().tan();
+    (m.e1, m.e2, m.e3, m.nu12, m.nu13, m.nu23, m.g12, m.g13, m.g23) =
+        (1.0, 18.6, 18.6, -0.19, 0.0, 0.0, 0.075, 0.075, 9.3);
+    spec.model = TubeModel::Membrane as i32;
+    spec.rel_tol = 1e-12;
+    let tube = new_tube(&spec).unwrap();
+    let loadings: Vec<TubeLoading> = (0..=200).map(|i| torsion_free(1.0 + 0.0025 * i as f64)).collect();
+    let mut states = vec![TubeState::default(); loadings.len()];
+    let mut done = 0i64;
+    let st = unsafe {
+        rodkit_tube_sweep(tube, loadings.as_ptr(), 201, states.as_mut_ptr(), None, ptr::null_mut(), &mut done)
+    };
+    assert_eq!((st, done), (0, 201), "{}", last_error());
+    let o = Orthotropic::new(1.0, 18.6, 18.6, -0.19, 0.0, 0.0, 0.075, 0.075, 9.3).unwrap();
+    let svk = SaintVenantKirchhoff::new(o, spec.material.intrinsic_twist, false);
+    let membrane = rodkit::tube::membrane::MembraneTube::new(1.0, 0.01, &svk).unwrap();
+    let last = Loading {
+        axial: rodkit::tube::finite::Axial::Stretch(1.5),
+        torsion: rodkit::tube::finite::Torsion::Torque(0.0),
+        inner_pressure: 0.0,
+        outer_pressure: 0.0,
+        ends: rodkit::tube::finite::Ends::Open,
+    };
+    let rust = membrane.solve(&last).unwrap();
+    assert!((states[200].twist - rust.twist).abs() < 1e-13, "{} vs {}", states[200].twist, rust.twist);
+    unsafe { rodkit_tube_free(tube) };
+}

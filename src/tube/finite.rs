@@ -545,6 +545,7 @@ impl<'m> FiniteTube<'m> {
             to,
             "finite-strain tube",
             |loading, x| self.newton(grid, layout, loading, x),
+            |a, b| self.kinematic_change(layout, a, b),
             |loading, x, s| {
                 let f = self.fields(grid, layout, loading, x)?;
                 (0..grid.nodes.len()).find_map(|j| {
@@ -639,6 +640,22 @@ impl<'m> FiniteTube<'m> {
             x[i] = 1.0;
         }
         x
+    }
+
+    /// How far the kinematic unknowns moved from `a` to `b` (see
+    /// [`MAX_INCREMENT_CHANGE`]): the radii per B, λ and ψB; the stresses of
+    /// a compressible wall follow from them and are left out.
+    fn kinematic_change(&self, layout: &Layout, a: &DVector<f64>, b: &DVector<f64>) -> f64 {
+        let big = self.outer_radius;
+        let radii = if self.material.incompressible() { 1 } else { layout.n + 1 };
+        let mut moved = (0..radii).map(|k| (a[k] - b[k]).abs() / big).fold(0.0, f64::max);
+        if let Some(i) = layout.stretch {
+            moved = moved.max((a[i] - b[i]).abs());
+        }
+        if let Some(i) = layout.twist {
+            moved = moved.max((a[i] - b[i]).abs() * big);
+        }
+        moved
     }
 
     fn newton(&self, grid: &PiecewiseGrid, layout: &Layout, loading: &Loading, x: &mut DVector<f64>) -> Result<usize> {
@@ -1278,24 +1295,54 @@ impl Sweep {
     }
 }
 
+/// Largest change of a kinematic unknown (a stretch, a radius per B, ψB) that
+/// one increment of [`load_homotopy`] may make. Newton started far from the
+/// answer can converge to another root of the same equations: from rest
+/// straight to λ = 1.0575 at zero torque, an auxetic helical SVK wall
+/// (ν12 = −0.19, E2/E1 = 18.6) lands on a collapsed root with hoop stretch
+/// 0.017 where the branch has 0.947, a change of 0.98 against 0.053. A
+/// root that far from where the increment started is not taken: the
+/// increment is halved, so the path stays on the branch it starts on. A
+/// legitimate increment that moves more is only split (a stretch that changes
+/// by 2 takes at least 8 increments).
+pub(crate) const MAX_INCREMENT_CHANGE: f64 = 0.25;
+
 /// From the solution `x` at the loading `from`, reach `to`: `newton(loading,
 /// x)` (returning its iterations) straight there, and on failure along the
 /// straight load path in bisected increments (load homotopy, at most 2⁸
 /// increments); `x` is updated. Returns the Newton iterations. `what` names
-/// the solver in the error.
+/// the solver in the error. `change(x, trial)` measures how far an
+/// increment moved the kinematic unknowns (in stretch units); an increment
+/// that converges more than [`MAX_INCREMENT_CHANGE`] away is refused as a
+/// jump to another root and halved like a failed one.
 pub(crate) fn load_homotopy(
     x: &mut DVector<f64>,
     from: &Loading,
     to: &Loading,
     what: &str,
     mut newton: impl FnMut(&Loading, &mut DVector<f64>) -> Result<usize>,
+    change: impl Fn(&DVector<f64>, &DVector<f64>) -> f64,
     diagnose: impl Fn(&Loading, &DVector<f64>, f64) -> Option<Error>,
 ) -> Result<usize> {
     let (mut s_done, mut ds, mut iterations) = (0.0f64, 1.0f64, 0);
     while s_done < 1.0 {
         let s = (s_done + ds).min(1.0);
         let mut trial = x.clone();
-        match newton(&from.lerp(to, s), &mut trial) {
+        let step = newton(&from.lerp(to, s), &mut trial).and_then(|it| {
+            let moved = change(x, &trial);
+            if moved <= MAX_INCREMENT_CHANGE {
+                Ok(it)
+            } else {
+                Err(Error::new(
+                    Status::ErrNotConverged,
+                    format!(
+                        "the increment to load fraction {s:.4} converged to a state {moved:.2} away (stretch units), \
+                         another root than the branch followed"
+                    ),
+                ))
+            }
+        });
+        match step {
             Ok(it) => {
                 iterations += it;
                 *x = trial;

@@ -164,6 +164,8 @@ impl<'m> MembraneTube<'m> {
                 let report = newton::solve(trial, &typical, &opts, |x, f| self.residual(r0, part, &layout, x, f))?;
                 Ok(report.iterations)
             },
+            // a and b are stretches; λ too, ψ per 1/r0.
+            |a, b| (a - b).component_div(&typical).amax(),
             |part, x, s| {
                 let [a, b, lambda, psi] = self.kinematics(part, &layout, x);
                 limit_of_law(self.material, r0, &[a, b, lambda, b * r0 * psi], s)

@@ -400,20 +400,23 @@ module rodkit
     !
     ! The energy, E = ½∫∫_{|s−t|>a} λ² Φ(|r(s) − r(t)|) ds dt with
     ! Φ(d) = e^{−κd}/d, is split at |s − t| = δ (`spec.near_width`): for
-    ! a < |h| < δ the chord is expanded about s, d = |h|(1 − c²h²/24 + O(h³))
-    ! (c the curvature), and integrated analytically; beyond δ Gauss–Legendre
-    ! of `spec.order` points on panels. The dropped terms make the near zone
-    ! O(δ⁴) relative in the interior of a smooth curve (Coulomb ring:
+    ! a < |h| < δ the chord is expanded about s with the curve's own speed
+    ! v = |r'| (a cubic through nodes is not exactly parametrised by its arc
+    ! length), d = v|h|(1 + αh + βh² + O(h³)), and integrated analytically;
+    ! beyond δ Gauss–Legendre of `spec.order` points on panels of the curve's
+    ! own scale (its shortest piece, its smallest radius of curvature, 4/κ),
+    ! graded toward δ. The dropped terms make the near zone O(δ⁴) relative in
+    ! the interior of a smooth arc-length curve (Coulomb ring:
     ! 7δ⁴/(23040 R⁴ ln cot(a/4R)), 5e-6 for a helix of radius 5, pitch 10,
-    ! a = 1 at δ = 1.5) and O(δ³) within δ of an open curve's end; nothing on
-    ! a straight one. Work: the far zone is paneled at ≤ 2δ, so the cost
-    ! grows like (L/δ)².
+    ! a = 1 at δ = 1.5), O(δ³) within δ of an open curve's end, about O(δ²)
+    ! where the near zone crosses a node of the cubics; nothing on a straight
+    ! one. δ is best kept below a quarter of a piece.
     !
     ! Work bounds (ERR_WORK_LIMIT, refused before anything is allocated, the
     ! message states the cost and the bound): 1e9 far-zone kernel evaluations
-    ! and 4e6 stored quadrature points per continuum evaluation (about 10–30 s
-    ! and 200 MB), 2e9 kernel evaluations per `_within` call, 1e9 pair
-    ! evaluations for the base-pair sum.
+    ! and 4e6 stored quadrature points per continuum evaluation (about 20 s
+    ! and 200 MB), 4e7 kernel evaluations (about a second) per `_within`
+    ! call, 1e9 pair evaluations for the base-pair sum.
     type, bind(c) :: rodkit_electrostatics_spec
         ! Uniform line charge density λ.
         real(c_double) :: line_charge
@@ -1496,8 +1499,8 @@ module rodkit
         ! dimension < 3); ERR_OUT_OF_RANGE (nodes, `spec.order` outside 2…32,
         ! `spec.near_width` not in (a, L) — (a, L/2) closed —, s not increasing
         ! or not the arc length, `closed` not 0/1 or not closed, a zero tangent);
-        ! ERR_WORK_LIMIT (above the work bounds, e.g. a = 1e-6, δ = 2e-6 on a
-        ! length of 20); ERR_NON_FINITE_RESULT. Nothing is written on failure.
+        ! ERR_WORK_LIMIT (above the work bounds, e.g. κ = 1e7 on a length of 20:
+        ! panels of 4e-7); ERR_NON_FINITE_RESULT. Nothing is written on failure.
         function rodkit_curve_electrostatic_energy(s, xyz, ldx, tangents, ldt, nodes, closed, spec, &
                 energy) &
                 result(status) bind(c, name="rodkit_curve_electrostatic_energy")
@@ -1563,21 +1566,27 @@ module rodkit
         ! relative `tolerance` (1e-14…0.1), the settings used and the estimate
         ! (`out->estimate` ≤ tolerance on success). `spec.near_width` and
         ! `spec.order` are ignored (chosen here).
-        ! How: at each near-zone width δ the Gauss order is raised by 4 (6…32)
-        ! until two orders agree to tol/4; δ then moves toward a (δ − a divided
-        ! by r ≥ 4). The near-zone truncation T grows convexly from T = 0 at
-        ! δ = a, so |T(δ')| ≤ |E(δ) − E(δ')|/(r − 1): counted twice in the
-        ! estimate. Under screening, far pairs beyond a cutoff r_c are dropped and
-        ! the tail is measured against a wider cutoff, whose value is returned.
+        ! How: δ starts at a quarter of the curve's own scale (its shortest piece,
+        ! its smallest radius of curvature; at least 4a), whatever a is. At each
+        ! δ the Gauss order is raised by 4 (3 or 6…32) until two orders agree to
+        ! tol/4; δ then moves toward a (δ − a divided by r ≥ 4). The near-zone
+        ! truncation T grows convexly from T = 0 at δ = a, so
+        ! |T(δ')| ≤ |E(δ) − E(δ')|/(r − 1): counted twice in the estimate. Under
+        ! screening, far pairs beyond a cutoff r_c are dropped and the tail is
+        ! measured against a wider cutoff, whose value is returned.
         ! Measured (tests/electrostatics_estimates.rs): true error ≤ estimate ≤
         ! tolerance for 1e-2…1e-12 on straight segments, Coulomb and
-        ! Debye–Hückel rings and a helix.
+        ! Debye–Hückel rings and a helix, and for 1e-3…1e-8 on Hermite curves
+        ! through nodes with a from 1e-9·L to 0.1·L. On curves of ≤ 100 nodes a
+        ! call answers or refuses within about a second (benches/README.md).
         ! Statuses: those of `rodkit_curve_electrostatic_energy` (without
         ! `spec.near_width`/`spec.order`); ERR_TOLERANCE_UNREACHABLE when the
         ! tolerance is below what round-off (8ε·N^{1/4} for N kernel evaluations;
-        ! ≈ 3e-14 on a ring of 16 nodes) or Gauss order 32 reach; ERR_WORK_LIMIT when the next step would exceed
-        ! 2e9 kernel evaluations over the call (or an evaluation's bounds). Both
-        ! messages state the best estimate reached; `out` is not written then.
+        ! ≈ 3e-14 on a ring of 16 nodes) or Gauss order 32 reach; ERR_WORK_LIMIT
+        ! before a step that would take the call past 4e7 kernel evaluations
+        ! (about a second; or past an evaluation's bounds), naming that step's
+        ! cost. Both messages state the best estimate reached; `out` is not
+        ! written then.
         function rodkit_curve_electrostatic_energy_within(s, xyz, ldx, tangents, ldt, nodes, &
                 closed, spec, tolerance, out) &
                 result(status) bind(c, name="rodkit_curve_electrostatic_energy_within")

@@ -140,20 +140,26 @@ fn plain_energy_resolves_long_coarse_segments() {
 }
 
 /// Unbounded work is refused up front with ERR_WORK_LIMIT stating the cost
-/// and the bound (issue 17: a = 1e-6…1e-7 or denormal on length 20
-/// allocated until the allocator aborted; 1e7 base pairs ran for hours).
-/// The reference for each refusal is the cost computed by hand: the far
-/// zone stores ⌈L/2δ⌉·order points (δ = 2a: 20/4e-6·10 = 5e7 > 4e6), and
-/// 1e7 charges make 5e13 pairs (> 1e9).
+/// and the bound (a = 1e-6…1e-7 or denormal on length 20 once allocated
+/// until the allocator aborted; 1e7 base pairs ran for hours). The far
+/// zone's global panels follow the curve's own scales (its elements, its
+/// curvature, 4/κ), not δ, so a narrow near zone on a straight segment is
+/// cheap and exact (closed form, 1e-10 as above); screening at κ = 1e7
+/// needs panels of 4e-7: 20/4e-7·10 = 5e8 stored points > 4e6, refused
+/// (the reference for the refusal is that cost by hand).
 #[test]
 fn unbounded_work_is_refused_with_its_cost() {
     let seg = Nodes::segment(20.0, 8);
     let mut out = ElectrostaticEnergy::default();
-    for a in [1e-6, 1e-7, 5e-324] {
-        assert_eq!(seg.energy(&spec(0.0, a, 2.0 * a, 10), &mut out), Status::ErrWorkLimit.code(), "a {a:e}");
-        let msg = last_error();
-        assert!(msg.contains("work bound") && msg.contains("4e6"), "{msg}");
+    for a in [1e-6, 1e-7] {
+        assert_eq!(seg.energy(&spec(0.0, a, 2.0 * a, 10), &mut out), 0, "a {a:e}: {}", last_error());
+        let exact = coulomb_segment(20.0, a);
+        assert!((out.total - exact).abs() < 1e-10 * exact, "a {a:e}: {} vs {exact}", out.total);
     }
+    out = ElectrostaticEnergy::default();
+    assert_eq!(seg.energy(&spec(1e7, 1e-6, 2e-6, 10), &mut out), Status::ErrWorkLimit.code());
+    let msg = last_error();
+    assert!(msg.contains("work bound") && msg.contains("4e6"), "{msg}");
     assert_eq!(out.total, 0.0, "nothing written on failure");
     // The base-pair sum: L = 20 at spacing 2e-6 is 1e7 charges.
     let mut e = f64::NAN;

@@ -22,9 +22,13 @@
 //!   geometric term r''·r''' h³ is not included). Nothing singular reaches
 //!   a division: the |h| < a part is excluded and the near integrals are
 //!   analytic.
-//! * far zone |h| ≥ δ: Gauss–Legendre of the chosen order on panels that
-//!   break at the curve's nodes and at |h| = δ, 2δ, 4δ, … (the integrand
-//!   varies like 1/h there), and δ + 2^k/κ under strong screening.
+//!   On a curve not parametrised by its arc length (a cubic through nodes)
+//!   the chord is expanded with the curve's own speed ([`Chord`]).
+//! * far zone |h| ≥ δ: Gauss–Legendre of the chosen order on global panels
+//!   of the curve's own scale ([`far_panel`]) that break at its nodes, and
+//!   within two panels of s on local panels graded at |h| = δ, 2δ, 4δ, …
+//!   (the integrand varies like 1/h there), and δ + 2^k/κ under strong
+//!   screening.
 //!
 //! The outer integral over s uses the same rule on panels broken at the
 //! nodes and where the near zone changes shape (s = a, δ from each end),
@@ -153,10 +157,106 @@ fn near_integrals(l: f64, s: &Screening) -> [f64; 4] {
     ]
 }
 
-fn near_side(lambda: (f64, f64, f64), sign: f64, curvature2: f64, j: &[f64; 4], s: &Screening) -> f64 {
+/// The chord about s on a curve whose parameter is not exactly its arc
+/// length (a cubic through nodes: its speed v = |r'| departs from 1 between
+/// nodes). From |r(s+h) − r(s)|² = v²h² + (r'·r'')h³ + (|r''|²/4 + r'·r'''/3)h⁴,
+///   d = v|h| (1 + αh + βh² + O(h³)),  α = r'·r''/(2v²),  β = (Q − α²)/2,
+/// with Q = −|r''|²/(12v²): r'·r''' is taken as −|r''|², its value for a
+/// curve of constant speed. The cubic's own r''' is first-order accurate
+/// only and jumps at every node, so across a near zone wider than an
+/// element it would move β by O(h) (measured: a Hermite helix's energy at
+/// fixed δ then stalled at 1.7e-6 instead of converging at order ≥ 3).
+/// At v = 1: α = 0, β = −c²/24, the expansion of the module docs. The
+/// speed itself matters at first order: without it the leading term
+/// ∫ dh/(v|h|) is off by (1/v − 1)·ln(δ/a), which no δ above a removes (a
+/// 41-node Hermite helix's energy moved by 8e-6 relative per fourfold δ).
+#[derive(Clone, Copy, Debug)]
+struct Chord {
+    v: f64,
+    alpha: f64,
+    beta: f64,
+    q: f64,
+}
+
+impl Chord {
+    fn new(r1: [f64; 3], r2: [f64; 3]) -> Chord {
+        let vv = dot(r1, r1);
+        let alpha = dot(r1, r2) / (2.0 * vv);
+        let q = -dot(r2, r2) / (12.0 * vv);
+        Chord { v: vv.sqrt(), alpha, beta: 0.5 * (q - alpha * alpha), q }
+    }
+}
+
+/// One side of the near zone on a curve of speed v ([`Chord`]): with
+/// h = σu and K_m = ∫_a^ℓ u^m e^{−κvu} du (`j`, computed at κv),
+///   ∫ λ(s+h) e^{−κd}/d du = (1/v)[λK₋₁ + σ(λ' − λα)K₀ + (½λ'' + λ(α² − β) − λ'α)K₁]
+///                           − σκαλK₁ − κ(β − α²)λK₂ − κα λ' K₂ + O(h³),
+/// the products of the expansions of 1/d, e^{−κd} and λ kept to the order
+/// of the arc-length form (κu counted as order 0), to which it reduces at
+/// v = 1.
+fn near_side(lambda: (f64, f64, f64), sign: f64, ch: &Chord, j: &[f64; 5], kappa: f64) -> f64 {
     let (q, dq, ddq) = lambda;
-    let k = s.kappa;
-    q * (j[0] + curvature2 / 24.0 * j[2] + k * curvature2 / 24.0 * j[3]) + sign * dq * j[1] + 0.5 * ddq * j[2]
+    let Chord { v, alpha: al, beta: be, .. } = *ch;
+    (q * j[0] + sign * (dq - q * al) * j[1] + (0.5 * ddq + q * (al * al - be) - dq * al) * j[2]) / v
+        - sign * kappa * al * q * j[2]
+        - kappa * (be - al * al) * q * j[3]
+        - kappa * al * dq * j[3]
+}
+
+/// The near zone at one point (both sides) per unit factor ½λ(s), and its
+/// derivatives with respect to r' and r''.
+struct NearValue {
+    value: f64,
+    d1: [f64; 3],
+    d2: [f64; 3],
+}
+
+/// Both sides of the near zone ([`near_side`]; `k[side]` = K₋₁ … K₃ at κv,
+/// K₃ needed only for the derivatives), and with `derivatives` the exact
+/// derivatives of that formula with respect to r' and r'' through
+/// V = r'·r', P = r'·r'', C = r''·r'' (v = √V, α = P/2V, Q = −C/12V,
+/// β = (Q − α²)/2; ∂K_m/∂v = −κK_{m+1}).
+fn near_zone(
+    lambda: (f64, f64, f64),
+    ch: &Chord,
+    r: [[f64; 3]; 2],
+    k: &[[f64; 5]; 2],
+    kappa: f64,
+    derivatives: bool,
+) -> NearValue {
+    let (q, dq, ddq) = lambda;
+    let Chord { v, alpha: al, beta: be, q: qq } = *ch;
+    let mut value = 0.0;
+    let (mut f_v, mut f_a, mut f_b) = (0.0, 0.0, 0.0);
+    for (kk, sign) in k.iter().zip([-1.0, 1.0]) {
+        value += near_side(lambda, sign, ch, kk, kappa);
+        if !derivatives {
+            continue;
+        }
+        let c2 = 0.5 * ddq + q * (al * al - be) - dq * al;
+        let bracket = q * kk[0] + sign * (dq - q * al) * kk[1] + c2 * kk[2];
+        let bracket_v = -kappa * (q * kk[1] + sign * (dq - q * al) * kk[2] + c2 * kk[3]);
+        f_v += -bracket / (v * v)
+            + bracket_v / v
+            + kappa * kappa * (sign * al * q * kk[3] + (be - al * al) * q * kk[4] + al * dq * kk[4]);
+        f_a += (-sign * q * kk[1] + (2.0 * q * al - dq) * kk[2]) / v - sign * kappa * q * kk[2]
+            + 2.0 * kappa * al * q * kk[3]
+            - kappa * dq * kk[3];
+        f_b += -q * kk[2] / v - kappa * q * kk[3];
+    }
+    if !derivatives {
+        return NearValue { value, d1: [0.0; 3], d2: [0.0; 3] };
+    }
+    let vv = v * v;
+    let f_vv = f_v / (2.0 * v) - f_a * al / vv + f_b * (2.0 * al * al - qq) / (2.0 * vv);
+    let f_p = (f_a - f_b * al) / (2.0 * vv);
+    let f_c = -f_b / (24.0 * vv);
+    let [r1, r2] = r;
+    NearValue {
+        value,
+        d1: std::array::from_fn(|i| 2.0 * r1[i] * f_vv + r2[i] * f_p),
+        d2: std::array::from_fn(|i| r1[i] * f_p + 2.0 * r2[i] * f_c),
+    }
 }
 
 /// The continuum electrostatic energy of `curve` carrying `charge`.
@@ -170,8 +270,9 @@ pub fn energy(
 }
 
 /// Where the energy's sensitivities go: for every evaluation point s, ∂E
-/// with respect to r(s) and to r''(s) (the near zone sees the curvature).
-type Sink<'a> = Option<&'a mut dyn FnMut(f64, [f64; 3], [f64; 3])>;
+/// with respect to r(s), r'(s) and r''(s) (the near zone sees the speed
+/// and the curvature).
+type Sink<'a> = Option<&'a mut dyn FnMut(f64, [[f64; 3]; 3])>;
 
 /// The quadrature of [`energy`]; with a sink, also the derivative of the
 /// quadrature formula itself (positions at the quadrature points and
@@ -202,6 +303,14 @@ fn energy_core(
     };
     // Outer panels: nodes, and where the near zone changes shape.
     let mut outer_breaks = nodes.clone();
+    // e(s) has a kink where the far zone's edge s ± δ crosses a node (the
+    // curve is only C¹ there, C² in its speed): breaking the outer panels
+    // there keeps the outer rule's geometric convergence in the order.
+    for &b in &nodes {
+        for edge in [b - delta, b + delta] {
+            outer_breaks.push(if closed { edge.rem_euclid(l) } else { edge });
+        }
+    }
     if !closed {
         outer_breaks.extend([screening.a, delta, l - delta, l - screening.a]);
         // Near an end e(s) varies like ln(s/a) on [a, δ] (the one-sided
@@ -209,7 +318,7 @@ fn energy_core(
         // both singular at s = 0, so panels graded geometrically from each
         // end (a·2^k below δ, δ·2^k up to L/2). Without them one Gauss
         // panel spanned [δ, first node] and a Coulomb segment of length
-        // 1e4 on 8 nodes came out 4.5e-5 off (issue 17).
+        // 1e4 on 8 nodes came out 4.5e-5 off, before these panels.
         outer_breaks.extend(end_grading(screening.a, delta, l));
         // Strong screening: within δ of an end, e(s) has a boundary layer
         // of width 1/κ next to s = a (the one-sided near integral starts
@@ -223,7 +332,7 @@ fn energy_core(
         }
     }
     let (mut near_total, mut far_total) = (0.0, 0.0);
-    let mut inner_points: Vec<(f64, f64)> = Vec::new();
+    let mut inner_points: Vec<(f64, f64, [f64; 3])> = Vec::new();
     let mut scratch = Vec::new();
     let mut evaluations = 0;
     let far = FarZone::new(curve, delta, kappa, quad.cutoff, &gx, &gw);
@@ -233,21 +342,34 @@ fn energy_core(
         for (xi, wi) in gx.iter().zip(&gw) {
             let s = s0 + half * (1.0 + xi);
             let w = half * wi;
-            let (r, _, r2) = curve.eval(s);
+            let (r, r1, r2) = curve.eval(s);
             let lam = charge.at(s);
-            let c2 = dot(r2, r2);
-            // Near zone: the two sides (one-sided within δ of an end); its
-            // dependence on the curvature: ∂near/∂c².
+            // Near zone: the two sides (one-sided within δ of an end).
             let (left, right) = if closed { (delta, delta) } else { (s.min(delta), (l - s).min(delta)) };
-            let side = |len: f64| if len == delta { full_side } else { near_integrals(len, screening) };
-            let (jl, jr) = (side(left), side(right));
-            let near = near_side(lam, -1.0, c2, &jl, screening) + near_side(lam, 1.0, c2, &jr, screening);
-            far.points_for(s, &r, &mut inner_points, &mut scratch);
+            // The near zone and, with a sink, its sensitivities to r' and r''.
+            let want = sink.is_some();
+            let ch = Chord::new(r1, r2);
+            // The integrals at κv; at unit speed (or without screening) the
+            // full sides' are precomputed.
+            let unit = kappa == 0.0 || (ch.v - 1.0).abs() <= 4.0 * f64::EPSILON;
+            let scaled = Screening { kappa: kappa * ch.v, a: screening.a };
+            let side = |len: f64| -> [f64; 5] {
+                let j = if len == delta && unit { full_side } else { near_integrals(len, &scaled) };
+                // K₃ only for the derivative in v (∂K_m/∂v = −κK_{m+1}).
+                let k3 = if want && kappa > 0.0 && len > screening.a {
+                    special::j(3, screening.a, len, scaled.kappa)
+                } else {
+                    0.0
+                };
+                [j[0], j[1], j[2], j[3], k3]
+            };
+            let near = near_zone(lam, &ch, [r1, r2], &[side(left), side(right)], kappa, want);
+            far.points_for(curve, s, &r, &mut inner_points, &mut scratch);
             let mut far = 0.0;
             let mut grad_s = [0.0; 3];
             evaluations += inner_points.len();
-            for &(t, wt) in &inner_points {
-                let dv = sub(r, curve.eval(t).0);
+            for &(t, wt, rt) in &inner_points {
+                let dv = sub(r, rt);
                 let d = dot(dv, dv).sqrt();
                 if d > 0.0 {
                     let (f, g) = phi(d);
@@ -260,17 +382,16 @@ fn energy_core(
                         for i in 0..3 {
                             grad_s[i] += gv[i];
                         }
-                        sink(t, [-gv[0], -gv[1], -gv[2]], [0.0; 3]);
+                        sink(t, [[-gv[0], -gv[1], -gv[2]], [0.0; 3], [0.0; 3]]);
                     }
                 }
             }
             if let Some(sink) = sink.as_deref_mut() {
-                // ∂near/∂c² per side: λ(J1 + κJ2)/24; c² = |r''|².
-                let dnear_dc2: f64 = [jl, jr].iter().map(|j| lam.0 * (j[2] + kappa * j[3]) / 24.0).sum();
-                let c = w * 0.5 * lam.0 * dnear_dc2 * 2.0;
-                sink(s, grad_s, [c * r2[0], c * r2[1], c * r2[2]]);
+                let c = w * 0.5 * lam.0;
+                let scale = |v: [f64; 3]| [c * v[0], c * v[1], c * v[2]];
+                sink(s, [grad_s, scale(near.d1), scale(near.d2)]);
             }
-            near_total += w * 0.5 * lam.0 * near;
+            near_total += w * 0.5 * lam.0 * near.value;
             far_total += w * 0.5 * lam.0 * far;
         }
     }
@@ -316,9 +437,8 @@ pub struct Work {
     /// Outer quadrature points (outer panels × order).
     pub outer_points: f64,
     /// Far-zone kernel evaluations: outer points × (far points seen from
-    /// each; with a cutoff, those within r_c in arc length — exact for a
-    /// straight rod, an underestimate for a compact one — plus the local
-    /// window).
+    /// each; with a cutoff, the largest sampled fraction of the curve
+    /// within r_c in space — plus the local window).
     pub evaluations: f64,
 }
 
@@ -328,34 +448,58 @@ pub fn energy_work(curve: &dyn Centerline, screening: &Screening, quad: &EnergyQ
     let l = curve.length();
     let delta = quad.delta;
     let o = quad.order as f64;
+    let panel = far_panel(curve, delta, screening.kappa);
     let mut nodes = curve.breakpoints();
     nodes.push(l);
     let (mut global, mut last) = (0.0, 0.0);
     for &b in &nodes {
         if b > last {
-            global += ((b - last) / (2.0 * delta)).ceil().max(1.0);
+            global += ((b - last) / panel).ceil().max(1.0);
             last = b;
         }
     }
     // Outer panels: the node intervals plus the end grading and the
     // screening layer (≤ 2 log2 of the ratios each), as in energy_core.
     let log2 = |r: f64| if r > 1.0 { r.log2().ceil() } else { 0.0 };
-    let mut outer = nodes.len() as f64;
+    // Nodes, and node ± δ (where the far zone's edge crosses a node).
+    let mut outer = 3.0 * nodes.len() as f64;
     if !curve.closed() {
         outer += 4.0 + 2.0 * log2(delta / screening.a) + 2.0 * log2(0.5 * l / delta);
         if screening.kappa > 0.0 {
             outer += 2.0 * log2(4.0 * screening.kappa * delta);
         }
     }
-    // The local window: ≈ 4δ/(2δ) panels each side plus the grading.
-    let window = (10.0 + 2.0 * log2(4.0 * screening.kappa * delta)) * o;
+    // The local window: δ-graded panels up to 2G each side, the global
+    // panels it meets, and the screening grading.
+    let window = (2.0 * (log2(2.0 * panel / delta) + 3.0) + 2.0 * log2(4.0 * screening.kappa * delta)) * o;
     let far_points = global * o;
     let per_point = match quad.cutoff {
         None => far_points,
-        Some(rc) => far_points.min(2.0 * rc / l * far_points + o),
+        Some(rc) => far_points.min(cutoff_fraction(curve, rc) * far_points + o),
     };
     let outer_points = outer * o;
     Work { far_points, outer_points, evaluations: outer_points * (per_point + window) }
+}
+
+/// The largest fraction of the curve within r_c (in space) of one of its
+/// points, sampled: 16 points against 256 (each counted with half a
+/// sample's arc length of margin). On a straight rod it is 2r_c/L; on a
+/// coiled one much more (a helix of pitch 3 packs 2.3 units of arc into a
+/// unit of height), which the arc-length estimate 2r_c/L missed by 25 %.
+fn cutoff_fraction(curve: &dyn Centerline, rc: f64) -> f64 {
+    const M: usize = 256;
+    let l = curve.length();
+    let at = |k: usize, n: usize| curve.eval((k as f64 + 0.5) * l / n as f64).0;
+    let targets: Vec<[f64; 3]> = (0..M).map(|k| at(k, M)).collect();
+    let reach = rc + 0.5 * l / M as f64;
+    (0..16)
+        .map(|i| {
+            let p = at(i, 16);
+            let near = targets.iter().filter(|t| dot(sub(p, **t), sub(p, **t)) <= reach * reach).count();
+            (near + 1) as f64 / M as f64
+        })
+        .fold(0.0, f64::max)
+        .min(1.0)
 }
 
 fn check_work(work: &Work) -> Result<()> {
@@ -365,7 +509,8 @@ fn check_work(work: &Work) -> Result<()> {
             format!(
                 "the call would exceed its work bound: {:.2e} far-zone kernel evaluations on {:.2e} stored points \
                  (bounds {MAX_KERNEL_EVALUATIONS:.0e} evaluations, {MAX_FAR_POINTS:.0e} points); the far zone is \
-                 paneled at ≤ 2δ, so the cost grows like (L/δ)²: raise the near-zone width or use fewer nodes",
+                 paneled at the curve's own scale (its shortest element, its smallest radius of curvature, 4/κ, \
+                 at least 2δ) and graded toward δ and a: use fewer nodes, a smoother curve, or a wider near zone",
                 work.evaluations, work.far_points
             ),
         ));
@@ -373,19 +518,36 @@ fn check_work(work: &Work) -> Result<()> {
     Ok(())
 }
 
+/// The length G of the far zone's global panels: the curve's own scale
+/// ([`geometric_scale`]: its shortest element and smallest radius of
+/// curvature), at most 4/κ (the screened kernel's), never below 2δ. Beyond
+/// the window |t − s| ≥ 2G the integrand varies on scales ≥ G, so a panel of
+/// G keeps Gauss's geometric convergence; tying the panels to 2δ instead made
+/// an evaluation cost O((L/δ)²) and the narrow widths that accuracy needs
+/// unaffordable.
+fn far_panel(curve: &dyn Centerline, delta: f64, kappa: f64) -> f64 {
+    let mut g = geometric_scale(curve);
+    if kappa > 0.0 {
+        g = g.min(4.0 / kappa);
+    }
+    g.max(2.0 * delta)
+}
+
 /// The far-zone quadrature (t, weight) for any point s: t with
 /// |t − s| ≥ δ (periodic distance when closed). Fixed global panels (the
-/// curve's node intervals, cut to at most 2δ) carry Gauss points once for
-/// all s; around s, the panels meeting |t − s| < 4δ form a window whose
-/// part beyond δ is integrated on local panels graded from |t − s| = δ
-/// (2δ, 4δ, …, and δ + 2^k/κ), where the integrand varies like 1/h. With
-/// a cutoff, global points farther than r_c in space are dropped, found by
-/// a cell list: O(1) points per s.
+/// curve's node intervals, cut to at most G, [`far_panel`]) carry Gauss
+/// points once for all s; around s, the panels meeting |t − s| < 2G form a
+/// window whose part beyond δ is integrated on local panels graded from
+/// |t − s| = δ (2δ, 4δ, …, and δ + 2^k/κ), where the integrand varies like
+/// 1/h. With a cutoff, global points farther than r_c in space are
+/// dropped, found by a cell list: O(1) points per s.
 struct FarZone {
     l: f64,
     closed: bool,
     delta: f64,
     kappa: f64,
+    /// The global panels' length ([`far_panel`]).
+    panel: f64,
     /// Global panel edges, ascending from 0 to L.
     edges: Vec<f64>,
     /// Global points: (t, weight, panel index, position).
@@ -398,6 +560,7 @@ struct FarZone {
 impl FarZone {
     fn new(curve: &dyn Centerline, delta: f64, kappa: f64, cutoff: Option<f64>, gx: &[f64], gw: &[f64]) -> Self {
         let l = curve.length();
+        let panel = far_panel(curve, delta, kappa);
         let mut edges = vec![0.0];
         let mut nodes = curve.breakpoints();
         nodes.push(l);
@@ -406,7 +569,7 @@ impl FarZone {
             if b <= last {
                 continue;
             }
-            let pieces = ((b - last) / (2.0 * delta)).ceil().max(1.0) as usize;
+            let pieces = ((b - last) / panel).ceil().max(1.0) as usize;
             for k in 1..=pieces {
                 edges.push(last + (b - last) * k as f64 / pieces as f64);
             }
@@ -424,22 +587,43 @@ impl FarZone {
             let pos: Vec<[f64; 3]> = points.iter().map(|p| p.3).collect();
             (rc, crate::geometry::proximity::CellList::new(&pos, rc), pos)
         });
-        FarZone { l, closed: curve.closed(), delta, kappa, edges, points, cutoff, gx: gx.to_vec(), gw: gw.to_vec() }
+        FarZone {
+            l,
+            closed: curve.closed(),
+            delta,
+            kappa,
+            panel,
+            edges,
+            points,
+            cutoff,
+            gx: gx.to_vec(),
+            gw: gw.to_vec(),
+        }
     }
 
-    /// The far-zone points for s at position r into `out` (t, weight).
-    fn points_for(&self, s: f64, r: &[f64; 3], out: &mut Vec<(f64, f64)>, scratch: &mut Vec<usize>) {
+    /// The far-zone points for s at position r into `out` (t, weight,
+    /// r(t)): the global points' positions are stored once, the window's
+    /// evaluated on `curve`.
+    fn points_for(
+        &self,
+        curve: &dyn Centerline,
+        s: f64,
+        r: &[f64; 3],
+        out: &mut Vec<(f64, f64, [f64; 3])>,
+        scratch: &mut Vec<usize>,
+    ) {
         out.clear();
         let (l, delta) = (self.l, self.delta);
         let np = self.edges.len() - 1;
-        // The window: global panels meeting |t − s| < 4δ (periodic when closed).
+        // The window: global panels meeting |t − s| < 2G, G the global
+        // panel length (at least 4δ; periodic when closed).
         let panel_of = |t: f64| -> usize {
             match self.edges.binary_search_by(|e| e.total_cmp(&t)) {
                 Ok(i) => i.min(np - 1),
                 Err(i) => (i.max(1) - 1).min(np - 1),
             }
         };
-        let reach = 4.0 * delta;
+        let reach = 2.0 * self.panel;
         // The window as a (cyclic) range of panel indices, and its ends
         // unwrapped about s.
         let whole_ring = self.closed && 2.0 * reach + 4.0 * delta >= l;
@@ -509,7 +693,8 @@ impl FarZone {
                 let hh = 0.5 * (p1 - p0);
                 for (xj, wj) in self.gx.iter().zip(&self.gw) {
                     let t = p0 + hh * (1.0 + xj);
-                    out.push((if self.closed { t.rem_euclid(l) } else { t }, hh * wj));
+                    let t = if self.closed { t.rem_euclid(l) } else { t };
+                    out.push((t, hh * wj, curve.eval(t).0));
                 }
             }
         };
@@ -522,18 +707,18 @@ impl FarZone {
         // Global points outside the window (within the cutoff).
         match &self.cutoff {
             None => {
-                for &(t, w, p, _) in &self.points {
+                for &(t, w, p, rt) in &self.points {
                     if !in_window(p) {
-                        out.push((t, w));
+                        out.push((t, w, rt));
                     }
                 }
             }
             Some((rc, cells, pos)) => {
                 cells.neighbours_within(pos, r, *rc, scratch);
                 for &i in scratch.iter() {
-                    let (t, w, p, _) = self.points[i];
+                    let (t, w, p, rt) = self.points[i];
                     if !in_window(p) {
-                        out.push((t, w));
+                        out.push((t, w, rt));
                     }
                 }
             }
@@ -581,9 +766,9 @@ pub fn force_density(
         }
     }
     let mut pts = Vec::new();
-    FarZone::new(curve, delta, kappa, quad.cutoff, &gx, &gw).points_for(s, &r, &mut pts, &mut Vec::new());
-    for (t, w) in pts {
-        let dv = sub(r, curve.eval(t).0);
+    FarZone::new(curve, delta, kappa, quad.cutoff, &gx, &gw).points_for(curve, s, &r, &mut pts, &mut Vec::new());
+    for (t, w, rt) in pts {
+        let dv = sub(r, rt);
         let d = dot(dv, dv).sqrt();
         if d > 0.0 {
             let g = (-kappa * d).exp() * (1.0 + kappa * d) / (d * d * d);
@@ -614,14 +799,18 @@ pub fn energy_gradient(
     let m = curve.s.len();
     let mut gr = vec![[0.0; 3]; m];
     let mut gt = vec![[0.0; 3]; m];
-    let mut sink = |s: f64, d_r: [f64; 3], d_r2: [f64; 3]| {
-        let (k, h, b, b2) = curve.basis(s);
-        // r(s) = b0 r_k + b1 h t_k + b2 r_{k+1} + b3 h t_{k+1}; r'' likewise with b2/h².
-        for i in 0..3 {
-            gr[k][i] += b[0] * d_r[i] + b2[0] / (h * h) * d_r2[i];
-            gt[k][i] += h * b[1] * d_r[i] + b2[1] / h * d_r2[i];
-            gr[k + 1][i] += b[2] * d_r[i] + b2[2] / (h * h) * d_r2[i];
-            gt[k + 1][i] += h * b[3] * d_r[i] + b2[3] / h * d_r2[i];
+    let mut sink = |s: f64, d: [[f64; 3]; 3]| {
+        let (k, h, b) = curve.basis(s);
+        // r⁽ⁿ⁾(s) = (b_n0 r_k + b_n1 h t_k + b_n2 r_{k+1} + b_n3 h t_{k+1})/hⁿ,
+        // b_n the basis' n-th derivatives in u.
+        for (n, (bn, dn)) in b.iter().zip(&d).enumerate() {
+            let hn = h.powi(n as i32);
+            for i in 0..3 {
+                gr[k][i] += bn[0] / hn * dn[i];
+                gt[k][i] += h * bn[1] / hn * dn[i];
+                gr[k + 1][i] += bn[2] / hn * dn[i];
+                gt[k + 1][i] += h * bn[3] / hn * dn[i];
+            }
         }
     };
     let e = energy_core(curve, charge, screening, quad, Some(&mut sink))?;
@@ -655,7 +844,37 @@ pub struct EnergyReport {
 /// The kernel evaluations [`energy_within`] may spend over all its steps
 /// (the per-evaluation bounds [`MAX_KERNEL_EVALUATIONS`] and
 /// [`MAX_FAR_POINTS`] hold as well).
-pub const MAX_WITHIN_EVALUATIONS: f64 = 2e9;
+/// About a second of kernel evaluations (~20 ns each on one core): a
+/// caller who asks for an energy to a tolerance gets it, or a refusal that
+/// names the cost, within that time. More work is for
+/// [`energy`] at the δ and order the refusal names.
+pub const MAX_WITHIN_EVALUATIONS: f64 = 4e7;
+
+/// The length below which a curve's own geometry changes: the smallest
+/// radius of curvature |r'|²/|r''| (sampled at the breakpoints' midpoints and
+/// at 64 points) and the shortest interval between breakpoints (a cubic
+/// through nodes changes its r'' and its speed at every node). The near
+/// zone's expansion about s holds within a fraction of it.
+fn geometric_scale(curve: &dyn Centerline) -> f64 {
+    let l = curve.length();
+    let mut knots = vec![0.0];
+    knots.extend(curve.breakpoints());
+    knots.push(l);
+    let mut scale = l;
+    let mut samples: Vec<f64> = (0..64).map(|k| (k as f64 + 0.5) * l / 64.0).collect();
+    for w in knots.windows(2) {
+        scale = scale.min(w[1] - w[0]);
+        samples.push(0.5 * (w[0] + w[1]));
+    }
+    for s in samples {
+        let (_, r1, r2) = curve.eval(s);
+        let (speed2, bend) = (dot(r1, r1), dot(r2, r2).sqrt());
+        if bend > 0.0 {
+            scale = scale.min(speed2 / bend);
+        }
+    }
+    scale
+}
 
 /// "Only what the scene requires" (physics.md §5): a continuum energy whose
 /// estimated relative error is within `tolerance`, no electrostatics for a
@@ -675,15 +894,16 @@ pub const MAX_WITHIN_EVALUATIONS: f64 = 2e9;
 ///   |T(x/r)| ≤ |E(x) − E(x/r)|/(r − 1): two δ's give a bound, not a guess.
 ///   It is counted twice (the bound assumes one sign and convexity), with
 ///   both q's added to the difference: t = 2(|ΔE| + q + q')/(r − 1).
-///   δ starts at 4a — or larger while one evaluation would cost more than
-///   1e7 kernel evaluations (a ≪ L: the truncation is O(δ⁴) relative in
-///   the interior of a smooth curve and nothing on a straight one) — and
-///   x is divided by r = max(4, 4t/tol) until the sum is within tol. δ
-///   tends to a, where the model is the plain double integral: there is no
-///   floor below which the truncation goes unmeasured.
+///   δ starts from the curve's own scale, a quarter of
+///   [`geometric_scale`] (the expansion holds well inside it, whatever a
+///   is: ln(δ/a) is integrated exactly), at least 4a, and larger while the
+///   first two widths would cost more than 40 % of the call's work bound. x is then divided by r = max(4, 4t/tol) until the sum is within
+///   tol. δ tends to a, where the model is the plain double integral: there
+///   is no floor below which the truncation goes unmeasured.
 ///
-/// Refused: ErrWorkLimit when the next step would exceed
-/// [`MAX_WITHIN_EVALUATIONS`] over the call or an evaluation's own bound;
+/// Refused: ErrWorkLimit before any step that would take the call past
+/// [`MAX_WITHIN_EVALUATIONS`] (about a second) or past an evaluation's own
+/// bound, naming that step's cost;
 /// ErrToleranceUnreachable when order 32 does not resolve the quadrature,
 /// or when round-off (8ε·N^{1/4} for N kernel evaluations: nested sums of
 /// positive terms) is above tol/4 — the steps then aim at four times the
@@ -721,7 +941,7 @@ pub fn energy_within(
     // The screening cutoff: its tail is measured, not assumed. The
     // straight-line estimate of discrete::screening_cutoff is no bound for
     // a coiled curve (more arc length per unit distance: a helix of radius
-    // 5 and pitch 10 dropped 3× the estimate, issue 17), so the steps run
+    // 5 and pitch 10 dropped 3× the estimate), so the steps run
     // at the cutoff for 1e-3·tol and the result is the one at the cutoff
     // for 1e-6·tol, whose remaining tail is bounded by ten times the line
     // ratio E1(κr_wide)/E1(κr_c) of the measured difference.
@@ -740,8 +960,16 @@ pub fn energy_within(
     // The largest δ allowed: strictly inside (a, max_delta).
     let delta_cap = a + 0.5 * (max_delta - a);
     let order = if tolerance >= 1e-5 { 3 } else { 6 };
-    let mut delta0 = (4.0 * a).min(delta_cap);
-    while delta0 < delta_cap && energy_work(curve, screening, &search.settings(delta0, order + 4)).evaluations > 1e7 {
+    let mut delta0 = (0.25 * geometric_scale(curve)).max(4.0 * a).min(delta_cap);
+    // The first two widths (δ0 and a + (δ0 − a)/4) at both orders.
+    let first_pair = |d: f64| {
+        let second = a + 0.25 * (d - a);
+        [(d, order), (d, order + 4), (second, order), (second, order + 4)]
+            .iter()
+            .map(|&(d, o)| energy_work(curve, screening, &search.settings(d, o)).evaluations)
+            .sum::<f64>()
+    };
+    while delta0 < delta_cap && first_pair(delta0) > 0.4 * MAX_WITHIN_EVALUATIONS {
         delta0 = (2.0 * delta0).min(delta_cap);
     }
     search.run(delta0, order)
@@ -803,7 +1031,7 @@ impl Within<'_> {
                 Status::ErrWorkLimit,
                 format!(
                     "the call would exceed its work bound: the next step (δ {:e}, order {}) costs {:.2e} kernel \
-                     evaluations on {:.2e} points after {:.2e} spent (bounds {MAX_WITHIN_EVALUATIONS:.0e} per \
+                     evaluations on {:.2e} points after {:.2e} spent (bounds {MAX_WITHIN_EVALUATIONS:.1e} per \
                      call, {MAX_KERNEL_EVALUATIONS:.0e} per step, {MAX_FAR_POINTS:.0e} points) for the relative \
                      tolerance {:e}; {}",
                     q.delta,
@@ -817,7 +1045,21 @@ impl Within<'_> {
             ));
         }
         self.spent += w.evaluations;
-        energy(self.curve, self.charge, self.screening, q)
+        let t0 = std::time::Instant::now();
+        let r = energy(self.curve, self.charge, self.screening, q);
+        if std::env::var("WDEBUG").is_ok() {
+            eprintln!(
+                "  δ {:.4e} order {} cutoff {:?} work {:.2e} real {:?} {:.3}s E {:?}",
+                q.delta,
+                q.order,
+                q.cutoff,
+                w.evaluations,
+                r.as_ref().map(|e| e.far_evaluations).ok(),
+                t0.elapsed().as_secs_f64(),
+                r.as_ref().map(|e| e.total).ok()
+            );
+        }
+        r
     }
 
     /// [`Self::energy`], raising the target to four times its round-off.

@@ -45,9 +45,9 @@ pub fn e1(x: f64) -> f64 {
     }
 }
 
-/// J_n(a, ℓ; κ) = ∫_a^ℓ hⁿ e^{−κh} dh, n ∈ {−1, 0, 1, 2}, 0 < a ≤ ℓ, κ ≥ 0.
+/// J_n(a, ℓ; κ) = ∫_a^ℓ hⁿ e^{−κh} dh, n ∈ {−1, 0, 1, 2, 3}, 0 < a ≤ ℓ, κ ≥ 0.
 pub fn j(n: i32, a: f64, l: f64, kappa: f64) -> f64 {
-    debug_assert!((-1..=2).contains(&n) && a > 0.0 && l >= a && kappa >= 0.0);
+    debug_assert!((-1..=3).contains(&n) && a > 0.0 && l >= a && kappa >= 0.0);
     if l <= a {
         return 0.0;
     }
@@ -75,6 +75,7 @@ pub fn j(n: i32, a: f64, l: f64, kappa: f64) -> f64 {
                 0 => e / k,
                 1 => e * (h / k + 1.0 / (k * k)),
                 2 => e * (h * h / k + 2.0 * h / (k * k) + 2.0 / (k * k * k)),
+                3 => e * (h * h * h / k + 3.0 * h * h / (k * k) + 6.0 * h / (k * k * k) + 6.0 / (k * k * k * k)),
                 _ => unreachable!(),
             }
         };
@@ -128,7 +129,7 @@ mod tests {
             s
         };
         for kappa in [0.0, 1e-6, 0.3, 1.0, 3.0, 50.0] {
-            for n in -1..=2 {
+            for n in -1..=3 {
                 let (a, l) = (0.05, 1.0);
                 let exact = gl(&|h: f64| h.powi(n) * (-kappa * h).exp(), a, l);
                 let got = j(n, a, l, kappa);

@@ -86,11 +86,11 @@ impl HermiteCurve {
         (k, h, (s - self.s[k]) / h)
     }
 
-    /// (k, h, value weights, second-derivative weights in u) of the
-    /// Hermite basis (h00, h10, h01, h11) at s.
-    pub(crate) fn basis(&self, s: f64) -> (usize, f64, [f64; 4], [f64; 4]) {
+    /// (k, h, weights) of the Hermite basis (h00, h10, h01, h11) at s: its
+    /// values and its first and second derivatives in u.
+    pub(crate) fn basis(&self, s: f64) -> (usize, f64, [[f64; 4]; 3]) {
         let (k, h, u) = self.locate(s);
-        (k, h, hermite_values(u), hermite_second_derivatives(u))
+        (k, h, [hermite_values(u), hermite_first_derivatives(u), hermite_second_derivatives(u)])
     }
 }
 
@@ -103,6 +103,11 @@ fn hermite_values(u: f64) -> [f64; 4] {
         -2.0 * u * u * u + 3.0 * u * u,
         u * u * u - u * u,
     ]
+}
+
+/// The basis' first derivatives in u.
+fn hermite_first_derivatives(u: f64) -> [f64; 4] {
+    [6.0 * u * u - 6.0 * u, 3.0 * u * u - 4.0 * u + 1.0, -6.0 * u * u + 6.0 * u, 3.0 * u * u - 2.0 * u]
 }
 
 /// The basis' second derivatives in u.
@@ -120,8 +125,7 @@ impl Centerline for HermiteCurve {
     fn eval(&self, s: f64) -> ([f64; 3], [f64; 3], [f64; 3]) {
         let (k, h, u) = self.locate(s);
         let [h00, h10, h01, h11] = hermite_values(u);
-        let (d00, d10, d01, d11) =
-            (6.0 * u * u - 6.0 * u, 3.0 * u * u - 4.0 * u + 1.0, -6.0 * u * u + 6.0 * u, 3.0 * u * u - 2.0 * u);
+        let [d00, d10, d01, d11] = hermite_first_derivatives(u);
         let [e00, e10, e01, e11] = hermite_second_derivatives(u);
         let mut out = ([0.0; 3], [0.0; 3], [0.0; 3]);
         for i in 0..3 {

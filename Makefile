@@ -144,7 +144,7 @@ $(BUILD)/c_dna_tweezers_static: $(ROOT)/c_examples/dna_tweezers.c $(DNA_MAP_COMM
 # Built by `make drivers` only where an MPI C compiler exists (OpenMPI:
 # libopenmpi-dev, openmpi-bin; .ci/deps installs them for the tests).
 # MPI_CC names the wrapper; HAVE_MPI is empty without one. Run them with
-# mpirun (tests/mpi.rs; README "From a laptop to a cluster").
+# mpirun (tests/mpi.rs; doc/cluster.md).
 MPI_CC ?= mpicc
 HAVE_MPI := $(if $(shell command -v $(MPI_CC) 2>/dev/null),yes,)
 #   mpi_dna_map: the DNA length x force x salt map (c_examples/mpi_dna_map.c).
@@ -208,7 +208,7 @@ $(BUILD)/f_mpi_tube_search: $(ROOT)/fortran_examples/mpi_tube_search.f90 $(BUILD
 # reference, --model full-rod) on a small subset: 300 bp, 1 and 2 pN x 0.05
 # and 0.1 M, to 2.2 turns (~31 s on the 2-core machine; the full map, 1
 # kbp, 3 forces x 4 salts, to 12 turns, is `c_dna_map_shared --model
-# full-rod`, README: "The force x salt map"), and with the thermal
+# full-rod`, doc/dna.md: "The force × salt map"), and with the thermal
 # two-phase model (its default) at 10 kbp over 0.25-4 pN x 0.01, 0.1 M,
 # whose plateau torque vs force is set beside the tweezers data of
 # tests/data/tweezers/buckling_torque.csv (plateau_torque_vs_force.svg and
@@ -366,7 +366,7 @@ ifeq ($(WITH_FORTRAN),yes)
 endif
 
 # What goes to docdir (a distribution that ships licences elsewhere sets DOCS).
-DOCS ?= $(ROOT)/doc/physics.md $(ROOT)/README.md $(ROOT)/CHANGELOG.md $(ROOT)/CITATION.cff \
+DOCS ?= $(wildcard $(ROOT)/doc/*.md) $(ROOT)/README.md $(ROOT)/CHANGELOG.md $(ROOT)/CITATION.cff \
         $(ROOT)/LICENSE-MIT $(ROOT)/LICENSE-APACHE
 
 # Downstream projects (tests/downstream/: C, C++, Fortran) built against an

@@ -17,7 +17,7 @@
 //!   outputs, bitwise.
 //!
 //! Needs OpenMPI (`mpicc`, `mpirun`; .ci/deps installs libopenmpi-dev and
-//! openmpi-bin). Without `mpicc` every test says so loudly and passes.
+//! openmpi-bin). Without `mpicc` every test fails, saying so.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -35,15 +35,11 @@ const MAP: &[&str] =
 const FORCES: [f64; 2] = [1.0, 2.0];
 const SALTS: [f64; 2] = [0.05, 0.1];
 
-fn have_mpi() -> bool {
+/// OpenMPI must be there: CI installs it (`.ci/deps`), so a missing `mpicc`
+/// is a failure of the machine, not a pass.
+fn require_mpi() {
     let ok = Command::new("mpicc").arg("--version").output().map(|o| o.status.success()).unwrap_or(false);
-    if !ok {
-        eprintln!(
-            "\n*** tests/mpi.rs SKIPPED: no `mpicc` (OpenMPI). Install libopenmpi-dev and openmpi-bin \
-             (.ci/deps does) to test the MPI drivers. ***\n"
-        );
-    }
-    ok
+    assert!(ok, "no `mpicc` (OpenMPI): install libopenmpi-dev and openmpi-bin (.ci/deps does) to test the MPI drivers");
 }
 
 /// The library (cdylib) and the MPI driver, built through the Makefile.
@@ -156,9 +152,7 @@ fn ran_on(dir: &Path) -> Vec<Option<usize>> {
 /// more than one rank.
 #[test]
 fn ranks_give_bitwise_identical_outputs() {
-    if !have_mpi() {
-        return;
-    }
+    require_mpi();
     let (ref_dir, ref_out) = reference();
     let v = values(ref_out);
     assert_eq!((v["scenes"], v["failed_scenes"], v["skipped_scenes"], v["ranks"]), (4.0, 0.0, 0.0, 1.0), "{ref_out}");
@@ -189,9 +183,7 @@ fn ranks_give_bitwise_identical_outputs() {
 /// CSV energy 97.9819353489 vs ...488): this test failed there.
 #[test]
 fn threads_per_rank_are_deterministic() {
-    if !have_mpi() {
-        return;
-    }
+    require_mpi();
     let (ref_dir, _) = reference();
     let (one, two) = (scratch("np1-t2"), scratch("np2-t2"));
     let out = run_map(1, &["--threads", "2"], &one);
@@ -214,9 +206,7 @@ fn threads_per_rank_are_deterministic() {
 fn summary_matches_the_rust_api() {
     use rodkit::charged::dna::{run_scene, DnaScene, SupercoilSettings};
     use rodkit::charged::summary::{summarise, Finding};
-    if !have_mpi() {
-        return;
-    }
+    require_mpi();
     let (dir, _) = reference();
     let text = std::fs::read_to_string(dir.join("summary.csv")).unwrap();
     let mut lines = text.lines();
@@ -324,9 +314,7 @@ fn mtime(p: &Path) -> SystemTime {
 #[test]
 fn killed_map_restarts_and_skips_finished_scenes() {
     use std::os::unix::process::CommandExt;
-    if !have_mpi() {
-        return;
-    }
+    require_mpi();
     let (ref_dir, _) = reference();
     let dir = scratch("killed");
     let mut child = mpirun(2, &[], &dir)
@@ -397,9 +385,7 @@ fn killed_map_restarts_and_skips_finished_scenes() {
 /// strings and a 110 kB table by design).
 #[test]
 fn mpi_map_is_clean_under_valgrind() {
-    if !have_mpi() {
-        return;
-    }
+    require_mpi();
     let dir = scratch("vg");
     for pass in ["first run", "restart"] {
         let mut cmd = Command::new("mpirun");

@@ -130,6 +130,7 @@ fn reference(law: &WallLaw, r: f64, t: f64, l: &Loading) -> Option<TubeState> {
 fn membrane_estimate_bounds_the_thick_wall_and_auto_meets_rel_tol() {
     let r = 1.0;
     let (mut checked, mut unverified, mut worst) = (0, Vec::new(), 0.0f64);
+    let (mut answered, mut refused) = (0, Vec::new());
     for (name, law) in laws() {
         let mu = modulus(&law, r);
         for t in [1e-4, 1e-3, 1e-2, 0.1, 0.3, 0.5] {
@@ -162,12 +163,16 @@ fn membrane_estimate_bounds_the_thick_wall_and_auto_meets_rel_tol() {
                             let err =
                                 (state_difference(&s, &reference, r + t / 2.0, mu) - reference.error_estimate).max(0.0);
                             assert!(err <= tol, "{what}: AUTO ({model:?}) at rel_tol {tol:e} is off by {err:e}");
+                            answered += 1;
                             if let Ok((m, _)) = &membrane {
                                 // AUTO takes the membrane only where its estimate meets rel_tol.
                                 assert_eq!(model == TubeModel::Membrane, m.error_estimate <= tol, "{what}");
                             }
                         }
-                        Err(e) => assert_eq!(e.status, Status::ErrToleranceUnreachable, "{what}: AUTO {e}"),
+                        Err(e) => {
+                            assert_eq!(e.status, Status::ErrToleranceUnreachable, "{what}: AUTO {e}");
+                            refused.push(format!("{what} at {tol:e}"));
+                        }
                     }
                 }
             }
@@ -181,6 +186,12 @@ fn membrane_estimate_bounds_the_thick_wall_and_auto_meets_rel_tol() {
     assert!(checked >= 200, "only {checked} cases checked; unverified: {unverified:?}");
     assert!(unverified.len() <= 16, "{unverified:?}");
     assert!(worst <= 1.0 / 1.9, "largest true/estimate {worst}");
+    // AUTO could refuse a tolerance with ErrToleranceUnreachable, never
+    // answer wrongly; but every refusal here would be a capability lost:
+    // 1e-3 and 1e-6 are far above these walls' round-off. Measured: 452
+    // answered, 0 refused — so none may be.
+    assert!(refused.is_empty(), "AUTO refused {} of {} cases: {refused:?}", refused.len(), answered + refused.len());
+    assert!(answered >= 2 * 200, "AUTO answered only {answered}");
 }
 
 /// Finding 1, the case of the issue: a fixed-angle fibre wall at t/R = 0.3

@@ -1,4 +1,4 @@
-//! Rod branches to a requested accuracy through the C ABI (issue 19): the
+//! Rod branches to a requested accuracy through the C ABI: the
 //! library chooses the elements and reports each record's error estimate
 //! (see [`crate::rod::accuracy`]).
 
@@ -186,8 +186,7 @@ pub unsafe extern "C" fn rodkit_branch_error_estimates(
     count: *mut i64,
 ) -> i32 {
     guard(|| {
-        let rod = arg_ref("rod", rod)?;
-        let b = same_rod(rod, arg_ref("branch", branch)?)?;
+        let (rod, b) = same_rod(arg_ref("rod", rod)?, arg_ref("branch", branch)?)?;
         let estimates = kept_or(&b.estimates, || estimate_errors(&rod.model, &b.branch, RESOLVE_TOL))?;
         copy_records(rod, b, &estimates, (out, capacity, count))
     })
@@ -209,8 +208,7 @@ pub unsafe extern "C" fn rodkit_branch_bifurcation_errors(
     count: *mut i64,
 ) -> i32 {
     guard(|| {
-        let rod = arg_ref("rod", rod)?;
-        let b = same_rod(rod, arg_ref("branch", branch)?)?;
+        let (rod, b) = same_rod(arg_ref("rod", rod)?, arg_ref("branch", branch)?)?;
         let estimates =
             kept_or(&b.bifurcation_estimates, || estimate_bifurcation_errors(&rod.model, &b.branch, RESOLVE_TOL))?;
         let rows: Vec<_> = estimates.iter().copied().zip(&b.branch.bifurcations).collect();
@@ -250,8 +248,7 @@ pub unsafe extern "C" fn rodkit_branch_kirchhoff_differences(
     count: *mut i64,
 ) -> i32 {
     guard(|| {
-        let rod = arg_ref("rod", rod)?;
-        let b = same_rod(rod, arg_ref("branch", branch)?)?;
+        let (rod, b) = same_rod(arg_ref("rod", rod)?, arg_ref("branch", branch)?)?;
         let differences = kirchhoff_differences(&rod.model, &b.branch, RESOLVE_TOL)?;
         copy_records(rod, b, &differences, (out, capacity, count))
     })

@@ -148,12 +148,12 @@ pub(super) fn wrap(model: &Model, branch: RodBranch, previous: Option<f64>) -> B
     }
 }
 
-/// The branch, checked to belong to `rod`.
-pub(super) fn same_rod<'a>(rod: &Rod, branch: &'a Branch) -> Result<&'a Branch> {
+/// The rod and its branch, the branch checked to belong to the rod.
+pub(super) fn same_rod<'a>(rod: &'a Rod, branch: &'a Branch) -> Result<(&'a Rod, &'a Branch)> {
     if branch.model != rod.model {
         return Err(Error::new(Status::ErrOutOfRange, "argument `branch` was computed with another rod than `rod`"));
     }
-    Ok(branch)
+    Ok((rod, branch))
 }
 
 /// The C options for continuing `rod` (NULL refused; fields named `options.…`).
@@ -245,7 +245,7 @@ pub unsafe extern "C" fn rodkit_branch_resume(
         let rod = arg_ref("rod", rod)?;
         // A NULL `out` is refused before any work (a continuation can be long).
         arg_mut("out", out)?;
-        let from = same_rod(rod, arg_ref("branch", branch)?)?;
+        let (rod, from) = same_rod(rod, arg_ref("branch", branch)?)?;
         let (opts, method, _) = options_of(rod, options)?;
         let previous = from.records.last().map(|r| r.end_rotation);
         let b = follow_rod(rod, method, (progress, user_data), previous, |cb| {
@@ -277,7 +277,7 @@ pub unsafe extern "C" fn rodkit_branch_switch(
         let rod = arg_ref("rod", rod)?;
         // A NULL `out` is refused before any work (a continuation can be long).
         arg_mut("out", out)?;
-        let from = same_rod(rod, arg_ref("branch", branch)?)?;
+        let (rod, from) = same_rod(rod, arg_ref("branch", branch)?)?;
         error::count_in_range("index", index, 0, i64::MAX)?;
         error::count_in_range("direction", direction, 0, i64::MAX)?;
         error::finite("first_step", first_step)?;
@@ -409,8 +409,7 @@ pub unsafe extern "C" fn rodkit_branch_bifurcations(
     count: *mut i64,
 ) -> i32 {
     guard(|| {
-        let rod = arg_ref("rod", rod)?;
-        let b = same_rod(rod, arg_ref("branch", branch)?)?;
+        let (rod, b) = same_rod(arg_ref("rod", rod)?, arg_ref("branch", branch)?)?;
         let points = bifurcation_points(rod, b);
         copy_out("out", out, capacity, count, &points, |&p| Bifurcation::from(p))
     })
@@ -430,8 +429,7 @@ pub unsafe extern "C" fn rodkit_branch_bifurcation_points(
     count: *mut i64,
 ) -> i32 {
     guard(|| {
-        let rod = arg_ref("rod", rod)?;
-        let b = same_rod(rod, arg_ref("branch", branch)?)?;
+        let (rod, b) = same_rod(arg_ref("rod", rod)?, arg_ref("branch", branch)?)?;
         let points = bifurcation_points(rod, b);
         copy_out("out", out, capacity, count, &points, |p| *p)
     })
@@ -512,8 +510,7 @@ pub unsafe extern "C" fn rodkit_branch_positions(
     nodes: i64,
 ) -> i32 {
     guard(|| {
-        let rod = arg_ref("rod", rod)?;
-        let b = same_rod(rod, arg_ref("branch", branch)?)?;
+        let (rod, b) = same_rod(arg_ref("rod", rod)?, arg_ref("branch", branch)?)?;
         error::count_in_range("record", record, 0, b.records.len() as i64 - 1)?;
         check_nodes(ld, nodes, rod.model.elements + 1)?;
         write_positions(xyz, ld, &rod.model.positions(&b.branch.states[record as usize]))?;

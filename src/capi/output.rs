@@ -1,4 +1,4 @@
-//! Files for other tools from C (issue 20): a branch's shapes as VTK and its
+//! Files for other tools from C: a branch's shapes as VTK and its
 //! records as CSV (its dense-output samples likewise), a supercoiling path's
 //! shapes as VTK and its points as CSV, a tube sweep's loadings and states
 //! as CSV. Opt-in, the path given by the caller, written whole or not at all
@@ -27,8 +27,7 @@ unsafe fn branch_args<'a>(
     rod: *const Rod,
     path: *const c_char,
 ) -> Result<(&'a Rod, &'a Branch, PathBuf)> {
-    let rod = arg_ref("rod", rod)?;
-    let b = same_rod(rod, arg_ref("branch", branch)?)?;
+    let (rod, b) = same_rod(arg_ref("rod", rod)?, arg_ref("branch", branch)?)?;
     Ok((rod, b, path_arg(path)?))
 }
 

@@ -27,7 +27,7 @@ use super::corrector::{correct, Plane};
 use super::indicator::Indicator;
 use super::newton::Start;
 use super::pade::{self, Curve};
-use super::run::{resume_step, validate_resume, Run};
+use super::run::{resume_step, validate_resume, Factors, Run};
 use super::{Branch, Options, Record, Resume, SeriesProblem, Stop};
 use crate::error::{self, Error, Result};
 use crate::nonlinear::scaled_max_norm;
@@ -79,7 +79,7 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
     let mut at_target = opts.target_lambda == Some(lambda);
     for step in 0..=opts.max_steps {
         // One factorisation at X0 with the border v.
-        if let Err(e) = run.ctx.factorise(problem, &x, lambda, (&v.0, v.1)) {
+        if let Err(e) = run.ctx.factorise(problem, &x, lambda, (&v.0, v.1), Factors::Exact) {
             if run.records.is_empty() {
                 return Err(e);
             }
@@ -93,7 +93,7 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
         let go_on = run.push(rec, &mut progress);
         if opts.detect_bifurcations && run.watch(problem, here.clone())? {
             // Locating moved the factorisation: restore this step's.
-            run.ctx.factorise(problem, &here.x, lambda, (&v.0, v.1))?;
+            run.ctx.factorise(problem, &here.x, lambda, (&v.0, v.1), Factors::Exact)?;
         }
         let stop = if at_target {
             Some(Stop::Target)
@@ -298,7 +298,7 @@ fn samples<P: SeriesProblem + ?Sized>(
         }
     }
     if refactorised {
-        run.ctx.factorise(problem, &here.x, here.lambda, (&v.0, v.1))?;
+        run.ctx.factorise(problem, &here.x, here.lambda, (&v.0, v.1), Factors::Exact)?;
     }
     Ok(())
 }
@@ -393,7 +393,7 @@ fn end_point<P: SeriesProblem + ?Sized>(
         if !(a >= opts.min_step) {
             return Ok(End::Stopped(Stop::StepTooSmall, a));
         }
-        run.ctx.factorise(problem, &here.x, here.lambda, (&v.0, v.1))?;
+        run.ctx.factorise(problem, &here.x, here.lambda, (&v.0, v.1), Factors::Exact)?;
     }
 }
 

@@ -19,7 +19,7 @@
 //! either engine follows the new branch.
 
 use super::corrector::{correct, Plane};
-use super::run::Context;
+use super::run::{Context, Factors};
 use super::{Problem, Resume, Scaling};
 use crate::error::Result;
 use crate::linalg::dense::sub;
@@ -145,7 +145,7 @@ pub(crate) fn locate<P: Problem + ?Sized>(
         };
         let plane = Plane::new((&anchor, l_anchor), (&left.tx, left.tl));
         correct(problem, ctx, &mut x, &mut l, plane, residual_tol, false)?;
-        ctx.factorise_for_solves(problem, &x, l, (&left.tx, left.tl))?;
+        ctx.factorise(problem, &x, l, (&left.tx, left.tl), Factors::ForSolves)?;
         let sigma = ctx.bordered.signed_smallest_singular_value(&mut ctx.counts);
         Ok((x, l, sigma))
     };
@@ -371,7 +371,7 @@ fn signed_state<P: Problem + ?Sized>(
     let mut l = from.lambda + tau * from.tl;
     let (anchor, l0) = (x.clone(), l);
     correct(problem, ctx, &mut x, &mut l, Plane::new((&anchor, l0), (&from.tx, from.tl)), residual_tol, false)?;
-    ctx.factorise(problem, &x, l, (&from.tx, from.tl))?;
+    ctx.factorise(problem, &x, l, (&from.tx, from.tl), Factors::Exact)?;
     let (tx, tl) = ctx.tangent()?;
     let (sign, _) = ctx.bordered.determinant_signs(&ctx.scaling, &tx, tl);
     Ok((State { x, lambda: l, tx, tl }, sign))

@@ -8,7 +8,7 @@
 use super::bifurcation::State;
 use super::corrector::{correct, Plane};
 use super::overlap::Overlap;
-use super::run::{resume_step, validate_resume, Run};
+use super::run::{resume_step, validate_resume, Factors, Run};
 use super::{Branch, Options, Problem, Record, Resume, Sample, Stop, CHORD_AIM};
 use crate::error::Result;
 use crate::roots::all_roots;
@@ -148,7 +148,7 @@ pub fn continue_newton_hinted<P: Problem + ?Sized>(
         let refactorised = !opts.samples.is_empty() && samples(&mut run, problem, &at, &next, step, &mut observe);
         if opts.detect_bifurcations {
             if refactorised {
-                run.ctx.factorise(problem, &next.x, ln, (&next.tx, tln))?;
+                run.ctx.factorise(problem, &next.x, ln, (&next.tx, tln), Factors::Exact)?;
             }
             run.watch(problem, next.clone())?;
             if opts.stop_at_bifurcation && !run.bifurcations.is_empty() {
@@ -195,8 +195,8 @@ fn first_record<P: Problem + ?Sized>(
     Ok((first.residual, run.push(first, progress)))
 }
 
-/// The record of `at` (reached by a step of arc length `step` and
-/// `iterations` corrections) without its signs, which `overlap` takes on
+/// The record of `at` (`reached` by a step of that arc length and that
+/// many corrections) without its signs, which `overlap` takes on
 /// the second thread from the factorisation just made at `at`: the
 /// record as it waits (signs 0, no pivots).
 fn record_later<'o, P: Problem + ?Sized>(
@@ -204,10 +204,10 @@ fn record_later<'o, P: Problem + ?Sized>(
     overlap: &'o mut Overlap,
     problem: &mut P,
     at: &State,
-    (step, iterations): (f64, usize),
+    reached: (f64, usize),
     observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
 ) -> Result<&'o Record> {
-    let rec = run.unsigned_record(problem, at, step, iterations, observe);
+    let rec = run.unsigned_record(problem, at, reached, observe);
     let orientation = run.ctx.bordered.orientation(&run.ctx.scaling, &at.tx, at.tl);
     overlap.start(&mut run.ctx.bordered, rec, orientation, run.opts.overlap_thread)
 }

@@ -14,6 +14,18 @@ use crate::linalg::dense::sub;
 use crate::nonlinear::scaled_max_norm;
 use crate::status::Status;
 
+/// What a factorisation of the bordered matrix is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Factors {
+    /// The factorisation of a point whose determinant signs and pivots are
+    /// read from it (its tangent, its record, a resume): simplicial
+    /// whatever the pattern ([`Bordered::factorise_exact_at`]).
+    Exact,
+    /// Solves only (the trial points of a bifurcation's location, a point
+    /// whose signs are taken elsewhere): the pattern's fastest kind.
+    ForSolves,
+}
+
 /// The scales, the bordered tangent and the work counts every correction
 /// of a run uses.
 pub(crate) struct Context {
@@ -53,30 +65,21 @@ impl Context {
         Ok(ctx)
     }
 
-    /// Evaluate the Jacobian at (x, Λ), border it with v and factorise:
-    /// the factorisation of a point (its tangent, its record's
-    /// determinant signs and pivots, a resume), simplicial whatever the
-    /// pattern ([`Bordered::factorise_exact_at`]).
+    /// Evaluate the Jacobian at (x, Λ), border it with v and factorise it
+    /// as `factors` asks.
     pub fn factorise<P: Problem + ?Sized>(
         &mut self,
         problem: &mut P,
         x: &[f64],
         lambda: f64,
         v: (&[f64], f64),
+        factors: Factors,
     ) -> Result<()> {
-        self.bordered.factorise_exact_at(problem, x, lambda, v, &self.scaling, &mut self.counts)
-    }
-
-    /// As [`Context::factorise`] for solves only (the pattern's fastest
-    /// kind): the trial points of a bifurcation's location.
-    pub fn factorise_for_solves<P: Problem + ?Sized>(
-        &mut self,
-        problem: &mut P,
-        x: &[f64],
-        lambda: f64,
-        v: (&[f64], f64),
-    ) -> Result<()> {
-        self.bordered.factorise_at(problem, x, lambda, v, &self.scaling, &mut self.counts)
+        let (scaling, counts) = (&self.scaling, &mut self.counts);
+        match factors {
+            Factors::Exact => self.bordered.factorise_exact_at(problem, x, lambda, v, scaling, counts),
+            Factors::ForSolves => self.bordered.factorise_at(problem, x, lambda, v, scaling, counts),
+        }
     }
 
     /// The unit tangent from the current factorisation.
@@ -265,7 +268,7 @@ impl<'o> Run<'o> {
         newton_iterations: usize,
         observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
     ) -> Record {
-        let mut rec = self.unsigned_record(problem, at, step, newton_iterations, observe);
+        let mut rec = self.unsigned_record(problem, at, (step, newton_iterations), observe);
         if self.count_modes(problem, at, &mut rec) {
             return rec;
         }
@@ -311,8 +314,8 @@ impl<'o> Run<'o> {
             _ => {
                 // Exact signs: B's own LU at the point (with its tangent
                 // as border) unless the factors in hand are that already.
-                let exact =
-                    ctx.bordered.signs_in_hand() || ctx.factorise(problem, &at.x, at.lambda, (&at.tx, at.tl)).is_ok();
+                let exact = ctx.bordered.signs_in_hand()
+                    || ctx.factorise(problem, &at.x, at.lambda, (&at.tx, at.tl), Factors::Exact).is_ok();
                 if exact {
                     (rec.bordered_det_sign, rec.det_sign) = ctx.bordered.determinant_signs(&ctx.scaling, &at.tx, at.tl);
                     if let Some(c) = s.negative.filter(|_| rec.det_sign != 0.0) {
@@ -331,13 +334,13 @@ impl<'o> Run<'o> {
 
     /// As [`Run::record`] without the determinant signs and pivots (0, 0,
     /// None): [`super::overlap::Overlap`] takes them on a second thread.
-    /// The σ_min monitor, when on, is taken here.
+    /// The σ_min monitor, when on, is taken here. The step's arc length
+    /// and the corrections come paired, as the overlap's caller has them.
     pub fn unsigned_record<P: Problem + ?Sized>(
         &mut self,
         problem: &mut P,
         at: &State,
-        step: f64,
-        newton_iterations: usize,
+        (step, newton_iterations): (f64, usize),
         observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
     ) -> Record {
         let (x, lambda) = (&at.x[..], at.lambda);
@@ -385,11 +388,9 @@ impl<'o> Run<'o> {
         lambda: f64,
         v: (&[f64], f64),
     ) -> Result<()> {
-        if self.overlapping() || self.opts.stability.is_some() {
-            self.ctx.factorise_for_solves(problem, x, lambda, v)
-        } else {
-            self.ctx.factorise(problem, x, lambda, v)
-        }
+        let factors =
+            if self.overlapping() || self.opts.stability.is_some() { Factors::ForSolves } else { Factors::Exact };
+        self.ctx.factorise(problem, x, lambda, v, factors)
     }
 
     /// The record of a singular start (a switch): no determinant signs,

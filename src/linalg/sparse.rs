@@ -85,34 +85,26 @@ impl Pattern {
 struct Factors<I: faer::Index> {
     col_ptr: Vec<I>,
     row_idx: Vec<I>,
-    col_perm_fwd: Vec<I>,
-    col_perm_inv: Vec<I>,
-    row_perm_fwd: Vec<I>,
-    row_perm_inv: Vec<I>,
+    perm: Permutations<I>,
     lu: SimplicialLu<I, f64>,
     buffer: MemBuffer,
-    /// Scratch of multi-column solves and the column count it is sized
-    /// for (grown on demand, kept: `buffer` is sized for one column).
-    many: (usize, MemBuffer),
+    many: ManyScratch,
 }
 
 impl<I: faer::Index> Factors<I> {
     fn new(pattern: &Pattern) -> Self {
         let n = pattern.n;
         let cast = |v: &[usize]| v.iter().map(|&i| I::truncate(i)).collect::<Vec<I>>();
-        let natural: Vec<I> = (0..n).map(I::truncate).collect();
+        let natural: Vec<usize> = (0..n).collect();
         let req = lu::simplicial::factorize_simplicial_numeric_lu_scratch::<I, f64>(n, n)
             .or(lu::simplicial::solve_in_place_scratch::<I, f64>(n, 1, Par::Seq));
         Factors {
             col_ptr: cast(&pattern.col_ptr),
             row_idx: cast(&pattern.row_idx),
-            col_perm_fwd: natural.clone(),
-            col_perm_inv: natural,
-            row_perm_fwd: vec![I::truncate(0); n],
-            row_perm_inv: vec![I::truncate(0); n],
+            perm: Permutations::with_columns(&natural),
             lu: SimplicialLu::new(),
             buffer: MemBuffer::new(req),
-            many: (0, MemBuffer::new(StackReq::EMPTY)),
+            many: ManyScratch::default(),
         }
     }
 
@@ -124,17 +116,10 @@ impl<I: faer::Index> Factors<I> {
         let n = self.n();
         let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
         let a = SparseColMatRef::new(sym, values);
-        let col_perm = PermRef::new_checked(&self.col_perm_fwd, &self.col_perm_inv, n);
+        let (row_perm_fwd, row_perm_inv, col_perm) = self.perm.pivoting();
         let stack = MemStack::new(&mut self.buffer);
-        lu::simplicial::factorize_simplicial_numeric_lu(
-            &mut self.row_perm_fwd,
-            &mut self.row_perm_inv,
-            &mut self.lu,
-            a,
-            col_perm,
-            stack,
-        )
-        .map_err(|e| Error::new(Status::ErrNotConverged, format!("sparse LU: singular matrix ({e:?})")))
+        lu::simplicial::factorize_simplicial_numeric_lu(row_perm_fwd, row_perm_inv, &mut self.lu, a, col_perm, stack)
+            .map_err(|e| Error::new(Status::ErrNotConverged, format!("sparse LU: singular matrix ({e:?})")))
     }
 
     fn fill(&self) -> usize {
@@ -142,16 +127,11 @@ impl<I: faer::Index> Factors<I> {
     }
 
     fn col_perm(&self) -> Vec<usize> {
-        self.col_perm_fwd.iter().map(|i| i.zx()).collect()
+        self.perm.column_order()
     }
 
     fn set_col_perm(&mut self, fwd: &[usize]) {
-        self.col_perm_fwd = fwd.iter().map(|&i| I::truncate(i)).collect();
-        let mut inv = vec![I::truncate(0); fwd.len()];
-        for (k, &j) in fwd.iter().enumerate() {
-            inv[j] = I::truncate(k);
-        }
-        self.col_perm_inv = inv;
+        self.perm.set_columns(fwd);
     }
 
     /// COLAMD's column ordering of the pattern (None if the analysis fails).
@@ -174,35 +154,149 @@ impl<I: faer::Index> Factors<I> {
     }
 
     fn solve_with(&mut self, b: &mut [f64], transpose: bool) {
-        let n = self.n();
-        let rhs = MatMut::from_column_major_slice_mut(b, n, 1);
-        let row_perm = PermRef::new_checked(&self.row_perm_fwd, &self.row_perm_inv, n);
-        let col_perm = PermRef::new_checked(&self.col_perm_fwd, &self.col_perm_inv, n);
-        let stack = MemStack::new(&mut self.buffer);
-        if transpose {
-            self.lu.solve_transpose_in_place_with_conj(row_perm, col_perm, Conj::No, rhs, Par::Seq, stack);
-        } else {
-            self.lu.solve_in_place_with_conj(row_perm, col_perm, Conj::No, rhs, Par::Seq, stack);
-        }
+        self.perm.solve(&self.lu, b, 1, transpose, MemStack::new(&mut self.buffer));
     }
 
     /// Solve A X = B in place for the k columns of `b` (column-major, n×k).
     fn solve_many(&mut self, b: &mut [f64], k: usize) {
-        let n = self.n();
-        if self.many.0 < k {
-            let req = lu::simplicial::solve_in_place_scratch::<I, f64>(n, k, Par::Seq);
-            self.many = (k, MemBuffer::new(req));
-        }
-        let rhs = MatMut::from_column_major_slice_mut(b, n, k);
-        let row_perm = PermRef::new_checked(&self.row_perm_fwd, &self.row_perm_inv, n);
-        let col_perm = PermRef::new_checked(&self.col_perm_fwd, &self.col_perm_inv, n);
-        let stack = MemStack::new(&mut self.many.1);
-        self.lu.solve_in_place_with_conj(row_perm, col_perm, Conj::No, rhs, Par::Seq, stack);
+        let stack = self.many.stack::<I, SimplicialLu<I, f64>>(self.perm.len(), k);
+        self.perm.solve(&self.lu, b, k, false, stack);
     }
 
     /// Parity of the row and column permutations together.
     fn permutation_parity(&self) -> f64 {
-        parity(&self.row_perm_fwd) * parity(&self.col_perm_fwd)
+        self.perm.parity()
+    }
+}
+
+/// The row and column permutations of faer's sparse LU, P A Q = L U (the
+/// rows' from partial pivoting, the columns' the chosen order), forward
+/// and inverse on the factors' index type, and the solves that take them:
+/// the simplicial factors ([`Factors`]) and the supernodal ones
+/// ([`Supernodal`]) keep and use them alike.
+pub(super) struct Permutations<I: faer::Index> {
+    row_fwd: Vec<I>,
+    row_inv: Vec<I>,
+    col_fwd: Vec<I>,
+    col_inv: Vec<I>,
+}
+
+impl<I: faer::Index> Permutations<I> {
+    /// Columns taken in the order `order` (`order[k]` the column taken
+    /// k-th); the rows are set by each numeric factorisation.
+    pub(super) fn with_columns(order: &[usize]) -> Self {
+        let n = order.len();
+        let mut p = Permutations {
+            row_fwd: vec![I::truncate(0); n],
+            row_inv: vec![I::truncate(0); n],
+            col_fwd: vec![],
+            col_inv: vec![],
+        };
+        p.set_columns(order);
+        p
+    }
+
+    pub(super) fn set_columns(&mut self, order: &[usize]) {
+        self.col_fwd = order.iter().map(|&i| I::truncate(i)).collect();
+        let mut inv = vec![I::truncate(0); order.len()];
+        for (k, &j) in order.iter().enumerate() {
+            inv[j] = I::truncate(k);
+        }
+        self.col_inv = inv;
+    }
+
+    pub(super) fn column_order(&self) -> Vec<usize> {
+        self.col_fwd.iter().map(|i| i.zx()).collect()
+    }
+
+    pub(super) fn len(&self) -> usize {
+        self.col_fwd.len()
+    }
+
+    pub(super) fn rows(&self) -> PermRef<'_, I> {
+        PermRef::new_checked(&self.row_fwd, &self.row_inv, self.len())
+    }
+
+    pub(super) fn columns(&self) -> PermRef<'_, I> {
+        PermRef::new_checked(&self.col_fwd, &self.col_inv, self.len())
+    }
+
+    /// The column permutation, beside the row arrays a numeric
+    /// factorisation fills by partial pivoting (forward, inverse).
+    pub(super) fn pivoting(&mut self) -> (&mut [I], &mut [I], PermRef<'_, I>) {
+        let n = self.len();
+        (&mut self.row_fwd, &mut self.row_inv, PermRef::new_checked(&self.col_fwd, &self.col_inv, n))
+    }
+
+    /// Parity of the row and column permutations together.
+    fn parity(&self) -> f64 {
+        parity(&self.row_fwd) * parity(&self.col_fwd)
+    }
+
+    /// Solve A X = B (Aᵀ X = B when `transpose`) in place for the k
+    /// columns of `b` (column-major, n×k) with the factors `lu` of A taken
+    /// under these permutations.
+    pub(super) fn solve<L: PermutedLu<I>>(
+        &self,
+        lu: &L,
+        b: &mut [f64],
+        k: usize,
+        transpose: bool,
+        stack: &mut MemStack,
+    ) {
+        let rhs = MatMut::from_column_major_slice_mut(b, self.len(), k);
+        if transpose {
+            lu.solve_transpose_in_place(self, rhs, stack);
+        } else {
+            lu.solve_in_place(self, rhs, stack);
+        }
+    }
+}
+
+/// faer's simplicial and supernodal LU factors: their solves are the same
+/// calls, which faer gathers in no trait.
+pub(super) trait PermutedLu<I: faer::Index> {
+    /// The scratch of a solve with k right-hand sides of length n.
+    fn solve_scratch(n: usize, k: usize) -> StackReq;
+    fn solve_in_place(&self, perm: &Permutations<I>, rhs: MatMut<'_, f64>, stack: &mut MemStack);
+    fn solve_transpose_in_place(&self, perm: &Permutations<I>, rhs: MatMut<'_, f64>, stack: &mut MemStack);
+}
+
+impl<I: faer::Index> PermutedLu<I> for SimplicialLu<I, f64> {
+    fn solve_scratch(n: usize, k: usize) -> StackReq {
+        lu::simplicial::solve_in_place_scratch::<I, f64>(n, k, Par::Seq)
+    }
+    fn solve_in_place(&self, perm: &Permutations<I>, rhs: MatMut<'_, f64>, stack: &mut MemStack) {
+        self.solve_in_place_with_conj(perm.rows(), perm.columns(), Conj::No, rhs, Par::Seq, stack);
+    }
+    fn solve_transpose_in_place(&self, perm: &Permutations<I>, rhs: MatMut<'_, f64>, stack: &mut MemStack) {
+        self.solve_transpose_in_place_with_conj(perm.rows(), perm.columns(), Conj::No, rhs, Par::Seq, stack);
+    }
+}
+
+/// Scratch of multi-column solves and the column count it is sized for
+/// (grown on demand, kept: the factors' own buffer is sized for one
+/// column).
+pub(super) struct ManyScratch {
+    columns: usize,
+    buffer: MemBuffer,
+}
+
+impl Default for ManyScratch {
+    fn default() -> Self {
+        ManyScratch { columns: 0, buffer: MemBuffer::new(StackReq::EMPTY) }
+    }
+}
+
+impl ManyScratch {
+    /// The scratch of a solve with `L`'s factors of k right-hand sides of
+    /// length n.
+    pub(super) fn stack<I: faer::Index, L: PermutedLu<I>>(&mut self, n: usize, k: usize) -> &mut MemStack {
+        if self.columns < k {
+            self.buffer = MemBuffer::new(L::solve_scratch(n, k));
+            self.columns = k;
+        }
+        MemStack::new(&mut self.buffer)
     }
 }
 
@@ -304,7 +398,7 @@ pub enum LuKind {
 /// The supernodal LU is taken when the Cholesky factor of AᵀA in the
 /// chosen column order has at least this many entries per column (half
 /// of George and Ng's bound on L + U per column): measured on this
-/// machine (issue 18), a rod's band (Gauss(2–4), ~20–60 per column) is
+/// machine, a rod's band (Gauss(2–4), ~20–60 per column) is
 /// factorised faster simplicially, a charged rod's plectoneme (RCM order,
 /// ~200–400 per column) ~4× faster by supernodes.
 pub const SUPERNODAL_COUNTS_PER_COLUMN: usize = 100;

@@ -3,7 +3,7 @@
 //! plectoneme Jacobians, whose L + U fill ~8.5× the matrix (~250 entries
 //! per column) — a simplicial (column-by-column, scalar) LU spends ~100 ms
 //! on one at 5–12 turns of the 1 kbp DNA scene, the supernodal one, on
-//! dense blocks, ~4× less (measured, issue 18).
+//! dense blocks, ~4× less (measured).
 //!
 //! What faer's supernodal factors do not give is U's diagonal (its fields
 //! are private), so no determinant: [`super::SparseLu`] computes the
@@ -20,13 +20,12 @@
 use crate::error::{Error, Result};
 use crate::status::Status;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
-use faer::perm::PermRef;
 use faer::sparse::linalg::lu::supernodal::{self, SupernodalLu, SymbolicSupernodalLu};
 use faer::sparse::linalg::qr;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par};
 
-use super::sparse::Pattern;
+use super::sparse::{ManyScratch, Pattern, Permutations, PermutedLu};
 
 /// The supernodal LU of matrices with one pattern, in one column order.
 pub(super) struct Supernodal<I: faer::Index> {
@@ -41,16 +40,11 @@ pub(super) struct Supernodal<I: faer::Index> {
     /// Scratch of the check solve: ones and A·1.
     ones: Vec<f64>,
     check: Vec<f64>,
-    col_perm_fwd: Vec<I>,
-    col_perm_inv: Vec<I>,
-    row_perm_fwd: Vec<I>,
-    row_perm_inv: Vec<I>,
+    perm: Permutations<I>,
     symbolic: SymbolicSupernodalLu<I>,
     lu: SupernodalLu<I, f64>,
     buffer: MemBuffer,
-    /// Scratch of multi-column solves and the column count it is sized
-    /// for (grown on demand, kept: `buffer` is sized for one column).
-    many: (usize, MemBuffer),
+    many: ManyScratch,
 }
 
 impl<I: faer::Index> Supernodal<I> {
@@ -62,14 +56,10 @@ impl<I: faer::Index> Supernodal<I> {
         let (col_ptr, row_idx) = (cast(&pattern.col_ptr), cast(&pattern.row_idx));
         let (t_ptr, t_idx, t_map) = transpose(pattern);
         let (t_ptr, t_idx) = (cast(&t_ptr), cast(&t_idx));
-        let col_perm_fwd = cast(perm);
-        let mut col_perm_inv = vec![I::truncate(0); n];
-        for (k, &j) in perm.iter().enumerate() {
-            col_perm_inv[j] = I::truncate(k);
-        }
+        let perm = Permutations::with_columns(perm);
         let a = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
         let at = SymbolicSparseColMatRef::new_checked(n, n, &t_ptr, None, &t_idx);
-        let col_perm = PermRef::new_checked(&col_perm_fwd, &col_perm_inv, n);
+        let col_perm = perm.columns();
         let req = StackReq::any_of(&[
             qr::col_etree_scratch::<I>(n, n),
             qr::postorder_scratch::<I>(n),
@@ -107,14 +97,11 @@ impl<I: faer::Index> Supernodal<I> {
             t_values: vec![0.0; nnz],
             ones: vec![1.0; n],
             check: vec![0.0; n],
-            col_perm_fwd,
-            col_perm_inv,
-            row_perm_fwd: vec![I::truncate(0); n],
-            row_perm_inv: vec![I::truncate(0); n],
+            perm,
             symbolic,
             lu: SupernodalLu::new(),
             buffer: MemBuffer::try_new(req).ok()?,
-            many: (0, MemBuffer::new(StackReq::EMPTY)),
+            many: ManyScratch::default(),
         })
     }
 
@@ -135,11 +122,11 @@ impl<I: faer::Index> Supernodal<I> {
         let a = SparseColMatRef::new(sym, values);
         let tsym = SymbolicSparseColMatRef::new_checked(n, n, &self.t_ptr, None, &self.t_idx);
         let at = SparseColMatRef::new(tsym, &self.t_values);
-        let col_perm = PermRef::new_checked(&self.col_perm_fwd, &self.col_perm_inv, n);
+        let (row_perm_fwd, row_perm_inv, col_perm) = self.perm.pivoting();
         let stack = MemStack::new(&mut self.buffer);
         supernodal::factorize_supernodal_numeric_lu(
-            &mut self.row_perm_fwd,
-            &mut self.row_perm_inv,
+            row_perm_fwd,
+            row_perm_inv,
             &mut self.lu,
             a,
             at,
@@ -165,16 +152,7 @@ impl<I: faer::Index> Supernodal<I> {
     }
 
     pub(super) fn solve_with(&mut self, b: &mut [f64], transpose: bool) {
-        let n = self.dim();
-        let rhs = MatMut::from_column_major_slice_mut(b, n, 1);
-        let row_perm = PermRef::new_checked(&self.row_perm_fwd, &self.row_perm_inv, n);
-        let col_perm = PermRef::new_checked(&self.col_perm_fwd, &self.col_perm_inv, n);
-        let stack = MemStack::new(&mut self.buffer);
-        if transpose {
-            self.lu.solve_transpose_in_place_with_conj(row_perm, col_perm, Conj::No, rhs, Par::Seq, stack);
-        } else {
-            self.lu.solve_in_place_with_conj(row_perm, col_perm, Conj::No, rhs, Par::Seq, stack);
-        }
+        self.perm.solve(&self.lu, b, 1, transpose, MemStack::new(&mut self.buffer));
     }
 }
 
@@ -182,16 +160,20 @@ impl<I: faer::Index> Supernodal<I> {
     /// Solve A X = B in place for the k columns of `b` (column-major, n×k),
     /// unrefined.
     pub(super) fn solve_many(&mut self, b: &mut [f64], k: usize) {
-        let n = self.dim();
-        if self.many.0 < k {
-            let req = supernodal::solve_in_place_scratch::<I, f64>(n, k, Par::Seq);
-            self.many = (k, MemBuffer::new(req));
-        }
-        let rhs = MatMut::from_column_major_slice_mut(b, n, k);
-        let row_perm = PermRef::new_checked(&self.row_perm_fwd, &self.row_perm_inv, n);
-        let col_perm = PermRef::new_checked(&self.col_perm_fwd, &self.col_perm_inv, n);
-        let stack = MemStack::new(&mut self.many.1);
-        self.lu.solve_in_place_with_conj(row_perm, col_perm, Conj::No, rhs, Par::Seq, stack);
+        let stack = self.many.stack::<I, SupernodalLu<I, f64>>(self.dim(), k);
+        self.perm.solve(&self.lu, b, k, false, stack);
+    }
+}
+
+impl<I: faer::Index> PermutedLu<I> for SupernodalLu<I, f64> {
+    fn solve_scratch(n: usize, k: usize) -> StackReq {
+        supernodal::solve_in_place_scratch::<I, f64>(n, k, Par::Seq)
+    }
+    fn solve_in_place(&self, perm: &Permutations<I>, rhs: MatMut<'_, f64>, stack: &mut MemStack) {
+        self.solve_in_place_with_conj(perm.rows(), perm.columns(), Conj::No, rhs, Par::Seq, stack);
+    }
+    fn solve_transpose_in_place(&self, perm: &Permutations<I>, rhs: MatMut<'_, f64>, stack: &mut MemStack) {
+        self.solve_transpose_in_place_with_conj(perm.rows(), perm.columns(), Conj::No, rhs, Par::Seq, stack);
     }
 }
 

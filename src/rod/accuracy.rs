@@ -1,4 +1,4 @@
-//! Rod branches to a requested accuracy (issue 19): an a-posteriori
+//! Rod branches to a requested accuracy: an a-posteriori
 //! estimate of every record's discretisation error in the quantities a
 //! user reads — tip position, tip rotation, base force and moment — and
 //! the branch recomputed on a finer mesh until the estimates meet a
@@ -29,7 +29,7 @@ use super::model::Rod;
 use crate::continuation::bifurcation::{locate, Bifurcation, Evidence, State};
 use crate::continuation::corrector::{correct, Plane};
 use crate::continuation::equilibrium::damped_newton;
-use crate::continuation::run::Context;
+use crate::continuation::run::{Context, Factors};
 use crate::continuation::{Counts, Options, Problem, Scaling, Stop};
 use crate::error::{self, Error, Result};
 use crate::geometry::vec3::distance;
@@ -83,8 +83,8 @@ pub fn estimate_errors(rod: &Rod, branch: &RodBranch, residual_tol: f64) -> Resu
         .collect())
 }
 
-/// What extension and shear do to the branch (issue 19's "model only what
-/// the scene requires"): every record re-solved on the rod's Kirchhoff
+/// What extension and shear do to the branch (to model only what
+/// the scene requires): every record re-solved on the rod's Kirchhoff
 /// variant (v ≡ v̂: inextensible, unshearable; the same bending and twist,
 /// the same mesh and Λ), and the quantities' differences — None where the
 /// re-solve fails (the Kirchhoff rod's branch need not reach the record's
@@ -344,7 +344,7 @@ fn search(
             let (y, l) = on.correct_carried(y, records[k].lambda, residual_tol, Some((&dx, dl)))?;
             // The tangent there, turned along the branch's direction.
             let t = transfer(on.from, on.to, &dx, dim);
-            ctx.factorise(&mut on.system, &y, l, (&t, dl))?;
+            ctx.factorise(&mut on.system, &y, l, (&t, dl), Factors::Exact)?;
             let (mut tx, mut tl) = ctx.tangent()?;
             if ctx.scaling.dot(&tx, tl, &t, dl) < 0.0 {
                 tx.iter_mut().for_each(|v| *v = -*v);

@@ -1,4 +1,4 @@
-//! A branch that ends exactly at a given end rotation φ (issue 19): under
+//! A branch that ends exactly at a given end rotation φ: under
 //! rotation control Λ = sin(φ/2) takes every value again each turn, so a
 //! target Λ cannot say "stop at φ = 25"; a torque clamp's φ is an output.
 //!
@@ -16,7 +16,7 @@
 use super::branch::{Followed, RodBranch};
 use super::model::{unwrap_rotation, Rod};
 use crate::continuation::corrector::{correct, Plane};
-use crate::continuation::run::Context;
+use crate::continuation::run::{Context, Factors};
 use crate::continuation::{Record, Resume, Scaling, Stop};
 use crate::error::{self, Error, Result};
 use crate::linalg::dense::sub;
@@ -146,7 +146,7 @@ fn land<M: Followed + ?Sized>(model: &M, branch: &mut RodBranch, target: f64, ph
     // bordered by the branch's direction there.
     let dx: Vec<f64> = xb.iter().zip(xa).map(|(b, a)| b - a).collect();
     let dl = lb - la;
-    ctx.factorise(&mut sys, &x, lambda, (&dx, dl))?;
+    ctx.factorise(&mut sys, &x, lambda, (&dx, dl), Factors::Exact)?;
     let (mut tx, mut tl) = ctx.tangent()?;
     if ctx.scaling.dot(&tx, tl, &dx, dl) < 0.0 {
         tx.iter_mut().for_each(|v| *v = -*v);

@@ -109,6 +109,16 @@ enum Inner {
     /// σ_RR(A) = 0 (p = 0: the condensed stretch–twist law).
     TractionFree,
 }
+
+/// The wall set up for the linear problem: its collocation grid, the
+/// stiffness block at each node, and the inner surface's condition (what
+/// the compressible and the incompressible solves share).
+struct Collocation {
+    grid: ChebyshevGrid,
+    c: Vec<Matrix4<f64>>,
+    inner: Inner,
+}
+
 const RR: usize = 2;
 const ZT: usize = 3;
 
@@ -236,14 +246,9 @@ impl ThickTube {
         } else {
             (ChebyshevGrid::logarithmic(intervals, PINHOLE * b, b), Inner::TractionFree)
         };
-        let r = &grid.nodes;
-        let c: Vec<Matrix4<f64>> =
-            r.iter().map(|&ri| tube_block(&self.material, (self.intrinsic_twist * ri).atan())).collect();
-        let out = if incompressible {
-            self.incompressible(&grid, &c, cases, inner)?
-        } else {
-            self.compressible(&grid, &c, cases, inner)?
-        };
+        let c = grid.nodes.iter().map(|&ri| tube_block(&self.material, (self.intrinsic_twist * ri).atan())).collect();
+        let wall = Collocation { grid, c, inner };
+        let out = if incompressible { self.incompressible(&wall, cases)? } else { self.compressible(&wall, cases)? };
         for f in &out {
             error::finite_result("thick-tube resultants", f)?;
         }
@@ -257,13 +262,8 @@ impl ThickTube {
     /// with u(A) = Aε_A replacing the first at R = A and s(B) = 0 replacing
     /// the second at R = B. Solid cylinder: u(0) = 0 and s'(0) = 0 (fields
     /// even in R) at the axis.
-    fn compressible(
-        &self,
-        grid: &ChebyshevGrid,
-        c: &[Matrix4<f64>],
-        cases: &[[f64; 3]],
-        inner: Inner,
-    ) -> Result<Vec<[f64; 3]>> {
+    fn compressible(&self, wall: &Collocation, cases: &[[f64; 3]]) -> Result<Vec<[f64; 3]>> {
+        let (grid, c, inner) = (&wall.grid, &wall.c[..], wall.inner);
         let n = grid.intervals();
         let m = n + 1;
         let (r, d) = (&grid.nodes, &grid.diff);
@@ -321,13 +321,8 @@ impl ThickTube {
         Ok(out)
     }
 
-    fn incompressible(
-        &self,
-        grid: &ChebyshevGrid,
-        c: &[Matrix4<f64>],
-        cases: &[[f64; 3]],
-        inner: Inner,
-    ) -> Result<Vec<[f64; 3]>> {
+    fn incompressible(&self, wall: &Collocation, cases: &[[f64; 3]]) -> Result<Vec<[f64; 3]>> {
+        let (grid, c, inner) = (&wall.grid, &wall.c[..], wall.inner);
         let (r, a, n) = (&grid.nodes, self.inner_radius, grid.intervals());
         let mut out = Vec::with_capacity(cases.len());
         for &[eps, psi, eps_a] in cases {

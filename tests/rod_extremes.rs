@@ -233,9 +233,10 @@ fn follower_load_to_alpha_100() {
     // Same discrete equations within residual 1e-10: the engines agree to
     // the conditioning times that.
     assert!(dist(ta, tn) < 1e-8, "ANM vs Newton {:e}", dist(ta, tn));
-    // Gauss(4) is 8th order: × 32 → × 64 changes the tip by 2^8 less than
-    // the × 32 error (measured ~4e-11 at × 48 vs × 96); bound with margin.
-    assert!(dist(tn, tf) < 1e-6, "× 32 vs × 64 {:e}", dist(tn, tf));
+    // Gauss(4) is 8th order: × 64 is 2^8 closer to the exact tip than × 32,
+    // so their distance is × 32's error: measured 2.1e-9 at α = 100 (a tip
+    // rotation of 145°); bound 1e-8, the measured value with a margin of 5.
+    assert!(dist(tn, tf) < 1e-8, "× 32 vs × 64 {:e}", dist(tn, tf));
     for i in 0..=coarse.elements {
         let q = coarse.node_state(&xa, i);
         let norm = (q[3] * q[3] + q[4] * q[4] + q[5] * q[5] + q[6] * q[6]).sqrt();

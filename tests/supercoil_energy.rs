@@ -235,8 +235,9 @@ fn path_energy_does_not_depend_on_the_pair_list() {
 /// - the first buckled leg lies below the straight rod continued past the
 ///   buckling point at equal turns (the straight rod is the saddle there):
 ///   G_b − G_s ≈ ½(M_b − M_s)(φ − φ_b) from the torques (the pitchfork's
-///   torque drop grows linearly from φ_b), within 5 % at the first point
-///   (measured 0.5 %: the next order of the pitchfork).
+///   torque drop grows linearly from φ_b), within 1.5 % at the first point:
+///   the relation's next term is O(φ − φ_b) relative, measured 0.52 % there
+///   (a sign or a factor 2 wrong in either energy would be off by ≥ 100 %).
 #[test]
 fn stability_marks_agree_with_the_energies() {
     let (run, curve) = scene();
@@ -273,7 +274,7 @@ fn stability_marks_agree_with_the_energies() {
     let (gs, ms) = hermite(&p[k], &p[k + 1], first.phi);
     let (dg, expected) = (first.energy - gs, 0.5 * (first.torque - ms) * (first.phi - phi_b));
     println!("first buckled point: G_b − G_s {dg:e}, from the torques {expected:e}");
-    assert!(dg < 0.0 && (dg - expected).abs() <= 0.05 * expected.abs(), "{dg:e} vs {expected:e}");
+    assert!(dg < 0.0 && (dg - expected).abs() <= 0.015 * expected.abs(), "{dg:e} vs {expected:e}");
     for q in p[ns..].iter().take_while(|q| q.negative_modes == Some(0)) {
         assert!(q.energy < hermite(&p[k], &p[k + 1], q.phi).0, "{:.5} turns", q.turns);
     }
@@ -316,11 +317,12 @@ fn chain_work(chain: &[CurvePoint], torque_per_radian: f64) -> (f64, f64) {
 /// meets it where (C/2L)(φ − Lτ_p/C)² = ε: the straight rod's torque at
 /// coexistence overshoots the plateau by τ_s − τ_p = √(2Cε/L). τ_p and ε
 /// are fitted (least squares) on the stable plectoneme from φ_c to the end
-/// of the run, and the relation checked within 10 % of the overshoot. The
+/// of the run, and the relation checked within 5 % of the overshoot. The
 /// tolerance is the picture's, not the solver's: on 300 bp the "plateau"
-/// is no plateau (the torque rises from 8.2 to 14.3 pN nm across the fit
-/// range, the fitted line misses W by up to 0.36 pN nm, and the local
-/// torque at φ_c, 8.18, is not τ_p = 12.2); measured 2.7 %. At coexistence
+/// is no plateau (the torque rises from 8.65 to 13.8 pN nm across the fit
+/// range, the fitted line misses W by up to 0.24 pN nm, and τ_p = 11.9 is
+/// no local torque); measured 2.3 % (2.7 % on an earlier mesh), so 5 %
+/// leaves 2× for the picture's own error. At coexistence
 /// itself the relation with the local torque and ε taken there is an
 /// identity of the energies, so only a fit over the leg tests it.
 #[test]
@@ -372,7 +374,7 @@ fn coexistence_satisfies_the_equal_area_rule_and_the_two_phase_picture() {
     let (tmin, tmax) = fit.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), f| (a.min(f.2), b.max(f.2)));
     let predicted = (2.0 * cc * eps / l).sqrt();
     let measured = c.torque_straight - tau_p;
-    let tol = 0.1 * measured;
+    let tol = 0.05 * measured;
     println!(
         "two-phase fit on {} points ({:.3}–{:.3} turns): τ_p {tau_p:.4} pN nm (torque {tmin:.3}–{tmax:.3}), ε {eps:.4} pN nm, misfit {misfit:.4}; \
          overshoot √(2Cε/L) {predicted:.4} vs {measured:.4} (tolerance {tol:.4})",

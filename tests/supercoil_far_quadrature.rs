@@ -1,5 +1,5 @@
-//! The refined far zone on a whole path (`SupercoilSettings::far_points`,
-//! issue 18 step 7): the 300 bp plectoneme (1 pN, 0.1 M) on a coarse mesh
+//! The refined far zone on a whole path (`SupercoilSettings::far_points`):
+//! the 300 bp plectoneme (1 pN, 0.1 M) on a coarse mesh
 //! is closer to a converged reference with the far zone refined than
 //! without. Reference: 30 elements of Gauss(3) with 6 far points an
 //! element, the same scene — within 7.2e-5 (torque) and 1.1e-4
@@ -42,12 +42,15 @@ fn run(elements: usize, stages: usize, far_points: usize) -> (f64, f64) {
     v
 }
 
-/// At 2.5 turns on the plectoneme leg, 30 elements of Gauss(2) (3.4 nm,
-/// stage points 1.7 nm apart) with the stage points are 6.1e-3 off the
-/// converged torque and 1.7e-2 off its extension; with 4 far points an
-/// element 8.6e-4 and 3.4e-4 (measured against 60 × Gauss(4), 6 far
-/// points). Asserted: refined within 1.5e-3 and 1e-3, and at least 4×
-/// closer than the stage points in both.
+/// At 2.5 turns on the plectoneme leg, against the test's reference (30 ×
+/// Gauss(3), 6 far points an element, itself within 7.2e-5 and 1.1e-4 of
+/// 60 × Gauss(4): module docs), 30 elements of Gauss(2) (3.4 nm, stage
+/// points 1.7 nm apart) with the stage points are 6.2e-3 off in torque and
+/// 1.7e-2 in extension; with 4 far points an element 9.3e-4 and 2.3e-4
+/// (measured; against 60 × Gauss(4) they were 8.6e-4 and 3.4e-4, the
+/// reference's own error moving them by ≤ 1.1e-4). Asserted: refined
+/// within 1.5e-3 and 1e-3 of the reference (so within 1.6e-3 and 1.1e-3
+/// of 60 × Gauss(4)), and at least 4× closer than the stage points in both.
 #[test]
 fn refined_far_zone_brings_a_coarse_plectoneme_closer() {
     let reference = run(30, 3, 6);

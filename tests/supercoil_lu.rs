@@ -82,8 +82,10 @@ fn corrector_aim_out_of_range_is_refused() {
 /// branch takes that step again from the point before, with half the step,
 /// and goes on. Reference: every point's residual re-evaluated on a pair
 /// list built at its own state (an independent list, `ChargedRod::new`
-/// there) is within the run's tolerance (1e-8, 10× margin for the list's
-/// different rounding), and the path reaches past the fold at 1.107 turns
+/// there) is within twice the run's tolerance 1e-8 (the list's different
+/// rounding moves a point's residual a little: measured 8.2e-9 at worst;
+/// a point that had not converged would be far above), and the path
+/// reaches past the fold at 1.107 turns
 /// on the buckled branch as the aim-3 run does.
 #[test]
 fn a_step_past_the_skin_is_taken_again() {
@@ -96,13 +98,16 @@ fn a_step_past_the_skin_is_taken_again() {
     let b = run.buckled.as_ref().unwrap();
     assert_eq!(b.records.len(), 26, "the buckled branch's 25 steps");
     assert!(b.counts.rejected_steps > 0);
+    let mut worst = 0.0f64;
     for (k, (rec, x)) in b.records.iter().zip(&b.states).enumerate() {
         let mut problem = ChargedRod::new(&run.rod, &run.charge, b.phase, x).unwrap();
         let mut r = vec![0.0; x.len()];
         problem.residual(x, rec.lambda, &mut r);
         let res = rodkit::nonlinear::scaled_max_norm(&r, &problem.equation_scales());
-        assert!(res <= 1e-7, "buckled point {k} (φ {:.4}): residual {res:e} on its own list", rec.lambda);
+        worst = worst.max(res);
+        assert!(res <= 2e-8, "buckled point {k} (φ {:.4}): residual {res:e} on its own list", rec.lambda);
     }
+    println!("worst residual on rebuilt lists {worst:e}");
     let ns = run.straight.records.len();
     let reached = run.points.iter().skip(ns).map(|p| p.observables.turns).fold(f64::INFINITY, f64::min);
     assert!(reached < 1.11, "the buckled branch reached {reached} turns, not the fold at 1.107");

@@ -1545,7 +1545,7 @@ module rodkit
         ! The writhe of the curve (turns): the Gauss double integral, an open
         ! curve closed by rays along its end tangents; `order` Gauss points per
         ! panel (2…32). Work: about ½(nodes·order)² kernel evaluations; above 1e9
-        ! (10–30 s) the call is refused with RODKIT_ERR_WORK_LIMIT stating the
+        ! (10–30 s) the call is refused with RODKIT_STATUS_ERR_WORK_LIMIT stating the
         ! cost.
         function rodkit_curve_writhe(s, xyz, ldx, tangents, ldt, nodes, closed, order, writhe_out) &
                 result(status) bind(c, name="rodkit_curve_writhe")

@@ -1590,7 +1590,7 @@ int32_t rodkit_curve_base_pair_energy(const double *s,
 // The writhe of the curve (turns): the Gauss double integral, an open
 // curve closed by rays along its end tangents; `order` Gauss points per
 // panel (2…32). Work: about ½(nodes·order)² kernel evaluations; above 1e9
-// (10–30 s) the call is refused with RODKIT_ERR_WORK_LIMIT stating the
+// (10–30 s) the call is refused with RODKIT_STATUS_ERR_WORK_LIMIT stating the
 // cost.
 int32_t rodkit_curve_writhe(const double *s,
                             const double *xyz,

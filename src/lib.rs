@@ -3,7 +3,7 @@
 //! The physics follows `doc/physics.md` (the reference the header cites as
 //! physics.md §N.M); the C conventions `../shared/spec/c-api.md`. The layout (one idea per module, models →
 //! engines → linear algebra, the C boundary on top) is mapped in the
-//! README's "Where things are". Unsafe code is denied everywhere except in
+//! source map of doc/development.md. Unsafe code is denied everywhere except in
 //! [`capi`], the C boundary.
 #![deny(unsafe_code)]
 

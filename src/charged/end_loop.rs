@@ -481,7 +481,7 @@ pub fn parse_table(csv: &str) -> Result<Vec<EndLoopEntry>> {
 /// least 300), b = 1000 at ≤ 0.01 M, 950 at ≤ 0.02 M, 750 at ≤ 0.05 M, 600
 /// above (measured at 1 pN, 0.1 M on 1 kbp: the extension has fallen by
 /// 113 nm at Wr 2.5 and falls 31 nm a turn on; at 0.01 M it falls about
-/// twice as fast, README). The
+/// twice as fast, doc/dna.md). The
 /// turns and steps are only bounds: [`end_loop_run`] stops the run once the
 /// tails are short.
 pub fn table_scene(force: f64, salt: f64) -> (DnaScene, SupercoilSettings) {

@@ -89,7 +89,8 @@ int main(int argc, char **argv) {
                           {pts[i].writhe, ref[i].writhe}};
         for (int k = 0; k < 4; k++) {
             double r = fabs(d[k][0] - d[k][1]) / fmax(fabs(d[k][1]), 1.0);
-            if (r > worst) worst = r;
+            /* A NaN difference must show and stay, not read as 0 (`r > worst` is false for NaN). */
+            if (isnan(r) || r > worst) worst = r;
         }
     }
     printf("uninterrupted_status = %d\nresumed_status = %d\nresumed_stop = %d\n", (int)st_whole, (int)st, (int)stop);

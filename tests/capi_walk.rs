@@ -20,8 +20,7 @@
 //! covers every function the header declares, and a second test fails
 //! when one is added unwalked (28 were missing before: the writers, the
 //! node accessors, the bifurcation lists, the curve summary, the
-//! tweezers calls; walking them found one finding, the VTK writer's
-//! index named `points` as the C argument is, which the walk now expects).
+//! tweezers calls; walking them found nothing to mend).
 
 use rodkit::capi::accuracy::*;
 use rodkit::capi::branch::*;

@@ -18,7 +18,7 @@
 #[path = "support/native_build.rs"]
 mod native_build;
 
-use native_build::ROOT;
+use native_build::{check, ROOT};
 use std::path::Path;
 use std::process::Command;
 
@@ -307,20 +307,10 @@ fn code_in_the_guides_compiles_and_runs() {
         let _ = std::fs::remove_file(scratch.join("a.out"));
         for line in compile.iter().filter(|l| l.contains(file) || (*kind == "fortran" && l.contains("-J build"))) {
             let out = Command::new("bash").arg("-c").arg(line).current_dir(&scratch).output().unwrap();
-            assert!(
-                out.status.success(),
-                "block {k} ({kind}): `{line}` failed:\n{}\n{source}",
-                String::from_utf8_lossy(&out.stderr)
-            );
+            check(out, &format!("block {k} ({kind}): `{line}`\n{source}"));
             if line.contains(file) {
                 let run = Command::new(scratch.join("a.out")).current_dir(&scratch).output().unwrap();
-                assert!(
-                    run.status.success(),
-                    "block {k} ({kind}) built by `{line}` exited {}:\n{}{}\n{source}",
-                    run.status,
-                    String::from_utf8_lossy(&run.stdout),
-                    String::from_utf8_lossy(&run.stderr)
-                );
+                check(run, &format!("block {k} ({kind}) built by `{line}`\n{source}"));
             }
         }
     }

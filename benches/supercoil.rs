@@ -44,7 +44,7 @@ use plotters::prelude::{RGBColor, BLUE, GREEN, MAGENTA, RED};
 use rodkit::charged::dna::{run_scene, DnaScene, Engine, SupercoilRun, SupercoilSettings};
 use rodkit::charged::rod::{ChargedRod, ListRule};
 use rodkit::continuation::anm::AnmOptions;
-use rodkit::continuation::tangent::Bordered;
+use rodkit::continuation::tangent::{Bordered, Factors};
 use rodkit::continuation::{Counts, Problem, Scaling};
 use rodkit::linalg::band::BandLu;
 use rodkit::linalg::LuKind;
@@ -80,16 +80,16 @@ fn lu_size(r: &SupercoilRun, phase: Option<(usize, f64)>, x: &[f64], param: f64)
     let mut b = Bordered::new(&pat).unwrap();
     let mut counts = Counts::default();
     let e_lambda = vec![0.0; n];
-    b.factorise_at(&mut p, x, param, (&e_lambda, 1.0), &scaling, &mut counts).unwrap();
+    b.factorise_at(&mut p, x, param, (&e_lambda, 1.0), &scaling, &mut counts, Factors::ForSolves).unwrap();
     let (tx, tl) = b.tangent(&scaling, &mut counts).unwrap();
     let mut fresh = Bordered::new(&pat).unwrap();
     let mut c1 = Counts::default();
-    fresh.factorise_at(&mut p, x, param, (&tx, tl), &scaling, &mut c1).unwrap();
+    fresh.factorise_at(&mut p, x, param, (&tx, tl), &scaling, &mut c1, Factors::ForSolves).unwrap();
     let first = c1.times.factorisations.as_secs_f64();
     let steady = (0..3)
         .map(|_| {
             let mut c = Counts::default();
-            fresh.factorise_at(&mut p, x, param, (&tx, tl), &scaling, &mut c).unwrap();
+            fresh.factorise_at(&mut p, x, param, (&tx, tl), &scaling, &mut c, Factors::ForSolves).unwrap();
             c.times.factorisations.as_secs_f64()
         })
         .fold(f64::INFINITY, f64::min);
@@ -98,7 +98,7 @@ fn lu_size(r: &SupercoilRun, phase: Option<(usize, f64)>, x: &[f64], param: f64)
     let exact = (0..3)
         .map(|_| {
             let mut c = Counts::default();
-            fresh.factorise_exact_at(&mut p, x, param, (&tx, tl), &scaling, &mut c).unwrap();
+            fresh.factorise_at(&mut p, x, param, (&tx, tl), &scaling, &mut c, Factors::Exact).unwrap();
             c.times.factorisations.as_secs_f64()
         })
         .fold(f64::INFINITY, f64::min);

@@ -200,7 +200,7 @@ fn buckled_300() -> &'static (ChargedBranch, ChargedBranch) {
         let straight = straight_branch(&rod, &charge, 12.0);
         let opts =
             Options { residual_tol: 1e-11, initial_step: 0.05, max_step: 0.5, max_steps: 40, ..Default::default() };
-        let b = branch::switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap();
+        let b = branch::switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap().0;
         (straight, b)
     })
 }
@@ -355,7 +355,7 @@ fn strand_crossing_stops_the_branch_and_a_hard_core_prevents_it() {
         let straight = straight_branch(&rod, charge, 12.0);
         let opts =
             Options { residual_tol: 1e-10, initial_step: 0.2, max_step: 1.0, max_steps: 100, ..Default::default() };
-        branch::switch(&rod, charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap()
+        branch::switch(&rod, charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap().0
     };
     let b = run(&charge);
     let c = b.contact.expect("the uncharged loop crosses itself");

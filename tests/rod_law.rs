@@ -5,6 +5,7 @@
 //! the straight-rod response of physics.md §2.2, handedness, and the
 //! thick → thin limit.
 
+use rodkit::rod::Moduli;
 use rodkit::tube::{Compressibility, Orthotropic, OrthotropicSurface, RodStiffness, ThickTube, ThinTube};
 use std::f64::consts::PI;
 
@@ -63,9 +64,9 @@ fn thin_helical_tube_is_a_hemitropic_rod() {
         assert!(rel(k.shear(), c / (2.0 * r * r)) < 1e-13);
         assert!(rel(k.bend_shear(), -g / 2.0) < 1e-12);
         // Hemitropic form: nothing else is coupled.
-        let pattern =
-            RodStiffness::hemitropic(k.bending(), k.twist(), k.shear(), k.stretch(), k.twist_stretch(), k.bend_shear())
-                .unwrap();
+        let moduli =
+            Moduli::symmetric(k.bending(), k.twist(), k.shear(), k.stretch(), k.twist_stretch(), k.bend_shear());
+        let pattern = RodStiffness::from_moduli(&moduli).unwrap();
         assert_eq!(pattern.k, k.k);
     }
 }

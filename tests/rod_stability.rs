@@ -398,7 +398,7 @@ fn buckled_under(tension: f64, phi_max: f64, steps: usize) -> (Rod, f64, Charged
     let phi_b = straight.bifurcations[0].lambda;
     let opts =
         Options { residual_tol: 1e-11, initial_step: 0.05, max_step: 2.0, max_steps: steps, ..Default::default() };
-    let b = branch::switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap();
+    let b = branch::switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap().0;
     (rod, phi_b, b)
 }
 

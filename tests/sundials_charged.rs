@@ -52,7 +52,7 @@ fn kinsol_agrees_on_the_charged_residual() {
     .unwrap();
     assert!(!straight.bifurcations.is_empty(), "no buckling below φ = 8");
     let opts = Options { residual_tol: 1e-12, initial_step: 0.1, max_step: 0.3, max_steps: 16, ..Default::default() };
-    let buckled = branch::switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap();
+    let buckled = branch::switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap().0;
     let k = straight.records.len() / 2;
     let mut points = vec![(None, straight.states[k].clone(), straight.records[k].lambda)];
     for k in [8, buckled.records.len() - 1] {

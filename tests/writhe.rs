@@ -305,7 +305,7 @@ fn linking_number_of_dna_states_within_1e6() {
     let start = Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true };
     let straight = branch::follow(&rod, &charge, start, None, &opts, |_| true).unwrap();
     let opts = Options { residual_tol: 1e-11, initial_step: 0.05, max_step: 0.5, max_steps: 40, ..Default::default() };
-    let b = branch::switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap();
+    let b = branch::switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap().0;
     let mut worst = 0.0f64;
     let mut max_wr = 0.0f64;
     for (r, x) in straight.records.iter().zip(&straight.states).chain(b.records.iter().zip(&b.states)) {

@@ -26,6 +26,7 @@ use crate::geometry::vec3::distance;
 use crate::linalg::sparse::ColumnOrder;
 use crate::nonlinear::scaled_max_norm;
 use crate::rod::branch::{self, Contact, Followed, RodBranch};
+use crate::rod::branch::{Phase, Progress};
 use crate::rod::model::Rod;
 use crate::status::Status;
 
@@ -66,18 +67,12 @@ impl Followed for Charged<'_> {
         self.rod
     }
 
-    fn system(&self, phase: Option<(usize, f64)>, x: &[f64]) -> Result<ChargedRod> {
+    fn system(&self, phase: Phase, x: &[f64]) -> Result<ChargedRod> {
         ChargedRod::new(self.rod, self.charge, phase, x)
     }
 
-    fn follow(
-        &self,
-        start: Start,
-        phase: Option<(usize, f64)>,
-        opts: &Options,
-        progress: &mut dyn FnMut(&Record) -> bool,
-    ) -> Result<RodBranch> {
-        let (b, anchor) = follow_on(self.rod, self.charge, start, None, phase, opts, progress)?;
+    fn follow(&self, start: Start, phase: Phase, opts: &Options, progress: Progress<'_>) -> Result<RodBranch> {
+        let (b, anchor) = follow_on(self.rod, self.charge, start, None, phase, opts, progress, None)?;
         *self.last_anchor.borrow_mut() = Some(anchor);
         Ok(b)
     }
@@ -106,11 +101,11 @@ pub fn follow(
     rod: &Rod,
     charge: &RodCharge,
     start: Start,
-    phase: Option<(usize, f64)>,
+    phase: Phase,
     opts: &Options,
     progress: impl FnMut(&Record) -> bool,
 ) -> Result<RodBranch> {
-    Ok(follow_on(rod, charge, start, None, phase, opts, progress)?.0)
+    Ok(follow_on(rod, charge, start, None, phase, opts, progress, None)?.0)
 }
 
 /// Continue `branch` from its record `record` (its later records dropped)
@@ -140,7 +135,7 @@ pub fn continue_with(
     branch.contact = None;
     let start = Start::Resume(Resume { x, lambda, tangent_x, tangent_lambda, step, previous: None, modes: None });
     let phase = branch.phase;
-    follow_on_into(rod, charge, start, None, phase, opts, progress, Some(branch))
+    follow_on(rod, charge, start, None, phase, opts, progress, Some(branch))
 }
 
 /// Where a charged branch's last pair list was built: the state it was
@@ -159,35 +154,23 @@ pub struct ListAnchor {
 }
 
 /// [`follow`] with the first pair list built and measured from `anchor`
-/// (None: the start); returns the branch and its last list's anchor. A
-/// branch resumed with the anchor its stopped part returned continues on
-/// the same list as the uninterrupted branch (the same pairs in the same
-/// order, rebuilt at the same points).
-pub fn follow_on(
-    rod: &Rod,
-    charge: &RodCharge,
-    start: Start,
-    anchor: Option<&ListAnchor>,
-    phase: Option<(usize, f64)>,
-    opts: &Options,
-    progress: impl FnMut(&Record) -> bool,
-) -> Result<(RodBranch, ListAnchor)> {
-    follow_on_into(rod, charge, start, anchor, phase, opts, progress, None)
-}
-
-/// [`follow_on`], appending to `out` when given (its last record is the
-/// start, re-converged on this model when it is not within tolerance).
+/// (None: the start), appending to `out` when given (its last record is the
+/// start, re-converged on this model when it is not within tolerance);
+/// returns the branch and its last list's anchor. A branch resumed with
+/// the anchor its stopped part returned continues on the same list as the
+/// uninterrupted branch (the same pairs in the same order, rebuilt at the
+/// same points).
 /// An error raised once the branch has points — a corrector that failed on
 /// a later list, a point that kept leaving μ = 0 — ends it there instead:
 /// the branch so far is returned with the error in its `failure` (a long
 /// run keeps its path; the error alone is returned when there is none).
 #[allow(clippy::too_many_arguments)]
-fn follow_on_into(
+pub fn follow_on(
     rod: &Rod,
     charge: &RodCharge,
     start: Start,
     anchor: Option<&ListAnchor>,
-    phase: Option<(usize, f64)>,
+    phase: Phase,
     opts: &Options,
     mut progress: impl FnMut(&Record) -> bool,
     mut out: Option<RodBranch>,
@@ -208,7 +191,7 @@ fn follow_on_into(
     }
 }
 
-/// The loop of [`follow_on_into`]: segment after segment, each on a pair
+/// The loop of [`follow_on`]: segment after segment, each on a pair
 /// list built where the last one ended, appended to `out`; `anchor` is the
 /// current list's.
 #[allow(clippy::too_many_arguments)]
@@ -217,9 +200,9 @@ fn follow_lists(
     charge: &RodCharge,
     mut start: Start,
     anchor: &mut ListAnchor,
-    phase: Option<(usize, f64)>,
+    phase: Phase,
     opts: &Options,
-    progress: &mut dyn FnMut(&Record) -> bool,
+    progress: Progress<'_>,
     out: &mut Option<RodBranch>,
 ) -> Result<()> {
     // Whether the next segment's start is told (a point reached on the
@@ -372,10 +355,10 @@ fn follow_list(
     problem: &mut ChargedRod,
     start: Start,
     reference: &[f64],
-    phase: Option<(usize, f64)>,
+    phase: Phase,
     opts: &Options,
     first: SegmentStart,
-    progress: &mut dyn FnMut(&Record) -> bool,
+    progress: Progress<'_>,
 ) -> Result<(RodBranch, SegmentEnd, ColumnOrder)> {
     let (rod, charge) = (&problem.rod().clone(), &problem.charge().clone());
     // How much of the list's margin is left at a state (negative: stale,
@@ -537,26 +520,12 @@ fn drop_last(segment: &mut RodBranch) -> bool {
 /// the null direction, the first point taken at a fixed buckle amplitude
 /// ([`crate::rod::branch::switch`]). The new branch is followed as by
 /// [`follow`] (μ checked at every point; a failure after its first points
-/// kept in [`RodBranch::failure`]).
+/// kept in [`RodBranch::failure`]). Returns it with the anchor of its last
+/// pair list ([`follow_on`]: where a stopped branch resumes on the same
+/// list).
 // The public entry point, as [`Rod::switch_branch`] with the charge.
 #[allow(clippy::too_many_arguments)]
 pub fn switch(
-    rod: &Rod,
-    charge: &RodCharge,
-    branch: &RodBranch,
-    index: usize,
-    direction: usize,
-    first_step: f64,
-    opts: &Options,
-    progress: impl FnMut(&Record) -> bool,
-) -> Result<RodBranch> {
-    Ok(switch_on(rod, charge, branch, index, direction, first_step, opts, progress)?.0)
-}
-
-/// [`switch`], also returning the anchor of the new branch's last pair
-/// list ([`follow_on`]: where a stopped branch resumes on the same list).
-#[allow(clippy::too_many_arguments)]
-pub fn switch_on(
     rod: &Rod,
     charge: &RodCharge,
     branch: &RodBranch,

@@ -5,7 +5,7 @@
 //! plectoneme — and the observables users compare with magnetic-tweezers
 //! experiments ([`Observables`]).
 
-use super::branch::{continue_with, follow_on, hard_core_idle, switch_on, ChargedBranch, ListAnchor};
+use super::branch::{continue_with, follow_on, hard_core_idle, switch, ChargedBranch, ListAnchor};
 use super::rod::{ListRule, RodCharge};
 use crate::continuation::anm::AnmOptions;
 use crate::continuation::newton::Start;
@@ -926,7 +926,7 @@ fn straight_path(
             stopped |= !go;
             go
         };
-        let (mut next, list) = follow_on(rod, charge, start, anchor.take().as_ref(), None, &opts, told)?;
+        let (mut next, list) = follow_on(rod, charge, start, anchor.take().as_ref(), None, &opts, told, None)?;
         // Before the buckling point the run has no path worth keeping.
         if let Some(e) = next.failure.take() {
             return Err(e);
@@ -1027,7 +1027,7 @@ fn buckled_path(
     };
     let done = from.as_ref().map_or(0, |(prev, _)| prev.records.len() - 1);
     let (mut b, mut anchor) = match from {
-        None => switch_on(rod, charge, straight, 0, 0, 0.02, &opts, &mut check)?,
+        None => switch(rod, charge, straight, 0, 0, 0.02, &opts, &mut check)?,
         Some((prev, anchor)) => {
             let opts = Options { max_steps: settings.max_steps - done, ..opts.clone() };
             // With the point before it (the Hermite predictor's history) the
@@ -1040,7 +1040,7 @@ fn buckled_path(
             };
             // μ stays at zero: checked at each point as it comes (a point
             // that leaves it is taken again shorter, or ends the branch).
-            follow_on(rod, charge, start, Some(&anchor), prev.phase, &opts, &mut check)?
+            follow_on(rod, charge, start, Some(&anchor), prev.phase, &opts, &mut check, None)?
         }
     };
     // The strands met: the scene needs the hard core (the optimal

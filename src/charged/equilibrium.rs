@@ -15,6 +15,7 @@ use crate::continuation::{Counts, Problem};
 use crate::error::{self, Error, Result};
 use crate::geometry::vec3::distance;
 use crate::nonlinear::krylov::{BandPreconditioner, KrylovOptions, KrylovReport};
+use crate::rod::branch::Phase;
 use crate::rod::model::unwrap_rotation;
 use crate::status::Status;
 
@@ -156,7 +157,7 @@ pub fn solve_point(
 fn krylov_point(
     problem: &mut ChargedRod,
     charge: &RodCharge,
-    phase: Option<(usize, f64)>,
+    phase: Phase,
     x: &mut [f64],
     lambda: f64,
     residual_tol: f64,

@@ -10,7 +10,7 @@
 //!   falling back to [`correct`] at fixed Λ.
 
 use super::equilibrium::AtFixed;
-use super::run::Context;
+use super::run::{Context, Factors};
 use super::tangent::Bordered;
 use super::{Counts, Problem, Scaling};
 use crate::error::{Error, Result};
@@ -71,7 +71,15 @@ impl<P: Problem + ?Sized> LinearSolve<Arclength<'_, P>> for BorderedStep<'_> {
         // start, or after a failed one).
         let fresh = !self.chord || it.norm > 0.5 * it.previous || !self.bordered.factorised();
         if fresh {
-            self.bordered.factorise_at(eq.problem, &x[..n], x[n], eq.v, eq.scaling, &mut self.counts)?;
+            self.bordered.factorise_at(
+                eq.problem,
+                &x[..n],
+                x[n],
+                eq.v,
+                eq.scaling,
+                &mut self.counts,
+                Factors::ForSolves,
+            )?;
         }
         for (d, v) in delta.iter_mut().zip(f) {
             *d = -v;

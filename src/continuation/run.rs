@@ -8,23 +8,12 @@ use super::bifurcation::{self, Bifurcation, Evidence, SeriesHint, State, Unresol
 use super::corrector::{correct, deliver_sample, Plane};
 use super::stability::{count_unstable, ModeCarry, ModeWork};
 use super::tangent::Bordered;
+pub(crate) use super::tangent::Factors;
 use super::{Branch, Counts, Options, Problem, Record, Resume, Sample, Scaling};
 use crate::error::{self, Error, Result};
 use crate::linalg::dense::sub;
 use crate::nonlinear::scaled_max_norm;
 use crate::status::Status;
-
-/// What a factorisation of the bordered matrix is for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Factors {
-    /// The factorisation of a point whose determinant signs and pivots are
-    /// read from it (its tangent, its record, a resume): simplicial
-    /// whatever the pattern ([`Bordered::factorise_exact_at`]).
-    Exact,
-    /// Solves only (the trial points of a bifurcation's location, a point
-    /// whose signs are taken elsewhere): the pattern's fastest kind.
-    ForSolves,
-}
 
 /// The scales, the bordered tangent and the work counts every correction
 /// of a run uses.
@@ -75,11 +64,7 @@ impl Context {
         v: (&[f64], f64),
         factors: Factors,
     ) -> Result<()> {
-        let (scaling, counts) = (&self.scaling, &mut self.counts);
-        match factors {
-            Factors::Exact => self.bordered.factorise_exact_at(problem, x, lambda, v, scaling, counts),
-            Factors::ForSolves => self.bordered.factorise_at(problem, x, lambda, v, scaling, counts),
-        }
+        self.bordered.factorise_at(problem, x, lambda, v, &self.scaling, &mut self.counts, factors)
     }
 
     /// The unit tangent from the current factorisation.

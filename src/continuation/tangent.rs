@@ -18,6 +18,18 @@ use crate::linalg::Pattern;
 use crate::status::Status;
 use std::time::Instant;
 
+/// What a factorisation of the bordered matrix is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Factors {
+    /// The factorisation of a point whose determinant signs and pivots are
+    /// read from it (its tangent, its record, a resume): simplicial
+    /// whatever the pattern.
+    Exact,
+    /// Solves only (the trial points of a bifurcation's location, a point
+    /// whose signs are taken elsewhere): the pattern's fastest kind.
+    ForSolves,
+}
+
 pub struct Bordered {
     n: usize,
     lu: BorderedLu,
@@ -66,8 +78,10 @@ impl Bordered {
     }
 
     /// Evaluate the Jacobian at (x, Λ), border it with W·v and factorise
-    /// for solves (a Newton correction: the pattern's fastest kind,
-    /// [`crate::linalg::LuKind`]).
+    /// as `factors` asks: simplicial for a point whose determinant signs
+    /// and pivots are read (a record, a resume), else the pattern's fastest
+    /// kind ([`crate::linalg::LuKind`]).
+    #[allow(clippy::too_many_arguments)]
     pub fn factorise_at<P: Problem + ?Sized>(
         &mut self,
         problem: &mut P,
@@ -76,24 +90,10 @@ impl Bordered {
         v: (&[f64], f64),
         scaling: &Scaling,
         counts: &mut Counts,
+        factors: Factors,
     ) -> Result<()> {
         self.evaluate(problem, x, lambda, counts);
-        self.factorise_as(v, scaling, counts, false)
-    }
-
-    /// As [`Bordered::factorise_at`], for a point whose determinant signs
-    /// and pivots are read (a record, a resume): simplicial factors.
-    pub fn factorise_exact_at<P: Problem + ?Sized>(
-        &mut self,
-        problem: &mut P,
-        x: &[f64],
-        lambda: f64,
-        v: (&[f64], f64),
-        scaling: &Scaling,
-        counts: &mut Counts,
-    ) -> Result<()> {
-        self.evaluate(problem, x, lambda, counts);
-        self.factorise_as(v, scaling, counts, true)
+        self.factorise_as(v, scaling, counts, factors == Factors::Exact)
     }
 
     fn evaluate<P: Problem + ?Sized>(&mut self, problem: &mut P, x: &[f64], lambda: f64, counts: &mut Counts) {

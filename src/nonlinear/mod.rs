@@ -346,6 +346,11 @@ pub enum Stall {
     Immediate,
 }
 
+/// A solver's non-convergence, prefixed by its label.
+fn not_converged(label: &str, what: std::fmt::Arguments) -> Error {
+    Error::new(Status::ErrNotConverged, format!("{label}: {what}"))
+}
+
 /// Converged when max_i |F_i| / d_i ≤ `tol` at an iterate.
 pub struct ResidualTest {
     pub scales: Vec<f64>,
@@ -403,22 +408,15 @@ impl Convergence for ResidualTest {
     }
 
     fn exhausted(&self, it: &Iterate) -> Error {
-        Error::new(
-            Status::ErrNotConverged,
-            format!(
-                "{}: residual {:.2e} above {:.1e} after {} iterations",
-                self.label, it.norm, self.tol, it.iteration
-            ),
-        )
+        let (norm, tol, k) = (it.norm, self.tol, it.iteration);
+        not_converged(self.label, format_args!("residual {norm:.2e} above {tol:.1e} after {k} iterations"))
     }
 
     fn no_descent(&self, it: &Iterate) -> Error {
-        Error::new(
-            Status::ErrNotConverged,
-            format!(
-                "{}: no decrease of the residual along the step at iteration {} (residual {:.2e})",
-                self.label, it.iteration, it.norm
-            ),
+        let (k, norm) = (it.iteration, it.norm);
+        not_converged(
+            self.label,
+            format_args!("no decrease of the residual along the step at iteration {k} (residual {norm:.2e})"),
         )
     }
 }
@@ -465,20 +463,16 @@ impl Convergence for StepTest {
     }
 
     fn exhausted(&self, it: &Iterate) -> Error {
-        Error::new(
-            Status::ErrNotConverged,
-            format!(
-                "{}: no convergence in {} iterations (max |F| = {:e}, last step {:e})",
-                self.label, it.iteration, it.norm, self.last_step
-            ),
+        let (k, norm, step) = (it.iteration, it.norm, self.last_step);
+        not_converged(
+            self.label,
+            format_args!("no convergence in {k} iterations (max |F| = {norm:e}, last step {step:e})"),
         )
     }
 
     fn no_descent(&self, it: &Iterate) -> Error {
-        Error::new(
-            Status::ErrNotConverged,
-            format!("{}: line search failed at iteration {} (|F| = {:e})", self.label, it.iteration, it.norm),
-        )
+        let (k, norm) = (it.iteration, it.norm);
+        not_converged(self.label, format_args!("line search failed at iteration {k} (|F| = {norm:e})"))
     }
 }
 

@@ -34,6 +34,7 @@ use crate::continuation::{Counts, Options, Problem, Scaling, Stop};
 use crate::error::{self, Error, Result};
 use crate::geometry::vec3::distance;
 use crate::linalg::dense::{norm2, sub};
+use crate::rod::branch::Phase;
 use crate::status::Status;
 
 /// The estimated error of one record's quantities: absolute (lengths, rad,
@@ -133,7 +134,7 @@ pub struct Resolver<'r> {
     to: &'r Rod,
     /// The phase node on `to` and the branch's azimuth (where the carried
     /// state has no lateral displacement there).
-    phase: Option<(usize, f64)>,
+    phase: Phase,
     system: crate::continuation::system::AssembledSystem,
     /// The bordered corrector's context, made on the first fold.
     bordered: Option<Context>,
@@ -143,7 +144,7 @@ pub struct Resolver<'r> {
 }
 
 impl<'r> Resolver<'r> {
-    pub fn new(from: &'r Rod, to: &'r Rod, phase: Option<(usize, f64)>) -> Result<Self> {
+    pub fn new(from: &'r Rod, to: &'r Rod, phase: Phase) -> Result<Self> {
         let phase = phase.map(|(node, azimuth)| {
             let node = if from.breakpoints.is_none() && to.breakpoints.is_none() {
                 ((node * to.elements) as f64 / from.elements as f64).round() as usize

@@ -19,6 +19,13 @@ use crate::continuation::{Branch, Counts, Options, Problem, Record, Resume, Samp
 use crate::error::{self, Error, Result};
 use crate::status::Status;
 
+/// A phase condition: the node whose displacement across an azimuth is
+/// held at zero, and that azimuth (rad); `None`: no phase condition.
+pub type Phase = Option<(usize, f64)>;
+
+/// A run's progress callback, called with each record; `false` stops the run.
+pub type Progress<'a> = &'a mut dyn FnMut(&Record) -> bool;
+
 /// Which engine follows the branch.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Method {
@@ -41,7 +48,7 @@ pub struct RodBranch {
     pub counts: Counts,
     pub resume: Resume,
     /// The phase condition (node, azimuth) the branch was followed with.
-    pub phase: Option<(usize, f64)>,
+    pub phase: Phase,
     /// Where the rod first touches itself: the first record whose
     /// non-neighbouring points come closer than the contact distance, with
     /// that distance and the pair's arc lengths. A plain rod given a
@@ -81,7 +88,7 @@ impl RodBranch {
     /// An engine's branch whose outputs are the states followed by `extra`
     /// trailing values (dropped): the states moved out of the records and
     /// samples.
-    pub(crate) fn from_engine(b: Branch, phase: Option<(usize, f64)>, extra: usize) -> Self {
+    pub(crate) fn from_engine(b: Branch, phase: Phase, extra: usize) -> Self {
         let take = |outputs: &mut Vec<f64>| {
             let mut x = std::mem::take(outputs);
             x.truncate(x.len() - extra);
@@ -199,15 +206,9 @@ pub trait Followed {
     fn rod(&self) -> &Rod;
     /// The model's system (with the phase condition when given), built
     /// about the state x.
-    fn system(&self, phase: Option<(usize, f64)>, x: &[f64]) -> Result<Self::System>;
+    fn system(&self, phase: Phase, x: &[f64]) -> Result<Self::System>;
     /// Follow a branch from `start`.
-    fn follow(
-        &self,
-        start: Start,
-        phase: Option<(usize, f64)>,
-        opts: &Options,
-        progress: &mut dyn FnMut(&Record) -> bool,
-    ) -> Result<RodBranch>;
+    fn follow(&self, start: Start, phase: Phase, opts: &Options, progress: Progress<'_>) -> Result<RodBranch>;
 }
 
 /// The plain rod followed by `method`.
@@ -223,20 +224,14 @@ impl Followed for Plain<'_> {
         self.rod
     }
 
-    fn system(&self, phase: Option<(usize, f64)>, _x: &[f64]) -> Result<AssembledSystem> {
+    fn system(&self, phase: Phase, _x: &[f64]) -> Result<AssembledSystem> {
         match phase {
             Some((node, azimuth)) => self.rod.system_with_phase(node, azimuth),
             None => self.rod.system(),
         }
     }
 
-    fn follow(
-        &self,
-        start: Start,
-        phase: Option<(usize, f64)>,
-        opts: &Options,
-        progress: &mut dyn FnMut(&Record) -> bool,
-    ) -> Result<RodBranch> {
+    fn follow(&self, start: Start, phase: Phase, opts: &Options, progress: Progress<'_>) -> Result<RodBranch> {
         let rod = self.rod;
         let mut sys = self.system(phase, &[])?;
         let opts = &options_for(opts, &sys);
@@ -287,7 +282,7 @@ pub fn switch<M: Followed + ?Sized>(
     direction: usize,
     first_step: f64,
     opts: &Options,
-    progress: &mut dyn FnMut(&Record) -> bool,
+    progress: Progress<'_>,
 ) -> Result<RodBranch> {
     let rod = model.rod();
     let bif = branch.bifurcations.get(index).ok_or_else(|| {

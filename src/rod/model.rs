@@ -17,6 +17,7 @@ use super::scheme::{Scheme, Tableau};
 use super::{Frame, Load, Loads, RodLaw};
 use crate::continuation::system::{AssembledSystem, Block, Slot};
 use crate::error::{self, Error, Result};
+use crate::rod::branch::Phase;
 use crate::status::Status;
 use crate::taylor::{Scalar, Tape, Var};
 use std::sync::Arc;
@@ -501,7 +502,7 @@ impl Rod {
 
     /// The assembled cubic system: the element blocks, the boundary block,
     /// the phase condition's block if any, and the scales.
-    fn build(&self, phase: Option<(usize, f64)>, extra: Option<&[Vec<f64>]>) -> Result<AssembledSystem> {
+    fn build(&self, phase: Phase, extra: Option<&[Vec<f64>]>) -> Result<AssembledSystem> {
         if self.breakpoints.as_ref().is_some_and(|t| t.len() != self.elements + 1) {
             return Err(Error::new(
                 Status::ErrInternal,

@@ -20,6 +20,7 @@ use crate::continuation::run::{Context, Factors};
 use crate::continuation::{Record, Resume, Scaling, Stop};
 use crate::error::{self, Error, Result};
 use crate::linalg::dense::sub;
+use crate::rod::branch::Progress;
 use crate::status::Status;
 
 /// Follow a branch of `model` with `follow` (handed the progress closure
@@ -35,7 +36,7 @@ pub fn until_rotation<M: Followed + ?Sized>(
     model: &M,
     target: f64,
     start_phi: Option<f64>,
-    progress: &mut dyn FnMut(&Record) -> bool,
+    progress: Progress<'_>,
     follow: impl FnOnce(&mut dyn FnMut(&Record) -> bool) -> Result<RodBranch>,
 ) -> Result<RodBranch> {
     let rod = model.rod();

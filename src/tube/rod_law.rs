@@ -51,22 +51,15 @@ pub struct RodStiffness {
 }
 
 impl RodStiffness {
-    /// The hemitropic form from its six moduli; rejects a law that is not
-    /// positive definite.
-    pub fn hemitropic(
-        bending: f64,
-        twist: f64,
-        shear: f64,
-        stretch: f64,
-        twist_stretch: f64,
-        bend_shear: f64,
-    ) -> Result<Self> {
-        let k = Moduli::symmetric(bending, twist, shear, stretch, twist_stretch, bend_shear).stiffness();
+    /// The hemitropic form of `moduli` ([`Moduli::stiffness`]); rejects a law
+    /// that is not positive definite.
+    pub fn from_moduli(moduli: &Moduli) -> Result<Self> {
+        let k = moduli.stiffness();
         error::finite_result("rod stiffness", k.as_slice())?;
         if k.cholesky().is_none() {
             return Err(Error::new(
                 Status::ErrNotPositiveDefinite,
-                // Short (issue 17: the printed 6×6 matrix made a 1 kB message).
+                // Short: the printed 6×6 matrix made a 1 kB message.
                 format!(
                     "rod stiffness is not positive definite: {}",
                     error::eigen_range(k.symmetric_eigenvalues().as_slice())
@@ -168,14 +161,14 @@ impl ThinTube {
         let m = condense(&c, &[0, 2], &[1])?;
         let (r, t) = (self.mid_radius, self.thickness);
         let (a, b, cc) = (m[(0, 0)], m[(0, 1)], m[(1, 1)]);
-        RodStiffness::hemitropic(
+        RodStiffness::from_moduli(&Moduli::symmetric(
             PI * r.powi(3) * t * a,
             2.0 * PI * r.powi(3) * t * cc,
             PI * r * t * cc,
             2.0 * PI * r * t * a,
             2.0 * PI * r * r * t * b,
             -PI * r * r * t * b,
-        )
+        ))
     }
 }
 
@@ -221,7 +214,9 @@ impl ThickTube {
                     ));
                 }
                 let s = &st.value;
-                let law = RodStiffness::hemitropic(fine[0], s.twist, fine[1], s.stretch, s.coupling, fine[2])?;
+                let law = RodStiffness::from_moduli(&Moduli::symmetric(
+                    fine[0], s.twist, fine[1], s.stretch, s.coupling, fine[2],
+                ))?;
                 return Ok(Estimated {
                     value: law,
                     intervals: st.intervals,

@@ -84,6 +84,7 @@ use crate::electrostatics::Screening;
 use crate::error::{self, Error, Result};
 use crate::geometry::vec3::distance;
 use crate::linalg::Pattern;
+use crate::rod::branch::Phase;
 use crate::rod::kinematics::rotation;
 use crate::rod::model::{Rod, Supports};
 use crate::rod::scheme::Tableau;
@@ -364,7 +365,7 @@ impl ChargedRod {
     /// The charged rod with its pair list built at `reference` (a state of
     /// the rod, μ appended with a phase condition), optionally with the
     /// rod's phase condition (node, azimuth) of a symmetric buckle.
-    pub fn new(rod: &Rod, charge: &RodCharge, phase: Option<(usize, f64)>, reference: &[f64]) -> Result<Self> {
+    pub fn new(rod: &Rod, charge: &RodCharge, phase: Phase, reference: &[f64]) -> Result<Self> {
         charge.validate()?;
         let s = check_rod(rod, charge)?;
         let runs = near_runs(rod, charge);

@@ -101,7 +101,7 @@ pub fn finite_result(what: &str, values: &[f64]) -> Result<()> {
 
 /// "eigenvalues from λ_min to λ_max" of a symmetric matrix: what a message
 /// about a stiffness that is not positive definite says instead of printing
-/// the matrix (the caller has it; issue 17 found 1–5 kB messages).
+/// the matrix (the caller has it; printed, it made 1–5 kB messages).
 pub fn eigen_range(eigenvalues: &[f64]) -> String {
     let lo = eigenvalues.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = eigenvalues.iter().copied().fold(f64::NEG_INFINITY, f64::max);

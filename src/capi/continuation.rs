@@ -136,9 +136,9 @@ unsafe fn samples_from(o: &ContinuationOptions) -> Result<Vec<f64>> {
 /// # Safety
 /// The options' `scaling` and `samples` must be NULL or valid for their counts.
 pub(super) unsafe fn options_from(o: &ContinuationOptions, unknowns: usize) -> Result<(Options, Method, bool)> {
-    // Every double field finite (issue 17: ERR_NOT_FINITE naming the C
-    // field, here rather than in the engines, which do not know the C
-    // names); target_lambda NaN means "no target", an infinity is refused.
+    // Every double field finite (ERR_NOT_FINITE naming the C field, here
+    // rather than in the engines, which do not know the C names);
+    // target_lambda NaN means "no target", an infinity is refused.
     finite_fields(&[
         ("lambda_min", o.lambda_min),
         ("lambda_max", o.lambda_max),

@@ -220,8 +220,8 @@ fn check_arc_length(curve: &HermiteCurve) -> Result<()> {
 }
 
 /// The Rust API names the settings by their mathematical names; the C
-/// caller knows them as fields of `spec` (issue 17: every message names
-/// the C field).
+/// caller knows them as fields of `spec` (every message names the C
+/// field).
 fn c_names(mut e: Error) -> Error {
     for (rust, c) in [
         ("`delta`", "`spec.near_width`"),

@@ -58,7 +58,7 @@ pub unsafe extern "C" fn rodkit_dna_fit_thin_wall(
 ) -> i32 {
     guard(|| {
         let out = arg_mut("out", out)?;
-        // Every argument finite, named (issue 17), before the fit's own checks.
+        // Every argument finite, named, before the fit's own checks.
         finite_fields(&[
             ("stretch", stretch),
             ("twist", twist),

@@ -237,11 +237,11 @@ fn loads_from(s: &RodSpec) -> Result<Loads> {
 }
 
 /// Every double of the spec the rod uses must be finite: a NaN or an
-/// infinity is ERR_NOT_FINITE naming its C field (issue 17), before any
-/// check that would report it under another name or status. Fields the
-/// configuration ignores (the moduli a Kirchhoff or general law does not
-/// read, the clamped end of another support, the vector of an absent load)
-/// are not read.
+/// infinity is ERR_NOT_FINITE naming its C field, before any check that
+/// would report it under another name or status. Fields the configuration
+/// ignores (the moduli a Kirchhoff or general law does not read, the
+/// clamped end of another support, the vector of an absent load) are not
+/// read.
 fn check_finite(s: &RodSpec, general: bool) -> Result<()> {
     finite_fields(&[("length", s.length), ("diameter", s.diameter)])?;
     if !general {
@@ -278,8 +278,8 @@ fn check_finite(s: &RodSpec, general: bool) -> Result<()> {
 
 /// The rod's scales (positions L·|v̂|, moments K_b/L, forces K_b/L²: the
 /// continuation measures its steps and tolerances in them) must be finite
-/// and normal, else the length is out of range (issue 17: a length of
-/// DBL_MAX gave a straight state with infinite entries and status OK).
+/// and normal, else the length is out of range (a length of DBL_MAX gave
+/// a straight state with infinite entries and status OK).
 fn check_scales(law: &RodLaw, length: f64) -> Result<()> {
     let kb = law.bending();
     let scales = [length * law.intrinsic_v.norm().max(1.0), kb / length, kb / (length * length)];

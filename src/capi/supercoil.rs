@@ -1,8 +1,8 @@
-//! DNA supercoiling from C and Fortran (issue 5): a charged Kirchhoff rod
-//! clamped at both ends under fixed tension, continued in the end rotation
-//! from the straight rod through its first buckling point along the
-//! buckled branch. One call runs the scene into a handle; accessors copy
-//! the path (turns, extension, torque, twist, writhe) and the shapes.
+//! DNA supercoiling from C and Fortran: a charged Kirchhoff rod clamped at
+//! both ends under fixed tension, continued in the end rotation from the
+//! straight rod through its first buckling point along the buckled branch.
+//! One call runs the scene into a handle; accessors copy the path (turns,
+//! extension, torque, twist, writhe) and the shapes.
 
 use super::args::{arg_mut, arg_ref, c_enum, check_nodes, copy_out, enum_arg, flag, free_handle, non_negative};
 use super::args::{finite_fields, qualify_argument, write_positions};
@@ -198,7 +198,7 @@ pub unsafe extern "C" fn rodkit_dna_supercoil_spec_default(spec: *mut DnaSuperco
 c_enum!(EndControl, "a RodkitEndControl 1…2", [EndControl::Rotation, EndControl::Torque]);
 
 fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
-    // Every double field finite, named by its C field (issue 17).
+    // Every double field finite, named by its C field.
     finite_fields(&[
         ("rise", s.rise),
         ("tension", s.tension),
@@ -215,8 +215,8 @@ fn scene_of(s: &DnaSupercoilSpec) -> Result<(DnaScene, SupercoilSettings)> {
         ("residual_tol", s.residual_tol),
     ])?;
     // A positive charge whose square underflows (λ² ∝ ν²) is neither the
-    // uncharged rod nor a computable charged one (issue 17: ν = 4.9e-324
-    // panicked in the charged Jacobian).
+    // uncharged rod nor a computable charged one (ν = 4.9e-324 panicked in
+    // the charged Jacobian).
     if s.charge_per_length > 0.0 && s.charge_per_length < 1e-145 {
         return Err(Error::new(
             Status::ErrOutOfRange,

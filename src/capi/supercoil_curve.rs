@@ -1,11 +1,11 @@
-//! A supercoiling run's equilibrium curve from C and Fortran (issue 18,
-//! deliverables 4 and 5): the energy and stability of every point, and the
-//! summary a force × salt map compares (instability, coexistence, plateau
-//! torque, slope dz/dn, superhelix radius), each quantity with a
-//! RodkitSummaryFinding that says whether it was determined. Both wrap
-//! `charged::coexistence` and `charged::summary`; each call computes the
-//! curve afresh (the energies of every point: both calls together took
-//! 1.8 s on a 621-point 1 kbp path, 0.1 s on a 300 bp one).
+//! A supercoiling run's equilibrium curve from C and Fortran: the energy
+//! and stability of every point, and the summary a force × salt map
+//! compares (instability, coexistence, plateau torque, slope dz/dn,
+//! superhelix radius), each quantity with a RodkitSummaryFinding that
+//! says whether it was determined. Both wrap `charged::coexistence` and
+//! `charged::summary`; each call computes the curve afresh (the energies
+//! of every point: both calls together took 1.8 s on a 621-point 1 kbp
+//! path, 0.1 s on a 300 bp one).
 
 use super::args::{arg_mut, arg_ref, copy_out};
 use super::guard;

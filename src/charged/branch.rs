@@ -479,14 +479,13 @@ enum SegmentEnd {
 /// A branch whose last point, reached on its pair list by a step that
 /// carried stages past the list's skin, does not re-converge on the list
 /// rebuilt there (far from an equilibrium with the pairs the old list
-/// lacked: long steps, `Options::corrector_aim` 5, issue 18), or that left
-/// μ = 0 (a corrector that slid onto the spurious straight family, or
-/// onto a solution with μ ≠ 0 of the discretised equations only): the
-/// point is dropped and the branch resumes from the point before (told
-/// already; within half the skin of its list, so all its pairs were
-/// listed) with half the step, on a list built there. The dropped step
-/// counts as a rejected one. Returns whether it was done (the point before
-/// is known).
+/// lacked: long steps, `Options::corrector_aim` 5), or that left μ = 0 (a
+/// corrector that slid onto the spurious straight family, or onto a
+/// solution with μ ≠ 0 of the discretised equations only): the point is
+/// dropped and the branch resumes from the point before (told already;
+/// within half the skin of its list, so all its pairs were listed) with
+/// half the step, on a list built there. The dropped step counts as a
+/// rejected one. Returns whether it was done (the point before is known).
 fn retake(segment: &mut RodBranch) -> bool {
     if segment.resume.previous.is_none() || !drop_last(segment) {
         return false;

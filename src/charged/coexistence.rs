@@ -1,7 +1,7 @@
-//! The equilibrium curve of a supercoiling path (issue 18): the energy of
-//! every point, its stability at fixed end rotation, and the curve an
-//! experiment that stays in the lowest-energy state would follow, with the
-//! jump at the coexistence of the straight rod and the plectoneme.
+//! The equilibrium curve of a supercoiling path: the energy of every
+//! point, its stability at fixed end rotation, and the curve an experiment
+//! that stays in the lowest-energy state would follow, with the jump at
+//! the coexistence of the straight rod and the plectoneme.
 //!
 //! **Energy.** At fixed tension F and fixed end rotation φ (magnetic
 //! tweezers: the clamp holds φ, the magnet pulls with a constant force) the

@@ -1,9 +1,9 @@
-//! The DNA supercoiling scene (physics.md §3, issue 5): a Kirchhoff rod in
-//! nm and pN, clamped at both ends, pulled and turned (or torqued), with the
-//! effective line charge of DNA screened by salt; its path — the straight
-//! rod to its first buckling point, then the buckled branch towards a
-//! plectoneme — and the observables users compare with magnetic-tweezers
-//! experiments ([`Observables`]).
+//! The DNA supercoiling scene (physics.md §3): a Kirchhoff rod in nm and pN,
+//! clamped at both ends, pulled and turned (or torqued), with the effective
+//! line charge of DNA screened by salt; its path — the straight rod to its
+//! first buckling point, then the buckled branch towards a plectoneme — and
+//! the observables users compare with magnetic-tweezers experiments
+//! ([`Observables`]).
 
 use super::branch::{continue_with, follow_on, hard_core_idle, switch, ChargedBranch, ListAnchor};
 use super::rod::{ListRule, RodCharge};
@@ -56,9 +56,9 @@ pub fn observables(rod: &Rod, x: &[f64], phi: f64) -> Result<Observables> {
     })
 }
 
-/// A DNA supercoiling scene in nm and pN (physics.md §3, issue 5): a
-/// Kirchhoff rod clamped at both ends, pulled by `tension` and turned by
-/// the end rotation, carrying the effective line charge of DNA screened by
+/// A DNA supercoiling scene in nm and pN (physics.md §3): a Kirchhoff rod
+/// clamped at both ends, pulled by `tension` and turned by the end
+/// rotation, carrying the effective line charge of DNA screened by
 /// monovalent salt.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DnaScene {
@@ -207,13 +207,14 @@ pub enum EndControl {
 /// 3.1e-3 and 2.9e-3 relative with 3.4 nm elements, 3.4e-4 and 3.3e-4 with
 /// 2.27 nm, 2.9e-4 and 1.5e-4 with 1.7 nm (the reference's own error,
 /// ~1e-4, is the floor): ~h⁴, and 2 nm is the longest with a margin under
-/// issue 18's 1e-3 (benches/README.md, 2026-11-26). At 0.2 M (Debye length
-/// 0.68 nm) 3.4 nm elements are qualitatively wrong — the path folds at
-/// every element the end loop crosses and stalls at 3 turns — while 2 nm
-/// reaches the plectoneme (0 → 5.5 turns in 903 points) but is not within
-/// 1e-3 there: up to 7.5e-3 in torque from 150 elements of Gauss(3),
-/// oscillating along the plectoneme leg. How short denser strands (higher
-/// salt or force) need the elements is not determined yet.
+/// the 1e-3 target for torque and extension (benches/README.md,
+/// 2026-11-26). At 0.2 M (Debye length 0.68 nm) 3.4 nm elements are
+/// qualitatively wrong — the path folds at every element the end loop
+/// crosses and stalls at 3 turns — while 2 nm reaches the plectoneme
+/// (0 → 5.5 turns in 903 points) but is not within 1e-3 there: up to 7.5e-3
+/// in torque from 150 elements of Gauss(3), oscillating along the
+/// plectoneme leg. How short denser strands (higher salt or force) need the
+/// elements is not determined yet.
 pub const AUTO_ELEMENT_LENGTH: f64 = 2.0;
 
 /// How the supercoiling path of a [`DnaScene`] is computed.
@@ -294,24 +295,23 @@ pub struct SupercoilSettings {
     /// block elimination on a supernodal LU once a plectoneme's far pairs
     /// widen the Jacobian; see [`Options::lu_kind`]).
     pub lu_kind: Option<crate::linalg::LuKind>,
-    /// The Newton iterations a step of the buckled branch is sized for by
-    /// the Hermite engine ([`Options::corrector_aim`], 1–12; `Engine::Newton`
-    /// keeps 3, as before issue 18). A step costs its record's simplicial
-    /// factorisation (its determinant signs: ~75 ms at 5–12 turns of the
-    /// 1 kbp scene, 100 elements) and a block elimination per correction
-    /// (~22 ms), so aiming higher makes the steps longer and fewer —
-    /// measured on that scene at 0.1 M, 0 → 12 turns (benches/README.md,
-    /// 2026-11-26): aim 3 (the default), 572 buckled steps, 113 s; 4, 345
-    /// steps, 78 s; 5, 271 steps, 70.5 s (~25 points a turn). A step that
-    /// carries stages so far past the Verlet skin that its point does not
-    /// re-converge on the next pair list is taken again, shorter
-    /// ([`crate::charged::branch`]). Not the default: analyses that
-    /// interpolate the path (the torque-clamp comparison, a coexistence
-    /// premise) want denser points. With aim 5 the 300 bp, 2 pN, 0.1 M
-    /// scene's corrector landed on a solution with μ ≠ 0 (μ = −1.1e-6 pN; a
-    /// tilted state, a solution of the discretised equations only) at the
-    /// buckled branch's point 51, which ended the run with
-    /// an error; it is now taken again with half the step, once, and the
+    /// The Newton iterations a step of the buckled branch is sized for by the
+    /// Hermite engine ([`Options::corrector_aim`], 1–12; `Engine::Newton`
+    /// keeps 3). A step costs its record's simplicial factorisation (its
+    /// determinant signs: ~75 ms at 5–12 turns of the 1 kbp scene, 100
+    /// elements) and a block elimination per correction (~22 ms), so aiming
+    /// higher makes the steps longer and fewer — measured on that scene at
+    /// 0.1 M, 0 → 12 turns (benches/README.md, 2026-11-26): aim 3 (the
+    /// default), 572 buckled steps, 113 s; 4, 345 steps, 78 s; 5, 271 steps,
+    /// 70.5 s (~25 points a turn). A step that carries stages so far past the
+    /// Verlet skin that its point does not re-converge on the next pair list
+    /// is taken again, shorter ([`crate::charged::branch`]). Not the default:
+    /// analyses that interpolate the path (the torque-clamp comparison, a
+    /// coexistence premise) want denser points. With aim 5 the 300 bp, 2 pN,
+    /// 0.1 M scene's corrector landed on a solution with μ ≠ 0
+    /// (μ = −1.1e-6 pN; a tilted state, a solution of the discretised
+    /// equations only) at the buckled branch's point 51, which ended the run
+    /// with an error; it is now taken again with half the step, once, and the
     /// branch goes on ([`SupercoilSettings::unfolding_retakes`],
     /// tests/supercoil_hard_core.rs).
     pub corrector_aim: f64,
@@ -349,12 +349,12 @@ pub struct SupercoilSettings {
     pub anm: AnmOptions,
 }
 
-/// The predictor–corrector of the buckled branch (issue 18). Both give
-/// points converged to the same residual tolerance on the same branch.
+/// The predictor–corrector of the buckled branch. Both give points
+/// converged to the same residual tolerance on the same branch.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Engine {
     /// Euler predictor, Newton corrector with a factorisation per
-    /// iteration, steps sized for 3 iterations: the engine up to issue 18.
+    /// iteration, steps sized for 3 iterations: the original engine.
     Newton,
     /// Cubic Hermite extrapolation from the last two points and their
     /// tangents ([`Options::hermite_predictor`]), Newton corrector. On the
@@ -893,7 +893,7 @@ fn straight_path(
         bifurcation_tol: 1e-7,
         max_steps: settings.max_steps,
         // The buckled branch leaves at the first point: the crowded double
-        // points beyond it cost 5 of the 6 locations (issue 18's profile).
+        // points beyond it cost 5 of the 6 locations (benches/README.md).
         stop_at_bifurcation: true,
         lu_kind: settings.lu_kind,
         stability: settings.stability,

@@ -3,10 +3,10 @@
 //! and from its shape: the thesis's comparison of the continuum with the
 //! discrete base-pair charges on the *same* plectoneme (what the continuum
 //! path's shape becomes with base-pair charges, and how far it moves), and
-//! the choice between the direct sparse Newton and Newton–Krylov
-//! (issue 5, item 5: the continuation keeps the direct solver, whose
-//! determinant signs locate the buckling points; a single equilibrium is
-//! cheaper by Newton–Krylov — benches/charged.rs measures both).
+//! the choice between the direct sparse Newton and Newton–Krylov (the
+//! continuation keeps the direct solver, whose determinant signs locate
+//! the buckling points; a single equilibrium is cheaper by Newton–Krylov —
+//! benches/charged.rs measures both).
 
 use super::dna::{observables, Observables, SupercoilRun};
 use super::rod::{ChargedRod, RodCharge};

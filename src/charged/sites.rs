@@ -15,20 +15,19 @@
 //!   double integral ½∫∫λ²Φ over element pairs more than `near_elements`
 //!   apart by M Gauss–Legendre points per element instead of the s stage
 //!   points; the near zone stays the analytic expansion of [`super::rod`].
-//!   Why (benches/README.md, 2026-11-26, issue 18 steps 6–7): the stage
-//!   quadrature's error on a plectoneme follows the points' spacing
-//!   (~h⁴): across it (r ≈ 4–5 nm, 1/κ ≈ 1 nm at 0.1 M) the integrand
-//!   e^{−κr}/r varies along a strand on a ~√(r/κ) ≈ 2 nm scale, finer than
-//!   the rod's own shape needs. Quintic stencil ([`REFINED_STENCIL`]):
-//!   the cubic one was measured too coarse here (a helix of radius 5 nm
-//!   on 1.7 nm stage spacing: far energy 2.5e-4 off with four points,
-//!   3.6e-6 with six; tests/charged_far_quadrature.rs). Site–site pairs
-//!   (the gradient of one symmetric energy), not each stage's force
-//!   density against refined partner sites: that pointwise form breaks
-//!   action and reaction (its outer rule is the stage points') and was
-//!   measured worse on the plectoneme than no refinement at all (1 kbp,
-//!   0.1 M: 3.9e-3 against 3.1e-3 on 100 × Gauss(2), 9.7e-3 on 40 ×
-//!   Gauss(4)).
+//!   Why (benches/README.md, 2026-11-26): the stage quadrature's error on
+//!   a plectoneme follows the points' spacing (~h⁴): across it
+//!   (r ≈ 4–5 nm, 1/κ ≈ 1 nm at 0.1 M) the integrand e^{−κr}/r varies
+//!   along a strand on a ~√(r/κ) ≈ 2 nm scale, finer than the rod's own
+//!   shape needs. Quintic stencil ([`REFINED_STENCIL`]): the cubic one was
+//!   measured too coarse here (a helix of radius 5 nm on 1.7 nm stage
+//!   spacing: far energy 2.5e-4 off with four points, 3.6e-6 with six;
+//!   tests/charged_far_quadrature.rs). Site–site pairs (the gradient of
+//!   one symmetric energy), not each stage's force density against refined
+//!   partner sites: that pointwise form breaks action and reaction (its
+//!   outer rule is the stage points') and was measured worse on the
+//!   plectoneme than no refinement at all (1 kbp, 0.1 M: 3.9e-3 against
+//!   3.1e-3 on 100 × Gauss(2), 9.7e-3 on 40 × Gauss(4)).
 //!
 //! Either way a site's position is R_k = Σ_j ℓ_j(s_k) r_j, Lagrange on the
 //! stencil's stage points nearest in arc length (across element ends), so

@@ -1,7 +1,7 @@
-//! One supercoiling curve in the numbers a magnetic-tweezers map compares
-//! (issue 18, deliverable 5): the instability (buckling) point, the
-//! coexistence of the straight rod and the plectoneme, the plateau torque,
-//! the slope dz/dn of the plectonemic leg and the superhelix radius.
+//! One supercoiling curve in the numbers a magnetic-tweezers map compares:
+//! the instability (buckling) point, the coexistence of the straight rod
+//! and the plectoneme, the plateau torque, the slope dz/dn of the
+//! plectonemic leg and the superhelix radius.
 //!
 //! Every quantity carries a [`Finding`]: a number is given only when the
 //! curve determines it ([`Finding::Found`]), or — for the plateau and the

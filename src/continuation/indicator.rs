@@ -1,4 +1,4 @@
-//! The ANM's series bifurcation indicator (issue 19, item 3), after
+//! The ANM's series bifurcation indicator, after
 //! Boutyour, Zahrouni, Potier-Ferry & Boudi, "Bifurcation points and
 //! bifurcated branches by an asymptotic numerical method and Padé
 //! approximants", Int. J. Numer. Meth. Engng 60 (2004): a fictitious

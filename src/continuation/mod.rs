@@ -312,8 +312,8 @@ pub struct Options {
     /// How the Newton corrections factorise (None: by the pattern's
     /// structure, [`crate::linalg::LuKind`] — supernodal block elimination
     /// for a plectoneme's Jacobian; Some(Simplicial): B's own simplicial
-    /// LU throughout, as before issue 18's third step). Records are
-    /// factorised simplicially either way (their determinant signs).
+    /// LU throughout, as before block elimination was introduced). Records
+    /// are factorised simplicially either way (their determinant signs).
     pub lu_kind: Option<crate::linalg::LuKind>,
     /// The Newton corrector iterations a step is sized for (3: each step
     /// grows or shrinks by √(aim / iterations), within [0.5, 2]). More
@@ -470,7 +470,7 @@ pub struct Counts {
     pub times: Times,
 }
 
-/// Wall-clock time of a run by kind of work (issue 18's profile). The
+/// Wall-clock time of a run by kind of work (the run's profile). The
 /// first five are disjoint kernels; `location` is inclusive (its
 /// corrections' residuals, Jacobians, factorisations and monitor are also
 /// in those), and `setup` is what a caller adds for building problems (a

@@ -311,7 +311,7 @@ fn predict_correct<P: Problem + ?Sized>(
             Err(e) => {
                 run.ctx.counts.rejected_steps += 1;
                 if std::env::var_os("RODKIT_TRACE_REJECTIONS").is_some() {
-                    // Issue 18's profile: why steps fail (stderr, opt-in).
+                    // Part of a run's profile: why steps fail (stderr, opt-in).
                     eprintln!("rodkit: step {ds:.4e} from Λ = {:.6} rejected: {}", at.lambda, e.message);
                 }
                 if extrapolated {

@@ -86,7 +86,7 @@ pub fn energy(r: &[[f64; 3]], q: &[f64], s: &[f64], screening: &Screening, perio
 /// (κ = 0: no cutoff is accurate) and when no r_c below `max` meets it.
 pub fn screening_cutoff(kappa: f64, a: f64, tolerance: f64, max: f64) -> Option<f64> {
     // κa > 0, not only κ > 0: a denormal κ times a underflows to 0, where
-    // E1 is infinite (it panicked here, issue 17); a screening that weak is
+    // E1 is infinite (it used to panic here); a screening that weak is
     // Coulomb for any length this library can integrate.
     if !(kappa * a > 0.0 && tolerance > 0.0 && tolerance < 1.0 && max.is_finite()) {
         return None;

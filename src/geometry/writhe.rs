@@ -15,8 +15,8 @@
 //! and [`writhe_within`], to a tolerance with an error estimate: pairs of
 //! smooth pieces at orders chosen by their separation, Duffy's map at the
 //! nodes, the rays in closed form — about 10× cheaper than `writhe` at
-//! order 4 on a rod's centreline and 1e4× more accurate (issue 18,
-//! benches/README.md).
+//! order 4 on a rod's centreline and 1e4× more accurate
+//! (benches/README.md).
 
 use super::vec3::{cross, dot, sub};
 use super::Centerline;
@@ -27,7 +27,7 @@ use crate::status::Status;
 /// The kernel evaluations one [`writhe`] may spend (≈ 10–30 s at 10–30 ns
 /// each, the bound of one continuum energy evaluation): the cost grows
 /// like (nodes · order)², so a caller's 10⁵ nodes at order 32 would run
-/// for hours (issue 17: every call whose cost depends on inputs is sized
+/// for hours (every call whose cost depends on its inputs is sized
 /// first).
 pub const MAX_WRITHE_EVALUATIONS: f64 = 1e9;
 
@@ -188,7 +188,7 @@ fn ray_integral(
 }
 
 // ---------------------------------------------------------------------
-// The error-controlled rule: panel pairs by separation (issue 18).
+// The error-controlled rule: panel pairs by separation.
 // ---------------------------------------------------------------------
 
 /// Largest Gauss order of the far-pair tables (every segment sampled once

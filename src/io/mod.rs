@@ -1,9 +1,9 @@
-//! Files for other tools (issue 20): shapes as legacy VTK polydata (ParaView,
-//! VisIt) and tables as CSV. Opt-in and path-given: rodkit writes nothing
-//! unless asked, and a file that cannot be written is an error naming the
-//! path and the system's reason (`Status::ErrIo`), never a partial file left
-//! behind silently (the file is written in full to a temporary name beside
-//! it and renamed).
+//! Files for other tools: shapes as legacy VTK polydata (ParaView, VisIt)
+//! and tables as CSV. Opt-in and path-given: rodkit writes nothing unless
+//! asked, and a file that cannot be written is an error naming the path and
+//! the system's reason (`Status::ErrIo`), never a partial file left behind
+//! silently (the file is written in full to a temporary name beside it and
+//! renamed).
 
 pub mod csv;
 pub mod vtk;

@@ -10,7 +10,7 @@
 //! entries at 12 turns of the 1 kbp DNA scene, 854 ms a factorisation, 94 %
 //! of a run); ordered by RCM the strands are interleaved and the matrix is
 //! a band again, whatever the shape. COLAMD, tried on the same matrices,
-//! filled more than the natural order (benches/README.md, issue 18).
+//! filled more than the natural order (benches/README.md).
 //!
 //! Rows or columns with many entries (a continuation's dense border, a
 //! phase condition's multiplier) would make every node a neighbour of

@@ -1,5 +1,5 @@
-//! Graded meshes for rod branches (issue 19): elements placed where a
-//! branch's solutions vary fast, as AUTO-07p's mesh adaption places its
+//! Graded meshes for rod branches: elements placed where a branch's
+//! solutions vary fast, as AUTO-07p's mesh adaption places its
 //! collocation intervals (Doedel et al., AUTO-07p manual §"mesh
 //! adaption"; Russell & Christiansen, SIAM J. Numer. Anal. 15 (1978)):
 //! equidistribute a monitor built from the solution's highest resolved

@@ -108,8 +108,8 @@ impl RodLaw {
         // Positive definite with a condition number a double can carry:
         // Cholesky alone accepts a singular (semi-definite) K whose rounding
         // leaves a tiny positive pivot, e.g. g² = C·S exactly. The messages
-        // stay short (issue 17: the matrix itself was printed, ~1 kB): the
-        // caller has it.
+        // stay short (printing the matrix itself took ~1 kB): the caller
+        // has it.
         let eig = stiffness.symmetric_eigenvalues();
         let (lo, hi) = (eig.min(), eig.max());
         if !(lo > 0.0) || !(hi > 0.0) || stiffness.cholesky().is_none() {

@@ -79,7 +79,7 @@ impl CouplingStiffness {
         if k.cholesky().is_none() {
             return Err(Error::new(
                 Status::ErrNotPositiveDefinite,
-                // Short (issue 17: the printed matrix made a 1–5 kB message).
+                // Short (the printed matrix made a 1–5 kB message).
                 format!(
                     "coupling stiffness is not positive definite: {}",
                     crate::error::eigen_range(k.symmetric_eigenvalues().as_slice())
@@ -98,8 +98,8 @@ impl CouplingStiffness {
 
     /// Condense ε_θ out at p = 0 (Schur complement of K[2,2]). Each product
     /// is formed as k_i3·(k_j3/k33) so that entries near 1e154 and above do
-    /// not overflow in k_i3·k_j3 (issue 17: −Inf was returned with OK for
-    /// moduli of 1e187…1e198).
+    /// not overflow in k_i3·k_j3 (formed directly, moduli of 1e187…1e198
+    /// gave −Inf with status OK).
     pub fn stretch_twist(&self) -> StretchTwist {
         let k = &self.k;
         let k33 = k[(2, 2)];

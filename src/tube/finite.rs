@@ -271,9 +271,9 @@ impl<'m> FiniteTube<'m> {
         // already resolve a smooth wall to ~1e−6.
         let mut n = if opts.rel_tol >= 1e-7 { 8 } else { 12 };
         // The estimate's round-off floor grows with n: below the floor of the
-        // second grid no grid can meet the tolerance, so say so at once
-        // (issue 17: a thin wall with a tight tolerance is not "not
-        // converged", it is asking for more digits than the wall has).
+        // second grid no grid can meet the tolerance, so say so at once (a
+        // thin wall with a tight tolerance is not "not converged", it is
+        // asking for more digits than the wall has).
         let first_floor = self.roundoff_floor(n + n / 2);
         if first_floor > opts.rel_tol {
             return Err(self.unreachable(opts.rel_tol, first_floor));
@@ -676,7 +676,7 @@ impl<'m> FiniteTube<'m> {
         // The residual's round-off grows like n²ε (first derivatives only),
         // times B/t for a thin wall (r' = Dr differences radii ~B across t):
         // without that factor Newton failed on walls of t/R = 1e−3 with
-        // max |F| ≈ 2e−10 at its best (measured, issue 17).
+        // max |F| ≈ 2e−10 at its best (measured).
         let thinness = b / (b - self.inner_radius);
         let opts = NewtonOptions {
             step_tol: 1e-12,
@@ -1163,8 +1163,8 @@ fn stiffness_ratio(material: &dyn WallMaterial, big: f64, x0: &[f64; 4]) -> Opti
 /// Venant-Kirchhoff's lateral Green strain cannot pass −1/2 (a radial
 /// stretch a → 0 at λ = √(1 + 1/ν) in uniaxial tension, where ∂²W/∂a² =
 /// a²C_rr → 0) and its compressive force has a maximum. Reported as
-/// ErrMaterialInstability with the last state reached (issue 17: it was
-/// ErrNotConverged).
+/// ErrMaterialInstability with the last state reached, not
+/// ErrNotConverged.
 pub(crate) fn limit_of_law(material: &dyn WallMaterial, big: f64, x0: &[f64; 4], s: f64) -> Option<Error> {
     if material.incompressible() {
         return None;

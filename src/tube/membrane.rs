@@ -13,8 +13,8 @@
 //! Resultants F = 2πr(at)σ_zz, T = 2πr²(at)σ_θz, γ = rψ; closed ends carry
 //! πr²(p − p_o) on the caps. With λ or ψ unprescribed, F or T close the system.
 //!
-//! Error estimate (issue 17, "no silent wrong answers"): the thick wall of
-//! the same section, A = R − t/2, B = R + t/2, solved by the finite-strain
+//! Error estimate ("no silent wrong answers"): the thick wall of the same
+//! section, A = R − t/2, B = R + t/2, solved by the finite-strain
 //! collocation of [`crate::tube::finite`] on two fixed coarse grids of
 //! [`CHECK_COARSE`] and [`CHECK_FINE`] Chebyshev intervals (cheap: a wall
 //! this thin is resolved by a few intervals). The estimate is
@@ -275,8 +275,8 @@ impl<'m> MembraneTube<'m> {
         error::finite_result("membrane tube state", &[lambda, psi, wall, applied, torque, r, t])?;
         // The algebraic membrane has solutions with the deformed wall through
         // the axis (r − at/2 ≤ 0: measured −0.21 … −1e8 under strong outer or
-        // inner pressure, issue 17): the section has collapsed, no physical
-        // state of this model exists there.
+        // inner pressure): the section has collapsed, no physical state of
+        // this model exists there.
         if !(r - 0.5 * t > 0.0) {
             return Err(Error::new(
                 Status::ErrMaterialInstability,

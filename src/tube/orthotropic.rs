@@ -201,10 +201,10 @@ impl Orthotropic {
         for (name, v) in [("nu12", nu12), ("nu13", nu13), ("nu23", nu23)] {
             error::finite(name, v)?;
         }
-        // Conditioning (issue 17): moduli more than 12 orders of magnitude
-        // apart leave a stiffness whose condensations keep ~4 digits at best,
-        // and a denormal one makes it singular (a tiny g13 panicked in the
-        // rod law). Refused by name, with both values.
+        // Conditioning: moduli more than 12 orders of magnitude apart leave a
+        // stiffness whose condensations keep ~4 digits at best, and a
+        // denormal one makes it singular (a tiny g13 panicked in the rod
+        // law). Refused by name, with both values.
         let moduli = [("e1", e1), ("e2", e2), ("e3", e3), ("g12", g12), ("g13", g13), ("g23", g23)];
         let (lo, hi) = (
             moduli.iter().fold(moduli[0], |a, &b| if b.1 < a.1 { b } else { a }),

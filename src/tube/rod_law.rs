@@ -105,7 +105,7 @@ impl RodStiffness {
 /// of the others zero (Schur complement).
 /// A block that does not solve (singular to round-off: constants many orders
 /// of magnitude apart, or denormal) is ErrNotPositiveDefinite, not a panic
-/// (issue 17: a denormal g13 panicked here).
+/// (a denormal g13 used to panic here).
 fn condense(c: &DMatrix<f64>, keep: &[usize], free: &[usize]) -> Result<Matrix2<f64>> {
     let sub = |rows: &[usize], cols: &[usize]| DMatrix::from_fn(rows.len(), cols.len(), |i, j| c[(rows[i], cols[j])]);
     let (kk, kf, ff) = (sub(keep, keep), sub(keep, free), sub(free, free));

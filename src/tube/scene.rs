@@ -54,7 +54,7 @@ impl WallLaw {
                 check_nh(&f.matrix)?;
                 error::finite("intrinsic_twist", f.intrinsic_twist)?;
                 // Each family's fields by their C names, fibre1_… and
-                // fibre2_… (issue 17: both were reported as `fibre_k1`).
+                // fibre2_… (one shared `fibre_k1` would not say which).
                 for (i, fam) in f.families.iter().enumerate() {
                     let name = |field: &str| format!("fibre{}_{field}", i + 1);
                     error::positive(&name("k1"), fam.k1)?;
@@ -265,9 +265,9 @@ impl TubeScene {
     }
 }
 
-/// Issue 17, "no silent wrong answers": a state is returned only with every
-/// scalar and profile entry finite, a finite non-negative error estimate and
-/// deformed radii of the right sign and order (0 ≤ a < b).
+/// No silent wrong answers: a state is returned only with every scalar and
+/// profile entry finite, a finite non-negative error estimate and deformed
+/// radii of the right sign and order (0 ≤ a < b).
 pub fn check_state(s: &TubeState) -> Result<()> {
     let scalars = [
         s.stretch,

@@ -189,8 +189,8 @@ impl ThickTube {
             let stuck = diff <= roundoff && roundoff > rel_tol;
             if est <= rel_tol || fine_n >= 384 || stuck {
                 if stuck {
-                    // Issue 17: not a failure to converge but a tolerance
-                    // below what round-off allows; say the best reachable.
+                    // Not a failure to converge but a tolerance below what
+                    // round-off allows; say the best reachable.
                     return Err(Error::new(
                         Status::ErrToleranceUnreachable,
                         format!(

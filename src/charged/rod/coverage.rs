@@ -1,5 +1,5 @@
 //! Whether a pair list still holds every pair that interacts — the
-//! criterion for rebuilding it (issue 18).
+//! criterion for rebuilding it.
 //!
 //! The list holds the far pairs within r_int + skin of each other where it
 //! was built (r_int: the range of the pair potential, r_off of the

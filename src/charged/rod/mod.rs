@@ -51,8 +51,8 @@
 //! farther apart along the rod than 1.25πa (strands repel before they
 //! touch and cannot pass; neighbours on one strand are not pushed apart).
 //!
-//! Linear algebra, measured (benches/charged.rs, issue 5 "sparse Jacobian
-//! or Newton–Krylov with a banded preconditioner"): the far pairs widen the
+//! Linear algebra, a sparse Jacobian or Newton–Krylov with a banded
+//! preconditioner, measured (benches/charged.rs): the far pairs widen the
 //! Jacobian's band ~3.5× (0.1 M) and the full LU dominates a direct Newton
 //! equilibrium. Both are kept, each where it wins: continuation uses the
 //! exact sparse Jacobian and its LU (the bordered determinant signs and
@@ -67,7 +67,7 @@
 //! supernodal LU of the Jacobian (~25 ms against ~90 ms for the simplicial
 //! LU of the bordered matrix at 5–7.5 turns of the 1 kbp scene, 100
 //! elements; [`crate::linalg::LuKind`]), and only a record's factorisation,
-//! whose determinant signs are read, stays simplicial (issue 18).
+//! whose determinant signs are read, stays simplicial.
 
 mod coverage;
 mod series;
@@ -156,9 +156,9 @@ pub struct RodCharge {
     /// stage positions ([`super::sites`]): the far double integral's quadrature refined
     /// without new unknowns. The near zone, the exclusion (elements more
     /// than `near_elements` apart), cutoff, skin and hard core are the
-    /// stage quadrature's. Measured (benches/README.md, 2026-11-26, issue
-    /// 18 step 7): the stage quadrature's error on a plectoneme follows the
-    /// stage spacing, not the rod's shape. Not with `base_pairs` or `anm`.
+    /// stage quadrature's. Measured (benches/README.md, 2026-11-26): the
+    /// stage quadrature's error on a plectoneme follows the stage spacing,
+    /// not the rod's shape. Not with `base_pairs` or `anm`.
     pub far_points: usize,
     /// Follow this rod's branches by the asymptotic numerical method (the
     /// series of the pair forces, src/charged/rod/series.rs: one

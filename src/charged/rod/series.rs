@@ -1,6 +1,6 @@
 //! The charged rod's Taylor series along a path — the asymptotic numerical
-//! method (physics.md §2.4) for a residual that is not polynomial (issue
-//! 18: the thesis's ANM and its charged rods joined).
+//! method (physics.md §2.4) for a residual that is not polynomial (the
+//! thesis's ANM and its charged rods joined).
 //!
 //! The rod's own system (stiffened near zone included) is cubic and takes
 //! its series from its tapes ([`crate::taylor`]). What is added here:

@@ -1,4 +1,4 @@
-//! Thin tube at finite strain (§1.5, issue item "thin tube at finite strain"):
+//! Thin tube at finite strain (§1.5):
 //! the wall is a membrane at the mid radius R with thickness t, in plane
 //! stress (σ_rr = 0 through the thin wall), so the radial ODE of
 //! [`crate::tube::finite`] becomes algebraic:

@@ -1,4 +1,11 @@
-//! SUNDIALS cross-check of the Cosserat rod (physics.md §2, §4).
+//! SUNDIALS cross-check of the Cosserat rod (physics.md §2, §4), of two
+//! kinds: the KINSOL tests (1, the band solver, the other validation
+//! branches) solve rodkit's own discrete residual with another solver —
+//! they show an isolated root, not the right equations; the IDA test (2)
+//! integrates the continuous ODEs, whose right-hand side `Rod::rhs` is
+//! rodkit's but shares nothing with the collocation residual and its
+//! Jacobian (the equations themselves are held to closed forms in
+//! tests/rod_accuracy.rs and tests/rod_buckling.rs).
 //!
 //! 1. KINSOL (exact Newton: a Jacobian every iteration, the rod's own
 //!    sparse Jacobian densified; explicit tolerances, scaled by the rod's

@@ -1,5 +1,7 @@
 //! SUNDIALS cross-check of the finite-strain thick tube (physics.md §1.2–1.3,
-//! §4): the same radial equilibrium integrated through the wall by IDA in a
+//! §4), of the kind "the equations from the other side": the radial
+//! equilibrium written here (only the wall law's stress is rodkit's),
+//! integrated through the wall by IDA in a
 //! shooting method, with KINSOL on the shooting residual, against
 //! `FiniteTube::solve` (Chebyshev collocation + Newton).
 //!
@@ -764,7 +766,7 @@ fn fibre_switching_inside_the_wall() {
 /// The torque-free states of `wall` at the stretches `lambdas` (increasing
 /// from 1), each shot from the one before (KINSOL from the stress-free
 /// state at the first), at the final tolerances.
-fn torque_free_sweep(ctx: &Context, wall: &Wall<'_>, lambdas: &[f64], u: &mut Vec<f64>) -> Vec<ShotState> {
+fn torque_free_sweep(ctx: &Context, wall: &Wall<'_>, lambdas: &[f64], u: &mut [f64]) -> Vec<ShotState> {
     let tight = Tolerances { rtol: IDA_RTOL, atol: IDA_ATOL };
     lambdas
         .iter()
@@ -785,6 +787,8 @@ fn torque_free_sweep(ctx: &Context, wall: &Wall<'_>, lambdas: &[f64], u: &mut Ve
 /// sweep to these values; asserted against them here to 1e-6.
 #[test]
 fn deflation_minimum_by_ida_shooting() {
+    // The cases' `model` is tube_behaviour.rs's; this test shoots the thick wall.
+    #[allow(dead_code)]
     #[path = "support/behaviour_cases.rs"]
     mod behaviour_cases;
     let ctx = Context::new().unwrap();

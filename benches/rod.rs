@@ -2,8 +2,9 @@
 //! sundials]`): the cubic ANM against Newton pseudo-arc-length continuation
 //! on the same discretisation in the same process, SUNDIALS KINSOL
 //! (natural-parameter continuation, with the feature) and the peer AUTO-07p
-//! (run as a subprocess, its executable timed alone; skipped with a message
-//! when not installed).
+//! (run as a subprocess, timed by its own process CPU time — getrusage of
+//! the child, start-up and files included; skipped with a message when not
+//! installed).
 //!
 //! Scenes (physics.md §2.6): the cantilever K_b = 1, C = 1/1.3, GA = 1e4,
 //! EA = 2.6e4, L = 1 with a tip force Λ(1, 0, 0), follower (body frame,
@@ -351,7 +352,7 @@ impl TipsSetup {
                 for (ai, &ntst) in auto_ntst.iter().enumerate() {
                     match auto07p::follower(ntst, tol) {
                         Ok(run) => {
-                            auto_times[ai].push(run.wall);
+                            auto_times[ai].push(run.cpu);
                             auto_results[ai] = Some(run);
                         }
                         Err(e) => {
@@ -765,7 +766,7 @@ fn auto_post_buckling(out: &mut String, pcr: f64) {
         for _ in 0..REPS {
             match auto07p::euler(ntst, 1e-10) {
                 Ok(run) => {
-                    times.push(run.wall);
+                    times.push(run.cpu);
                     last = Some(run);
                 }
                 Err(e) => {

@@ -17,14 +17,26 @@
 //! times the four fastest settings of each side that reach each target
 //! error (1e−6, 1e−8) in REPS interleaved repetitions (medians), and the
 //! table names the fastest of each side with its settings and the ratio.
-//! AUTO's time is its executable's wall time (its start-up included:
-//! ~1 ms); rodkit's is the call's (model set-up included).
+//! Timing, as each side's users run it:
+//! - AUTO-07p: its executable's own process CPU time (user + system, from
+//!   getrusage of the child: start-up, reading its constants and writing
+//!   fort.7/8/9 included), its wall time beside;
+//! - rodkit, two ways: warm repeated calls in this process (as a parameter
+//!   sweep makes them; medians), and a first call in a fresh process (the
+//!   bench binary re-run with `--first-call`: model set-up, first
+//!   allocations and page faults included; medians of as many processes),
+//!   with that process's whole CPU time beside.
+//! What other processes did meanwhile is measured (/proc/stat less this
+//! process tree's CPU time): a target's ratios are withheld when other
+//! jobs took more than a quarter of a core during its timing.
 //!
 //! Writes target/bench/rod_frontier/{report.txt, settings.csv,
 //! frontier_follower.svg, frontier_dead.svg}.
 
 #[path = "support/auto07p.rs"]
 mod auto07p;
+#[path = "support/machine.rs"]
+mod machine;
 #[path = "support/plot.rs"]
 mod plot;
 #[path = "support/timing.rs"]
@@ -48,6 +60,9 @@ const TARGETS: [f64; 2] = [1e-6, 1e-8];
 const REPS: usize = 7;
 /// Settings per side and target timed in pass 2.
 const FINALISTS: usize = 4;
+/// Cores other jobs may take during a target's timing before its ratios
+/// are withheld.
+const QUIET: f64 = 0.25;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Scene {
@@ -93,10 +108,12 @@ impl Setting {
     }
 }
 
-/// One run's tips, wall time and (rodkit) work.
+/// One run's tips, time and (rodkit) work. `time`: rodkit's call, AUTO's
+/// process CPU; `wall`: AUTO's process wall time.
 struct Outcome {
     tips: Vec<[f64; 3]>,
     time: Duration,
+    wall: Duration,
     counts: Option<Counts>,
 }
 
@@ -138,7 +155,7 @@ fn run_rodkit(scene: Scene, stages: usize, n: usize, engine: Engine, tol: f64) -
     let mut tips: Vec<[f64; 3]> = b.samples.iter().map(|s| [s.outputs[0], s.outputs[1], s.outputs[2]]).collect();
     let last = &b.records.last().unwrap().outputs;
     tips.push([last[0], last[1], last[2]]);
-    Ok(Outcome { tips, time, counts: Some(b.counts) })
+    Ok(Outcome { tips, time, wall: time, counts: Some(b.counts) })
 }
 
 fn run_auto(scene: Scene, ntst: usize, ncol: u32, tol: f64, dsmax: f64, iad: u32) -> Result<Outcome, String> {
@@ -151,7 +168,7 @@ fn run_auto(scene: Scene, ntst: usize, ncol: u32, tol: f64, dsmax: f64, iad: u32
         .iter()
         .map(|&l| run.at_lambda(l).map(|p| p.tip_at(l)).ok_or_else(|| format!("no UZ point at Λ = {l}")))
         .collect::<Result<_, _>>()?;
-    Ok(Outcome { tips, time: run.wall, counts: None })
+    Ok(Outcome { tips, time: run.cpu, wall: run.wall, counts: None })
 }
 
 fn run(scene: Scene, s: &Setting) -> Result<Outcome, String> {
@@ -194,7 +211,32 @@ fn settings(auto: bool) -> Vec<Setting> {
     all
 }
 
+/// A rodkit setting's first call in a fresh process: (the call's time as
+/// that process measured it, the process's whole CPU time).
+fn first_call(scene: Scene, index: usize) -> Result<(Duration, Duration), String> {
+    let cpu0 = auto07p::children_cpu();
+    let out = std::process::Command::new(std::env::current_exe().map_err(|e| e.to_string())?)
+        .args(["--first-call", &format!("{scene:?}"), &index.to_string()])
+        .output()
+        .map_err(|e| e.to_string())?;
+    let cpu = auto07p::children_cpu().saturating_sub(cpu0);
+    if !out.status.success() {
+        return Err(String::from_utf8_lossy(&out.stderr).into_owned());
+    }
+    let nanos: u64 = String::from_utf8_lossy(&out.stdout).trim().parse().map_err(|e| format!("{e}"))?;
+    Ok((Duration::from_nanos(nanos), cpu))
+}
+
 fn main() {
+    // A child of `first_call`: one rodkit call, its time printed in ns.
+    let args: Vec<String> = std::env::args().collect();
+    if let Some(i) = args.iter().position(|a| a == "--first-call") {
+        let scene = if args[i + 1] == "Follower" { Scene::Follower } else { Scene::Dead };
+        let setting = &settings(false)[args[i + 2].parse::<usize>().unwrap()];
+        let o = run(scene, setting).unwrap();
+        println!("{}", o.time.as_nanos());
+        return;
+    }
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench/rod_frontier");
     fs::create_dir_all(&dir).unwrap();
     let auto = auto07p::available();
@@ -203,6 +245,13 @@ fn main() {
         out,
         "rodkit {} work–precision frontier against AUTO-07p (cantilever α 0 → 10, tips at α = 1, 2, 5, 10); medians of {REPS}",
         env!("CARGO_PKG_VERSION")
+    );
+    let _ = writeln!(
+        out,
+        "machine: {} cores, load average {:.2} at the start (this bench included); time*: rodkit's warm call, \
+         AUTO-07p's process CPU",
+        machine::cores(),
+        machine::load_average()
     );
     if !auto {
         let _ = writeln!(out, "AUTO-07p not installed (apt-get install auto-07p): rodkit's frontier only");
@@ -239,7 +288,7 @@ fn main() {
         let _ = writeln!(
             out,
             "{:<9} {:<9} {:<48} {:>10} {:>10} {:>6} {:>7}",
-            "tip err ≤", "side", "cheapest setting", "time", "error", "steps", "factor."
+            "tip err ≤", "side", "cheapest setting", "time*", "error", "steps", "factor."
         );
         let mut frontier = vec![];
         for target in TARGETS {
@@ -252,18 +301,28 @@ fn main() {
                 finalists.extend(c.into_iter().take(FINALISTS).map(|r| r.0));
             }
             let mut times = vec![vec![]; finalists.len()];
+            let mut walls = vec![vec![]; finalists.len()];
+            let mut firsts: Vec<Vec<(Duration, Duration)>> = vec![vec![]; finalists.len()];
             let mut errors = vec![0.0; finalists.len()];
             let mut counts = vec![None; finalists.len()];
+            let quiet = machine::Sample::now();
             for _ in 0..REPS {
                 for (k, &i) in finalists.iter().enumerate() {
                     if let Ok(o) = run(scene, &all[i]) {
                         errors[k] = error(&o.tips, &reference);
                         times[k].push(o.time);
+                        walls[k].push(o.wall);
                         counts[k] = o.counts;
+                    }
+                    if all[i].side() == "rodkit" {
+                        if let Ok(f) = first_call(scene, i) {
+                            firsts[k].push(f);
+                        }
                     }
                 }
             }
-            let mut best: Vec<(&str, Duration)> = vec![];
+            let others = quiet.others_since(&machine::Sample::now());
+            let mut best: Vec<(&str, Duration, Option<Duration>)> = vec![];
             for side in ["rodkit", "AUTO-07p"] {
                 let pick = (0..finalists.len())
                     .filter(|&k| all[finalists[k]].side() == side && times[k].len() == REPS && errors[k] <= target)
@@ -274,9 +333,21 @@ fn main() {
                         let (steps, fact) = counts[k].as_ref().map_or(("-".into(), "-".into()), |c: &Counts| {
                             (c.steps.to_string(), c.factorisations.to_string())
                         });
+                        let (first, detail) = if side == "rodkit" && firsts[k].len() == REPS {
+                            let call = median(firsts[k].iter().map(|f| f.0).collect());
+                            let process = median(firsts[k].iter().map(|f| f.1).collect());
+                            (
+                                Some(call),
+                                format!("first call {:.2} ms (its process {:.1} ms CPU)", ms(call), ms(process)),
+                            )
+                        } else if side == "rodkit" {
+                            (None, "first call failed".into())
+                        } else {
+                            (None, format!("wall {:.2} ms", ms(median(walls[k].clone()))))
+                        };
                         let _ = writeln!(
                             out,
-                            "{:<9.0e} {:<9} {:<48} {:>8.2}ms {:>10.1e} {:>6} {:>7}",
+                            "{:<9.0e} {:<9} {:<48} {:>8.2}ms {:>10.1e} {:>6} {:>7}  {detail}",
                             target,
                             side,
                             all[finalists[k]].label(),
@@ -285,7 +356,7 @@ fn main() {
                             steps,
                             fact
                         );
-                        best.push((side, t));
+                        best.push((side, t, first));
                         frontier.push((side, target, ms(t), errors[k]));
                     }
                     None => {
@@ -293,13 +364,23 @@ fn main() {
                     }
                 }
             }
-            if let [(_, r), (_, a)] = best[..] {
-                let _ = writeln!(
-                    out,
-                    "{:<9} AUTO-07p / rodkit = {:.1} (cheapest against cheapest, same run)",
-                    "",
-                    a.as_secs_f64() / r.as_secs_f64()
-                );
+            if let [(_, warm, first), (_, auto, _)] = best[..] {
+                if others > QUIET || others.is_nan() {
+                    let _ = writeln!(
+                        out,
+                        "{:<9} ratios withheld: other jobs used {others:.2} cores while this target was timed",
+                        ""
+                    );
+                } else {
+                    let _ = writeln!(
+                        out,
+                        "{:<9} AUTO-07p process CPU / rodkit: {:.1}× warm, {} first call in a fresh process \
+                         (other jobs {others:.2} cores)",
+                        "",
+                        auto.as_secs_f64() / warm.as_secs_f64(),
+                        first.map_or("-".into(), |f| format!("{:.1}×", auto.as_secs_f64() / f.as_secs_f64())),
+                    );
+                }
             }
         }
         let points: Vec<(&str, f64, f64)> = first.iter().map(|r| (all[r.0].side(), ms(r.2), r.1.max(1e-15))).collect();

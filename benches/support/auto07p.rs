@@ -114,6 +114,9 @@ pub struct AutoRun {
     pub wall: Duration,
     /// Wall time of each executable run (euler: trivial branch, then post-buckled branch).
     pub wall_runs: Vec<Duration>,
+    /// CPU time (user + system) of the executable(s) by their own process
+    /// accounting, summed: what AUTO costs as its users run it.
+    pub cpu: Duration,
     /// Continuation steps (Σ over branches of max|PT| − 1).
     pub steps: usize,
     /// Steps per branch, in branch order.
@@ -267,10 +270,26 @@ fn prepare(problem: &str, dir: &Path, ntst: usize, tol: f64, opt: &Options) -> R
     Ok(())
 }
 
-/// Runs one executable in `dir` with stdin = `constants`; returns the wall time of the process.
-fn run_exe(exe: &Path, dir: &Path, constants: &str) -> Result<Duration, String> {
+/// CPU time (user + system) of this process's terminated, waited-for
+/// children so far (getrusage(RUSAGE_CHILDREN)).
+pub fn children_cpu() -> Duration {
+    let mut u = std::mem::MaybeUninit::<libc::rusage>::zeroed();
+    // SAFETY: getrusage writes the struct it is given; RUSAGE_CHILDREN is valid.
+    let u = unsafe {
+        libc::getrusage(libc::RUSAGE_CHILDREN, u.as_mut_ptr());
+        u.assume_init()
+    };
+    let tv = |t: libc::timeval| Duration::new(t.tv_sec as u64, t.tv_usec as u32 * 1000);
+    tv(u.ru_utime) + tv(u.ru_stime)
+}
+
+/// Runs one executable in `dir` with stdin = `constants`; returns the wall
+/// time of the process and its own CPU time (the RUSAGE_CHILDREN difference
+/// across its wait: the only child that ends in between).
+fn run_exe(exe: &Path, dir: &Path, constants: &str) -> Result<(Duration, Duration), String> {
     let input = fs::File::open(dir.join(constants)).map_err(|e| format!("{constants}: {e}"))?;
     let output = fs::File::create(dir.join(format!("{constants}.stdout"))).map_err(|e| e.to_string())?;
+    let cpu0 = children_cpu();
     let t0 = Instant::now();
     let status = Command::new(exe)
         .current_dir(dir)
@@ -281,10 +300,11 @@ fn run_exe(exe: &Path, dir: &Path, constants: &str) -> Result<Duration, String> 
         .status()
         .map_err(|e| format!("{}: {e}", exe.display()))?;
     let dt = t0.elapsed();
+    let cpu = children_cpu().saturating_sub(cpu0);
     if !status.success() {
         return Err(format!("{} failed ({status}) in {}", exe.display(), dir.display()));
     }
-    Ok(dt)
+    Ok((dt, cpu))
 }
 
 fn parse_f64(s: &str) -> Option<f64> {
@@ -413,10 +433,11 @@ fn read(dir: &Path, f: &str) -> Result<String, String> {
 fn collect(
     dir: &Path,
     pairs: &[(&str, &str, &str)],
-    walls: Vec<Duration>,
+    runs: Vec<(Duration, Duration)>,
     ntst: usize,
     tol: f64,
 ) -> Result<AutoRun, String> {
+    let walls: Vec<Duration> = runs.iter().map(|r| r.0).collect();
     let mut points = Vec::new();
     let mut steps_per_branch = Vec::new();
     let mut newton = 0;
@@ -428,6 +449,7 @@ fn collect(
     Ok(AutoRun {
         wall: walls.iter().sum(),
         wall_runs: walls,
+        cpu: runs.iter().map(|r| r.1).sum(),
         steps: steps_per_branch.iter().sum(),
         steps_per_branch,
         newton_iterations: newton,

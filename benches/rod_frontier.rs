@@ -26,6 +26,7 @@
 //!   bench binary re-run with `--first-call`: model set-up, first
 //!   allocations and page faults included; medians of as many processes),
 //!   with that process's whole CPU time beside.
+//!
 //! What other processes did meanwhile is measured (/proc/stat less this
 //! process tree's CPU time): a target's ratios are withheld when other
 //! jobs took more than a quarter of a core during its timing.

@@ -37,9 +37,13 @@ pub struct Block {
 struct BlockWork {
     local_in: Vec<f64>,
     local_out: Vec<f64>,
+    /// The local Jacobian (outputs × inputs, row-major), sized at its first
+    /// use: a block whose Jacobian comes from its batch never needs one.
     local_jac: Vec<f64>,
-    /// Pattern position of (output k, input j), or usize::MAX (Λ, params,
-    /// structural zero).
+    /// Pattern position of each (output k, input j) the tape says output k
+    /// depends on, in the order of [`Tape::dependencies`] (outputs in turn),
+    /// or usize::MAX (Λ, params): one entry per structural nonzero, not
+    /// outputs × inputs.
     positions: Vec<usize>,
     taylor: TaylorWork,
 }
@@ -83,6 +87,8 @@ impl AssembledSystem {
     /// model bug). Scales default to 1.
     pub fn new(n: usize, blocks: Vec<Block>) -> Self {
         let mut covered = vec![false; n];
+        // Every structural entry of every block, in the blocks' dependency
+        // order: the pattern and each entry's position in one pass.
         let mut entries = Vec::new();
         for b in &blocks {
             assert_eq!(b.inputs.len(), b.tape.inputs(), "block inputs do not match its tape");
@@ -100,26 +106,27 @@ impl AssembledSystem {
             panic!("equation {row} receives no block output");
         }
         // Keep the diagonal in the pattern: a zero there is still a pivot slot.
+        let block_entries = entries.len();
         entries.extend((0..n).map(|i| (i, i)));
-        let pattern = Pattern::from_entries(n, entries);
+        let (pattern, found) = Pattern::with_positions(n, &entries);
+        let mut found = found[..block_entries].iter();
         let work = blocks
             .iter()
             .map(|b| {
                 let (nin, nout) = (b.tape.inputs(), b.tape.outputs());
-                let mut positions = vec![usize::MAX; nin * nout];
-                for (k, &row) in b.rows.iter().enumerate() {
-                    for j in 0..nin {
-                        if let Slot::Unknown(col) = b.inputs[j] {
-                            if let Some(p) = pattern.position(row, col) {
-                                positions[k * nin + j] = p;
-                            }
-                        }
+                let mut positions = Vec::new();
+                for k in 0..nout {
+                    for &j in b.tape.dependencies(k) {
+                        positions.push(match b.inputs[j as usize] {
+                            Slot::Unknown(_) => *found.next().expect("one position per block entry") as usize,
+                            Slot::Lambda | Slot::Param(_) => usize::MAX,
+                        });
                     }
                 }
                 BlockWork {
                     local_in: vec![0.0; nin],
                     local_out: vec![0.0; nout],
-                    local_jac: vec![0.0; nin * nout],
+                    local_jac: Vec::new(),
                     positions,
                     taylor: TaylorWork::default(),
                 }
@@ -163,7 +170,7 @@ impl AssembledSystem {
                     inputs: vec![[0.0; LANES]; tape.inputs()],
                     outputs: vec![[0.0; LANES]; tape.outputs()],
                     jacobian: BatchJacobianWork::default(),
-                    local_jac: vec![[0.0; LANES]; tape.inputs() * tape.outputs()],
+                    local_jac: Vec::new(),
                 });
             }
         }
@@ -195,13 +202,15 @@ impl AssembledSystem {
     /// each output depends on (structural).
     fn scatter_jacobian(b: &Block, positions: &[usize], local: impl Fn(usize) -> f64, jx: &mut [f64], jl: &mut [f64]) {
         let nin = b.inputs.len();
+        let mut at = positions.iter();
         for (k, &row) in b.rows.iter().enumerate() {
             for &j in b.tape.dependencies(k) {
                 let e = k * nin + j as usize;
+                let p = *at.next().expect("one position per dependency");
                 match b.inputs[j as usize] {
-                    Slot::Unknown(_) if positions[e] != usize::MAX => jx[positions[e]] += local(e),
+                    Slot::Unknown(_) => jx[p] += local(e),
                     Slot::Lambda => jl[row] += local(e),
-                    _ => {}
+                    Slot::Param(_) => {}
                 }
             }
         }
@@ -241,14 +250,19 @@ impl AssembledSystem {
 
     /// Highest degree of the system in (x, Λ) (3 for the cubic rod).
     pub fn degree(&self) -> u32 {
-        self.blocks
-            .iter()
-            .map(|b| {
-                let variable: Vec<bool> = b.inputs.iter().map(|s| !matches!(s, Slot::Param(_))).collect();
-                b.tape.degree_in(&variable)
-            })
-            .max()
-            .unwrap_or(0)
+        // Once per distinct tape and set of parameter slots (a rod's
+        // elements share one tape).
+        let mut seen: Vec<(*const Tape, Vec<bool>)> = Vec::new();
+        let mut degree = 0;
+        for b in &self.blocks {
+            let variable: Vec<bool> = b.inputs.iter().map(|s| !matches!(s, Slot::Param(_))).collect();
+            let key = (Arc::as_ptr(&b.tape), variable);
+            if !seen.contains(&key) {
+                degree = degree.max(b.tape.degree_in(&key.1));
+                seen.push(key);
+            }
+        }
+        degree
     }
 
     fn gather(inputs: &[Slot], x: &[f64], lambda: f64, out: &mut [f64]) {
@@ -294,6 +308,9 @@ impl Problem for AssembledSystem {
         for batch in &mut self.batches {
             Self::gather_lanes(&self.blocks, batch, |g| x[g], lambda, |v| v);
             let tape = &self.blocks[batch.blocks[0]].tape;
+            if batch.local_jac.is_empty() {
+                batch.local_jac = vec![[0.0; LANES]; tape.inputs() * tape.outputs()];
+            }
             jacobian_lanes(tape, &batch.inputs, &mut batch.jacobian, &mut batch.outputs, &mut batch.local_jac);
             for (l, &bi) in batch.blocks.iter().enumerate() {
                 let local = |e: usize| batch.local_jac[e][l];
@@ -302,6 +319,9 @@ impl Problem for AssembledSystem {
         }
         for ((b, w), _) in self.blocks.iter().zip(&mut self.work).zip(&self.batched).filter(|(_, &t)| !t) {
             Self::gather(&b.inputs, x, lambda, &mut w.local_in);
+            if w.local_jac.is_empty() {
+                w.local_jac = vec![0.0; b.tape.inputs() * b.tape.outputs()];
+            }
             b.tape.jacobian(&w.local_in, &mut self.jwork, &mut w.local_out, &mut w.local_jac);
             Self::scatter_jacobian(b, &w.positions, |e| w.local_jac[e], jx, jl);
         }

@@ -35,21 +35,50 @@ pub struct Pattern {
 impl Pattern {
     /// From (row, col) pairs (duplicates merged).
     pub fn from_entries(n: usize, entries: impl IntoIterator<Item = (usize, usize)>) -> Self {
-        let mut cols: Vec<Vec<usize>> = vec![Vec::new(); n];
-        for (i, j) in entries {
+        let entries: Vec<(usize, usize)> = entries.into_iter().collect();
+        Self::with_positions(n, &entries).0
+    }
+
+    /// [`Pattern::from_entries`], also returning each entry's position in
+    /// the value array (repeated entries share one): an assembly's scatter
+    /// map without a search per entry. Counting sort by column, then each
+    /// column's rows sorted and deduplicated; 32-bit work arrays (a rod's
+    /// element blocks give ~5000 entries each, and what a first call
+    /// allocates it also faults in).
+    pub fn with_positions(n: usize, entries: &[(usize, usize)]) -> (Self, Vec<u32>) {
+        assert!(entries.len() < u32::MAX as usize && n < u32::MAX as usize, "pattern too large for 32-bit positions");
+        let mut col_ptr = vec![0usize; n + 1];
+        for &(i, j) in entries {
             assert!(i < n && j < n, "entry ({i}, {j}) outside a {n}×{n} pattern");
-            cols[j].push(i);
+            col_ptr[j + 1] += 1;
         }
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::new();
-        col_ptr.push(0);
-        for c in &mut cols {
+        for j in 0..n {
+            col_ptr[j + 1] += col_ptr[j];
+        }
+        let mut next = col_ptr.clone();
+        // (row, entry index) by column.
+        let mut by_column = vec![(0u32, 0u32); entries.len()];
+        for (e, &(i, j)) in entries.iter().enumerate() {
+            by_column[next[j]] = (i as u32, e as u32);
+            next[j] += 1;
+        }
+        let mut row_idx = Vec::with_capacity(entries.len());
+        let mut compact = Vec::with_capacity(n + 1);
+        let mut positions = vec![0u32; entries.len()];
+        compact.push(0);
+        for j in 0..n {
+            let c = &mut by_column[col_ptr[j]..col_ptr[j + 1]];
             c.sort_unstable();
-            c.dedup();
-            row_idx.extend_from_slice(c);
-            col_ptr.push(row_idx.len());
+            let start = row_idx.len();
+            for &(i, e) in c.iter() {
+                if row_idx.len() == start || row_idx[row_idx.len() - 1] != i as usize {
+                    row_idx.push(i as usize);
+                }
+                positions[e as usize] = (row_idx.len() - 1) as u32;
+            }
+            compact.push(row_idx.len());
         }
-        Pattern { n, col_ptr, row_idx }
+        (Pattern { n, col_ptr: compact, row_idx }, positions)
     }
 
     pub fn nnz(&self) -> usize {
@@ -997,6 +1026,31 @@ fn parity<I: faer::Index>(p: &[I]) -> f64 {
 mod tests {
     use super::*;
     use nalgebra::DMatrix;
+
+    /// The pattern of repeated, unordered entries is the sorted set of
+    /// distinct (row, column) pairs (reference: a BTreeSet, column-major),
+    /// and every entry's position holds its own row in its own column.
+    #[test]
+    fn pattern_positions_point_at_each_entry() {
+        let n = 37;
+        let mut entries = vec![];
+        let mut state = 12345u64;
+        for _ in 0..900 {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            entries.push((((state >> 33) % n as u64) as usize, ((state >> 13) % n as u64) as usize));
+        }
+        entries.extend(entries.clone().into_iter().take(50));
+        let (p, positions) = Pattern::with_positions(n, &entries);
+        let set: std::collections::BTreeSet<(usize, usize)> = entries.iter().map(|&(i, j)| (j, i)).collect();
+        let listed: Vec<(usize, usize)> =
+            (0..n).flat_map(|j| p.row_idx[p.col_ptr[j]..p.col_ptr[j + 1]].iter().map(move |&i| (j, i))).collect();
+        assert_eq!(listed, set.into_iter().collect::<Vec<_>>());
+        for (&(i, j), &q) in entries.iter().zip(&positions) {
+            assert!(q as usize >= p.col_ptr[j] && (q as usize) < p.col_ptr[j + 1] && p.row_idx[q as usize] == i);
+            assert_eq!(p.position(i, j), Some(q as usize));
+        }
+        assert_eq!(Pattern::from_entries(n, entries.iter().copied()).row_idx, p.row_idx);
+    }
 
     /// Reference: nalgebra's dense LU on the same random sparse matrices.
     #[test]

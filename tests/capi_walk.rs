@@ -1603,7 +1603,13 @@ fn tweezers(w: &mut Walk) {
 #[test]
 fn every_header_function_is_walked() {
     let header = include_str!("../include/rodkit.h");
-    let me = include_str!("capi_walk.rs");
+    // This file without its comments: a function only mentioned in one is
+    // not walked.
+    let me: String = include_str!("capi_walk.rs")
+        .lines()
+        .map(|l| l.find("//").map_or(l, |i| &l[..i]))
+        .collect::<Vec<_>>()
+        .join("\n");
     let mut missing = Vec::new();
     for line in header.lines().filter(|l| !l.trim_start().starts_with("//")) {
         for part in line.split("rodkit_").skip(1) {

@@ -35,7 +35,7 @@ pub struct Observables {
 /// ([`crate::geometry::writhe::writhe_within`]: panel pairs by separation,
 /// Duffy's map at the Hermite centreline's C¹ nodes, closed-form rays).
 /// Measured on the 1 kbp scene's states (100 elements, 301 profile points;
-/// tests/writhe.rs `measure_dna_states`, benches/README.md 2026-11-25):
+/// tests/writhe.rs `measure_dna_states`, benches/README.md):
 /// ≤ 4e-10 from a 1e-10 reference, ~4 ms a state, where the former
 /// Gauss(4) rule erred by 3.7e-6 in 46 ms (order 8: 3.3e-7 in 170 ms); on
 /// a DNA-like 12-turn plectoneme through 301 points (Wr −6.6) 1e-11 from
@@ -207,8 +207,7 @@ pub enum EndControl {
 /// 3.1e-3 and 2.9e-3 relative with 3.4 nm elements, 3.4e-4 and 3.3e-4 with
 /// 2.27 nm, 2.9e-4 and 1.5e-4 with 1.7 nm (the reference's own error,
 /// ~1e-4, is the floor): ~h⁴, and 2 nm is the longest with a margin under
-/// the 1e-3 target for torque and extension (benches/README.md,
-/// 2026-11-26). At 0.2 M (Debye length 0.68 nm) 3.4 nm elements are
+/// the 1e-3 target for torque and extension (benches/README.md). At 0.2 M (Debye length 0.68 nm) 3.4 nm elements are
 /// qualitatively wrong — the path folds at every element the end loop
 /// crosses and stalls at 3 turns — while 2 nm reaches the plectoneme
 /// (0 → 5.5 turns in 903 points) but is not within 1e-3 there: up to 7.5e-3
@@ -243,7 +242,7 @@ pub struct SupercoilSettings {
     /// ([`SupercoilSettings::threads`] ≥ 2); below, each point's tangent
     /// and signs come from its own simplicial LU. Not a thread choice: the
     /// path is the same, bitwise, for any thread count. Default 3000,
-    /// measured (benches/README.md, 2026-11-27): at 6645 unknowns (1 kbp,
+    /// measured (benches/README.md): at 6645 unknowns (1 kbp,
     /// 170 elements) separate signs cost +2.6 % on one thread and two
     /// threads are 1.17× faster; at 950 (250 bp, 24 elements) they cost
     /// +16–19 % on one thread, and two threads did not beat one thread
@@ -301,7 +300,7 @@ pub struct SupercoilSettings {
     /// determinant signs: ~75 ms at 5–12 turns of the 1 kbp scene, 100
     /// elements) and a block elimination per correction (~22 ms), so aiming
     /// higher makes the steps longer and fewer — measured on that scene at
-    /// 0.1 M, 0 → 12 turns (benches/README.md, 2026-11-26): aim 3 (the
+    /// 0.1 M, 0 → 12 turns (benches/README.md): aim 3 (the
     /// default), 572 buckled steps, 113 s; 4, 345 steps, 78 s; 5, 271 steps,
     /// 70.5 s (~25 points a turn). A step that carries stages so far past the
     /// Verlet skin that its point does not re-converge on the next pair list
@@ -373,7 +372,7 @@ pub enum Engine {
     ///
     /// Not the default: measured on the 1 kbp, 1 pN, 0.1 M scene (100
     /// elements, ε 1e-4, pair lists by [`ListRule::Coverage`];
-    /// benches/README.md 2026-11-26) it is no faster — 0 → 5.5 turns 43.1 s
+    /// benches/README.md) it is no faster — 0 → 5.5 turns 43.1 s
     /// against Hermite's 38.4 s; with Verlet's lists, which cut its steps
     /// at half the skin, slower still — because the series'
     /// radius stays ~0.1–0.3 (scaled arc length) on the plectoneme and

@@ -15,7 +15,7 @@
 //!   double integral ½∫∫λ²Φ over element pairs more than `near_elements`
 //!   apart by M Gauss–Legendre points per element instead of the s stage
 //!   points; the near zone stays the analytic expansion of [`super::rod`].
-//!   Why (benches/README.md, 2026-11-26): the stage quadrature's error on
+//!   Why (benches/README.md): the stage quadrature's error on
 //!   a plectoneme follows the points' spacing (~h⁴): across it
 //!   (r ≈ 4–5 nm, 1/κ ≈ 1 nm at 0.1 M) the integrand e^{−κr}/r varies
 //!   along a strand on a ~√(r/κ) ≈ 2 nm scale, finer than the rod's own

@@ -218,7 +218,7 @@ pub struct WritheEstimate {
     /// touching the ends (an estimate of the lower rule: a floor of
     /// ~1e-8–1e-6 on coarse curves whatever `tol`). Conservative: on the
     /// test plectonemes and rod states the true error was 1e2–1e5 times
-    /// smaller (benches/README.md, 2026-11-25).
+    /// smaller (benches/README.md).
     pub estimate: f64,
     pub evaluations: f64,
 }

@@ -563,7 +563,7 @@ impl Rod {
     /// 80 elements of Gauss(4) (μ growing from ~1e-15 to 1e-7 pN over 55
     /// points past 2.84 turns, not cured by retakes: a branch of them met
     /// the followed one; 100 elements of Gauss(2) or Gauss(3) stay below
-    /// 1e-10 pN; benches/README.md, 2026-11-26).
+    /// 1e-10 pN; benches/README.md).
     pub(crate) fn unfolding_failure(&self, x: &[f64]) -> String {
         let tilt = self.tilts(x).0;
         if tilt < 1e-3 {

@@ -156,7 +156,7 @@ pub struct RodCharge {
     /// stage positions ([`super::sites`]): the far double integral's quadrature refined
     /// without new unknowns. The near zone, the exclusion (elements more
     /// than `near_elements` apart), cutoff, skin and hard core are the
-    /// stage quadrature's. Measured (benches/README.md, 2026-11-26): the
+    /// stage quadrature's. Measured (benches/README.md): the
     /// stage quadrature's error on a plectoneme follows the stage spacing,
     /// not the rod's shape. Not with `base_pairs` or `anm`.
     pub far_points: usize,
@@ -183,7 +183,7 @@ pub enum ListRule {
     /// Once a far pair missing from the list comes within half the skin of
     /// the potential's range ([`ChargedRod::coverage`]): lists last longer
     /// where the shape slides as a whole. Measured mixed, so not the
-    /// default (benches/README.md, 2026-11-26): 1 kbp, 1 pN, 0 → 12 turns at
+    /// default (benches/README.md): 1 kbp, 1 pN, 0 → 12 turns at
     /// 0.1 M, aim 3, 75.9 s against 90.1 s (2 threads; 77 lists against
     /// 166); at 0.01 M, aim 5, 605 s against 463 s (more rejected steps);
     /// at 0.1 M, aim 5, a step at 1.75 turns hopped onto a solution with

@@ -142,6 +142,50 @@ fn readme_is_a_front_door() {
     }
 }
 
+/// The sources' comments say why, not when: no issue number and no date
+/// (the history is in CHANGELOG.md and benches/README.md). Reference: the
+/// project's layout rules.
+#[test]
+fn sources_name_no_issue_and_no_date() {
+    fn walk(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                walk(&p, out);
+            } else if p.extension().is_some_and(|x| x == "rs") {
+                out.push(p);
+            }
+        }
+    }
+    let mut files = vec![];
+    walk(&Path::new(ROOT).join("src"), &mut files);
+    assert!(files.len() > 50, "{} source files", files.len());
+    let mut found = vec![];
+    for f in &files {
+        let text = std::fs::read_to_string(f).unwrap();
+        // Lines joined so that a number wrapped onto the next comment line counts.
+        let joined = text
+            .lines()
+            .map(|l| l.trim_start().trim_start_matches('/').trim_start_matches('!'))
+            .collect::<Vec<_>>()
+            .join(" ");
+        let lower = joined.to_lowercase();
+        for (i, _) in lower.match_indices("issue ") {
+            if lower[i + 6..].trim_start().starts_with(char::is_numeric) {
+                found.push(format!("{}: issue {}", f.display(), &lower[i + 6..(i + 16).min(lower.len())]));
+            }
+        }
+        let b = joined.as_bytes();
+        for i in 0..b.len().saturating_sub(10) {
+            let d = |k: usize| b[i + k].is_ascii_digit();
+            if b[i..i + 3] == *b"202" && d(3) && b[i + 4] == b'-' && d(5) && d(6) && b[i + 7] == b'-' && d(8) && d(9) {
+                found.push(format!("{}: date {}", f.display(), &joined[i..i + 10]));
+            }
+        }
+    }
+    assert!(found.is_empty(), "{found:#?}");
+}
+
 #[test]
 fn every_path_named_exists() {
     let mut missing = vec![];

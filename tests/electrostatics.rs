@@ -594,3 +594,89 @@ fn strand_crossing_is_detected() {
         }
     }
 }
+
+/// The work bound sized before an energy is computed
+/// ([`rodkit::electrostatics::energy_work`], what a refusal with
+/// ERR_WORK_LIMIT is decided on) is never below the far-zone kernel
+/// evaluations the energy then counts, and not far above them: Hermite
+/// helices and rings of 41 to 2000 nodes, near zones from a tenth of a
+/// piece to several pieces, Coulomb and κ = 1 and 10, with and without a
+/// cutoff. Reference: the energy's own count of its evaluations.
+#[test]
+fn work_estimate_bounds_the_evaluations() {
+    use rodkit::electrostatics::energy_work;
+    let helix = Helix { radius: 1.0, pitch: 3.0, l: 20.0, panel: 0.5 };
+    let mut worst: (f64, f64) = (0.0, f64::INFINITY);
+    for nodes in [41usize, 200, 2000] {
+        for closed in [false, true] {
+            let (s, r, t): (Vec<f64>, Vec<[f64; 3]>, Vec<[f64; 3]>) = if closed {
+                // A ring of circumference 20.
+                let radius = 20.0 / (2.0 * PI);
+                let s: Vec<f64> = (0..nodes).map(|k| 20.0 * k as f64 / nodes as f64).collect();
+                let r = s.iter().map(|&v| [radius * (v / radius).cos(), radius * (v / radius).sin(), 0.0]).collect();
+                let t = s.iter().map(|&v| [-(v / radius).sin(), (v / radius).cos(), 0.0]).collect();
+                (s, r, t)
+            } else {
+                let s: Vec<f64> = (0..nodes).map(|k| helix.l * k as f64 / (nodes - 1) as f64).collect();
+                let r = s.iter().map(|&v| helix.eval(v).0).collect();
+                let t = s.iter().map(|&v| helix.eval(v).1).collect();
+                (s, r, t)
+            };
+            let curve = HermiteCurve::new(s, r, t, closed).unwrap();
+            let piece = 20.0 / nodes as f64;
+            for delta in [0.1 * piece, 0.5 * piece, 3.0 * piece] {
+                for kappa in [0.0, 1.0, 10.0] {
+                    let scr = Screening { kappa, a: 0.05 * delta };
+                    for cutoff in [None, Some(3.0), Some(0.3)] {
+                        if kappa == 0.0 && cutoff.is_some() {
+                            continue;
+                        }
+                        let quad = EnergyQuadrature { delta, order: 4, cutoff };
+                        let work = energy_work(&curve, &scr, &quad).evaluations;
+                        if work > 3e7 {
+                            continue; // a refusal's case: its evaluations are not run here
+                        }
+                        let done =
+                            energy(&curve, &LineCharge::Uniform(1.0), &scr, &quad).unwrap().far_evaluations as f64;
+                        let ratio = done / work;
+                        worst = (worst.0.max(ratio), worst.1.min(ratio));
+                        assert!(
+                            ratio <= 1.0,
+                            "{nodes} nodes, closed {closed}, δ {delta:.2e}, κ {kappa}, cutoff {cutoff:?}: {done:.3e} evaluations, estimate {work:.3e}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+    println!("evaluations / estimate: {:.3} … {:.3}", worst.1, worst.0);
+    // Not a bound that refuses what it could do in time: within 8× above.
+    assert!(worst.1 > 1.0 / 8.0, "estimate far above the work: {worst:?}");
+}
+
+/// A ring short against its far zone's window: with three pieces and δ up
+/// to 0.7 R the window (2G each side of s, plus a panel) spans the whole
+/// ring, which must then be one window — two local ranges overlapping
+/// modulo L counted points twice. Reference: the §3.5 closed form with the
+/// first dropped near-zone term (as `coulomb_ring_and_delta_independence_at_order_four`).
+#[test]
+fn a_ring_inside_one_window_is_counted_once() {
+    let (r, a) = (1.0, 0.02);
+    let ring = Circle { r, panel: 2.0 * PI * r / 3.0 };
+    let exact = 2.0 * PI * r * (1.0 / (a / (4.0 * r)).tan()).ln();
+    for delta in [0.3, 0.5, 0.6, 0.7] {
+        let e = energy(
+            &ring,
+            &LineCharge::Uniform(1.0),
+            &Screening { kappa: 0.0, a },
+            &EnergyQuadrature { delta, order: 16, cutoff: None },
+        )
+        .unwrap();
+        let predicted = 2.0 * PI * r * 7.0 * (delta.powi(4) - a.powi(4)) / (23040.0 * r.powi(4));
+        let err = e.total - exact;
+        println!("δ {delta}: error {err:e}, predicted −{predicted:e}");
+        // Measured within 0.9 % of the first dropped term (the next, O(δ⁶),
+        // grows with δ).
+        assert!((err + predicted).abs() < 0.03 * predicted, "δ {delta}: error {err:e}, predicted −{predicted:e}");
+    }
+}

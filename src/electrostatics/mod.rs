@@ -449,22 +449,18 @@ pub struct Work {
     pub evaluations: f64,
 }
 
-/// The work of one [`energy`] evaluation at these settings (no allocation
-/// beyond the curve's break list).
+/// The work of one [`energy`] evaluation at these settings, an upper bound
+/// (tests/electrostatics.rs holds it against the energy's own count); it
+/// allocates only the global panel edges.
 pub fn energy_work(curve: &dyn Centerline, screening: &Screening, quad: &EnergyQuadrature) -> Work {
     let l = curve.length();
     let delta = quad.delta;
     let o = quad.order as f64;
     let panel = far_panel(curve, delta, screening.kappa);
+    let edges = global_edges(curve, panel);
+    let global = (edges.len() - 1) as f64;
     let mut nodes = curve.breakpoints();
     nodes.push(l);
-    let (mut global, mut last) = (0.0, 0.0);
-    for &b in &nodes {
-        if b > last {
-            global += ((b - last) / panel).ceil().max(1.0);
-            last = b;
-        }
-    }
     // Outer panels: the node intervals plus the end grading and the
     // screening layer (≤ 2 log2 of the ratios each), as in energy_core.
     let log2 = |r: f64| if r > 1.0 { r.log2().ceil() } else { 0.0 };
@@ -476,9 +472,27 @@ pub fn energy_work(curve: &dyn Centerline, screening: &Screening, quad: &EnergyQ
             outer += 2.0 * log2(4.0 * screening.kappa * delta);
         }
     }
-    // The local window: δ-graded panels up to 2G each side, the global
-    // panels it meets, and the screening grading.
-    let window = (2.0 * (log2(2.0 * panel / delta) + 3.0) + 2.0 * log2(4.0 * screening.kappa * delta)) * o;
+    // The local window (FarZone::points_for): the global panels meeting
+    // |t − s| < 2G, i.e. at most the global edges within any stretch of
+    // 2·2G + 2G (cyclic when closed) — many more than a few where nodes lie
+    // closer than G — each side then graded from δ (δ, 3δ, 7δ, … up to the
+    // side's length ≤ 3G) and, under screening, at 2^k/(4κ) below δ.
+    let reach = 2.0 * panel;
+    let span = 2.0 * reach + 2.0 * panel;
+    let mut cyclic = edges.clone();
+    if curve.closed() {
+        cyclic.extend(edges.iter().skip(1).map(|e| e + l));
+    }
+    let (mut most, mut lo) = (0usize, 0usize);
+    for hi in 0..cyclic.len() {
+        while cyclic[hi] - cyclic[lo] > span {
+            lo += 1;
+        }
+        most = most.max(hi - lo + 1);
+    }
+    let most = (most as f64).min(global + 1.0);
+    let grading = log2((reach + panel) / delta + 1.0) + 1.0 + log2(4.0 * screening.kappa * delta) + 1.0;
+    let window = (most + 2.0 * (grading + 1.0)) * o;
     let far_points = global * o;
     let per_point = match quad.cutoff {
         None => far_points,
@@ -532,6 +546,27 @@ fn check_work(work: &Work) -> Result<()> {
 /// G keeps Gauss's geometric convergence; tying the panels to 2δ instead made
 /// an evaluation cost O((L/δ)²) and the narrow widths that accuracy needs
 /// unaffordable.
+/// The far zone's global panel edges, ascending from 0 to L: each node
+/// interval cut into equal panels of at most `panel`.
+fn global_edges(curve: &dyn Centerline, panel: f64) -> Vec<f64> {
+    let l = curve.length();
+    let mut edges = vec![0.0];
+    let mut nodes = curve.breakpoints();
+    nodes.push(l);
+    let mut last = 0.0;
+    for &b in &nodes {
+        if b <= last {
+            continue;
+        }
+        let pieces = ((b - last) / panel).ceil().max(1.0) as usize;
+        for k in 1..=pieces {
+            edges.push(last + (b - last) * k as f64 / pieces as f64);
+        }
+        last = b;
+    }
+    edges
+}
+
 fn far_panel(curve: &dyn Centerline, delta: f64, kappa: f64) -> f64 {
     let mut g = geometric_scale(curve);
     if kappa > 0.0 {
@@ -568,20 +603,7 @@ impl FarZone {
     fn new(curve: &dyn Centerline, delta: f64, kappa: f64, cutoff: Option<f64>, gx: &[f64], gw: &[f64]) -> Self {
         let l = curve.length();
         let panel = far_panel(curve, delta, kappa);
-        let mut edges = vec![0.0];
-        let mut nodes = curve.breakpoints();
-        nodes.push(l);
-        let mut last = 0.0;
-        for &b in &nodes {
-            if b <= last {
-                continue;
-            }
-            let pieces = ((b - last) / panel).ceil().max(1.0) as usize;
-            for k in 1..=pieces {
-                edges.push(last + (b - last) * k as f64 / pieces as f64);
-            }
-            last = b;
-        }
+        let edges = global_edges(curve, panel);
         let mut points = Vec::with_capacity((edges.len() - 1) * gx.len());
         for (p, w) in edges.windows(2).enumerate() {
             let hh = 0.5 * (w[1] - w[0]);

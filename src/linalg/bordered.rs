@@ -84,15 +84,14 @@ impl BorderedLu {
         }
         entries.extend((0..=n).map(|i| (i, n)));
         entries.extend((0..n).map(|j| (n, j)));
-        let big = Pattern::from_entries(n + 1, entries);
-        let mut map = Vec::with_capacity(pattern.nnz());
-        for j in 0..n {
-            for k in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
-                map.push(big.position(pattern.row_idx[k], j).expect("entry kept"));
-            }
-        }
-        let last_col = (0..n).map(|i| big.position(i, n).expect("dense column")).collect();
-        let last_row = (0..=n).map(|j| big.position(n, j).expect("dense row")).collect();
+        // The bordered pattern and where each of A's entries, the last
+        // column and the last row went, from one counting sort.
+        let (big, at) = Pattern::with_positions(n + 1, &entries);
+        let nnz = pattern.nnz();
+        let map = at[..nnz].iter().map(|&p| p as usize).collect();
+        let last_col = at[nnz..nnz + n].iter().map(|&p| p as usize).collect();
+        let corner = at[nnz + n] as usize;
+        let last_row = at[nnz + n + 1..].iter().map(|&p| p as usize).chain(std::iter::once(corner)).collect();
         let values = vec![0.0; big.nnz()];
         Ok(BorderedLu {
             n,

@@ -125,11 +125,16 @@ impl CondensedLu {
         let mut kcols: Vec<Vec<usize>> = vec![Vec::new(); blocks.len()];
         let mut krows: Vec<Vec<usize>> = vec![Vec::new(); blocks.len()];
         let mut kk_entries = Vec::new();
+        // A's kept–kept entries in pattern order (p, for the gather map).
+        let mut kk_sources = Vec::new();
         for j in 0..n {
             for p in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
                 let i = pattern.row_idx[p];
                 match (owner[i], owner[j]) {
-                    (usize::MAX, usize::MAX) => kk_entries.push((kept_pos[i], kept_pos[j])),
+                    (usize::MAX, usize::MAX) => {
+                        kk_entries.push((kept_pos[i], kept_pos[j]));
+                        kk_sources.push(p);
+                    }
                     (e, usize::MAX) => kcols[e].push(kept_pos[j]),
                     (usize::MAX, e) => krows[e].push(kept_pos[i]),
                     (e, f) if e != f => return Err(invalid(format!("entry ({i}, {j}) joins blocks {e} and {f}"))),
@@ -141,25 +146,27 @@ impl CondensedLu {
             v.sort_unstable();
             v.dedup();
         }
+        // S's entries: A's kept–kept ones, each block's fill krows × kcols
+        // (column-major, as `update` reads it), the diagonal (a zero there
+        // is still a pivot slot); the pattern and every entry's position
+        // from one counting sort.
         let mut entries = kk_entries;
         for e in 0..blocks.len() {
-            for &r in &krows[e] {
-                entries.extend(kcols[e].iter().map(|&c| (r, c)));
+            for &c in &kcols[e] {
+                entries.extend(krows[e].iter().map(|&r| (r, c)));
             }
         }
-        // S keeps its diagonal (a zero there is still a pivot slot).
         entries.extend((0..kept.len()).map(|k| (k, k)));
-        let spattern = Pattern::from_entries(kept.len(), entries);
-        let kk = Self::kept_map(pattern, &owner, &kept_pos, &spattern);
+        let (spattern, at) = Pattern::with_positions(kept.len(), &entries);
+        let kk: Vec<(usize, usize)> = kk_sources.iter().zip(&at).map(|(&p, &q)| (p, q as usize)).collect();
+        let mut fill = at[kk.len()..].iter().map(|&q| q as usize);
         let mut out: Vec<Block> = blocks
             .iter()
             .zip(kcols)
             .zip(krows)
             .map(|((local, kcols), krows)| {
                 let (m, kc, kr) = (local.len(), kcols.len(), krows.len());
-                let update = (0..kr * kc)
-                    .map(|ij| spattern.position(krows[ij % kr], kcols[ij / kr]).expect("fill entry in S"))
-                    .collect();
+                let update: Vec<usize> = fill.by_ref().take(kr * kc).collect();
                 Block {
                     local: local.clone(),
                     kcols,
@@ -225,19 +232,6 @@ impl CondensedLu {
             factorisations: 0,
             solves: 0,
         })
-    }
-
-    fn kept_map(pattern: &Pattern, owner: &[usize], kept_pos: &[usize], s: &Pattern) -> Vec<(usize, usize)> {
-        let mut kk = Vec::new();
-        for j in 0..pattern.n {
-            for p in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
-                let i = pattern.row_idx[p];
-                if owner[i] == usize::MAX && owner[j] == usize::MAX {
-                    kk.push((p, s.position(kept_pos[i], kept_pos[j]).expect("kept entry in S")));
-                }
-            }
-        }
-        kk
     }
 
     /// Unknowns of the kept system S.

@@ -402,7 +402,8 @@ fn tube() -> *mut Tube {
 /// profile's nodes are a spectral grid in the reference radius R, so r(R)
 /// and σ_zz(R) are taken as their polynomial interpolants (barycentric),
 /// dr/dR from the interpolant's differentiation matrix, and
-/// 2π∫σ_zz r (dr/dR) dR by 40-point Gauss–Legendre. Also returns the
+/// 2π∫σ_zz r (dr/dR) dR by 40-point Gauss–Legendre (rodkit's rule, itself
+/// tested against closed-form integrals). Also returns the
 /// profile's (r, σ_rr) at the inner and outer wall.
 fn integrated_wall_force(t: *mut Tube, l: &TubeLoading) -> (f64, [(f64, f64); 2]) {
     let mut n = 0i64;
@@ -452,29 +453,13 @@ fn integrated_wall_force(t: *mut Tube, l: &TubeLoading) -> (f64, [(f64, f64); 2]
         }
         num / den
     };
-    // 40-point Gauss–Legendre nodes on [−1, 1] (Newton on P_40).
     let (lo, hi) = (big_r[0], big_r[m - 1]);
-    let mut force = 0.0;
-    let q = 40;
-    for i in 0..q {
-        let mut z = (std::f64::consts::PI * (i as f64 + 0.75) / (q as f64 + 0.5)).cos();
-        let mut dp = 1.0;
-        for _ in 0..100 {
-            let (mut p0, mut p1) = (1.0, z);
-            for k in 1..q {
-                let p2 = ((2 * k + 1) as f64 * z * p1 - k as f64 * p0) / (k + 1) as f64;
-                (p0, p1) = (p1, p2);
-            }
-            dp = q as f64 * (z * p1 - p0) / (z * z - 1.0);
-            let dz = p1 / dp;
-            z -= dz;
-            if dz.abs() < 1e-16 {
-                break;
-            }
-        }
-        let weight = 2.0 / ((1.0 - z * z) * dp * dp);
-        force += 0.5 * (hi - lo) * weight * interpolate(0.5 * (lo + hi) + 0.5 * (hi - lo) * z);
-    }
+    let (z, weight) = rodkit::quadrature::gauss_legendre(40);
+    let force: f64 = z
+        .iter()
+        .zip(&weight)
+        .map(|(z, w)| 0.5 * (hi - lo) * w * interpolate(0.5 * (lo + hi) + 0.5 * (hi - lo) * z))
+        .sum();
     (force, [(r[0], srr[0]), (r[m - 1], srr[m - 1])])
 }
 

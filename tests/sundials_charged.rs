@@ -33,23 +33,21 @@ mod sundials;
 use charged_shooting::{ChargedRodModel, Trajectory};
 use rodkit::charged::branch;
 use rodkit::charged::dna::{self, DnaScene};
-use rodkit::charged::rod::ChargedRod;
+use rodkit::charged::rod::{ChargedRod, RodCharge};
 use rodkit::continuation::newton::Start;
 use rodkit::continuation::{Options, Problem};
 use rodkit::rod::accuracy::transfer;
+use rodkit::rod::branch::RodBranch;
+use rodkit::rod::model::Rod;
 use sundials::{kinsol_problem_root as kinsol_root, Context};
 
 fn perturbed(x: &[f64], scales: &[f64], eps: f64) -> Vec<f64> {
     x.iter().zip(scales).enumerate().map(|(i, (v, s))| v + eps * s * (((i * 7919) % 97) as f64 / 48.5 - 1.0)).collect()
 }
 
-#[test]
-fn kinsol_agrees_on_the_charged_residual() {
-    let ctx = Context::new().unwrap();
-    // 200 bp (68 nm) at 1 pN, 0.1 M, 24 elements of Gauss(2): n ≈ 950.
-    let scene = DnaScene { base_pairs: 200, ..Default::default() };
-    let rod = scene.rod(24, 2).unwrap();
-    let charge = scene.charge();
+/// The straight branch to φ = 8 (its first buckling point located), and
+/// the buckled branch switched there: 16 steps of at most 0.3.
+fn straight_and_buckled(rod: &Rod, charge: &RodCharge) -> (RodBranch, RodBranch) {
     let opts = Options {
         target_lambda: Some(8.0),
         residual_tol: 1e-12,
@@ -59,18 +57,22 @@ fn kinsol_agrees_on_the_charged_residual() {
         bifurcation_tol: 1e-8,
         ..Default::default()
     };
-    let straight = branch::follow(
-        &rod,
-        &charge,
-        Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true },
-        None,
-        &opts,
-        |_| true,
-    )
-    .unwrap();
+    let start = Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true };
+    let straight = branch::follow(rod, charge, start, None, &opts, |_| true).unwrap();
     assert!(!straight.bifurcations.is_empty(), "no buckling below φ = 8");
     let opts = Options { residual_tol: 1e-12, initial_step: 0.1, max_step: 0.3, max_steps: 16, ..Default::default() };
-    let buckled = branch::switch(&rod, &charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap().0;
+    let buckled = branch::switch(rod, charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap().0;
+    (straight, buckled)
+}
+
+#[test]
+fn kinsol_agrees_on_the_charged_residual() {
+    let ctx = Context::new().unwrap();
+    // 200 bp (68 nm) at 1 pN, 0.1 M, 24 elements of Gauss(2): n ≈ 950.
+    let scene = DnaScene { base_pairs: 200, ..Default::default() };
+    let rod = scene.rod(24, 2).unwrap();
+    let charge = scene.charge();
+    let (straight, buckled) = straight_and_buckled(&rod, &charge);
     let k = straight.records.len() / 2;
     let mut points = vec![(None, straight.states[k].clone(), straight.records[k].lambda)];
     for k in [8, buckled.records.len() - 1] {
@@ -116,19 +118,7 @@ fn ida_shooting_of_the_continuous_equations_bounds_the_collocation_error() {
     let mut charge = scene.charge();
     let a = charge.screening.a;
     (charge.cutoff_tolerance, charge.near_width, charge.exact_near_width) = (None, Some(2.0 * a), true);
-    let opts = Options {
-        target_lambda: Some(8.0),
-        residual_tol: 1e-12,
-        initial_step: 1.0,
-        max_step: 2.0,
-        detect_bifurcations: true,
-        bifurcation_tol: 1e-8,
-        ..Default::default()
-    };
-    let start = Start::Point { x: coarse.straight_state(), lambda: 0.0, increasing: true };
-    let straight = branch::follow(&coarse, &charge, start, None, &opts, |_| true).unwrap();
-    let opts = Options { residual_tol: 1e-12, initial_step: 0.1, max_step: 0.3, max_steps: 16, ..Default::default() };
-    let buckled = branch::switch(&coarse, &charge, &straight, 0, 0, 0.02, &opts, |_| true).unwrap().0;
+    let (_, buckled) = straight_and_buckled(&coarse, &charge);
     let last = buckled.records.len() - 1;
     let (phase, phi) = (buckled.phase, buckled.records[last].lambda);
     // rodkit on three meshes at this φ: the finer ones re-converged by

@@ -20,30 +20,7 @@
 #![allow(dead_code)]
 
 use crate::sundials::{ida_solve, kinsol_solve, Context, IdaOptions, KinsolOptions, Strategy};
-
-/// Gauss–Legendre nodes and weights of `n` points on [−1, 1].
-fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
-    let (mut x, mut w) = (vec![0.0; n], vec![0.0; n]);
-    for i in 0..n {
-        let mut z = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-        let mut dp = 1.0;
-        for _ in 0..100 {
-            let (mut p0, mut p1) = (1.0, z);
-            for k in 1..n {
-                let p2 = ((2 * k + 1) as f64 * z * p1 - k as f64 * p0) / (k + 1) as f64;
-                (p0, p1) = (p1, p2);
-            }
-            dp = n as f64 * (z * p1 - p0) / (z * z - 1.0);
-            let dz = p1 / dp;
-            z -= dz;
-            if dz.abs() < 1e-16 {
-                break;
-            }
-        }
-        (x[i], w[i]) = (z, 2.0 / ((1.0 - z * z) * dp * dp));
-    }
-    (x, w)
-}
+use rodkit::quadrature::gauss_legendre;
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
@@ -368,11 +345,12 @@ impl ForceTable {
         let piece = &self.s[first..last];
         let k = piece.partition_point(|&v| v < x);
         let start = k.saturating_sub(2).min(piece.len().saturating_sub(4));
-        let idx: Vec<usize> = (start..(start + 4).min(piece.len())).collect();
+        // (No allocation: this runs in every IDA residual evaluation.)
+        let idx = start..(start + 4).min(piece.len());
         let mut out = [0.0; 3];
-        for &j in &idx {
+        for j in idx.clone() {
             let mut l = 1.0;
-            for &m in idx.iter().filter(|&&m| m != j) {
+            for m in idx.clone().filter(|&m| m != j) {
                 l *= (x - piece[m]) / (piece[j] - piece[m]);
             }
             for c in 0..3 {

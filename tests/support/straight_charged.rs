@@ -27,6 +27,7 @@
 #![allow(dead_code)]
 
 use nalgebra::DMatrix;
+use rodkit::quadrature::gauss_legendre;
 
 /// The straight rod: length L, bending K, twist C, tension F, line charge
 /// λ (energy ½λ²∫∫Φ, Coulomb Φ = 1/d) and the excluded arc length a.
@@ -38,33 +39,6 @@ pub struct StraightChargedRod {
     pub tension: f64,
     pub line_charge: f64,
     pub a: f64,
-}
-
-/// Gauss–Legendre nodes and weights of `n` points on [−1, 1] (Newton on
-/// P_n from Chebyshev guesses).
-pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
-    let (mut x, mut w) = (vec![0.0; n], vec![0.0; n]);
-    for i in 0..n {
-        let mut z = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-        let mut dp = 1.0;
-        for _ in 0..100 {
-            let (mut p0, mut p1) = (1.0, z);
-            for k in 1..n {
-                let p2 = ((2 * k + 1) as f64 * z * p1 - k as f64 * p0) / (k + 1) as f64;
-                p0 = p1;
-                p1 = p2;
-            }
-            dp = n as f64 * (z * p1 - p0) / (z * z - 1.0);
-            let dz = p1 / dp;
-            z -= dz;
-            if dz.abs() < 1e-16 {
-                break;
-            }
-        }
-        x[i] = z;
-        w[i] = 2.0 / ((1.0 - z * z) * dp * dp);
-    }
-    (x, w)
 }
 
 /// Σ f(s)·weight over Gauss–Legendre of `n` points on each panel of `breaks`.

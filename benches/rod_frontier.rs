@@ -215,12 +215,12 @@ fn settings(auto: bool) -> Vec<Setting> {
 /// A rodkit setting's first call in a fresh process: (the call's time as
 /// that process measured it, the process's whole CPU time).
 fn first_call(scene: Scene, index: usize) -> Result<(Duration, Duration), String> {
-    let cpu0 = auto07p::children_cpu();
+    let cpu0 = timing::cpu_time(true);
     let out = std::process::Command::new(std::env::current_exe().map_err(|e| e.to_string())?)
         .args(["--first-call", &format!("{scene:?}"), &index.to_string()])
         .output()
         .map_err(|e| e.to_string())?;
-    let cpu = auto07p::children_cpu().saturating_sub(cpu0);
+    let cpu = timing::cpu_time(true).saturating_sub(cpu0);
     if !out.status.success() {
         return Err(String::from_utf8_lossy(&out.stderr).into_owned());
     }
@@ -380,6 +380,7 @@ fn main() {
                         "",
                         auto.as_secs_f64() / warm.as_secs_f64(),
                         first.map_or("-".into(), |f| format!("{:.1}×", auto.as_secs_f64() / f.as_secs_f64())),
+                        others = others.max(0.0),
                     );
                 }
             }

@@ -270,26 +270,13 @@ fn prepare(problem: &str, dir: &Path, ntst: usize, tol: f64, opt: &Options) -> R
     Ok(())
 }
 
-/// CPU time (user + system) of this process's terminated, waited-for
-/// children so far (getrusage(RUSAGE_CHILDREN)).
-pub fn children_cpu() -> Duration {
-    let mut u = std::mem::MaybeUninit::<libc::rusage>::zeroed();
-    // SAFETY: getrusage writes the struct it is given; RUSAGE_CHILDREN is valid.
-    let u = unsafe {
-        libc::getrusage(libc::RUSAGE_CHILDREN, u.as_mut_ptr());
-        u.assume_init()
-    };
-    let tv = |t: libc::timeval| Duration::new(t.tv_sec as u64, t.tv_usec as u32 * 1000);
-    tv(u.ru_utime) + tv(u.ru_stime)
-}
-
 /// Runs one executable in `dir` with stdin = `constants`; returns the wall
 /// time of the process and its own CPU time (the RUSAGE_CHILDREN difference
 /// across its wait: the only child that ends in between).
 fn run_exe(exe: &Path, dir: &Path, constants: &str) -> Result<(Duration, Duration), String> {
     let input = fs::File::open(dir.join(constants)).map_err(|e| format!("{constants}: {e}"))?;
     let output = fs::File::create(dir.join(format!("{constants}.stdout"))).map_err(|e| e.to_string())?;
-    let cpu0 = children_cpu();
+    let cpu0 = crate::timing::cpu_time(true);
     let t0 = Instant::now();
     let status = Command::new(exe)
         .current_dir(dir)
@@ -300,7 +287,7 @@ fn run_exe(exe: &Path, dir: &Path, constants: &str) -> Result<(Duration, Duratio
         .status()
         .map_err(|e| format!("{}: {e}", exe.display()))?;
     let dt = t0.elapsed();
-    let cpu = children_cpu().saturating_sub(cpu0);
+    let cpu = crate::timing::cpu_time(true).saturating_sub(cpu0);
     if !status.success() {
         return Err(format!("{} failed ({status}) in {}", exe.display(), dir.display()));
     }

@@ -15,18 +15,6 @@ pub struct Sample {
     own: f64,
 }
 
-fn rusage(who: i32) -> f64 {
-    let mut u = std::mem::MaybeUninit::<libc::rusage>::zeroed();
-    // SAFETY: getrusage writes the struct it is given; `who` is RUSAGE_SELF
-    // or RUSAGE_CHILDREN.
-    let u = unsafe {
-        libc::getrusage(who, u.as_mut_ptr());
-        u.assume_init()
-    };
-    let tv = |t: libc::timeval| t.tv_sec as f64 + 1e-6 * t.tv_usec as f64;
-    tv(u.ru_utime) + tv(u.ru_stime)
-}
-
 /// The aggregate "cpu" line of /proc/stat in seconds of busy time (None
 /// where there is no /proc).
 fn busy_seconds() -> Option<f64> {
@@ -45,7 +33,7 @@ impl Sample {
         Sample {
             at: Instant::now(),
             busy: busy_seconds().unwrap_or(f64::NAN),
-            own: rusage(libc::RUSAGE_SELF) + rusage(libc::RUSAGE_CHILDREN),
+            own: (crate::timing::cpu_time(false) + crate::timing::cpu_time(true)).as_secs_f64(),
         }
     }
 

@@ -17,11 +17,8 @@ fn circle() -> AssembledSystem {
         vec![x1 * x1 + l * l - 1.0, x2 - x1 * l, x3 - x1 * x2 * l]
     }
     let tape = Arc::new(Tape::record(4, kernel));
-    let block = Block {
-        tape,
-        inputs: vec![Slot::Unknown(0), Slot::Unknown(1), Slot::Unknown(2), Slot::Lambda],
-        rows: vec![0, 1, 2],
-    };
+    let block =
+        Block::new(tape, vec![Slot::Unknown(0), Slot::Unknown(1), Slot::Unknown(2), Slot::Lambda], vec![0, 1, 2]);
     AssembledSystem::new(3, vec![block])
 }
 
@@ -128,8 +125,7 @@ fn bifurcation_flips_the_bordered_determinant() {
         vec![x * l - x * x * x]
     }
     let tape = Arc::new(Tape::record(2, kernel));
-    let mut sys =
-        AssembledSystem::new(1, vec![Block { tape, inputs: vec![Slot::Unknown(0), Slot::Lambda], rows: vec![0] }]);
+    let mut sys = AssembledSystem::new(1, vec![Block::new(tape, vec![Slot::Unknown(0), Slot::Lambda], vec![0])]);
     let opts = Options {
         target_lambda: Some(1.0),
         residual_tol: 1e-13,
@@ -189,8 +185,7 @@ fn switch_at_a_located_pitchfork_follows_the_new_branch() {
         vec![y * (l - 1.0) - y * y * y]
     }
     let tape = Arc::new(Tape::record(2, kernel));
-    let mut sys =
-        AssembledSystem::new(1, vec![Block { tape, inputs: vec![Slot::Unknown(0), Slot::Lambda], rows: vec![0] }]);
+    let mut sys = AssembledSystem::new(1, vec![Block::new(tape, vec![Slot::Unknown(0), Slot::Lambda], vec![0])]);
     let opts = Options {
         target_lambda: Some(2.0),
         residual_tol: 1e-13,
@@ -457,7 +452,7 @@ fn the_series_indicator_puts_the_search_at_each_pitchfork() {
             vec![u - l * l, y * (u - 1.0) * (u - c) - y * y * y]
         }));
         let inputs = vec![Slot::Unknown(0), Slot::Unknown(1), Slot::Lambda];
-        AssembledSystem::new(2, vec![Block { tape, inputs, rows: vec![0, 1] }])
+        AssembledSystem::new(2, vec![Block::new(tape, inputs, vec![0, 1])])
     };
     for (c, max_step, one_step) in [(4.0, 0.3, false), (1.1025f64, f64::INFINITY, true)] {
         let want = [1.0, c.sqrt()];

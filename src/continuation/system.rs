@@ -5,11 +5,20 @@
 //! type turns them into a [`Problem`] and a [`SeriesProblem`]: residual,
 //! sparse Jacobian (pattern from the tapes' structural dependencies, values
 //! by forward mode per block) and Taylor coefficients.
+//!
+//! A block may also carry its kernel compiled ([`LaneKernel`]): the same
+//! polynomial as its tape, run as native code on [`LANES`] blocks at once.
+//! Blocks whose kernels are compatible (same code; per-lane constants may
+//! differ, as a charged rod's elements' stiffenings do) are then batched
+//! and evaluated by it; the tape is kept for the structure (the Jacobian's
+//! pattern, the degree) and as the reference the compiled kernel is
+//! tested against.
 
 use super::{Problem, SeriesProblem};
 use crate::linalg::sparse::Pattern;
 use crate::taylor::batch::{eval_lanes, jacobian_lanes, BatchJacobianWork, BatchTaylorWork, Lanes, LANES};
 use crate::taylor::{JacobianWork, Tape, TaylorWork};
+use std::any::Any;
 use std::sync::Arc;
 
 /// What feeds one input of a block.
@@ -30,6 +39,42 @@ pub struct Block {
     pub inputs: Vec<Slot>,
     /// Global equation each output adds into.
     pub rows: Vec<usize>,
+    /// The tape's polynomial compiled, if the model has it (evaluated in
+    /// its place; the tape remains the structure).
+    pub kernel: Option<Arc<dyn LaneKernel>>,
+}
+
+impl Block {
+    /// A block evaluated by its tape alone.
+    pub fn new(tape: Arc<Tape>, inputs: Vec<Slot>, rows: Vec<usize>) -> Self {
+        Block { tape, inputs, rows, kernel: None }
+    }
+}
+
+/// A block's kernel compiled: it computes what the block's tape computes
+/// (values, local Jacobian, Taylor series and their tangents) on
+/// [`LANES`] blocks at once.
+pub trait LaneKernel: Send + Sync + std::fmt::Debug + Any {
+    /// Whether `other` runs the same code (and so can share a batch).
+    fn compatible(&self, other: &dyn LaneKernel) -> bool;
+    /// The evaluator of a batch of `members` (1..=LANES, each compatible
+    /// with `self`, lane l for members[l]; unused lanes compute on
+    /// whatever their inputs hold).
+    fn batch(&self, members: &[&dyn LaneKernel]) -> Box<dyn LaneBatch>;
+    fn as_any(&self) -> &dyn Any;
+}
+
+/// The evaluations of [`LaneKernel`] on one batch, lane arrays in the
+/// tape's input and output order; as [`eval_lanes`], [`jacobian_lanes`]
+/// and [`BatchTaylorWork`] (the local Jacobian row-major, outputs ×
+/// inputs: its structural entries — [`Tape::dependencies`] — are read,
+/// the others may hold anything).
+pub trait LaneBatch: Send + Sync + std::fmt::Debug {
+    fn eval(&mut self, x: &[Lanes], out: &mut [Lanes]);
+    fn jacobian(&mut self, x: &[Lanes], out: &mut [Lanes], jac: &mut [Lanes]);
+    fn series_begin(&mut self, x0: &[Lanes], max_order: usize);
+    fn series_order(&mut self, p: usize, xp: &[Lanes], out: &mut [Lanes]);
+    fn series_tangent_order(&mut self, p: usize, wp: &[Lanes], out: &mut [Lanes]);
 }
 
 /// Per-block evaluation storage.
@@ -48,20 +93,35 @@ struct BlockWork {
     taylor: TaylorWork,
 }
 
-/// Blocks sharing one tape whose residuals, Jacobians and Taylor series
-/// are taken together ([`BatchTaylorWork`], [`jacobian_lanes`]): a rod's
-/// elements, [`LANES`] at a time (values and Jacobians bitwise those of
-/// the blocks one by one).
-#[derive(Clone, Debug, Default)]
+/// Blocks whose residuals, Jacobians and Taylor series are taken
+/// together: a rod's elements, [`LANES`] at a time, by their compiled
+/// kernel, or when they share a tape and have none, by the tape
+/// ([`BatchTaylorWork`], [`jacobian_lanes`]: values and Jacobians bitwise
+/// those of the blocks one by one).
+#[derive(Debug)]
 struct Batch {
-    /// The blocks, one per lane (2..=LANES; unused lanes compute on zeros).
+    /// The blocks, one per lane (1..=LANES; unused lanes compute on zeros).
     blocks: Vec<usize>,
-    taylor: BatchTaylorWork,
+    engine: Engine,
     inputs: Vec<Lanes>,
     outputs: Vec<Lanes>,
-    /// Values and local Jacobians of the lanes (outputs × inputs).
-    jacobian: BatchJacobianWork,
+    /// Local Jacobians of the lanes (outputs × inputs).
     local_jac: Vec<Lanes>,
+}
+
+/// How a batch is evaluated. Values and Jacobians: by the compiled kernel
+/// when the blocks have one. Taylor series: by the batched tape when every
+/// lane shares one (the interpreter, vectorised over lanes, is faster
+/// there: its per-op dispatch is small beside the O(p) Cauchy products,
+/// and the compiled series reloads its arena at every op —
+/// benches/rod_kernels.rs), else by the compiled kernel (lanes of
+/// different laws: the alternative is one scalar tape per block).
+#[derive(Debug)]
+struct Engine {
+    compiled: Option<Box<dyn LaneBatch>>,
+    /// Present when every lane runs the same tape.
+    taylor: Option<BatchTaylorWork>,
+    jacobian: BatchJacobianWork,
 }
 
 pub struct AssembledSystem {
@@ -148,12 +208,19 @@ impl AssembledSystem {
         }
     }
 
-    /// Blocks on one tape, LANES at a time; a group's last single block
-    /// (and a tape's only one) keeps its own series.
+    /// Blocks with compatible compiled kernels, LANES at a time (a lone
+    /// one too: compiled lanes beat the interpreted tape); blocks without
+    /// one on a shared tape, LANES at a time, a group's last single block
+    /// (and a tape's only one) keeping its own series.
     fn batches(blocks: &[Block]) -> (Vec<Batch>, Vec<bool>) {
         let mut groups: Vec<Vec<usize>> = Vec::new();
+        let same = |a: &Block, b: &Block| match (&a.kernel, &b.kernel) {
+            (Some(ka), Some(kb)) => ka.compatible(kb.as_ref()),
+            (None, None) => Arc::ptr_eq(&a.tape, &b.tape),
+            _ => false,
+        };
         for (b, block) in blocks.iter().enumerate() {
-            match groups.iter_mut().find(|g| Arc::ptr_eq(&blocks[g[0]].tape, &block.tape)) {
+            match groups.iter_mut().find(|g| same(&blocks[g[0]], block)) {
                 Some(g) => g.push(b),
                 None => groups.push(vec![b]),
             }
@@ -161,20 +228,42 @@ impl AssembledSystem {
         let mut batched = vec![false; blocks.len()];
         let mut batches = Vec::new();
         for g in groups {
-            for chunk in g.chunks(LANES).filter(|c| c.len() >= 2) {
+            let compiled = blocks[g[0]].kernel.is_some();
+            for chunk in g.chunks(LANES).filter(|c| compiled || c.len() >= 2) {
                 let tape = &blocks[chunk[0]].tape;
                 chunk.iter().for_each(|&b| batched[b] = true);
+                let compiled = blocks[chunk[0]].kernel.as_ref().map(|k| {
+                    let members: Vec<&dyn LaneKernel> =
+                        chunk.iter().map(|&b| blocks[b].kernel.as_deref().expect("compiled group")).collect();
+                    k.batch(&members)
+                });
+                let shared = chunk.iter().all(|&b| Arc::ptr_eq(&blocks[b].tape, tape));
+                let engine = Engine {
+                    compiled,
+                    taylor: shared.then(BatchTaylorWork::default),
+                    jacobian: BatchJacobianWork::default(),
+                };
                 batches.push(Batch {
                     blocks: chunk.to_vec(),
-                    taylor: BatchTaylorWork::default(),
+                    engine,
                     inputs: vec![[0.0; LANES]; tape.inputs()],
                     outputs: vec![[0.0; LANES]; tape.outputs()],
-                    jacobian: BatchJacobianWork::default(),
                     local_jac: Vec::new(),
                 });
             }
         }
         (batches, batched)
+    }
+
+    /// The system with every block evaluated by its tape (the reference
+    /// a compiled kernel is held against, and the interpreted baseline of
+    /// the benchmarks).
+    pub fn interpreted(mut self) -> Self {
+        for b in &mut self.blocks {
+            b.kernel = None;
+        }
+        (self.batches, self.batched) = Self::batches(&self.blocks);
+        self
     }
 
     /// Each batch's lane inputs from `value(global unknown)`, Λ's
@@ -290,7 +379,10 @@ impl Problem for AssembledSystem {
         for batch in &mut self.batches {
             Self::gather_lanes(&self.blocks, batch, |g| x[g], lambda, |v| v);
             let tape = &self.blocks[batch.blocks[0]].tape;
-            eval_lanes(tape, &batch.inputs, &mut batch.jacobian, &mut batch.outputs);
+            match &mut batch.engine {
+                Engine { compiled: Some(k), .. } => k.eval(&batch.inputs, &mut batch.outputs),
+                Engine { jacobian, .. } => eval_lanes(tape, &batch.inputs, jacobian, &mut batch.outputs),
+            }
             Self::scatter_lanes(&self.blocks, batch, r);
         }
         for ((b, w), _) in self.blocks.iter().zip(&mut self.work).zip(&self.batched).filter(|(_, &t)| !t) {
@@ -311,7 +403,12 @@ impl Problem for AssembledSystem {
             if batch.local_jac.is_empty() {
                 batch.local_jac = vec![[0.0; LANES]; tape.inputs() * tape.outputs()];
             }
-            jacobian_lanes(tape, &batch.inputs, &mut batch.jacobian, &mut batch.outputs, &mut batch.local_jac);
+            match &mut batch.engine {
+                Engine { compiled: Some(k), .. } => k.jacobian(&batch.inputs, &mut batch.outputs, &mut batch.local_jac),
+                Engine { jacobian, .. } => {
+                    jacobian_lanes(tape, &batch.inputs, jacobian, &mut batch.outputs, &mut batch.local_jac)
+                }
+            }
             for (l, &bi) in batch.blocks.iter().enumerate() {
                 let local = |e: usize| batch.local_jac[e][l];
                 Self::scatter_jacobian(&self.blocks[bi], &self.work[bi].positions, local, jx, jl);
@@ -347,7 +444,11 @@ impl SeriesProblem for AssembledSystem {
         for batch in &mut self.batches {
             Self::gather_lanes(&self.blocks, batch, |g| x0[g], lambda0, |v| v);
             let tape = &self.blocks[batch.blocks[0]].tape;
-            batch.taylor.begin(tape, &batch.inputs, max_order);
+            match &mut batch.engine {
+                Engine { taylor: Some(t), .. } => t.begin(tape, &batch.inputs, max_order),
+                Engine { compiled: Some(k), .. } => k.series_begin(&batch.inputs, max_order),
+                _ => unreachable!("a batch has a shared tape or a compiled kernel"),
+            }
         }
         for ((b, w), _) in self.blocks.iter().zip(&mut self.work).zip(&self.batched).filter(|(_, &t)| !t) {
             Self::gather(&b.inputs, x0, lambda0, &mut w.local_in);
@@ -360,7 +461,11 @@ impl SeriesProblem for AssembledSystem {
         for batch in &mut self.batches {
             Self::gather_lanes(&self.blocks, batch, |g| xp[g], lambda_p, |_| 0.0);
             let tape = &self.blocks[batch.blocks[0]].tape;
-            batch.taylor.order(tape, p, &batch.inputs, &mut batch.outputs);
+            match &mut batch.engine {
+                Engine { taylor: Some(t), .. } => t.order(tape, p, &batch.inputs, &mut batch.outputs),
+                Engine { compiled: Some(k), .. } => k.series_order(p, &batch.inputs, &mut batch.outputs),
+                _ => unreachable!("a batch has a shared tape or a compiled kernel"),
+            }
             Self::scatter_lanes(&self.blocks, batch, out);
         }
         for ((b, w), _) in self.blocks.iter().zip(&mut self.work).zip(&self.batched).filter(|(_, &t)| !t) {
@@ -386,7 +491,11 @@ impl SeriesProblem for AssembledSystem {
         for batch in &mut self.batches {
             Self::gather_lanes(&self.blocks, batch, |g| wp[g], w_lambda_p, |_| 0.0);
             let tape = &self.blocks[batch.blocks[0]].tape;
-            batch.taylor.tangent_order(tape, p, &batch.inputs, &mut batch.outputs);
+            match &mut batch.engine {
+                Engine { taylor: Some(t), .. } => t.tangent_order(tape, p, &batch.inputs, &mut batch.outputs),
+                Engine { compiled: Some(k), .. } => k.series_tangent_order(p, &batch.inputs, &mut batch.outputs),
+                _ => unreachable!("a batch has a shared tape or a compiled kernel"),
+            }
             Self::scatter_lanes(&self.blocks, batch, out);
         }
         for ((b, w), _) in self.blocks.iter().zip(&mut self.work).zip(&self.batched).filter(|(_, &t)| !t) {

@@ -12,7 +12,8 @@
 //! (q0² + q1² − q2² − q3², …), equal to the rotation matrix on |q| = 1.
 //! Kirchhoff rods: v ≡ v̂ = e3, u = û + K_bt⁻¹ m_b, n_b a reaction.
 
-use crate::taylor::Scalar;
+use crate::taylor::{Coefficient, Scalar};
+use std::ops::Mul;
 
 pub type V3<T> = [T; 3];
 
@@ -78,12 +79,15 @@ pub fn quat_mul_pure<T: Scalar>(q: &[T; 4], u: &V3<T>) -> [T; 4] {
     ]
 }
 
-/// The constant data of the right-hand side.
+/// The constant data of the right-hand side. The compliance is one
+/// number per entry (`C = f64`), or one per lane of a batch of elements
+/// whose laws differ (`C = Lanes`: a charged rod's elements, each
+/// stiffened by its own near zone; [`crate::rod::compiled`]).
 #[derive(Clone, Debug, PartialEq)]
-pub struct RhsData {
+pub struct RhsData<C = f64> {
     /// Compliance K⁻¹ (6×6, row-major, order (u, v) ↔ (m, n)); for a
     /// Kirchhoff rod only the (u, m) block is used.
-    pub compliance: [[f64; 6]; 6],
+    pub compliance: [[C; 6]; 6],
     pub intrinsic_u: [f64; 3],
     pub intrinsic_v: [f64; 3],
     pub kirchhoff: bool,
@@ -93,7 +97,7 @@ pub struct RhsData {
 }
 
 /// Strains (u, v) from (m_b, n_b).
-pub fn strains<T: Scalar>(d: &RhsData, m: &V3<T>, n: &V3<T>) -> (V3<T>, V3<T>) {
+pub fn strains<T: Scalar + Mul<C, Output = T>, C: Coefficient>(d: &RhsData<C>, m: &V3<T>, n: &V3<T>) -> (V3<T>, V3<T>) {
     let c = &d.compliance;
     // Zero compliance entries are skipped: the tape (and the Jacobian's
     // pattern) then only holds the couplings the law has.
@@ -101,7 +105,7 @@ pub fn strains<T: Scalar>(d: &RhsData, m: &V3<T>, n: &V3<T>) -> (V3<T>, V3<T>) {
     let lin = |row: usize| -> Option<T> {
         let mut acc: Option<T> = None;
         for (k, s) in src.iter().enumerate().take(if d.kirchhoff { 3 } else { 6 }) {
-            if c[row][k] != 0.0 {
+            if !c[row][k].is_zero() {
                 let term = *s * c[row][k];
                 acc = Some(acc.map_or(term, |a| a + term));
             }
@@ -134,7 +138,12 @@ pub fn strains<T: Scalar>(d: &RhsData, m: &V3<T>, n: &V3<T>) -> (V3<T>, V3<T>) {
 /// B is quadratic in q, so μB keeps the system cubic. (The symmetry
 /// generator itself would not do: it is W-orthogonal to the adjoint null
 /// vector, and μ would stay undetermined.)
-pub fn rhs_unfolded<T: Scalar>(d: &RhsData, y: &[T], lambda: T, mu: T) -> [T; 13] {
+pub fn rhs_unfolded<T: Scalar + Mul<C, Output = T>, C: Coefficient>(
+    d: &RhsData<C>,
+    y: &[T],
+    lambda: T,
+    mu: T,
+) -> [T; 13] {
     let mut f = rhs(d, y, lambda);
     let b = unfolding_direction(&[y[3], y[4], y[5], y[6]]);
     f[10] = f[10] + mu * b[0];
@@ -152,7 +161,7 @@ pub fn unfolding_direction<T: Scalar>(q: &[T; 4]) -> [T; 3] {
 }
 
 /// y' = f(y, Λ), y = (r, q, n_b, m_b).
-pub fn rhs<T: Scalar>(d: &RhsData, y: &[T], lambda: T) -> [T; 13] {
+pub fn rhs<T: Scalar + Mul<C, Output = T>, C: Coefficient>(d: &RhsData<C>, y: &[T], lambda: T) -> [T; 13] {
     let q = [y[3], y[4], y[5], y[6]];
     let n = [y[7], y[8], y[9]];
     let m = [y[10], y[11], y[12]];

@@ -7,6 +7,7 @@
 
 pub mod accuracy;
 pub mod branch;
+pub(crate) mod compiled;
 pub mod kinematics;
 pub mod mesh;
 pub mod model;

@@ -12,14 +12,17 @@
 //! The reference configuration: s ∈ [0, L] along e3 from the origin, with
 //! q = (1, 0, 0, 0) (scalar first) for a straight rod.
 
+use super::compiled::ElementKernel;
 use super::kinematics::{self, RhsData};
 use super::scheme::{Scheme, Tableau};
 use super::{Frame, Load, Loads, RodLaw};
+use crate::continuation::system::LaneKernel;
 use crate::continuation::system::{AssembledSystem, Block, Slot};
 use crate::error::{self, Error, Result};
 use crate::rod::branch::Phase;
 use crate::status::Status;
-use crate::taylor::{Scalar, Tape, Var};
+use crate::taylor::{Coefficient, Scalar, Tape, Var};
+use std::ops::Mul;
 use std::sync::Arc;
 
 /// Supports of the two ends.
@@ -516,7 +519,7 @@ impl Rod {
             let (s, c) = azimuth.sin_cos();
             let tape = Arc::new(Tape::record(2, |v| vec![v[1] * c - v[0] * s]));
             let at = self.node(node);
-            blocks.push(Block { tape, inputs: vec![Slot::Unknown(at), Slot::Unknown(at + 1)], rows: vec![mu] });
+            blocks.push(Block::new(tape, vec![Slot::Unknown(at), Slot::Unknown(at + 1)], vec![mu]));
         }
         let n = self.unknowns() + phase.is_some() as usize;
         let (equations, unknowns, lambda_scale) = self.scales(n);
@@ -554,21 +557,34 @@ impl Rod {
         let extra_in = unfold as usize + graded as usize;
         let h = (!graded).then(|| self.element_length());
         let uniform: Vec<RhsData> = vec![data.clone(); stages.max(1)];
-        let record = |per_stage: &[RhsData]| {
-            Arc::new(match self.scheme {
-                Scheme::Midpoint => Tape::record(27 + extra_in, |v| midpoint_kernel(&per_stage[0], h, v, unfold)),
-                Scheme::Gauss(_) => {
-                    Tape::record(13 * (stages + 2) + 1 + extra_in, |v| gauss_kernel(per_stage, h, &tab, v, unfold))
-                }
-            })
+        let inputs = bs + 14 + extra_in;
+        // The tape (the structure, and the reference) and the same kernel
+        // compiled, which evaluates it.
+        let record = |per_stage: &[RhsData]| -> (Arc<Tape>, Option<Arc<dyn LaneKernel>>) {
+            let tape = Arc::new(match self.scheme {
+                Scheme::Midpoint => Tape::record(27 + extra_in, |v| {
+                    let mut out = Vec::with_capacity(13);
+                    midpoint_kernel(&per_stage[0], h, v, unfold, &mut |t| out.push(t));
+                    out
+                }),
+                Scheme::Gauss(_) => Tape::record(13 * (stages + 2) + 1 + extra_in, |v| {
+                    let mut out = Vec::with_capacity(13 * (stages + 1));
+                    gauss_kernel(per_stage, h, &tab, v, unfold, &mut |t| out.push(t));
+                    out
+                }),
+            });
+            let kernel = ElementKernel::new(self.scheme, tab.clone(), h, unfold, per_stage.to_vec(), inputs)
+                .map(|k| Arc::new(k) as Arc<dyn LaneKernel>);
+            (tape, kernel)
         };
         let element = record(&uniform);
         // Stiffened elements: one tape per distinct set of stage values.
-        let mut tapes: std::collections::HashMap<Vec<u64>, Arc<Tape>> = std::collections::HashMap::new();
+        type Recorded = (Arc<Tape>, Option<Arc<dyn LaneKernel>>);
+        let mut tapes: std::collections::HashMap<Vec<u64>, Recorded> = std::collections::HashMap::new();
         let mu = self.unknowns();
         let mut blocks = Vec::with_capacity(self.elements + 1);
         for i in 0..self.elements {
-            let element = match extra {
+            let (tape, kernel) = match extra {
                 Some(e) if e[i].iter().any(|v| *v != 0.0) => {
                     let key: Vec<u64> = e[i].iter().map(|v| v.to_bits()).collect();
                     tapes
@@ -593,7 +609,8 @@ impl Rod {
             // Stage rows at the stage slots, the update at the next node's.
             let mut rows: Vec<usize> = (0..13 * stages).map(|k| base + 13 + k).collect();
             rows.extend((0..13).map(|k| base + bs + k));
-            blocks.push(Block { tape: element, inputs, rows });
+            debug_assert_eq!(inputs.len(), tape.inputs());
+            blocks.push(Block { tape, inputs, rows, kernel });
         }
         blocks
     }
@@ -615,7 +632,7 @@ impl Rod {
             inputs.extend([Slot::Unknown(c), Slot::Unknown(s)]);
             rows.extend([c, s]);
         }
-        Block { tape: bc, inputs, rows }
+        Block::new(bc, inputs, rows)
     }
 
     /// (equation scales, unknown scales, Λ's scale) of a system of `n`
@@ -889,7 +906,13 @@ pub fn unwrap_rotation(previous: f64, phi: f64) -> f64 {
 }
 
 /// f, or f + μA with the unfolding parameter as the kernel's last input.
-fn field<T: Scalar>(data: &RhsData, y: &[T], lambda: T, v: &[T], unfold: bool) -> [T; 13] {
+pub(super) fn field<T: Scalar + Mul<C, Output = T>, C: Coefficient>(
+    data: &RhsData<C>,
+    y: &[T],
+    lambda: T,
+    v: &[T],
+    unfold: bool,
+) -> [T; 13] {
     if unfold {
         kinematics::rhs_unfolded(data, y, lambda, v[v.len() - 1])
     } else {
@@ -913,44 +936,64 @@ fn step<T: Scalar>(h: Option<f64>, v: &[T], at: usize) -> Step<T> {
     }
 }
 
-fn midpoint_kernel<T: Scalar>(data: &RhsData, h: Option<f64>, v: &[T], unfold: bool) -> Vec<T> {
+/// The implicit midpoint rule on one element: its 13 rows, in order, to
+/// `emit`.
+pub(super) fn midpoint_kernel<T: Scalar + Mul<C, Output = T>, C: Coefficient>(
+    data: &RhsData<C>,
+    h: Option<f64>,
+    v: &[T],
+    unfold: bool,
+    emit: &mut impl FnMut(T),
+) {
     let (a, b, lambda) = (&v[0..13], &v[13..26], v[26]);
-    let mid: Vec<T> = a.iter().zip(b).map(|(p, q)| (*p + *q) * 0.5).collect();
+    let mid: [T; 13] = std::array::from_fn(|k| (a[k] + b[k]) * 0.5);
     let f = field(data, &mid, lambda, v, unfold);
     match step(h, v, 27) {
-        Step::Fixed(h) => (0..13).map(|k| b[k] - a[k] - f[k] * h).collect(),
-        Step::Input(h) => (0..13).map(|k| b[k] - a[k] - f[k] * h).collect(),
+        Step::Fixed(h) => (0..13).for_each(|k| emit(b[k] - a[k] - f[k] * h)),
+        Step::Input(h) => (0..13).for_each(|k| emit(b[k] - a[k] - f[k] * h)),
     }
 }
+
+/// Stages a compiled element kernel holds on the stack (the tableau's
+/// largest).
+const MAX_STAGES: usize = 8;
 
 /// Gauss collocation on one element; `data[j]` is stage j's right-hand side
 /// (equal for an uncharged rod, stiffened per stage for a charged one).
 /// With h an input (a graded rod), each row's increment is Σ_j a_ij f_j
 /// times h: one product per row.
-fn gauss_kernel<T: Scalar>(data: &[RhsData], h: Option<f64>, tab: &Tableau, v: &[T], unfold: bool) -> Vec<T> {
+pub(super) fn gauss_kernel<T: Scalar + Mul<C, Output = T>, C: Coefficient>(
+    data: &[RhsData<C>],
+    h: Option<f64>,
+    tab: &Tableau,
+    v: &[T],
+    unfold: bool,
+    emit: &mut impl FnMut(T),
+) {
     let s = tab.c.len();
     let y0 = &v[0..13];
     let stage = |j: usize| &v[13 * (1 + j)..13 * (2 + j)];
     let y1 = &v[13 * (1 + s)..13 * (2 + s)];
     let lambda = v[13 * (2 + s)];
-    let f: Vec<[T; 13]> = (0..s).map(|j| field(&data[j], stage(j), lambda, v, unfold)).collect();
-    let mut out = Vec::with_capacity(13 * (s + 1));
+    let f: [Option<[T; 13]>; MAX_STAGES] =
+        std::array::from_fn(|j| (j < s).then(|| field(&data[j], stage(j), lambda, v, unfold)));
+    let f = |j: usize| f[j].as_ref().expect("a stage of the tableau");
     let step = step(h, v, 13 * (2 + s) + 1);
     // Row k of start − y0 − h Σ_j w_j f_j.
     let mut row = |start: T, k: usize, w: &[f64]| match step {
         Step::Fixed(h) => {
             let mut e = start - y0[k];
             for j in 0..s {
-                e = e - f[j][k] * (h * w[j]);
+                e = e - f(j)[k] * (h * w[j]);
             }
-            out.push(e);
+            emit(e);
         }
         Step::Input(h) => {
-            let mut sum = f[0][k] * w[0];
+            let mut sum = f(0)[k] * w[0];
             for j in 1..s {
-                sum = sum + f[j][k] * w[j];
+                sum = sum + f(j)[k] * w[j];
             }
-            out.push(start - y0[k] - sum * h);
+            emit(start - y0[k] - sum * h);
         }
     };
     for i in 0..s {
@@ -961,5 +1004,4 @@ fn gauss_kernel<T: Scalar>(data: &[RhsData], h: Option<f64>, tab: &Tableau, v: &
     for k in 0..13 {
         row(y1[k], k, &tab.b);
     }
-    out
 }

@@ -34,7 +34,7 @@ impl Rod {
         let data = self.rhs_data();
         let tab = self.tableau();
         let u3 = |y: &[f64]| {
-            let (u, _) = strains::<f64>(&data, &[y[10], y[11], y[12]], &[y[7], y[8], y[9]]);
+            let (u, _) = strains::<f64, f64>(&data, &[y[10], y[11], y[12]], &[y[7], y[8], y[9]]);
             u[2]
         };
         let mut total = 0.0;

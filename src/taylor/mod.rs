@@ -28,6 +28,7 @@
 
 pub mod batch;
 pub mod elementary;
+pub mod lanes;
 
 use std::cell::RefCell;
 use std::ops::{Add, Mul, Neg, Sub};
@@ -45,6 +46,27 @@ pub trait Scalar:
     + Mul<f64, Output = Self>
 {
     fn constant(c: f64) -> Self;
+}
+
+/// A constant a kernel multiplies by: one number, or one per lane of a
+/// batch ([`batch::Lanes`]). A zero coefficient is skipped by the kernels
+/// that test it, so a recorded tape holds only the couplings a law has.
+pub trait Coefficient: Copy {
+    fn is_zero(&self) -> bool;
+}
+
+impl Coefficient for f64 {
+    #[inline]
+    fn is_zero(&self) -> bool {
+        *self == 0.0
+    }
+}
+
+impl Coefficient for batch::Lanes {
+    #[inline]
+    fn is_zero(&self) -> bool {
+        self.iter().all(|c| *c == 0.0)
+    }
 }
 
 impl Scalar for f64 {

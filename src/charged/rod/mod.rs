@@ -796,7 +796,8 @@ impl ChargedRod {
         let (mut near, mut far, mut hard, mut elastic) = (0.0, 0.0, 0.0, 0.0);
         for (j, pt) in self.points.iter().enumerate() {
             let y = &x[pt.offset..pt.offset + 13];
-            let (u, _) = crate::rod::kinematics::strains::<f64>(&data, &[y[10], y[11], y[12]], &[y[7], y[8], y[9]]);
+            let (u, _) =
+                crate::rod::kinematics::strains::<f64, f64>(&data, &[y[10], y[11], y[12]], &[y[7], y[8], y[9]]);
             // u of the stiffened law: m = (K + ΔK) u.
             let dk = self.stiffening[j];
             let u1 = u[0] * kb / (kb + dk);

@@ -166,10 +166,8 @@ impl AssembledSystem {
             panic!("equation {row} receives no block output");
         }
         // Keep the diagonal in the pattern: a zero there is still a pivot slot.
-        let block_entries = entries.len();
-        entries.extend((0..n).map(|i| (i, i)));
-        let (pattern, found) = Pattern::with_positions(n, &entries);
-        let mut found = found[..block_entries].iter();
+        let (pattern, found) = Pattern::with_positions_and_diagonal(n, &entries);
+        let mut found = found.iter();
         let work = blocks
             .iter()
             .map(|b| {

@@ -76,22 +76,27 @@ impl BorderedLu {
     /// with the border by any reordering: [`SparseLu::with_trailing`]).
     pub fn with_trailing(pattern: &Pattern, trailing: usize) -> Result<Self> {
         let n = pattern.n;
-        let mut entries: Vec<(usize, usize)> = Vec::with_capacity(pattern.nnz() + 2 * n + 1);
-        for j in 0..n {
-            for k in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
-                entries.push((pattern.row_idx[k], j));
-            }
-        }
-        entries.extend((0..=n).map(|i| (i, n)));
-        entries.extend((0..n).map(|j| (n, j)));
-        // The bordered pattern and where each of A's entries, the last
-        // column and the last row went, from one counting sort.
-        let (big, at) = Pattern::with_positions(n + 1, &entries);
         let nnz = pattern.nnz();
-        let map = at[..nnz].iter().map(|&p| p as usize).collect();
-        let last_col = at[nnz..nnz + n].iter().map(|&p| p as usize).collect();
-        let corner = at[nnz + n] as usize;
-        let last_row = at[nnz + n + 1..].iter().map(|&p| p as usize).chain(std::iter::once(corner)).collect();
+        // B's pattern written directly: column j < n is A's column j (rows
+        // sorted, all < n) then row n; column n is rows 0..=n. Each of A's
+        // entries moves down by its column index.
+        let mut col_ptr = Vec::with_capacity(n + 2);
+        let mut row_idx = Vec::with_capacity(nnz + 2 * n + 1);
+        let mut last_row = Vec::with_capacity(n + 1);
+        for j in 0..n {
+            col_ptr.push(row_idx.len());
+            row_idx.extend_from_slice(&pattern.row_idx[pattern.col_ptr[j]..pattern.col_ptr[j + 1]]);
+            last_row.push(row_idx.len());
+            row_idx.push(n);
+        }
+        col_ptr.push(row_idx.len());
+        let last_col: Vec<usize> = (row_idx.len()..row_idx.len() + n).collect();
+        let corner = row_idx.len() + n;
+        last_row.push(corner);
+        row_idx.extend(0..=n);
+        col_ptr.push(row_idx.len());
+        let map = (0..n).flat_map(|j| (pattern.col_ptr[j]..pattern.col_ptr[j + 1]).map(move |k| k + j)).collect();
+        let big = Pattern { n: n + 1, col_ptr, row_idx };
         let values = vec![0.0; big.nnz()];
         Ok(BorderedLu {
             n,

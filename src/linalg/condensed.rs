@@ -156,8 +156,7 @@ impl CondensedLu {
                 entries.extend(krows[e].iter().map(|&r| (r, c)));
             }
         }
-        entries.extend((0..kept.len()).map(|k| (k, k)));
-        let (spattern, at) = Pattern::with_positions(kept.len(), &entries);
+        let (spattern, at) = Pattern::with_positions_and_diagonal(kept.len(), &entries);
         let kk: Vec<(usize, usize)> = kk_sources.iter().zip(&at).map(|(&p, &q)| (p, q as usize)).collect();
         let mut fill = at[kk.len()..].iter().map(|&q| q as usize);
         let mut out: Vec<Block> = blocks

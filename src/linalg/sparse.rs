@@ -41,13 +41,26 @@ impl Pattern {
 
     /// [`Pattern::from_entries`], also returning each entry's position in
     /// the value array (repeated entries share one): an assembly's scatter
-    /// map without a search per entry. Counting sort by column, then each
-    /// column's rows sorted and deduplicated; 32-bit work arrays (a rod's
+    /// map without a search per entry. One counting sort by column; a
+    /// column whose rows do not arrive in order is sorted (an assembly's
+    /// blocks mostly give them in order: a rod's set-up sorts only its
+    /// boundary columns), then deduplicated; 32-bit work arrays (a rod's
     /// element blocks give ~5000 entries each, and what a first call
     /// allocates it also faults in).
     pub fn with_positions(n: usize, entries: &[(usize, usize)]) -> (Self, Vec<u32>) {
+        Self::build(n, entries, false)
+    }
+
+    /// [`Pattern::with_positions`] with every diagonal entry in the
+    /// pattern too (a zero there is still a pivot slot), placed as each
+    /// column is compacted rather than sorted in.
+    pub fn with_positions_and_diagonal(n: usize, entries: &[(usize, usize)]) -> (Self, Vec<u32>) {
+        Self::build(n, entries, true)
+    }
+
+    fn build(n: usize, entries: &[(usize, usize)], diagonal: bool) -> (Self, Vec<u32>) {
         assert!(entries.len() < u32::MAX as usize && n < u32::MAX as usize, "pattern too large for 32-bit positions");
-        let mut col_ptr = vec![0usize; n + 1];
+        let mut col_ptr = vec![0u32; n + 1];
         for &(i, j) in entries {
             assert!(i < n && j < n, "entry ({i}, {j}) outside a {n}×{n} pattern");
             col_ptr[j + 1] += 1;
@@ -56,25 +69,38 @@ impl Pattern {
             col_ptr[j + 1] += col_ptr[j];
         }
         let mut next = col_ptr.clone();
-        // (row, entry index) by column.
+        // (row, entry index) by column, in the entries' order.
         let mut by_column = vec![(0u32, 0u32); entries.len()];
         for (e, &(i, j)) in entries.iter().enumerate() {
-            by_column[next[j]] = (i as u32, e as u32);
+            by_column[next[j] as usize] = (i as u32, e as u32);
             next[j] += 1;
         }
-        let mut row_idx = Vec::with_capacity(entries.len());
+        let mut row_idx = Vec::with_capacity(entries.len() + if diagonal { n } else { 0 });
         let mut compact = Vec::with_capacity(n + 1);
         let mut positions = vec![0u32; entries.len()];
         compact.push(0);
         for j in 0..n {
-            let c = &mut by_column[col_ptr[j]..col_ptr[j + 1]];
-            c.sort_unstable();
+            let c = &mut by_column[col_ptr[j] as usize..col_ptr[j + 1] as usize];
+            if c.windows(2).any(|w| w[0].0 > w[1].0) {
+                c.sort_unstable();
+            }
             let start = row_idx.len();
+            let mut diagonal_placed = !diagonal;
             for &(i, e) in c.iter() {
-                if row_idx.len() == start || row_idx[row_idx.len() - 1] != i as usize {
-                    row_idx.push(i as usize);
+                let i = i as usize;
+                if !diagonal_placed && i >= j {
+                    if i > j {
+                        row_idx.push(j);
+                    }
+                    diagonal_placed = true;
+                }
+                if row_idx.len() == start || row_idx[row_idx.len() - 1] != i {
+                    row_idx.push(i);
                 }
                 positions[e as usize] = (row_idx.len() - 1) as u32;
+            }
+            if !diagonal_placed {
+                row_idx.push(j);
             }
             compact.push(row_idx.len());
         }
@@ -1026,6 +1052,46 @@ fn parity<I: faer::Index>(p: &[I]) -> f64 {
 mod tests {
     use super::*;
     use nalgebra::DMatrix;
+
+    /// With the diagonal: the pattern is the sorted set of the entries and
+    /// the diagonal (reference: a BTreeSet), for entries in any order and
+    /// for entries whose columns arrive already ordered (the path that
+    /// sorts nothing), each entry's position holding its own row.
+    #[test]
+    fn pattern_with_diagonal_is_the_set_of_entries_and_diagonal() {
+        let n = 29;
+        let mut state = 777u64;
+        let mut random = vec![];
+        for _ in 0..600 {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            random.push((((state >> 33) % n as u64) as usize, ((state >> 13) % n as u64) as usize));
+        }
+        let mut ordered = random.clone();
+        ordered.sort_by_key(|&(i, j)| (j, i));
+        for entries in [random, ordered] {
+            for diagonal in [false, true] {
+                let (p, positions) = if diagonal {
+                    Pattern::with_positions_and_diagonal(n, &entries)
+                } else {
+                    Pattern::with_positions(n, &entries)
+                };
+                let mut set: std::collections::BTreeSet<(usize, usize)> =
+                    entries.iter().map(|&(i, j)| (j, i)).collect();
+                if diagonal {
+                    set.extend((0..n).map(|i| (i, i)));
+                }
+                let listed: Vec<(usize, usize)> = (0..n)
+                    .flat_map(|j| p.row_idx[p.col_ptr[j]..p.col_ptr[j + 1]].iter().map(move |&i| (j, i)))
+                    .collect();
+                assert_eq!(listed, set.into_iter().collect::<Vec<_>>(), "diagonal {diagonal}");
+                for (&(i, j), &q) in entries.iter().zip(&positions) {
+                    assert!(
+                        q as usize >= p.col_ptr[j] && (q as usize) < p.col_ptr[j + 1] && p.row_idx[q as usize] == i
+                    );
+                }
+            }
+        }
+    }
 
     /// The pattern of repeated, unordered entries is the sorted set of
     /// distinct (row, column) pairs (reference: a BTreeSet, column-major),

@@ -170,9 +170,11 @@ impl CondensedLu {
                     local: local.clone(),
                     kcols,
                     krows,
-                    ll: Vec::new(),
-                    lk: Vec::new(),
-                    kl: Vec::new(),
+                    // At most this many: sized once (growing them was a
+                    // tenth of a rod's set-up).
+                    ll: Vec::with_capacity(m * m),
+                    lk: Vec::with_capacity(m * kc),
+                    kl: Vec::with_capacity(kr * m),
                     update,
                     lu: vec![0.0; m * m],
                     perm: vec![0; m],

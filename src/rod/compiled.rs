@@ -136,9 +136,7 @@ impl LaneKernel for ElementKernel {
                 }
             })
             .collect();
-        let code = self.code.clone();
-        let arena = SeriesArena::new(code.inputs, |v| code.run(&data, v, &mut |_| {}));
-        Box::new(ElementBatch { code, data, arena })
+        Box::new(ElementBatch { code: self.code.clone(), data, arena: None })
     }
 
     fn as_any(&self) -> &dyn Any {
@@ -150,7 +148,16 @@ impl LaneKernel for ElementKernel {
 struct ElementBatch {
     code: Code,
     data: Vec<RhsData<Lanes>>,
-    arena: SeriesArena,
+    /// Made at the first series (a batch whose lanes share a tape takes
+    /// its series from the tape and never needs one).
+    arena: Option<SeriesArena>,
+}
+
+impl ElementBatch {
+    fn arena(&mut self) -> &mut SeriesArena {
+        let (code, data) = (&self.code, &self.data);
+        self.arena.get_or_insert_with(|| SeriesArena::new(code.inputs, |v| code.run(data, v, &mut |_| {})))
+    }
 }
 
 impl LaneBatch for ElementBatch {
@@ -277,13 +284,15 @@ impl LaneBatch for ElementBatch {
     }
 
     fn series_begin(&mut self, x0: &[Lanes], max_order: usize) {
+        self.arena();
         let (code, data) = (&self.code, &self.data);
-        self.arena.begin(x0, max_order, |v| code.run(data, v, &mut |_| {}));
+        self.arena.as_mut().expect("made above").begin(x0, max_order, |v| code.run(data, v, &mut |_| {}));
     }
 
     fn series_order(&mut self, p: usize, xp: &[Lanes], out: &mut [Lanes]) {
         let (code, data) = (&self.code, &self.data);
-        self.arena.order(p, xp, |v| {
+        let arena = self.arena.as_mut().expect("series_order after series_begin");
+        arena.order(p, xp, |v| {
             let mut k = 0;
             code.run(data, v, &mut |t: LaneSeries<'_>| {
                 out[k] = t.value(p, false);
@@ -294,7 +303,8 @@ impl LaneBatch for ElementBatch {
 
     fn series_tangent_order(&mut self, p: usize, wp: &[Lanes], out: &mut [Lanes]) {
         let (code, data) = (&self.code, &self.data);
-        self.arena.tangent_order(p, wp, |v| {
+        let arena = self.arena.as_mut().expect("series_tangent_order after series_begin");
+        arena.tangent_order(p, wp, |v| {
             let mut k = 0;
             code.run(data, v, &mut |t: LaneSeries<'_>| {
                 out[k] = t.value(p, true);

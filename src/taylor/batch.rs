@@ -267,7 +267,7 @@ pub fn jacobian_lanes(tape: &Tape, x: &[Lanes], work: &mut BatchJacobianWork, ou
     for (k, &i) in tape.outputs.iter().enumerate() {
         out[k] = work.val[i as usize];
         let g = &work.grad[tape.start[i as usize]..tape.start[i as usize + 1]];
-        for (d, &j) in g.iter().zip(&tape.deps[i as usize]) {
+        for (d, &j) in g.iter().zip(&tape.deps[tape.start[i as usize]..tape.start[i as usize + 1]]) {
             jac[k * n + j as usize] = *d;
         }
     }

@@ -171,8 +171,9 @@ pub struct Tape {
     outputs: Vec<u32>,
     /// Polynomial degree of each node in the inputs.
     degree: Vec<u32>,
-    /// For each node, the sorted local inputs it depends on.
-    deps: Vec<Vec<u32>>,
+    /// The sorted local inputs each node depends on, node k's at
+    /// deps[start[k]..start[k + 1]].
+    deps: Vec<u32>,
     /// Sparse forward mode: node k's gradient lives at grad[start[k]..start[k+1]]
     /// over its own dependencies; for a binary node, `scatter` holds, from
     /// scatter_start[k], the position in node k's list of each dependency of
@@ -205,38 +206,11 @@ impl Tape {
         let ops = RECORDING.with(|r| r.borrow_mut().take().expect("recording in progress"));
         drop(guard);
         let mut degree: Vec<u32> = Vec::with_capacity(ops.len());
-        let mut deps: Vec<Vec<u32>> = Vec::with_capacity(ops.len());
-        for op in &ops {
-            let (d, s) = match *op {
-                Op::Input(i) => (1, vec![i]),
-                Op::Const(_) => (0, vec![]),
-                Op::Add(a, b) | Op::Sub(a, b) => {
-                    (degree[a as usize].max(degree[b as usize]), merge(&deps[a as usize], &deps[b as usize]))
-                }
-                Op::Mul(a, b) => (degree[a as usize] + degree[b as usize], merge(&deps[a as usize], &deps[b as usize])),
-                Op::Neg(a) | Op::Scale(_, a) | Op::Shift(_, a) => (degree[a as usize], deps[a as usize].clone()),
-            };
-            degree.push(d);
-            deps.push(s);
-        }
-        let mut start = Vec::with_capacity(ops.len() + 1);
-        let mut scatter_start = Vec::with_capacity(ops.len() + 1);
-        let mut scatter = Vec::new();
-        let mut total = 0;
-        for (k, op) in ops.iter().enumerate() {
-            start.push(total);
-            total += deps[k].len();
-            scatter_start.push(scatter.len());
-            if let Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) = *op {
-                for operand in [a, b] {
-                    for d in &deps[operand as usize] {
-                        scatter.push(deps[k].binary_search(d).expect("operand dependency is a dependency") as u32);
-                    }
-                }
-            }
-        }
-        start.push(total);
-        scatter_start.push(scatter.len());
+        let (deps, start, scatter_start, scatter) = if inputs <= 128 {
+            Self::structure_by_masks(&ops, &mut degree)
+        } else {
+            Self::structure_by_lists(&ops, &mut degree)
+        };
         Tape {
             ops,
             inputs,
@@ -247,6 +221,99 @@ impl Tape {
             scatter_start,
             scatter,
         }
+    }
+
+    /// Each node's degree and sorted dependencies (flat, node k's at
+    /// deps[start[k]..start[k + 1]]) and the scatter positions of its
+    /// operands' dependencies in its own (see [`Tape`]), with the inputs
+    /// as bits of a u128: a union is an OR and a dependency's position in
+    /// a node's list the count of the node's bits below it.
+    #[allow(clippy::type_complexity)]
+    fn structure_by_masks(ops: &[Op], degree: &mut Vec<u32>) -> (Vec<u32>, Vec<usize>, Vec<usize>, Vec<u32>) {
+        let mut mask: Vec<u128> = Vec::with_capacity(ops.len());
+        for op in ops {
+            let (d, m) = match *op {
+                Op::Input(i) => (1, 1u128 << i),
+                Op::Const(_) => (0, 0),
+                Op::Add(a, b) | Op::Sub(a, b) => {
+                    (degree[a as usize].max(degree[b as usize]), mask[a as usize] | mask[b as usize])
+                }
+                Op::Mul(a, b) => (degree[a as usize] + degree[b as usize], mask[a as usize] | mask[b as usize]),
+                Op::Neg(a) | Op::Scale(_, a) | Op::Shift(_, a) => (degree[a as usize], mask[a as usize]),
+            };
+            degree.push(d);
+            mask.push(m);
+        }
+        let bits = |mut m: u128| {
+            std::iter::from_fn(move || {
+                (m != 0).then(|| {
+                    let d = m.trailing_zeros();
+                    m &= m - 1;
+                    d
+                })
+            })
+        };
+        let total: usize = mask.iter().map(|m| m.count_ones() as usize).sum();
+        let mut deps = Vec::with_capacity(total);
+        let mut start = Vec::with_capacity(ops.len() + 1);
+        let mut scatter_start = Vec::with_capacity(ops.len() + 1);
+        let mut scatter = Vec::new();
+        for (k, op) in ops.iter().enumerate() {
+            start.push(deps.len());
+            deps.extend(bits(mask[k]));
+            scatter_start.push(scatter.len());
+            if let Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) = *op {
+                for operand in [a, b] {
+                    for d in bits(mask[operand as usize]) {
+                        scatter.push((mask[k] & ((1u128 << d) - 1)).count_ones());
+                    }
+                }
+            }
+        }
+        start.push(deps.len());
+        scatter_start.push(scatter.len());
+        (deps, start, scatter_start, scatter)
+    }
+
+    /// [`Tape::structure_by_masks`] for tapes of more than 128 inputs:
+    /// sorted lists merged node by node.
+    #[allow(clippy::type_complexity)]
+    fn structure_by_lists(ops: &[Op], degree: &mut Vec<u32>) -> (Vec<u32>, Vec<usize>, Vec<usize>, Vec<u32>) {
+        let mut lists: Vec<Vec<u32>> = Vec::with_capacity(ops.len());
+        for op in ops {
+            let (d, s) = match *op {
+                Op::Input(i) => (1, vec![i]),
+                Op::Const(_) => (0, vec![]),
+                Op::Add(a, b) | Op::Sub(a, b) => {
+                    (degree[a as usize].max(degree[b as usize]), merge(&lists[a as usize], &lists[b as usize]))
+                }
+                Op::Mul(a, b) => {
+                    (degree[a as usize] + degree[b as usize], merge(&lists[a as usize], &lists[b as usize]))
+                }
+                Op::Neg(a) | Op::Scale(_, a) | Op::Shift(_, a) => (degree[a as usize], lists[a as usize].clone()),
+            };
+            degree.push(d);
+            lists.push(s);
+        }
+        let mut deps = Vec::new();
+        let mut start = Vec::with_capacity(ops.len() + 1);
+        let mut scatter_start = Vec::with_capacity(ops.len() + 1);
+        let mut scatter = Vec::new();
+        for (k, op) in ops.iter().enumerate() {
+            start.push(deps.len());
+            deps.extend_from_slice(&lists[k]);
+            scatter_start.push(scatter.len());
+            if let Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) = *op {
+                for operand in [a, b] {
+                    for d in &lists[operand as usize] {
+                        scatter.push(lists[k].binary_search(d).expect("operand dependency is a dependency") as u32);
+                    }
+                }
+            }
+        }
+        start.push(deps.len());
+        scatter_start.push(scatter.len());
+        (deps, start, scatter_start, scatter)
     }
 
     pub fn inputs(&self) -> usize {
@@ -291,7 +358,8 @@ impl Tape {
 
     /// The inputs output `k` depends on (structural, sorted).
     pub fn dependencies(&self, k: usize) -> &[u32] {
-        &self.deps[self.outputs[k] as usize]
+        let o = self.outputs[k] as usize;
+        &self.deps[self.start[o]..self.start[o + 1]]
     }
 
     /// Values of the outputs; `work` holds one value per node.
@@ -379,7 +447,7 @@ impl Tape {
         for (k, &i) in self.outputs.iter().enumerate() {
             out[k] = work.val[i as usize];
             let g = &work.grad[self.start[i as usize]..self.start[i as usize + 1]];
-            for (d, &j) in g.iter().zip(&self.deps[i as usize]) {
+            for (d, &j) in g.iter().zip(&self.deps[self.start[i as usize]..self.start[i as usize + 1]]) {
                 jac[k * n + j as usize] = *d;
             }
         }
@@ -721,6 +789,34 @@ mod tests {
         }
         // Committed orders are kept: re-reading order 1 of output 0.
         assert_eq!(tw.output(&tape, 0, 1), series[1][0]);
+    }
+
+    /// The structure from bit masks (tapes of ≤ 128 inputs) equals the one
+    /// from merged sorted lists (the general path, the reference) on a
+    /// kernel of 100 inputs mixing sums, products, scalings and constants,
+    /// with inputs above 64 (the mask's upper word).
+    #[test]
+    fn structure_by_masks_equals_structure_by_lists() {
+        let tape = Tape::record(100, |v| {
+            let mut out = Vec::new();
+            let mut acc = v[0] * v[99];
+            for k in 1..100 {
+                let t = (v[k] + v[(k * 37) % 100] * 2.0) * v[(k * 53 + 7) % 100] - 1.5;
+                acc = if k % 3 == 0 { acc + t } else { (acc - t) * 0.5 };
+                if k % 7 == 0 {
+                    out.push(acc * v[k] + Var::constant(2.0));
+                    acc = -t;
+                }
+            }
+            out.push(acc);
+            out
+        });
+        let (mut d1, mut d2) = (Vec::new(), Vec::new());
+        let masks = Tape::structure_by_masks(&tape.ops, &mut d1);
+        let lists = Tape::structure_by_lists(&tape.ops, &mut d2);
+        assert_eq!(masks, lists);
+        assert_eq!(d1, d2);
+        assert!(tape.dependencies(0).iter().any(|&d| d >= 64), "the kernel reaches the mask's upper word");
     }
 
     /// A kernel that panics while recording leaves the thread able to

@@ -127,6 +127,9 @@ impl CondensedLu {
         let mut kk_entries = Vec::new();
         // A's kept–kept entries in pattern order (p, for the gather map).
         let mut kk_sources = Vec::new();
+        // A kept row already listed for a block (the block that listed it
+        // last): the rows repeat for each of a block's columns.
+        let mut listed = vec![usize::MAX; kept.len()];
         for j in 0..n {
             for p in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
                 let i = pattern.row_idx[p];
@@ -135,14 +138,26 @@ impl CondensedLu {
                         kk_entries.push((kept_pos[i], kept_pos[j]));
                         kk_sources.push(p);
                     }
-                    (e, usize::MAX) => kcols[e].push(kept_pos[j]),
-                    (usize::MAX, e) => krows[e].push(kept_pos[i]),
+                    // Columns come in order: a repeat is the last one.
+                    (e, usize::MAX) => {
+                        if kcols[e].last() != Some(&kept_pos[j]) {
+                            kcols[e].push(kept_pos[j]);
+                        }
+                    }
+                    (usize::MAX, e) => {
+                        if listed[kept_pos[i]] != e {
+                            listed[kept_pos[i]] = e;
+                            krows[e].push(kept_pos[i]);
+                        }
+                    }
                     (e, f) if e != f => return Err(invalid(format!("entry ({i}, {j}) joins blocks {e} and {f}"))),
                     _ => {}
                 }
             }
         }
-        for v in kcols.iter_mut().chain(krows.iter_mut()) {
+        // kcols are sorted and distinct; a kept row may have been listed
+        // again after another block's.
+        for v in krows.iter_mut() {
             v.sort_unstable();
             v.dedup();
         }
@@ -190,6 +205,7 @@ impl CondensedLu {
             })
             .collect();
         // The gather maps, A's entries in pattern order.
+        let mut last_col: Option<(usize, usize, usize)> = None;
         for j in 0..n {
             for p in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
                 let i = pattern.row_idx[p];
@@ -197,7 +213,13 @@ impl CondensedLu {
                     (usize::MAX, usize::MAX) => {}
                     (e, usize::MAX) => {
                         let b = &mut out[e];
-                        let c = b.kcols.binary_search(&kept_pos[j]).expect("kept column");
+                        // A column's rows of one block are consecutive: one
+                        // search per (column, block).
+                        let c = match last_col {
+                            Some((f, jj, c)) if f == e && jj == j => c,
+                            _ => b.kcols.binary_search(&kept_pos[j]).expect("kept column"),
+                        };
+                        last_col = Some((e, j, c));
                         b.lk.push((p, local_pos[i] + b.local.len() * c));
                     }
                     (usize::MAX, e) => {

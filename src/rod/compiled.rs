@@ -136,7 +136,8 @@ impl LaneKernel for ElementKernel {
                 }
             })
             .collect();
-        Box::new(ElementBatch { code: self.code.clone(), data, arena: None })
+        let duals = vec![[LaneDual::input([0.0; LANES], None); 13]; self.code.stages()];
+        Box::new(ElementBatch { code: self.code.clone(), data, arena: None, duals })
     }
 
     fn as_any(&self) -> &dyn Any {
@@ -151,6 +152,8 @@ struct ElementBatch {
     /// Made at the first series (a batch whose lanes share a tape takes
     /// its series from the tape and never needs one).
     arena: Option<SeriesArena>,
+    /// f and its derivatives at each stage (the Jacobian's work space).
+    duals: Vec<[LaneDual; 13]>,
 }
 
 impl ElementBatch {
@@ -179,7 +182,9 @@ impl LaneBatch for ElementBatch {
         let hcol = lam + 1;
         // f and its derivatives at each stage (the midpoint's at (a + b)/2).
         let stages = code.stages();
-        let mut f = [[LaneDual::input([0.0; LANES], None); 13]; 4];
+        // On the heap (a C host's thread may have a small stack: the
+        // stages' duals are ~22 kB).
+        let f = &mut self.duals;
         for (j, fj) in f.iter_mut().enumerate().take(stages) {
             let y: [LaneDual; 15] = std::array::from_fn(|m| match m {
                 0..=12 => {

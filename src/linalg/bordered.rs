@@ -15,7 +15,8 @@ use super::bordering::BlockElimination;
 use super::condensed::CondensedLu;
 use super::dense::{dot, orthonormalise};
 use super::sparse::{ColumnOrder, LuKind, Pattern, SparseLu};
-use crate::error::Result;
+use crate::error::{Error, Result};
+use crate::status::Status;
 
 /// How [`BorderedLu::factorise`] factorises: not yet decided (on its
 /// first matrix), B's own (simplicial) LU, block elimination on A's
@@ -85,7 +86,16 @@ impl BorderedLu {
         let mut last_row = Vec::with_capacity(n + 1);
         for j in 0..n {
             col_ptr.push(row_idx.len());
-            row_idx.extend_from_slice(&pattern.row_idx[pattern.col_ptr[j]..pattern.col_ptr[j + 1]]);
+            let rows = &pattern.row_idx[pattern.col_ptr[j]..pattern.col_ptr[j + 1]];
+            // Pattern's invariant (its fields are public): B's rows are
+            // A's, in order, with no repeat.
+            if rows.windows(2).any(|w| w[0] >= w[1]) || rows.last().is_some_and(|&r| r >= n) {
+                return Err(Error::new(
+                    Status::ErrInvalidDimension,
+                    format!("bordered LU: column {j} of the pattern has rows out of order, repeated or out of range"),
+                ));
+            }
+            row_idx.extend_from_slice(rows);
             last_row.push(row_idx.len());
             row_idx.push(n);
         }

@@ -213,8 +213,8 @@ impl CondensedLu {
                     (usize::MAX, usize::MAX) => {}
                     (e, usize::MAX) => {
                         let b = &mut out[e];
-                        // A column's rows of one block are consecutive: one
-                        // search per (column, block).
+                        // Consecutive entries of one column and block (the
+                        // usual case) reuse one search.
                         let c = match last_col {
                             Some((f, jj, c)) if f == e && jj == j => c,
                             _ => b.kcols.binary_search(&kept_pos[j]).expect("kept column"),

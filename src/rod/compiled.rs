@@ -182,8 +182,10 @@ impl LaneBatch for ElementBatch {
         let hcol = lam + 1;
         // f and its derivatives at each stage (the midpoint's at (a + b)/2).
         let stages = code.stages();
-        // On the heap (a C host's thread may have a small stack: the
-        // stages' duals are ~22 kB).
+        // On the heap (a C host's thread may have a small stack): the
+        // stages' duals are ~22 kB. The right-hand side on duals still
+        // takes ~55 kB of stack (its frames, measured in a release
+        // build), bounded and well inside a 128 kB thread.
         let f = &mut self.duals;
         for (j, fj) in f.iter_mut().enumerate().take(stages) {
             let y: [LaneDual; 15] = std::array::from_fn(|m| match m {
@@ -344,11 +346,14 @@ mod tests {
     /// The compiled system against the interpreted one (every block on its
     /// tape, the reference) at a point off any solution: residual,
     /// Jacobian, a Taylor series of order 12 (each order's known part and
-    /// its commit) and its tangent series. Values and series are the same
-    /// operations in the same order (bitwise but for the Jacobian's
-    /// chain-rule sums): measured bitwise equal on every law here (the Jacobian within 3e-16; against a lone
-    /// block's scalar tape, whose Cauchy sums run in four partial sums, 7e-18):
-    /// asserted to 1e-15 relative.
+    /// its commit) and its tangent series. Values are the same operations
+    /// in the same order, measured bitwise equal on every law here (the
+    /// Jacobian within 3e-16: its chain-rule sums run in another order);
+    /// asserted to 1e-15 relative. Where a batch's lanes share one tape
+    /// both systems take series from it, so this compares the compiled
+    /// series only for the stiffened rod (lanes of different laws); the
+    /// compiled series of every law, scheme, mesh and phase condition is
+    /// held against the batched tape by [`same_series`].
     fn same(mut compiled: AssembledSystem, mut tape: AssembledSystem, what: &str) {
         same_series(&compiled, what);
         let n = compiled.dim();
@@ -469,7 +474,9 @@ mod tests {
     }
 
     /// A charged rod's elastic part: each element stiffened by its own
-    /// near zone (stage by stage), the lanes' laws differing.
+    /// near zone (stage by stage), the lanes' laws differing (so the
+    /// system's series are the compiled ones), on uniform and graded
+    /// meshes, with and without the phase condition's μ.
     #[test]
     fn compiled_kernels_equal_the_tape_with_stiffening_per_element() {
         for law in [RodLaw::isotropic(1.0, 0.77, 1e4, 2.6e4).unwrap(), RodLaw::kirchhoff(1.0, 1.0, 0.7).unwrap()] {
@@ -483,6 +490,12 @@ mod tests {
                 rod.system_stiffened(&extra).unwrap().interpreted(),
                 "stiffened",
             );
+            let phase = |r: &Rod| r.system_with_phase_stiffened(4, 0.3, &extra).unwrap();
+            same(phase(&rod), phase(&rod).interpreted(), "stiffened, phase");
+            let graded = rod.clone().graded(&[0.0, 0.05, 0.2, 0.4, 0.5, 0.7, 0.85, 1.0]).unwrap();
+            let stiffened = |r: &Rod| r.system_stiffened(&extra).unwrap();
+            same(stiffened(&graded), stiffened(&graded).interpreted(), "stiffened, graded");
+            same(phase(&graded), phase(&graded).interpreted(), "stiffened, graded, phase");
         }
     }
 }

@@ -954,8 +954,8 @@ pub(super) fn midpoint_kernel<T: Scalar + Mul<C, Output = T>, C: Coefficient>(
     }
 }
 
-/// Stages a compiled element kernel holds on the stack (the tableau's
-/// largest).
+/// Stages an element kernel holds on the stack (the tableau's largest:
+/// `Tableau::gauss` takes 1..=8).
 const MAX_STAGES: usize = 8;
 
 /// Gauss collocation on one element; `data[j]` is stage j's right-hand side
@@ -971,6 +971,7 @@ pub(super) fn gauss_kernel<T: Scalar + Mul<C, Output = T>, C: Coefficient>(
     emit: &mut impl FnMut(T),
 ) {
     let s = tab.c.len();
+    assert!(s <= MAX_STAGES, "a Gauss tableau of {s} stages (at most {MAX_STAGES})");
     let y0 = &v[0..13];
     let stage = |j: usize| &v[13 * (1 + j)..13 * (2 + j)];
     let y1 = &v[13 * (1 + s)..13 * (2 + s)];

@@ -25,9 +25,12 @@
 //! differs between lanes (one element's law in each).
 //!
 //! The arithmetic is the tape's, operation by operation and in the same
-//! order (the Cauchy sums too), so values and series equal the batched
-//! tape's; the dual's gradient sums the chain rule in another order than
-//! the tape's sparse forward mode, so Jacobians equal it to rounding.
+//! order (the Cauchy sums too), except that [`LaneSeries`] folds
+//! constants (c·x is a scaling, not a Cauchy product with a constant
+//! series): for finite values, values and series equal the batched
+//! tape's (a zero's sign, or 0·∞, may differ). The dual's gradient sums
+//! the chain rule in another order than the tape's sparse forward mode,
+//! so Jacobians equal it to rounding.
 
 use super::batch::{Lanes, LANES};
 use super::Scalar;

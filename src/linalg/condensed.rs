@@ -139,17 +139,13 @@ impl CondensedLu {
                         kk_sources.push(p);
                     }
                     // Columns come in order: a repeat is the last one.
-                    (e, usize::MAX) => {
-                        if kcols[e].last() != Some(&kept_pos[j]) {
-                            kcols[e].push(kept_pos[j]);
-                        }
+                    (e, usize::MAX) if kcols[e].last() != Some(&kept_pos[j]) => kcols[e].push(kept_pos[j]),
+                    (usize::MAX, e) if listed[kept_pos[i]] != e => {
+                        listed[kept_pos[i]] = e;
+                        krows[e].push(kept_pos[i]);
                     }
-                    (usize::MAX, e) => {
-                        if listed[kept_pos[i]] != e {
-                            listed[kept_pos[i]] = e;
-                            krows[e].push(kept_pos[i]);
-                        }
-                    }
+                    // Already listed.
+                    (_, usize::MAX) | (usize::MAX, _) => {}
                     (e, f) if e != f => return Err(invalid(format!("entry ({i}, {j}) joins blocks {e} and {f}"))),
                     _ => {}
                 }

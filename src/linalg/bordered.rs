@@ -671,6 +671,22 @@ mod block_tests {
     use super::*;
     use nalgebra::{DMatrix, DVector};
 
+    /// The bordered pattern is written from A's without normalising it: a
+    /// pattern whose rows break `Pattern`'s invariant (its fields are
+    /// public) is refused with ErrInvalidDimension, not built wrong; the
+    /// same matrix in order is accepted (reference: `Pattern::from_entries`).
+    #[test]
+    fn a_pattern_out_of_order_is_refused() {
+        let entries = [(0, 0), (2, 0), (1, 1), (0, 2), (2, 2)];
+        let good = Pattern::from_entries(3, entries);
+        assert!(BorderedLu::new(&good).is_ok());
+        for rows in [vec![2, 0, 1, 0, 2], vec![0, 0, 1, 0, 2], vec![0, 3, 1, 0, 2]] {
+            let bad = Pattern { n: 3, col_ptr: good.col_ptr.clone(), row_idx: rows.clone() };
+            let err = BorderedLu::new(&bad).err().map(|e| e.status);
+            assert_eq!(err, Some(Status::ErrInvalidDimension), "rows {rows:?}");
+        }
+    }
+
     fn random(seed: &mut u64) -> f64 {
         *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
         ((*seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5

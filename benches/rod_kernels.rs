@@ -50,13 +50,14 @@ fn measure(sys: &mut AssembledSystem) -> [f64; 4] {
     let n = sys.dim();
     let x: Vec<f64> = (0..n).map(|i| ((i * 37 % 101) as f64 / 101.0 - 0.5) * 0.8).collect();
     let (mut r, mut jx, mut jl) = (vec![0.0; n], vec![0.0; sys.pattern().nnz()], vec![0.0; n]);
+    let zero = vec![0.0; n];
     let xp: Vec<f64> = x.iter().map(|v| 0.1 * v).collect();
     let residual = time(|| sys.residual(&x, 0.5, &mut r));
     let jacobian = time(|| sys.jacobian(&x, 0.5, &mut jx, &mut jl));
     let series = time(|| {
         sys.series_begin(&x, 0.5, ORDER);
         for p in 1..=ORDER {
-            sys.series_order(p, &vec![0.0; n], 0.0, &mut r);
+            sys.series_order(p, &zero, 0.0, &mut r);
             sys.series_order(p, &xp, 0.01, &mut r);
         }
     });

@@ -50,6 +50,16 @@ impl Code {
         }
     }
 
+    /// Run the kernel over a series arena, each output's order-p
+    /// coefficient (of the series, or of its tangent) into `out`.
+    fn coefficients(&self, data: &[RhsData<Lanes>], v: &[LaneSeries<'_>], p: usize, tangent: bool, out: &mut [Lanes]) {
+        let mut k = 0;
+        self.run(data, v, &mut |t: LaneSeries<'_>| {
+            out[k] = t.value(p, tangent);
+            k += 1;
+        });
+    }
+
     /// Where stage j's state starts among the inputs (the midpoint's
     /// single evaluation is at (a + b)/2: the caller averages).
     fn stage(&self, j: usize) -> usize {
@@ -154,13 +164,6 @@ struct ElementBatch {
     arena: Option<SeriesArena>,
     /// f and its derivatives at each stage (the Jacobian's work space).
     duals: Vec<[LaneDual; 13]>,
-}
-
-impl ElementBatch {
-    fn arena(&mut self) -> &mut SeriesArena {
-        let (code, data) = (&self.code, &self.data);
-        self.arena.get_or_insert_with(|| SeriesArena::new(code.inputs, |v| code.run(data, v, &mut |_| {})))
-    }
 }
 
 impl LaneBatch for ElementBatch {
@@ -291,33 +294,21 @@ impl LaneBatch for ElementBatch {
     }
 
     fn series_begin(&mut self, x0: &[Lanes], max_order: usize) {
-        self.arena();
         let (code, data) = (&self.code, &self.data);
-        self.arena.as_mut().expect("made above").begin(x0, max_order, |v| code.run(data, v, &mut |_| {}));
+        let arena = self.arena.get_or_insert_with(|| SeriesArena::new(code.inputs, |v| code.run(data, v, &mut |_| {})));
+        arena.begin(x0, max_order, |v| code.run(data, v, &mut |_| {}));
     }
 
     fn series_order(&mut self, p: usize, xp: &[Lanes], out: &mut [Lanes]) {
         let (code, data) = (&self.code, &self.data);
         let arena = self.arena.as_mut().expect("series_order after series_begin");
-        arena.order(p, xp, |v| {
-            let mut k = 0;
-            code.run(data, v, &mut |t: LaneSeries<'_>| {
-                out[k] = t.value(p, false);
-                k += 1;
-            })
-        });
+        arena.order(p, xp, |v| code.coefficients(data, v, p, false, out));
     }
 
     fn series_tangent_order(&mut self, p: usize, wp: &[Lanes], out: &mut [Lanes]) {
         let (code, data) = (&self.code, &self.data);
         let arena = self.arena.as_mut().expect("series_tangent_order after series_begin");
-        arena.tangent_order(p, wp, |v| {
-            let mut k = 0;
-            code.run(data, v, &mut |t: LaneSeries<'_>| {
-                out[k] = t.value(p, true);
-                k += 1;
-            })
-        });
+        arena.tangent_order(p, wp, |v| code.coefficients(data, v, p, true, out));
     }
 }
 

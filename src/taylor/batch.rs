@@ -32,13 +32,15 @@ pub struct BatchTaylorWork {
     tangent: Vec<Lanes>,
 }
 
+/// `f` lane by lane on two lane arrays.
 #[inline(always)]
-fn map2(a: Lanes, b: Lanes, f: impl Fn(f64, f64) -> f64) -> Lanes {
+pub(super) fn map2(a: Lanes, b: Lanes, f: impl Fn(f64, f64) -> f64) -> Lanes {
     std::array::from_fn(|l| f(a[l], b[l]))
 }
 
+/// `f` lane by lane on one lane array.
 #[inline(always)]
-fn map1(a: Lanes, f: impl Fn(f64) -> f64) -> Lanes {
+pub(super) fn map1(a: Lanes, f: impl Fn(f64) -> f64) -> Lanes {
     std::array::from_fn(|l| f(a[l]))
 }
 

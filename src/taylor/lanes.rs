@@ -32,23 +32,13 @@
 //! the chain rule in another order than the tape's sparse forward mode,
 //! so Jacobians equal it to rounding.
 
-use super::batch::{Lanes, LANES};
+use super::batch::{map1, map2, Lanes, LANES};
 use super::Scalar;
 use std::cell::Cell;
 use std::ops::{Add, Mul, Neg, Sub};
 
 /// A [`Scalar`] that can also be multiplied by one constant per lane.
 pub trait LaneScalar: Scalar + Mul<Lanes, Output = Self> {}
-
-#[inline(always)]
-fn map2(a: Lanes, b: Lanes, f: impl Fn(f64, f64) -> f64) -> Lanes {
-    std::array::from_fn(|l| f(a[l], b[l]))
-}
-
-#[inline(always)]
-fn map1(a: Lanes, f: impl Fn(f64) -> f64) -> Lanes {
-    std::array::from_fn(|l| f(a[l]))
-}
 
 // ---------------------------------------------------------------- values
 

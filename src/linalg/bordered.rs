@@ -322,7 +322,7 @@ impl BorderedLu {
             Fast::Blocks(blocks) if self.lu.factorisations == 0 => {
                 self.records_order.unwrap_or(blocks.a.column_order())
             }
-            Fast::Condensed(lu) if self.lu.factorisations == 0 => lu.schur().column_order(),
+            Fast::Condensed(lu) if self.lu.factorisations == 0 => lu.column_order(),
             _ => self.lu.column_order(),
         }
     }

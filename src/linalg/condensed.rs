@@ -21,7 +21,7 @@
 //! then the simplicial LU of a 13(N + 1)-unknown band — about a third of
 //! the flops of the whole matrix's banded LU, in cache-sized dense loops.
 
-use super::sparse::{Pattern, SparseLu};
+use super::sparse::{ColumnOrder, Pattern, SparseLu};
 use crate::error::{Error, Result};
 use crate::status::Status;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
@@ -68,7 +68,7 @@ pub struct CondensedLu {
     kept: Vec<usize>,
     /// (position in A's values, position in S's) of the kept×kept entries.
     kk: Vec<(usize, usize)>,
-    schur: SparseLu,
+    schur: Kept,
     schur_values: Vec<f64>,
     /// sign Π det A_LL,e and the blocks' negative pivots.
     blocks_sign: f64,
@@ -87,8 +87,20 @@ impl CondensedLu {
     /// rows, and their rows only their own columns and kept columns. The
     /// last `trailing` unknowns (multipliers reaching across A) must be
     /// kept. Err (ErrInvalidDimension) if the pattern does not have that
-    /// structure or nothing would be kept.
+    /// structure or nothing would be kept. The kept system is factorised
+    /// dense up to [`DENSE_KEPT`] unknowns.
     pub fn new(pattern: &Pattern, blocks: &[Vec<usize>], trailing: usize) -> Result<Self> {
+        Self::with_dense_limit(pattern, blocks, trailing, DENSE_KEPT)
+    }
+
+    /// As [`CondensedLu::new`], the kept system dense up to `dense_limit`
+    /// unknowns, sparse above.
+    pub fn with_dense_limit(
+        pattern: &Pattern,
+        blocks: &[Vec<usize>],
+        trailing: usize,
+        dense_limit: usize,
+    ) -> Result<Self> {
         let n = pattern.n;
         let invalid = |why: String| Error::new(Status::ErrInvalidDimension, format!("condensed LU: {why}"));
         let mut owner = vec![usize::MAX; n];
@@ -237,12 +249,24 @@ impl CondensedLu {
         ]);
         let trailing_kept = trailing.min(kept.len());
         let nk = kept.len();
+        let schur_values = vec![0.0; spattern.nnz()];
+        let schur = match nk <= dense_limit {
+            true => Kept::Dense(DenseKept::new(&spattern)),
+            false => Kept::Sparse(Box::new(SparseLu::with_trailing(spattern, trailing_kept)?)),
+        };
+        let req = match &schur {
+            Kept::Dense(_) => StackReq::any_of(&[
+                req,
+                dense_factor::lu_in_place_scratch::<usize, f64>(nk, nk, Par::Seq, Default::default()),
+            ]),
+            Kept::Sparse(_) => req,
+        };
         Ok(CondensedLu {
             blocks: out,
             kept,
             kk,
-            schur_values: vec![0.0; spattern.nnz()],
-            schur: SparseLu::with_trailing(spattern, trailing_kept)?,
+            schur_values,
+            schur,
             blocks_sign: 1.0,
             blocks_negative: 0,
             factorised: false,
@@ -258,9 +282,18 @@ impl CondensedLu {
         self.kept.len()
     }
 
-    /// S's LU (its column order, fill).
-    pub fn schur(&self) -> &SparseLu {
-        &self.schur
+    /// The column order of S's LU: a dense one takes S's columns in their
+    /// natural order.
+    pub fn column_order(&self) -> ColumnOrder {
+        match &self.schur {
+            Kept::Sparse(lu) => lu.column_order(),
+            Kept::Dense(_) => ColumnOrder::Natural,
+        }
+    }
+
+    /// Whether S is factorised as one dense matrix ([`DENSE_KEPT`]).
+    pub fn dense_kept(&self) -> bool {
+        matches!(self.schur, Kept::Dense(_))
     }
 
     /// Whether the last factorisation succeeded.
@@ -322,7 +355,10 @@ impl CondensedLu {
                 self.schur_values[q] -= v;
             }
         }
-        self.schur.factorise_exact(&self.schur_values)?;
+        match &mut self.schur {
+            Kept::Sparse(lu) => lu.factorise_exact(&self.schur_values)?,
+            Kept::Dense(d) => d.factorise(&self.schur_values, MemStack::new(&mut self.buffer))?,
+        }
         self.blocks_sign = sign;
         self.blocks_negative = negative;
         self.factorised = true;
@@ -354,7 +390,10 @@ impl CondensedLu {
                 self.rhs_kept[r] -= ui;
             }
         }
-        self.schur.solve(&mut self.rhs_kept);
+        match &mut self.schur {
+            Kept::Sparse(lu) => lu.solve(&mut self.rhs_kept),
+            Kept::Dense(d) => dense_solve(d.n, &d.lu, &d.perm, &mut self.rhs_kept, &mut d.w),
+        }
         self.scatter_kept(rhs);
         // Back: z_L = t − X z_K[kc], by X's columns.
         for b in &mut self.blocks {
@@ -387,7 +426,10 @@ impl CondensedLu {
                 self.rhs_kept[kc] -= col.iter().zip(&b.t).map(|(a, t)| a * t).sum::<f64>();
             }
         }
-        self.schur.solve_transpose(&mut self.rhs_kept);
+        match &mut self.schur {
+            Kept::Sparse(lu) => lu.solve_transpose(&mut self.rhs_kept),
+            Kept::Dense(d) => dense_solve_transpose(d.n, &d.lu, &d.perm, &mut self.rhs_kept, &mut d.w),
+        }
         self.scatter_kept(rhs);
         // Back: z_L = A_LL⁻ᵀ (f_L − A_KLᵀ z_K[kr]).
         for b in &mut self.blocks {
@@ -424,7 +466,11 @@ impl CondensedLu {
     /// sign det A (±1) of the last factorisation.
     pub fn determinant_sign(&mut self) -> f64 {
         assert!(self.factorised, "determinant before a successful factorisation");
-        self.blocks_sign * self.schur.determinant_sign_and_log().0
+        self.blocks_sign
+            * match &mut self.schur {
+                Kept::Sparse(lu) => lu.determinant_sign_and_log().0,
+                Kept::Dense(d) => d.sign,
+            }
     }
 
     /// Negative pivots of the blocks' and S's factors (row pivoting: only
@@ -432,12 +478,84 @@ impl CondensedLu {
     /// [`SparseLu::negative_pivots`]).
     pub fn negative_pivots(&mut self) -> usize {
         assert!(self.factorised, "pivots before a successful factorisation");
-        self.blocks_negative + self.schur.negative_pivots()
+        self.blocks_negative
+            + match &mut self.schur {
+                Kept::Sparse(lu) => lu.negative_pivots(),
+                Kept::Dense(d) => d.negative,
+            }
     }
 
     /// Entries of the factors: the blocks' dense LUs and X, S's L + U.
     pub fn fill(&self) -> usize {
-        self.blocks.iter().map(|b| b.lu.len() + b.x.len()).sum::<usize>() + self.schur.fill()
+        self.blocks.iter().map(|b| b.lu.len() + b.x.len()).sum::<usize>()
+            + match &self.schur {
+                Kept::Sparse(lu) => lu.fill(),
+                Kept::Dense(d) => d.lu.len(),
+            }
+    }
+}
+
+/// Kept systems of at most this many unknowns are factorised as one dense
+/// matrix. A rod's S (13 unknowns a node, the border last) is a band of
+/// width ~2·13 with a dense border: up to about 24 elements the dense
+/// LU's (2/3)n³ flops in faer's blocked kernels and its plain triangular
+/// solves take less time than the simplicial LU's indexed column updates
+/// and solves (a whole ANM run, kept systems of 66 to 430 unknowns:
+/// `benches/README.md`).
+pub const DENSE_KEPT: usize = 320;
+
+/// S's LU: simplicial sparse, or dense when S is small.
+enum Kept {
+    Sparse(Box<SparseLu>),
+    Dense(DenseKept),
+}
+
+/// S as one dense column-major matrix, factorised in place by
+/// [`factor_block`] (row partial pivoting: as stable as the sparse LU's,
+/// and exact elimination, so S's determinant sign is read off the same).
+struct DenseKept {
+    n: usize,
+    /// Index in `lu` of each of S's pattern entries (in its order).
+    at: Vec<usize>,
+    lu: Vec<f64>,
+    perm: Vec<usize>,
+    perm_inv: Vec<usize>,
+    sign: f64,
+    negative: usize,
+    /// Scratch for solves (n).
+    w: Vec<f64>,
+}
+
+impl DenseKept {
+    fn new(pattern: &Pattern) -> Self {
+        let n = pattern.n;
+        let mut at = Vec::with_capacity(pattern.nnz());
+        for j in 0..n {
+            at.extend(pattern.row_idx[pattern.col_ptr[j]..pattern.col_ptr[j + 1]].iter().map(|&i| i + n * j));
+        }
+        DenseKept {
+            n,
+            at,
+            lu: vec![0.0; n * n],
+            perm: vec![0; n],
+            perm_inv: vec![0; n],
+            sign: 1.0,
+            negative: 0,
+            w: vec![0.0; n],
+        }
+    }
+
+    /// Factorise S from its values in pattern order (finite: A's were
+    /// checked). A zero pivot is ErrNotConverged.
+    fn factorise(&mut self, values: &[f64], stack: &mut MemStack) -> Result<()> {
+        self.lu.fill(0.0);
+        for (&d, v) in self.at.iter().zip(values) {
+            self.lu[d] = *v;
+        }
+        let (sign, negative) = factor_block(self.n, &mut self.lu, &mut self.perm, &mut self.perm_inv, stack)
+            .ok_or_else(|| Error::new(Status::ErrNotConverged, "condensed LU: the kept system is singular"))?;
+        (self.sign, self.negative) = (sign, negative);
+        Ok(())
     }
 }
 
@@ -568,11 +686,14 @@ mod tests {
     /// solves and determinant sign; agreement to 1e-12 relative.
     #[test]
     fn condensation_solves_like_the_whole_lu_and_keeps_the_determinant_sign() {
-        for (elements, m, k, seed) in [(1, 4, 3, 1), (5, 8, 3, 2), (8, 52, 13, 3), (3, 6, 2, 4)] {
+        let cases = [(1, 4, 3, 1), (5, 8, 3, 2), (8, 52, 13, 3), (3, 6, 2, 4)];
+        for ((elements, m, k, seed), dense) in cases.into_iter().flat_map(|c| [(c, false), (c, true)]) {
             let (pattern, mut values, blocks) = collocation(elements, m, k, seed);
             let n = pattern.n;
             let mut whole = SparseLu::new(pattern.clone()).unwrap();
-            let mut cond = CondensedLu::new(&pattern, &blocks, 0).unwrap();
+            let limit = if dense { usize::MAX } else { 0 };
+            let mut cond = CondensedLu::with_dense_limit(&pattern, &blocks, 0, limit).unwrap();
+            assert_eq!(cond.dense_kept(), dense);
             assert_eq!(cond.kept(), (elements + 1) * k);
             for flip in 0..3 {
                 if flip > 0 {
@@ -587,7 +708,7 @@ mod tests {
                 }
                 whole.factorise(&values).unwrap();
                 cond.factorise(&values).unwrap();
-                assert_eq!(cond.determinant_sign(), whole.determinant_sign_and_log().0, "case {elements}×{m}");
+                assert_eq!(cond.determinant_sign(), whole.determinant_sign_and_log().0, "case {elements}×{m} {dense}");
                 for transpose in [false, true] {
                     let b: Vec<f64> = (0..n).map(|i| ((i * 7 + 3) % 11) as f64 - 5.0).collect();
                     let (mut z1, mut z2) = (b.clone(), b.clone());
@@ -603,6 +724,30 @@ mod tests {
                     assert!(diff <= 1e-12 * scale, "case {elements}×{m} transpose {transpose}: {diff:e}");
                 }
             }
+        }
+    }
+
+    /// A zero kept row (node 0's boundary row, which reaches no private
+    /// column) makes S exactly singular: both kinds of kept LU say so
+    /// (ErrNotConverged, the status on which the bordered LU falls back
+    /// to B's own), and factorise again once the row is restored.
+    #[test]
+    fn a_singular_kept_system_is_refused_by_either_kind() {
+        let (pattern, values, blocks) = collocation(3, 6, 2, 7);
+        let n = pattern.n;
+        let mut zeroed = values.clone();
+        for j in 0..n {
+            if let Some(p) = pattern.position(0, j) {
+                zeroed[p] = 0.0;
+            }
+        }
+        for limit in [0, usize::MAX] {
+            let mut cond = CondensedLu::with_dense_limit(&pattern, &blocks, 0, limit).unwrap();
+            let err = cond.factorise(&zeroed).expect_err("singular S");
+            assert_eq!(err.status, Status::ErrNotConverged, "{}", err.message);
+            assert!(!cond.factorised());
+            cond.factorise(&values).unwrap();
+            assert!(cond.factorised());
         }
     }
 

@@ -91,9 +91,14 @@ impl BatchTaylorWork {
                 Op::Add(a, b) => map2(d[at(a, p)], d[at(b, p)], |x, y| x + y),
                 Op::Sub(a, b) => map2(d[at(a, p)], d[at(b, p)], |x, y| x - y),
                 Op::Mul(a, b) => {
+                    // As the pass's products: whole slabs, one bounds
+                    // check each.
+                    let (a, b) = (a as usize, b as usize);
+                    let cs = c[..(p + 1) * nodes].chunks_exact(nodes);
+                    let ds = d[..(p + 1) * nodes].chunks_exact(nodes);
                     let mut s = [0.0; LANES];
-                    for i in 0..=p {
-                        let (da, cb, ca, db) = (d[at(a, i)], c[at(b, p - i)], c[at(a, i)], d[at(b, p - i)]);
+                    for ((cx, dx), (cy, dy)) in cs.clone().zip(ds.clone()).zip(cs.rev().zip(ds.rev())) {
+                        let (da, cb, ca, db) = (dx[a], cy[b], cx[a], dy[b]);
                         for l in 0..LANES {
                             s[l] += da[l] * cb[l] + ca[l] * db[l];
                         }
@@ -151,10 +156,15 @@ impl BatchTaylorWork {
                 Op::Add(a, b) => map2(c[at(a, p)], c[at(b, p)], |x, y| x + y),
                 Op::Sub(a, b) => map2(c[at(a, p)], c[at(b, p)], |x, y| x - y),
                 Op::Mul(a, b) => {
-                    // z_p = Σ_{i=0..p} x_i y_{p−i}, lane by lane.
+                    // z_p = Σ_{i=0..p} x_i y_{p−i}, lane by lane. The
+                    // operands' orders are `nodes` apart: walked by
+                    // strided iterators, which check their bounds once
+                    // (indexing checked each of the 2(p + 1) reads).
+                    let (a, b) = (a as usize, b as usize);
+                    let slabs = c[..(p + 1) * nodes].chunks_exact(nodes);
                     let mut s = [0.0; LANES];
-                    for i in 0..=p {
-                        let (xi, yi) = (c[at(a, i)], c[at(b, p - i)]);
+                    for (sx, sy) in slabs.clone().zip(slabs.rev()) {
+                        let (xi, yi) = (sx[a], sy[b]);
                         for l in 0..LANES {
                             s[l] += xi[l] * yi[l];
                         }

@@ -21,6 +21,7 @@
 //! then the simplicial LU of a 13(N + 1)-unknown band — about a third of
 //! the flops of the whole matrix's banded LU, in cache-sized dense loops.
 
+use super::dense::dot4;
 use super::sparse::{ColumnOrder, Pattern, SparseLu};
 use crate::error::{Error, Result};
 use crate::status::Status;
@@ -423,7 +424,7 @@ impl CondensedLu {
             dense_solve_transpose(m, &b.lu, &b.perm, &mut b.t, &mut b.u2);
             for (c, &kc) in b.kcols.iter().enumerate() {
                 let col = &b.lk_values[m * c..m * (c + 1)];
-                self.rhs_kept[kc] -= col.iter().zip(&b.t).map(|(a, t)| a * t).sum::<f64>();
+                self.rhs_kept[kc] -= dot4(col, &b.t);
             }
         }
         match &mut self.schur {
@@ -624,12 +625,12 @@ fn dense_solve(m: usize, lu: &[f64], perm: &[usize], b: &mut [f64], w: &mut [f64
 fn dense_solve_transpose(m: usize, lu: &[f64], perm: &[usize], b: &mut [f64], w: &mut [f64]) {
     // Uᵀ y = b: row k of Uᵀ is column k of U.
     for k in 0..m {
-        let s: f64 = lu[m * k..m * k + k].iter().zip(&b[..k]).map(|(u, v)| u * v).sum();
+        let s = dot4(&lu[m * k..m * k + k], &b[..k]);
         b[k] = (b[k] - s) / lu[k + m * k];
     }
     // Lᵀ v = y: row k of Lᵀ is column k of L below the diagonal.
     for k in (0..m).rev() {
-        let s: f64 = lu[k + 1 + m * k..m * (k + 1)].iter().zip(&b[k + 1..]).map(|(l, v)| l * v).sum();
+        let s = dot4(&lu[k + 1 + m * k..m * (k + 1)], &b[k + 1..m]);
         b[k] -= s;
     }
     // z = Pᵀ v.

@@ -5,6 +5,28 @@ pub fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
+/// Σ a_i b_i in four interleaved partial sums (i mod 4), added pairwise at
+/// the end: four independent chains of additions, so a short dot product
+/// costs its loads, not four cycles of add latency per entry (the
+/// triangular solves with transposed factors). Rounding differs from
+/// [`dot`]'s sequential sum, not its accuracy.
+pub fn dot4(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let mut s = [0.0; 4];
+    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    for (x, y) in ca.zip(cb) {
+        for k in 0..4 {
+            s[k] += x[k] * y[k];
+        }
+    }
+    for (k, (x, y)) in ra.iter().zip(rb).enumerate() {
+        s[k] += x * y;
+    }
+    (s[0] + s[1]) + (s[2] + s[3])
+}
+
 /// a − b, entry by entry.
 pub fn sub(a: &[f64], b: &[f64]) -> Vec<f64> {
     a.iter().zip(b).map(|(x, y)| x - y).collect()
@@ -58,5 +80,18 @@ mod tests {
         let h = 0.5f64.sqrt();
         assert!((v[0][0] - h).abs() < 1e-15 && (v[0][1] - h).abs() < 1e-15);
         assert!((v[1][0] - h).abs() < 1e-15 && (v[1][1] + h).abs() < 1e-15);
+    }
+
+    /// Reference: the sequential sum, exact here (small integers): every
+    /// length around the four-wide chunks, remainders included, and
+    /// unequal lengths (the shorter one counts).
+    #[test]
+    fn dot4_equals_the_sequential_sum_on_exact_data() {
+        for n in 0..=13 {
+            let a: Vec<f64> = (0..n).map(|i| (i as f64) - 3.0).collect();
+            let b: Vec<f64> = (0..n + 2).map(|i| (2 * i + 1) as f64).collect();
+            assert_eq!(dot4(&a, &b), dot(&a, &b[..n]), "n = {n}");
+            assert_eq!(dot4(&b, &a), dot(&a, &b[..n]), "n = {n}, swapped");
+        }
     }
 }

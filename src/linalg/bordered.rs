@@ -18,6 +18,12 @@ use super::sparse::{ColumnOrder, LuKind, Pattern, SparseLu};
 use crate::error::{Error, Result};
 use crate::status::Status;
 
+/// A converged leading singular pair is locked (deflated) when it lies
+/// this far below the next ([`BorderedLu::smallest_singular_vectors`]):
+/// below it the round-off it feeds the other directions, O(ε κ (σ_2/σ_1)²)
+/// relative, would be felt.
+pub const LOCK_GAP: f64 = 1e-4;
+
 /// How [`BorderedLu::factorise`] factorises: not yet decided (on its
 /// first matrix), B's own (simplicial) LU, block elimination on A's
 /// supernodal LU ([`super::bordering`]), or B's static condensation
@@ -581,6 +587,17 @@ impl BorderedLu {
     /// the smallest value alone has converged (the monitor reads only it;
     /// the second vector is there to speed it, the rate becoming
     /// (σ_1/σ_3)² instead of (σ_1/σ_2)²).
+    ///
+    /// Deflation. Where σ_1 is many orders below σ_2 (a located
+    /// bifurcation: σ_1 ~ 1e-14), (ÃᵀÃ)⁻¹ weighs the null direction by
+    /// 1/σ_1², and each solve's round-off, O(ε‖Ã‖/σ_1) in that direction,
+    /// is amplified once more by the second solve: the other columns are
+    /// swamped and their Ritz values never converge (a 2 % error in σ_2 in
+    /// the tests, and the iteration cap spent). So the leading Ritz pairs
+    /// that have converged and lie [`LOCK_GAP`] below the next value are
+    /// locked: their right vectors v and left vectors u ∝ Ã⁻ᵀ v are
+    /// projected out of every later solve's intermediate and result, which
+    /// leaves the others' round-off at O(ε‖Ã‖/σ_next).
     fn subspace_iteration(
         &mut self,
         k: usize,
@@ -594,34 +611,51 @@ impl BorderedLu {
             .map(|c| (0..m).map(|i| (((i + 1) * (c + 3) * 7919) % 1009) as f64 / 1009.0 - 0.5).collect())
             .collect();
         orthonormalise(&mut v);
+        // Locked pairs: right vectors, left vectors (unit, Euclidean).
+        let (mut right, mut left): (Vec<Vec<f64>>, Vec<Vec<f64>>) = (vec![], vec![]);
         let mut sigma = vec![f64::INFINITY; k];
         for _ in 0..max_iterations {
             let mut w = v.clone();
             for col in &mut w {
-                self.inverse_normal(col, solves);
+                self.inverse_normal_deflated(col, &right, &left, solves);
             }
+            let ka = v.len();
             // Rayleigh–Ritz on (ÃᵀÃ)⁻¹: G = Vᵀ W.
-            let g = nalgebra::DMatrix::from_fn(k, k, |a, b| dot(&v[a], &w[b]));
+            let g = nalgebra::DMatrix::from_fn(ka, ka, |a, b| dot(&v[a], &w[b]));
             let eig = nalgebra::SymmetricEigen::new((&g + g.transpose()) * 0.5);
-            let mut order: Vec<usize> = (0..k).collect();
+            let mut order: Vec<usize> = (0..ka).collect();
             order.sort_by(|&a, &b| eig.eigenvalues[b].total_cmp(&eig.eigenvalues[a]));
             let next: Vec<f64> = order.iter().map(|&i| 1.0 / eig.eigenvalues[i].max(1e-300).sqrt()).collect();
             // Rotate W into the Ritz basis, then orthonormalise.
             let mut rotated: Vec<Vec<f64>> = order
                 .iter()
-                .map(|&i| (0..m).map(|r| (0..k).map(|c| w[c][r] * eig.eigenvectors[(c, i)]).sum()).collect())
+                .map(|&i| (0..m).map(|r| (0..ka).map(|c| w[c][r] * eig.eigenvectors[(c, i)]).sum()).collect())
                 .collect();
             orthonormalise(&mut rotated);
-            let converged = next.iter().zip(&sigma).enumerate().all(|(i, (a, b))| {
-                let t = if i > 0 && first_only { f64::INFINITY } else { tol };
-                (a - b).abs() <= t * a.max(1e-300)
-            });
-            sigma = next;
+            let active = &sigma[right.len()..];
+            let done = |i: usize, a: f64, b: f64| (a - b).abs() <= tol * a.max(1e-300) || (first_only && i > 0);
+            let converged = next.iter().zip(active).enumerate().all(|(i, (&a, &b))| done(i + right.len(), a, b));
+            // Lock the leading cluster (one null vector, or two at a double
+            // point) that has converged far below the next value.
+            let lock = (1..ka)
+                .filter(|&l| {
+                    (0..l).all(|i| done(i + right.len(), next[i], active[i])) && next[l - 1] < LOCK_GAP * next[l]
+                })
+                .max()
+                .unwrap_or(0);
+            sigma.splice(right.len().., next.iter().copied());
             v = rotated;
             if converged {
                 break;
             }
+            for vi in v.drain(..lock) {
+                let u = self.left_vector(&vi, &left, solves);
+                right.push(vi);
+                left.push(u);
+            }
         }
+        right.append(&mut v);
+        let v = right;
         // The Ritz values of (ÃᵀÃ)⁻¹ lose the larger singular values to
         // round-off when the smallest are near zero (entries ~1/σ_min²):
         // measure each converged vector directly, σ_i = ‖Ã v_i‖.
@@ -633,6 +667,56 @@ impl BorderedLu {
         // Back to the unknowns' own units (x = C ṽ).
         let v = v.into_iter().map(|vi| vi.iter().zip(&self.col_scale).map(|(a, c)| a * c).collect()).collect();
         (sigma, v)
+    }
+
+    /// The left singular vector u ∝ Ã⁻ᵀ v of a locked right vector v
+    /// (unit, orthogonal to the `left` already locked): one transposed
+    /// solve, whose result is dominated by u/σ_1.
+    fn left_vector(&mut self, v: &[f64], left: &[Vec<f64>], solves: &mut usize) -> Vec<f64> {
+        let mut y: Vec<f64> = v.iter().zip(&self.col_scale).map(|(a, c)| a / c).collect();
+        self.solve_with(&mut y, true);
+        *solves += 1;
+        for (a, r) in y.iter_mut().zip(&self.row_scale) {
+            *a /= r;
+        }
+        let mut all: Vec<Vec<f64>> = left.to_vec();
+        all.push(y);
+        orthonormalise(&mut all);
+        all.pop().unwrap_or_default()
+    }
+
+    /// (ÃᵀÃ)⁻¹ w in place, the locked pairs projected out: Ã⁻ᵀ w less its
+    /// components along the left vectors, then Ã⁻¹ of that less its
+    /// components along the right vectors ([`BorderedLu::inverse_normal`]
+    /// when none is locked).
+    fn inverse_normal_deflated(&mut self, w: &mut [f64], right: &[Vec<f64>], left: &[Vec<f64>], solves: &mut usize) {
+        if right.is_empty() {
+            return self.inverse_normal(w, solves);
+        }
+        for (a, c) in w.iter_mut().zip(&self.col_scale) {
+            *a /= c;
+        }
+        self.solve_with(w, true);
+        // y = R⁻¹ Bᵀ⁻¹ C⁻¹ w = Ã⁻ᵀ w.
+        for (a, r) in w.iter_mut().zip(&self.row_scale) {
+            *a /= r;
+        }
+        for u in left {
+            let c = dot(u, w);
+            w.iter_mut().zip(u).for_each(|(a, b)| *a -= c * b);
+        }
+        for (a, r) in w.iter_mut().zip(&self.row_scale) {
+            *a /= r;
+        }
+        self.solve_with(w, false);
+        for (a, c) in w.iter_mut().zip(&self.col_scale) {
+            *a /= c;
+        }
+        for v in right {
+            let c = dot(v, w);
+            w.iter_mut().zip(v).for_each(|(a, b)| *a -= c * b);
+        }
+        *solves += 2;
     }
 
     /// σ_min signed by the alignment of its left and right singular
@@ -681,6 +765,66 @@ mod tests {
         }
         assert!((b.smallest_singular_value(&mut solves) - reference[0]).abs() < 1e-2 * reference[0]);
         assert!(solves > 0);
+    }
+
+    /// At an (almost exactly) singular point — a located bifurcation — the
+    /// null vector dominates (ÃᵀÃ)⁻¹ by 1/σ_1² and the round-off of every
+    /// solve swamps the other directions unless they are deflated. B =
+    /// diag(A, 1), A = Q diag(σ_1, 0.5, 0.7, 5) Qᵀ with σ_1 = 1e-14 and
+    /// 1e-9: the three smallest singular values (σ_1, 0.5, 0.7) to 1e-9
+    /// relative (the second and third) and the null vector to 1e-9, against
+    /// the construction (nalgebra's SVD cannot resolve σ_1 = 1e-14 either).
+    #[test]
+    fn singular_values_beside_a_null_vector_are_resolved() {
+        let q =
+            nalgebra::Matrix4::from_fn(|i, j| 1.0 / (1.0 + i as f64 + 2.0 * j as f64) + (i == j) as u8 as f64).qr().q();
+        let pattern = Pattern::from_entries(4, (0..4).flat_map(|i| (0..4).map(move |j| (i, j))));
+        for s1 in [1e-14, 1e-9] {
+            let a = q * nalgebra::Matrix4::from_diagonal(&nalgebra::Vector4::new(s1, 0.5, 0.7, 5.0)) * q.transpose();
+            let values: Vec<f64> = (0..4).flat_map(|j| (0..4).map(move |i| a[(i, j)])).collect();
+            let mut b = BorderedLu::new(&pattern).unwrap();
+            b.factorise(&values, &[0.0; 4], &[0.0; 4], 1.0).unwrap();
+            let mut solves = 0;
+            let (sigma, vectors) = b.smallest_singular_vectors(3, 1e-10, 30, &mut solves);
+            assert!(sigma[0] < 1e-8, "σ_1 = {s1}: {sigma:?}");
+            for (k, exact) in [(1, 0.5), (2, 0.7)] {
+                assert!((sigma[k] - exact).abs() < 1e-9 * exact, "σ_1 = {s1}: σ{k} = {} vs {exact}", sigma[k]);
+            }
+            // The null vector: Q's first column (sign free), 0 on the border.
+            let v = &vectors[0];
+            let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let along: f64 = (0..4).map(|i| v[i] * q[(i, 0)]).sum::<f64>() / norm;
+            assert!((along.abs() - 1.0).abs() < 1e-9 && v[4].abs() < 1e-9 * norm, "σ_1 = {s1}: {v:?}");
+            // Converged, not stopped by the cap (30 iterations × 3 columns
+            // × 2 solves = 180, where the undeflated iteration ended).
+            assert!(solves < 120, "σ_1 = {s1}: {solves} solves");
+        }
+    }
+
+    /// A double null space (a double bifurcation point) is locked as one
+    /// cluster: A = Q diag(1e-14, 2e-14, 0.5, 5) Qᵀ in B = diag(A, 1); the
+    /// third value 0.5 to 1e-9, the two null vectors spanning Q's first two
+    /// columns to 1e-9 (reference: the construction).
+    #[test]
+    fn a_double_null_space_is_deflated_as_one() {
+        let q =
+            nalgebra::Matrix4::from_fn(|i, j| 1.0 / (1.0 + i as f64 + 2.0 * j as f64) + (i == j) as u8 as f64).qr().q();
+        let pattern = Pattern::from_entries(4, (0..4).flat_map(|i| (0..4).map(move |j| (i, j))));
+        let a = q * nalgebra::Matrix4::from_diagonal(&nalgebra::Vector4::new(1e-14, 2e-14, 0.5, 5.0)) * q.transpose();
+        let values: Vec<f64> = (0..4).flat_map(|j| (0..4).map(move |i| a[(i, j)])).collect();
+        let mut b = BorderedLu::new(&pattern).unwrap();
+        b.factorise(&values, &[0.0; 4], &[0.0; 4], 1.0).unwrap();
+        let mut solves = 0;
+        let (sigma, vectors) = b.smallest_singular_vectors(3, 1e-10, 30, &mut solves);
+        assert!(sigma[0] < 1e-8 && sigma[1] < 1e-8, "{sigma:?}");
+        assert!((sigma[2] - 0.5).abs() < 1e-9 * 0.5, "{sigma:?}");
+        for v in &vectors[..2] {
+            let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let inside: f64 =
+                (0..2).map(|c| ((0..4).map(|i| v[i] * q[(i, c)]).sum::<f64>() / norm).powi(2)).sum::<f64>();
+            assert!((inside - 1.0).abs() < 1e-9, "{v:?}: {inside}");
+        }
+        assert!(solves < 120, "{solves} solves");
     }
 
     /// The monitor's signed σ_min, which stops on the smallest Ritz value

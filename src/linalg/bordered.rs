@@ -18,6 +18,14 @@ use super::sparse::{ColumnOrder, LuKind, Pattern, SparseLu};
 use crate::error::{Error, Result};
 use crate::status::Status;
 
+/// What a subspace iteration is for ([`BorderedLu::smallest_singular_vectors`]).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Subspace {
+    Monitor,
+    Vectors,
+}
+use Subspace::{Monitor, Vectors};
+
 /// A converged leading singular pair is locked (deflated) when it lies
 /// this far below the next ([`BorderedLu::smallest_singular_vectors`]):
 /// below it the round-off it feeds the other directions, O(ε κ (σ_2/σ_1)²)
@@ -580,13 +588,11 @@ impl BorderedLu {
         max_iterations: usize,
         solves: &mut usize,
     ) -> (Vec<f64>, Vec<Vec<f64>>) {
-        self.subspace_iteration(k, tol, max_iterations, false, solves)
+        self.subspace_iteration(k, tol, max_iterations, Vectors, solves)
     }
 
-    /// [`BorderedLu::smallest_singular_vectors`]; `first_only`: stop when
-    /// the smallest value alone has converged (the monitor reads only it;
-    /// the second vector is there to speed it, the rate becoming
-    /// (σ_1/σ_3)² instead of (σ_1/σ_2)²).
+    /// [`BorderedLu::smallest_singular_vectors`] (`Vectors`), or the
+    /// monitor's σ_min (`Monitor`: no deflation, every Ritz value to `tol`).
     ///
     /// Deflation. Where σ_1 is many orders below σ_2 (a located
     /// bifurcation: σ_1 ~ 1e-14), (ÃᵀÃ)⁻¹ weighs the null direction by
@@ -598,12 +604,18 @@ impl BorderedLu {
     /// locked: their right vectors v and left vectors u ∝ Ã⁻ᵀ v are
     /// projected out of every later solve's intermediate and result, which
     /// leaves the others' round-off at O(ε‖Ã‖/σ_next).
+    ///
+    /// The monitor keeps the plain iteration on purpose: it reads σ_1
+    /// only, to four digits, and a continuation's path depends on those
+    /// digits through its detections (changing them moved a supercoiling
+    /// run's failure point); stopping on σ_1 alone, tried, saved a fifth
+    /// of its solves and moved that path.
     fn subspace_iteration(
         &mut self,
         k: usize,
         tol: f64,
         max_iterations: usize,
-        first_only: bool,
+        kind: Subspace,
         solves: &mut usize,
     ) -> (Vec<f64>, Vec<Vec<f64>>) {
         let m = self.n + 1;
@@ -633,16 +645,16 @@ impl BorderedLu {
                 .collect();
             orthonormalise(&mut rotated);
             let active = &sigma[right.len()..];
-            let done = |i: usize, a: f64, b: f64| (a - b).abs() <= tol * a.max(1e-300) || (first_only && i > 0);
-            let converged = next.iter().zip(active).enumerate().all(|(i, (&a, &b))| done(i + right.len(), a, b));
+            let done = |i: usize| (next[i] - active[i]).abs() <= tol * next[i].max(1e-300);
+            let converged = (0..ka).all(done);
             // Lock the leading cluster (one null vector, or two at a double
             // point) that has converged far below the next value.
-            let lock = (1..ka)
-                .filter(|&l| {
-                    (0..l).all(|i| done(i + right.len(), next[i], active[i])) && next[l - 1] < LOCK_GAP * next[l]
-                })
-                .max()
-                .unwrap_or(0);
+            let lock = match kind {
+                Subspace::Monitor => 0,
+                Subspace::Vectors => {
+                    (1..ka).filter(|&l| (0..l).all(done) && next[l - 1] < LOCK_GAP * next[l]).max().unwrap_or(0)
+                }
+            };
             sigma.splice(right.len().., next.iter().copied());
             v = rotated;
             if converged {
@@ -725,7 +737,7 @@ impl BorderedLu {
     /// double ones included (where det B keeps its sign).
     pub fn signed_smallest_singular_value(&mut self, solves: &mut usize) -> f64 {
         // Four digits: the monitor looks for sign changes and dips.
-        let (sigma, v) = self.subspace_iteration(2, 1e-4, 30, true, solves);
+        let (sigma, v) = self.subspace_iteration(2, 1e-4, 30, Monitor, solves);
         let mut w = vec![0.0; self.n + 1];
         let scaled: Vec<f64> = v[0].iter().zip(&self.col_scale).map(|(a, c)| a / c).collect();
         self.scaled_mul(&scaled, &mut w);

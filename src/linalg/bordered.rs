@@ -24,7 +24,6 @@ enum Subspace {
     Monitor,
     Vectors,
 }
-use Subspace::{Monitor, Vectors};
 
 /// A converged leading singular pair is locked (deflated) when it lies
 /// this far below the next ([`BorderedLu::smallest_singular_vectors`]):
@@ -525,19 +524,35 @@ impl BorderedLu {
         self.col_scale.copy_from_slice(col);
     }
 
-    /// (ÃᵀÃ)⁻¹ w = C⁻¹ B⁻¹ R⁻² B⁻ᵀ C⁻¹ w, in place (two solves).
-    fn inverse_normal(&mut self, w: &mut [f64], solves: &mut usize) {
+    /// (ÃᵀÃ)⁻¹ w = C⁻¹ B⁻¹ R⁻² B⁻ᵀ C⁻¹ w, in place (two solves), the locked
+    /// pairs of [`BorderedLu::subspace_iteration`] projected out: Ã⁻ᵀ w =
+    /// R⁻¹ B⁻ᵀ C⁻¹ w less its components along the `left` vectors, then
+    /// Ã⁻¹ of that less its components along the `right` ones. With none
+    /// locked R⁻² is applied at once, as before deflation existed (the
+    /// monitor's digits, on which continuation paths depend, unchanged).
+    fn inverse_normal(&mut self, w: &mut [f64], right: &[Vec<f64>], left: &[Vec<f64>], solves: &mut usize) {
         for (a, c) in w.iter_mut().zip(&self.col_scale) {
             *a /= c;
         }
         self.solve_with(w, true);
-        for (a, r) in w.iter_mut().zip(&self.row_scale) {
-            *a /= r * r;
+        if left.is_empty() {
+            for (a, r) in w.iter_mut().zip(&self.row_scale) {
+                *a /= r * r;
+            }
+        } else {
+            for (a, r) in w.iter_mut().zip(&self.row_scale) {
+                *a /= r;
+            }
+            project_out(w, left);
+            for (a, r) in w.iter_mut().zip(&self.row_scale) {
+                *a /= r;
+            }
         }
         self.solve_with(w, false);
         for (a, c) in w.iter_mut().zip(&self.col_scale) {
             *a /= c;
         }
+        project_out(w, right);
         *solves += 2;
     }
 
@@ -561,7 +576,7 @@ impl BorderedLu {
             let norm = v.iter().map(|a| a * a).sum::<f64>().sqrt();
             v.iter_mut().for_each(|a| *a /= norm);
             let mut w = v.clone();
-            self.inverse_normal(&mut w, solves);
+            self.inverse_normal(&mut w, &[], &[], solves);
             // ‖(ÃᵀÃ)⁻¹ v‖ → 1/σ_min² for the dominant direction.
             let growth = w.iter().map(|a| a * a).sum::<f64>().sqrt();
             let next = 1.0 / growth.sqrt();
@@ -588,7 +603,7 @@ impl BorderedLu {
         max_iterations: usize,
         solves: &mut usize,
     ) -> (Vec<f64>, Vec<Vec<f64>>) {
-        self.subspace_iteration(k, tol, max_iterations, Vectors, solves)
+        self.subspace_iteration(k, tol, max_iterations, Subspace::Vectors, solves)
     }
 
     /// [`BorderedLu::smallest_singular_vectors`] (`Vectors`), or the
@@ -629,7 +644,7 @@ impl BorderedLu {
         for _ in 0..max_iterations {
             let mut w = v.clone();
             for col in &mut w {
-                self.inverse_normal_deflated(col, &right, &left, solves);
+                self.inverse_normal(col, &right, &left, solves);
             }
             let ka = v.len();
             // Rayleigh–Ritz on (ÃᵀÃ)⁻¹: G = Vᵀ W.
@@ -691,44 +706,12 @@ impl BorderedLu {
         for (a, r) in y.iter_mut().zip(&self.row_scale) {
             *a /= r;
         }
-        let mut all: Vec<Vec<f64>> = left.to_vec();
-        all.push(y);
-        orthonormalise(&mut all);
-        all.pop().unwrap_or_default()
-    }
-
-    /// (ÃᵀÃ)⁻¹ w in place, the locked pairs projected out: Ã⁻ᵀ w less its
-    /// components along the left vectors, then Ã⁻¹ of that less its
-    /// components along the right vectors ([`BorderedLu::inverse_normal`]
-    /// when none is locked).
-    fn inverse_normal_deflated(&mut self, w: &mut [f64], right: &[Vec<f64>], left: &[Vec<f64>], solves: &mut usize) {
-        if right.is_empty() {
-            return self.inverse_normal(w, solves);
+        project_out(&mut y, left);
+        let norm = dot(&y, &y).sqrt();
+        if norm > 0.0 {
+            y.iter_mut().for_each(|a| *a /= norm);
         }
-        for (a, c) in w.iter_mut().zip(&self.col_scale) {
-            *a /= c;
-        }
-        self.solve_with(w, true);
-        // y = R⁻¹ Bᵀ⁻¹ C⁻¹ w = Ã⁻ᵀ w.
-        for (a, r) in w.iter_mut().zip(&self.row_scale) {
-            *a /= r;
-        }
-        for u in left {
-            let c = dot(u, w);
-            w.iter_mut().zip(u).for_each(|(a, b)| *a -= c * b);
-        }
-        for (a, r) in w.iter_mut().zip(&self.row_scale) {
-            *a /= r;
-        }
-        self.solve_with(w, false);
-        for (a, c) in w.iter_mut().zip(&self.col_scale) {
-            *a /= c;
-        }
-        for v in right {
-            let c = dot(v, w);
-            w.iter_mut().zip(v).for_each(|(a, b)| *a -= c * b);
-        }
-        *solves += 2;
+        y
     }
 
     /// σ_min signed by the alignment of its left and right singular
@@ -737,7 +720,7 @@ impl BorderedLu {
     /// double ones included (where det B keeps its sign).
     pub fn signed_smallest_singular_value(&mut self, solves: &mut usize) -> f64 {
         // Four digits: the monitor looks for sign changes and dips.
-        let (sigma, v) = self.subspace_iteration(2, 1e-4, 30, Monitor, solves);
+        let (sigma, v) = self.subspace_iteration(2, 1e-4, 30, Subspace::Monitor, solves);
         let mut w = vec![0.0; self.n + 1];
         let scaled: Vec<f64> = v[0].iter().zip(&self.col_scale).map(|(a, c)| a / c).collect();
         self.scaled_mul(&scaled, &mut w);
@@ -747,6 +730,15 @@ impl BorderedLu {
         } else {
             sigma[0]
         }
+    }
+}
+
+/// w less its components along the orthonormal `basis` (one Gram–Schmidt
+/// sweep).
+fn project_out(w: &mut [f64], basis: &[Vec<f64>]) {
+    for u in basis {
+        let c = dot(u, w);
+        w.iter_mut().zip(u).for_each(|(a, b)| *a -= c * b);
     }
 }
 
@@ -779,6 +771,20 @@ mod tests {
         assert!(solves > 0);
     }
 
+    /// B = diag(A, 1) factorised, A = Q diag(d) Qᵀ with Q from the QR of a
+    /// fixed full matrix (so A is full and its singular values are |d|):
+    /// (Q, A, B).
+    fn rotated_diagonal(d: [f64; 4]) -> (nalgebra::Matrix4<f64>, nalgebra::Matrix4<f64>, BorderedLu) {
+        let q =
+            nalgebra::Matrix4::from_fn(|i, j| 1.0 / (1.0 + i as f64 + 2.0 * j as f64) + (i == j) as u8 as f64).qr().q();
+        let pattern = Pattern::from_entries(4, (0..4).flat_map(|i| (0..4).map(move |j| (i, j))));
+        let a = q * nalgebra::Matrix4::from_diagonal(&nalgebra::Vector4::from(d)) * q.transpose();
+        let values: Vec<f64> = (0..4).flat_map(|j| (0..4).map(move |i| a[(i, j)])).collect();
+        let mut b = BorderedLu::new(&pattern).unwrap();
+        b.factorise(&values, &[0.0; 4], &[0.0; 4], 1.0).unwrap();
+        (q, a, b)
+    }
+
     /// At an (almost exactly) singular point — a located bifurcation — the
     /// null vector dominates (ÃᵀÃ)⁻¹ by 1/σ_1² and the round-off of every
     /// solve swamps the other directions unless they are deflated. B =
@@ -788,14 +794,8 @@ mod tests {
     /// the construction (nalgebra's SVD cannot resolve σ_1 = 1e-14 either).
     #[test]
     fn singular_values_beside_a_null_vector_are_resolved() {
-        let q =
-            nalgebra::Matrix4::from_fn(|i, j| 1.0 / (1.0 + i as f64 + 2.0 * j as f64) + (i == j) as u8 as f64).qr().q();
-        let pattern = Pattern::from_entries(4, (0..4).flat_map(|i| (0..4).map(move |j| (i, j))));
         for s1 in [1e-14, 1e-9] {
-            let a = q * nalgebra::Matrix4::from_diagonal(&nalgebra::Vector4::new(s1, 0.5, 0.7, 5.0)) * q.transpose();
-            let values: Vec<f64> = (0..4).flat_map(|j| (0..4).map(move |i| a[(i, j)])).collect();
-            let mut b = BorderedLu::new(&pattern).unwrap();
-            b.factorise(&values, &[0.0; 4], &[0.0; 4], 1.0).unwrap();
+            let (q, _, mut b) = rotated_diagonal([s1, 0.5, 0.7, 5.0]);
             let mut solves = 0;
             let (sigma, vectors) = b.smallest_singular_vectors(3, 1e-10, 30, &mut solves);
             assert!(sigma[0] < 1e-8, "σ_1 = {s1}: {sigma:?}");
@@ -819,13 +819,7 @@ mod tests {
     /// columns to 1e-9 (reference: the construction).
     #[test]
     fn a_double_null_space_is_deflated_as_one() {
-        let q =
-            nalgebra::Matrix4::from_fn(|i, j| 1.0 / (1.0 + i as f64 + 2.0 * j as f64) + (i == j) as u8 as f64).qr().q();
-        let pattern = Pattern::from_entries(4, (0..4).flat_map(|i| (0..4).map(move |j| (i, j))));
-        let a = q * nalgebra::Matrix4::from_diagonal(&nalgebra::Vector4::new(1e-14, 2e-14, 0.5, 5.0)) * q.transpose();
-        let values: Vec<f64> = (0..4).flat_map(|j| (0..4).map(move |i| a[(i, j)])).collect();
-        let mut b = BorderedLu::new(&pattern).unwrap();
-        b.factorise(&values, &[0.0; 4], &[0.0; 4], 1.0).unwrap();
+        let (q, _, mut b) = rotated_diagonal([1e-14, 2e-14, 0.5, 5.0]);
         let mut solves = 0;
         let (sigma, vectors) = b.smallest_singular_vectors(3, 1e-10, 30, &mut solves);
         assert!(sigma[0] < 1e-8 && sigma[1] < 1e-8, "{sigma:?}");
@@ -839,22 +833,15 @@ mod tests {
         assert!(solves < 120, "{solves} solves");
     }
 
-    /// The monitor's signed σ_min, which stops on the smallest Ritz value
-    /// alone. B = diag(A, 1) with A = Q diag(2, μ, 0.07, 5) Qᵀ (Q from the
-    /// QR of a fixed full matrix, so A is full): σ_min = |μ| = 0.05, with
-    /// the sign of the eigenvalue μ (B v = μ v), and the next value 0.07
-    /// close enough that an unconverged iterate would show. Reference:
+    /// The monitor's signed σ_min. B = diag(A, 1) with A = Q diag(2, μ,
+    /// 0.07, 5) Qᵀ ([`rotated_diagonal`]): σ_min = |μ| = 0.05, with the
+    /// sign of the eigenvalue μ (B v = μ v), and the next value 0.07 close
+    /// enough that an unconverged iterate would show. Reference:
     /// nalgebra's SVD of the same matrix.
     #[test]
     fn signed_smallest_singular_value_has_the_eigenvalues_sign() {
-        let q =
-            nalgebra::Matrix4::from_fn(|i, j| 1.0 / (1.0 + i as f64 + 2.0 * j as f64) + (i == j) as u8 as f64).qr().q();
-        let pattern = Pattern::from_entries(4, (0..4).flat_map(|i| (0..4).map(move |j| (i, j))));
         for mu in [-0.05, 0.05] {
-            let a = q * nalgebra::Matrix4::from_diagonal(&nalgebra::Vector4::new(2.0, mu, 0.07, 5.0)) * q.transpose();
-            let values: Vec<f64> = (0..4).flat_map(|j| (0..4).map(move |i| a[(i, j)])).collect();
-            let mut b = BorderedLu::new(&pattern).unwrap();
-            b.factorise(&values, &[0.0; 4], &[0.0; 4], 1.0).unwrap();
+            let (_, a, mut b) = rotated_diagonal([2.0, mu, 0.07, 5.0]);
             let reference = a.singular_values().min();
             let mut solves = 0;
             let sigma = b.signed_smallest_singular_value(&mut solves);

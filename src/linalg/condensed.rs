@@ -13,13 +13,14 @@
 //!   A = [[A_LL, A_LK], [A_KL, A_KK]],  S = A_KK − A_KL A_LL⁻¹ A_LK,
 //! A_LL block diagonal. A symmetric permutation leaves the determinant
 //! alone, so det A = Π_e det A_LL,e · det S: the sign is read off the
-//! blocks' pivots and S's simplicial factors (what the continuation's
-//! bifurcation monitor needs, which faer's supernodal LU cannot give).
+//! blocks' pivots and S's factors (what the continuation's bifurcation
+//! monitor needs, which faer's supernodal LU cannot give).
 //!
 //! Work on a Gauss(4) rod element (52 stage unknowns, 13 + 13 node ones):
 //! a 52² dense LU, 14 solves with it and a 13×52×14 product per element,
-//! then the simplicial LU of a 13(N + 1)-unknown band — about a third of
-//! the flops of the whole matrix's banded LU, in cache-sized dense loops.
+//! then the LU of a 13(N + 1)-unknown band: dense up to [`DENSE_KEPT`]
+//! unknowns, simplicial above — about a third of the flops of the whole
+//! matrix's banded LU, in cache-sized dense loops.
 
 use super::dense::dot4;
 use super::sparse::{ColumnOrder, Pattern, SparseLu};
@@ -286,10 +287,7 @@ impl CondensedLu {
     /// The column order of S's LU: a dense one takes S's columns in their
     /// natural order.
     pub fn column_order(&self) -> ColumnOrder {
-        match &self.schur {
-            Kept::Sparse(lu) => lu.column_order(),
-            Kept::Dense(_) => ColumnOrder::Natural,
-        }
+        self.schur.column_order()
     }
 
     /// Whether S is factorised as one dense matrix ([`DENSE_KEPT`]).
@@ -356,10 +354,7 @@ impl CondensedLu {
                 self.schur_values[q] -= v;
             }
         }
-        match &mut self.schur {
-            Kept::Sparse(lu) => lu.factorise_exact(&self.schur_values)?,
-            Kept::Dense(d) => d.factorise(&self.schur_values, MemStack::new(&mut self.buffer))?,
-        }
+        self.schur.factorise(&self.schur_values, MemStack::new(&mut self.buffer))?;
         self.blocks_sign = sign;
         self.blocks_negative = negative;
         self.factorised = true;
@@ -391,10 +386,7 @@ impl CondensedLu {
                 self.rhs_kept[r] -= ui;
             }
         }
-        match &mut self.schur {
-            Kept::Sparse(lu) => lu.solve(&mut self.rhs_kept),
-            Kept::Dense(d) => dense_solve(d.n, &d.lu, &d.perm, &mut self.rhs_kept, &mut d.w),
-        }
+        self.schur.solve(&mut self.rhs_kept, false);
         self.scatter_kept(rhs);
         // Back: z_L = t − X z_K[kc], by X's columns.
         for b in &mut self.blocks {
@@ -427,10 +419,7 @@ impl CondensedLu {
                 self.rhs_kept[kc] -= dot4(col, &b.t);
             }
         }
-        match &mut self.schur {
-            Kept::Sparse(lu) => lu.solve_transpose(&mut self.rhs_kept),
-            Kept::Dense(d) => dense_solve_transpose(d.n, &d.lu, &d.perm, &mut self.rhs_kept, &mut d.w),
-        }
+        self.schur.solve(&mut self.rhs_kept, true);
         self.scatter_kept(rhs);
         // Back: z_L = A_LL⁻ᵀ (f_L − A_KLᵀ z_K[kr]).
         for b in &mut self.blocks {
@@ -467,11 +456,7 @@ impl CondensedLu {
     /// sign det A (±1) of the last factorisation.
     pub fn determinant_sign(&mut self) -> f64 {
         assert!(self.factorised, "determinant before a successful factorisation");
-        self.blocks_sign
-            * match &mut self.schur {
-                Kept::Sparse(lu) => lu.determinant_sign_and_log().0,
-                Kept::Dense(d) => d.sign,
-            }
+        self.blocks_sign * self.schur.determinant_sign()
     }
 
     /// Negative pivots of the blocks' and S's factors (row pivoting: only
@@ -479,20 +464,12 @@ impl CondensedLu {
     /// [`SparseLu::negative_pivots`]).
     pub fn negative_pivots(&mut self) -> usize {
         assert!(self.factorised, "pivots before a successful factorisation");
-        self.blocks_negative
-            + match &mut self.schur {
-                Kept::Sparse(lu) => lu.negative_pivots(),
-                Kept::Dense(d) => d.negative,
-            }
+        self.blocks_negative + self.schur.negative_pivots()
     }
 
     /// Entries of the factors: the blocks' dense LUs and X, S's L + U.
     pub fn fill(&self) -> usize {
-        self.blocks.iter().map(|b| b.lu.len() + b.x.len()).sum::<usize>()
-            + match &self.schur {
-                Kept::Sparse(lu) => lu.fill(),
-                Kept::Dense(d) => d.lu.len(),
-            }
+        self.blocks.iter().map(|b| b.lu.len() + b.x.len()).sum::<usize>() + self.schur.fill()
     }
 }
 
@@ -509,6 +486,54 @@ pub const DENSE_KEPT: usize = 320;
 enum Kept {
     Sparse(Box<SparseLu>),
     Dense(DenseKept),
+}
+
+impl Kept {
+    fn factorise(&mut self, values: &[f64], stack: &mut MemStack) -> Result<()> {
+        match self {
+            Kept::Sparse(lu) => lu.factorise_exact(values),
+            Kept::Dense(d) => d.factorise(values, stack),
+        }
+    }
+
+    /// S z = b (or Sᵀ z = b) in place.
+    fn solve(&mut self, b: &mut [f64], transpose: bool) {
+        match (self, transpose) {
+            (Kept::Sparse(lu), false) => lu.solve(b),
+            (Kept::Sparse(lu), true) => lu.solve_transpose(b),
+            (Kept::Dense(d), false) => dense_solve(d.n, &d.lu, &d.perm, b, &mut d.w),
+            (Kept::Dense(d), true) => dense_solve_transpose(d.n, &d.lu, &d.perm, b, &mut d.w),
+        }
+    }
+
+    fn determinant_sign(&mut self) -> f64 {
+        match self {
+            Kept::Sparse(lu) => lu.determinant_sign_and_log().0,
+            Kept::Dense(d) => d.sign,
+        }
+    }
+
+    fn negative_pivots(&mut self) -> usize {
+        match self {
+            Kept::Sparse(lu) => lu.negative_pivots(),
+            Kept::Dense(d) => d.negative,
+        }
+    }
+
+    fn fill(&self) -> usize {
+        match self {
+            Kept::Sparse(lu) => lu.fill(),
+            Kept::Dense(d) => d.lu.len(),
+        }
+    }
+
+    /// A dense LU takes S's columns in their natural order.
+    fn column_order(&self) -> ColumnOrder {
+        match self {
+            Kept::Sparse(lu) => lu.column_order(),
+            Kept::Dense(_) => ColumnOrder::Natural,
+        }
+    }
 }
 
 /// S as one dense column-major matrix, factorised in place by

@@ -118,13 +118,17 @@ fn low_salt_does_not_pay_for_a_hard_core() {
 /// buckled points of `run` from the polyline through the buckled points of
 /// `reference` in (turns, torque / M_b, extension / L): each point is
 /// measured against its nearest segment (the path folds in φ, so it is not
-/// interpolated in the turns).
+/// interpolated in the turns). Only points within the reference's turns are
+/// measured: both runs end at their first strand crossing, found to their
+/// own step, and a point past the reference's last is held against that
+/// end's segment extended flat, not against the path.
 fn deviation_from(run: &SupercoilRun, reference: &SupercoilRun) -> (f64, f64) {
     let mb = reference.buckling.expect("buckled").1.abs();
     let l = reference.scene.length();
     let key = |p: &dna::PathPoint| [p.observables.turns, p.observables.torque / mb, p.observables.extension / l];
+    let last = reference.points.iter().filter(|p| p.branch == 1).map(|p| p.observables.turns).fold(f64::MIN, f64::max);
     let mut worst = (0.0f64, 0.0f64);
-    for q in run.points.iter().filter(|p| p.branch == 1).map(key) {
+    for q in run.points.iter().filter(|p| p.branch == 1 && p.observables.turns <= last).map(key) {
         let mut best = (f64::INFINITY, 0.0, 0.0);
         for w in reference.points.windows(2).filter(|w| w[0].branch == 1 && w[1].branch == 1) {
             let (a, b) = (key(&w[0]), key(&w[1]));
@@ -158,8 +162,8 @@ fn moment_bound(run: &SupercoilRun, tolerance: f64) -> f64 {
 /// The reproducer of the notes (benches/README.md, issue 18): 300 bp,
 /// 2 pN, 0.1 M with corrector aim 5 — the corrector of the step to the
 /// buckled branch's point 51 lands on a solution with μ ≠ 0 (μ = −1.1e-6
-/// pN, 1000× the point before's), a tilted state (largest section tilt
-/// |Rᵀe3 − e3| 1.58): a solution of the discretised equations only
+/// to −1.8e-6 pN as the path's rounding goes, 1000× the point before's), a
+/// tilted state (largest section tilt |Rᵀe3 − e3| 1.58–1.59): a solution of the discretised equations only
 /// (`Rod::unfolding_failure`). Its unfolding couple's moment, 1e-4 pN nm,
 /// is within the default tolerance's bound (2.4e-3 pN nm: a tenth of 1e-3
 /// of one turn's torque), and a run that kept it (a bound alone) strayed
@@ -177,8 +181,8 @@ fn moment_bound(run: &SupercoilRun, tolerance: f64) -> f64 {
 ///   and its points lie on the path of an independent reference — the
 ///   Euler-predictor engine aiming at 3 iterations (159 buckled points
 ///   against 59: the steps 2.7× shorter) — within 2e-3 of the buckling
-///   torque and of L (measured 5.5e-4 and 5.6e-4: the reference
-///   polyline's chord error).
+///   torque and of L (measured 5.5e-4–5.7e-4 and 4.1e-4–5.6e-4: the
+///   reference polyline's chord error).
 #[test]
 fn a_slide_onto_the_straight_family_is_retaken_or_ends_the_run_with_its_path() {
     let (scene, settings) = scene(2.0, 0.1);
@@ -214,7 +218,18 @@ fn a_slide_onto_the_straight_family_is_retaken_or_ends_the_run_with_its_path() {
     let bound = moment_bound(&kept, aim5.tolerance);
     // No retakes: the path to the last point on the branch, and why.
     assert_eq!(ended.stop, dna::RunStop::Failed { status: rodkit::Status::ErrNotConverged });
-    assert!(failure.message.contains("not straight (largest section tilt |Rᵀe3 − e3| 1.58") && be.contact.is_none());
+    // The tilt's value is the landing state's, a point off the branch: its
+    // digits follow the path's rounding (1.58 and 1.59 in runs differing
+    // in the location's start vectors); what the reproducer shows is a
+    // section turned by ~100° where the branch's are straight (tilt 0).
+    let tilt: f64 = failure
+        .message
+        .split("not straight (largest section tilt |Rᵀe3 − e3| ")
+        .nth(1)
+        .and_then(|t| t.split(';').next())
+        .and_then(|t| t.trim().parse().ok())
+        .expect("the message names the tilt");
+    assert!((1.4..=1.8).contains(&tilt) && be.contact.is_none(), "tilt {tilt}");
     assert!(ended.resume_at.is_none() && be.records.len() == 51, "{}", be.records.len());
     assert!(largest_unfolding_moment(&ended) <= 1e-2 * bound);
     // The same computation up to there: the run that went on passed the
@@ -228,4 +243,10 @@ fn a_slide_onto_the_straight_family_is_retaken_or_ends_the_run_with_its_path() {
     println!("largest unfolding moment {moment:e} pN nm (bound {bound:e}); deviation from the reference: torque {dm:e} M_b, extension {dz:e} L");
     assert!(moment <= 1e-2 * bound, "{moment}");
     assert!(dm < 2e-3 && dz < 2e-3, "{dm} {dz}");
+    // What the deviation leaves out (past the reference's last point) is
+    // the crossing's last step: both ends within 0.05 turns.
+    let end = |r: &SupercoilRun| {
+        r.points.iter().filter(|p| p.branch == 1).map(|p| p.observables.turns).fold(f64::MIN, f64::max)
+    };
+    assert!((end(&kept) - end(&reference)).abs() < 0.05, "{} {}", end(&kept), end(&reference));
 }

@@ -22,6 +22,7 @@ use super::corrector::{correct, Plane};
 use super::run::{Context, Factors};
 use super::{Problem, Resume, Scaling};
 use crate::error::Result;
+use crate::linalg::bordered::Start;
 use crate::linalg::dense::sub;
 
 /// A located bifurcation point.
@@ -146,7 +147,10 @@ pub(crate) fn locate<P: Problem + ?Sized>(
         let plane = Plane::new((&anchor, l_anchor), (&left.tx, left.tl));
         correct(problem, ctx, &mut x, &mut l, plane, residual_tol, false)?;
         ctx.factorise(problem, &x, l, (&left.tx, left.tl), Factors::ForSolves)?;
-        let sigma = ctx.bordered.signed_smallest_singular_value(&mut ctx.counts);
+        // The trials lie in one bracket: σ_min's directions there are the
+        // last trial's (or the bracket end's), so the monitor starts from
+        // them — two iterations instead of three to six from a fixed start.
+        let sigma = ctx.bordered.signed_smallest_singular_value(Start::Previous, &mut ctx.counts);
         Ok((x, l, sigma))
     };
     // A root of the series indicator: first the short bracket around it
@@ -265,7 +269,8 @@ pub(crate) fn locate<P: Problem + ?Sized>(
             Err(_) => return Err(e),
         },
     };
-    let (sigma, vectors) = ctx.bordered.smallest_singular_vectors(3, &mut ctx.counts);
+    // From the located point's own monitor vectors (the third column fixed).
+    let (sigma, vectors) = ctx.bordered.smallest_singular_vectors(3, Start::Previous, &mut ctx.counts);
     // The bracket was resolved to `tol`: a genuine zero leaves σ_min at
     // O(tol) of the end values; a mere dip (no singularity) stays at their scale.
     // (Clamped: a bracket shorter than the tolerance would make any σ "small".)

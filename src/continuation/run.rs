@@ -11,6 +11,7 @@ use super::tangent::Bordered;
 pub(crate) use super::tangent::Factors;
 use super::{Branch, Counts, Options, Problem, Record, Resume, Sample, Scaling};
 use crate::error::{self, Error, Result};
+use crate::linalg::bordered::Start;
 use crate::linalg::dense::sub;
 use crate::nonlinear::scaled_max_norm;
 use crate::status::Status;
@@ -332,7 +333,7 @@ impl<'o> Run<'o> {
         let residual = self.ctx.residual_norm(problem, x, lambda);
         let ctx = &mut self.ctx;
         let smallest_singular_value = (self.opts.track_singular || self.opts.detect_bifurcations)
-            .then(|| ctx.bordered.signed_smallest_singular_value(&mut ctx.counts));
+            .then(|| ctx.bordered.signed_smallest_singular_value(Start::Fixed, &mut ctx.counts));
         Record {
             lambda,
             outputs: observe(x, lambda),

@@ -13,7 +13,7 @@
 
 use super::{Counts, Problem, Scaling};
 use crate::error::{Error, Result};
-use crate::linalg::bordered::BorderedLu;
+use crate::linalg::bordered::{BorderedLu, Start};
 use crate::linalg::Pattern;
 use crate::status::Status;
 use std::time::Instant;
@@ -335,9 +335,14 @@ impl Bordered {
 
     /// The k smallest singular values (ascending) and right singular
     /// vectors, to 1e-10 (the null vectors of a located point).
-    pub fn smallest_singular_vectors(&mut self, k: usize, counts: &mut Counts) -> (Vec<f64>, Vec<Vec<f64>>) {
+    pub fn smallest_singular_vectors(
+        &mut self,
+        k: usize,
+        start: Start,
+        counts: &mut Counts,
+    ) -> (Vec<f64>, Vec<Vec<f64>>) {
         let (t, before) = (Instant::now(), counts.solves);
-        let out = self.lu.smallest_singular_vectors(k, 1e-10, 30, &mut counts.solves);
+        let out = self.lu.smallest_singular_vectors(k, (1e-10, 30), start, &mut counts.solves);
         counts.monitor_solves += counts.solves - before;
         counts.times.monitor += t.elapsed();
         out
@@ -345,9 +350,9 @@ impl Bordered {
 
     /// σ_min signed by the alignment of its singular vectors: it changes
     /// sign at every bifurcation, double ones included.
-    pub fn signed_smallest_singular_value(&mut self, counts: &mut Counts) -> f64 {
+    pub fn signed_smallest_singular_value(&mut self, start: Start, counts: &mut Counts) -> f64 {
         let (t, before) = (Instant::now(), counts.solves);
-        let sigma = self.lu.signed_smallest_singular_value(&mut counts.solves);
+        let sigma = self.lu.signed_smallest_singular_value(start, &mut counts.solves);
         counts.monitor_solves += counts.solves - before;
         counts.times.monitor += t.elapsed();
         sigma

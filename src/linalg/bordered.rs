@@ -25,6 +25,21 @@ enum Subspace {
     Vectors,
 }
 
+/// Where a subspace iteration for singular vectors starts
+/// ([`BorderedLu::smallest_singular_vectors`],
+/// [`BorderedLu::signed_smallest_singular_value`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Start {
+    /// Fixed pseudo-random vectors: the result depends on the matrix alone
+    /// (a branch's records, whose σ_min a path's detections read).
+    Fixed,
+    /// The previous iteration's Ritz vectors, the fixed ones filling any
+    /// column they leave: for a sequence of nearby matrices known to hold
+    /// the direction sought (the trial points of a location inside one
+    /// bracket), where they converge in a few solves.
+    Previous,
+}
+
 /// A converged leading singular pair is locked (deflated) when it lies
 /// this far below the next ([`BorderedLu::smallest_singular_vectors`]):
 /// below it the round-off it feeds the other directions, O(ε κ (σ_2/σ_1)²)
@@ -77,6 +92,9 @@ pub struct BorderedLu {
     inner_known: bool,
     /// Scratch of those solves: k columns of n + 1 (grown on demand).
     inner_scratch: Vec<f64>,
+    /// The last subspace iteration's Ritz vectors (scaled space, unit):
+    /// [`Start::Previous`].
+    ritz: Vec<Vec<f64>>,
 }
 
 impl BorderedLu {
@@ -146,6 +164,7 @@ impl BorderedLu {
             inner_column: vec![0.0; n + 1],
             inner_known: false,
             inner_scratch: Vec::new(),
+            ritz: Vec::new(),
         })
     }
 
@@ -599,11 +618,11 @@ impl BorderedLu {
     pub fn smallest_singular_vectors(
         &mut self,
         k: usize,
-        tol: f64,
-        max_iterations: usize,
+        (tol, max_iterations): (f64, usize),
+        start: Start,
         solves: &mut usize,
     ) -> (Vec<f64>, Vec<Vec<f64>>) {
-        self.subspace_iteration(k, tol, max_iterations, Subspace::Vectors, solves)
+        self.subspace_iteration(k, (tol, max_iterations), (Subspace::Vectors, start), solves)
     }
 
     /// [`BorderedLu::smallest_singular_vectors`] (`Vectors`), or the
@@ -628,15 +647,19 @@ impl BorderedLu {
     fn subspace_iteration(
         &mut self,
         k: usize,
-        tol: f64,
-        max_iterations: usize,
-        kind: Subspace,
+        (tol, max_iterations): (f64, usize),
+        (kind, start): (Subspace, Start),
         solves: &mut usize,
     ) -> (Vec<f64>, Vec<Vec<f64>>) {
         let m = self.n + 1;
-        let mut v: Vec<Vec<f64>> = (0..k)
-            .map(|c| (0..m).map(|i| (((i + 1) * (c + 3) * 7919) % 1009) as f64 / 1009.0 - 0.5).collect())
-            .collect();
+        let previous = match start {
+            Start::Fixed => vec![],
+            Start::Previous => std::mem::take(&mut self.ritz),
+        };
+        let mut v: Vec<Vec<f64>> = previous.into_iter().filter(|p| p.len() == m).take(k).collect();
+        v.extend(
+            (v.len()..k).map(|c| (0..m).map(|i| (((i + 1) * (c + 3) * 7919) % 1009) as f64 / 1009.0 - 0.5).collect()),
+        );
         orthonormalise(&mut v);
         // Locked pairs: right vectors, left vectors (unit, Euclidean).
         let (mut right, mut left): (Vec<Vec<f64>>, Vec<Vec<f64>>) = (vec![], vec![]);
@@ -683,6 +706,7 @@ impl BorderedLu {
         }
         right.append(&mut v);
         let v = right;
+        self.ritz.clone_from(&v);
         // The Ritz values of (ÃᵀÃ)⁻¹ lose the larger singular values to
         // round-off when the smallest are near zero (entries ~1/σ_min²):
         // measure each converged vector directly, σ_i = ‖Ã v_i‖.
@@ -718,9 +742,9 @@ impl BorderedLu {
     /// vectors: near a real eigenvalue crossing zero, B v ≈ λ v, so the sign
     /// is sign(λ) and the function changes sign at every bifurcation,
     /// double ones included (where det B keeps its sign).
-    pub fn signed_smallest_singular_value(&mut self, solves: &mut usize) -> f64 {
+    pub fn signed_smallest_singular_value(&mut self, start: Start, solves: &mut usize) -> f64 {
         // Four digits: the monitor looks for sign changes and dips.
-        let (sigma, v) = self.subspace_iteration(2, 1e-4, 30, Subspace::Monitor, solves);
+        let (sigma, v) = self.subspace_iteration(2, (1e-4, 30), (Subspace::Monitor, start), solves);
         let mut w = vec![0.0; self.n + 1];
         let scaled: Vec<f64> = v[0].iter().zip(&self.col_scale).map(|(a, c)| a / c).collect();
         self.scaled_mul(&scaled, &mut w);
@@ -763,7 +787,7 @@ mod tests {
         let mut reference: Vec<f64> = dense.singular_values().iter().copied().collect();
         reference.sort_by(f64::total_cmp);
         let mut solves = 0;
-        let (sigma, _) = b.smallest_singular_vectors(2, 1e-12, 200, &mut solves);
+        let (sigma, _) = b.smallest_singular_vectors(2, (1e-12, 200), Start::Fixed, &mut solves);
         for k in 0..2 {
             assert!((sigma[k] - reference[k]).abs() < 1e-10 * reference[2], "σ{k} {} vs {}", sigma[k], reference[k]);
         }
@@ -797,7 +821,7 @@ mod tests {
         for s1 in [1e-14, 1e-9] {
             let (q, _, mut b) = rotated_diagonal([s1, 0.5, 0.7, 5.0]);
             let mut solves = 0;
-            let (sigma, vectors) = b.smallest_singular_vectors(3, 1e-10, 30, &mut solves);
+            let (sigma, vectors) = b.smallest_singular_vectors(3, (1e-10, 30), Start::Fixed, &mut solves);
             assert!(sigma[0] < 1e-8, "σ_1 = {s1}: {sigma:?}");
             for (k, exact) in [(1, 0.5), (2, 0.7)] {
                 assert!((sigma[k] - exact).abs() < 1e-9 * exact, "σ_1 = {s1}: σ{k} = {} vs {exact}", sigma[k]);
@@ -821,7 +845,7 @@ mod tests {
     fn a_double_null_space_is_deflated_as_one() {
         let (q, _, mut b) = rotated_diagonal([1e-14, 2e-14, 0.5, 5.0]);
         let mut solves = 0;
-        let (sigma, vectors) = b.smallest_singular_vectors(3, 1e-10, 30, &mut solves);
+        let (sigma, vectors) = b.smallest_singular_vectors(3, (1e-10, 30), Start::Fixed, &mut solves);
         assert!(sigma[0] < 1e-8 && sigma[1] < 1e-8, "{sigma:?}");
         assert!((sigma[2] - 0.5).abs() < 1e-9 * 0.5, "{sigma:?}");
         for v in &vectors[..2] {
@@ -844,10 +868,42 @@ mod tests {
             let (_, a, mut b) = rotated_diagonal([2.0, mu, 0.07, 5.0]);
             let reference = a.singular_values().min();
             let mut solves = 0;
-            let sigma = b.signed_smallest_singular_value(&mut solves);
+            let sigma = b.signed_smallest_singular_value(Start::Fixed, &mut solves);
             assert_eq!(sigma.signum(), mu.signum(), "μ = {mu}: σ = {sigma}");
             assert!((sigma.abs() - reference).abs() < 1e-4 * reference, "μ = {mu}: σ = {sigma}, SVD {reference}");
         }
+    }
+
+    /// A location's trial points: B(μ) = diag(A(μ), 1), A(μ) = Q diag(2, μ,
+    /// 0.07, 5) Qᵀ, with μ stepping through zero as a bracket's trials do.
+    /// Started from the previous call's Ritz vectors the monitor gives the
+    /// signed σ_min of a fixed start — sign, and |σ| to its 1e-4 against
+    /// nalgebra's SVD of A (the independent reference) — in fewer solves.
+    #[test]
+    fn a_warm_start_gives_the_fixed_starts_monitor_in_fewer_solves() {
+        // Two LUs: each call keeps its Ritz vectors for the next.
+        let (q, _, mut b_fixed) = rotated_diagonal([2.0, 0.05, 0.07, 5.0]);
+        let (_, _, mut b_warm) = rotated_diagonal([2.0, 0.05, 0.07, 5.0]);
+        let pattern_values = |mu: f64| {
+            let a = q * nalgebra::Matrix4::from_diagonal(&nalgebra::Vector4::new(2.0, mu, 0.07, 5.0)) * q.transpose();
+            ((0..4).flat_map(|j| (0..4).map(move |i| a[(i, j)])).collect::<Vec<f64>>(), a)
+        };
+        let (mut fixed, mut warm) = (0, 0);
+        b_warm.signed_smallest_singular_value(Start::Fixed, &mut 0);
+        for mu in [0.03, -0.02, 0.004, -0.001, 2e-4, -3e-5] {
+            let (values, a) = pattern_values(mu);
+            b_fixed.factorise(&values, &[0.0; 4], &[0.0; 4], 1.0).unwrap();
+            b_warm.factorise(&values, &[0.0; 4], &[0.0; 4], 1.0).unwrap();
+            let reference = a.singular_values().min();
+            let s_fixed = b_fixed.signed_smallest_singular_value(Start::Fixed, &mut fixed);
+            let s_warm = b_warm.signed_smallest_singular_value(Start::Previous, &mut warm);
+            for s in [s_fixed, s_warm] {
+                assert_eq!(s.signum(), mu.signum(), "μ = {mu}: σ = {s}");
+                assert!((s.abs() - reference).abs() < 1e-4 * reference, "μ = {mu}: σ = {s}, SVD {reference}");
+            }
+        }
+        println!("warm {warm} solves, fixed {fixed}");
+        assert!(warm < fixed, "warm {warm} solves, fixed {fixed}");
     }
 }
 

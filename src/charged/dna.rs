@@ -896,6 +896,8 @@ fn straight_path(
         stop_at_bifurcation: true,
         lu_kind: settings.lu_kind,
         stability: settings.stability,
+        // The shipped end-loop table's paths (Options::lean_monitor).
+        lean_monitor: false,
         ..Default::default()
     };
     let (mut straight, mut index, mut target, mut steps, mut anchor) = match from {
@@ -1005,6 +1007,7 @@ fn buckled_path(
         unfolding_retakes: settings.unfolding_retakes,
         unfolding_moment: Some(0.1 * settings.tolerance * 2.0 * std::f64::consts::PI * rod.torque_per_radian()),
         stability: settings.stability,
+        lean_monitor: false,
         ..Default::default()
     };
     let n = rod.unknowns();

@@ -22,7 +22,6 @@ use super::corrector::{correct, Plane};
 use super::run::{Context, Factors};
 use super::{Problem, Resume, Scaling};
 use crate::error::Result;
-use crate::linalg::bordered::Start;
 use crate::linalg::dense::sub;
 
 /// A located bifurcation point.
@@ -150,7 +149,7 @@ pub(crate) fn locate<P: Problem + ?Sized>(
         // The trials lie in one bracket: σ_min's directions there are the
         // last trial's (or the bracket end's), so the monitor starts from
         // them — two iterations instead of three to six from a fixed start.
-        let sigma = ctx.bordered.signed_smallest_singular_value(Start::Previous, &mut ctx.counts);
+        let sigma = ctx.bordered.signed_smallest_singular_value(true, &mut ctx.counts);
         Ok((x, l, sigma))
     };
     // A root of the series indicator: first the short bracket around it
@@ -270,7 +269,7 @@ pub(crate) fn locate<P: Problem + ?Sized>(
         },
     };
     // From the located point's own monitor vectors (the third column fixed).
-    let (sigma, vectors) = ctx.bordered.smallest_singular_vectors(3, Start::Previous, &mut ctx.counts);
+    let (sigma, vectors) = ctx.bordered.smallest_singular_vectors(3, &mut ctx.counts);
     // The bracket was resolved to `tol`: a genuine zero leaves σ_min at
     // O(tol) of the end values; a mere dip (no singularity) stays at their scale.
     // (Clamped: a bracket shorter than the tolerance would make any σ "small".)

@@ -11,7 +11,6 @@ use super::tangent::Bordered;
 pub(crate) use super::tangent::Factors;
 use super::{Branch, Counts, Options, Problem, Record, Resume, Sample, Scaling};
 use crate::error::{self, Error, Result};
-use crate::linalg::bordered::Start;
 use crate::linalg::dense::sub;
 use crate::nonlinear::scaled_max_norm;
 use crate::status::Status;
@@ -52,6 +51,7 @@ impl Context {
         if let Some(kind) = opts.lu_kind {
             ctx.bordered.prefer_kind(kind);
         }
+        ctx.bordered.set_lean_monitor(opts.lean_monitor);
         Ok(ctx)
     }
 
@@ -333,7 +333,7 @@ impl<'o> Run<'o> {
         let residual = self.ctx.residual_norm(problem, x, lambda);
         let ctx = &mut self.ctx;
         let smallest_singular_value = (self.opts.track_singular || self.opts.detect_bifurcations)
-            .then(|| ctx.bordered.signed_smallest_singular_value(Start::Fixed, &mut ctx.counts));
+            .then(|| ctx.bordered.signed_smallest_singular_value(false, &mut ctx.counts));
         Record {
             lambda,
             outputs: observe(x, lambda),

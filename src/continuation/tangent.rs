@@ -13,7 +13,7 @@
 
 use super::{Counts, Problem, Scaling};
 use crate::error::{Error, Result};
-use crate::linalg::bordered::{BorderedLu, Start};
+use crate::linalg::bordered::{BorderedLu, Settle, Start};
 use crate::linalg::Pattern;
 use crate::status::Status;
 use std::time::Instant;
@@ -46,6 +46,8 @@ pub struct Bordered {
     last_column_known: bool,
     /// Scratch: the other border's row.
     other_row: Vec<f64>,
+    /// [`super::Options::lean_monitor`].
+    lean_monitor: bool,
 }
 
 impl Bordered {
@@ -74,7 +76,23 @@ impl Bordered {
             last_column: vec![0.0; n + 1],
             last_column_known: false,
             other_row: vec![0.0; n + 1],
+            lean_monitor: true,
         })
+    }
+
+    /// See [`super::Options::lean_monitor`].
+    pub fn set_lean_monitor(&mut self, lean: bool) {
+        self.lean_monitor = lean;
+    }
+
+    /// Where a location's singular-vector iterations start, and when the
+    /// monitor stops ([`super::Options::lean_monitor`]).
+    fn monitor_policy(&self) -> (Start, Settle) {
+        if self.lean_monitor {
+            (Start::Previous, Settle::First)
+        } else {
+            (Start::Fixed, Settle::All)
+        }
     }
 
     /// Evaluate the Jacobian at (x, Λ), border it with W·v and factorise
@@ -334,14 +352,11 @@ impl Bordered {
     }
 
     /// The k smallest singular values (ascending) and right singular
-    /// vectors, to 1e-10 (the null vectors of a located point).
-    pub fn smallest_singular_vectors(
-        &mut self,
-        k: usize,
-        start: Start,
-        counts: &mut Counts,
-    ) -> (Vec<f64>, Vec<Vec<f64>>) {
+    /// vectors, to 1e-10 (the null vectors of a located point), started
+    /// from the location's last monitor vectors when the monitor is lean.
+    pub fn smallest_singular_vectors(&mut self, k: usize, counts: &mut Counts) -> (Vec<f64>, Vec<Vec<f64>>) {
         let (t, before) = (Instant::now(), counts.solves);
+        let start = self.monitor_policy().0;
         let out = self.lu.smallest_singular_vectors(k, (1e-10, 30), start, &mut counts.solves);
         counts.monitor_solves += counts.solves - before;
         counts.times.monitor += t.elapsed();
@@ -349,10 +364,15 @@ impl Bordered {
     }
 
     /// σ_min signed by the alignment of its singular vectors: it changes
-    /// sign at every bifurcation, double ones included.
-    pub fn signed_smallest_singular_value(&mut self, start: Start, counts: &mut Counts) -> f64 {
+    /// sign at every bifurcation, double ones included. From a fixed start
+    /// (a record's: its value depends on the matrix alone), or at a
+    /// location's trial points (`trial`) from the last trial's vectors
+    /// when the monitor is lean.
+    pub fn signed_smallest_singular_value(&mut self, trial: bool, counts: &mut Counts) -> f64 {
         let (t, before) = (Instant::now(), counts.solves);
-        let sigma = self.lu.signed_smallest_singular_value(start, &mut counts.solves);
+        let (start, settle) = self.monitor_policy();
+        let start = if trial { start } else { Start::Fixed };
+        let sigma = self.lu.signed_smallest_singular_value((start, settle), &mut counts.solves);
         counts.monitor_solves += counts.solves - before;
         counts.times.monitor += t.elapsed();
         sigma

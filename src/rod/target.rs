@@ -19,7 +19,6 @@ use crate::continuation::corrector::{correct, Plane};
 use crate::continuation::run::{Context, Factors};
 use crate::continuation::{Record, Resume, Scaling, Stop};
 use crate::error::{self, Error, Result};
-use crate::linalg::bordered::Start;
 use crate::linalg::dense::sub;
 use crate::rod::branch::Progress;
 use crate::status::Status;
@@ -157,7 +156,7 @@ fn land<M: Followed + ?Sized>(model: &M, branch: &mut RodBranch, target: f64, ph
     let (bordered_det_sign, det_sign) = ctx.bordered.determinant_signs(&ctx.scaling, &tx, tl);
     let old = &branch.records[k];
     let smallest_singular_value =
-        old.smallest_singular_value.map(|_| ctx.bordered.signed_smallest_singular_value(Start::Fixed, &mut ctx.counts));
+        old.smallest_singular_value.map(|_| ctx.bordered.signed_smallest_singular_value(false, &mut ctx.counts));
     let step = ctx.scaling.norm(&sub(&x, xa), lambda - la);
     let record = Record {
         lambda,

@@ -52,6 +52,8 @@ struct Block {
     lu: Vec<f64>,
     perm: Vec<usize>,
     perm_inv: Vec<usize>,
+    /// The LU's rows, for transposed solves.
+    rows: Rows,
     /// A_KL X (kr×kc).
     product: Vec<f64>,
     /// A_LK,e, then X = A_LL⁻¹ A_LK (m×kc); A_KL,e (kr×m).
@@ -204,6 +206,7 @@ impl CondensedLu {
                     lu: vec![0.0; m * m],
                     perm: vec![0; m],
                     perm_inv: vec![0; m],
+                    rows: Rows::default(),
                     product: vec![0.0; kr * kc],
                     lk_values: vec![0.0; m * kc],
                     x: vec![0.0; m * kc],
@@ -304,6 +307,9 @@ impl CondensedLu {
     /// or S is ErrNotConverged, a non-finite entry ErrNonFiniteResult.
     pub fn factorise(&mut self, values: &[f64]) -> Result<()> {
         self.factorised = false;
+        for b in &mut self.blocks {
+            b.rows.ready = false;
+        }
         if let Some(k) = values.iter().position(|v| !v.is_finite()) {
             return Err(Error::new(
                 Status::ErrNonFiniteResult,
@@ -413,7 +419,7 @@ impl CondensedLu {
             for (t, &i) in b.t.iter_mut().zip(&b.local) {
                 *t = rhs[i];
             }
-            dense_solve_transpose(m, &b.lu, &b.perm, &mut b.t, &mut b.u2);
+            dense_solve_transpose(m, b.rows.of(m, &b.lu), &b.perm, &mut b.t, &mut b.u2);
             for (c, &kc) in b.kcols.iter().enumerate() {
                 let col = &b.lk_values[m * c..m * (c + 1)];
                 self.rhs_kept[kc] -= dot4(col, &b.t);
@@ -431,7 +437,7 @@ impl CondensedLu {
                 }
                 b.t[l] = w;
             }
-            dense_solve_transpose(m, &b.lu, &b.perm, &mut b.t, &mut b.u2);
+            dense_solve_transpose(m, b.rows.of(m, &b.lu), &b.perm, &mut b.t, &mut b.u2);
             for (t, &i) in b.t.iter().zip(&b.local) {
                 rhs[i] = *t;
             }
@@ -502,7 +508,7 @@ impl Kept {
             (Kept::Sparse(lu), false) => lu.solve(b),
             (Kept::Sparse(lu), true) => lu.solve_transpose(b),
             (Kept::Dense(d), false) => dense_solve(d.n, &d.lu, &d.perm, b, &mut d.w),
-            (Kept::Dense(d), true) => dense_solve_transpose(d.n, &d.lu, &d.perm, b, &mut d.w),
+            (Kept::Dense(d), true) => dense_solve_transpose(d.n, d.rows.of(d.n, &d.lu), &d.perm, b, &mut d.w),
         }
     }
 
@@ -546,6 +552,8 @@ struct DenseKept {
     lu: Vec<f64>,
     perm: Vec<usize>,
     perm_inv: Vec<usize>,
+    /// The LU's rows, for transposed solves.
+    rows: Rows,
     sign: f64,
     negative: usize,
     /// Scratch for solves (n).
@@ -565,6 +573,7 @@ impl DenseKept {
             lu: vec![0.0; n * n],
             perm: vec![0; n],
             perm_inv: vec![0; n],
+            rows: Rows::default(),
             sign: 1.0,
             negative: 0,
             w: vec![0.0; n],
@@ -574,6 +583,7 @@ impl DenseKept {
     /// Factorise S from its values in pattern order (finite: A's were
     /// checked). A zero pivot is ErrNotConverged.
     fn factorise(&mut self, values: &[f64], stack: &mut MemStack) -> Result<()> {
+        self.rows.ready = false;
         self.lu.fill(0.0);
         for (&d, v) in self.at.iter().zip(values) {
             self.lu[d] = *v;
@@ -645,18 +655,57 @@ fn dense_solve(m: usize, lu: &[f64], perm: &[usize], b: &mut [f64], w: &mut [f64
     b.copy_from_slice(&w[..m]);
 }
 
-/// Solve Aᵀ z = b in place with [`factor_block`]'s factors (Aᵀ = Uᵀ Lᵀ P;
-/// `w` scratch, m).
-fn dense_solve_transpose(m: usize, lu: &[f64], perm: &[usize], b: &mut [f64], w: &mut [f64]) {
-    // Uᵀ y = b: row k of Uᵀ is column k of U.
-    for k in 0..m {
-        let s = dot4(&lu[m * k..m * k + k], &b[..k]);
-        b[k] = (b[k] - s) / lu[k + m * k];
+/// A dense LU's rows, copied out of its column-major factors on the first
+/// transposed solve after a factorisation (allocated then too): with them
+/// the transposed triangular solves run by columns of Uᵀ and Lᵀ — axpys,
+/// as the plain solve — instead of dot products, each of which waits for
+/// the one before (a chain of reductions: twice the time on a rod's 52×52
+/// blocks).
+#[derive(Default)]
+struct Rows {
+    /// Row-major m×m: `lut[m·i + j]` is the LU's (i, j).
+    lut: Vec<f64>,
+    ready: bool,
+}
+
+impl Rows {
+    /// The rows of the m×m column-major `lu`.
+    fn of(&mut self, m: usize, lu: &[f64]) -> &[f64] {
+        if !self.ready {
+            self.lut.resize(m * m, 0.0);
+            for (j, col) in lu.chunks_exact(m).enumerate() {
+                for (i, v) in col.iter().enumerate() {
+                    self.lut[m * i + j] = *v;
+                }
+            }
+            self.ready = true;
+        }
+        &self.lut
     }
-    // Lᵀ v = y: row k of Lᵀ is column k of L below the diagonal.
+}
+
+/// Solve Aᵀ z = b in place with [`factor_block`]'s factors given by rows
+/// ([`Rows`]; Aᵀ = Uᵀ Lᵀ P; `w` scratch, m).
+fn dense_solve_transpose(m: usize, lut: &[f64], perm: &[usize], b: &mut [f64], w: &mut [f64]) {
+    // Uᵀ y = b, forward by Uᵀ's columns: column k is U's row k.
+    for k in 0..m {
+        let row = &lut[m * k..m * (k + 1)];
+        b[k] /= row[k];
+        let bk = b[k];
+        if bk != 0.0 {
+            for (v, u) in b[k + 1..m].iter_mut().zip(&row[k + 1..]) {
+                *v -= u * bk;
+            }
+        }
+    }
+    // Lᵀ v = y (unit), backward by Lᵀ's columns: column k is L's row k.
     for k in (0..m).rev() {
-        let s = dot4(&lu[k + 1 + m * k..m * (k + 1)], &b[k + 1..m]);
-        b[k] -= s;
+        let bk = b[k];
+        if bk != 0.0 {
+            for (v, l) in b[..k].iter_mut().zip(&lut[m * k..m * k + k]) {
+                *v -= l * bk;
+            }
+        }
     }
     // z = Pᵀ v.
     for (k, &p) in perm.iter().enumerate() {
@@ -807,7 +856,7 @@ mod tests {
         dense_solve(3, &a, &perm, &mut b, &mut w);
         assert!(b.iter().zip(&x).all(|(u, v)| (u - v).abs() < 1e-14), "{b:?}");
         let mut bt: Vec<f64> = (0..3).map(|j| (0..3).map(|i| orig[i + 3 * j] * x[i]).sum()).collect();
-        dense_solve_transpose(3, &a, &perm, &mut bt, &mut w);
+        dense_solve_transpose(3, Rows::default().of(3, &a), &perm, &mut bt, &mut w);
         assert!(bt.iter().zip(&x).all(|(u, v)| (u - v).abs() < 1e-14), "{bt:?}");
     }
 }

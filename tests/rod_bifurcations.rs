@@ -353,3 +353,32 @@ fn the_series_indicator_finds_greenhill_with_a_third_of_the_factorisations() {
         );
     }
 }
+
+/// The lean σ_min monitor (`Options::lean_monitor`, the default: σ_1 alone
+/// settled, location trials from the last trial's vectors) against the
+/// classic one (both Ritz values settled, fixed starts everywhere) on
+/// Greenhill's straight branch to φ = 44, 16 elements, ANM, both
+/// controls: the same six double points, each at the same φ within twice
+/// the location tolerance (1e-9 in scaled arc length, ~1e-9 in φ here), in
+/// fewer of the monitor's solves.
+#[test]
+fn the_lean_monitor_locates_the_classic_monitors_points() {
+    for control in [Control::Rotation, Control::Moment] {
+        let rod = rod(control, 16, 1.0);
+        let run = |lean: bool| {
+            let mut sys = rod.system().unwrap();
+            let opts = Options { lean_monitor: lean, ..options(control, 44.0) };
+            straight_branch(&rod, &mut sys, &opts, true, 44.0)
+        };
+        let (lean, classic) = (run(true), run(false));
+        assert_eq!(lean.bif_phi.len(), 6, "{control:?}: {:?}", lean.bif_phi);
+        assert_eq!(classic.bif_phi.len(), 6, "{control:?}: {:?}", classic.bif_phi);
+        for (a, b) in lean.bif_phi.iter().zip(&classic.bif_phi) {
+            assert!((a - b).abs() <= 2e-9 * b.max(1.0), "{control:?}: φ {a} (lean) against {b} (classic)");
+        }
+        assert!(lean.branch.bifurcations.iter().all(|b| b.multiplicity == 2), "{control:?}");
+        let (ls, cs) = (lean.branch.counts.monitor_solves, classic.branch.counts.monitor_solves);
+        println!("{control:?}: monitor solves lean {ls}, classic {cs}");
+        assert!(ls < cs, "{control:?}: lean {ls} solves, classic {cs}");
+    }
+}

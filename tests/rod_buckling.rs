@@ -644,3 +644,78 @@ fn non_planar_symmetric_branch_with_phase_condition() {
     println!("azimuth spread {non_planar}");
     assert!(non_planar > 0.05, "the branch stayed planar ({non_planar})");
 }
+
+/// A located bifurcation's three singular values (`Bifurcation::
+/// singular_values`, what the C branch record reports) against a dense SVD
+/// of the same matrix (nalgebra, the independent reference): the monitor's
+/// scaled bordered tangent Ã = R B C at the located point, rebuilt from the
+/// rod's own Jacobian there — B = [[J_x, J_Λ], [t_x/(n s²), t_Λ/s_Λ²]]
+/// with the branch tangent the location bordered by (`tangent_x`), rows
+/// scaled by the equations' 1/e_i (√n the border's), columns by the
+/// unknowns' scales. Euler's cantilever with K_b1 = 2 K_b2 (a simple
+/// point), Gauss(4) × 4, by the ANM and by Newton continuation: σ_2, σ_3
+/// to 1e-8, and σ_1 within 5 % + 1e-13 (the SVD's own round-off; both
+/// are ~1e-14, below ε‖Ã‖_F = 2e-14). Both locations land on the zero to
+/// the last bit (σ_1 1.6e-14 and 6e-16), where the others cannot be
+/// resolved by solves with the matrix (Newton's were 4.60 and 4.27): they
+/// are then taken 1e-12 of arc length beside the point (1e-3 of the
+/// location's tolerance), which moves them by ~1e-12 of themselves.
+#[test]
+fn a_located_points_singular_values_are_the_dense_svds() {
+    let (ga, ea) = (1e4, 2.6e4);
+    let k = nalgebra::Matrix6::from_diagonal(&nalgebra::Vector6::new(2.0, 1.0, 1.0 / 1.3, ga, ga, ea));
+    let law = RodLaw::general(k, nalgebra::Vector3::zeros(), nalgebra::Vector3::new(0.0, 0.0, 1.0)).unwrap();
+    let loads = Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() };
+    let rod = Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), 4).unwrap();
+    let opts = Options {
+        target_lambda: Some(3.0),
+        residual_tol: 1e-10,
+        initial_step: 0.2,
+        max_step: 1.0,
+        detect_bifurcations: true,
+        bifurcation_tol: 1e-10,
+        ..Default::default()
+    };
+    for method in [rodkit::rod::branch::Method::Anm(AnmOptions::default()), rodkit::rod::branch::Method::Newton] {
+        let branch = rod.continue_branch(None, 0.0, true, &opts, method, |_| true).unwrap();
+        assert_eq!(branch.bifurcations.len(), 1, "{method:?}");
+        let bif = &branch.bifurcations[0];
+        let mut sys = rod.system().unwrap();
+        let n = sys.dim();
+        let (s, sl) = sys.unknown_scales();
+        let e = sys.equation_scales();
+        let mut jx = vec![0.0; sys.pattern().nnz()];
+        let mut jl = vec![0.0; n];
+        sys.jacobian(&bif.x, bif.lambda, &mut jx, &mut jl);
+        let mut a = nalgebra::DMatrix::<f64>::zeros(n + 1, n + 1);
+        let p = sys.pattern();
+        for j in 0..n {
+            for q in p.col_ptr[j]..p.col_ptr[j + 1] {
+                a[(p.row_idx[q], j)] += jx[q];
+            }
+        }
+        for i in 0..n {
+            a[(i, n)] = jl[i];
+            a[(n, i)] = bif.tangent_x[i] / (n as f64 * s[i] * s[i]);
+        }
+        a[(n, n)] = bif.tangent_lambda / (sl * sl);
+        let scale = |v: f64| if v > 0.0 && v.is_finite() { v } else { 1.0 };
+        for i in 0..=n {
+            let r = if i < n { 1.0 / scale(e[i]) } else { (n as f64).sqrt() };
+            let c = if i < n { scale(s[i]) } else { scale(sl) };
+            for j in 0..=n {
+                a[(i, j)] *= r;
+                a[(j, i)] *= c;
+            }
+        }
+        let mut svd: Vec<f64> = a.singular_values().iter().copied().collect();
+        svd.sort_by(f64::total_cmp);
+        let sigma = &bif.singular_values;
+        println!("{method:?}: located {sigma:?}, dense SVD {:?}", &svd[..3]);
+        assert!(sigma[0] <= 1e-6 * svd[1], "{method:?}: {sigma:?} {:?}", &svd[..3]);
+        assert!((sigma[0] - svd[0]).abs() <= 0.05 * svd[0] + 1e-13, "{method:?}: σ0 {} against {}", sigma[0], svd[0]);
+        for k in 1..3 {
+            assert!((sigma[k] - svd[k]).abs() <= 1e-8 * svd[k], "{method:?}: σ{k} {} against {}", sigma[k], svd[k]);
+        }
+    }
+}

@@ -269,7 +269,30 @@ pub(crate) fn locate<P: Problem + ?Sized>(
         },
     };
     // From the located point's own monitor vectors (the third column fixed).
-    let (sigma, vectors) = ctx.bordered.smallest_singular_vectors(3, &mut ctx.counts);
+    let (mut sigma, mut vectors) = ctx.bordered.smallest_singular_vectors(3, &mut ctx.counts);
+    // Singular to working precision (σ_1 below ε‖Ã‖_F: a location that
+    // converged onto the zero to the last bit), the other values and
+    // vectors cannot be resolved there (BorderedLu::singular_floor): they
+    // are taken beside the point, the least step of 1e-3, 1e-2, 0.1 and
+    // 0.5 of the tolerance that lifts σ_1 above the floor (σ_1 grows
+    // linearly off a simple or double zero), where they differ from the
+    // point's by that step's share of their slope. The point and its σ_1
+    // stay the located ones.
+    'beside: for step in [1e-3, 1e-2, 0.1, 0.5] {
+        if sigma[0] >= ctx.bordered.singular_floor() {
+            break;
+        }
+        for side in [step * tol, -step * tol] {
+            if point(tau + side, ctx).is_ok() {
+                let (s, v) = ctx.bordered.smallest_singular_vectors(3, &mut ctx.counts);
+                if s[0] >= ctx.bordered.singular_floor() {
+                    sigma.splice(1.., s[1..].iter().copied());
+                    vectors = v;
+                    break 'beside;
+                }
+            }
+        }
+    }
     // The bracket was resolved to `tol`: a genuine zero leaves σ_min at
     // O(tol) of the end values; a mere dip (no singularity) stays at their scale.
     // (Clamped: a bracket shorter than the tolerance would make any σ "small".)

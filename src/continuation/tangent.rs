@@ -378,6 +378,11 @@ impl Bordered {
         sigma
     }
 
+    /// See [`BorderedLu::singular_floor`].
+    pub fn singular_floor(&self) -> f64 {
+        self.lu.singular_floor()
+    }
+
     /// Entries of L + U of the last factorisation (0 before the first).
     pub fn fill(&self) -> usize {
         self.lu.fill()

@@ -588,6 +588,29 @@ impl BorderedLu {
         *solves += 2;
     }
 
+    /// ε‖Ã‖_F: below it Ã is singular to working precision, and the
+    /// singular values beside such a σ_1 cannot be resolved by solves with
+    /// it — each solve's round-off, amplified by 1/σ_1 along a direction of
+    /// its own, swamps them (the located point's vectors,
+    /// [`BorderedLu::smallest_singular_vectors`], then come out wrong:
+    /// callers take them beside the point).
+    pub fn singular_floor(&self) -> f64 {
+        f64::EPSILON * self.scaled_frobenius()
+    }
+
+    /// ‖Ã‖_F of the current matrix.
+    fn scaled_frobenius(&self) -> f64 {
+        let p = self.lu.pattern();
+        let mut sum = 0.0;
+        for j in 0..p.n {
+            for k in p.col_ptr[j]..p.col_ptr[j + 1] {
+                let a = self.row_scale[p.row_idx[k]] * self.values[k] * self.col_scale[j];
+                sum += a * a;
+            }
+        }
+        sum.sqrt()
+    }
+
     /// Ã v into w.
     fn scaled_mul(&self, v: &[f64], w: &mut [f64]) {
         let cv: Vec<f64> = v.iter().zip(&self.col_scale).map(|(a, c)| a * c).collect();
@@ -675,6 +698,17 @@ impl BorderedLu {
             (v.len()..k).map(|c| (0..m).map(|i| (((i + 1) * (c + 3) * 7919) % 1009) as f64 / 1009.0 - 0.5).collect()),
         );
         orthonormalise(&mut v);
+        // A Ritz value settles to within round-off of Ã's size, not below:
+        // at a point singular to the last bit (σ_1 ~ 1e-17, a location by
+        // Newton continuation) σ_1's Ritz value is noise, changing by a
+        // tenth between iterations, and without this floor never counted
+        // as converged, so never locked, and the others stayed swamped to
+        // the cap. The monitor keeps its plain test (its digits steer
+        // paths).
+        let floor = match kind {
+            Subspace::Vectors => self.singular_floor(),
+            Subspace::Monitor(_) => 0.0,
+        };
         // Locked pairs: right vectors, left vectors (unit, Euclidean).
         let (mut right, mut left): (Vec<Vec<f64>>, Vec<Vec<f64>>) = (vec![], vec![]);
         let mut sigma = vec![f64::INFINITY; k];
@@ -697,7 +731,7 @@ impl BorderedLu {
                 .collect();
             orthonormalise(&mut rotated);
             let active = &sigma[right.len()..];
-            let done = |i: usize| (next[i] - active[i]).abs() <= tol * next[i].max(1e-300);
+            let done = |i: usize| (next[i] - active[i]).abs() <= tol * next[i].max(1e-300) + floor;
             let converged = match kind {
                 Subspace::Monitor(Settle::First) => done(0),
                 Subspace::Monitor(Settle::All) | Subspace::Vectors => (0..ka).all(done),
@@ -710,6 +744,9 @@ impl BorderedLu {
                     (1..ka).filter(|&l| (0..l).all(done) && next[l - 1] < LOCK_GAP * next[l]).max().unwrap_or(0)
                 }
             };
+            if std::env::var("DBG_V").is_ok() && kind == Subspace::Vectors {
+                eprintln!("floor={floor:e} next={next:?} lock={lock} locked={}", right.len());
+            }
             sigma.splice(right.len().., next.iter().copied());
             v = rotated;
             if converged {
@@ -829,13 +866,15 @@ mod tests {
     /// At an (almost exactly) singular point — a located bifurcation — the
     /// null vector dominates (ÃᵀÃ)⁻¹ by 1/σ_1² and the round-off of every
     /// solve swamps the other directions unless they are deflated. B =
-    /// diag(A, 1), A = Q diag(σ_1, 0.5, 0.7, 5) Qᵀ with σ_1 = 1e-14 and
-    /// 1e-9: the three smallest singular values (σ_1, 0.5, 0.7) to 1e-9
+    /// diag(A, 1), A = Q diag(σ_1, 0.5, 0.7, 5) Qᵀ with σ_1 = 3e-16 (a
+    /// quarter of [`BorderedLu::singular_floor`], about the least that is
+    /// resolved: 1e-16 takes the cap, 1e-17 fails), 1e-14 and 1e-9: the
+    /// three smallest singular values (σ_1, 0.5, 0.7) to 1e-9
     /// relative (the second and third) and the null vector to 1e-9, against
     /// the construction (nalgebra's SVD cannot resolve σ_1 = 1e-14 either).
     #[test]
     fn singular_values_beside_a_null_vector_are_resolved() {
-        for s1 in [1e-14, 1e-9] {
+        for s1 in [3e-16, 1e-14, 1e-9] {
             let (q, _, mut b) = rotated_diagonal([s1, 0.5, 0.7, 5.0]);
             let mut solves = 0;
             let (sigma, vectors) = b.smallest_singular_vectors(3, (1e-10, 30), Start::Fixed, &mut solves);

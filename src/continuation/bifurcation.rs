@@ -261,36 +261,60 @@ pub(crate) fn locate<P: Problem + ?Sized>(
     }
     let tau = 0.5 * (a + b);
     // Exactly on the singular point: half the tolerance beside it (as above).
-    let (x, lambda, _) = match point(tau, ctx) {
+    let (x, lambda, at_point) = match point(tau, ctx) {
         Ok(p) => p,
         Err(e) => match point(tau + 0.5 * tol, ctx).or_else(|_| point(tau - 0.5 * tol, ctx)) {
             Ok(p) => p,
             Err(_) => return Err(e),
         },
     };
-    // From the located point's own monitor vectors (the third column fixed).
-    let (mut sigma, mut vectors) = ctx.bordered.smallest_singular_vectors(3, &mut ctx.counts);
     // Singular to working precision (σ_1 below ε‖Ã‖_F: a location that
     // converged onto the zero to the last bit), the other values and
     // vectors cannot be resolved there (BorderedLu::singular_floor): they
-    // are taken beside the point, the least step of 1e-3, 1e-2, 0.1 and
-    // 0.5 of the tolerance that lifts σ_1 above the floor (σ_1 grows
-    // linearly off a simple or double zero), where they differ from the
-    // point's by that step's share of their slope. The point and its σ_1
-    // stay the located ones.
-    'beside: for step in [1e-3, 1e-2, 0.1, 0.5] {
-        if sigma[0] >= ctx.bordered.singular_floor() {
-            break;
-        }
-        for side in [step * tol, -step * tol] {
-            if point(tau + side, ctx).is_ok() {
-                let (s, v) = ctx.bordered.smallest_singular_vectors(3, &mut ctx.counts);
-                if s[0] >= ctx.bordered.singular_floor() {
-                    sigma.splice(1.., s[1..].iter().copied());
-                    vectors = v;
-                    break 'beside;
+    // are taken beside the point, at the least of a series of steps (each
+    // ten times the last, at most half the tolerance) that lifts σ_1 above
+    // the floor, and differ from the point's by that step's share of their
+    // slope. The point and its σ_1 stay the located ones. The lean monitor
+    // (Options::lean_monitor) takes the monitor's word for σ_1 at the
+    // point, and starts where σ_1, linear off the zero at about the
+    // bracket's slope, is 16 floors (at least 1e-3 of the tolerance); the
+    // classic one finds σ_1 by the point's own vectors and starts at 1e-3.
+    let floor = ctx.bordered.singular_floor();
+    let lean = ctx.bordered.lean_monitor();
+    let skip = lean && at_point.abs() < floor;
+    let (mut sigma, mut vectors) = if skip {
+        (vec![at_point.abs(); 3], vec![])
+    } else {
+        // From the located point's own monitor vectors (the third column fixed).
+        ctx.bordered.smallest_singular_vectors(3, &mut ctx.counts)
+    };
+    if sigma[0] < floor {
+        let mut step = match lean {
+            true => (16.0 * floor * span.abs() / ends.max(1e-300)).clamp(1e-3 * tol, 0.5 * tol),
+            false => 1e-3 * tol,
+        };
+        let mut found = false;
+        'beside: loop {
+            for side in [step, -step] {
+                if point(tau + side, ctx).is_ok() {
+                    let (s, v) = ctx.bordered.smallest_singular_vectors(3, &mut ctx.counts);
+                    if s[0] >= ctx.bordered.singular_floor() {
+                        sigma.splice(1.., s[1..].iter().copied());
+                        vectors = v;
+                        found = true;
+                        break 'beside;
+                    }
                 }
             }
+            if step >= 0.5 * tol {
+                break;
+            }
+            step = (10.0 * step).min(0.5 * tol);
+        }
+        if skip && !found {
+            // Nowhere resolved: the point's own, as the classic monitor has.
+            point(tau, ctx)?;
+            (sigma, vectors) = ctx.bordered.smallest_singular_vectors(3, &mut ctx.counts);
         }
     }
     // The bracket was resolved to `tol`: a genuine zero leaves σ_min at

@@ -372,7 +372,11 @@ pub struct Options {
     /// The σ_min monitor's economy (default true): it stops when σ_1 has
     /// settled to its four digits, and a location's trial points and
     /// located point start their iterations from the last trial's vectors
-    /// (two iterations a trial instead of three to six). false: every
+    /// (two iterations a trial instead of three to six); a located point
+    /// whose monitor σ_1 is below working precision has its other singular
+    /// values and null vectors taken beside it at once, at a step sized by
+    /// the bracket's slope (the classic monitor first computes them at the
+    /// point, where they cannot be resolved). false: every
     /// Ritz value of its block settled and fixed starts, the monitor of
     /// earlier releases — σ_1 the same to its tolerance, but a run's path
     /// follows σ_1's lower digits through its detections and steps, and

@@ -85,6 +85,11 @@ impl Bordered {
         self.lean_monitor = lean;
     }
 
+    /// Whether the monitor is lean ([`super::Options::lean_monitor`]).
+    pub fn lean_monitor(&self) -> bool {
+        self.lean_monitor
+    }
+
     /// Where a location's singular-vector iterations start, and when the
     /// monitor stops ([`super::Options::lean_monitor`]).
     fn monitor_policy(&self) -> (Start, Settle) {

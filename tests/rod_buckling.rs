@@ -15,6 +15,8 @@ use std::f64::consts::PI;
 #[path = "support/elastica.rs"]
 #[allow(dead_code)]
 mod elastica;
+#[path = "support/euler.rs"]
+mod euler;
 use elastica::elliptic;
 
 fn axial_load() -> Loads {
@@ -662,20 +664,8 @@ fn non_planar_symmetric_branch_with_phase_condition() {
 /// location's tolerance), which moves them by ~1e-12 of themselves.
 #[test]
 fn a_located_points_singular_values_are_the_dense_svds() {
-    let (ga, ea) = (1e4, 2.6e4);
-    let k = nalgebra::Matrix6::from_diagonal(&nalgebra::Vector6::new(2.0, 1.0, 1.0 / 1.3, ga, ga, ea));
-    let law = RodLaw::general(k, nalgebra::Vector3::zeros(), nalgebra::Vector3::new(0.0, 0.0, 1.0)).unwrap();
-    let loads = Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() };
-    let rod = Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), 4).unwrap();
-    let opts = Options {
-        target_lambda: Some(3.0),
-        residual_tol: 1e-10,
-        initial_step: 0.2,
-        max_step: 1.0,
-        detect_bifurcations: true,
-        bifurcation_tol: 1e-10,
-        ..Default::default()
-    };
+    let rod = euler::euler_cantilever(4);
+    let opts = Options { bifurcation_tol: 1e-10, ..euler::straight_options() };
     for method in [rodkit::rod::branch::Method::Anm(AnmOptions::default()), rodkit::rod::branch::Method::Newton] {
         let branch = rod.continue_branch(None, 0.0, true, &opts, method, |_| true).unwrap();
         assert_eq!(branch.bifurcations.len(), 1, "{method:?}");

@@ -13,6 +13,9 @@ use rodkit::rod::{Load, Loads, RodLaw};
 use rodkit::Status;
 use std::f64::consts::PI;
 
+#[path = "support/euler.rs"]
+mod euler;
+
 fn all_finite(b: &Branch) -> bool {
     b.records.iter().all(|r| {
         r.lambda.is_finite() && r.residual.is_finite() && r.step.is_finite() && r.outputs.iter().all(|v| v.is_finite())
@@ -251,10 +254,7 @@ fn follower_load_to_alpha_100() {
 /// straight) or an error status — never NaN, never a hang.
 #[test]
 fn start_exactly_at_a_bifurcation_point() {
-    let k = nalgebra::Matrix6::from_diagonal(&nalgebra::Vector6::new(2.0, 1.0, 1.0 / 1.3, 1e4, 1e4, 2.6e4));
-    let law = RodLaw::general(k, nalgebra::Vector3::zeros(), nalgebra::Vector3::new(0.0, 0.0, 1.0)).unwrap();
-    let loads = Loads { tip_force: Some(Load::dead([0.0, 0.0, -1.0])), ..Default::default() };
-    let rod = Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), 8).unwrap();
+    let rod = euler::euler_cantilever(8);
     let opts = Options { target_lambda: Some(3.0), detect_bifurcations: true, max_step: 0.5, ..Default::default() };
     let straight = rod.continue_branch(None, 0.0, true, &opts, Method::Newton, |_| true).unwrap();
     let bif = &straight.bifurcations[0];
@@ -268,15 +268,7 @@ fn start_exactly_at_a_bifurcation_point() {
     // cannot converge; the location keeps its best point (regression: the
     // bifurcation was lost). Gauss(4) × 8 is within 1e-9 of the formula.
     for method in [Method::Newton, Method::Anm(AnmOptions::default())] {
-        let opts = Options {
-            target_lambda: Some(3.0),
-            residual_tol: 1e-10,
-            initial_step: 0.2,
-            max_step: 1.0,
-            detect_bifurcations: true,
-            ..Default::default()
-        };
-        let b = rod.continue_branch(None, 0.0, true, &opts, method, |_| true).unwrap();
+        let b = rod.continue_branch(None, 0.0, true, &euler::straight_options(), method, |_| true).unwrap();
         assert_eq!(b.bifurcations.len(), 1, "{method:?}");
         assert!(
             (b.bifurcations[0].lambda - pcr).abs() < 1e-9 * pcr,

@@ -856,11 +856,18 @@ mod tests {
         let q =
             nalgebra::Matrix4::from_fn(|i, j| 1.0 / (1.0 + i as f64 + 2.0 * j as f64) + (i == j) as u8 as f64).qr().q();
         let pattern = Pattern::from_entries(4, (0..4).flat_map(|i| (0..4).map(move |j| (i, j))));
+        let mut b = BorderedLu::new(&pattern).unwrap();
+        let a = refactorise_rotated(&mut b, &q, d);
+        (q, a, b)
+    }
+
+    /// B = diag(Q diag(d) Qᵀ, 1) factorised into `b` (its pattern full
+    /// 4×4, as [`rotated_diagonal`]'s): A.
+    fn refactorise_rotated(b: &mut BorderedLu, q: &nalgebra::Matrix4<f64>, d: [f64; 4]) -> nalgebra::Matrix4<f64> {
         let a = q * nalgebra::Matrix4::from_diagonal(&nalgebra::Vector4::from(d)) * q.transpose();
         let values: Vec<f64> = (0..4).flat_map(|j| (0..4).map(move |i| a[(i, j)])).collect();
-        let mut b = BorderedLu::new(&pattern).unwrap();
         b.factorise(&values, &[0.0; 4], &[0.0; 4], 1.0).unwrap();
-        (q, a, b)
+        a
     }
 
     /// At an (almost exactly) singular point — a located bifurcation — the
@@ -946,16 +953,11 @@ mod tests {
         // Two LUs: each call keeps its Ritz vectors for the next.
         let (q, _, mut b_fixed) = rotated_diagonal([2.0, 0.05, 0.07, 5.0]);
         let (_, _, mut b_warm) = rotated_diagonal([2.0, 0.05, 0.07, 5.0]);
-        let pattern_values = |mu: f64| {
-            let a = q * nalgebra::Matrix4::from_diagonal(&nalgebra::Vector4::new(2.0, mu, 0.07, 5.0)) * q.transpose();
-            ((0..4).flat_map(|j| (0..4).map(move |i| a[(i, j)])).collect::<Vec<f64>>(), a)
-        };
         let (mut fixed, mut warm) = (0, 0);
         b_warm.signed_smallest_singular_value((Start::Fixed, Settle::First), &mut 0);
         for mu in [0.03, -0.02, 0.004, -0.001, 2e-4, -3e-5] {
-            let (values, a) = pattern_values(mu);
-            b_fixed.factorise(&values, &[0.0; 4], &[0.0; 4], 1.0).unwrap();
-            b_warm.factorise(&values, &[0.0; 4], &[0.0; 4], 1.0).unwrap();
+            let a = refactorise_rotated(&mut b_fixed, &q, [2.0, mu, 0.07, 5.0]);
+            refactorise_rotated(&mut b_warm, &q, [2.0, mu, 0.07, 5.0]);
             let reference = a.singular_values().min();
             let s_fixed = b_fixed.signed_smallest_singular_value((Start::Fixed, Settle::First), &mut fixed);
             let s_warm = b_warm.signed_smallest_singular_value((Start::Previous, Settle::First), &mut warm);

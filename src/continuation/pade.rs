@@ -18,6 +18,7 @@
 //! differ by at most ε relative to U_Padé(a) − U0, before any pole.
 
 use super::Scaling;
+use crate::linalg::dense::dot4;
 
 /// The highest series order the engines accept.
 pub(crate) const MAX_ORDER: usize = 60;
@@ -127,50 +128,116 @@ impl Curve<'_> {
     }
 }
 
+/// The W-coordinates of the series terms U_1 … U_m by modified
+/// Gram–Schmidt: U_i = Σ_{j≤i} α_ij U*_j with U*_1 … U*_{m−1}
+/// ⟨·,·⟩_W-orthonormal and U*_m the direction of U_m's remainder (α_mm its
+/// norm, possibly 0). Every combination of the terms then has its W-norm
+/// as the Euclidean norm of its coordinates, so the Padé step's scan runs
+/// in O(m²) a point where the vectors themselves would cost O(m n).
+struct Coordinates {
+    m: usize,
+    /// α_ij at i (m + 1) + j, rows 1 … m.
+    alpha: Vec<f64>,
+}
+
+impl Coordinates {
+    /// None when a term vanishes or is not finite, or when U_i (i < m) is
+    /// within 1e-10 of the span of the terms before it (a series with
+    /// vanishing terms: the polynomial is then the better form).
+    fn of(series: &[Vec<f64>], m: usize, scaling: &Scaling) -> Option<Self> {
+        if m < 2 || m > series.len() - 1 {
+            return None;
+        }
+        let n = series[0].len() - 1;
+        // ⟨a, b⟩_W = Σ a_i b_i ω_i: Gram–Schmidt runs on the terms scaled by
+        // √ω_i, where it is the plain dot product.
+        let nx = n.max(1) as f64;
+        let root_omega: Vec<f64> = scaling
+            .x
+            .iter()
+            .map(|s| 1.0 / (s.abs() * nx.sqrt()))
+            .chain(std::iter::once(1.0 / scaling.lambda.abs()))
+            .collect();
+        let w = m + 1;
+        let mut alpha = vec![0.0; w * w];
+        let mut basis: Vec<f64> = Vec::with_capacity((m - 1) * (n + 1));
+        let mut v = vec![0.0; n + 1];
+        for i in 1..=m {
+            v.iter_mut().zip(&series[i]).zip(&root_omega).for_each(|((v, u), r)| *v = u * r);
+            let norm0 = dot4(&v, &v).sqrt();
+            if !(norm0.is_finite() && norm0 > 0.0) {
+                return None;
+            }
+            for (j, b) in basis.chunks_exact(n + 1).enumerate() {
+                let c = dot4(&v, b);
+                alpha[i * w + j + 1] = c;
+                v.iter_mut().zip(b).for_each(|(vi, bi)| *vi -= c * bi);
+            }
+            let r = dot4(&v, &v).sqrt();
+            alpha[i * w + i] = r;
+            if i < m {
+                if !(r > 1e-10 * norm0) {
+                    return None;
+                }
+                basis.extend(v.iter().map(|a| a / r));
+            }
+        }
+        Some(Coordinates { m, alpha })
+    }
+
+    fn at(&self, i: usize, j: usize) -> f64 {
+        self.alpha[i * (self.m + 1) + j]
+    }
+
+    /// The denominator d_0 … d_{k−1} of the Padé form built from U_1 … U_k
+    /// (2 ≤ k ≤ m; Gram–Schmidt is sequential, so the first k − 1
+    /// directions are those of U_1 … U_{k−1} alone).
+    fn denominator(&self, k: usize) -> Option<Vec<f64>> {
+        let mut d = vec![0.0; k];
+        d[0] = 1.0;
+        for j in (1..k).rev() {
+            let q = k - j;
+            let s: f64 = (0..q).map(|i| d[i] * self.at(k - i, j)).sum();
+            d[q] = -s / self.at(j, j);
+        }
+        d.iter().all(|v| v.is_finite()).then_some(d)
+    }
+
+    /// ‖Σ_q c_q U_q‖_W from the coordinates (c_0 ignored).
+    fn norm(&self, c: &[f64]) -> f64 {
+        let mut s = 0.0;
+        for j in 1..=self.m {
+            let cj: f64 = (j..=self.m).map(|q| c[q] * self.at(q, j)).sum();
+            s += cj * cj;
+        }
+        s.sqrt()
+    }
+}
+
 /// The denominator d_0 … d_{m−1} of the Padé form built from U_1 … U_m
 /// (m ≤ P), or None when the terms are (nearly) linearly dependent (a
 /// series with vanishing terms: the polynomial is then the better form).
-pub(crate) fn denominator(series: &[Vec<f64>], m: usize, scaling: &Scaling) -> Option<Vec<f64>> {
-    if m < 2 || m > series.len() - 1 {
-        return None;
-    }
-    let n = series[0].len() - 1;
-    let dot = |a: &[f64], b: &[f64]| scaling.dot(&a[..n], a[n], &b[..n], b[n]);
-    // Modified Gram–Schmidt on U_1 … U_{m−1}; α[i][j] = ⟨U_i, U*_j⟩ for
-    // i = 1 … m, j = 1 … min(i, m−1).
-    let mut basis: Vec<Vec<f64>> = Vec::with_capacity(m - 1);
-    let mut alpha = vec![vec![0.0; m]; m + 1];
-    for i in 1..=m {
-        let mut v = series[i].clone();
-        let norm0 = dot(&v, &v).sqrt();
-        if !(norm0.is_finite() && norm0 > 0.0) {
-            return None;
-        }
-        for (j, b) in basis.iter().enumerate() {
-            let c = dot(&v, b);
-            alpha[i][j + 1] = c;
-            for (vi, bi) in v.iter_mut().zip(b) {
-                *vi -= c * bi;
-            }
-        }
-        if i < m {
-            let r = dot(&v, &v).sqrt();
-            if !(r > 1e-10 * norm0) {
-                return None;
-            }
-            alpha[i][i] = r;
-            basis.push(v.iter().map(|a| a / r).collect());
-        }
-    }
-    let mut d = vec![0.0; m];
-    d[0] = 1.0;
-    for j in (1..m).rev() {
-        let k = m - j;
-        let s: f64 = (0..k).map(|i| d[i] * alpha[m - i][j]).sum();
-        d[k] = -s / alpha[j][j];
-    }
-    d.iter().all(|v| v.is_finite()).then_some(d)
+#[cfg(test)]
+fn denominator(series: &[Vec<f64>], m: usize, scaling: &Scaling) -> Option<Vec<f64>> {
+    Coordinates::of(series, m, scaling)?.denominator(m)
 }
+
+/// ‖Σ_q c_q U_q‖_W computed on the vectors themselves (c_0 ignored): the
+/// check of a step chosen on the coordinates.
+fn direct_norm(series: &[Vec<f64>], c: &[f64], scaling: &Scaling, work: &mut [f64]) -> f64 {
+    let n = work.len() - 1;
+    work.iter_mut().for_each(|v| *v = 0.0);
+    for (u, &cq) in series.iter().zip(c).skip(1) {
+        if cq != 0.0 {
+            work.iter_mut().zip(u).for_each(|(w, a)| *w += cq * a);
+        }
+    }
+    scaling.norm(&work[..n], work[n])
+}
+
+/// Grid points of the Padé step's scan, and of its scan for poles.
+const STEP_GRID: usize = 48;
+const POLE_GRID: usize = 128;
 
 /// The Padé step: the largest t in [a_series, cap] on a geometric grid
 /// where the approximants from P and P − 1 terms differ by at most ε
@@ -184,53 +251,58 @@ pub(crate) fn step(
     cap: f64,
 ) -> Option<(f64, Vec<f64>)> {
     let p = series.len() - 1;
-    let d_hi = denominator(series, p, scaling)?;
-    let d_lo = denominator(series, p - 1, scaling)?;
-    let n = series[0].len() - 1;
+    let coords = Coordinates::of(series, p, scaling)?;
+    let d_hi = coords.denominator(p)?;
+    let d_lo = coords.denominator(p - 1)?;
     let (hi, lo) = (Curve::Pade(series, &d_hi), Curve::Pade(series, &d_lo));
-    let mut w_hi = vec![0.0; p + 1];
-    let mut w_lo = vec![0.0; p + 1];
-    let mut scratch = vec![0.0; p + 1];
     let poly = |d: &[f64], t: f64| d.iter().rev().fold(0.0, |acc, c| acc * t + c);
-    let mut best = None;
-    let steps = 48;
+    let positive = |t: f64| poly(&d_hi, t) > 0.0 && poly(&d_lo, t) > 0.0;
+    // No pole: both denominators keep the sign they have at 0 (= 1) up to
+    // t — checked at t and on a uniform scan of [0, cap] (spacing cap/128,
+    // finer than t/16 for every t ≥ cap/8).
     let ratio = (cap / a_series).max(1.0);
-    let mut diff = vec![0.0; n + 1];
-    let mut incr = vec![0.0; n + 1];
-    for k in 0..=steps {
-        let t = a_series * ratio.powf(k as f64 / steps as f64);
-        // No pole: the denominators keep the sign they have at 0 (= 1),
-        // checked on a fine scan up to t.
-        let fine = 16;
-        let pole = (1..=fine).any(|i| {
-            let s = t * i as f64 / fine as f64;
-            poly(&d_hi, s) <= 0.0 || poly(&d_lo, s) <= 0.0
-        });
-        if pole {
+    let top = a_series * ratio;
+    let pole =
+        (1..=POLE_GRID).map(|i| top * i as f64 / POLE_GRID as f64).find(|&s| !positive(s)).unwrap_or(f64::INFINITY);
+    let (mut w_hi, mut w_lo, mut scratch) = ([0.0; MAX_ORDER + 1], [0.0; MAX_ORDER + 1], [0.0; MAX_ORDER + 1]);
+    let (mut diff, mut incr) = ([0.0; MAX_ORDER + 1], [0.0; MAX_ORDER + 1]);
+    let grid = |k: usize| a_series * ratio.powf(k as f64 / STEP_GRID as f64);
+    let mut weights = |t: f64, diff: &mut [f64], incr: &mut [f64]| {
+        hi.weights(t, &mut w_hi[..=p], &mut scratch[..=p]);
+        lo.weights(t, &mut w_lo[..=p], &mut scratch[..=p]);
+        for q in 0..=p {
+            diff[q] = w_hi[q] - w_lo[q];
+            incr[q] = w_hi[q];
+        }
+    };
+    let mut best = None;
+    for k in 0..=STEP_GRID {
+        let t = grid(k);
+        if t >= pole || !positive(t) {
             break;
         }
-        hi.weights(t, &mut w_hi, &mut scratch);
-        lo.weights(t, &mut w_lo, &mut scratch);
-        diff.iter_mut().for_each(|v| *v = 0.0);
-        incr.iter_mut().for_each(|v| *v = 0.0);
-        for q in 1..=p {
-            let (a, b) = (w_hi[q], w_lo[q]);
-            if a == 0.0 && b == 0.0 {
-                continue;
-            }
-            for i in 0..=n {
-                diff[i] += (a - b) * series[q][i];
-                incr[i] += a * series[q][i];
-            }
-        }
-        let e = scaling.norm(&diff[..n], diff[n]);
-        let size = scaling.norm(&incr[..n], incr[n]);
-        if !(e <= epsilon * size) {
+        weights(t, &mut diff, &mut incr);
+        if !(coords.norm(&diff[..=p]) <= epsilon * coords.norm(&incr[..=p])) {
             break;
         }
-        best = Some(t);
+        best = Some(k);
     }
-    best.map(|t| (t, d_hi))
+    // The coordinates are exact only as far as Gram–Schmidt kept its basis
+    // orthogonal: the step taken is checked on the vectors themselves, and
+    // shortened along the grid until it passes.
+    let n = series[0].len() - 1;
+    let mut work = vec![0.0; n + 1];
+    let mut k = best?;
+    loop {
+        let t = grid(k);
+        weights(t, &mut diff, &mut incr);
+        let e = direct_norm(series, &diff[..=p], scaling, &mut work);
+        let size = direct_norm(series, &incr[..=p], scaling, &mut work);
+        if e <= epsilon * size {
+            return Some((t, d_hi));
+        }
+        k = k.checked_sub(1)?;
+    }
 }
 
 #[cfg(test)]
@@ -270,5 +342,91 @@ mod tests {
         // The truncated series at t = 0.9 misses 0.9^9/(1 − 0.9) ≈ 3.9 of the first.
         Curve::Series(&series).evaluate(0.9, &mut x, None);
         assert!((x[0] - 10.0).abs() > 3.0);
+    }
+
+    /// The step's scan on Gram–Schmidt coordinates against the same scan on
+    /// the vectors (the reference: every candidate's difference and
+    /// increment summed from the terms, as the step was first written): the
+    /// same grid point, on series with and without a pole inside the cap,
+    /// and the coordinates' norms equal the vectors' to 1e-12.
+    #[test]
+    fn the_step_on_coordinates_is_the_step_on_vectors() {
+        // Reference scan: direct norms at each geometric grid point,
+        // poles checked on t·i/16.
+        fn reference(series: &[Vec<f64>], scaling: &Scaling, eps: f64, a: f64, cap: f64) -> Option<f64> {
+            let p = series.len() - 1;
+            let c = Coordinates::of(series, p, scaling)?;
+            let (d_hi, d_lo) = (c.denominator(p)?, c.denominator(p - 1)?);
+            let (hi, lo) = (Curve::Pade(series, &d_hi), Curve::Pade(series, &d_lo));
+            let poly = |d: &[f64], t: f64| d.iter().rev().fold(0.0, |acc, c| acc * t + c);
+            let n = series[0].len() - 1;
+            let ratio = (cap / a).max(1.0);
+            let mut best = None;
+            for k in 0..=STEP_GRID {
+                let t = a * ratio.powf(k as f64 / STEP_GRID as f64);
+                if (1..=16).any(|i| {
+                    let s = t * i as f64 / 16.0;
+                    poly(&d_hi, s) <= 0.0 || poly(&d_lo, s) <= 0.0
+                }) {
+                    break;
+                }
+                let (mut wh, mut wl, mut dw) = (vec![0.0; p + 1], vec![0.0; p + 1], vec![0.0; p + 1]);
+                hi.weights(t, &mut wh, &mut dw);
+                lo.weights(t, &mut wl, &mut dw);
+                let (mut diff, mut incr) = (vec![0.0; n + 1], vec![0.0; n + 1]);
+                for q in 1..=p {
+                    for i in 0..=n {
+                        diff[i] += (wh[q] - wl[q]) * series[q][i];
+                        incr[i] += wh[q] * series[q][i];
+                    }
+                }
+                if !(scaling.norm(&diff[..n], diff[n]) <= eps * scaling.norm(&incr[..n], incr[n])) {
+                    break;
+                }
+                best = Some(t);
+            }
+            best
+        }
+        // Terms of Σ_k c_k /(1 − a/ρ_k) plus a polynomial part, over more
+        // functions than the denominator's degree (so the Padé form is not
+        // exact), with unequal scales.
+        let series_of = |rho: &[f64], p: usize| -> Vec<Vec<f64>> {
+            let n = 40;
+            (0..=p)
+                .map(|k| {
+                    let mut v: Vec<f64> = (0..=n)
+                        .map(|i| {
+                            let r = rho[i % rho.len()] * (1.0 + 0.01 * i as f64);
+                            let poly = if k <= 2 { 0.3 * (i as f64).sin() } else { 0.0 };
+                            (1.0 + 0.1 * i as f64) * r.powi(-(k as i32)) + poly
+                        })
+                        .collect();
+                    v[n] *= 0.5;
+                    v
+                })
+                .collect()
+        };
+        let scaling = Scaling { x: (0..40).map(|i| 1.0 + 0.05 * i as f64).collect(), lambda: 2.0 };
+        let mut checked = 0;
+        for (rho, a) in
+            [(&[1.2, -2.0, 3.5, 5.0][..], 0.2), (&[0.8, 1.7, -2.5, 4.0, 9.0][..], 0.1), (&[-1.0, 2.0][..], 0.3)]
+        {
+            for (p, eps) in [(8, 1e-6), (12, 1e-8), (15, 1e-10)] {
+                let series = series_of(rho, p);
+                let ours = step(&series, &scaling, eps, a, 4.0 * a).map(|(t, _)| t);
+                let theirs = reference(&series, &scaling, eps, a, 4.0 * a);
+                assert_eq!(ours, theirs, "ρ {rho:?}, P {p}, ε {eps:e}");
+                checked += ours.is_some() as usize;
+                // The coordinates' norm of a combination is its W-norm.
+                let c = Coordinates::of(&series, p, &scaling).unwrap();
+                let w: Vec<f64> =
+                    (0..=p).map(|q| (0.7f64).powi(q as i32) * if q % 3 == 0 { -1.0 } else { 1.0 }).collect();
+                let mut work = vec![0.0; series[0].len()];
+                let (ours, theirs) = (c.norm(&w), direct_norm(&series, &w, &scaling, &mut work));
+                assert!((ours - theirs).abs() <= 1e-12 * theirs, "{ours} vs {theirs}");
+            }
+        }
+        // Steps longer than the series' own were found (not all None).
+        assert!(checked >= 3, "{checked} steps");
     }
 }

@@ -13,6 +13,7 @@
 //! rounding, not bitwise.
 
 use super::{Op, Tape};
+use std::cell::RefCell;
 
 /// Tape instances evaluated together.
 pub const LANES: usize = 4;
@@ -30,6 +31,62 @@ pub struct BatchTaylorWork {
     last_x: Vec<Lanes>,
     delta: Vec<Lanes>,
     tangent: Vec<Lanes>,
+}
+
+/// Coefficient arrays of dropped works, kept for the next series on this
+/// thread. A sweep of rod solves builds a new system each time, and a fresh
+/// array of several hundred kB (nodes × orders × lanes) costs a page fault
+/// at the first touch of each page: an eighth of a small dead-load run. A
+/// work takes the smallest pooled array long enough for its series; its
+/// contents are stale, which the passes allow (each writes its whole order
+/// before a later one reads it). Bounded: [`POOL_ARRAYS`] arrays of at most
+/// [`POOL_ARRAY_BYTES`] each.
+const POOL_ARRAYS: usize = 8;
+const POOL_ARRAY_BYTES: usize = 16 << 20;
+
+thread_local! {
+    static POOL: RefCell<Vec<Vec<Lanes>>> = const { RefCell::new(Vec::new()) };
+}
+
+/// `v` at least `len` long: grown in place, or swapped for a pooled array
+/// that is long enough (v's own array goes back to the pool).
+fn grow_pooled(v: &mut Vec<Lanes>, len: usize) {
+    if v.len() >= len {
+        return;
+    }
+    let pooled = POOL
+        .try_with(|pool| {
+            let mut pool = pool.borrow_mut();
+            let best = (0..pool.len()).filter(|&i| pool[i].len() >= len).min_by_key(|&i| pool[i].len());
+            best.map(|i| pool.swap_remove(i))
+        })
+        .ok()
+        .flatten();
+    match pooled {
+        Some(array) => give_back(std::mem::replace(v, array)),
+        None => super::grow(v, len, [0.0; LANES]),
+    }
+}
+
+/// Return an array to the pool (dropped when the pool is full, when it is
+/// larger than the bound, or when the thread is ending).
+fn give_back(v: Vec<Lanes>) {
+    if v.is_empty() || v.len() * std::mem::size_of::<Lanes>() > POOL_ARRAY_BYTES {
+        return;
+    }
+    let _ = POOL.try_with(|pool| {
+        let mut pool = pool.borrow_mut();
+        if pool.len() < POOL_ARRAYS {
+            pool.push(v);
+        }
+    });
+}
+
+impl Drop for BatchTaylorWork {
+    fn drop(&mut self) {
+        give_back(std::mem::take(&mut self.coef));
+        give_back(std::mem::take(&mut self.tangent));
+    }
 }
 
 /// `f` lane by lane on two lane arrays.
@@ -51,7 +108,7 @@ impl BatchTaylorWork {
         self.order = max_order;
         // Not cleared: every pass writes its whole order before a later
         // one reads it (zeroing ~0.8 MB a step was ~10 % of a small run).
-        super::grow(&mut self.coef, tape.ops.len() * (max_order + 1), [0.0; LANES]);
+        grow_pooled(&mut self.coef, tape.ops.len() * (max_order + 1));
         self.pass(tape, 0, x0);
         self.last = Some(0);
         self.last_x.clear();
@@ -80,7 +137,7 @@ impl BatchTaylorWork {
         assert!(p <= self.order, "Taylor order {p} outside 0..={}", self.order);
         let nodes = tape.ops.len();
         if p == 0 {
-            super::grow(&mut self.tangent, nodes * (self.order + 1), [0.0; LANES]);
+            grow_pooled(&mut self.tangent, nodes * (self.order + 1));
         }
         let (c, d) = (&self.coef, &mut self.tangent);
         for (k, op) in tape.ops.iter().enumerate() {
@@ -359,5 +416,55 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A work given pooled arrays full of NaN computes bitwise what a work
+    /// on fresh zeroed arrays computes (the reference): the passes never
+    /// read a coefficient they have not written in this series.
+    #[test]
+    fn pooled_stale_arrays_change_nothing() {
+        let tape = Tape::record(3, kernel);
+        let order = 7;
+        let lanes = |k: usize| -> Vec<Lanes> {
+            (0..3).map(|i| std::array::from_fn(|l| ((l * 5 + i * 3 + k * 11) % 13) as f64 / 6.0 - 1.0)).collect()
+        };
+        let run = |work: &mut BatchTaylorWork| -> Vec<f64> {
+            let mut all = vec![];
+            let mut out = vec![[0.0; LANES]; 3];
+            work.begin(&tape, &lanes(0), order);
+            for p in 1..=order {
+                for xp in [vec![[0.0; LANES]; 3], lanes(p)] {
+                    work.order(&tape, p, &xp, &mut out);
+                    all.extend(out.iter().flatten());
+                }
+            }
+            for p in 0..=order {
+                work.tangent_order(&tape, p, &lanes(p + 20), &mut out);
+                all.extend(out.iter().flatten());
+            }
+            all
+        };
+        let mut fresh = BatchTaylorWork::default();
+        let reference = run(&mut fresh);
+        std::mem::forget(fresh); // not into the pool
+        let len = tape.ops.len() * (order + 1);
+        POOL.with(|pool| {
+            let mut pool = pool.borrow_mut();
+            pool.clear();
+            pool.push(vec![[f64::NAN; LANES]; len + 5]);
+            pool.push(vec![[f64::NAN; LANES]; len]);
+        });
+        let mut pooled = BatchTaylorWork::default();
+        let got = run(&mut pooled);
+        // Both arrays (coefficients and tangent) came from the pool.
+        assert_eq!(POOL.with(|pool| pool.borrow().len()), 0);
+        assert!(reference.iter().all(|v| v.is_finite()));
+        assert_eq!(got.len(), reference.len());
+        for (k, (a, b)) in got.iter().zip(&reference).enumerate() {
+            assert_eq!(a.to_bits(), b.to_bits(), "value {k}: {a} vs {b}");
+        }
+        // Dropped, both go back.
+        drop(pooled);
+        assert_eq!(POOL.with(|pool| pool.borrow().len()), 2);
     }
 }

@@ -33,6 +33,10 @@ pub fn first_root(g: impl Fn(f64) -> f64, b: f64) -> Option<f64> {
             let (mut lo, mut hi, mut glo) = (a0, a1, g0);
             for _ in 0..100 {
                 let mid = 0.5 * (lo + hi);
+                if mid <= lo || mid >= hi {
+                    // Adjacent doubles: no further halving moves the bracket.
+                    break;
+                }
                 let gm = g(mid);
                 if gm == 0.0 {
                     return Some(mid);

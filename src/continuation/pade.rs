@@ -34,6 +34,12 @@ pub(crate) enum Curve<'a> {
 /// for the series (w_p = t^p) or the Padé form of denominator `d`
 /// (w_p = t^p D_{P'−1−p}(t)/D_{P'−1}(t), P' = d.len(), p < P').
 fn pade_weights(d: &[f64], t: f64, w: &mut [f64], dw: &mut [f64]) {
+    pade_weights_with(d, t, w, Some(dw))
+}
+
+/// [`pade_weights`], the derivatives only when asked for (Λ(t) alone is
+/// wanted at each of a root search's points).
+fn pade_weights_with(d: &[f64], t: f64, w: &mut [f64], mut dw: Option<&mut [f64]>) {
     let m = d.len(); // P′: uses U_1 … U_{P′−1}
                      // D_k(t) = Σ_{i≤k} d_i t^i and D_k′(t) = Σ_{1≤i≤k} i d_i t^{i−1}, k < m
                      // (on the stack: the engine's orders are at most MAX_ORDER).
@@ -50,16 +56,20 @@ fn pade_weights(d: &[f64], t: f64, w: &mut [f64], dw: &mut [f64]) {
     }
     let (den, den_p) = (dk[m - 1], dk_prime[m - 1]);
     w.iter_mut().for_each(|v| *v = 0.0);
-    dw.iter_mut().for_each(|v| *v = 0.0);
+    if let Some(dw) = dw.as_deref_mut() {
+        dw.iter_mut().for_each(|v| *v = 0.0);
+    }
     w[0] = 1.0;
     let mut tpm = 1.0; // t^{p−1}
     for p in 1..m {
         let (num, num_p) = (dk[m - 1 - p], dk_prime[m - 1 - p]);
         let tp = tpm * t; // t^p
         let f = num / den;
-        let f_p = (num_p * den - num * den_p) / (den * den);
         w[p] = tp * f;
-        dw[p] = p as f64 * tpm * f + tp * f_p;
+        if let Some(dw) = dw.as_deref_mut() {
+            let f_p = (num_p * den - num * den_p) / (den * den);
+            dw[p] = p as f64 * tpm * f + tp * f_p;
+        }
         tpm = tp;
     }
 }
@@ -93,9 +103,9 @@ impl Curve<'_> {
         let n = s[0].len() - 1;
         match self {
             Curve::Series(_) => s.iter().rev().fold(0.0, |acc, c| acc * t + c[n]),
-            Curve::Pade(..) => {
-                let (mut w, mut dw) = ([0.0; MAX_ORDER + 1], [0.0; MAX_ORDER + 1]);
-                self.weights(t, &mut w[..s.len()], &mut dw[..s.len()]);
+            Curve::Pade(_, d) => {
+                let mut w = [0.0; MAX_ORDER + 1];
+                pade_weights_with(d, t, &mut w[..s.len()], None);
                 s.iter().zip(&w).map(|(c, w)| w * c[n]).sum()
             }
         }

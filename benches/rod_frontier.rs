@@ -9,7 +9,9 @@
 //! tangent). Error: max |r(L) − r_ref(L)|/L against Gauss(4) × 64 at
 //! residual 1e−12 (Newton).
 //!
-//! Grids. rodkit: Gauss(2, 3, 4) × elements × engine (ANM P = 15 and 20:
+//! Grids. rodkit: Gauss(2, 3, 4) × elements × mesh (uniform, or graded
+//! geometrically from the clamp, each element 1.25 or 1.5 times the one
+//! before) × engine (ANM P = 15 and 20:
 //! the polynomial at ε 1e−10 and 1e−6, Padé at ε 1e−10, 1e−8 and 1e−6;
 //! Newton) × residual tolerance (1e−7, 1e−9, 1e−11). AUTO-07p (benches/auto/{follower,dead}.f90): NTST × NCOL
 //! (3, 4, 5, 7) × EPSL = EPSU (1e−4 … 1e−10) × DSMAX (0.5, 5) × IAD (0,
@@ -79,7 +81,9 @@ enum Engine {
 
 #[derive(Clone, Debug)]
 enum Setting {
-    Rodkit { stages: usize, elements: usize, engine: Engine, tol: f64 },
+    /// `grading`: each element's length over the one before it, from the
+    /// clamp (1: uniform).
+    Rodkit { stages: usize, elements: usize, grading: f64, engine: Engine, tol: f64 },
     Auto { ntst: usize, ncol: u32, tol: f64, dsmax: f64, iad: u32 },
 }
 
@@ -93,14 +97,15 @@ impl Setting {
 
     fn label(&self) -> String {
         match self {
-            Setting::Rodkit { stages, elements, engine, tol } => {
+            Setting::Rodkit { stages, elements, grading, engine, tol } => {
                 let e = match engine {
                     Engine::Anm { order, epsilon, pade } => {
                         format!("ANM P={order}{} ε={epsilon:.0e}", if *pade { " Padé" } else { "" })
                     }
                     Engine::Newton => "Newton".into(),
                 };
-                format!("Gauss({stages})×{elements} {e} tol {tol:.0e}")
+                let mesh = if *grading == 1.0 { String::new() } else { format!(" graded {grading}") };
+                format!("Gauss({stages})×{elements}{mesh} {e} tol {tol:.0e}")
             }
             Setting::Auto { ntst, ncol, tol, dsmax, iad } => {
                 format!("NTST {ntst} NCOL {ncol} EPS {tol:.0e} DSMAX {dsmax} IAD {iad}")
@@ -118,20 +123,29 @@ struct Outcome {
     counts: Option<Counts>,
 }
 
-fn rod(scene: Scene, stages: usize, n: usize) -> Rod {
+fn rod(scene: Scene, stages: usize, n: usize, grading: f64) -> Rod {
     let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap();
     let load = match scene {
         Scene::Follower => Load::follower([1.0, 0.0, 0.0]),
         Scene::Dead => Load::dead([1.0, 0.0, 0.0]),
     };
     let loads = Loads { tip_force: Some(load), ..Default::default() };
-    Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(stages), n).unwrap()
+    let rod = Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(stages), n).unwrap();
+    if grading == 1.0 {
+        return rod;
+    }
+    // Geometric grading from the clamp: element i has length ∝ grading^i.
+    let lengths: Vec<f64> = (0..n).map(|i| grading.powi(i as i32)).collect();
+    let total: f64 = lengths.iter().sum();
+    let mut t: Vec<f64> = lengths.iter().scan(0.0, |s, l| Some(std::mem::replace(s, *s + l / total))).collect();
+    t.push(1.0);
+    rod.graded(&t).unwrap()
 }
 
 /// α 0 → 10 in one run, the tips at LOADS by dense output.
-fn run_rodkit(scene: Scene, stages: usize, n: usize, engine: Engine, tol: f64) -> Result<Outcome, String> {
+fn run_rodkit(scene: Scene, stages: usize, n: usize, grading: f64, engine: Engine, tol: f64) -> Result<Outcome, String> {
     let t = Instant::now();
-    let rod = rod(scene, stages, n);
+    let rod = rod(scene, stages, n, grading);
     let mut sys = rod.system().map_err(|e| e.message)?;
     let start = Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true };
     let opts = Options {
@@ -174,7 +188,9 @@ fn run_auto(scene: Scene, ntst: usize, ncol: u32, tol: f64, dsmax: f64, iad: u32
 
 fn run(scene: Scene, s: &Setting) -> Result<Outcome, String> {
     match *s {
-        Setting::Rodkit { stages, elements, engine, tol } => run_rodkit(scene, stages, elements, engine, tol),
+        Setting::Rodkit { stages, elements, grading, engine, tol } => {
+            run_rodkit(scene, stages, elements, grading, engine, tol)
+        }
         Setting::Auto { ntst, ncol, tol, dsmax, iad } => run_auto(scene, ntst, ncol, tol, dsmax, iad),
     }
 }
@@ -193,9 +209,13 @@ fn settings(auto: bool) -> Vec<Setting> {
     }
     for (stages, counts) in [(2, &[4usize, 8, 16, 24, 32][..]), (3, &[3, 4, 6, 8, 12, 16]), (4, &[2, 3, 4, 6, 8, 12])] {
         for &elements in counts {
-            for &engine in &engines {
-                for tol in [1e-7, 1e-9, 1e-11] {
-                    all.push(Setting::Rodkit { stages, elements, engine, tol });
+            // Uniform, or graded towards the clamp (where a tip load's
+            // moment is largest), as AUTO's grid has its mesh adaption.
+            for grading in [1.0, 1.25, 1.5] {
+                for &engine in &engines {
+                    for tol in [1e-7, 1e-9, 1e-11] {
+                        all.push(Setting::Rodkit { stages, elements, grading, engine, tol });
+                    }
                 }
             }
         }
@@ -264,7 +284,7 @@ fn main() {
     let all = settings(auto);
     let mut csv = String::from("scene,side,setting,error,time_s,steps,factorisations\n");
     for scene in [Scene::Follower, Scene::Dead] {
-        let reference = run_rodkit(scene, 4, 64, Engine::Newton, 1e-12).unwrap().tips;
+        let reference = run_rodkit(scene, 4, 64, 1.0, Engine::Newton, 1e-12).unwrap().tips;
         // Pass 1: every setting once.
         let mut first: Vec<(usize, f64, Duration, Option<Counts>)> = vec![];
         let mut failed = 0;

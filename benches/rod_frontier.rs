@@ -83,8 +83,20 @@ enum Engine {
 enum Setting {
     /// `grading`: each element's length over the one before it, from the
     /// clamp (1: uniform).
-    Rodkit { stages: usize, elements: usize, grading: f64, engine: Engine, tol: f64 },
-    Auto { ntst: usize, ncol: u32, tol: f64, dsmax: f64, iad: u32 },
+    Rodkit {
+        stages: usize,
+        elements: usize,
+        grading: f64,
+        engine: Engine,
+        tol: f64,
+    },
+    Auto {
+        ntst: usize,
+        ncol: u32,
+        tol: f64,
+        dsmax: f64,
+        iad: u32,
+    },
 }
 
 impl Setting {
@@ -143,7 +155,14 @@ fn rod(scene: Scene, stages: usize, n: usize, grading: f64) -> Rod {
 }
 
 /// α 0 → 10 in one run, the tips at LOADS by dense output.
-fn run_rodkit(scene: Scene, stages: usize, n: usize, grading: f64, engine: Engine, tol: f64) -> Result<Outcome, String> {
+fn run_rodkit(
+    scene: Scene,
+    stages: usize,
+    n: usize,
+    grading: f64,
+    engine: Engine,
+    tol: f64,
+) -> Result<Outcome, String> {
     let t = Instant::now();
     let rod = rod(scene, stages, n, grading);
     let mut sys = rod.system().map_err(|e| e.message)?;

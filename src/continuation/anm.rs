@@ -23,7 +23,7 @@
 //! corrected at fixed Λ.
 
 use super::bifurcation::{SeriesHint, State};
-use super::corrector::{correct, Plane};
+use super::corrector::{correct, correct_with, Plane, Reuse};
 use super::indicator::Indicator;
 use super::newton::Start;
 use super::pade::{self, Curve};
@@ -140,8 +140,8 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             Some(d) => Curve::Pade(&expansion.series, d),
             None => Curve::Series(&expansion.series),
         };
-        samples(&mut run, problem, &curve, a, &here, &v, &mut observe)?;
-        let end = match end_point(&mut run, problem, &curve, a, &here, &v)? {
+        let kept = samples(&mut run, problem, &curve, a, &here, &mut observe);
+        let end = match end_point(&mut run, problem, &curve, a, &here, &v, kept)? {
             End::Reached(end) => end,
             End::Stopped(stop, a) => return Ok(run.finish(stop, here, a, None)),
         };
@@ -272,17 +272,17 @@ impl Expansion {
 
 /// Dense output: every requested Λ the step (0, a] crosses, from the curve
 /// (corrected on this step's factorisation when its residual is above the
-/// tolerance); the step's factorisation restored when a sample needed a
-/// fresh one.
+/// tolerance). Returns whether the step's factorisation is still in hand
+/// (false when a sample needed a fresh one: the end point's correction then
+/// factorises at its own prediction, nearer than the step's start).
 fn samples<P: SeriesProblem + ?Sized>(
     run: &mut Run,
     problem: &mut P,
     curve: &Curve,
     a: f64,
     here: &State,
-    v: &(Vec<f64>, f64),
     observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
-) -> Result<()> {
+) -> bool {
     let (lam0, lam1) = (here.lambda, curve.lambda(a));
     let record = run.records.len() - 1;
     let mut refactorised = false;
@@ -297,10 +297,7 @@ fn samples<P: SeriesProblem + ?Sized>(
             refactorised |= run.sample(problem, xs, (target, (&here.tx, here.tl)), record, observe);
         }
     }
-    if refactorised {
-        run.ctx.factorise(problem, &here.x, here.lambda, (&v.0, v.1), Factors::Exact)?;
-    }
-    Ok(())
+    !refactorised
 }
 
 /// The corrected end of a step.
@@ -325,9 +322,11 @@ enum End {
 }
 
 /// The end point X(a), corrected: chord on this step's factorisation
-/// (border v), or at fixed Λ for a target Λ inside the step (the first root
-/// of Λ(a) − Λ_t on (0, a]). A correction that fails halves the step (a
-/// series evaluated too far out) and drops the target.
+/// (border v; `kept` false: from a fresh one at X(a)), or at fixed Λ for a
+/// target Λ inside the step (the first root of Λ(a) − Λ_t on (0, a]). A
+/// correction that fails halves the step (a series evaluated too far out)
+/// and drops the target.
+#[allow(clippy::too_many_arguments)]
 fn end_point<P: SeriesProblem + ?Sized>(
     run: &mut Run,
     problem: &mut P,
@@ -335,6 +334,7 @@ fn end_point<P: SeriesProblem + ?Sized>(
     mut a: f64,
     here: &State,
     v: &(Vec<f64>, f64),
+    mut kept: bool,
 ) -> Result<End> {
     let opts = run.opts;
     let n = here.x.len();
@@ -379,7 +379,8 @@ fn end_point<P: SeriesProblem + ?Sized>(
             }
             None => {
                 let plane = Plane::new((&anchor, lambda), (&v.0, v.1));
-                correct(problem, &mut run.ctx, &mut x, &mut lambda, plane, opts.residual_tol, true)
+                let reuse = if kept { Reuse::Chord } else { Reuse::ChordFromFresh };
+                correct_with(problem, &mut run.ctx, &mut x, &mut lambda, plane, opts.residual_tol, reuse)
             }
         };
         if let Ok((it, _)) = result {
@@ -394,6 +395,7 @@ fn end_point<P: SeriesProblem + ?Sized>(
             return Ok(End::Stopped(Stop::StepTooSmall, a));
         }
         run.ctx.factorise(problem, &here.x, here.lambda, (&v.0, v.1), Factors::Exact)?;
+        kept = true;
     }
 }
 

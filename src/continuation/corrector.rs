@@ -54,7 +54,23 @@ impl<P: Problem + ?Sized> Equations for Arclength<'_, P> {
 struct BorderedStep<'a> {
     bordered: &'a mut Bordered,
     chord: bool,
+    /// Factorise at the first iterate even with a factorisation in hand.
+    fresh_first: bool,
     counts: Counts,
+}
+
+/// How [`correct`] uses the context's factorisation of the bordered
+/// tangent.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Reuse {
+    /// Newton: a fresh factorisation at every iterate.
+    No,
+    /// Chord iterations on the factorisation in hand, refactorised when
+    /// the residual does not halve.
+    Chord,
+    /// As `Chord`, from a fresh factorisation at the first iterate (the
+    /// one in hand was taken elsewhere).
+    ChordFromFresh,
 }
 
 impl<P: Problem + ?Sized> LinearSolve<Arclength<'_, P>> for BorderedStep<'_> {
@@ -69,7 +85,10 @@ impl<P: Problem + ?Sized> LinearSolve<Arclength<'_, P>> for BorderedStep<'_> {
         let n = x.len() - 1;
         // A chord step needs a factorisation in hand (none at a switch's
         // start, or after a failed one).
-        let fresh = !self.chord || it.norm > 0.5 * it.previous || !self.bordered.factorised();
+        let fresh = !self.chord
+            || (self.fresh_first && it.iteration == 0)
+            || it.norm > 0.5 * it.previous
+            || !self.bordered.factorised();
         if fresh {
             self.bordered.factorise_at(
                 eq.problem,
@@ -138,6 +157,20 @@ pub(crate) fn correct<P: Problem + ?Sized>(
     tol: f64,
     reuse: bool,
 ) -> Result<(usize, f64)> {
+    correct_with(problem, ctx, x, lambda, plane, tol, if reuse { Reuse::Chord } else { Reuse::No })
+}
+
+/// [`correct`] with the factorisation's use spelt out ([`Reuse`]).
+pub(crate) fn correct_with<P: Problem + ?Sized>(
+    problem: &mut P,
+    ctx: &mut Context,
+    x: &mut [f64],
+    lambda: &mut f64,
+    plane: Plane<'_>,
+    tol: f64,
+    reuse: Reuse,
+) -> Result<(usize, f64)> {
+    let (reuse, fresh_first) = (reuse != Reuse::No, reuse == Reuse::ChordFromFresh);
     let n = x.len();
     let e_lambda;
     let v = match plane.normal {
@@ -159,7 +192,7 @@ pub(crate) fn correct<P: Problem + ?Sized>(
         residuals: 0,
         residual_time: Default::default(),
     };
-    let mut linear = BorderedStep { bordered, chord: reuse, counts: Counts::default() };
+    let mut linear = BorderedStep { bordered, chord: reuse, fresh_first, counts: Counts::default() };
     let mut test = ResidualTest::new(with_free_border(equation_scales), tol, "Newton correction");
     test.non_finite = Status::ErrNotConverged;
     test.stall = if reuse || *patient { Stall::TwiceAfterFresh } else { Stall::AfterFresh };

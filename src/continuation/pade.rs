@@ -264,7 +264,6 @@ pub(crate) fn step(
     let coords = Coordinates::of(series, p, scaling)?;
     let d_hi = coords.denominator(p)?;
     let d_lo = coords.denominator(p - 1)?;
-    let (hi, lo) = (Curve::Pade(series, &d_hi), Curve::Pade(series, &d_lo));
     let poly = |d: &[f64], t: f64| d.iter().rev().fold(0.0, |acc, c| acc * t + c);
     let positive = |t: f64| poly(&d_hi, t) > 0.0 && poly(&d_lo, t) > 0.0;
     // No pole: both denominators keep the sign they have at 0 (= 1) up to
@@ -274,12 +273,13 @@ pub(crate) fn step(
     let top = a_series * ratio;
     let pole =
         (1..=POLE_GRID).map(|i| top * i as f64 / POLE_GRID as f64).find(|&s| !positive(s)).unwrap_or(f64::INFINITY);
-    let (mut w_hi, mut w_lo, mut scratch) = ([0.0; MAX_ORDER + 1], [0.0; MAX_ORDER + 1], [0.0; MAX_ORDER + 1]);
+    let (mut w_hi, mut w_lo) = ([0.0; MAX_ORDER + 1], [0.0; MAX_ORDER + 1]);
     let (mut diff, mut incr) = ([0.0; MAX_ORDER + 1], [0.0; MAX_ORDER + 1]);
     let grid = |k: usize| a_series * ratio.powf(k as f64 / STEP_GRID as f64);
     let mut weights = |t: f64, diff: &mut [f64], incr: &mut [f64]| {
-        hi.weights(t, &mut w_hi[..=p], &mut scratch[..=p]);
-        lo.weights(t, &mut w_lo[..=p], &mut scratch[..=p]);
+        // The weights alone (Curve::weights' values, without derivatives).
+        pade_weights_with(&d_hi, t, &mut w_hi[..=p], None);
+        pade_weights_with(&d_lo, t, &mut w_lo[..=p], None);
         for q in 0..=p {
             diff[q] = w_hi[q] - w_lo[q];
             incr[q] = w_hi[q];

@@ -93,6 +93,35 @@ pub struct Rod {
     pub diameter: Option<f64>,
 }
 
+/// An element's recorded tape and compiled kernel.
+type Recorded = (Arc<Tape>, Option<Arc<dyn LaneKernel>>);
+
+/// Elements recorded on this thread, by the numbers their kernel depends
+/// on; at most [`RECORDED`] (the oldest dropped first).
+const RECORDED: usize = 16;
+
+thread_local! {
+    static ELEMENTS: std::cell::RefCell<Vec<(Vec<u64>, Recorded)>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// The element recorded under `key`, recording it with `record` if absent.
+fn recorded_element(key: Vec<u64>, record: impl FnOnce() -> Recorded) -> Recorded {
+    let found =
+        ELEMENTS.try_with(|e| e.borrow().iter().find(|(k, _)| *k == key).map(|(_, r)| r.clone())).ok().flatten();
+    if let Some(r) = found {
+        return r;
+    }
+    let r = record();
+    let _ = ELEMENTS.try_with(|e| {
+        let mut e = e.borrow_mut();
+        if e.len() == RECORDED {
+            e.remove(0);
+        }
+        e.push((key, r.clone()));
+    });
+    r
+}
+
 impl Rod {
     pub fn new(
         law: RodLaw,
@@ -577,9 +606,28 @@ impl Rod {
                 .map(|k| Arc::new(k) as Arc<dyn LaneKernel>);
             (tape, kernel)
         };
-        let element = record(&uniform);
+        // The uniform element's tape and kernel depend on nothing but these
+        // numbers: a sweep that rebuilds the rod (new tip loads, supports,
+        // element counts at one h) finds them recorded.
+        let key = {
+            let mut k = vec![stages as u64, self.scheme.order() as u64, unfold as u64, graded as u64];
+            k.push(h.map_or(u64::MAX, f64::to_bits));
+            k.extend(data.compliance.iter().flatten().map(|v| v.to_bits()));
+            k.extend(data.intrinsic_u.iter().chain(&data.intrinsic_v).map(|v| v.to_bits()));
+            k.push(data.kirchhoff as u64);
+            for load in [data.force, data.couple] {
+                match load {
+                    None => k.push(0),
+                    Some((dead, v)) => {
+                        k.push(1 + dead as u64);
+                        k.extend(v.iter().map(|c| c.to_bits()));
+                    }
+                }
+            }
+            k
+        };
+        let element = recorded_element(key, || record(&uniform));
         // Stiffened elements: one tape per distinct set of stage values.
-        type Recorded = (Arc<Tape>, Option<Arc<dyn LaneKernel>>);
         let mut tapes: std::collections::HashMap<Vec<u64>, Recorded> = std::collections::HashMap::new();
         let mu = self.unknowns();
         let mut blocks = Vec::with_capacity(self.elements + 1);
@@ -1004,5 +1052,50 @@ pub(super) fn gauss_kernel<T: Scalar + Mul<C, Output = T>, C: Coefficient>(
     }
     for k in 0..13 {
         row(y1[k], k, &tab.b);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rod(bending2: f64, elements: usize) -> Rod {
+        let law = RodLaw::isotropic(1.0, bending2, 1e4, 2.6e4).unwrap();
+        let loads = Loads { tip_force: Some(Load::dead([1.0, 0.0, 0.0])), ..Default::default() };
+        Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), elements).unwrap()
+    }
+
+    /// The element cache: a rebuilt rod shares its element's recorded tape
+    /// and kernel; a changed law or element length records its own; and the
+    /// shared tape evaluates bitwise as one recorded afresh (the reference:
+    /// the cache emptied first).
+    #[test]
+    fn a_rebuilt_rod_reuses_its_recorded_element() {
+        let first = rod(0.77, 4).element_blocks(false, None);
+        let again = rod(0.77, 4).element_blocks(false, None);
+        assert!(Arc::ptr_eq(&first[0].tape, &again[0].tape));
+        assert!(Arc::ptr_eq(&first[0].tape, &again[3].tape));
+        assert!(!Arc::ptr_eq(&first[0].tape, &rod(0.78, 4).element_blocks(false, None)[0].tape));
+        assert!(!Arc::ptr_eq(&first[0].tape, &rod(0.77, 5).element_blocks(false, None)[0].tape));
+        ELEMENTS.with(|e| e.borrow_mut().clear());
+        let fresh = rod(0.77, 4).element_blocks(false, None);
+        assert!(!Arc::ptr_eq(&first[0].tape, &fresh[0].tape));
+        let (a, b) = (&first[0].tape, &fresh[0].tape);
+        assert_eq!(a.inputs(), b.inputs());
+        let x: Vec<f64> = (0..a.inputs()).map(|i| ((i * 37 % 11) as f64 - 5.0) / 7.0).collect();
+        let outputs = a.outputs();
+        let (mut oa, mut ob, mut w) = (vec![0.0; outputs], vec![0.0; outputs], vec![]);
+        a.eval(&x, &mut w, &mut oa);
+        b.eval(&x, &mut w, &mut ob);
+        assert!(oa.iter().all(|v| v.is_finite()));
+        assert_eq!(
+            oa.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+            ob.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+        );
+        // Bounded: RECORDED entries at most.
+        for k in 0..2 * RECORDED {
+            rod(0.5 + 0.01 * k as f64, 2).element_blocks(false, None);
+        }
+        assert_eq!(ELEMENTS.with(|e| e.borrow().len()), RECORDED);
     }
 }

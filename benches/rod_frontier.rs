@@ -321,7 +321,10 @@ fn main() {
                     );
                     first.push((i, e, o.time, o.counts));
                 }
-                Err(_) => failed += 1,
+                Err(e) => {
+                    failed += 1;
+                    let _ = writeln!(csv, "{scene:?},{},{},failed: {},,,", s.side(), s.label(), e.replace(',', ";"));
+                }
             }
         }
         let _ = writeln!(

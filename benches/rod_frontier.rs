@@ -323,7 +323,10 @@ fn main() {
                 }
                 Err(e) => {
                     failed += 1;
-                    let _ = writeln!(csv, "{scene:?},{},{},failed: {},,,", s.side(), s.label(), e.replace(',', ";"));
+                    // One CSV field: no commas, quotes or line breaks.
+                    let why: String =
+                        e.chars().map(|c| if matches!(c, ',' | '"' | '\n' | '\r') { ' ' } else { c }).collect();
+                    let _ = writeln!(csv, "{scene:?},{},{},failed: {why},,,", s.side(), s.label());
                 }
             }
         }

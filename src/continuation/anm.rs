@@ -14,9 +14,11 @@
 //! * step a_max = (ε ‖X1‖_W / ‖X_P‖_W)^{1/(P−1)} (ε: the accepted size of
 //!   the last term relative to the first);
 //! * the end point X(a_max) is Newton-corrected (chord iterations on the
-//!   step's factorisation, a fresh one only if they stall) whenever its
-//!   residual exceeds the requested tolerance: ε bounds the series' last
-//!   term, not the residual, which would otherwise drift from step to step.
+//!   step's factorisation, a fresh one only if they stall; from a fresh one
+//!   at X(a_max) when a dense-output sample's correction has replaced the
+//!   step's) whenever its residual exceeds the requested tolerance: ε bounds
+//!   the series' last term, not the residual, which would otherwise drift
+//!   from step to step.
 //!
 //! The next step's border is the series' own tangent dX/da at a_max. A
 //! target Λ inside a step is located on the polynomial Λ(a) and the point
@@ -326,7 +328,6 @@ enum End {
 /// target Λ inside the step (the first root of Λ(a) − Λ_t on (0, a]). A
 /// correction that fails halves the step (a series evaluated too far out)
 /// and drops the target.
-#[allow(clippy::too_many_arguments)]
 fn end_point<P: SeriesProblem + ?Sized>(
     run: &mut Run,
     problem: &mut P,

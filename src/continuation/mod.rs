@@ -103,7 +103,10 @@ pub trait SeriesProblem: Problem {
     /// W = (w, w_Λ), whose order-p coefficient is (wp, w_lambda_p), orders
     /// below committed by earlier calls (p = 0 starts W). Linear in
     /// (wp, w_lambda_p): called with zeros it is the known part. Only
-    /// called when [`SeriesProblem::has_series_tangent`] says so.
+    /// called when [`SeriesProblem::has_series_tangent`] says so, with X
+    /// committed to order p or beyond and W's orders below p given by the
+    /// calls before (a call out of that sequence reads coefficients that
+    /// were never written: stale values, not zeros).
     fn series_tangent_order(&mut self, _p: usize, _wp: &[f64], _w_lambda_p: f64, _out: &mut [f64]) {
         unreachable!("series_tangent_order without has_series_tangent")
     }

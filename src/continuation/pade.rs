@@ -161,6 +161,7 @@ impl Coordinates {
         let n = series[0].len() - 1;
         // ⟨a, b⟩_W = Σ a_i b_i ω_i: Gram–Schmidt runs on the terms scaled by
         // √ω_i, where it is the plain dot product.
+        debug_assert_eq!(scaling.x.len(), n, "one scale per unknown");
         let nx = n.max(1) as f64;
         let root_omega: Vec<f64> = scaling
             .x
@@ -245,9 +246,10 @@ fn direct_norm(series: &[Vec<f64>], c: &[f64], scaling: &Scaling, work: &mut [f6
     scaling.norm(&work[..n], work[n])
 }
 
-/// Grid points of the Padé step's scan, and of its scan for poles.
+/// Grid points of the Padé step's scan, and of its scan for poles per
+/// series step in its range.
 const STEP_GRID: usize = 48;
-const POLE_GRID: usize = 128;
+const POLE_POINTS: usize = 32;
 
 /// The Padé step: the largest t in [a_series, cap] on a geometric grid
 /// where the approximants from P and P − 1 terms differ by at most ε
@@ -267,12 +269,13 @@ pub(crate) fn step(
     let poly = |d: &[f64], t: f64| d.iter().rev().fold(0.0, |acc, c| acc * t + c);
     let positive = |t: f64| poly(&d_hi, t) > 0.0 && poly(&d_lo, t) > 0.0;
     // No pole: both denominators keep the sign they have at 0 (= 1) up to
-    // t — checked at t and on a uniform scan of [0, cap] (spacing cap/128,
-    // finer than t/16 for every t ≥ cap/8).
+    // t — checked at t and on a uniform scan of [0, top] whose spacing,
+    // top/(32⌈top/a_series⌉) ≤ a_series/32, is at most t/32 for every
+    // candidate t (the step was first checked at t·i/16, i = 1…16).
     let ratio = (cap / a_series).max(1.0);
     let top = a_series * ratio;
-    let pole =
-        (1..=POLE_GRID).map(|i| top * i as f64 / POLE_GRID as f64).find(|&s| !positive(s)).unwrap_or(f64::INFINITY);
+    let points = POLE_POINTS * ratio.ceil().min(1e6) as usize;
+    let pole = (1..=points).map(|i| top * i as f64 / points as f64).find(|&s| !positive(s)).unwrap_or(f64::INFINITY);
     let (mut w_hi, mut w_lo) = ([0.0; MAX_ORDER + 1], [0.0; MAX_ORDER + 1]);
     let (mut diff, mut incr) = ([0.0; MAX_ORDER + 1], [0.0; MAX_ORDER + 1]);
     let grid = |k: usize| a_series * ratio.powf(k as f64 / STEP_GRID as f64);
@@ -356,9 +359,12 @@ mod tests {
 
     /// The step's scan on Gram–Schmidt coordinates against the same scan on
     /// the vectors (the reference: every candidate's difference and
-    /// increment summed from the terms, as the step was first written): the
-    /// same grid point, on series with and without a pole inside the cap,
-    /// and the coordinates' norms equal the vectors' to 1e-12.
+    /// increment summed from the terms, poles checked at t·i/16, as the
+    /// scan was first written; its denominators are the coordinates', equal
+    /// to the former separate Gram–Schmidts' up to rounding): the same grid
+    /// point, on series without a pole up to the cap and with one inside it
+    /// (the step then ends before it), and the coordinates' norms equal the
+    /// vectors' to 1e-12.
     #[test]
     fn the_step_on_coordinates_is_the_step_on_vectors() {
         // Reference scan: direct norms at each geometric grid point,
@@ -417,16 +423,24 @@ mod tests {
                 .collect()
         };
         let scaling = Scaling { x: (0..40).map(|i| 1.0 + 0.05 * i as f64).collect(), lambda: 2.0 };
-        let mut checked = 0;
-        for (rho, a) in
-            [(&[1.2, -2.0, 3.5, 5.0][..], 0.2), (&[0.8, 1.7, -2.5, 4.0, 9.0][..], 0.1), (&[-1.0, 2.0][..], 0.3)]
-        {
+        let (mut longer, mut before_pole) = (0, 0);
+        for (rho, a) in [
+            (&[1.2, -2.0, 3.5, 5.0][..], 0.2),
+            (&[0.8, 1.7, -2.5, 4.0, 9.0][..], 0.1),
+            (&[-1.0, 2.0][..], 0.3),
+            // Poles at 0.5 … 0.7, inside (a, 4a).
+            (&[0.5, -2.0, 3.0][..], 0.2),
+        ] {
             for (p, eps) in [(8, 1e-6), (12, 1e-8), (15, 1e-10)] {
                 let series = series_of(rho, p);
                 let ours = step(&series, &scaling, eps, a, 4.0 * a).map(|(t, _)| t);
                 let theirs = reference(&series, &scaling, eps, a, 4.0 * a);
                 assert_eq!(ours, theirs, "ρ {rho:?}, P {p}, ε {eps:e}");
-                checked += ours.is_some() as usize;
+                longer += ours.is_some_and(|t| t > a) as usize;
+                if rho[0] == 0.5 {
+                    assert!(ours.is_none_or(|t| t < 0.5), "ρ {rho:?}, P {p}: step {ours:?} past the pole");
+                    before_pole += ours.is_some_and(|t| t > a) as usize;
+                }
                 // The coordinates' norm of a combination is its W-norm.
                 let c = Coordinates::of(&series, p, &scaling).unwrap();
                 let w: Vec<f64> =
@@ -436,7 +450,9 @@ mod tests {
                 assert!((ours - theirs).abs() <= 1e-12 * theirs, "{ours} vs {theirs}");
             }
         }
-        // Steps longer than the series' own were found (not all None).
-        assert!(checked >= 3, "{checked} steps");
+        // Steps longer than the series' own were found, one of them short
+        // of a pole inside the cap.
+        assert!(longer >= 3, "{longer} longer steps");
+        assert!(before_pole >= 1, "no longer step short of the pole");
     }
 }

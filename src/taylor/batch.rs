@@ -36,11 +36,11 @@ pub struct BatchTaylorWork {
 /// Coefficient arrays of dropped works, kept for the next series on this
 /// thread. A sweep of rod solves builds a new system each time, and a fresh
 /// array of several hundred kB (nodes × orders × lanes) costs a page fault
-/// at the first touch of each page: an eighth of a small dead-load run. A
-/// work takes the smallest pooled array long enough for its series; its
-/// contents are stale, which the passes allow (each writes its whole order
-/// before a later one reads it). Bounded: [`POOL_ARRAYS`] arrays of at most
-/// [`POOL_ARRAY_BYTES`] each.
+/// at the first touch of each page. A work takes the smallest pooled array
+/// long enough for its series; its contents are stale, which the passes
+/// allow (each writes its whole order before a later one reads it).
+/// Bounded: [`POOL_ARRAYS`] arrays of at most [`POOL_ARRAY_BYTES`] each
+/// (by capacity); a full pool keeps the larger arrays.
 const POOL_ARRAYS: usize = 8;
 const POOL_ARRAY_BYTES: usize = 16 << 20;
 
@@ -68,16 +68,20 @@ fn grow_pooled(v: &mut Vec<Lanes>, len: usize) {
     }
 }
 
-/// Return an array to the pool (dropped when the pool is full, when it is
-/// larger than the bound, or when the thread is ending).
+/// Return an array to the pool. Dropped when it is larger than the bound
+/// or the thread is ending; a full pool drops its smallest array instead
+/// when this one is larger (a sweep's small arrays must not hold the places
+/// of a later sweep's larger ones).
 fn give_back(v: Vec<Lanes>) {
-    if v.is_empty() || v.len() * std::mem::size_of::<Lanes>() > POOL_ARRAY_BYTES {
+    if v.is_empty() || v.capacity() * std::mem::size_of::<Lanes>() > POOL_ARRAY_BYTES {
         return;
     }
     let _ = POOL.try_with(|pool| {
         let mut pool = pool.borrow_mut();
         if pool.len() < POOL_ARRAYS {
             pool.push(v);
+        } else if let Some(i) = (0..pool.len()).min_by_key(|&i| pool[i].len()).filter(|&i| pool[i].len() < v.len()) {
+            pool[i] = v;
         }
     });
 }
@@ -466,5 +470,17 @@ mod tests {
         // Dropped, both go back.
         drop(pooled);
         assert_eq!(POOL.with(|pool| pool.borrow().len()), 2);
+        // A full pool of small arrays takes a larger one in place of its
+        // smallest, and drops a smaller one.
+        POOL.with(|pool| {
+            let mut pool = pool.borrow_mut();
+            pool.clear();
+            pool.extend((1..=POOL_ARRAYS).map(|k| vec![[0.0; LANES]; k]));
+        });
+        give_back(vec![[0.0; LANES]; 100]);
+        give_back(vec![[0.0; LANES]; 1]);
+        let mut lens: Vec<usize> = POOL.with(|pool| pool.borrow().iter().map(Vec::len).collect());
+        lens.sort_unstable();
+        assert_eq!(lens, [2, 3, 4, 5, 6, 7, 8, 100]);
     }
 }

@@ -16,7 +16,7 @@
 
 use super::rod::{ChargedRod, RodCharge};
 use crate::continuation::anm::continue_anm;
-use crate::continuation::corrector::{correct, Plane};
+use crate::continuation::corrector::{correct, Plane, Reuse};
 use crate::continuation::newton::{continue_newton_hinted, Start};
 use crate::continuation::run::Context;
 use crate::continuation::{Options, Problem, Record, Resume, Scaling, Stop};
@@ -330,7 +330,7 @@ fn reconverge(problem: &mut ChargedRod, x: &mut [f64], lambda: f64, opts: &Optio
     let mut ctx = Context::with_options(problem, scaling, opts)?;
     let anchor = x.to_vec();
     let mut l = lambda;
-    let result = correct(problem, &mut ctx, x, &mut l, Plane::fixed(&anchor, lambda), opts.residual_tol, false);
+    let result = correct(problem, &mut ctx, x, &mut l, Plane::fixed(&anchor, lambda), opts.residual_tol, Reuse::No);
     out.counts.add(&ctx.counts);
     result?;
     if let (Some(rec), Some(st)) = (out.records.last_mut(), out.states.last_mut()) {

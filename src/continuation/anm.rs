@@ -25,7 +25,7 @@
 //! corrected at fixed Λ.
 
 use super::bifurcation::{SeriesHint, State};
-use super::corrector::{correct, correct_with, Plane, Reuse};
+use super::corrector::{correct, Plane, Reuse};
 use super::indicator::Indicator;
 use super::newton::Start;
 use super::pade::{self, Curve};
@@ -375,13 +375,19 @@ fn end_point<P: SeriesProblem + ?Sized>(
         }
         let anchor = x.clone();
         let result = match target {
-            Some(t) => {
-                correct(problem, &mut run.ctx, &mut x, &mut lambda, Plane::fixed(&anchor, t), opts.residual_tol, false)
-            }
+            Some(t) => correct(
+                problem,
+                &mut run.ctx,
+                &mut x,
+                &mut lambda,
+                Plane::fixed(&anchor, t),
+                opts.residual_tol,
+                Reuse::No,
+            ),
             None => {
                 let plane = Plane::new((&anchor, lambda), (&v.0, v.1));
                 let reuse = if kept { Reuse::Chord } else { Reuse::ChordFromFresh };
-                correct_with(problem, &mut run.ctx, &mut x, &mut lambda, plane, opts.residual_tol, reuse)
+                correct(problem, &mut run.ctx, &mut x, &mut lambda, plane, opts.residual_tol, reuse)
             }
         };
         if let Ok((it, _)) = result {
@@ -411,7 +417,7 @@ fn leave_singular<P: SeriesProblem + ?Sized>(run: &mut Run, problem: &mut P, r: 
         let mut l = r.lambda + ds * r.tangent_lambda;
         let anchor = x.clone();
         let plane = Plane::new((&anchor, l), (&r.tangent_x, r.tangent_lambda));
-        if let Ok((it, _)) = correct(problem, &mut run.ctx, &mut x, &mut l, plane, opts.residual_tol, false) {
+        if let Ok((it, _)) = correct(problem, &mut run.ctx, &mut x, &mut l, plane, opts.residual_tol, Reuse::No) {
             let dx: Vec<f64> = x.iter().zip(&r.x).map(|(a, b)| a - b).collect();
             let norm = run.ctx.scaling.norm(&dx, l - r.lambda);
             if norm > 0.0 && norm.is_finite() {

@@ -18,7 +18,7 @@
 //! border row). [`branch_start`] turns one into a [`Resume`] from which
 //! either engine follows the new branch.
 
-use super::corrector::{correct, Plane};
+use super::corrector::{correct, Plane, Reuse};
 use super::run::{Context, Factors};
 use super::{Problem, Resume, Scaling};
 use crate::error::Result;
@@ -144,7 +144,7 @@ pub(crate) fn locate<P: Problem + ?Sized>(
             None => (anchor.clone(), l_anchor),
         };
         let plane = Plane::new((&anchor, l_anchor), (&left.tx, left.tl));
-        correct(problem, ctx, &mut x, &mut l, plane, residual_tol, false)?;
+        correct(problem, ctx, &mut x, &mut l, plane, residual_tol, Reuse::No)?;
         ctx.factorise(problem, &x, l, (&left.tx, left.tl), Factors::ForSolves)?;
         // The trials lie in one bracket: σ_min's directions there are the
         // last trial's (or the bracket end's), so the monitor starts from
@@ -421,7 +421,7 @@ fn signed_state<P: Problem + ?Sized>(
     let mut x: Vec<f64> = from.x.iter().zip(&from.tx).map(|(a, t)| a + tau * t).collect();
     let mut l = from.lambda + tau * from.tl;
     let (anchor, l0) = (x.clone(), l);
-    correct(problem, ctx, &mut x, &mut l, Plane::new((&anchor, l0), (&from.tx, from.tl)), residual_tol, false)?;
+    correct(problem, ctx, &mut x, &mut l, Plane::new((&anchor, l0), (&from.tx, from.tl)), residual_tol, Reuse::No)?;
     ctx.factorise(problem, &x, l, (&from.tx, from.tl), Factors::Exact)?;
     let (tx, tl) = ctx.tangent()?;
     let (sign, _) = ctx.bordered.determinant_signs(&ctx.scaling, &tx, tl);

@@ -73,6 +73,17 @@ pub(crate) enum Reuse {
     ChordFromFresh,
 }
 
+impl Reuse {
+    /// `Chord` when `chord`, else `No`.
+    pub(crate) fn chord_if(chord: bool) -> Self {
+        if chord {
+            Reuse::Chord
+        } else {
+            Reuse::No
+        }
+    }
+}
+
 impl<P: Problem + ?Sized> LinearSolve<Arclength<'_, P>> for BorderedStep<'_> {
     fn step(
         &mut self,
@@ -141,27 +152,14 @@ impl<'a> Plane<'a> {
 }
 
 /// Newton on [R(x, Λ) = 0, ⟨(x, Λ) − anchor, v⟩_W = 0] (`plane`) in place,
-/// to max |R_i|/e_i ≤ `tol`. `reuse`: chord iterations on the current
-/// factorisation of the context's bordered tangent (border v),
-/// refactorised when the residual does not halve; a stall after a fresh
+/// to max |R_i|/e_i ≤ `tol`. `reuse` ([`Reuse`]): with chord iterations on
+/// the context's factorisation of the bordered tangent (border v),
+/// refactorised when the residual does not halve, a stall after a fresh
 /// factorisation (from the third iteration) fails. At most 12 iterations
 /// (20 with chord: they converge linearly, more of them, each a residual and
 /// a solve, before a fresh factorisation is worth it). Returns (iterations,
 /// final residual).
 pub(crate) fn correct<P: Problem + ?Sized>(
-    problem: &mut P,
-    ctx: &mut Context,
-    x: &mut [f64],
-    lambda: &mut f64,
-    plane: Plane<'_>,
-    tol: f64,
-    reuse: bool,
-) -> Result<(usize, f64)> {
-    correct_with(problem, ctx, x, lambda, plane, tol, if reuse { Reuse::Chord } else { Reuse::No })
-}
-
-/// [`correct`] with the factorisation's use spelt out ([`Reuse`]).
-pub(crate) fn correct_with<P: Problem + ?Sized>(
     problem: &mut P,
     ctx: &mut Context,
     x: &mut [f64],
@@ -280,6 +278,6 @@ pub(crate) fn deliver_sample<P: Problem + ?Sized>(
     xs.copy_from_slice(&prediction);
     *refactorised = true;
     let mut l = target;
-    let (it, res) = correct(problem, ctx, xs, &mut l, Plane::fixed(&prediction, target), tol, false)?;
+    let (it, res) = correct(problem, ctx, xs, &mut l, Plane::fixed(&prediction, target), tol, Reuse::No)?;
     Ok((steps + it, res))
 }

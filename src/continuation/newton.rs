@@ -6,7 +6,7 @@
 //! [`super::corrector`].
 
 use super::bifurcation::State;
-use super::corrector::{correct, Plane};
+use super::corrector::{correct, Plane, Reuse};
 use super::overlap::Overlap;
 use super::run::{resume_step, validate_resume, Factors, Run};
 use super::{Branch, Options, Problem, Record, Resume, Sample, Stop, CHORD_AIM};
@@ -299,13 +299,21 @@ fn predict_correct<P: Problem + ?Sized>(
         let (anchor, predicted) = (xn.clone(), ln);
         let plane = Plane::new((&anchor, ln), (&at.tx, at.tl));
         let extrapolated = hermite_here.is_some();
-        let result = correct(problem, &mut run.ctx, &mut xn, &mut ln, plane, run.opts.residual_tol, run.opts.chord)
-            .and_then(|(it, r)| {
-                if extrapolated {
-                    stays_on_course(run, at, (&anchor, predicted), (&xn, ln), *ds)?;
-                }
-                Ok((it, r))
-            });
+        let result = correct(
+            problem,
+            &mut run.ctx,
+            &mut xn,
+            &mut ln,
+            plane,
+            run.opts.residual_tol,
+            Reuse::chord_if(run.opts.chord),
+        )
+        .and_then(|(it, r)| {
+            if extrapolated {
+                stays_on_course(run, at, (&anchor, predicted), (&xn, ln), *ds)?;
+            }
+            Ok((it, r))
+        });
         match result {
             Ok((it, _)) => return Some((xn, ln, it)),
             Err(e) => {
@@ -371,7 +379,7 @@ fn at_target<P: Problem + ?Sized>(
     let mut lt = target;
     let anchor = xt.clone();
     let plane = Plane::fixed(&anchor, target);
-    correct(problem, &mut run.ctx, &mut xt, &mut lt, plane, run.opts.residual_tol, false).ok()?;
+    correct(problem, &mut run.ctx, &mut xt, &mut lt, plane, run.opts.residual_tol, Reuse::No).ok()?;
     Some(xt)
 }
 

@@ -33,13 +33,9 @@ pub(crate) enum Curve<'a> {
 /// Weights w_p(t) (and dw_p/dt) with U(t) = Σ_p w_p(t) U_p (w_0 = 1),
 /// for the series (w_p = t^p) or the Padé form of denominator `d`
 /// (w_p = t^p D_{P'−1−p}(t)/D_{P'−1}(t), P' = d.len(), p < P').
-fn pade_weights(d: &[f64], t: f64, w: &mut [f64], dw: &mut [f64]) {
-    pade_weights_with(d, t, w, Some(dw))
-}
-
-/// [`pade_weights`], the derivatives only when asked for (Λ(t) alone is
-/// wanted at each of a root search's points).
-fn pade_weights_with(d: &[f64], t: f64, w: &mut [f64], mut dw: Option<&mut [f64]>) {
+/// The derivatives only when asked for (Λ(t) alone is wanted at each of a
+/// root search's points, the weights alone at each candidate step).
+fn pade_weights(d: &[f64], t: f64, w: &mut [f64], mut dw: Option<&mut [f64]>) {
     let m = d.len(); // P′: uses U_1 … U_{P′−1}
                      // D_k(t) = Σ_{i≤k} d_i t^i and D_k′(t) = Σ_{1≤i≤k} i d_i t^{i−1}, k < m
                      // (on the stack: the engine's orders are at most MAX_ORDER).
@@ -93,7 +89,7 @@ impl Curve<'_> {
                     tp *= t;
                 }
             }
-            Curve::Pade(_, d) => pade_weights(d, t, w, dw),
+            Curve::Pade(_, d) => pade_weights(d, t, w, Some(dw)),
         }
     }
 
@@ -105,7 +101,7 @@ impl Curve<'_> {
             Curve::Series(_) => s.iter().rev().fold(0.0, |acc, c| acc * t + c[n]),
             Curve::Pade(_, d) => {
                 let mut w = [0.0; MAX_ORDER + 1];
-                pade_weights_with(d, t, &mut w[..s.len()], None);
+                pade_weights(d, t, &mut w[..s.len()], None);
                 s.iter().zip(&w).map(|(c, w)| w * c[n]).sum()
             }
         }
@@ -225,14 +221,6 @@ impl Coordinates {
     }
 }
 
-/// The denominator d_0 … d_{m−1} of the Padé form built from U_1 … U_m
-/// (m ≤ P), or None when the terms are (nearly) linearly dependent (a
-/// series with vanishing terms: the polynomial is then the better form).
-#[cfg(test)]
-fn denominator(series: &[Vec<f64>], m: usize, scaling: &Scaling) -> Option<Vec<f64>> {
-    Coordinates::of(series, m, scaling)?.denominator(m)
-}
-
 /// ‖Σ_q c_q U_q‖_W computed on the vectors themselves (c_0 ignored): the
 /// check of a step chosen on the coordinates.
 fn direct_norm(series: &[Vec<f64>], c: &[f64], scaling: &Scaling, work: &mut [f64]) -> f64 {
@@ -281,8 +269,8 @@ pub(crate) fn step(
     let grid = |k: usize| a_series * ratio.powf(k as f64 / STEP_GRID as f64);
     let mut weights = |t: f64, diff: &mut [f64], incr: &mut [f64]| {
         // The weights alone (Curve::weights' values, without derivatives).
-        pade_weights_with(&d_hi, t, &mut w_hi[..=p], None);
-        pade_weights_with(&d_lo, t, &mut w_lo[..=p], None);
+        pade_weights(&d_hi, t, &mut w_hi[..=p], None);
+        pade_weights(&d_lo, t, &mut w_lo[..=p], None);
         for q in 0..=p {
             diff[q] = w_hi[q] - w_lo[q];
             incr[q] = w_hi[q];
@@ -339,7 +327,7 @@ mod tests {
             })
             .collect();
         let scaling = Scaling { x: vec![1.0; 7], lambda: 1.0 };
-        let d = denominator(&series, p, &scaling).unwrap();
+        let d = Coordinates::of(&series, p, &scaling).unwrap().denominator(p).unwrap();
         let curve = Curve::Pade(&series, &d);
         let mut x = [0.0; 7];
         let mut dx = [0.0; 8];

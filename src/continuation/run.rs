@@ -5,7 +5,7 @@
 //! the finished [`Branch`]).
 
 use super::bifurcation::{self, Bifurcation, Evidence, SeriesHint, State, Unresolved};
-use super::corrector::{correct, deliver_sample, Plane};
+use super::corrector::{correct, deliver_sample, Plane, Reuse};
 use super::stability::{count_unstable, ModeCarry, ModeWork};
 use super::tangent::Bordered;
 pub(crate) use super::tangent::Factors;
@@ -222,7 +222,7 @@ impl<'o> Run<'o> {
             &mut l,
             Plane::fixed(&anchor, lambda),
             self.opts.residual_tol,
-            false,
+            Reuse::No,
         )
         .map_err(|e| Error::new(e.status, format!("continuation start: {}", e.message)))?;
         Ok((x, l, it))

@@ -27,7 +27,7 @@ use super::mesh;
 use super::model::unwrap_rotation;
 use super::model::Rod;
 use crate::continuation::bifurcation::{locate, Bifurcation, Evidence, State};
-use crate::continuation::corrector::{correct, Plane};
+use crate::continuation::corrector::{correct, Plane, Reuse};
 use crate::continuation::equilibrium::damped_newton;
 use crate::continuation::run::{Context, Factors};
 use crate::continuation::{Counts, Options, Problem, Scaling, Stop};
@@ -217,7 +217,15 @@ impl<'r> Resolver<'r> {
             slot => slot.insert(Context::new(&self.system, Scaling::of(&self.system))?),
         };
         let (mut y, mut l) = (anchor.clone(), lambda);
-        correct(&mut self.system, ctx, &mut y, &mut l, Plane::new((&anchor, lambda), (&t, dl)), residual_tol, false)?;
+        correct(
+            &mut self.system,
+            ctx,
+            &mut y,
+            &mut l,
+            Plane::new((&anchor, lambda), (&t, dl)),
+            residual_tol,
+            Reuse::No,
+        )?;
         self.planes += 1;
         Ok((y, l))
     }

@@ -11,7 +11,7 @@ use super::model::{unwrap_rotation, Rod};
 use super::scheme::Scheme;
 use crate::continuation::anm::{continue_anm, AnmOptions};
 use crate::continuation::bifurcation::{branch_start, Bifurcation, Unresolved};
-use crate::continuation::corrector::{correct, Plane};
+use crate::continuation::corrector::{correct, Plane, Reuse};
 use crate::continuation::newton::{continue_newton, Start};
 use crate::continuation::run::{validate, Context};
 use crate::continuation::system::AssembledSystem;
@@ -436,7 +436,7 @@ impl Rod {
         let mut l = start.lambda + step * start.tangent_lambda;
         let anchor = x.clone();
         let plane = Plane::new((&anchor, l), (&e, 0.0));
-        let result = correct(problem, &mut ctx, &mut x, &mut l, plane, residual_tol, false);
+        let result = correct(problem, &mut ctx, &mut x, &mut l, plane, residual_tol, Reuse::No);
         counts.add(&ctx.counts);
         result?;
         let dx: Vec<f64> = x.iter().zip(&start.x).map(|(a, b)| a - b).collect();

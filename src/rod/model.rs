@@ -610,12 +610,13 @@ impl Rod {
         // numbers: a sweep that rebuilds the rod (new tip loads, supports,
         // element counts at one h) finds them recorded.
         // The key covers every argument of `record`: the scheme (stages and
-        // order; the tableau follows), h or the graded flag, `unfold`, the
-        // input count (from the stages and those flags) and the whole of
-        // RhsData, destructured so that a new field cannot be left out.
+        // order; the tableau follows), h (None on a graded mesh, where h is
+        // an input), `unfold`, the input count (from the stages and those)
+        // and the whole of RhsData, destructured so that a new field cannot
+        // be left out.
         let key = {
             let RhsData { compliance, intrinsic_u, intrinsic_v, kirchhoff, force, couple } = &data;
-            let mut k = vec![stages as u64, self.scheme.order() as u64, unfold as u64, graded as u64];
+            let mut k = vec![stages as u64, self.scheme.order() as u64, unfold as u64];
             k.push(h.map_or(u64::MAX, f64::to_bits));
             k.extend(compliance.iter().flatten().map(|v| v.to_bits()));
             k.extend(intrinsic_u.iter().chain(intrinsic_v).map(|v| v.to_bits()));

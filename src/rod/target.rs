@@ -15,7 +15,7 @@
 
 use super::branch::{Followed, RodBranch};
 use super::model::{unwrap_rotation, Rod};
-use crate::continuation::corrector::{correct, Plane};
+use crate::continuation::corrector::{correct, Plane, Reuse};
 use crate::continuation::run::{Context, Factors};
 use crate::continuation::{Record, Resume, Scaling, Stop};
 use crate::error::{self, Error, Result};
@@ -137,7 +137,7 @@ fn land<M: Followed + ?Sized>(model: &M, branch: &mut RodBranch, target: f64, ph
     let plane = Plane::new((&anchor, lambda), (&normal, normal_lambda));
     let residual_tol = branch.records[k].residual.max(1e-12);
     let (iterations, residual) =
-        correct(&mut sys, &mut ctx, &mut x, &mut lambda, plane, residual_tol.max(1e-10), false).map_err(|e| {
+        correct(&mut sys, &mut ctx, &mut x, &mut lambda, plane, residual_tol.max(1e-10), Reuse::No).map_err(|e| {
             Error::new(
                 e.status,
                 format!("the point at end rotation {target} (between records {} and {k}): {}", k - 1, e.message),

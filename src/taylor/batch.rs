@@ -1,12 +1,14 @@
 //! [`super::TaylorWork`] on [`LANES`] instances of one tape at once: a
 //! rod's elements share one recorded kernel, so their Taylor passes are
 //! the same straight-line program on different inputs. The coefficients
-//! are stored order-major and lane by lane (`coef[k·nodes + node][lane]`):
-//! the interpretive dispatch of an op is paid once for all lanes, the
-//! arithmetic on a lane array is vectorised, and a pass at order p (or
-//! its linear update) writes one contiguous slab and reads mostly the
-//! slabs of orders p and 0 — with node-major storage every operand of
-//! every op was a cache line of its own.
+//! are stored order-major and lane by lane (`coef[k·history + slot][lane]`,
+//! the tape's [`super::SeriesLayout`]: only the products' operands keep
+//! their lower orders): the interpretive dispatch of an op is paid once
+//! for all lanes, the arithmetic on a lane array is vectorised, and a
+//! pass at order p (or its linear update) writes one contiguous slab and
+//! reads the products' operands' histories, which are packed together —
+//! with node-major storage every operand of every op was a cache line of
+//! its own.
 //!
 //! The arithmetic is that of the scalar work, lane by lane, except the
 //! order of the Cauchy products' partial sums: results agree with it to
@@ -107,12 +109,13 @@ pub(super) fn map1(a: Lanes, f: impl Fn(f64) -> f64) -> Lanes {
 
 impl BatchTaylorWork {
     /// Start the lanes' series at `x0` (one lane array per input), orders
-    /// up to `max_order`.
+    /// up to `max_order`. The coefficients are stored as the tape's
+    /// [`super::SeriesLayout`] says: order p of slot s at p·history + s.
     pub fn begin(&mut self, tape: &Tape, x0: &[Lanes], max_order: usize) {
         self.order = max_order;
         // Not cleared: every pass writes its whole order before a later
         // one reads it (zeroing ~0.8 MB a step was ~10 % of a small run).
-        grow_pooled(&mut self.coef, tape.ops.len() * (max_order + 1));
+        grow_pooled(&mut self.coef, tape.series.len(max_order));
         self.pass(tape, 0, x0);
         self.last = Some(0);
         self.last_x.clear();
@@ -130,33 +133,36 @@ impl BatchTaylorWork {
             self.last = Some(p);
         }
         self.last_x.copy_from_slice(xp);
-        let slab = &self.coef[p * tape.ops.len()..];
-        for (o, &i) in out.iter_mut().zip(&tape.outputs) {
+        let slab = &self.coef[p * tape.series.history..];
+        for (o, &i) in out.iter_mut().zip(&tape.series.outputs) {
             *o = slab[i as usize];
         }
     }
 
-    /// As [`super::TaylorWork::tangent_order`], on every lane.
+    /// As [`super::TaylorWork::tangent_order`], on every lane. Orders are
+    /// taken in sequence from 0 (the tangent's storage overlaps as the
+    /// series').
     pub fn tangent_order(&mut self, tape: &Tape, p: usize, wp: &[Lanes], out: &mut [Lanes]) {
         assert!(p <= self.order, "Taylor order {p} outside 0..={}", self.order);
-        let nodes = tape.ops.len();
+        let layout = &tape.series;
+        let h = layout.history;
         if p == 0 {
-            grow_pooled(&mut self.tangent, nodes * (self.order + 1));
+            grow_pooled(&mut self.tangent, layout.len(self.order));
         }
         let (c, d) = (&self.coef, &mut self.tangent);
-        for (k, op) in tape.ops.iter().enumerate() {
-            let at = |i: u32, q: usize| q * nodes + i as usize;
+        for (op, &k) in layout.ops.iter().zip(&layout.slot) {
+            let at = |i: u32| p * h + i as usize;
             let v = match *op {
                 Op::Input(i) => wp[i as usize],
                 Op::Const(_) => [0.0; LANES],
-                Op::Add(a, b) => map2(d[at(a, p)], d[at(b, p)], |x, y| x + y),
-                Op::Sub(a, b) => map2(d[at(a, p)], d[at(b, p)], |x, y| x - y),
+                Op::Add(a, b) => map2(d[at(a)], d[at(b)], |x, y| x + y),
+                Op::Sub(a, b) => map2(d[at(a)], d[at(b)], |x, y| x - y),
                 Op::Mul(a, b) => {
-                    // As the pass's products: whole slabs, one bounds
-                    // check each.
+                    // As the pass's products: the operands' histories,
+                    // whole slabs, one bounds check each.
                     let (a, b) = (a as usize, b as usize);
-                    let cs = c[..(p + 1) * nodes].chunks_exact(nodes);
-                    let ds = d[..(p + 1) * nodes].chunks_exact(nodes);
+                    let cs = c[..(p + 1) * h].chunks_exact(h);
+                    let ds = d[..(p + 1) * h].chunks_exact(h);
                     let mut s = [0.0; LANES];
                     for ((cx, dx), (cy, dy)) in cs.clone().zip(ds.clone()).zip(cs.rev().zip(ds.rev())) {
                         let (da, cb, ca, db) = (dx[a], cy[b], cx[a], dy[b]);
@@ -166,27 +172,29 @@ impl BatchTaylorWork {
                     }
                     s
                 }
-                Op::Neg(a) => map1(d[at(a, p)], |x| -x),
-                Op::Scale(sc, a) => map1(d[at(a, p)], |x| sc * x),
-                Op::Shift(_, a) => d[at(a, p)],
+                Op::Neg(a) => map1(d[at(a)], |x| -x),
+                Op::Scale(sc, a) => map1(d[at(a)], |x| sc * x),
+                Op::Shift(_, a) => d[at(a)],
             };
-            d[p * nodes + k] = v;
+            d[p * h + k as usize] = v;
         }
-        for (o, &i) in out.iter_mut().zip(&tape.outputs) {
-            *o = d[p * nodes + i as usize];
+        for (o, &i) in out.iter_mut().zip(&layout.outputs) {
+            *o = d[p * h + i as usize];
         }
     }
 
     /// Order p again with new input coefficients: the change propagates
-    /// linearly (see [`super::TaylorWork`]).
+    /// linearly (see [`super::TaylorWork`]); the products read their
+    /// operands' order 0, a history.
     fn update(&mut self, tape: &Tape, p: usize, xp: &[Lanes]) {
-        let nodes = tape.ops.len();
-        let (c0, cp) = self.coef.split_at_mut(p * nodes);
-        let (c0, cp) = (&c0[..nodes], &mut cp[..nodes]);
+        let layout = &tape.series;
+        let (h, nodes) = (layout.history, layout.slot.len());
+        let (c0, cp) = self.coef.split_at_mut(p * h);
+        let (c0, cp) = (&c0[..h], &mut cp[..nodes]);
         // Every node's change is written before a later node reads it.
         let d = &mut self.delta;
-        super::grow(d, tape.ops.len(), [0.0; LANES]);
-        for (k, op) in tape.ops.iter().enumerate() {
+        super::grow(d, nodes, [0.0; LANES]);
+        for (op, &k) in layout.ops.iter().zip(&layout.slot) {
             let v = match *op {
                 Op::Input(i) => map2(xp[i as usize], self.last_x[i as usize], |x, y| x - y),
                 Op::Const(_) => [0.0; LANES],
@@ -200,6 +208,7 @@ impl BatchTaylorWork {
                 Op::Scale(s, a) => map1(d[a as usize], |x| s * x),
                 Op::Shift(_, a) => d[a as usize],
             };
+            let k = k as usize;
             d[k] = v;
             let slot = &mut cp[k];
             *slot = map2(*slot, v, |x, y| x + y);
@@ -207,22 +216,23 @@ impl BatchTaylorWork {
     }
 
     fn pass(&mut self, tape: &Tape, p: usize, xp: &[Lanes]) {
-        let nodes = tape.ops.len();
+        let layout = &tape.series;
+        let h = layout.history;
         let c = &mut self.coef;
-        for (k, op) in tape.ops.iter().enumerate() {
-            let at = |i: u32, q: usize| q * nodes + i as usize;
+        for (op, &k) in layout.ops.iter().zip(&layout.slot) {
+            let at = |i: u32| p * h + i as usize;
             let v = match *op {
                 Op::Input(i) => xp[i as usize],
                 Op::Const(v) => [if p == 0 { v } else { 0.0 }; LANES],
-                Op::Add(a, b) => map2(c[at(a, p)], c[at(b, p)], |x, y| x + y),
-                Op::Sub(a, b) => map2(c[at(a, p)], c[at(b, p)], |x, y| x - y),
+                Op::Add(a, b) => map2(c[at(a)], c[at(b)], |x, y| x + y),
+                Op::Sub(a, b) => map2(c[at(a)], c[at(b)], |x, y| x - y),
                 Op::Mul(a, b) => {
-                    // z_p = Σ_{i=0..p} x_i y_{p−i}, lane by lane. The
-                    // operands' orders are `nodes` apart: walked by
-                    // strided iterators, which check their bounds once
+                    // z_p = Σ_{i=0..p} x_i y_{p−i}, lane by lane, over the
+                    // operands' histories (orders `history` apart): walked
+                    // by strided iterators, which check their bounds once
                     // (indexing checked each of the 2(p + 1) reads).
                     let (a, b) = (a as usize, b as usize);
-                    let slabs = c[..(p + 1) * nodes].chunks_exact(nodes);
+                    let slabs = c[..(p + 1) * h].chunks_exact(h);
                     let mut s = [0.0; LANES];
                     for (sx, sy) in slabs.clone().zip(slabs.rev()) {
                         let (xi, yi) = (sx[a], sy[b]);
@@ -232,17 +242,17 @@ impl BatchTaylorWork {
                     }
                     s
                 }
-                Op::Neg(a) => map1(c[at(a, p)], |x| -x),
-                Op::Scale(s, a) => map1(c[at(a, p)], |x| s * x),
+                Op::Neg(a) => map1(c[at(a)], |x| -x),
+                Op::Scale(s, a) => map1(c[at(a)], |x| s * x),
                 Op::Shift(s, a) => {
                     if p == 0 {
-                        map1(c[at(a, 0)], |x| x + s)
+                        map1(c[at(a)], |x| x + s)
                     } else {
-                        c[at(a, p)]
+                        c[at(a)]
                     }
                 }
             };
-            c[p * nodes + k] = v;
+            c[p * h + k as usize] = v;
         }
     }
 }
@@ -451,7 +461,7 @@ mod tests {
         let mut fresh = BatchTaylorWork::default();
         let reference = run(&mut fresh);
         std::mem::forget(fresh); // not into the pool
-        let len = tape.ops.len() * (order + 1);
+        let len = tape.series.len(order);
         POOL.with(|pool| {
             let mut pool = pool.borrow_mut();
             pool.clear();

@@ -222,7 +222,7 @@ impl Expansion {
         self.series[1][..n].copy_from_slice(x1);
         self.series[1][n] = l1;
         problem.series_begin(&here.x, here.lambda, p_max);
-        problem.series_order(1, x1, l1, &mut self.rhs);
+        problem.series_commit(1, x1, l1, &mut self.rhs);
         let z = &mut self.z;
         for p in 2..=p_max {
             problem.series_order(p, &self.zeros, 0.0, &mut self.rhs);
@@ -237,7 +237,7 @@ impl Expansion {
             }
             z[n] -= c * l1;
             self.series[p].copy_from_slice(z);
-            problem.series_order(p, &z[..n], z[n], &mut self.rhs);
+            problem.series_commit(p, &z[..n], z[n], &mut self.rhs);
             run.ctx.counts.series_orders += 1;
         }
     }

@@ -87,6 +87,14 @@ pub trait SeriesProblem: Problem {
     /// side of the recursion); called again with the solved X_p it commits
     /// order p.
     fn series_order(&mut self, p: usize, xp: &[f64], lambda_p: f64, out: &mut [f64]);
+    /// Commit order p with the solved X_p = (xp, Λp) when its coefficient
+    /// is not wanted: `scratch` (dim long) is overwritten with unspecified
+    /// values. A problem may then compute only what later orders read; a
+    /// later [`SeriesProblem::series_order`] call at order p must still be
+    /// right. By default the second `series_order` call.
+    fn series_commit(&mut self, p: usize, xp: &[f64], lambda_p: f64, scratch: &mut [f64]) {
+        self.series_order(p, xp, lambda_p, scratch)
+    }
     /// The longest step a' ≤ `a` along the committed series over which the
     /// problem's own approximations hold (a charged rod's pair list: no
     /// stage moves past half its skin); `a` when nothing limits it.

@@ -480,6 +480,30 @@ impl SeriesProblem for AssembledSystem {
         }
     }
 
+    /// Batches of one shared tape commit the tape's cone of history nodes
+    /// alone ([`BatchTaylorWork::commit`]); compiled batches and lone
+    /// blocks run their whole order (their outputs left unread).
+    fn series_commit(&mut self, p: usize, xp: &[f64], lambda_p: f64, _scratch: &mut [f64]) {
+        for batch in &mut self.batches {
+            Self::gather_lanes(&self.blocks, batch, |g| xp[g], lambda_p, |_| 0.0);
+            let tape = &self.blocks[batch.blocks[0]].tape;
+            match &mut batch.engine {
+                Engine { taylor: Some(t), .. } => t.commit(tape, p, &batch.inputs),
+                Engine { compiled: Some(k), .. } => k.series_order(p, &batch.inputs, &mut batch.outputs),
+                _ => unreachable!("a batch has a shared tape or a compiled kernel"),
+            }
+        }
+        for ((b, w), _) in self.blocks.iter().zip(&mut self.work).zip(&self.batched).filter(|(_, &t)| !t) {
+            let inputs = &b.inputs;
+            let coefficient = |i: usize| match inputs[i] {
+                Slot::Unknown(g) => xp[g],
+                Slot::Lambda => lambda_p,
+                Slot::Param(_) => 0.0,
+            };
+            w.taylor.order(&b.tape, p, coefficient, &mut w.local_out);
+        }
+    }
+
     fn has_series_tangent(&self) -> bool {
         true
     }

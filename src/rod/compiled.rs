@@ -384,11 +384,16 @@ mod tests {
     /// its series from the tape where the lanes share one, so this is
     /// where the compiled series meets it): the same operations in the
     /// same order, measured bitwise equal; asserted to 1e-15 relative.
+    /// A third work commits each order ([`BatchTaylorWork::commit`]: the
+    /// tape's cone of history nodes alone) where the others take a second
+    /// `order` call: its later orders' known parts and its tangent series
+    /// are bitwise the tape's.
     fn same_series(system: &AssembledSystem, what: &str) {
         let block = &system.blocks()[0];
         let kernel = block.kernel.as_ref().expect("an element block has a compiled kernel");
         let mut compiled = kernel.batch(&[kernel.as_ref(); LANES]);
         let mut tape = BatchTaylorWork::default();
+        let mut committed = BatchTaylorWork::default();
         let (nin, nout) = (block.tape.inputs(), block.tape.outputs());
         let lanes = |k: usize, scale: f64| -> Vec<Lanes> {
             (0..nin).map(|i| std::array::from_fn(|l| scale * noise(i * LANES + l, k))).collect()
@@ -396,14 +401,22 @@ mod tests {
         let order = 12;
         compiled.series_begin(&lanes(0, 1.0), order);
         tape.begin(&block.tape, &lanes(0, 1.0), order);
-        let (mut a, mut b) = (vec![[0.0; LANES]; nout], vec![[0.0; LANES]; nout]);
+        committed.begin(&block.tape, &lanes(0, 1.0), order);
+        let (mut a, mut b, mut c) = (vec![[0.0; LANES]; nout], vec![[0.0; LANES]; nout], vec![[0.0; LANES]; nout]);
         let flat = |v: &[Lanes]| v.iter().flatten().copied().collect::<Vec<f64>>();
+        let bits = |v: &[Lanes]| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<u64>>();
         for p in 1..=order {
-            for xp in [vec![[0.0; LANES]; nin], lanes(p, 0.3)] {
+            for (k, xp) in [vec![[0.0; LANES]; nin], lanes(p, 0.3)].into_iter().enumerate() {
                 compiled.series_order(p, &xp, &mut a);
                 tape.order(&block.tape, p, &xp, &mut b);
                 let e = worst(&flat(&a), &flat(&b));
                 assert!(e <= 1e-15, "{what}: lanes order {p} {e:e}");
+                if k == 0 {
+                    committed.order(&block.tape, p, &xp, &mut c);
+                    assert_eq!(bits(&c), bits(&b), "{what}: known part of order {p} after commits");
+                } else {
+                    committed.commit(&block.tape, p, &xp);
+                }
             }
         }
         for p in 0..=order {
@@ -412,6 +425,8 @@ mod tests {
             tape.tangent_order(&block.tape, p, &wp, &mut b);
             let e = worst(&flat(&a), &flat(&b));
             assert!(e <= 1e-15, "{what}: lanes tangent order {p} {e:e}");
+            committed.tangent_order(&block.tape, p, &wp, &mut c);
+            assert_eq!(bits(&c), bits(&b), "{what}: tangent order {p} after commits");
         }
     }
 

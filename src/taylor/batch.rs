@@ -14,7 +14,7 @@
 //! order of the Cauchy products' partial sums: results agree with it to
 //! rounding, not bitwise.
 
-use super::{Op, Tape};
+use super::{Op, SeriesLayout, Tape};
 use std::cell::RefCell;
 
 /// Tape instances evaluated together.
@@ -115,8 +115,9 @@ impl BatchTaylorWork {
         self.order = max_order;
         // Not cleared: every pass writes its whole order before a later
         // one reads it (zeroing ~0.8 MB a step was ~10 % of a small run).
-        grow_pooled(&mut self.coef, tape.series.len(max_order));
-        self.pass(tape, 0, x0);
+        let layout = &tape.series;
+        grow_pooled(&mut self.coef, layout.len(max_order));
+        self.pass(layout, (&layout.ops, &layout.slot), 0, x0);
         self.last = Some(0);
         self.last_x.clear();
         self.last_x.resize(tape.inputs, [0.0; LANES]);
@@ -126,10 +127,11 @@ impl BatchTaylorWork {
     /// order-p coefficients, `out` the outputs'.
     pub fn order(&mut self, tape: &Tape, p: usize, xp: &[Lanes], out: &mut [Lanes]) {
         assert!(p >= 1 && p <= self.order, "Taylor order {p} outside 1..={}", self.order);
+        let layout = &tape.series;
         if self.last == Some(p) {
-            self.update(tape, p, xp);
+            self.update(layout, (&layout.ops, &layout.slot), p, xp);
         } else {
-            self.pass(tape, p, xp);
+            self.pass(layout, (&layout.ops, &layout.slot), p, xp);
             self.last = Some(p);
         }
         self.last_x.copy_from_slice(xp);
@@ -137,6 +139,23 @@ impl BatchTaylorWork {
         for (o, &i) in out.iter_mut().zip(&tape.series.outputs) {
             *o = slab[i as usize];
         }
+    }
+
+    /// Commit order p with the inputs' coefficients `xp`, as a second
+    /// [`BatchTaylorWork::order`] call does, without the outputs: only
+    /// the tape's cone of history nodes is computed (the nodes a later
+    /// order reads). The other nodes' order p is then stale: a later call
+    /// at order p runs a whole pass.
+    pub fn commit(&mut self, tape: &Tape, p: usize, xp: &[Lanes]) {
+        assert!(p >= 1 && p <= self.order, "Taylor order {p} outside 1..={}", self.order);
+        let layout = &tape.series;
+        let cone = (&layout.cone_ops[..], &layout.cone_slot[..]);
+        if self.last == Some(p) {
+            self.update(layout, cone, p, xp);
+        } else {
+            self.pass(layout, cone, p, xp);
+        }
+        self.last = None;
     }
 
     /// As [`super::TaylorWork::tangent_order`], on every lane. Orders are
@@ -186,15 +205,15 @@ impl BatchTaylorWork {
     /// Order p again with new input coefficients: the change propagates
     /// linearly (see [`super::TaylorWork`]); the products read their
     /// operands' order 0, a history.
-    fn update(&mut self, tape: &Tape, p: usize, xp: &[Lanes]) {
-        let layout = &tape.series;
+    /// `ops` (with their `slots`): the whole tape, or a commit's cone.
+    fn update(&mut self, layout: &SeriesLayout, (ops, slots): (&[Op], &[u32]), p: usize, xp: &[Lanes]) {
         let (h, nodes) = (layout.history, layout.slot.len());
         let (c0, cp) = self.coef.split_at_mut(p * h);
         let (c0, cp) = (&c0[..h], &mut cp[..nodes]);
         // Every node's change is written before a later node reads it.
         let d = &mut self.delta;
         super::grow(d, nodes, [0.0; LANES]);
-        for (op, &k) in layout.ops.iter().zip(&layout.slot) {
+        for (op, &k) in ops.iter().zip(slots) {
             let v = match *op {
                 Op::Input(i) => map2(xp[i as usize], self.last_x[i as usize], |x, y| x - y),
                 Op::Const(_) => [0.0; LANES],
@@ -215,11 +234,11 @@ impl BatchTaylorWork {
         }
     }
 
-    fn pass(&mut self, tape: &Tape, p: usize, xp: &[Lanes]) {
-        let layout = &tape.series;
+    /// `ops` (with their `slots`): the whole tape, or a commit's cone.
+    fn pass(&mut self, layout: &SeriesLayout, (ops, slots): (&[Op], &[u32]), p: usize, xp: &[Lanes]) {
         let h = layout.history;
         let c = &mut self.coef;
-        for (op, &k) in layout.ops.iter().zip(&layout.slot) {
+        for (op, &k) in ops.iter().zip(slots) {
             let at = |i: u32| p * h + i as usize;
             let v = match *op {
                 Op::Input(i) => xp[i as usize],
@@ -427,6 +446,51 @@ mod tests {
                 w.tangent_order(&tape, p, |i| wp[i][l], &mut one);
                 for j in 0..3 {
                     assert!(close(out[j][l], one[j]), "tangent order {p} lane {l}: {} vs {}", out[j][l], one[j]);
+                }
+            }
+        }
+    }
+
+    /// Reference: the scalar [`TaylorWork`], each order's known part and
+    /// a second `order` call with the inputs' coefficients, to 1e-13
+    /// relative. The batched work commits instead
+    /// ([`BatchTaylorWork::commit`]: the cone alone), and at every other
+    /// order calls `order` with the same coefficients after the commit:
+    /// that call must see the whole committed order (a whole pass), not
+    /// the cone's nodes alone.
+    #[test]
+    fn a_commit_is_the_second_order_call() {
+        let tape = Tape::record(3, kernel);
+        let order = 8;
+        let input = |lane: usize, i: usize, k: usize| ((lane * 29 + i * 5 + k * 11) % 19) as f64 / 9.0 - 1.0;
+        let lanes = |k: usize| -> Vec<Lanes> { (0..3).map(|i| std::array::from_fn(|l| input(l, i, k))).collect() };
+        let mut batch = BatchTaylorWork::default();
+        let mut scalar: Vec<TaylorWork> = vec![TaylorWork::default(); LANES];
+        batch.begin(&tape, &lanes(0), order);
+        for (l, w) in scalar.iter_mut().enumerate() {
+            w.begin(&tape, &(0..3).map(|i| input(l, i, 0)).collect::<Vec<_>>(), order);
+        }
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-13 * (1.0 + b.abs());
+        let (mut out, mut one) = (vec![[0.0; LANES]; 3], vec![0.0; 3]);
+        let check = |out: &[Lanes], scalar: &mut [TaylorWork], p: usize, xp: &[Lanes], one: &mut [f64], what: &str| {
+            for (l, w) in scalar.iter_mut().enumerate() {
+                w.order(&tape, p, |i| xp[i][l], one);
+                for j in 0..3 {
+                    assert!(close(out[j][l], one[j]), "{what} {p} lane {l} output {j}: {} vs {}", out[j][l], one[j]);
+                }
+            }
+        };
+        for p in 1..=order {
+            let zeros = vec![[0.0; LANES]; 3];
+            batch.order(&tape, p, &zeros, &mut out);
+            check(&out, &mut scalar, p, &zeros, &mut one, "known part");
+            batch.commit(&tape, p, &lanes(p));
+            if p % 2 == 0 {
+                batch.order(&tape, p, &lanes(p), &mut out);
+                check(&out, &mut scalar, p, &lanes(p), &mut one, "order after its commit");
+            } else {
+                for (l, w) in scalar.iter_mut().enumerate() {
+                    w.order(&tape, p, |i| lanes(p)[i][l], &mut one);
                 }
             }
         }

@@ -205,6 +205,11 @@ struct SeriesLayout {
     slot: Vec<u32>,
     /// The outputs' slots.
     outputs: Vec<u32>,
+    /// The ops (as `ops`, `slot`) that a commit of order p computes: the
+    /// history nodes and what they are computed from. Later orders read
+    /// no other node's order p (a Gauss(4) rod element: 184 of 1136).
+    cone_ops: Vec<Op>,
+    cone_slot: Vec<u32>,
 }
 
 impl SeriesLayout {
@@ -214,6 +219,20 @@ impl SeriesLayout {
             if let Op::Mul(a, b) = *op {
                 product_operand[a as usize] = true;
                 product_operand[b as usize] = true;
+            }
+        }
+        // The history nodes' ancestors, walking the tape backwards.
+        let mut cone = product_operand.clone();
+        for (k, op) in ops.iter().enumerate().rev() {
+            if cone[k] {
+                match *op {
+                    Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) => {
+                        cone[a as usize] = true;
+                        cone[b as usize] = true;
+                    }
+                    Op::Neg(a) | Op::Scale(_, a) | Op::Shift(_, a) => cone[a as usize] = true,
+                    Op::Input(_) | Op::Const(_) => {}
+                }
             }
         }
         let history = product_operand.iter().filter(|&&h| h).count();
@@ -227,7 +246,7 @@ impl SeriesLayout {
             })
             .collect();
         let at = |i: u32| slot[i as usize];
-        let ops = ops
+        let ops: Vec<Op> = ops
             .iter()
             .map(|op| match *op {
                 Op::Input(i) => Op::Input(i),
@@ -241,7 +260,10 @@ impl SeriesLayout {
             })
             .collect();
         let outputs = outputs.iter().map(|&o| at(o)).collect();
-        SeriesLayout { history, ops, slot, outputs }
+        let in_cone = |k: &usize| cone[*k];
+        let cone_ops = (0..ops.len()).filter(in_cone).map(|k| ops[k]).collect();
+        let cone_slot = (0..ops.len()).filter(in_cone).map(|k| slot[k]).collect();
+        SeriesLayout { history, ops, slot, outputs, cone_ops, cone_slot }
     }
 
     /// Coefficients held for orders 0..=max_order.
@@ -749,7 +771,8 @@ mod tests {
 
     /// The batched series' layout, against the tape read directly: the
     /// history slots are exactly the products' operands, the slots are a
-    /// permutation of the nodes, each op reads its operands' slots, and
+    /// permutation of the nodes, each op reads its operands' slots, the
+    /// commit's cone holds the history and what it is computed from, and
     /// the storage is P·history + nodes.
     #[test]
     fn series_layout_packs_the_products_operands_first() {
@@ -785,6 +808,24 @@ mod tests {
         }
         let outputs: Vec<u32> = tape.outputs.iter().map(|&o| at(o)).collect();
         assert_eq!(layout.outputs, outputs);
+        // The cone: every history slot, closed under its ops' operands,
+        // in the tape's order.
+        let cone: std::collections::BTreeSet<u32> = layout.cone_slot.iter().copied().collect();
+        assert!((0..layout.history as u32).all(|s| cone.contains(&s)));
+        for op in &layout.cone_ops {
+            match *op {
+                Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) => assert!(cone.contains(&a) && cone.contains(&b)),
+                Op::Neg(a) | Op::Scale(_, a) | Op::Shift(_, a) => assert!(cone.contains(&a)),
+                Op::Input(_) | Op::Const(_) => {}
+            }
+        }
+        let order: Vec<usize> =
+            layout.cone_slot.iter().map(|&s| layout.slot.iter().position(|&t| t == s).unwrap()).collect();
+        assert!(order.windows(2).all(|w| w[0] < w[1]));
+        for (&k, op) in order.iter().zip(&layout.cone_ops) {
+            assert_eq!(layout.ops[k], *op);
+        }
+        assert!(layout.cone_ops.len() < n, "the output −x is outside the cone");
         assert_eq!(layout.len(9), 9 * layout.history + n);
     }
 

@@ -376,8 +376,29 @@ impl SeriesProblem for ChargedRod {
     }
 
     fn series_order(&mut self, p: usize, xp: &[f64], lambda_p: f64, out: &mut [f64]) {
+        self.order_or_commit(p, xp, lambda_p, out, false);
+    }
+
+    /// The elastic rod commits its cone alone ([`crate::continuation::system::AssembledSystem`]'s
+    /// commit); the pairs' and the phase row's series are committed as by
+    /// `series_order` (their state is what later orders read).
+    fn series_commit(&mut self, p: usize, xp: &[f64], lambda_p: f64, scratch: &mut [f64]) {
+        self.order_or_commit(p, xp, lambda_p, scratch, true);
+    }
+}
+
+impl ChargedRod {
+    /// [`SeriesProblem::series_order`], or its commit (`out` then
+    /// scratch).
+    fn order_or_commit(&mut self, p: usize, xp: &[f64], lambda_p: f64, out: &mut [f64], commit: bool) {
         let rod_lambda = self.lambda_order(p, lambda_p);
-        self.sys.series_order(p, xp, rod_lambda, out);
+        match commit {
+            true => {
+                self.sys.series_commit(p, xp, rod_lambda, out);
+                out.fill(0.0);
+            }
+            false => self.sys.series_order(p, xp, rod_lambda, out),
+        }
         if let Some(c) = self.twisted_phi {
             // The row c − cos(φ/2) (see `residual`).
             out[c] = xp[c] - self.series.as_ref().expect("series begun").cos[p];

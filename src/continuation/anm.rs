@@ -55,6 +55,14 @@ impl Default for AnmOptions {
     }
 }
 
+/// The Padé step is sought up to this multiple of the series' own step;
+/// its ε criterion ([`pade::step`]) decides within. Every point a step
+/// reaches is corrected to the residual tolerance: the reach changes how
+/// many steps a branch takes (a step too long for its correction is
+/// halved), not how accurate its points are (the runs behind the value:
+/// benches/README.md).
+const PADE_REACH: f64 = 8.0;
+
 /// Continue a branch by the ANM. `opts.max_step` caps a_max (∞, the
 /// default: the series' radius alone);
 /// `opts.min_step` is the smallest a_max accepted before stopping with
@@ -117,8 +125,13 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
         // Padé: a longer step where the rational form stays within ε.
         // Not past a limit of the problem's own (`series_reach` cut a).
         let (a, denominator) = match anm.pade && a < opts.max_step && a >= radius {
-            true => match pade::step(&expansion.series, &run.ctx.scaling, anm.epsilon, a, (4.0 * a).min(opts.max_step))
-            {
+            true => match pade::step(
+                &expansion.series,
+                &run.ctx.scaling,
+                anm.epsilon,
+                a,
+                (PADE_REACH * a).min(opts.max_step),
+            ) {
                 Some((t, d)) if t > a => {
                     run.ctx.counts.pade_steps += 1;
                     (t, Some(d))

@@ -709,3 +709,74 @@ fn a_located_points_singular_values_are_the_dense_svds() {
         }
     }
 }
+
+/// The ANM with Padé steps (P = 15, ε = 1e-6, sought up to 8 times the
+/// series' step) through detection, location, switch and the post-buckled
+/// branch, against closed forms. A Kirchhoff rod with K_b1 = 2 K_b2 = 2
+/// (simple bifurcations, planar buckling): the straight branch to Λ = 25
+/// (steps up to 1) finds exactly the three critical loads below 25, π²K/(4L²)·{1, 2, 9} for K = K_b2 (2.47, 22.2) and K_b1
+/// (4.93), each to 1e-9; the first one's buckled branch, followed by Padé
+/// steps to Λ = 14, delivers its samples at Λ = 5, 10, 14 on the elastica
+/// (P = P_cr (2K(k)/π)², tip axial 2E/K − 1 and lateral 2k/K, k from P
+/// by bisection) to 1e-8, as Newton continuation does in
+/// `post_buckled_elastica_against_elliptic_integrals`.
+#[test]
+fn pade_steps_detect_locate_and_follow_the_elastica() {
+    let law = RodLaw::kirchhoff(2.0, 1.0, 1.0 / 1.3).unwrap();
+    let rod = Rod::new(law, 1.0, axial_load(), Supports::Cantilever, Scheme::Gauss(4), 16).unwrap();
+    let method = rodkit::rod::branch::Method::Anm(AnmOptions { order: 15, epsilon: 1e-6, pade: true });
+    let pe = PI * PI / 4.0;
+    let opts = Options {
+        target_lambda: Some(25.0),
+        residual_tol: 1e-11,
+        initial_step: 0.2,
+        max_step: 1.0,
+        detect_bifurcations: true,
+        bifurcation_tol: 1e-11,
+        ..Default::default()
+    };
+    let straight = rod.continue_branch(None, 0.0, true, &opts, method, |_| true).unwrap();
+    assert_eq!(straight.stop, Stop::Target);
+    let found: Vec<f64> = straight.bifurcations.iter().map(|b| b.lambda).collect();
+    assert_eq!(found.len(), 3, "bifurcations at {found:?}");
+    for (got, exact) in found.iter().zip([pe, 2.0 * pe, 9.0 * pe]) {
+        assert!((got - exact).abs() < 1e-9 * exact, "{got} vs {exact} ({found:?})");
+    }
+    let loads = [5.0, 10.0, 14.0];
+    let opts = Options {
+        target_lambda: Some(14.0),
+        residual_tol: 1e-11,
+        max_step: 5.0,
+        max_steps: 2000,
+        samples: loads.to_vec(),
+        ..Default::default()
+    };
+    let b = rod.switch_branch(&straight, 0, 0, 0.05, &opts, method, |_| true).unwrap();
+    assert_eq!(b.stop, Stop::Target);
+    assert!(b.missed_samples.is_empty(), "missed {:?}", b.missed_samples);
+    assert!(b.counts.pade_steps > 0, "no Padé step taken: {:?}", b.counts);
+    assert_eq!(b.sample_states.len(), loads.len());
+    for (x, &p) in b.sample_states.iter().zip(&loads) {
+        // k from P = P_cr (2K(k)/π)², K(k) increasing in k.
+        let (mut lo, mut hi) = (0.0f64, 1.0 - 1e-15);
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if pe * (2.0 * elliptic(mid).0 / PI).powi(2) < p {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let k = 0.5 * (lo + hi);
+        let (kk, ee) = elliptic(k);
+        let (axial, lateral) = (2.0 * ee / kk - 1.0, 2.0 * k / kk);
+        let tip = rod.tip(x);
+        let defl = tip[0].hypot(tip[1]);
+        assert!(
+            (tip[2] - axial).abs() < 1e-8 && (defl - lateral).abs() < 1e-8,
+            "Λ = {p}: tip ({defl}, {}) vs ({lateral}, {axial})",
+            tip[2]
+        );
+    }
+    println!("straight {:?}\npost {:?}", straight.counts, b.counts);
+}

@@ -61,7 +61,7 @@ impl Default for AnmOptions {
 /// many steps a branch takes (a step too long for its correction is
 /// halved), not how accurate its points are (the runs behind the value:
 /// benches/README.md).
-const PADE_REACH: f64 = 8.0;
+pub(crate) const PADE_REACH: f64 = 8.0;
 
 /// Continue a branch by the ANM. `opts.max_step` caps a_max (∞, the
 /// default: the series' radius alone);

@@ -85,12 +85,15 @@ pub trait SeriesProblem: Problem {
     /// Order-p coefficient of R(X(a)) when X_p = (xp, Λp), orders below p
     /// committed. Called with X_p = 0 it is the known part (the right-hand
     /// side of the recursion); called again with the solved X_p it commits
-    /// order p.
+    /// order p. Orders are taken in increasing sequence from 1: computing
+    /// order q again may overwrite what orders above q kept, which must
+    /// then be computed again, in sequence.
     fn series_order(&mut self, p: usize, xp: &[f64], lambda_p: f64, out: &mut [f64]);
     /// Commit order p with the solved X_p = (xp, Λp) when its coefficient
     /// is not wanted: `scratch` (dim long) is overwritten with unspecified
-    /// values. A problem may then compute only what later orders read; a
-    /// later [`SeriesProblem::series_order`] call at order p must still be
+    /// values. A problem may then compute only what later orders (and
+    /// [`SeriesProblem::series_tangent_order`]) read; a later
+    /// [`SeriesProblem::series_order`] call at order p must still be
     /// right. By default the second `series_order` call.
     fn series_commit(&mut self, p: usize, xp: &[f64], lambda_p: f64, scratch: &mut [f64]) {
         self.series_order(p, xp, lambda_p, scratch)

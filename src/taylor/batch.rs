@@ -37,10 +37,11 @@ pub struct BatchTaylorWork {
 
 /// Coefficient arrays of dropped works, kept for the next series on this
 /// thread. A sweep of rod solves builds a new system each time, and a fresh
-/// array of several hundred kB (nodes × orders × lanes) costs a page fault
-/// at the first touch of each page. A work takes the smallest pooled array
-/// long enough for its series; its contents are stale, which the passes
-/// allow (each writes its whole order before a later one reads it).
+/// array (history × orders + nodes, times lanes) costs a page fault at the
+/// first touch of each page. A work takes the smallest pooled array long
+/// enough for its series; its contents are stale, which the passes allow
+/// (a pass writes every slot of its order, a commit every slot of the cone,
+/// before anything reads them).
 /// Bounded: [`POOL_ARRAYS`] arrays of at most [`POOL_ARRAY_BYTES`] each
 /// (by capacity); a full pool keeps the larger arrays.
 const POOL_ARRAYS: usize = 8;
@@ -113,8 +114,9 @@ impl BatchTaylorWork {
     /// [`super::SeriesLayout`] says: order p of slot s at p·history + s.
     pub fn begin(&mut self, tape: &Tape, x0: &[Lanes], max_order: usize) {
         self.order = max_order;
-        // Not cleared: every pass writes its whole order before a later
-        // one reads it (zeroing ~0.8 MB a step was ~10 % of a small run).
+        // Not cleared: a pass writes its whole order (a commit the cone)
+        // before a later one reads it (zeroing the arrays each step was
+        // ~10 % of a small run).
         let layout = &tape.series;
         grow_pooled(&mut self.coef, layout.len(max_order));
         self.pass(layout, (&layout.ops, &layout.slot), 0, x0);
@@ -205,6 +207,7 @@ impl BatchTaylorWork {
     /// Order p again with new input coefficients: the change propagates
     /// linearly (see [`super::TaylorWork`]); the products read their
     /// operands' order 0, a history.
+    ///
     /// `ops` (with their `slots`): the whole tape, or a commit's cone.
     fn update(&mut self, layout: &SeriesLayout, (ops, slots): (&[Op], &[u32]), p: usize, xp: &[Lanes]) {
         let (h, nodes) = (layout.history, layout.slot.len());
@@ -451,54 +454,83 @@ mod tests {
         }
     }
 
+    /// A kernel without a product: no history, every order in one slab.
+    fn linear<T: Scalar>(v: &[T]) -> Vec<T> {
+        let (x, y, z) = (v[0], v[1], v[2]);
+        vec![x * 2.0 + y - 1.0, -z + x, (y - z) * 0.5]
+    }
+
     /// Reference: the scalar [`TaylorWork`], each order's known part and
     /// a second `order` call with the inputs' coefficients, to 1e-13
     /// relative. The batched work commits instead
-    /// ([`BatchTaylorWork::commit`]: the cone alone), and at every other
-    /// order calls `order` with the same coefficients after the commit:
-    /// that call must see the whole committed order (a whole pass), not
-    /// the cone's nodes alone.
+    /// ([`BatchTaylorWork::commit`]: the cone alone): right after `begin`
+    /// at order 1 and without a known part at order 5 (a pass of the
+    /// cone), after the known part elsewhere (an update of the cone); at
+    /// even orders it then calls `order` with the same coefficients, which
+    /// must see the whole committed order (a whole pass), not the cone's
+    /// nodes alone. Then the tangent series. On the kernel with products
+    /// and on one without (no history at all).
     #[test]
     fn a_commit_is_the_second_order_call() {
-        let tape = Tape::record(3, kernel);
-        let order = 8;
-        let input = |lane: usize, i: usize, k: usize| ((lane * 29 + i * 5 + k * 11) % 19) as f64 / 9.0 - 1.0;
-        let lanes = |k: usize| -> Vec<Lanes> { (0..3).map(|i| std::array::from_fn(|l| input(l, i, k))).collect() };
-        let mut batch = BatchTaylorWork::default();
-        let mut scalar: Vec<TaylorWork> = vec![TaylorWork::default(); LANES];
-        batch.begin(&tape, &lanes(0), order);
-        for (l, w) in scalar.iter_mut().enumerate() {
-            w.begin(&tape, &(0..3).map(|i| input(l, i, 0)).collect::<Vec<_>>(), order);
-        }
-        let close = |a: f64, b: f64| (a - b).abs() <= 1e-13 * (1.0 + b.abs());
-        let (mut out, mut one) = (vec![[0.0; LANES]; 3], vec![0.0; 3]);
-        let check = |out: &[Lanes], scalar: &mut [TaylorWork], p: usize, xp: &[Lanes], one: &mut [f64], what: &str| {
+        for tape in [Tape::record(3, kernel), Tape::record(3, linear)] {
+            let order = 8;
+            let input = |lane: usize, i: usize, k: usize| ((lane * 29 + i * 5 + k * 11) % 19) as f64 / 9.0 - 1.0;
+            let lanes = |k: usize| -> Vec<Lanes> { (0..3).map(|i| std::array::from_fn(|l| input(l, i, k))).collect() };
+            let mut batch = BatchTaylorWork::default();
+            let mut scalar: Vec<TaylorWork> = vec![TaylorWork::default(); LANES];
+            batch.begin(&tape, &lanes(0), order);
             for (l, w) in scalar.iter_mut().enumerate() {
-                w.order(&tape, p, |i| xp[i][l], one);
-                for j in 0..3 {
-                    assert!(close(out[j][l], one[j]), "{what} {p} lane {l} output {j}: {} vs {}", out[j][l], one[j]);
+                w.begin(&tape, &(0..3).map(|i| input(l, i, 0)).collect::<Vec<_>>(), order);
+            }
+            let close = |a: f64, b: f64| (a - b).abs() <= 1e-13 * (1.0 + b.abs());
+            let (mut out, mut one) = (vec![[0.0; LANES]; 3], vec![0.0; 3]);
+            let check =
+                |out: &[Lanes], scalar: &mut [TaylorWork], p: usize, xp: &[Lanes], one: &mut [f64], what: &str| {
+                    for (l, w) in scalar.iter_mut().enumerate() {
+                        w.order(&tape, p, |i| xp[i][l], one);
+                        for j in 0..3 {
+                            assert!(
+                                close(out[j][l], one[j]),
+                                "{what} {p} lane {l} output {j}: {} vs {}",
+                                out[j][l],
+                                one[j]
+                            );
+                        }
+                    }
+                };
+            for p in 1..=order {
+                if p != 1 && p != 5 {
+                    let zeros = vec![[0.0; LANES]; 3];
+                    batch.order(&tape, p, &zeros, &mut out);
+                    check(&out, &mut scalar, p, &zeros, &mut one, "known part");
+                }
+                batch.commit(&tape, p, &lanes(p));
+                if p % 2 == 0 {
+                    batch.order(&tape, p, &lanes(p), &mut out);
+                    check(&out, &mut scalar, p, &lanes(p), &mut one, "order after its commit");
+                } else {
+                    for (l, w) in scalar.iter_mut().enumerate() {
+                        w.order(&tape, p, |i| lanes(p)[i][l], &mut one);
+                    }
                 }
             }
-        };
-        for p in 1..=order {
-            let zeros = vec![[0.0; LANES]; 3];
-            batch.order(&tape, p, &zeros, &mut out);
-            check(&out, &mut scalar, p, &zeros, &mut one, "known part");
-            batch.commit(&tape, p, &lanes(p));
-            if p % 2 == 0 {
-                batch.order(&tape, p, &lanes(p), &mut out);
-                check(&out, &mut scalar, p, &lanes(p), &mut one, "order after its commit");
-            } else {
+            for p in 0..=order {
+                let wp = lanes(p + 20);
+                batch.tangent_order(&tape, p, &wp, &mut out);
                 for (l, w) in scalar.iter_mut().enumerate() {
-                    w.order(&tape, p, |i| lanes(p)[i][l], &mut one);
+                    w.tangent_order(&tape, p, |i| wp[i][l], &mut one);
+                    for j in 0..3 {
+                        assert!(close(out[j][l], one[j]), "tangent order {p} lane {l}: {} vs {}", out[j][l], one[j]);
+                    }
                 }
             }
         }
     }
 
     /// A work given pooled arrays full of NaN computes bitwise what a work
-    /// on fresh zeroed arrays computes (the reference): the passes never
-    /// read a coefficient they have not written in this series.
+    /// on fresh zeroed arrays computes (the reference): the passes and
+    /// commits never read a coefficient they have not written in this
+    /// series.
     #[test]
     fn pooled_stale_arrays_change_nothing() {
         let tape = Tape::record(3, kernel);
@@ -511,8 +543,17 @@ mod tests {
             let mut out = vec![[0.0; LANES]; 3];
             work.begin(&tape, &lanes(0), order);
             for p in 1..=order {
-                for xp in [vec![[0.0; LANES]; 3], lanes(p)] {
-                    work.order(&tape, p, &xp, &mut out);
+                // Order 1 committed right after `begin` (the cone's pass),
+                // every third order committed after its known part (the
+                // cone's update), the others by a second `order` call.
+                if p > 1 {
+                    work.order(&tape, p, &[[0.0; LANES]; 3], &mut out);
+                    all.extend(out.iter().flatten());
+                }
+                if p == 1 || p % 3 == 0 {
+                    work.commit(&tape, p, &lanes(p));
+                } else {
+                    work.order(&tape, p, &lanes(p), &mut out);
                     all.extend(out.iter().flatten());
                 }
             }

@@ -229,9 +229,8 @@ enum Mode {
 pub const MAX_INPUTS: usize = 96;
 
 /// The Taylor coefficients of every node of one kernel on [`LANES`]
-/// instances, order-major (`coef[p·nodes + node]`) as in
-/// [`super::batch::BatchTaylorWork`], kept between the order-by-order
-/// calls of one series.
+/// instances, order-major (`coef[p·nodes + node]`, every order of every
+/// node), kept between the order-by-order calls of one series.
 #[derive(Clone, Debug, Default)]
 pub struct SeriesArena {
     inputs: usize,

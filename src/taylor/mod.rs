@@ -827,6 +827,16 @@ mod tests {
         }
         assert!(layout.cone_ops.len() < n, "the output −x is outside the cone");
         assert_eq!(layout.len(9), 9 * layout.history + n);
+        // A product of sums: its operands' ancestors (the inputs) join the
+        // cone though they are no product's operand.
+        let tape = Tape::record(3, |v: &[Var]| vec![(v[0] + v[1]) * (v[2] - 1.0), -v[0]]);
+        let layout = &tape.series;
+        assert_eq!(layout.history, 2);
+        let cone: std::collections::BTreeSet<u32> = layout.cone_slot.iter().copied().collect();
+        for input in 0..3 {
+            assert!(cone.contains(&layout.slot[input]), "input {input} outside the cone");
+        }
+        assert_eq!(layout.cone_ops.len(), 5, "x, y, z, x + y, z − 1");
     }
 
     /// The tangent series of J(X(a)) W(a) against the same product formed

@@ -757,19 +757,8 @@ fn pade_steps_detect_locate_and_follow_the_elastica() {
     assert!(b.counts.pade_steps > 0, "no Padé step taken: {:?}", b.counts);
     assert_eq!(b.sample_states.len(), loads.len());
     for (x, &p) in b.sample_states.iter().zip(&loads) {
-        // k from P = P_cr (2K(k)/π)², K(k) increasing in k.
-        let (mut lo, mut hi) = (0.0f64, 1.0 - 1e-15);
-        for _ in 0..200 {
-            let mid = 0.5 * (lo + hi);
-            if pe * (2.0 * elliptic(mid).0 / PI).powi(2) < p {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        let k = 0.5 * (lo + hi);
-        let (kk, ee) = elliptic(k);
-        let (axial, lateral) = (2.0 * ee / kk - 1.0, 2.0 * k / kk);
+        // The elastica of K_b = 1 (the weak plane's): P_cr = π²/4.
+        let (_, axial, lateral) = elastica::at_load(p);
         let tip = rod.tip(x);
         let defl = tip[0].hypot(tip[1]);
         assert!(

@@ -142,6 +142,40 @@ pub struct AssembledSystem {
 }
 
 impl AssembledSystem {
+    /// [`SeriesProblem::series_order`] into `out`, or (None) its commit.
+    fn order_or_commit(&mut self, p: usize, xp: &[f64], lambda_p: f64, mut out: Option<&mut [f64]>) {
+        if let Some(out) = out.as_deref_mut() {
+            out.fill(0.0);
+        }
+        for batch in &mut self.batches {
+            Self::gather_lanes(&self.blocks, batch, |g| xp[g], lambda_p, |_| 0.0);
+            let tape = &self.blocks[batch.blocks[0]].tape;
+            match (&mut batch.engine, out.is_some()) {
+                (Engine { taylor: Some(t), .. }, true) => t.order(tape, p, &batch.inputs, &mut batch.outputs),
+                (Engine { taylor: Some(t), .. }, false) => t.commit(tape, p, &batch.inputs),
+                (Engine { compiled: Some(k), .. }, _) => k.series_order(p, &batch.inputs, &mut batch.outputs),
+                _ => unreachable!("a batch has a shared tape or a compiled kernel"),
+            }
+            if let Some(out) = out.as_deref_mut() {
+                Self::scatter_lanes(&self.blocks, batch, out);
+            }
+        }
+        for ((b, w), _) in self.blocks.iter().zip(&mut self.work).zip(&self.batched).filter(|(_, &t)| !t) {
+            let inputs = &b.inputs;
+            let coefficient = |i: usize| match inputs[i] {
+                Slot::Unknown(g) => xp[g],
+                Slot::Lambda => lambda_p,
+                Slot::Param(_) => 0.0,
+            };
+            w.taylor.order(&b.tape, p, coefficient, &mut w.local_out);
+            if let Some(out) = out.as_deref_mut() {
+                for (&row, v) in b.rows.iter().zip(&w.local_out) {
+                    out[row] += v;
+                }
+            }
+        }
+    }
+
     /// `n` unknowns and equations; every equation must receive an output of
     /// some block (else the system is singular by construction: panics, a
     /// model bug). Scales default to 1.
@@ -455,53 +489,14 @@ impl SeriesProblem for AssembledSystem {
     }
 
     fn series_order(&mut self, p: usize, xp: &[f64], lambda_p: f64, out: &mut [f64]) {
-        out.fill(0.0);
-        for batch in &mut self.batches {
-            Self::gather_lanes(&self.blocks, batch, |g| xp[g], lambda_p, |_| 0.0);
-            let tape = &self.blocks[batch.blocks[0]].tape;
-            match &mut batch.engine {
-                Engine { taylor: Some(t), .. } => t.order(tape, p, &batch.inputs, &mut batch.outputs),
-                Engine { compiled: Some(k), .. } => k.series_order(p, &batch.inputs, &mut batch.outputs),
-                _ => unreachable!("a batch has a shared tape or a compiled kernel"),
-            }
-            Self::scatter_lanes(&self.blocks, batch, out);
-        }
-        for ((b, w), _) in self.blocks.iter().zip(&mut self.work).zip(&self.batched).filter(|(_, &t)| !t) {
-            let inputs = &b.inputs;
-            let coefficient = |i: usize| match inputs[i] {
-                Slot::Unknown(g) => xp[g],
-                Slot::Lambda => lambda_p,
-                Slot::Param(_) => 0.0,
-            };
-            w.taylor.order(&b.tape, p, coefficient, &mut w.local_out);
-            for (&row, v) in b.rows.iter().zip(&w.local_out) {
-                out[row] += v;
-            }
-        }
+        self.order_or_commit(p, xp, lambda_p, Some(out));
     }
 
     /// Batches of one shared tape commit the tape's cone of history nodes
     /// alone ([`BatchTaylorWork::commit`]); compiled batches and lone
     /// blocks run their whole order (their outputs left unread).
     fn series_commit(&mut self, p: usize, xp: &[f64], lambda_p: f64, _scratch: &mut [f64]) {
-        for batch in &mut self.batches {
-            Self::gather_lanes(&self.blocks, batch, |g| xp[g], lambda_p, |_| 0.0);
-            let tape = &self.blocks[batch.blocks[0]].tape;
-            match &mut batch.engine {
-                Engine { taylor: Some(t), .. } => t.commit(tape, p, &batch.inputs),
-                Engine { compiled: Some(k), .. } => k.series_order(p, &batch.inputs, &mut batch.outputs),
-                _ => unreachable!("a batch has a shared tape or a compiled kernel"),
-            }
-        }
-        for ((b, w), _) in self.blocks.iter().zip(&mut self.work).zip(&self.batched).filter(|(_, &t)| !t) {
-            let inputs = &b.inputs;
-            let coefficient = |i: usize| match inputs[i] {
-                Slot::Unknown(g) => xp[g],
-                Slot::Lambda => lambda_p,
-                Slot::Param(_) => 0.0,
-            };
-            w.taylor.order(&b.tape, p, coefficient, &mut w.local_out);
-        }
+        self.order_or_commit(p, xp, lambda_p, None);
     }
 
     fn has_series_tangent(&self) -> bool {

@@ -90,6 +90,31 @@ enum Op {
     Shift(f64, u32),
 }
 
+impl Op {
+    /// The nodes this op reads (none for an input or a constant).
+    fn operands(self) -> impl Iterator<Item = u32> {
+        let (a, b) = match self {
+            Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) => (Some(a), Some(b)),
+            Op::Neg(a) | Op::Scale(_, a) | Op::Shift(_, a) => (Some(a), None),
+            Op::Input(_) | Op::Const(_) => (None, None),
+        };
+        a.into_iter().chain(b)
+    }
+
+    /// The same op reading `to(a)` for each operand a.
+    fn with_operands(self, to: impl Fn(u32) -> u32) -> Op {
+        match self {
+            Op::Input(_) | Op::Const(_) => self,
+            Op::Add(a, b) => Op::Add(to(a), to(b)),
+            Op::Sub(a, b) => Op::Sub(to(a), to(b)),
+            Op::Mul(a, b) => Op::Mul(to(a), to(b)),
+            Op::Neg(a) => Op::Neg(to(a)),
+            Op::Scale(c, a) => Op::Scale(c, to(a)),
+            Op::Shift(c, a) => Op::Shift(c, to(a)),
+        }
+    }
+}
+
 thread_local! {
     static RECORDING: RefCell<Option<Vec<Op>>> = const { RefCell::new(None) };
 }
@@ -225,13 +250,8 @@ impl SeriesLayout {
         let mut cone = product_operand.clone();
         for (k, op) in ops.iter().enumerate().rev() {
             if cone[k] {
-                match *op {
-                    Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) => {
-                        cone[a as usize] = true;
-                        cone[b as usize] = true;
-                    }
-                    Op::Neg(a) | Op::Scale(_, a) | Op::Shift(_, a) => cone[a as usize] = true,
-                    Op::Input(_) | Op::Const(_) => {}
+                for a in op.operands() {
+                    cone[a as usize] = true;
                 }
             }
         }
@@ -246,23 +266,10 @@ impl SeriesLayout {
             })
             .collect();
         let at = |i: u32| slot[i as usize];
-        let ops: Vec<Op> = ops
-            .iter()
-            .map(|op| match *op {
-                Op::Input(i) => Op::Input(i),
-                Op::Const(c) => Op::Const(c),
-                Op::Add(a, b) => Op::Add(at(a), at(b)),
-                Op::Sub(a, b) => Op::Sub(at(a), at(b)),
-                Op::Mul(a, b) => Op::Mul(at(a), at(b)),
-                Op::Neg(a) => Op::Neg(at(a)),
-                Op::Scale(c, a) => Op::Scale(c, at(a)),
-                Op::Shift(c, a) => Op::Shift(c, at(a)),
-            })
-            .collect();
+        let ops: Vec<Op> = ops.iter().map(|op| op.with_operands(at)).collect();
         let outputs = outputs.iter().map(|&o| at(o)).collect();
-        let in_cone = |k: &usize| cone[*k];
-        let cone_ops = (0..ops.len()).filter(in_cone).map(|k| ops[k]).collect();
-        let cone_slot = (0..ops.len()).filter(in_cone).map(|k| slot[k]).collect();
+        let (cone_ops, cone_slot) =
+            ops.iter().zip(&slot).zip(&cone).filter(|(_, &c)| c).map(|((&o, &s), _)| (o, s)).unzip();
         SeriesLayout { history, ops, slot, outputs, cone_ops, cone_slot }
     }
 
@@ -795,16 +802,7 @@ mod tests {
         }
         let at = |i: u32| layout.slot[i as usize];
         for (op, mapped) in tape.ops.iter().zip(&layout.ops) {
-            let expected = match *op {
-                Op::Add(a, b) => Op::Add(at(a), at(b)),
-                Op::Sub(a, b) => Op::Sub(at(a), at(b)),
-                Op::Mul(a, b) => Op::Mul(at(a), at(b)),
-                Op::Neg(a) => Op::Neg(at(a)),
-                Op::Scale(c, a) => Op::Scale(c, at(a)),
-                Op::Shift(c, a) => Op::Shift(c, at(a)),
-                other => other,
-            };
-            assert_eq!(*mapped, expected);
+            assert_eq!(*mapped, op.with_operands(at));
         }
         let outputs: Vec<u32> = tape.outputs.iter().map(|&o| at(o)).collect();
         assert_eq!(layout.outputs, outputs);
@@ -813,11 +811,7 @@ mod tests {
         let cone: std::collections::BTreeSet<u32> = layout.cone_slot.iter().copied().collect();
         assert!((0..layout.history as u32).all(|s| cone.contains(&s)));
         for op in &layout.cone_ops {
-            match *op {
-                Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) => assert!(cone.contains(&a) && cone.contains(&b)),
-                Op::Neg(a) | Op::Scale(_, a) | Op::Shift(_, a) => assert!(cone.contains(&a)),
-                Op::Input(_) | Op::Const(_) => {}
-            }
+            assert!(op.operands().all(|a| cone.contains(&a)), "{op:?} reads outside the cone");
         }
         let order: Vec<usize> =
             layout.cone_slot.iter().map(|&s| layout.slot.iter().position(|&t| t == s).unwrap()).collect();

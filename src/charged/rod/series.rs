@@ -392,12 +392,10 @@ impl ChargedRod {
     /// scratch).
     fn order_or_commit(&mut self, p: usize, xp: &[f64], lambda_p: f64, out: &mut [f64], commit: bool) {
         let rod_lambda = self.lambda_order(p, lambda_p);
-        match commit {
-            true => {
-                self.sys.series_commit(p, xp, rod_lambda, out);
-                out.fill(0.0);
-            }
-            false => self.sys.series_order(p, xp, rod_lambda, out),
+        if commit {
+            self.sys.series_commit(p, xp, rod_lambda, out);
+        } else {
+            self.sys.series_order(p, xp, rod_lambda, out);
         }
         if let Some(c) = self.twisted_phi {
             // The row c − cos(φ/2) (see `residual`).

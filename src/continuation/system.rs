@@ -85,12 +85,148 @@ struct BlockWork {
     /// The local Jacobian (outputs × inputs, row-major), sized at its first
     /// use: a block whose Jacobian comes from its batch never needs one.
     local_jac: Vec<f64>,
-    /// Pattern position of each (output k, input j) the tape says output k
-    /// depends on, in the order of [`Tape::dependencies`] (outputs in turn),
-    /// or usize::MAX (Λ, params): one entry per structural nonzero, not
-    /// outputs × inputs.
-    positions: Vec<usize>,
     taylor: TaylorWork,
+}
+
+/// A system's pattern and where each block's entries go in it: a function
+/// of the blocks' structure alone (their tapes' dependencies, which inputs
+/// are which unknowns, their rows), so the systems a sweep rebuilds with
+/// new loads or laws on one mesh share it ([`structure`]).
+#[derive(Debug)]
+struct Structure {
+    pattern: Pattern,
+    /// Per block, the pattern position of each (output k, input j) the
+    /// tape says output k depends on, in the order of
+    /// [`Tape::dependencies`] (outputs in turn), or usize::MAX (Λ,
+    /// params): one entry per structural nonzero, not outputs × inputs.
+    positions: Vec<Vec<usize>>,
+    /// What it was built from: per block, its tape (for its
+    /// dependencies), the unknown behind each input (usize::MAX for Λ and
+    /// params) and its rows.
+    key: Vec<(Arc<Tape>, Vec<usize>, Vec<usize>)>,
+}
+
+impl Structure {
+    /// Whether `blocks` of an n-unknown system have the structure this
+    /// was built from.
+    fn fits(&self, n: usize, blocks: &[Block]) -> bool {
+        self.pattern.n == n
+            && self.key.len() == blocks.len()
+            && self.key.iter().zip(blocks).all(|((tape, unknowns, rows), b)| {
+                *rows == b.rows
+                    && unknowns.len() == b.inputs.len()
+                    && unknowns.iter().zip(&b.inputs).all(|(&u, s)| u == unknown(s))
+                    && tape.same_dependencies(&b.tape)
+            })
+    }
+
+    fn build(n: usize, blocks: &[Block]) -> Self {
+        let mut covered = vec![false; n];
+        // Every structural entry of every block, in the blocks' dependency
+        // order: the pattern and each entry's position in one pass.
+        let mut entries = Vec::new();
+        for b in blocks {
+            assert_eq!(b.inputs.len(), b.tape.inputs(), "block inputs do not match its tape");
+            assert_eq!(b.rows.len(), b.tape.outputs(), "block rows do not match its tape");
+            for (k, &row) in b.rows.iter().enumerate() {
+                covered[row] = true;
+                for &j in b.tape.dependencies(k) {
+                    if let Slot::Unknown(col) = b.inputs[j as usize] {
+                        entries.push((row, col));
+                    }
+                }
+            }
+        }
+        if let Some(row) = covered.iter().position(|c| !c) {
+            panic!("equation {row} receives no block output");
+        }
+        // Keep the diagonal in the pattern: a zero there is still a pivot slot.
+        let (pattern, found) = Pattern::with_positions_and_diagonal(n, &entries);
+        let mut found = found.iter();
+        let positions = blocks
+            .iter()
+            .map(|b| {
+                let mut positions = Vec::with_capacity(b.rows.len());
+                for k in 0..b.rows.len() {
+                    for &j in b.tape.dependencies(k) {
+                        positions.push(match b.inputs[j as usize] {
+                            Slot::Unknown(_) => *found.next().expect("one position per block entry") as usize,
+                            Slot::Lambda | Slot::Param(_) => usize::MAX,
+                        });
+                    }
+                }
+                positions
+            })
+            .collect();
+        let key =
+            blocks.iter().map(|b| (b.tape.clone(), b.inputs.iter().map(unknown).collect(), b.rows.clone())).collect();
+        Structure { pattern, positions, key }
+    }
+}
+
+/// The unknown an input slot reads (usize::MAX: Λ or a parameter).
+fn unknown(slot: &Slot) -> usize {
+    match *slot {
+        Slot::Unknown(g) => g,
+        Slot::Lambda | Slot::Param(_) => usize::MAX,
+    }
+}
+
+/// Structures kept on this thread: at most [`KEPT_STRUCTURES`], the least
+/// recently used dropped first, each of at most [`KEPT_ENTRIES`] pattern
+/// entries (~24 bytes each with the key and positions: ≤ 6 MB apiece; a
+/// larger system's set-up is small beside its solves).
+const KEPT_STRUCTURES: usize = 8;
+const KEPT_ENTRIES: usize = 1 << 18;
+
+thread_local! {
+    static STRUCTURES: std::cell::RefCell<Vec<Arc<Structure>>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Drop the structures kept on this thread, the systems' and the
+/// bordered tangents' ([`crate::linalg::bordered::forget_kept_structures`]):
+/// their memory back, or a benchmark's first set-up. The element tapes a
+/// rod records stay.
+pub fn forget_kept_structures() {
+    let _ = STRUCTURES.try_with(|kept| kept.borrow_mut().clear());
+    crate::linalg::bordered::forget_kept_structures();
+}
+
+/// System structures kept on this thread.
+#[cfg(test)]
+fn kept_structures() -> usize {
+    STRUCTURES.with(|kept| kept.borrow().len())
+}
+
+/// The structure of `blocks`, kept or built. Finding it compares each
+/// block's rows, input unknowns and tape dependencies (O(inputs + the
+/// tapes' dependencies once per distinct tape pair)), against the O(entries)
+/// counting sort and scatter of a build (a third of a rod's set-up).
+fn structure(n: usize, blocks: &[Block]) -> Arc<Structure> {
+    let found = STRUCTURES
+        .try_with(|kept| {
+            let mut kept = kept.borrow_mut();
+            let at = kept.iter().position(|s| s.fits(n, blocks))?;
+            let s = kept.remove(at);
+            kept.push(s.clone());
+            Some(s)
+        })
+        .ok()
+        .flatten();
+    if let Some(s) = found {
+        return s;
+    }
+    let s = Arc::new(Structure::build(n, blocks));
+    if s.pattern.nnz() <= KEPT_ENTRIES {
+        let _ = STRUCTURES.try_with(|kept| {
+            let mut kept = kept.borrow_mut();
+            if kept.len() == KEPT_STRUCTURES {
+                kept.remove(0);
+            }
+            kept.push(s.clone());
+        });
+    }
+    s
 }
 
 /// Blocks whose residuals, Jacobians and Taylor series are taken
@@ -134,7 +270,7 @@ pub struct AssembledSystem {
     batched: Vec<bool>,
     /// See [`AssembledSystem::with_private_blocks`].
     private: Vec<Vec<usize>>,
-    pattern: Pattern,
+    structure: Arc<Structure>,
     nodes: Vec<f64>,
     jwork: JacobianWork,
     equation_scales: Vec<f64>,
@@ -180,48 +316,14 @@ impl AssembledSystem {
     /// some block (else the system is singular by construction: panics, a
     /// model bug). Scales default to 1.
     pub fn new(n: usize, blocks: Vec<Block>) -> Self {
-        let mut covered = vec![false; n];
-        // Every structural entry of every block, in the blocks' dependency
-        // order: the pattern and each entry's position in one pass.
-        let mut entries = Vec::new();
-        for b in &blocks {
-            assert_eq!(b.inputs.len(), b.tape.inputs(), "block inputs do not match its tape");
-            assert_eq!(b.rows.len(), b.tape.outputs(), "block rows do not match its tape");
-            for (k, &row) in b.rows.iter().enumerate() {
-                covered[row] = true;
-                for &j in b.tape.dependencies(k) {
-                    if let Slot::Unknown(col) = b.inputs[j as usize] {
-                        entries.push((row, col));
-                    }
-                }
-            }
-        }
-        if let Some(row) = covered.iter().position(|c| !c) {
-            panic!("equation {row} receives no block output");
-        }
-        // Keep the diagonal in the pattern: a zero there is still a pivot slot.
-        let (pattern, found) = Pattern::with_positions_and_diagonal(n, &entries);
-        let mut found = found.iter();
+        let structure = structure(n, &blocks);
         let work = blocks
             .iter()
-            .map(|b| {
-                let (nin, nout) = (b.tape.inputs(), b.tape.outputs());
-                let mut positions = Vec::new();
-                for k in 0..nout {
-                    for &j in b.tape.dependencies(k) {
-                        positions.push(match b.inputs[j as usize] {
-                            Slot::Unknown(_) => *found.next().expect("one position per block entry") as usize,
-                            Slot::Lambda | Slot::Param(_) => usize::MAX,
-                        });
-                    }
-                }
-                BlockWork {
-                    local_in: vec![0.0; nin],
-                    local_out: vec![0.0; nout],
-                    local_jac: Vec::new(),
-                    positions,
-                    taylor: TaylorWork::default(),
-                }
+            .map(|b| BlockWork {
+                local_in: vec![0.0; b.tape.inputs()],
+                local_out: vec![0.0; b.tape.outputs()],
+                local_jac: Vec::new(),
+                taylor: TaylorWork::default(),
             })
             .collect();
         let (batches, batched) = Self::batches(&blocks);
@@ -232,7 +334,7 @@ impl AssembledSystem {
             batches,
             batched,
             private: Vec::new(),
-            pattern,
+            structure,
             nodes: Vec::new(),
             jwork: JacobianWork::default(),
             equation_scales: vec![1.0; n],
@@ -403,7 +505,7 @@ impl Problem for AssembledSystem {
     }
 
     fn pattern(&self) -> &Pattern {
-        &self.pattern
+        &self.structure.pattern
     }
 
     fn residual(&mut self, x: &[f64], lambda: f64, r: &mut [f64]) {
@@ -443,16 +545,23 @@ impl Problem for AssembledSystem {
             }
             for (l, &bi) in batch.blocks.iter().enumerate() {
                 let local = |e: usize| batch.local_jac[e][l];
-                Self::scatter_jacobian(&self.blocks[bi], &self.work[bi].positions, local, jx, jl);
+                Self::scatter_jacobian(&self.blocks[bi], &self.structure.positions[bi], local, jx, jl);
             }
         }
-        for ((b, w), _) in self.blocks.iter().zip(&mut self.work).zip(&self.batched).filter(|(_, &t)| !t) {
+        for (((b, w), _), positions) in self
+            .blocks
+            .iter()
+            .zip(&mut self.work)
+            .zip(&self.batched)
+            .zip(&self.structure.positions)
+            .filter(|((_, &t), _)| !t)
+        {
             Self::gather(&b.inputs, x, lambda, &mut w.local_in);
             if w.local_jac.is_empty() {
                 w.local_jac = vec![0.0; b.tape.inputs() * b.tape.outputs()];
             }
             b.tape.jacobian(&w.local_in, &mut self.jwork, &mut w.local_out, &mut w.local_jac);
-            Self::scatter_jacobian(b, &w.positions, |e| w.local_jac[e], jx, jl);
+            Self::scatter_jacobian(b, positions, |e| w.local_jac[e], jx, jl);
         }
     }
 
@@ -527,5 +636,100 @@ impl SeriesProblem for AssembledSystem {
                 out[row] += v;
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// out0 = a·x0·x1 and out1 = b·x2 + x0: dependencies {0, 1} and
+    /// {0, 2}; `swap` records x0·x2 and x1 instead ({0, 2} and {1}).
+    fn tape(a: f64, b: f64, swap: bool) -> Arc<Tape> {
+        Arc::new(Tape::record(3, |v| match swap {
+            false => vec![v[0] * v[1] * a, v[2] * b + v[0]],
+            true => vec![v[0] * v[2], v[1] * 1.0],
+        }))
+    }
+
+    /// Two blocks over 4 unknowns: rows 0, 1 from x0..x2, rows 2, 3 from
+    /// (x2, x3, third).
+    fn system(t: &Arc<Tape>, third: Slot) -> AssembledSystem {
+        let blocks = vec![
+            Block::new(t.clone(), vec![Slot::Unknown(0), Slot::Unknown(1), Slot::Unknown(2)], vec![0, 1]),
+            Block::new(t.clone(), vec![Slot::Unknown(2), Slot::Unknown(3), third], vec![2, 3]),
+        ];
+        AssembledSystem::new(4, blocks)
+    }
+
+    /// ∂R/∂x at a fixed point, in pattern order.
+    fn jacobian(s: &mut AssembledSystem) -> Vec<f64> {
+        let (mut jx, mut jl) = (vec![0.0; s.pattern().nnz()], vec![0.0; 4]);
+        s.jacobian(&[0.3, -1.1, 0.7, 1.9], 0.4, &mut jx, &mut jl);
+        jx
+    }
+
+    /// A system whose blocks have a kept structure (same tape
+    /// dependencies, input unknowns and rows; coefficients, Λ and params
+    /// may differ) shares it, and its pattern and Jacobian are those of a
+    /// system built with nothing kept (the reference: the same blocks after
+    /// the kept structures are forgotten; the Jacobian's entries also
+    /// against the kernel's derivatives by hand). Another tape structure or
+    /// another input unknown takes a structure of its own; at most
+    /// KEPT_STRUCTURES are kept. In a thread of its own: the count is the
+    /// thread's.
+    #[test]
+    fn a_kept_structure_is_the_one_a_build_gives() {
+        std::thread::spawn(|| {
+            forget_kept_structures();
+            let mut first = system(&tape(2.0, 3.0, false), Slot::Lambda);
+            assert_eq!(kept_structures(), 1);
+            // Other coefficients, a parameter for Λ: the same structure.
+            let mut second = system(&tape(5.0, -1.0, false), Slot::Param(0.25));
+            assert_eq!(kept_structures(), 1);
+            assert!(std::ptr::eq(first.pattern(), second.pattern()), "the structure should be shared");
+            forget_kept_structures();
+            let mut fresh = system(&tape(5.0, -1.0, false), Slot::Param(0.25));
+            assert!(!std::ptr::eq(fresh.pattern(), second.pattern()));
+            assert_eq!(fresh.pattern(), second.pattern());
+            assert_eq!(jacobian(&mut fresh), jacobian(&mut second));
+            // By hand, second's kernel at x = (0.3, −1.1, 0.7, 1.9):
+            // rows 0, 1: (5x1, 5x0, 0 | 1, 0, −1); rows 2, 3 on (x2, x3):
+            // (5x3, 5x2 | 1, 0).
+            let p = second.pattern().clone();
+            let jx = jacobian(&mut second);
+            let at = |i: usize, j: usize| jx[p.position(i, j).unwrap()];
+            let want = [(0, 0, -5.5), (0, 1, 1.5), (1, 0, 1.0), (1, 2, -1.0), (2, 2, 9.5), (2, 3, 3.5), (3, 2, 1.0)];
+            for (i, j, v) in want {
+                assert!((at(i, j) - v).abs() < 1e-14, "∂R{i}/∂x{j} = {} (want {v})", at(i, j));
+            }
+            assert_eq!(jacobian(&mut first).len(), p.nnz());
+            // Another dependency structure: its own pattern.
+            let swapped = system(&tape(1.0, 1.0, true), Slot::Lambda);
+            assert_eq!(kept_structures(), 2);
+            assert!(swapped.pattern().position(1, 1).is_some() && swapped.pattern().position(0, 1).is_none());
+            // The second block reading x1 where it read x3: its own.
+            let t = tape(2.0, 3.0, false);
+            let blocks = vec![
+                Block::new(t.clone(), vec![Slot::Unknown(0), Slot::Unknown(1), Slot::Unknown(2)], vec![0, 1]),
+                Block::new(t.clone(), vec![Slot::Unknown(2), Slot::Unknown(1), Slot::Lambda], vec![2, 3]),
+            ];
+            let moved = AssembledSystem::new(4, blocks);
+            assert_eq!(kept_structures(), 3);
+            assert!(moved.pattern().position(2, 1).is_some() && moved.pattern().position(2, 3).is_none());
+            for k in 0..2 * KEPT_STRUCTURES {
+                let t = tape(1.0, 1.0, false);
+                let block = |rows: Vec<usize>, u: usize| {
+                    Block::new(t.clone(), vec![Slot::Unknown(u), Slot::Unknown(u + 1), Slot::Lambda], rows)
+                };
+                // k + 2 copies of the first block's shape: k + 2 blocks.
+                let mut blocks = vec![block(vec![0, 1], 0)];
+                blocks.extend((0..=k).map(|_| block(vec![0, 1], 0)));
+                AssembledSystem::new(2, blocks);
+            }
+            assert_eq!(kept_structures(), KEPT_STRUCTURES);
+        })
+        .join()
+        .unwrap();
     }
 }

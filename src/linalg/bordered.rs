@@ -12,11 +12,12 @@
 //! not depend on the model's units.
 
 use super::bordering::BlockElimination;
-use super::condensed::CondensedLu;
+use super::condensed::{CondensedLu, CondensedStructure, DENSE_KEPT};
 use super::dense::{dot, orthonormalise};
 use super::sparse::{ColumnOrder, LuKind, Pattern, SparseLu};
 use crate::error::{Error, Result};
 use crate::status::Status;
+use std::sync::Arc;
 
 /// What a subspace iteration is for ([`BorderedLu::smallest_singular_vectors`]).
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -71,24 +72,149 @@ enum Fast {
     Condensed(Box<CondensedLu>),
 }
 
-pub struct BorderedLu {
-    n: usize,
-    lu: SparseLu,
-    values: Vec<f64>,
-    /// Position in `values` of each entry of A's pattern.
+/// What a [`BorderedLu`] takes from A's pattern, its trailing count and
+/// private blocks alone: B's pattern, where A's entries and the border go
+/// in it, the condensation's structure. Kept per thread ([`structure`]):
+/// the rods of a sweep rebuild tangents of one pattern.
+struct Structure {
+    /// A's pattern, trailing count and blocks (what the rest is built
+    /// from).
+    inner: Arc<Pattern>,
+    trailing: usize,
+    blocks: Vec<Vec<usize>>,
+    /// B's pattern.
+    big: Arc<Pattern>,
+    /// Position in B's values of each entry of A's pattern.
     map: Vec<usize>,
     /// Positions of (i, n) for i < n, and of (n, j) for j ≤ n.
     last_col: Vec<usize>,
     last_row: Vec<usize>,
+    /// The condensation's structure, when A's blocks have its form.
+    condensed: Option<Arc<CondensedStructure>>,
+}
+
+impl Structure {
+    fn new(pattern: &Pattern, trailing: usize, blocks: &[Vec<usize>]) -> Result<Self> {
+        let n = pattern.n;
+        let nnz = pattern.nnz();
+        // B's pattern written directly: column j < n is A's column j (rows
+        // sorted, all < n) then row n; column n is rows 0..=n. Each of A's
+        // entries moves down by its column index.
+        let mut col_ptr = Vec::with_capacity(n + 2);
+        let mut row_idx = Vec::with_capacity(nnz + 2 * n + 1);
+        let mut last_row = Vec::with_capacity(n + 1);
+        let mut map = Vec::with_capacity(nnz);
+        for j in 0..n {
+            col_ptr.push(row_idx.len());
+            let rows = &pattern.row_idx[pattern.col_ptr[j]..pattern.col_ptr[j + 1]];
+            // Pattern's invariant (its fields are public): B's rows are
+            // A's, in order, with no repeat.
+            if rows.windows(2).any(|w| w[0] >= w[1]) || rows.last().is_some_and(|&r| r >= n) {
+                return Err(Error::new(
+                    Status::ErrInvalidDimension,
+                    format!("bordered LU: column {j} of the pattern has rows out of order, repeated or out of range"),
+                ));
+            }
+            map.extend(row_idx.len()..row_idx.len() + rows.len());
+            row_idx.extend_from_slice(rows);
+            last_row.push(row_idx.len());
+            row_idx.push(n);
+        }
+        col_ptr.push(row_idx.len());
+        let last_col: Vec<usize> = (row_idx.len()..row_idx.len() + n).collect();
+        let corner = row_idx.len() + n;
+        last_row.push(corner);
+        row_idx.extend(0..=n);
+        col_ptr.push(row_idx.len());
+        let big = Pattern { n: n + 1, col_ptr, row_idx };
+        // The border row and column reach every block: kept.
+        let condensed = match blocks.is_empty() {
+            true => None,
+            false => CondensedStructure::new(&big, blocks, trailing + 1, DENSE_KEPT).ok().map(Arc::new),
+        };
+        Ok(Structure {
+            inner: Arc::new(pattern.clone()),
+            trailing,
+            blocks: blocks.to_vec(),
+            big: Arc::new(big),
+            map,
+            last_col,
+            last_row,
+            condensed,
+        })
+    }
+}
+
+/// Structures kept on this thread: at most [`KEPT_STRUCTURES`], the least
+/// recently used dropped first, each of a pattern of at most
+/// [`KEPT_ENTRIES`] entries (~40 bytes an entry with B's pattern, the
+/// maps and the condensation's: ≤ 10 MB apiece; a larger system's set-up
+/// is small beside its factorisations).
+const KEPT_STRUCTURES: usize = 8;
+const KEPT_ENTRIES: usize = 1 << 18;
+
+thread_local! {
+    static STRUCTURES: std::cell::RefCell<Vec<Arc<Structure>>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// The structure of B for A's `pattern`, kept or built. Finding it
+/// compares the patterns (one pass over A's indices) against the several
+/// passes, sorts and searches of a build.
+fn structure(pattern: &Pattern, trailing: usize, blocks: &[Vec<usize>]) -> Result<Arc<Structure>> {
+    let fits = |s: &Structure| s.trailing == trailing && *s.inner == *pattern && s.blocks == blocks;
+    let found = STRUCTURES
+        .try_with(|kept| {
+            let mut kept = kept.borrow_mut();
+            let at = kept.iter().position(|s| fits(s))?;
+            let s = kept.remove(at);
+            kept.push(s.clone());
+            Some(s)
+        })
+        .ok()
+        .flatten();
+    if let Some(s) = found {
+        return Ok(s);
+    }
+    let s = Arc::new(Structure::new(pattern, trailing, blocks)?);
+    if pattern.nnz() <= KEPT_ENTRIES {
+        let _ = STRUCTURES.try_with(|kept| {
+            let mut kept = kept.borrow_mut();
+            if kept.len() == KEPT_STRUCTURES {
+                kept.remove(0);
+            }
+            kept.push(s.clone());
+        });
+    }
+    Ok(s)
+}
+
+/// Drop the bordered structures kept on this thread (their memory; a
+/// benchmark of a first set-up).
+pub fn forget_kept_structures() {
+    let _ = STRUCTURES.try_with(|kept| kept.borrow_mut().clear());
+}
+
+/// Bordered structures kept on this thread.
+#[cfg(test)]
+fn kept_structures() -> usize {
+    STRUCTURES.with(|kept| kept.borrow().len())
+}
+
+pub struct BorderedLu {
+    n: usize,
+    lu: SparseLu,
+    values: Vec<f64>,
+    /// B's pattern and maps (shared).
+    structure: Arc<Structure>,
     /// The singular-value estimates work on Ã = R B C (ones until
     /// [`BorderedLu::set_scales`]): in raw units (pN, nm for DNA) a mode of
     /// a badly scaled row can sit below every buckling mode and hide their
     /// zero crossings.
     row_scale: Vec<f64>,
     col_scale: Vec<f64>,
-    /// A's pattern (moved into the block elimination's LU on the first
-    /// matrix) and trailing count.
-    inner: Option<Pattern>,
+    /// A's pattern (copied into the block elimination's LU on the first
+    /// matrix, then None) and trailing count.
+    inner: Option<Arc<Pattern>>,
     trailing: usize,
     fast: Fast,
     /// Whether the last factorisation is the block elimination's or the
@@ -120,56 +246,31 @@ impl BorderedLu {
     /// multipliers whose rows and columns reach across it (ordered last
     /// with the border by any reordering: [`SparseLu::with_trailing`]).
     pub fn with_trailing(pattern: &Pattern, trailing: usize) -> Result<Self> {
-        let n = pattern.n;
-        let nnz = pattern.nnz();
-        // B's pattern written directly: column j < n is A's column j (rows
-        // sorted, all < n) then row n; column n is rows 0..=n. Each of A's
-        // entries moves down by its column index.
-        let mut col_ptr = Vec::with_capacity(n + 2);
-        let mut row_idx = Vec::with_capacity(nnz + 2 * n + 1);
-        let mut last_row = Vec::with_capacity(n + 1);
-        for j in 0..n {
-            col_ptr.push(row_idx.len());
-            let rows = &pattern.row_idx[pattern.col_ptr[j]..pattern.col_ptr[j + 1]];
-            // Pattern's invariant (its fields are public): B's rows are
-            // A's, in order, with no repeat.
-            if rows.windows(2).any(|w| w[0] >= w[1]) || rows.last().is_some_and(|&r| r >= n) {
-                return Err(Error::new(
-                    Status::ErrInvalidDimension,
-                    format!("bordered LU: column {j} of the pattern has rows out of order, repeated or out of range"),
-                ));
-            }
-            row_idx.extend_from_slice(rows);
-            last_row.push(row_idx.len());
-            row_idx.push(n);
-        }
-        col_ptr.push(row_idx.len());
-        let last_col: Vec<usize> = (row_idx.len()..row_idx.len() + n).collect();
-        let corner = row_idx.len() + n;
-        last_row.push(corner);
-        row_idx.extend(0..=n);
-        col_ptr.push(row_idx.len());
-        let map = (0..n).flat_map(|j| (pattern.col_ptr[j]..pattern.col_ptr[j + 1]).map(move |k| k + j)).collect();
-        let big = Pattern { n: n + 1, col_ptr, row_idx };
-        let values = vec![0.0; big.nnz()];
+        Self::from_structure(structure(pattern, trailing, &[])?)
+    }
+
+    fn from_structure(structure: Arc<Structure>) -> Result<Self> {
+        let n = structure.inner.n;
+        let trailing = structure.trailing;
         Ok(BorderedLu {
             n,
             lu: {
                 // B's dense border row makes its AᵀA factor dense: B is
                 // always factorised simplicially (supernodes go to A).
-                let mut lu = SparseLu::with_trailing(big, trailing + 1)?;
+                let mut lu = SparseLu::shared(structure.big.clone(), trailing + 1)?;
                 lu.prefer_kind(LuKind::Simplicial);
                 lu
             },
-            values,
-            map,
-            last_col,
-            last_row,
+            values: vec![0.0; structure.big.nnz()],
             row_scale: vec![1.0; n + 1],
             col_scale: vec![1.0; n + 1],
-            inner: Some(pattern.clone()),
+            inner: Some(structure.inner.clone()),
             trailing,
-            fast: Fast::Undecided,
+            fast: match &structure.condensed {
+                Some(c) => Fast::Condensed(Box::new(CondensedLu::from_structure(c.clone())?)),
+                None => Fast::Undecided,
+            },
+            structure,
             blocks_active: false,
             preferred: None,
             preferred_kind: None,
@@ -191,13 +292,7 @@ impl BorderedLu {
     /// decides that matrix. Without blocks, or if the pattern does not
     /// have that form, as [`BorderedLu::with_trailing`].
     pub fn with_private_blocks(pattern: &Pattern, trailing: usize, blocks: &[Vec<usize>]) -> Result<Self> {
-        let mut lu = Self::with_trailing(pattern, trailing)?;
-        if !blocks.is_empty() {
-            if let Ok(condensed) = CondensedLu::new(lu.lu.pattern(), blocks, trailing + 1) {
-                lu.fast = Fast::Condensed(Box::new(condensed));
-            }
-        }
-        Ok(lu)
+        Self::from_structure(structure(pattern, trailing, blocks)?)
     }
 
     /// Whether B is factorised by condensation
@@ -251,7 +346,7 @@ impl BorderedLu {
     /// Block elimination when A alone takes supernodal factors (tried on
     /// its first matrix), else B's LU for good.
     fn first_blocks(&mut self, a: &[f64]) -> Fast {
-        let Some(Ok(mut blocks)) = self.inner.take().map(|p| BlockElimination::new(p, self.trailing)) else {
+        let Some(Ok(mut blocks)) = self.inner.take().map(|p| BlockElimination::new((*p).clone(), self.trailing)) else {
             return Fast::Whole;
         };
         if let Some(order) = self.preferred {
@@ -323,16 +418,16 @@ impl BorderedLu {
     fn assemble(&mut self, a: &[f64], c: &[f64], r: &[f64], d: f64) {
         self.inner_known = false;
         self.values.fill(0.0);
-        for (&p, &v) in self.map.iter().zip(a) {
+        for (&p, &v) in self.structure.map.iter().zip(a) {
             self.values[p] += v;
         }
-        for (i, &p) in self.last_col.iter().enumerate() {
+        for (i, &p) in self.structure.last_col.iter().enumerate() {
             self.values[p] = c[i];
         }
         for j in 0..self.n {
-            self.values[self.last_row[j]] = r[j];
+            self.values[self.structure.last_row[j]] = r[j];
         }
-        self.values[self.last_row[self.n]] = d;
+        self.values[self.structure.last_row[self.n]] = d;
     }
 
     /// See [`SparseLu::prefer`].
@@ -503,7 +598,7 @@ impl BorderedLu {
     /// this one goes on ([`crate::continuation::Options::overlap_records`])
     /// — exactly as [`BorderedLu::determinant_sign`] takes them here.
     pub fn exact_twin(&self) -> Result<SparseLu> {
-        let mut lu = SparseLu::with_trailing(self.lu.pattern().clone(), self.trailing + 1)?;
+        let mut lu = SparseLu::shared(self.lu.shared_pattern().clone(), self.trailing + 1)?;
         lu.prefer_kind(LuKind::Simplicial);
         if self.lu.factorisations > 0 {
             lu.prefer(self.lu.column_order());
@@ -1125,5 +1220,90 @@ mod block_tests {
         lu.factorise(&narrow.a, &narrow.c, &narrow.r, narrow.d).unwrap();
         assert!(lu.last_condensed(), "the condensation should hold B");
         check(&mut lu, &narrow, "condensation");
+    }
+
+    /// B for `m` as one dense matrix (the reference of the kept-structure
+    /// test).
+    fn dense_bordered(m: &Banded) -> DMatrix<f64> {
+        let n = m.pattern.n;
+        let mut dense = DMatrix::zeros(n + 1, n + 1);
+        dense.view_mut((0, 0), (n, n)).copy_from(&dense_inner(m));
+        for j in 0..n {
+            dense[(j, n)] = m.c[j];
+            dense[(n, j)] = m.r[j];
+        }
+        dense[(n, n)] = m.d;
+        dense
+    }
+
+    /// A bordered LU whose structure was kept on the thread factorises and
+    /// solves bitwise as one built afresh (the reference: the same pattern
+    /// after the kept structures are forgotten), condensed (the band of
+    /// 210 with private blocks above) and as B's own LU (no blocks); each
+    /// against nalgebra's dense LU of B to 1e-10 of max|z|. A pattern one
+    /// entry larger, no blocks or another trailing count each take a
+    /// structure of their own (the count of kept ones grows), and at most
+    /// KEPT_STRUCTURES are kept. In a thread of its own: the count is
+    /// the thread's.
+    #[test]
+    fn a_kept_structure_factorises_as_a_fresh_one() {
+        std::thread::spawn(|| {
+            let blocks: Vec<Vec<usize>> = (0..30).map(|k| (7 * k + 2..7 * k + 5).collect()).collect();
+            let run = |lu: &mut BorderedLu, m: &Banded| {
+                lu.factorise(&m.a, &m.c, &m.r, m.d).unwrap();
+                let f: Vec<f64> = (0..=m.pattern.n).map(|i| (i as f64 * 0.3).cos()).collect();
+                let (mut z, mut zt) = (f.clone(), f.clone());
+                lu.solve(&mut z);
+                lu.solve_with(&mut zt, true);
+                let dense = dense_bordered(m);
+                let reference = dense.clone().lu().solve(&DVector::from_vec(f.clone())).unwrap();
+                let reference_t = dense.transpose().lu().solve(&DVector::from_vec(f)).unwrap();
+                let scale = reference.amax().max(reference_t.amax());
+                let err = z.iter().zip(reference.iter()).chain(zt.iter().zip(reference_t.iter()));
+                let err = err.map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+                assert!(err < 1e-10 * scale, "solve error {err:e} (scale {scale:e})");
+                (z, zt, lu.determinant_sign(), lu.last_condensed())
+            };
+            let m = banded(210, 2, 5);
+            forget_kept_structures();
+            let fresh = run(&mut BorderedLu::with_private_blocks(&m.pattern, 0, &blocks).unwrap(), &m);
+            assert_eq!(kept_structures(), 1);
+            let kept = run(&mut BorderedLu::with_private_blocks(&m.pattern, 0, &blocks).unwrap(), &m);
+            assert_eq!(kept_structures(), 1, "the second LU should take the first's structure");
+            assert!(fresh.3, "the condensation should hold B");
+            assert_eq!(fresh, kept, "kept and fresh condensations differ");
+            // B's own LU, kept and fresh.
+            let whole = run(&mut BorderedLu::new(&m.pattern).unwrap(), &m);
+            assert_eq!(kept_structures(), 2);
+            assert!(!whole.3);
+            assert_eq!(whole, run(&mut BorderedLu::new(&m.pattern).unwrap(), &m));
+            assert_eq!(kept_structures(), 2);
+            // Another trailing count (the last unknown is kept: allowed).
+            BorderedLu::with_private_blocks(&m.pattern, 1, &blocks).unwrap();
+            assert_eq!(kept_structures(), 3);
+            // One entry more, (0, 209) (both kept): a structure of its own,
+            // whose solves match the dense LU of its own matrix.
+            let mut entries: Vec<(usize, usize)> = (0..210)
+                .flat_map(|j| (m.pattern.col_ptr[j]..m.pattern.col_ptr[j + 1]).map(move |k| (k, j)))
+                .map(|(k, j)| (m.pattern.row_idx[k], j))
+                .collect();
+            entries.push((0, 209));
+            let pattern = Pattern::from_entries(210, entries.iter().copied());
+            let a = (0..210)
+                .flat_map(|j| (pattern.col_ptr[j]..pattern.col_ptr[j + 1]).map(move |k| (k, j)))
+                .map(|(k, j)| m.pattern.position(pattern.row_idx[k], j).map_or(0.7, |p| m.a[p]))
+                .collect();
+            let larger = Banded { pattern, a, c: m.c.clone(), r: m.r.clone(), d: m.d };
+            let one_more = run(&mut BorderedLu::with_private_blocks(&larger.pattern, 0, &blocks).unwrap(), &larger);
+            assert_eq!(kept_structures(), 4);
+            assert!(one_more.3);
+            assert_ne!(one_more.0, fresh.0);
+            for seed in 0..2 * KEPT_STRUCTURES as u64 {
+                BorderedLu::new(&banded(20 + seed as usize, 1, seed).pattern).unwrap();
+            }
+            assert_eq!(kept_structures(), KEPT_STRUCTURES);
+        })
+        .join()
+        .unwrap();
     }
 }

@@ -30,10 +30,11 @@ use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::lu::partial_pivoting::{factor as dense_factor, solve as dense_solves};
 use faer::perm::PermRef;
 use faer::{Accum, Conj, MatMut, MatRef, Par};
+use std::sync::Arc;
 
-/// One block's private unknowns (= its equations) and the dense arrays of
-/// its elimination, column-major.
-struct Block {
+/// One block's private unknowns (= its equations) and where its entries
+/// of A go: the part of its elimination fixed by the pattern.
+struct BlockMaps {
     /// Private indices, m of them (rows and columns of A_LL,e).
     local: Vec<usize>,
     /// Kept columns its rows reach (positions in the kept numbering), and
@@ -47,6 +48,10 @@ struct Block {
     kl: Vec<(usize, usize)>,
     /// Position in S's values of (krows[i], kcols[j]), at i + kr·j.
     update: Vec<usize>,
+}
+
+/// One block's dense arrays, column-major.
+struct Block {
     /// LU of A_LL,e in place (unit L below the diagonal; faer's blocked
     /// dense LU) and its row permutation (row k of P A is row perm[k]).
     lu: Vec<f64>,
@@ -66,12 +71,47 @@ struct Block {
     u2: Vec<f64>,
 }
 
-pub struct CondensedLu {
-    blocks: Vec<Block>,
+impl Block {
+    fn new(maps: &BlockMaps) -> Self {
+        let (m, kc, kr) = (maps.local.len(), maps.kcols.len(), maps.krows.len());
+        Block {
+            lu: vec![0.0; m * m],
+            perm: vec![0; m],
+            perm_inv: vec![0; m],
+            rows: Rows::default(),
+            product: vec![0.0; kr * kc],
+            lk_values: vec![0.0; m * kc],
+            x: vec![0.0; m * kc],
+            kl_values: vec![0.0; kr * m],
+            t: vec![0.0; m],
+            u: vec![0.0; kr.max(kc)],
+            u2: vec![0.0; m],
+        }
+    }
+}
+
+/// What a [`CondensedLu`] takes from A's pattern, its blocks and trailing
+/// count alone — the index sets, the gather maps, S's pattern — shared by
+/// the LUs of one pattern ([`CondensedLu::from_structure`]): building it
+/// is most of a rod's tangent set-up.
+pub struct CondensedStructure {
+    maps: Vec<BlockMaps>,
     /// Kept indices in increasing order.
     kept: Vec<usize>,
     /// (position in A's values, position in S's) of the kept×kept entries.
     kk: Vec<(usize, usize)>,
+    /// S's pattern, its trailing unknowns, whether it is factorised dense
+    /// and then the dense index of each of its entries (in its order).
+    spattern: Arc<Pattern>,
+    trailing_kept: usize,
+    dense_at: Option<Vec<usize>>,
+    /// faer's dense work space.
+    req: StackReq,
+}
+
+pub struct CondensedLu {
+    structure: Arc<CondensedStructure>,
+    blocks: Vec<Block>,
     schur: Kept,
     schur_values: Vec<f64>,
     /// sign Π det A_LL,e and the blocks' negative pivots.
@@ -85,26 +125,9 @@ pub struct CondensedLu {
     pub solves: usize,
 }
 
-impl CondensedLu {
-    /// For A with `pattern`, each entry of `blocks` a set of unknowns that
-    /// are private to it: their columns reach only their own rows and kept
-    /// rows, and their rows only their own columns and kept columns. The
-    /// last `trailing` unknowns (multipliers reaching across A) must be
-    /// kept. Err (ErrInvalidDimension) if the pattern does not have that
-    /// structure or nothing would be kept. The kept system is factorised
-    /// dense up to [`DENSE_KEPT`] unknowns.
-    pub fn new(pattern: &Pattern, blocks: &[Vec<usize>], trailing: usize) -> Result<Self> {
-        Self::with_dense_limit(pattern, blocks, trailing, DENSE_KEPT)
-    }
-
-    /// As [`CondensedLu::new`], the kept system dense up to `dense_limit`
-    /// unknowns, sparse above.
-    pub fn with_dense_limit(
-        pattern: &Pattern,
-        blocks: &[Vec<usize>],
-        trailing: usize,
-        dense_limit: usize,
-    ) -> Result<Self> {
+impl CondensedStructure {
+    /// [`CondensedLu::with_dense_limit`]'s structure.
+    pub fn new(pattern: &Pattern, blocks: &[Vec<usize>], trailing: usize, dense_limit: usize) -> Result<Self> {
         let n = pattern.n;
         let invalid = |why: String| Error::new(Status::ErrInvalidDimension, format!("condensed LU: {why}"));
         let mut owner = vec![usize::MAX; n];
@@ -186,14 +209,14 @@ impl CondensedLu {
         let (spattern, at) = Pattern::with_positions_and_diagonal(kept.len(), &entries);
         let kk: Vec<(usize, usize)> = kk_sources.iter().zip(&at).map(|(&p, &q)| (p, q as usize)).collect();
         let mut fill = at[kk.len()..].iter().map(|&q| q as usize);
-        let mut out: Vec<Block> = blocks
+        let mut out: Vec<BlockMaps> = blocks
             .iter()
             .zip(kcols)
             .zip(krows)
             .map(|((local, kcols), krows)| {
                 let (m, kc, kr) = (local.len(), kcols.len(), krows.len());
                 let update: Vec<usize> = fill.by_ref().take(kr * kc).collect();
-                Block {
+                BlockMaps {
                     local: local.clone(),
                     kcols,
                     krows,
@@ -203,17 +226,6 @@ impl CondensedLu {
                     lk: Vec::with_capacity(m * kc),
                     kl: Vec::with_capacity(kr * m),
                     update,
-                    lu: vec![0.0; m * m],
-                    perm: vec![0; m],
-                    perm_inv: vec![0; m],
-                    rows: Rows::default(),
-                    product: vec![0.0; kr * kc],
-                    lk_values: vec![0.0; m * kc],
-                    x: vec![0.0; m * kc],
-                    kl_values: vec![0.0; kr * m],
-                    t: vec![0.0; m],
-                    u: vec![0.0; kr.max(kc)],
-                    u2: vec![0.0; m],
                 }
             })
             .collect();
@@ -253,24 +265,59 @@ impl CondensedLu {
             dense_solves::solve_in_place_scratch::<usize, f64>(widest.0, widest.1.max(1), Par::Seq),
         ]);
         let trailing_kept = trailing.min(kept.len());
-        let nk = kept.len();
-        let schur_values = vec![0.0; spattern.nnz()];
-        let schur = match nk <= dense_limit {
-            true => Kept::Dense(DenseKept::new(&spattern)),
-            false => Kept::Sparse(Box::new(SparseLu::with_trailing(spattern, trailing_kept)?)),
+        let dense_at = (kept.len() <= dense_limit).then(|| {
+            let nk = kept.len();
+            let mut at = Vec::with_capacity(spattern.nnz());
+            for j in 0..nk {
+                at.extend(spattern.row_idx[spattern.col_ptr[j]..spattern.col_ptr[j + 1]].iter().map(|&i| i + nk * j));
+            }
+            at
+        });
+        Ok(CondensedStructure { maps: out, kept, kk, spattern: Arc::new(spattern), trailing_kept, dense_at, req })
+    }
+}
+
+impl CondensedLu {
+    /// For A with `pattern`, each entry of `blocks` a set of unknowns that
+    /// are private to it: their columns reach only their own rows and kept
+    /// rows, and their rows only their own columns and kept columns. The
+    /// last `trailing` unknowns (multipliers reaching across A) must be
+    /// kept. Err (ErrInvalidDimension) if the pattern does not have that
+    /// structure or nothing would be kept. The kept system is factorised
+    /// dense up to [`DENSE_KEPT`] unknowns.
+    pub fn new(pattern: &Pattern, blocks: &[Vec<usize>], trailing: usize) -> Result<Self> {
+        Self::with_dense_limit(pattern, blocks, trailing, DENSE_KEPT)
+    }
+
+    /// As [`CondensedLu::new`], the kept system dense up to `dense_limit`
+    /// unknowns, sparse above.
+    pub fn with_dense_limit(
+        pattern: &Pattern,
+        blocks: &[Vec<usize>],
+        trailing: usize,
+        dense_limit: usize,
+    ) -> Result<Self> {
+        Self::from_structure(Arc::new(CondensedStructure::new(pattern, blocks, trailing, dense_limit)?))
+    }
+
+    /// The LU of matrices with `structure`'s pattern.
+    pub fn from_structure(structure: Arc<CondensedStructure>) -> Result<Self> {
+        let s = &*structure;
+        let nk = s.kept.len();
+        let schur = match &s.dense_at {
+            Some(_) => Kept::Dense(DenseKept::new(nk)),
+            None => Kept::Sparse(Box::new(SparseLu::shared(s.spattern.clone(), s.trailing_kept)?)),
         };
         let req = match &schur {
             Kept::Dense(_) => StackReq::any_of(&[
-                req,
+                s.req,
                 dense_factor::lu_in_place_scratch::<usize, f64>(nk, nk, Par::Seq, Default::default()),
             ]),
-            Kept::Sparse(_) => req,
+            Kept::Sparse(_) => s.req,
         };
         Ok(CondensedLu {
-            blocks: out,
-            kept,
-            kk,
-            schur_values,
+            blocks: s.maps.iter().map(Block::new).collect(),
+            schur_values: vec![0.0; s.spattern.nnz()],
             schur,
             blocks_sign: 1.0,
             blocks_negative: 0,
@@ -279,12 +326,13 @@ impl CondensedLu {
             buffer: MemBuffer::new(req),
             factorisations: 0,
             solves: 0,
+            structure,
         })
     }
 
     /// Unknowns of the kept system S.
     pub fn kept(&self) -> usize {
-        self.kept.len()
+        self.structure.kept.len()
     }
 
     /// The column order of S's LU: a dense one takes S's columns in their
@@ -317,29 +365,29 @@ impl CondensedLu {
             ));
         }
         self.schur_values.fill(0.0);
-        for &(p, q) in &self.kk {
+        for &(p, q) in &self.structure.kk {
             self.schur_values[q] += values[p];
         }
         let (mut sign, mut negative) = (1.0, 0);
-        for (e, b) in self.blocks.iter_mut().enumerate() {
-            let m = b.local.len();
+        for (e, (b, s)) in self.blocks.iter_mut().zip(&self.structure.maps).enumerate() {
+            let m = s.local.len();
             b.lu.fill(0.0);
-            for &(p, q) in &b.ll {
+            for &(p, q) in &s.ll {
                 b.lu[q] += values[p];
             }
             b.lk_values.fill(0.0);
-            for &(p, q) in &b.lk {
+            for &(p, q) in &s.lk {
                 b.lk_values[q] += values[p];
             }
             b.kl_values.fill(0.0);
-            for &(p, q) in &b.kl {
+            for &(p, q) in &s.kl {
                 b.kl_values[q] += values[p];
             }
-            let (kr, kc) = (b.krows.len(), b.kcols.len());
+            let (kr, kc) = (s.krows.len(), s.kcols.len());
             let stack = MemStack::new(&mut self.buffer);
-            let (s, neg) = factor_block(m, &mut b.lu, &mut b.perm, &mut b.perm_inv, stack)
+            let (block_sign, neg) = factor_block(m, &mut b.lu, &mut b.perm, &mut b.perm_inv, stack)
                 .ok_or_else(|| Error::new(Status::ErrNotConverged, format!("condensed LU: block {e} is singular")))?;
-            sign *= s;
+            sign *= block_sign;
             negative += neg;
             // X = A_LL⁻¹ A_LK, then S[kr, kc] −= A_KL X.
             b.x.copy_from_slice(&b.lk_values);
@@ -356,11 +404,12 @@ impl CondensedLu {
                 1.0,
                 Par::Seq,
             );
-            for (&q, v) in b.update.iter().zip(&b.product) {
+            for (&q, v) in s.update.iter().zip(&b.product) {
                 self.schur_values[q] -= v;
             }
         }
-        self.schur.factorise(&self.schur_values, MemStack::new(&mut self.buffer))?;
+        let at = self.structure.dense_at.as_deref().unwrap_or_default();
+        self.schur.factorise(&self.schur_values, at, MemStack::new(&mut self.buffer))?;
         self.blocks_sign = sign;
         self.blocks_negative = negative;
         self.factorised = true;
@@ -373,14 +422,14 @@ impl CondensedLu {
         assert!(self.factorised, "solve before a successful factorisation");
         // Eliminate each block: t = A_LL⁻¹ f_L, f_K[kr] −= A_KL t.
         self.gather_kept(rhs);
-        for b in &mut self.blocks {
-            let m = b.local.len();
-            for (t, &i) in b.t.iter_mut().zip(&b.local) {
+        for (b, s) in self.blocks.iter_mut().zip(&self.structure.maps) {
+            let m = s.local.len();
+            for (t, &i) in b.t.iter_mut().zip(&s.local) {
                 *t = rhs[i];
             }
             dense_solve(m, &b.lu, &b.perm, &mut b.t, &mut b.u2);
             // u = A_KL t by columns (contiguous), then scattered.
-            let kr = b.krows.len();
+            let kr = s.krows.len();
             let u = &mut b.u[..kr];
             u.fill(0.0);
             for (col, tk) in b.kl_values.chunks_exact(kr).zip(&b.t) {
@@ -388,21 +437,21 @@ impl CondensedLu {
                     *ui += a * tk;
                 }
             }
-            for (&r, ui) in b.krows.iter().zip(u.iter()) {
+            for (&r, ui) in s.krows.iter().zip(u.iter()) {
                 self.rhs_kept[r] -= ui;
             }
         }
         self.schur.solve(&mut self.rhs_kept, false);
         self.scatter_kept(rhs);
         // Back: z_L = t − X z_K[kc], by X's columns.
-        for b in &mut self.blocks {
-            for (col, &kc) in b.x.chunks_exact(b.local.len()).zip(&b.kcols) {
+        for (b, s) in self.blocks.iter_mut().zip(&self.structure.maps) {
+            for (col, &kc) in b.x.chunks_exact(s.local.len()).zip(&s.kcols) {
                 let z = self.rhs_kept[kc];
                 for (t, x) in b.t.iter_mut().zip(col) {
                     *t -= x * z;
                 }
             }
-            for (t, &i) in b.t.iter().zip(&b.local) {
+            for (t, &i) in b.t.iter().zip(&s.local) {
                 rhs[i] = *t;
             }
         }
@@ -414,13 +463,13 @@ impl CondensedLu {
         assert!(self.factorised, "solve before a successful factorisation");
         self.gather_kept(rhs);
         // t = A_LL⁻ᵀ f_L, f_K[kc] −= A_LKᵀ t.
-        for b in &mut self.blocks {
-            let m = b.local.len();
-            for (t, &i) in b.t.iter_mut().zip(&b.local) {
+        for (b, s) in self.blocks.iter_mut().zip(&self.structure.maps) {
+            let m = s.local.len();
+            for (t, &i) in b.t.iter_mut().zip(&s.local) {
                 *t = rhs[i];
             }
             dense_solve_transpose(m, b.rows.of(m, &b.lu), &b.perm, &mut b.t, &mut b.u2);
-            for (c, &kc) in b.kcols.iter().enumerate() {
+            for (c, &kc) in s.kcols.iter().enumerate() {
                 let col = &b.lk_values[m * c..m * (c + 1)];
                 self.rhs_kept[kc] -= dot4(col, &b.t);
             }
@@ -428,17 +477,17 @@ impl CondensedLu {
         self.schur.solve(&mut self.rhs_kept, true);
         self.scatter_kept(rhs);
         // Back: z_L = A_LL⁻ᵀ (f_L − A_KLᵀ z_K[kr]).
-        for b in &mut self.blocks {
-            let (m, kr) = (b.local.len(), b.krows.len());
-            for (l, &i) in b.local.iter().enumerate() {
+        for (b, s) in self.blocks.iter_mut().zip(&self.structure.maps) {
+            let (m, kr) = (s.local.len(), s.krows.len());
+            for (l, &i) in s.local.iter().enumerate() {
                 let mut w = rhs[i];
-                for (r, &k) in b.krows.iter().enumerate() {
+                for (r, &k) in s.krows.iter().enumerate() {
                     w -= b.kl_values[r + kr * l] * self.rhs_kept[k];
                 }
                 b.t[l] = w;
             }
             dense_solve_transpose(m, b.rows.of(m, &b.lu), &b.perm, &mut b.t, &mut b.u2);
-            for (t, &i) in b.t.iter().zip(&b.local) {
+            for (t, &i) in b.t.iter().zip(&s.local) {
                 rhs[i] = *t;
             }
         }
@@ -447,14 +496,14 @@ impl CondensedLu {
 
     /// The kept entries of `rhs` into the kept system's right-hand side.
     fn gather_kept(&mut self, rhs: &[f64]) {
-        for (v, &i) in self.rhs_kept.iter_mut().zip(&self.kept) {
+        for (v, &i) in self.rhs_kept.iter_mut().zip(&self.structure.kept) {
             *v = rhs[i];
         }
     }
 
     /// The kept system's solution back into `rhs`.
     fn scatter_kept(&self, rhs: &mut [f64]) {
-        for (v, &i) in self.rhs_kept.iter().zip(&self.kept) {
+        for (v, &i) in self.rhs_kept.iter().zip(&self.structure.kept) {
             rhs[i] = *v;
         }
     }
@@ -495,10 +544,11 @@ enum Kept {
 }
 
 impl Kept {
-    fn factorise(&mut self, values: &[f64], stack: &mut MemStack) -> Result<()> {
+    /// `at`: a dense S's index of each of its pattern's entries.
+    fn factorise(&mut self, values: &[f64], at: &[usize], stack: &mut MemStack) -> Result<()> {
         match self {
             Kept::Sparse(lu) => lu.factorise_exact(values),
-            Kept::Dense(d) => d.factorise(values, stack),
+            Kept::Dense(d) => d.factorise(values, at, stack),
         }
     }
 
@@ -547,8 +597,6 @@ impl Kept {
 /// and exact elimination, so S's determinant sign is read off the same).
 struct DenseKept {
     n: usize,
-    /// Index in `lu` of each of S's pattern entries (in its order).
-    at: Vec<usize>,
     lu: Vec<f64>,
     perm: Vec<usize>,
     perm_inv: Vec<usize>,
@@ -561,15 +609,9 @@ struct DenseKept {
 }
 
 impl DenseKept {
-    fn new(pattern: &Pattern) -> Self {
-        let n = pattern.n;
-        let mut at = Vec::with_capacity(pattern.nnz());
-        for j in 0..n {
-            at.extend(pattern.row_idx[pattern.col_ptr[j]..pattern.col_ptr[j + 1]].iter().map(|&i| i + n * j));
-        }
+    fn new(n: usize) -> Self {
         DenseKept {
             n,
-            at,
             lu: vec![0.0; n * n],
             perm: vec![0; n],
             perm_inv: vec![0; n],
@@ -580,12 +622,12 @@ impl DenseKept {
         }
     }
 
-    /// Factorise S from its values in pattern order (finite: A's were
-    /// checked). A zero pivot is ErrNotConverged.
-    fn factorise(&mut self, values: &[f64], stack: &mut MemStack) -> Result<()> {
+    /// Factorise S from its values in pattern order, entry k at `lu[at[k]]`
+    /// (finite: A's were checked). A zero pivot is ErrNotConverged.
+    fn factorise(&mut self, values: &[f64], at: &[usize], stack: &mut MemStack) -> Result<()> {
         self.rows.ready = false;
         self.lu.fill(0.0);
-        for (&d, v) in self.at.iter().zip(values) {
+        for (&d, v) in at.iter().zip(values) {
             self.lu[d] = *v;
         }
         let (sign, negative) = factor_block(self.n, &mut self.lu, &mut self.perm, &mut self.perm_inv, stack)

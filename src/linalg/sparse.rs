@@ -23,6 +23,7 @@ use faer::sparse::linalg::lu::{self, simplicial::SimplicialLu, LuSymbolicParams}
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par};
+use std::sync::Arc;
 
 /// A square sparsity pattern in compressed columns (row indices sorted).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -356,18 +357,24 @@ impl ManyScratch {
 }
 
 /// The factors on 32-bit indices when L + U provably fit them, else on
-/// usize ones.
+/// usize ones; Pending until the first factorisation sizes them (their
+/// index copies, scratch and the fill bound that picks the width are a
+/// sizeable part of a small rod's set-up, and a bordered LU whose
+/// condensation always succeeds never needs them).
 enum Indexed {
+    Pending,
     Narrow(Factors<u32>),
     Wide(Factors<usize>),
 }
 
-/// Run `$body` with `$f` bound to the factors whatever their index type.
+/// Run `$body` with `$f` bound to the factors whatever their index type
+/// (built: every caller runs after [`SparseLu::build_factors`]).
 macro_rules! with_factors {
     ($self:expr, $f:ident => $body:expr) => {
         match $self {
             Indexed::Narrow($f) => $body,
             Indexed::Wide($f) => $body,
+            Indexed::Pending => unreachable!("the factors are built before they are used"),
         }
     };
 }
@@ -383,7 +390,8 @@ macro_rules! with_factors {
 /// corrupt: patterns whose bound exceeds that (a dense border on a long
 /// rod, distant pairs in a plectoneme's pattern) get usize indices.
 pub struct SparseLu {
-    pattern: Pattern,
+    /// Shared with the other LUs of one pattern ([`SparseLu::shared`]).
+    pattern: Arc<Pattern>,
     factors: Indexed,
     factorised: bool,
     /// Whether the column ordering has been chosen (on the first matrix).
@@ -475,23 +483,18 @@ impl SparseLu {
     /// multipliers whose rows and columns reach across the matrix (kept
     /// last by any reordering).
     pub fn with_trailing(pattern: Pattern, trailing: usize) -> Result<Self> {
-        let narrow = fill_bound(&pattern, None) < NARROW_LIMIT;
-        let mut lu = Self::indexed(pattern, !narrow)?;
-        lu.trailing = trailing;
-        Ok(lu)
+        Self::shared(Arc::new(pattern), trailing)
     }
 
-    /// As [`SparseLu::new`] with the index width given (tests compare the
-    /// two).
-    fn indexed(pattern: Pattern, wide: bool) -> Result<Self> {
-        let factors =
-            if wide { Indexed::Wide(Factors::new(&pattern)) } else { Indexed::Narrow(Factors::new(&pattern)) };
+    /// As [`SparseLu::with_trailing`] on a pattern shared with others (a
+    /// bordered tangent's, kept for the rods a sweep rebuilds).
+    pub fn shared(pattern: Arc<Pattern>, trailing: usize) -> Result<Self> {
         Ok(SparseLu {
             pattern,
-            factors,
+            factors: Indexed::Pending,
             factorised: false,
             ordered: false,
-            trailing: 0,
+            trailing,
             preferred: None,
             chosen: ColumnOrder::Natural,
             preferred_kind: None,
@@ -509,7 +512,33 @@ impl SparseLu {
         })
     }
 
+    /// As [`SparseLu::new`] with the index width given (tests compare the
+    /// two).
+    #[cfg(test)]
+    fn indexed(pattern: Pattern, wide: bool) -> Result<Self> {
+        let mut lu = Self::new(pattern)?;
+        lu.factors =
+            if wide { Indexed::Wide(Factors::new(&lu.pattern)) } else { Indexed::Narrow(Factors::new(&lu.pattern)) };
+        Ok(lu)
+    }
+
+    /// Build the factors' storage on first use, u32 when [`fill_bound`]
+    /// proves L + U fit them.
+    fn build_factors(&mut self) {
+        if matches!(self.factors, Indexed::Pending) {
+            self.factors = match fill_bound(&self.pattern, None) < NARROW_LIMIT {
+                true => Indexed::Narrow(Factors::new(&self.pattern)),
+                false => Indexed::Wide(Factors::new(&self.pattern)),
+            };
+        }
+    }
+
     pub fn pattern(&self) -> &Pattern {
+        &self.pattern
+    }
+
+    /// The pattern, shared.
+    pub fn shared_pattern(&self) -> &Arc<Pattern> {
         &self.pattern
     }
 
@@ -561,7 +590,11 @@ impl SparseLu {
     /// Whether the factors are on usize indices (their L + U could exceed
     /// the u32 range), not u32.
     pub fn wide_indices(&self) -> bool {
-        matches!(self.factors, Indexed::Wide(_))
+        match self.factors {
+            Indexed::Pending => fill_bound(&self.pattern, None) >= NARROW_LIMIT,
+            Indexed::Narrow(_) => false,
+            Indexed::Wide(_) => true,
+        }
     }
 
     /// Entries of L + U of the last simplicial factorisation (0 before
@@ -606,6 +639,7 @@ impl SparseLu {
         if let Some(k) = values.iter().position(|v| !v.is_finite()) {
             return Err(Error::new(Status::ErrNonFiniteResult, format!("sparse LU: matrix entry {k} is not finite")));
         }
+        self.build_factors();
         let in_place = !self.ordered && self.choose_ordering(values);
         if !self.kind_chosen {
             self.choose_kind();

@@ -445,6 +445,16 @@ impl Tape {
         self.outputs.iter().map(|&o| deg[o as usize]).max().unwrap_or(0)
     }
 
+    /// Whether `other` has the same inputs, outputs and structural
+    /// dependencies of each output (what a Jacobian's pattern is built
+    /// from), whatever its coefficients.
+    pub fn same_dependencies(&self, other: &Tape) -> bool {
+        std::ptr::eq(self, other)
+            || (self.inputs == other.inputs
+                && self.outputs.len() == other.outputs.len()
+                && (0..self.outputs.len()).all(|k| self.dependencies(k) == other.dependencies(k)))
+    }
+
     /// The inputs output `k` depends on (structural, sorted).
     pub fn dependencies(&self, k: usize) -> &[u32] {
         let o = self.outputs[k] as usize;

@@ -146,7 +146,8 @@ impl Structure {
         let positions = blocks
             .iter()
             .map(|b| {
-                let mut positions = Vec::with_capacity(b.rows.len());
+                let deps = (0..b.rows.len()).map(|k| b.tape.dependencies(k).len()).sum();
+                let mut positions = Vec::with_capacity(deps);
                 for k in 0..b.rows.len() {
                     for &j in b.tape.dependencies(k) {
                         positions.push(match b.inputs[j as usize] {

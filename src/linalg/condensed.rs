@@ -231,6 +231,10 @@ impl CondensedStructure {
             .collect();
         // The gather maps, A's entries in pattern order.
         let mut last_col: Option<(usize, usize, usize)> = None;
+        // A kept row's position in the krows of the block that last asked
+        // (block, position): a block's columns reach the same kept rows, so
+        // one search per block and row, not per entry.
+        let mut row_at = vec![(usize::MAX, 0usize); kept.len()];
         for j in 0..n {
             for p in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
                 let i = pattern.row_idx[p];
@@ -249,7 +253,14 @@ impl CondensedStructure {
                     }
                     (usize::MAX, e) => {
                         let b = &mut out[e];
-                        let r = b.krows.binary_search(&kept_pos[i]).expect("kept row");
+                        let r = match row_at[kept_pos[i]] {
+                            (f, r) if f == e => r,
+                            _ => {
+                                let r = b.krows.binary_search(&kept_pos[i]).expect("kept row");
+                                row_at[kept_pos[i]] = (e, r);
+                                r
+                            }
+                        };
                         b.kl.push((p, r + b.krows.len() * local_pos[j]));
                     }
                     (e, _) => {

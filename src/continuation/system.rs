@@ -175,10 +175,10 @@ fn unknown(slot: &Slot) -> usize {
 
 /// Structures kept on this thread: at most [`KEPT_STRUCTURES`], the least
 /// recently used dropped first, each of at most [`KEPT_ENTRIES`] pattern
-/// entries (~24 bytes each with the key and positions: ≤ 6 MB apiece; a
+/// entries (~24 bytes each with the key and positions: ≤ 3 MB apiece; a
 /// larger system's set-up is small beside its solves).
 const KEPT_STRUCTURES: usize = 8;
-const KEPT_ENTRIES: usize = 1 << 18;
+const KEPT_ENTRIES: usize = 1 << 17;
 
 thread_local! {
     static STRUCTURES: std::cell::RefCell<Vec<Arc<Structure>>> = const { std::cell::RefCell::new(Vec::new()) };

@@ -147,11 +147,11 @@ impl Structure {
 
 /// Structures kept on this thread: at most [`KEPT_STRUCTURES`], the least
 /// recently used dropped first, each of a pattern of at most
-/// [`KEPT_ENTRIES`] entries (~40 bytes an entry with B's pattern, the
-/// maps and the condensation's: ≤ 10 MB apiece; a larger system's set-up
-/// is small beside its factorisations).
+/// [`KEPT_ENTRIES`] entries (~50 bytes an entry with A's and B's patterns,
+/// the maps and the condensation's: ≤ 7 MB apiece; a larger system's
+/// set-up is small beside its factorisations).
 const KEPT_STRUCTURES: usize = 8;
-const KEPT_ENTRIES: usize = 1 << 18;
+const KEPT_ENTRIES: usize = 1 << 17;
 
 thread_local! {
     static STRUCTURES: std::cell::RefCell<Vec<Arc<Structure>>> = const { std::cell::RefCell::new(Vec::new()) };

@@ -270,6 +270,13 @@ impl CondensedStructure {
                 }
             }
         }
+        // Kept per thread (crate::linalg::bordered): the maps' memory,
+        // not the capacity reserved above.
+        for b in &mut out {
+            b.ll.shrink_to_fit();
+            b.lk.shrink_to_fit();
+            b.kl.shrink_to_fit();
+        }
         let widest = out.iter().map(|b| (b.local.len(), b.kcols.len())).max().unwrap_or((0, 0));
         let req = StackReq::any_of(&[
             dense_factor::lu_in_place_scratch::<usize, f64>(widest.0, widest.0, Par::Seq, Default::default()),

@@ -101,10 +101,13 @@ struct Structure {
     /// params): one entry per structural nonzero, not outputs × inputs.
     positions: Vec<Vec<usize>>,
     /// What it was built from: per block, its tape (for its
-    /// dependencies), the unknown behind each input (usize::MAX for Λ and
+    /// dependencies), the unknown behind each input (None for Λ and
     /// params) and its rows.
-    key: Vec<(Arc<Tape>, Vec<usize>, Vec<usize>)>,
+    key: Vec<BlockKey>,
 }
+
+/// A block's part of a [`Structure`]'s key: tape, input unknowns, rows.
+type BlockKey = (Arc<Tape>, Vec<Option<usize>>, Vec<usize>);
 
 impl Structure {
     /// Whether `blocks` of an n-unknown system have the structure this
@@ -165,11 +168,11 @@ impl Structure {
     }
 }
 
-/// The unknown an input slot reads (usize::MAX: Λ or a parameter).
-fn unknown(slot: &Slot) -> usize {
+/// The unknown an input slot reads (None: Λ or a parameter).
+fn unknown(slot: &Slot) -> Option<usize> {
     match *slot {
-        Slot::Unknown(g) => g,
-        Slot::Lambda | Slot::Param(_) => usize::MAX,
+        Slot::Unknown(g) => Some(g),
+        Slot::Lambda | Slot::Param(_) => None,
     }
 }
 
@@ -200,9 +203,11 @@ fn kept_structures() -> usize {
 }
 
 /// The structure of `blocks`, kept or built. Finding it compares each
-/// block's rows, input unknowns and tape dependencies (O(inputs + the
-/// tapes' dependencies once per distinct tape pair)), against the O(entries)
-/// counting sort and scatter of a build (a third of a rod's set-up).
+/// block's rows and input unknowns, and its tape's dependencies with the
+/// kept one's unless they are the same tape (a rod's elements share the
+/// thread's recorded tape; a tape recorded anew, for another law, is
+/// compared whole for each block: O(entries) then, still without the
+/// counting sort and scatter of a build, a third of a rod's set-up).
 fn structure(n: usize, blocks: &[Block]) -> Arc<Structure> {
     let found = STRUCTURES
         .try_with(|kept| {
@@ -704,11 +709,20 @@ mod tests {
             for (i, j, v) in want {
                 assert!((at(i, j) - v).abs() < 1e-14, "∂R{i}/∂x{j} = {} (want {v})", at(i, j));
             }
-            assert_eq!(jacobian(&mut first).len(), p.nnz());
-            // Another dependency structure: its own pattern.
+            // first (a = 2, b = 3, Λ third): ∂R0/∂x0 = 2x1, ∂R2/∂x3 = 2x2; and
+            // ∂R3/∂Λ = 3 (R3 = 3Λ + x2), the Λ column through the kept
+            // positions' usize::MAX.
+            let (mut jx, mut jl) = (vec![0.0; p.nnz()], vec![0.0; 4]);
+            first.jacobian(&[0.3, -1.1, 0.7, 1.9], 0.4, &mut jx, &mut jl);
+            assert!((jx[p.position(0, 0).unwrap()] + 2.2).abs() < 1e-14, "∂R0/∂x0 = {}", jx[p.position(0, 0).unwrap()]);
+            assert!((jx[p.position(2, 3).unwrap()] - 1.4).abs() < 1e-14);
+            assert_eq!(jl, [0.0, 0.0, 0.0, 3.0]);
+            // Another dependency structure: its own pattern (rows 0, 1 on
+            // {x0, x2} and {x1}).
             let swapped = system(&tape(1.0, 1.0, true), Slot::Lambda);
             assert_eq!(kept_structures(), 2);
-            assert!(swapped.pattern().position(1, 1).is_some() && swapped.pattern().position(0, 1).is_none());
+            let q = swapped.pattern();
+            assert!(q.position(0, 2).is_some() && q.position(0, 1).is_none() && q.position(1, 0).is_none());
             // The second block reading x1 where it read x3: its own.
             let t = tape(2.0, 3.0, false);
             let blocks = vec![

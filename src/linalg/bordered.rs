@@ -1236,21 +1236,26 @@ mod block_tests {
         dense
     }
 
-    /// A bordered LU whose structure was kept on the thread factorises and
-    /// solves bitwise as one built afresh (the reference: the same pattern
-    /// after the kept structures are forgotten), condensed (the band of
-    /// 210 with private blocks above) and as B's own LU (no blocks); each
-    /// against nalgebra's dense LU of B to 1e-10 of max|z|. A pattern one
-    /// entry larger, no blocks or another trailing count each take a
-    /// structure of their own (the count of kept ones grows), and at most
-    /// KEPT_STRUCTURES are kept. In a thread of its own: the count is
-    /// the thread's.
+    /// Two bordered LUs of one pattern share a kept structure (the count
+    /// of kept structures does not grow) and stay independent: factorised
+    /// on two different matrices, then solved in turn, each gives bitwise
+    /// the solves of an LU built afresh after the kept structures are
+    /// forgotten (the reference), and each matches nalgebra's dense LU of B
+    /// to 1e-10 of max|z|. Cases: a band of 210 with private blocks
+    /// {7k+2, 7k+3, 7k+4} (the kept system of 121 unknowns dense), a band
+    /// of 700 with 100 such blocks (401 kept: the kept system's sparse LU
+    /// on the shared pattern), and no blocks (B's own LU). A pattern one
+    /// entry larger, another trailing count or no blocks each take a
+    /// structure of their own; at most KEPT_STRUCTURES are kept. In a
+    /// thread of its own: the count is the thread's.
     #[test]
     fn a_kept_structure_factorises_as_a_fresh_one() {
         std::thread::spawn(|| {
-            let blocks: Vec<Vec<usize>> = (0..30).map(|k| (7 * k + 2..7 * k + 5).collect()).collect();
+            type Solved = (Vec<f64>, Vec<f64>, f64, bool);
             let run = |lu: &mut BorderedLu, m: &Banded| {
                 lu.factorise(&m.a, &m.c, &m.r, m.d).unwrap();
+            };
+            let solve = |lu: &mut BorderedLu, m: &Banded| -> Solved {
                 let f: Vec<f64> = (0..=m.pattern.n).map(|i| (i as f64 * 0.3).cos()).collect();
                 let (mut z, mut zt) = (f.clone(), f.clone());
                 lu.solve(&mut z);
@@ -1264,25 +1269,45 @@ mod block_tests {
                 assert!(err < 1e-10 * scale, "solve error {err:e} (scale {scale:e})");
                 (z, zt, lu.determinant_sign(), lu.last_condensed())
             };
-            let m = banded(210, 2, 5);
+            let other_values = |m: &Banded| Banded {
+                pattern: m.pattern.clone(),
+                a: m.a.iter().enumerate().map(|(k, v)| v + 0.01 * (k % 5) as f64).collect(),
+                c: m.c.clone(),
+                r: m.r.clone(),
+                d: 0.5,
+            };
+            let build =
+                |m: &Banded, blocks: &[Vec<usize>]| BorderedLu::with_private_blocks(&m.pattern, 0, blocks).unwrap();
+            let block_sets =
+                |count: usize| (0..count).map(|k| (7 * k + 2..7 * k + 5).collect()).collect::<Vec<Vec<usize>>>();
+            for (n, blocks, condensed) in
+                [(210, block_sets(30), true), (700, block_sets(100), true), (210, vec![], false)]
+            {
+                let (m1, blocks) = (banded(n, 2, 5), blocks);
+                let m2 = other_values(&m1);
+                forget_kept_structures();
+                let (mut lu1, mut lu2) = (build(&m1, &blocks), build(&m1, &blocks));
+                assert_eq!(kept_structures(), 1, "n = {n}: the second LU should take the first's structure");
+                run(&mut lu1, &m1);
+                run(&mut lu2, &m2);
+                let (s1, s2) = (solve(&mut lu1, &m1), solve(&mut lu2, &m2));
+                assert_eq!(s1.3, condensed, "n = {n}: condensed");
+                forget_kept_structures();
+                for (m, kept) in [(&m1, s1), (&m2, s2)] {
+                    let mut fresh = build(m, &blocks);
+                    run(&mut fresh, m);
+                    assert_eq!(solve(&mut fresh, m), kept, "n = {n}: kept and fresh LUs differ");
+                }
+            }
+            // Structures of their own: no blocks, another trailing count, one
+            // entry more ((0, 209), both kept).
+            let (m, blocks) = (banded(210, 2, 5), block_sets(30));
             forget_kept_structures();
-            let fresh = run(&mut BorderedLu::with_private_blocks(&m.pattern, 0, &blocks).unwrap(), &m);
-            assert_eq!(kept_structures(), 1);
-            let kept = run(&mut BorderedLu::with_private_blocks(&m.pattern, 0, &blocks).unwrap(), &m);
-            assert_eq!(kept_structures(), 1, "the second LU should take the first's structure");
-            assert!(fresh.3, "the condensation should hold B");
-            assert_eq!(fresh, kept, "kept and fresh condensations differ");
-            // B's own LU, kept and fresh.
-            let whole = run(&mut BorderedLu::new(&m.pattern).unwrap(), &m);
+            build(&m, &blocks);
+            BorderedLu::new(&m.pattern).unwrap();
             assert_eq!(kept_structures(), 2);
-            assert!(!whole.3);
-            assert_eq!(whole, run(&mut BorderedLu::new(&m.pattern).unwrap(), &m));
-            assert_eq!(kept_structures(), 2);
-            // Another trailing count (the last unknown is kept: allowed).
             BorderedLu::with_private_blocks(&m.pattern, 1, &blocks).unwrap();
             assert_eq!(kept_structures(), 3);
-            // One entry more, (0, 209) (both kept): a structure of its own,
-            // whose solves match the dense LU of its own matrix.
             let mut entries: Vec<(usize, usize)> = (0..210)
                 .flat_map(|j| (m.pattern.col_ptr[j]..m.pattern.col_ptr[j + 1]).map(move |k| (k, j)))
                 .map(|(k, j)| (m.pattern.row_idx[k], j))
@@ -1294,10 +1319,10 @@ mod block_tests {
                 .map(|(k, j)| m.pattern.position(pattern.row_idx[k], j).map_or(0.7, |p| m.a[p]))
                 .collect();
             let larger = Banded { pattern, a, c: m.c.clone(), r: m.r.clone(), d: m.d };
-            let one_more = run(&mut BorderedLu::with_private_blocks(&larger.pattern, 0, &blocks).unwrap(), &larger);
+            let mut lu = build(&larger, &blocks);
             assert_eq!(kept_structures(), 4);
-            assert!(one_more.3);
-            assert_ne!(one_more.0, fresh.0);
+            run(&mut lu, &larger);
+            assert!(solve(&mut lu, &larger).3);
             for seed in 0..2 * KEPT_STRUCTURES as u64 {
                 BorderedLu::new(&banded(20 + seed as usize, 1, seed).pattern).unwrap();
             }

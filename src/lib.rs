@@ -9,6 +9,7 @@
 
 // Infrastructure.
 pub mod error;
+mod kept;
 pub mod status;
 pub mod version;
 

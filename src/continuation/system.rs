@@ -15,6 +15,7 @@
 //! tested against.
 
 use super::{Problem, SeriesProblem};
+use crate::kept::Recent;
 use crate::linalg::sparse::Pattern;
 use crate::taylor::batch::{eval_lanes, jacobian_lanes, BatchJacobianWork, BatchTaylorWork, Lanes, LANES};
 use crate::taylor::{JacobianWork, Tape, TaylorWork};
@@ -30,6 +31,18 @@ pub enum Slot {
     Lambda,
     /// A fixed value (element length, load direction, …).
     Param(f64),
+}
+
+impl Slot {
+    /// This input's Taylor coefficient of an order p ≥ 1, from the
+    /// unknowns' (`xp`) and Λ's (`lambda_p`): a fixed value's is 0.
+    fn series_coefficient(self, xp: &[f64], lambda_p: f64) -> f64 {
+        match self {
+            Slot::Unknown(g) => xp[g],
+            Slot::Lambda => lambda_p,
+            Slot::Param(_) => 0.0,
+        }
+    }
 }
 
 /// One kernel instance.
@@ -184,7 +197,7 @@ const KEPT_STRUCTURES: usize = 8;
 const KEPT_ENTRIES: usize = 1 << 17;
 
 thread_local! {
-    static STRUCTURES: std::cell::RefCell<Vec<Arc<Structure>>> = const { std::cell::RefCell::new(Vec::new()) };
+    static STRUCTURES: Recent<Structure> = const { Recent::new(KEPT_STRUCTURES) };
 }
 
 /// Drop the structures kept on this thread, the systems' and the
@@ -192,14 +205,14 @@ thread_local! {
 /// their memory back, or a benchmark's first set-up. The element tapes a
 /// rod records stay.
 pub fn forget_kept_structures() {
-    let _ = STRUCTURES.try_with(|kept| kept.borrow_mut().clear());
+    let _ = STRUCTURES.try_with(|kept| kept.clear());
     crate::linalg::bordered::forget_kept_structures();
 }
 
 /// System structures kept on this thread.
 #[cfg(test)]
 fn kept_structures() -> usize {
-    STRUCTURES.with(|kept| kept.borrow().len())
+    STRUCTURES.with(|kept| kept.len())
 }
 
 /// The structure of `blocks`, kept or built. Finding it compares each
@@ -209,28 +222,12 @@ fn kept_structures() -> usize {
 /// compared whole for each block: O(entries) then, still without the
 /// counting sort and scatter of a build, a third of a rod's set-up).
 fn structure(n: usize, blocks: &[Block]) -> Arc<Structure> {
-    let found = STRUCTURES
-        .try_with(|kept| {
-            let mut kept = kept.borrow_mut();
-            let at = kept.iter().position(|s| s.fits(n, blocks))?;
-            let s = kept.remove(at);
-            kept.push(s.clone());
-            Some(s)
-        })
-        .ok()
-        .flatten();
-    if let Some(s) = found {
+    if let Some(s) = STRUCTURES.try_with(|kept| kept.find(|s| s.fits(n, blocks))).ok().flatten() {
         return s;
     }
     let s = Arc::new(Structure::build(n, blocks));
     if s.pattern.nnz() <= KEPT_ENTRIES {
-        let _ = STRUCTURES.try_with(|kept| {
-            let mut kept = kept.borrow_mut();
-            if kept.len() == KEPT_STRUCTURES {
-                kept.remove(0);
-            }
-            kept.push(s.clone());
-        });
+        let _ = STRUCTURES.try_with(|kept| kept.keep(s.clone()));
     }
     s
 }
@@ -304,11 +301,7 @@ impl AssembledSystem {
         }
         for ((b, w), _) in self.blocks.iter().zip(&mut self.work).zip(&self.batched).filter(|(_, &t)| !t) {
             let inputs = &b.inputs;
-            let coefficient = |i: usize| match inputs[i] {
-                Slot::Unknown(g) => xp[g],
-                Slot::Lambda => lambda_p,
-                Slot::Param(_) => 0.0,
-            };
+            let coefficient = |i: usize| inputs[i].series_coefficient(xp, lambda_p);
             w.taylor.order(&b.tape, p, coefficient, &mut w.local_out);
             if let Some(out) = out.as_deref_mut() {
                 for (&row, v) in b.rows.iter().zip(&w.local_out) {
@@ -632,11 +625,7 @@ impl SeriesProblem for AssembledSystem {
         }
         for ((b, w), _) in self.blocks.iter().zip(&mut self.work).zip(&self.batched).filter(|(_, &t)| !t) {
             let inputs = &b.inputs;
-            let coefficient = |i: usize| match inputs[i] {
-                Slot::Unknown(g) => wp[g],
-                Slot::Lambda => w_lambda_p,
-                Slot::Param(_) => 0.0,
-            };
+            let coefficient = |i: usize| inputs[i].series_coefficient(wp, w_lambda_p);
             w.taylor.tangent_order(&b.tape, p, coefficient, &mut w.local_out);
             for (&row, v) in b.rows.iter().zip(&w.local_out) {
                 out[row] += v;

@@ -16,6 +16,7 @@ use super::condensed::{CondensedLu, CondensedStructure, DENSE_KEPT};
 use super::dense::{dot, orthonormalise};
 use super::sparse::{ColumnOrder, LuKind, Pattern, SparseLu};
 use crate::error::{Error, Result};
+use crate::kept::Recent;
 use crate::status::Status;
 use std::sync::Arc;
 
@@ -78,7 +79,7 @@ enum Fast {
 /// the rods of a sweep rebuild tangents of one pattern.
 struct Structure {
     /// A's pattern, trailing count and blocks (what the rest is built
-    /// from).
+    /// from; A's pattern and count also make the block elimination's LU).
     inner: Arc<Pattern>,
     trailing: usize,
     blocks: Vec<Vec<usize>>,
@@ -154,7 +155,7 @@ const KEPT_STRUCTURES: usize = 8;
 const KEPT_ENTRIES: usize = 1 << 17;
 
 thread_local! {
-    static STRUCTURES: std::cell::RefCell<Vec<Arc<Structure>>> = const { std::cell::RefCell::new(Vec::new()) };
+    static STRUCTURES: Recent<Structure> = const { Recent::new(KEPT_STRUCTURES) };
 }
 
 /// The structure of B for A's `pattern`, kept or built. Finding it
@@ -162,28 +163,12 @@ thread_local! {
 /// passes, sorts and searches of a build.
 fn structure(pattern: &Pattern, trailing: usize, blocks: &[Vec<usize>]) -> Result<Arc<Structure>> {
     let fits = |s: &Structure| s.trailing == trailing && *s.inner == *pattern && s.blocks == blocks;
-    let found = STRUCTURES
-        .try_with(|kept| {
-            let mut kept = kept.borrow_mut();
-            let at = kept.iter().position(|s| fits(s))?;
-            let s = kept.remove(at);
-            kept.push(s.clone());
-            Some(s)
-        })
-        .ok()
-        .flatten();
-    if let Some(s) = found {
+    if let Some(s) = STRUCTURES.try_with(|kept| kept.find(fits)).ok().flatten() {
         return Ok(s);
     }
     let s = Arc::new(Structure::new(pattern, trailing, blocks)?);
     if pattern.nnz() <= KEPT_ENTRIES {
-        let _ = STRUCTURES.try_with(|kept| {
-            let mut kept = kept.borrow_mut();
-            if kept.len() == KEPT_STRUCTURES {
-                kept.remove(0);
-            }
-            kept.push(s.clone());
-        });
+        let _ = STRUCTURES.try_with(|kept| kept.keep(s.clone()));
     }
     Ok(s)
 }
@@ -191,13 +176,13 @@ fn structure(pattern: &Pattern, trailing: usize, blocks: &[Vec<usize>]) -> Resul
 /// Drop the bordered structures kept on this thread (their memory; a
 /// benchmark of a first set-up).
 pub fn forget_kept_structures() {
-    let _ = STRUCTURES.try_with(|kept| kept.borrow_mut().clear());
+    let _ = STRUCTURES.try_with(|kept| kept.clear());
 }
 
 /// Bordered structures kept on this thread.
 #[cfg(test)]
 fn kept_structures() -> usize {
-    STRUCTURES.with(|kept| kept.borrow().len())
+    STRUCTURES.with(|kept| kept.len())
 }
 
 pub struct BorderedLu {
@@ -212,10 +197,6 @@ pub struct BorderedLu {
     /// zero crossings.
     row_scale: Vec<f64>,
     col_scale: Vec<f64>,
-    /// A's pattern (copied into the block elimination's LU on the first
-    /// matrix, then None) and trailing count.
-    inner: Option<Arc<Pattern>>,
-    trailing: usize,
     fast: Fast,
     /// Whether the last factorisation is the block elimination's or the
     /// condensation's (solves use it), else B's LU.
@@ -264,8 +245,6 @@ impl BorderedLu {
             values: vec![0.0; structure.big.nnz()],
             row_scale: vec![1.0; n + 1],
             col_scale: vec![1.0; n + 1],
-            inner: Some(structure.inner.clone()),
-            trailing,
             fast: match &structure.condensed {
                 Some(c) => Fast::Condensed(Box::new(CondensedLu::from_structure(c.clone())?)),
                 None => Fast::Undecided,
@@ -346,7 +325,8 @@ impl BorderedLu {
     /// Block elimination when A alone takes supernodal factors (tried on
     /// its first matrix), else B's LU for good.
     fn first_blocks(&mut self, a: &[f64]) -> Fast {
-        let Some(Ok(mut blocks)) = self.inner.take().map(|p| BlockElimination::new((*p).clone(), self.trailing)) else {
+        // Once: the first matrix decides `fast` for good.
+        let Ok(mut blocks) = BlockElimination::new((*self.structure.inner).clone(), self.structure.trailing) else {
             return Fast::Whole;
         };
         if let Some(order) = self.preferred {
@@ -598,7 +578,7 @@ impl BorderedLu {
     /// this one goes on ([`crate::continuation::Options::overlap_records`])
     /// — exactly as [`BorderedLu::determinant_sign`] takes them here.
     pub fn exact_twin(&self) -> Result<SparseLu> {
-        let mut lu = SparseLu::shared(self.lu.shared_pattern().clone(), self.trailing + 1)?;
+        let mut lu = SparseLu::shared(self.lu.shared_pattern().clone(), self.structure.trailing + 1)?;
         lu.prefer_kind(LuKind::Simplicial);
         if self.lu.factorisations > 0 {
             lu.prefer(self.lu.column_order());

@@ -526,9 +526,9 @@ impl SparseLu {
     /// proves L + U fit them.
     fn build_factors(&mut self) {
         if matches!(self.factors, Indexed::Pending) {
-            self.factors = match fill_bound(&self.pattern, None) < NARROW_LIMIT {
-                true => Indexed::Narrow(Factors::new(&self.pattern)),
-                false => Indexed::Wide(Factors::new(&self.pattern)),
+            self.factors = match self.wide_indices() {
+                false => Indexed::Narrow(Factors::new(&self.pattern)),
+                true => Indexed::Wide(Factors::new(&self.pattern)),
             };
         }
     }

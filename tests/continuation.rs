@@ -499,3 +499,54 @@ fn the_series_indicator_puts_the_search_at_each_pitchfork() {
         }
     }
 }
+
+/// The location meets its tolerance across the knob's range, in both
+/// engines: on the trivial branch y = 0, u = Λ² of R = (u − Λ², y(u − 2) −
+/// y³) the pitchfork is at Λ* = √2 exactly (closed form: R_y = u − 2 = 0),
+/// where σ_min crosses zero linearly but not along a straight line in the
+/// arc parameter (u − 2 = Λ² − 2). A point located to `bifurcation_tol` s
+/// in scaled arc length has its Λ within s·|dΛ/ds| ≤ s of Λ* (Λ's scale is
+/// 1: Options::detect_bifurcations). Steps of up to 0.4 leave a bracket
+/// several hundred thousand times the tightest tolerance, so the location
+/// and its stopping rules, not the steps, decide how close the point is.
+#[test]
+fn a_located_pitchfork_is_within_its_tolerance_from_1e_5_to_1e_13() {
+    fn kernel<T: Scalar>(v: &[T]) -> Vec<T> {
+        let (u, y, l) = (v[0], v[1], v[2]);
+        vec![u - l * l, y * (u - 2.0) - y * y * y]
+    }
+    let system = || {
+        let tape = Arc::new(Tape::record(3, kernel));
+        AssembledSystem::new(
+            2,
+            vec![Block::new(tape, vec![Slot::Unknown(0), Slot::Unknown(1), Slot::Lambda], vec![0, 1])],
+        )
+    };
+    let exact = 2f64.sqrt();
+    for tol in [1e-5, 1e-7, 1e-9, 1e-11, 1e-13] {
+        let opts = Options {
+            target_lambda: Some(2.5),
+            residual_tol: 1e-14,
+            initial_step: 0.1,
+            max_step: 0.4,
+            detect_bifurcations: true,
+            bifurcation_tol: tol,
+            ..Default::default()
+        };
+        let start = || Start::Point { x: vec![0.25, 0.0], lambda: 0.5, increasing: true };
+        let anm =
+            continue_anm(&mut system(), start(), &opts, &AnmOptions::default(), |x, _| x.to_vec(), |_| true).unwrap();
+        let newton = continue_newton(&mut system(), start(), &opts, |x, _| x.to_vec(), |_| true).unwrap();
+        for (engine, b) in [("ANM", &anm), ("Newton", &newton)] {
+            assert_eq!(b.bifurcations.len(), 1, "{engine}, tol {tol:e}: {:?}", b.unresolved);
+            let p = &b.bifurcations[0];
+            let error = (p.lambda - exact).abs();
+            println!(
+                "{engine} tol {tol:e}: Λ error {error:.1e}, {} trial factorisations",
+                b.counts.location_factorisations
+            );
+            assert!(error <= tol, "{engine}, tol {tol:e}: Λ = {} is {error:e} from √2", p.lambda);
+            assert_eq!(p.multiplicity, 1, "{engine}, tol {tol:e}");
+        }
+    }
+}

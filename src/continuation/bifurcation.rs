@@ -182,12 +182,16 @@ pub(crate) fn locate<P: Problem + ?Sized>(
     // A trial point that did not converge: if nothing singular is found
     // without it, the location failed (an error), not "no bifurcation".
     let mut failed = None;
+    // The last trial point, when it was taken where asked: (τ, x, Λ, σ).
+    let mut held: Option<(f64, Vec<f64>, f64, f64)> = None;
     if sa * sb < 0.0 {
         // A sign change of the signed σ_min (simple points): it crosses
         // zero linearly, so regula falsi (Illinois) converges
         // superlinearly — a handful of trial points instead of golden
         // section's ~45 at tol 1e-10.
         let (mut fa, mut fb) = (sa, sb);
+        // The opposite end's own σ (Illinois halves fa, not this).
+        let mut ra = sa;
         let mut best = if sa.abs() < sb.abs() { a0 } else { b0 };
         let mut best_f = sa.abs().min(sb.abs());
         let mut last = f64::NAN;
@@ -210,25 +214,47 @@ pub(crate) fn locate<P: Problem + ?Sized>(
             // Exactly on the singular point (the series indicator's
             // predictor can put a trial there to the last bit) the factors
             // do not exist: half the tolerance beside it is as close.
-            let fc = match point(c, ctx).or_else(|_| point(c + 0.5 * tol, ctx)).or_else(|_| point(c - 0.5 * tol, ctx)) {
-                Ok((_, _, fc)) => fc,
-                Err(e) => {
-                    failed = Some(e);
-                    break;
+            let fc = match point(c, ctx) {
+                Ok((x, l, fc)) => {
+                    held = Some((c, x, l, fc));
+                    fc
                 }
+                Err(_) => match point(c + 0.5 * tol, ctx).or_else(|_| point(c - 0.5 * tol, ctx)) {
+                    Ok((_, _, fc)) => {
+                        held = None;
+                        fc
+                    }
+                    Err(e) => {
+                        failed = Some(e);
+                        break;
+                    }
+                },
             };
             if fc.abs() < best_f {
                 (best, best_f) = (c, fc.abs());
             }
+            // σ's slope at c, no steeper than either secant to it — from
+            // the far end (its own σ: Illinois halves fa, not ra) and from
+            // the last trial — so that a crossing flatter than linear (the
+            // secants then differ) does not pass for a near one.
+            let secant = |t: f64, f: f64| (f - fc).abs() / (t - c).abs().max(f64::MIN_POSITIVE);
+            let slope = secant(a, ra).min(secant(b, fb));
             if fc * fb < 0.0 {
-                (a, fa) = (b, fb);
+                (a, fa, ra) = (b, fb, fb);
             } else {
                 fa *= 0.5; // Illinois: the end kept twice counts half
             }
             (b, fb) = (c, fc);
             let moved = (c - last).abs();
             last = c;
-            if fc == 0.0 || (a - b).abs() <= tol || moved <= 0.5 * tol {
+            // σ crosses zero linearly at a simple point: c lies within
+            // (|σ(c)| + floor)/slope of the zero, the floor being the
+            // round-off of a σ computed there (BorderedLu::singular_floor).
+            // Once that is within half the tolerance the location is done —
+            // further trials would only shrink the bracket by its 1 %
+            // margins, a hundredfold each, on signs read at the round-off.
+            let near = fc.abs() + ctx.bordered.singular_floor() <= 0.5 * tol * slope;
+            if fc == 0.0 || (a - b).abs() <= tol || moved <= 0.5 * tol || near {
                 break;
             }
         }
@@ -260,12 +286,17 @@ pub(crate) fn locate<P: Problem + ?Sized>(
         }
     }
     let tau = 0.5 * (a + b);
-    // Exactly on the singular point: half the tolerance beside it (as above).
-    let (x, lambda, at_point) = match point(tau, ctx) {
-        Ok(p) => p,
-        Err(e) => match point(tau + 0.5 * tol, ctx).or_else(|_| point(tau - 0.5 * tol, ctx)) {
+    // The last trial when it is the point (its factors are the ones held),
+    // else the point again. Exactly on the singular point: half the
+    // tolerance beside it (as above).
+    let (x, lambda, at_point) = match held.filter(|h| h.0 == tau) {
+        Some((_, x, l, s)) => (x, l, s),
+        None => match point(tau, ctx) {
             Ok(p) => p,
-            Err(_) => return Err(e),
+            Err(e) => match point(tau + 0.5 * tol, ctx).or_else(|_| point(tau - 0.5 * tol, ctx)) {
+                Ok(p) => p,
+                Err(_) => return Err(e),
+            },
         },
     };
     // Singular to working precision (σ_1 below ε‖Ã‖_F: a location that

@@ -17,7 +17,9 @@
 use super::{Problem, SeriesProblem};
 use crate::kept::Recent;
 use crate::linalg::sparse::Pattern;
-use crate::taylor::batch::{eval_lanes, jacobian_lanes, BatchJacobianWork, BatchTaylorWork, Lanes, LANES};
+use crate::taylor::batch::{
+    eval_lanes, give_back, grow_pooled, jacobian_lanes, BatchJacobianWork, BatchTaylorWork, Lanes, LANES,
+};
 use crate::taylor::{JacobianWork, Tape, TaylorWork};
 use std::any::Any;
 use std::sync::Arc;
@@ -244,8 +246,21 @@ struct Batch {
     engine: Engine,
     inputs: Vec<Lanes>,
     outputs: Vec<Lanes>,
-    /// Local Jacobians of the lanes (outputs × inputs).
+    /// Local Jacobians of the lanes (outputs × inputs; the first that many
+    /// entries of an array from the thread's pool, which may be longer).
     local_jac: Vec<Lanes>,
+}
+
+/// A system is often built for one solve (a sweep makes one per point): a
+/// batch's local Jacobian (~110 kB for a Gauss(3) element's 68 inputs and
+/// 52 outputs, four lanes) is returned to the thread's pool of lane arrays
+/// ([`crate::taylor::batch::grow_pooled`]), so that the next system takes
+/// it warm instead of faulting in fresh pages of a heap the allocator had
+/// trimmed.
+impl Drop for Batch {
+    fn drop(&mut self) {
+        give_back(std::mem::take(&mut self.local_jac));
+    }
 }
 
 /// How a batch is evaluated. Values and Jacobians: by the compiled kernel
@@ -533,14 +548,17 @@ impl Problem for AssembledSystem {
         for batch in &mut self.batches {
             Self::gather_lanes(&self.blocks, batch, |g| x[g], lambda, |v| v);
             let tape = &self.blocks[batch.blocks[0]].tape;
+            let len = tape.inputs() * tape.outputs();
             if batch.local_jac.is_empty() {
-                batch.local_jac = vec![[0.0; LANES]; tape.inputs() * tape.outputs()];
+                // The compiled kernel writes the structural nonzeros only:
+                // the rest must be zero (a pooled array is stale).
+                grow_pooled(&mut batch.local_jac, len);
+                batch.local_jac[..len].fill([0.0; LANES]);
             }
+            let jac = &mut batch.local_jac[..len];
             match &mut batch.engine {
-                Engine { compiled: Some(k), .. } => k.jacobian(&batch.inputs, &mut batch.outputs, &mut batch.local_jac),
-                Engine { jacobian, .. } => {
-                    jacobian_lanes(tape, &batch.inputs, jacobian, &mut batch.outputs, &mut batch.local_jac)
-                }
+                Engine { compiled: Some(k), .. } => k.jacobian(&batch.inputs, &mut batch.outputs, jac),
+                Engine { jacobian, .. } => jacobian_lanes(tape, &batch.inputs, jacobian, &mut batch.outputs, jac),
             }
             for (l, &bi) in batch.blocks.iter().enumerate() {
                 let local = |e: usize| batch.local_jac[e][l];

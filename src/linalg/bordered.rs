@@ -819,9 +819,6 @@ impl BorderedLu {
                     (1..ka).filter(|&l| (0..l).all(done) && next[l - 1] < LOCK_GAP * next[l]).max().unwrap_or(0)
                 }
             };
-            if std::env::var("DBG_V").is_ok() && kind == Subspace::Vectors {
-                eprintln!("floor={floor:e} next={next:?} lock={lock} locked={}", right.len());
-            }
             sigma.splice(right.len().., next.iter().copied());
             v = rotated;
             if converged {

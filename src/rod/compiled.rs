@@ -479,6 +479,41 @@ mod tests {
         }
     }
 
+    /// A batch's local Jacobian comes from the thread's pool of lane
+    /// arrays, stale ([`crate::taylor::batch::grow_pooled`]), and the
+    /// compiled kernel writes its structural nonzeros only, so the system
+    /// zeroes it first (the scatter reads the pattern's entries alone,
+    /// which the kernel writes: either keeps stale values out). Here the
+    /// pool holds arrays of ones longer than any element's local Jacobian,
+    /// which each batch takes; each rod's Jacobian must be bitwise that of
+    /// the same rod on a fresh thread (an empty pool: new zeroed arrays).
+    #[test]
+    fn a_stale_pooled_local_jacobian_leaves_no_trace() {
+        let jacobian = |rod: &Rod| {
+            let mut system = rod.system().unwrap();
+            let n = system.dim();
+            let x: Vec<f64> = (0..n).map(|i| noise(i, 3)).collect();
+            let (mut jx, mut jl) = (vec![0.0; system.pattern().nnz()], vec![0.0; n]);
+            system.jacobian(&x, 0.7, &mut jx, &mut jl);
+            (jx, jl)
+        };
+        for scheme in [Scheme::Midpoint, Scheme::Gauss(2), Scheme::Gauss(3), Scheme::Gauss(4)] {
+            let (_, law) = laws().swap_remove(3);
+            let rod = Rod::new(law, 1.3, loads()[1].1, Supports::Cantilever, scheme, 5).unwrap();
+            let fresh = {
+                let rod = rod.clone();
+                std::thread::spawn(move || jacobian(&rod)).join().unwrap()
+            };
+            for _ in 0..8 {
+                crate::taylor::batch::give_back(vec![[1.0; LANES]; 20_000]);
+            }
+            let pooled = jacobian(&rod);
+            let bits = |v: &[f64]| v.iter().map(|a| a.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&pooled.0), bits(&fresh.0), "{scheme:?}: R_x");
+            assert_eq!(bits(&pooled.1), bits(&fresh.1), "{scheme:?}: R_Λ");
+        }
+    }
+
     /// A charged rod's elastic part: each element stiffened by its own
     /// near zone (stage by stage), the lanes' laws differing (so the
     /// system's series are the compiled ones), on uniform and graded

@@ -52,8 +52,9 @@ thread_local! {
 }
 
 /// `v` at least `len` long: grown in place, or swapped for a pooled array
-/// that is long enough (v's own array goes back to the pool).
-fn grow_pooled(v: &mut Vec<Lanes>, len: usize) {
+/// that is long enough (v's own array goes back to the pool). A pooled
+/// array's contents are stale.
+pub(crate) fn grow_pooled(v: &mut Vec<Lanes>, len: usize) {
     if v.len() >= len {
         return;
     }
@@ -75,7 +76,7 @@ fn grow_pooled(v: &mut Vec<Lanes>, len: usize) {
 /// or the thread is ending; a full pool drops its smallest array instead
 /// when this one is larger (a sweep's small arrays must not hold the places
 /// of a later sweep's larger ones).
-fn give_back(v: Vec<Lanes>) {
+pub(crate) fn give_back(v: Vec<Lanes>) {
     if v.is_empty() || v.capacity() * std::mem::size_of::<Lanes>() > POOL_ARRAY_BYTES {
         return;
     }

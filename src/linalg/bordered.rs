@@ -638,29 +638,61 @@ impl BorderedLu {
     /// locked R⁻² is applied at once, as before deflation existed (the
     /// monitor's digits, on which continuation paths depend, unchanged).
     fn inverse_normal(&mut self, w: &mut [f64], right: &[Vec<f64>], left: &[Vec<f64>], solves: &mut usize) {
-        for (a, c) in w.iter_mut().zip(&self.col_scale) {
-            *a /= c;
-        }
+        unscale(w, &self.col_scale);
         self.solve_with(w, true);
+        self.between_solves(w, left);
+        self.solve_with(w, false);
+        unscale(w, &self.col_scale);
+        project_out(w, right);
+        *solves += 2;
+    }
+
+    /// [`BorderedLu::inverse_normal`] on two vectors, the same operations
+    /// on each, their solves taken together where the factors allow
+    /// ([`CondensedLu::solve_pair`]: each factor entry read once for both).
+    fn inverse_normal_pair(
+        &mut self,
+        (v, w): (&mut [f64], &mut [f64]),
+        right: &[Vec<f64>],
+        left: &[Vec<f64>],
+        solves: &mut usize,
+    ) {
+        unscale(v, &self.col_scale);
+        unscale(w, &self.col_scale);
+        self.solve_pair_with((v, w), true);
+        self.between_solves(v, left);
+        self.between_solves(w, left);
+        self.solve_pair_with((v, w), false);
+        for u in [v, w] {
+            unscale(u, &self.col_scale);
+            project_out(u, right);
+        }
+        *solves += 4;
+    }
+
+    /// Between the two solves of (ÃᵀÃ)⁻¹ w: R⁻², or R⁻¹, the locked `left`
+    /// vectors out, R⁻¹ ([`BorderedLu::inverse_normal`]).
+    fn between_solves(&self, w: &mut [f64], left: &[Vec<f64>]) {
         if left.is_empty() {
             for (a, r) in w.iter_mut().zip(&self.row_scale) {
                 *a /= r * r;
             }
         } else {
-            for (a, r) in w.iter_mut().zip(&self.row_scale) {
-                *a /= r;
-            }
+            unscale(w, &self.row_scale);
             project_out(w, left);
-            for (a, r) in w.iter_mut().zip(&self.row_scale) {
-                *a /= r;
-            }
+            unscale(w, &self.row_scale);
         }
-        self.solve_with(w, false);
-        for (a, c) in w.iter_mut().zip(&self.col_scale) {
-            *a /= c;
+    }
+
+    /// [`BorderedLu::solve_with`] on two right-hand sides: together by the
+    /// condensation's factors, else one after the other.
+    fn solve_pair_with(&mut self, (v, w): (&mut [f64], &mut [f64]), transpose: bool) {
+        if let (true, Fast::Condensed(lu)) = (self.blocks_active, &mut self.fast) {
+            lu.solve_pair(v, w, transpose);
+            return;
         }
-        project_out(w, right);
-        *solves += 2;
+        self.solve_with(v, transpose);
+        self.solve_with(w, transpose);
     }
 
     /// ε‖Ã‖_F: below it Ã is singular to working precision, and the
@@ -789,8 +821,12 @@ impl BorderedLu {
         let mut sigma = vec![f64::INFINITY; k];
         for _ in 0..max_iterations {
             let mut w = v.clone();
-            for col in &mut w {
-                self.inverse_normal(col, &right, &left, solves);
+            for pair in w.chunks_mut(2) {
+                match pair {
+                    [a, b] => self.inverse_normal_pair((a, b), &right, &left, solves),
+                    [a] => self.inverse_normal(a, &right, &left, solves),
+                    _ => {}
+                }
             }
             let ka = v.len();
             // Rayleigh–Ritz on (ÃᵀÃ)⁻¹: G = Vᵀ W.
@@ -880,6 +916,13 @@ impl BorderedLu {
         } else {
             sigma[0]
         }
+    }
+}
+
+/// w entry by entry divided by `scale`.
+fn unscale(w: &mut [f64], scale: &[f64]) {
+    for (a, c) in w.iter_mut().zip(scale) {
+        *a /= c;
     }
 }
 

@@ -463,3 +463,61 @@ fn follower_cantilever_against_planar_shooting() {
         factorisations[1]
     );
 }
+
+/// Dense output where the series' step is long (Padé, P = 15, ε = 1e-6):
+/// a sample late in a step is not reached by chord iterations on the
+/// step's start factorisation, and is corrected on the next point's
+/// instead (`Counts::deferred_samples`). Every load is delivered once, in
+/// order, to the residual tolerance, and its tip is within 1e-9 of the
+/// same rod's point by Newton continuation at 1e-13 (an independent
+/// engine; the two differ by the correction tolerance's share of the
+/// state). A run that leaves its λ range inside the step that deferred a
+/// sample still delivers it (by fresh Newton), never drops it.
+#[test]
+fn samples_a_step_start_cannot_reach_are_corrected_on_the_next_point() {
+    let law = RodLaw::isotropic(1.0, 1.0 / 1.3, 1e4, 2.6e4).unwrap();
+    let loads = Loads { tip_force: Some(Load::dead([1.0, 0.0, 0.0])), ..Default::default() };
+    let rod = Rod::new(law, 1.0, loads, Supports::Cantilever, Scheme::Gauss(4), 4).unwrap();
+    let wanted: Vec<f64> = (1..=19).map(|k| 0.5 * k as f64).collect();
+    let start = || Start::Point { x: rod.straight_state(), lambda: 0.0, increasing: true };
+    let reference = {
+        let opts =
+            Options { target_lambda: Some(10.0), residual_tol: 1e-13, samples: wanted.clone(), ..Default::default() };
+        let mut sys = rod.system().unwrap();
+        continue_newton(&mut sys, start(), &opts, |x, _| rod.tip(x).to_vec(), |_| true).unwrap()
+    };
+    assert!(reference.missed_samples.is_empty());
+    let anm = AnmOptions { order: 15, epsilon: 1e-6, pade: true };
+    let tol = 1e-9;
+    let opts = Options { target_lambda: Some(10.0), residual_tol: tol, samples: wanted.clone(), ..Default::default() };
+    let mut sys = rod.system().unwrap();
+    let b = continue_anm(&mut sys, start(), &opts, &anm, |x, _| rod.tip(x).to_vec(), |_| true).unwrap();
+    println!("{} records, {:?}", b.records.len(), b.counts);
+    assert!(b.counts.deferred_samples > 0, "no sample deferred: the test does not reach its path");
+    assert!(b.missed_samples.is_empty(), "missed {:?}", b.missed_samples);
+    let got: Vec<f64> = b.samples.iter().map(|s| s.lambda).collect();
+    assert_eq!(got, wanted, "every load once, in order");
+    for (s, r) in b.samples.iter().zip(&reference.samples) {
+        assert!(s.residual <= tol, "Λ = {}: residual {:e}", s.lambda, s.residual);
+        let e = dist(s.outputs[..3].try_into().unwrap(), r.outputs[..3].try_into().unwrap());
+        assert!(e <= 1e-9, "Λ = {}: tip {e:e} from Newton's", s.lambda);
+    }
+    // Stopped by the λ range inside the step whose late samples were
+    // deferred: they are delivered before the run returns.
+    let last = b.records.iter().map(|r| r.lambda).find(|&l| l > 0.0).unwrap();
+    let last_in_step = wanted.iter().copied().filter(|&l| l < last).last().unwrap();
+    let opts =
+        Options { lambda_range: (-1.0, last - 1e-3), samples: wanted.clone(), residual_tol: tol, ..Default::default() };
+    let mut sys = rod.system().unwrap();
+    let s = continue_anm(&mut sys, start(), &opts, &anm, |x, _| rod.tip(x).to_vec(), |_| true).unwrap();
+    assert_eq!(s.stop, Stop::LambdaRange);
+    assert!(s.counts.deferred_samples > 0, "{:?}", s.counts);
+    assert!(s.missed_samples.is_empty(), "missed {:?}", s.missed_samples);
+    let got: Vec<f64> = s.samples.iter().map(|s| s.lambda).collect();
+    assert_eq!(got.last(), Some(&last_in_step), "{got:?}");
+    for (x, r) in s.samples.iter().zip(&reference.samples) {
+        assert!(
+            x.residual <= tol && dist(x.outputs[..3].try_into().unwrap(), r.outputs[..3].try_into().unwrap()) <= 1e-9
+        );
+    }
+}

@@ -93,6 +93,7 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             if run.records.is_empty() {
                 return Err(e);
             }
+            run.deliver_pending(problem, (&v.0, v.1), &mut observe, true);
             return Ok(run.finish(Stop::StepTooSmall, State { x, lambda, tx: v.0, tl: v.1 }, last_a, None));
         }
         let (x1, l1) = run.ctx.tangent()?;
@@ -103,6 +104,11 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
         let go_on = run.push(rec, &mut progress);
         if opts.detect_bifurcations && run.watch(problem, here.clone())? {
             // Locating moved the factorisation: restore this step's.
+            run.ctx.factorise(problem, &here.x, lambda, (&v.0, v.1), Factors::Exact)?;
+        }
+        // The last step's samples its start's factorisation did not reach,
+        // on this point's (the series needs it back if they replaced it).
+        if run.deliver_pending(problem, (&here.tx, here.tl), &mut observe, false) {
             run.ctx.factorise(problem, &here.x, lambda, (&v.0, v.1), Factors::Exact)?;
         }
         let stop = if at_target {
@@ -158,7 +164,10 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
         let kept = samples(&mut run, problem, &curve, a, &here, &mut observe);
         let end = match end_point(&mut run, problem, &curve, a, &here, &v, kept)? {
             End::Reached(end) => end,
-            End::Stopped(stop, a) => return Ok(run.finish(stop, here, a, None)),
+            End::Stopped(stop, a) => {
+                run.deliver_pending(problem, (&here.tx, here.tl), &mut observe, true);
+                return Ok(run.finish(stop, here, a, None));
+            }
         };
         run.ctx.counts.steps += 1;
         let tnorm = run.ctx.scaling.norm(&end.tangent[..end.x.len()], end.tangent[end.x.len()]);
@@ -309,7 +318,7 @@ fn samples<P: SeriesProblem + ?Sized>(
         for t in all_roots(|t| curve.lambda(t) - target, a) {
             let mut xs = vec![0.0; here.x.len()];
             curve.evaluate(t, &mut xs, None);
-            refactorised |= run.sample(problem, xs, (target, (&here.tx, here.tl)), record, observe);
+            refactorised |= run.sample(problem, xs, (target, (&here.tx, here.tl)), record, observe, true);
         }
     }
     !refactorised

@@ -245,7 +245,10 @@ impl<E: Equations + ?Sized> LinearSolve<E> for ProjectedChord<'_> {
 /// residual. When the chord stalls or the tangent is nearly vertical (a
 /// fold), Newton at fixed Λ with fresh factorisations takes over from the
 /// prediction and `refactorised` is set (the caller's factorisation is
-/// gone). Returns (iterations, final residual).
+/// gone) — unless `defer`: then None, `xs` back at the prediction and the
+/// chord's iterations in `spent` (the caller retries on a nearer
+/// factorisation). Returns (iterations, final residual).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn deliver_sample<P: Problem + ?Sized>(
     problem: &mut P,
     ctx: &mut Context,
@@ -254,7 +257,8 @@ pub(crate) fn deliver_sample<P: Problem + ?Sized>(
     tangent: (&[f64], f64),
     tol: f64,
     refactorised: &mut bool,
-) -> Result<(usize, f64)> {
+    (defer, spent): (bool, &mut usize),
+) -> Result<Option<(usize, f64)>> {
     let n = xs.len();
     let prediction = xs.to_vec();
     let mut chord = ProjectedChord {
@@ -272,12 +276,30 @@ pub(crate) fn deliver_sample<P: Problem + ?Sized>(
     ctx.counts.residuals += eq.residuals;
     ctx.counts.add(&chord.counts);
     if let Ok(r) = result {
-        return Ok((r.iterations, r.norm));
+        return Ok(Some((*spent + r.iterations, r.norm)));
+    }
+    xs.copy_from_slice(&prediction);
+    *spent += steps;
+    if defer {
+        return Ok(None);
     }
     // Fresh Newton at fixed Λ from the prediction.
-    xs.copy_from_slice(&prediction);
     *refactorised = true;
     let mut l = target;
     let (it, res) = correct(problem, ctx, xs, &mut l, Plane::fixed(&prediction, target), tol, Reuse::No)?;
-    Ok((steps + it, res))
+    Ok(Some((*spent + it, res)))
+}
+
+/// A point at the fixed load `target` by Newton from the prediction `xs`
+/// (in place), fresh factorisations throughout: (iterations, residual).
+pub(crate) fn newton_sample<P: Problem + ?Sized>(
+    problem: &mut P,
+    ctx: &mut Context,
+    xs: &mut [f64],
+    target: f64,
+    tol: f64,
+) -> Result<(usize, f64)> {
+    let prediction = xs.to_vec();
+    let mut l = target;
+    correct(problem, ctx, xs, &mut l, Plane::fixed(&prediction, target), tol, Reuse::No)
 }

@@ -485,6 +485,9 @@ pub struct Counts {
     pub series_dismissed: usize,
     /// Solves of the σ_min monitor (part of `solves`).
     pub monitor_solves: usize,
+    /// ANM dense output: samples whose chord iterations on their step's
+    /// factorisation stalled, corrected on the next point's instead.
+    pub deferred_samples: usize,
     /// Factorisations by block elimination on a supernodal LU (part of
     /// `factorisations`; [`Options::lu_kind`]) and the time they took
     /// (part of `times.factorisations`): the rest are simplicial.
@@ -558,6 +561,7 @@ impl Counts {
         self.series_located += other.series_located;
         self.series_dismissed += other.series_dismissed;
         self.monitor_solves += other.monitor_solves;
+        self.deferred_samples += other.deferred_samples;
         self.block_eliminations += other.block_eliminations;
         self.condensed += other.condensed;
         self.block_time += other.block_time;

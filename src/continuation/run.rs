@@ -5,7 +5,7 @@
 //! the finished [`Branch`]).
 
 use super::bifurcation::{self, Bifurcation, Evidence, SeriesHint, State, Unresolved};
-use super::corrector::{correct, deliver_sample, Plane, Reuse};
+use super::corrector::{correct, deliver_sample, newton_sample, Plane, Reuse};
 use super::stability::{count_unstable, ModeCarry, ModeWork};
 use super::tangent::Bordered;
 pub(crate) use super::tangent::Factors;
@@ -165,10 +165,23 @@ pub(crate) struct Run<'o> {
     pub series_hint: Option<SeriesHint>,
     pub samples: Vec<Sample>,
     pub missed: Vec<f64>,
+    /// Samples whose chord on their step's factorisation stalled, waiting
+    /// for the next point's ([`Run::sample`] with `defer`).
+    pending: Vec<Pending>,
     /// The stability count's state along the branch and its scratch
     /// ([`Options::stability`]).
     modes: ModeCarry,
     mode_work: ModeWork,
+}
+
+/// A sample deferred by [`Run::sample`]: its load, its prediction on the
+/// step's curve, the record of the step's start and the chord iterations
+/// spent on it.
+struct Pending {
+    target: f64,
+    prediction: Vec<f64>,
+    record: usize,
+    spent: usize,
 }
 
 impl<'o> Run<'o> {
@@ -191,6 +204,7 @@ impl<'o> Run<'o> {
             series_hint: None,
             samples: Vec::new(),
             missed: Vec::new(),
+            pending: Vec::new(),
             modes: ModeCarry::default(),
             mode_work: ModeWork::new(),
         })
@@ -561,6 +575,13 @@ impl<'o> Run<'o> {
     /// current factorisation, tangent t): a sample in the step that starts
     /// at record `record`, or a missed load. Returns whether the correction
     /// needed fresh factorisations (the step's is gone).
+    ///
+    /// With `defer`, a sample whose chord stalls is not corrected by fresh
+    /// Newton here but kept for [`Run::deliver_pending`] on the next
+    /// point's factorisation (the end of the step, nearer a sample late in
+    /// it than its start: a chord there saves the factorisation). It
+    /// counts as refactorised: the step's factorisation did not reach it,
+    /// so it will not reach the end point either.
     pub fn sample<P: Problem + ?Sized>(
         &mut self,
         problem: &mut P,
@@ -568,18 +589,66 @@ impl<'o> Run<'o> {
         (target, t): (f64, (&[f64], f64)),
         record: usize,
         observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
+        defer: bool,
     ) -> bool {
         let mut refactorised = false;
         let tol = self.opts.residual_tol;
-        match deliver_sample(problem, &mut self.ctx, &mut xs, target, t, tol, &mut refactorised) {
-            Ok((iterations, residual)) => self.samples.push(Sample {
+        let mut spent = 0;
+        match deliver_sample(problem, &mut self.ctx, &mut xs, target, t, tol, &mut refactorised, (defer, &mut spent)) {
+            Ok(Some((iterations, residual))) => self.samples.push(Sample {
                 lambda: target,
                 record,
                 outputs: observe(&xs, target),
                 residual,
                 newton_iterations: iterations,
             }),
+            Ok(None) => {
+                self.ctx.counts.deferred_samples += 1;
+                self.pending.push(Pending { target, prediction: xs, record, spent });
+                refactorised = true;
+            }
             Err(_) => self.missed.push(target),
+        }
+        refactorised
+    }
+
+    /// The deferred samples ([`Run::sample`]), by chord on the current
+    /// factorisation (of the point with tangent t), else by fresh Newton
+    /// (`fresh`: at once — no usable factorisation in hand). Returns
+    /// whether the factorisation was replaced. A sample's Λ is fixed, so
+    /// the factorisation it is corrected on changes its iterations, not
+    /// the point (to the residual tolerance).
+    pub fn deliver_pending<P: Problem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        t: (&[f64], f64),
+        observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
+        fresh: bool,
+    ) -> bool {
+        let mut refactorised = false;
+        let tol = self.opts.residual_tol;
+        for mut p in std::mem::take(&mut self.pending) {
+            let xs = &mut p.prediction;
+            let result = match fresh {
+                true => {
+                    refactorised = true;
+                    newton_sample(problem, &mut self.ctx, xs, p.target, tol).map(|(it, r)| Some((p.spent + it, r)))
+                }
+                false => {
+                    let spent = (false, &mut p.spent);
+                    deliver_sample(problem, &mut self.ctx, xs, p.target, t, tol, &mut refactorised, spent)
+                }
+            };
+            match result {
+                Ok(Some((iterations, residual))) => self.samples.push(Sample {
+                    lambda: p.target,
+                    record: p.record,
+                    outputs: observe(xs, p.target),
+                    residual,
+                    newton_iterations: iterations,
+                }),
+                _ => self.missed.push(p.target),
+            }
         }
         refactorised
     }
@@ -615,7 +684,9 @@ impl<'o> Run<'o> {
             },
             counts: self.ctx.counts,
             samples: self.samples,
-            missed_samples: self.missed,
+            // A deferred sample the run stopped before delivering is a
+            // missed load, never dropped (every stop delivers them first).
+            missed_samples: self.missed.into_iter().chain(self.pending.iter().map(|p| p.target)).collect(),
             column_order: self.ctx.bordered.column_order(),
         }
     }

@@ -505,7 +505,7 @@ fn samples_a_step_start_cannot_reach_are_corrected_on_the_next_point() {
     // Stopped by the λ range inside the step whose late samples were
     // deferred: they are delivered before the run returns.
     let last = b.records.iter().map(|r| r.lambda).find(|&l| l > 0.0).unwrap();
-    let last_in_step = wanted.iter().copied().filter(|&l| l < last).last().unwrap();
+    let last_in_step = wanted.iter().copied().rfind(|&l| l < last).unwrap();
     let opts =
         Options { lambda_range: (-1.0, last - 1e-3), samples: wanted.clone(), residual_tol: tol, ..Default::default() };
     let mut sys = rod.system().unwrap();

@@ -318,7 +318,12 @@ fn samples<P: SeriesProblem + ?Sized>(
         for t in all_roots(|t| curve.lambda(t) - target, a) {
             let mut xs = vec![0.0; here.x.len()];
             curve.evaluate(t, &mut xs, None);
-            refactorised |= run.sample(problem, xs, (target, (&here.tx, here.tl)), record, observe, true);
+            // After a deferred sample (none wait at a step's start: the
+            // loop's top delivered them) the later ones wait too, in order.
+            match run.has_pending() {
+                true => run.defer_sample(xs, target, record),
+                false => refactorised |= run.sample(problem, xs, (target, (&here.tx, here.tl)), record, observe, true),
+            }
         }
     }
     !refactorised

@@ -214,16 +214,16 @@ pub(crate) fn locate<P: Problem + ?Sized>(
             // Exactly on the singular point (the series indicator's
             // predictor can put a trial there to the last bit) the factors
             // do not exist: half the tolerance beside it is as close.
+            // Whatever this trial leaves in the factorisation, it is not
+            // an earlier trial's.
+            held = None;
             let fc = match point(c, ctx) {
                 Ok((x, l, fc)) => {
                     held = Some((c, x, l, fc));
                     fc
                 }
                 Err(_) => match point(c + 0.5 * tol, ctx).or_else(|_| point(c - 0.5 * tol, ctx)) {
-                    Ok((_, _, fc)) => {
-                        held = None;
-                        fc
-                    }
+                    Ok((_, _, fc)) => fc,
                     Err(e) => {
                         failed = Some(e);
                         break;

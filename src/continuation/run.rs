@@ -612,6 +612,19 @@ impl<'o> Run<'o> {
         refactorised
     }
 
+    /// Whether samples wait for the next point ([`Run::sample`]).
+    pub fn has_pending(&self) -> bool {
+        !self.pending.is_empty()
+    }
+
+    /// Defer a sample without trying the current factorisation: one
+    /// after a deferred one in the same step, so that the samples keep
+    /// their order along the branch.
+    pub fn defer_sample(&mut self, xs: Vec<f64>, target: f64, record: usize) {
+        self.ctx.counts.deferred_samples += 1;
+        self.pending.push(Pending { target, prediction: xs, record, spent: 0 });
+    }
+
     /// The deferred samples ([`Run::sample`]), by chord on the current
     /// factorisation (of the point with tangent t), else by fresh Newton
     /// (`fresh`: at once — no usable factorisation in hand). Returns

@@ -882,6 +882,7 @@ type Pair = [f64; 2];
 /// solve's work column and A_KL t; a sparse S's two columns.
 #[derive(Default)]
 struct PairScratch {
+    sized: bool,
     kept: Vec<Pair>,
     t: Vec<Vec<Pair>>,
     w: Vec<Pair>,
@@ -891,9 +892,10 @@ struct PairScratch {
 
 impl PairScratch {
     fn size(&mut self, s: &CondensedStructure) {
-        if self.t.len() == s.maps.len() {
+        if self.sized {
             return;
         }
+        self.sized = true;
         let widest = s.maps.iter().map(|m| m.local.len()).max().unwrap_or(0);
         let reach = s.maps.iter().map(|m| m.krows.len().max(m.kcols.len())).max().unwrap_or(0);
         self.kept = vec![[0.0; 2]; s.kept.len()];
@@ -1070,9 +1072,16 @@ mod tests {
     /// whole matrix's sparse LU (the independent reference).
     #[test]
     fn a_pair_of_solves_is_two_single_ones() {
-        for (elements, m, k, seed) in [(5, 8, 3, 2), (8, 52, 13, 3), (3, 6, 2, 4)] {
+        for (elements, m, k, seed) in [(5, 8, 3, 2), (8, 52, 13, 3), (3, 6, 2, 4), (0, 6, 2, 4)] {
             for limit in [0, usize::MAX] {
-                let (pattern, values, blocks) = collocation(elements, m, k, seed);
+                // The last case: no blocks at all, every unknown kept.
+                let (pattern, values, blocks) = match elements {
+                    0 => {
+                        let (pattern, values, _) = collocation(3, m, k, seed);
+                        (pattern, values, vec![])
+                    }
+                    _ => collocation(elements, m, k, seed),
+                };
                 let n = pattern.n;
                 let mut whole = SparseLu::new(pattern.clone()).unwrap();
                 whole.factorise(&values).unwrap();

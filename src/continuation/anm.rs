@@ -321,7 +321,7 @@ fn samples<P: SeriesProblem + ?Sized>(
             // After a deferred sample (none wait at a step's start: the
             // loop's top delivered them) the later ones wait too, in order.
             match run.has_pending() {
-                true => run.defer_sample(xs, target, record),
+                true => run.defer(xs, target, record),
                 false => refactorised |= run.sample(problem, xs, (target, (&here.tx, here.tl)), record, observe, true),
             }
         }

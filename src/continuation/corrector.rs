@@ -283,10 +283,8 @@ pub(crate) fn deliver_sample<P: Problem + ?Sized>(
     if defer {
         return Ok(None);
     }
-    // Fresh Newton at fixed Λ from the prediction.
     *refactorised = true;
-    let mut l = target;
-    let (it, res) = correct(problem, ctx, xs, &mut l, Plane::fixed(&prediction, target), tol, Reuse::No)?;
+    let (it, res) = newton_sample(problem, ctx, xs, target, tol)?;
     Ok(Some((*spent + it, res)))
 }
 

@@ -595,21 +595,35 @@ impl<'o> Run<'o> {
         let tol = self.opts.residual_tol;
         let mut spent = 0;
         match deliver_sample(problem, &mut self.ctx, &mut xs, target, t, tol, &mut refactorised, (defer, &mut spent)) {
+            Ok(None) => {
+                self.defer_sample(Pending { target, prediction: xs, record, spent });
+                refactorised = true;
+            }
+            result => self.settle(result, &xs, target, record, observe),
+        }
+        refactorised
+    }
+
+    /// A corrected sample into the branch's samples; a failed one into its
+    /// missed loads.
+    fn settle(
+        &mut self,
+        result: Result<Option<(usize, f64)>>,
+        xs: &[f64],
+        target: f64,
+        record: usize,
+        observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
+    ) {
+        match result {
             Ok(Some((iterations, residual))) => self.samples.push(Sample {
                 lambda: target,
                 record,
-                outputs: observe(&xs, target),
+                outputs: observe(xs, target),
                 residual,
                 newton_iterations: iterations,
             }),
-            Ok(None) => {
-                self.ctx.counts.deferred_samples += 1;
-                self.pending.push(Pending { target, prediction: xs, record, spent });
-                refactorised = true;
-            }
-            Err(_) => self.missed.push(target),
+            _ => self.missed.push(target),
         }
-        refactorised
     }
 
     /// Whether samples wait for the next point ([`Run::sample`]).
@@ -620,9 +634,13 @@ impl<'o> Run<'o> {
     /// Defer a sample without trying the current factorisation: one
     /// after a deferred one in the same step, so that the samples keep
     /// their order along the branch.
-    pub fn defer_sample(&mut self, xs: Vec<f64>, target: f64, record: usize) {
+    pub fn defer(&mut self, xs: Vec<f64>, target: f64, record: usize) {
+        self.defer_sample(Pending { target, prediction: xs, record, spent: 0 });
+    }
+
+    fn defer_sample(&mut self, p: Pending) {
         self.ctx.counts.deferred_samples += 1;
-        self.pending.push(Pending { target, prediction: xs, record, spent: 0 });
+        self.pending.push(p);
     }
 
     /// The deferred samples ([`Run::sample`]), by chord on the current
@@ -652,16 +670,7 @@ impl<'o> Run<'o> {
                     deliver_sample(problem, &mut self.ctx, xs, p.target, t, tol, &mut refactorised, spent)
                 }
             };
-            match result {
-                Ok(Some((iterations, residual))) => self.samples.push(Sample {
-                    lambda: p.target,
-                    record: p.record,
-                    outputs: observe(xs, p.target),
-                    residual,
-                    newton_iterations: iterations,
-                }),
-                _ => self.missed.push(p.target),
-            }
+            self.settle(result, xs, p.target, p.record, observe);
         }
         refactorised
     }

@@ -32,6 +32,8 @@ pub enum Factors {
 
 pub struct Bordered {
     n: usize,
+    /// Entries of A's pattern (`jx`'s length once sized).
+    nnz: usize,
     lu: BorderedLu,
     jx: Vec<f64>,
     jl: Vec<f64>,
@@ -67,8 +69,10 @@ impl Bordered {
         let n = pattern.n;
         Ok(Bordered {
             n,
+            nnz: pattern.nnz(),
             lu: BorderedLu::with_private_blocks(pattern, trailing, blocks)?,
-            jx: vec![0.0; pattern.nnz()],
+            // Sized by the first factorisation, which writes it whole.
+            jx: Vec::new(),
             jl: vec![0.0; n],
             row: vec![0.0; n],
             border_x: vec![0.0; n],
@@ -121,6 +125,9 @@ impl Bordered {
 
     fn evaluate<P: Problem + ?Sized>(&mut self, problem: &mut P, x: &[f64], lambda: f64, counts: &mut Counts) {
         let t = Instant::now();
+        if self.jx.len() != self.nnz {
+            self.jx = vec![0.0; self.nnz];
+        }
         problem.jacobian(x, lambda, &mut self.jx, &mut self.jl);
         counts.times.jacobians += t.elapsed();
         counts.jacobians += 1;

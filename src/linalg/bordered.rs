@@ -78,18 +78,13 @@ enum Fast {
 /// in it, the condensation's structure. Kept per thread ([`structure`]):
 /// the rods of a sweep rebuild tangents of one pattern.
 struct Structure {
-    /// A's pattern, trailing count and blocks (what the rest is built
-    /// from; A's pattern and count also make the block elimination's LU).
-    inner: Arc<Pattern>,
+    /// A's trailing count and blocks (A's pattern is B's without its
+    /// last row and column: [`Structure::inner`]).
     trailing: usize,
     blocks: Vec<Vec<usize>>,
-    /// B's pattern.
+    /// B's pattern: column j < n is A's column j then row n, column n is
+    /// rows 0..=n (so A's entry p is B's p + j, [`BorderedLu::assemble`]).
     big: Arc<Pattern>,
-    /// Position in B's values of each entry of A's pattern.
-    map: Vec<usize>,
-    /// Positions of (i, n) for i < n, and of (n, j) for j ≤ n.
-    last_col: Vec<usize>,
-    last_row: Vec<usize>,
     /// The condensation's structure, when A's blocks have its form.
     condensed: Option<Arc<CondensedStructure>>,
 }
@@ -103,8 +98,6 @@ impl Structure {
         // entries moves down by its column index.
         let mut col_ptr = Vec::with_capacity(n + 2);
         let mut row_idx = Vec::with_capacity(nnz + 2 * n + 1);
-        let mut last_row = Vec::with_capacity(n + 1);
-        let mut map = Vec::with_capacity(nnz);
         for j in 0..n {
             col_ptr.push(row_idx.len());
             let rows = &pattern.row_idx[pattern.col_ptr[j]..pattern.col_ptr[j + 1]];
@@ -116,15 +109,10 @@ impl Structure {
                     format!("bordered LU: column {j} of the pattern has rows out of order, repeated or out of range"),
                 ));
             }
-            map.extend(row_idx.len()..row_idx.len() + rows.len());
             row_idx.extend_from_slice(rows);
-            last_row.push(row_idx.len());
             row_idx.push(n);
         }
         col_ptr.push(row_idx.len());
-        let last_col: Vec<usize> = (row_idx.len()..row_idx.len() + n).collect();
-        let corner = row_idx.len() + n;
-        last_row.push(corner);
         row_idx.extend(0..=n);
         col_ptr.push(row_idx.len());
         let big = Pattern { n: n + 1, col_ptr, row_idx };
@@ -133,16 +121,37 @@ impl Structure {
             true => None,
             false => CondensedStructure::new(&big, blocks, trailing + 1, DENSE_KEPT).ok().map(Arc::new),
         };
-        Ok(Structure {
-            inner: Arc::new(pattern.clone()),
-            trailing,
-            blocks: blocks.to_vec(),
-            big: Arc::new(big),
-            map,
-            last_col,
-            last_row,
-            condensed,
-        })
+        Ok(Structure { trailing, blocks: blocks.to_vec(), big: Arc::new(big), condensed })
+    }
+}
+
+impl Structure {
+    /// Whether B borders A's `pattern`: column j of B is A's column j,
+    /// then row n (one pass over A's indices, no copy of A's pattern kept).
+    fn borders(&self, pattern: &Pattern) -> bool {
+        let big = &*self.big;
+        let n = pattern.n;
+        big.n == n + 1
+            && (0..n).all(|j| {
+                let (p, q) = (pattern.col_ptr[j], pattern.col_ptr[j + 1]);
+                big.col_ptr[j] == p + j
+                    && big.col_ptr[j + 1] == q + j + 1
+                    && big.row_idx[p + j..q + j] == pattern.row_idx[p..q]
+            })
+    }
+
+    /// A's pattern: B's without its last row and column.
+    fn inner(&self) -> Pattern {
+        let big = &*self.big;
+        let n = big.n - 1;
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(big.nnz() - 2 * n - 1);
+        col_ptr.push(0);
+        for j in 0..n {
+            row_idx.extend_from_slice(&big.row_idx[big.col_ptr[j]..big.col_ptr[j + 1] - 1]);
+            col_ptr.push(row_idx.len());
+        }
+        Pattern { n, col_ptr, row_idx }
     }
 }
 
@@ -162,7 +171,7 @@ thread_local! {
 /// compares the patterns (one pass over A's indices) against the several
 /// passes, sorts and searches of a build.
 fn structure(pattern: &Pattern, trailing: usize, blocks: &[Vec<usize>]) -> Result<Arc<Structure>> {
-    let fits = |s: &Structure| s.trailing == trailing && *s.inner == *pattern && s.blocks == blocks;
+    let fits = |s: &Structure| s.trailing == trailing && s.blocks == blocks && s.borders(pattern);
     if let Some(s) = STRUCTURES.try_with(|kept| kept.find(fits)).ok().flatten() {
         return Ok(s);
     }
@@ -231,7 +240,7 @@ impl BorderedLu {
     }
 
     fn from_structure(structure: Arc<Structure>) -> Result<Self> {
-        let n = structure.inner.n;
+        let n = structure.big.n - 1;
         let trailing = structure.trailing;
         Ok(BorderedLu {
             n,
@@ -242,7 +251,8 @@ impl BorderedLu {
                 lu.prefer_kind(LuKind::Simplicial);
                 lu
             },
-            values: vec![0.0; structure.big.nnz()],
+            // Sized by the first assembly, which writes it whole.
+            values: Vec::new(),
             row_scale: vec![1.0; n + 1],
             col_scale: vec![1.0; n + 1],
             fast: match &structure.condensed {
@@ -326,7 +336,7 @@ impl BorderedLu {
     /// its first matrix), else B's LU for good.
     fn first_blocks(&mut self, a: &[f64]) -> Fast {
         // Once: the first matrix decides `fast` for good.
-        let Ok(mut blocks) = BlockElimination::new((*self.structure.inner).clone(), self.structure.trailing) else {
+        let Ok(mut blocks) = BlockElimination::new(self.structure.inner(), self.structure.trailing) else {
             return Fast::Whole;
         };
         if let Some(order) = self.preferred {
@@ -397,17 +407,20 @@ impl BorderedLu {
 
     fn assemble(&mut self, a: &[f64], c: &[f64], r: &[f64], d: f64) {
         self.inner_known = false;
-        self.values.fill(0.0);
-        for (&p, &v) in self.structure.map.iter().zip(a) {
-            self.values[p] += v;
+        // B's layout (Structure::big): every entry written, column by column.
+        let (n, big) = (self.n, &*self.structure.big);
+        if self.values.len() != big.nnz() {
+            self.values = vec![0.0; big.nnz()];
         }
-        for (i, &p) in self.structure.last_col.iter().enumerate() {
-            self.values[p] = c[i];
+        // A's column j is B's, shifted down by j, less its last entry.
+        for j in 0..n {
+            let (p, q) = (big.col_ptr[j], big.col_ptr[j + 1] - 1);
+            self.values[p..q].copy_from_slice(&a[p - j..q - j]);
+            self.values[q] = r[j];
         }
-        for j in 0..self.n {
-            self.values[self.structure.last_row[j]] = r[j];
-        }
-        self.values[self.structure.last_row[self.n]] = d;
+        let last = big.col_ptr[n];
+        self.values[last..last + n].copy_from_slice(&c[..n]);
+        self.values[last + n] = d;
     }
 
     /// See [`SparseLu::prefer`].

@@ -32,6 +32,9 @@ use faer::perm::PermRef;
 use faer::{Accum, Conj, MatMut, MatRef, Par};
 use std::sync::Arc;
 
+/// [`CondensedStructure::new`]'s mark of a kept index (not in a block).
+const KEPT: u32 = u32::MAX;
+
 /// One block's private unknowns (= its equations) and where its entries
 /// of A go: the part of its elimination fixed by the pattern.
 struct BlockMaps {
@@ -43,9 +46,11 @@ struct BlockMaps {
     krows: Vec<usize>,
     /// (position in A's values, index in the dense array) of A_LL,e
     /// (m×m), A_LK,e (m×kc) and A_KL,e (kr×m).
-    ll: Vec<(usize, usize)>,
-    lk: Vec<(usize, usize)>,
-    kl: Vec<(usize, usize)>,
+    /// (32 bits: half the memory a gather streams; a pattern of 2³² or
+    /// more entries is refused.)
+    ll: Vec<(u32, u32)>,
+    lk: Vec<(u32, u32)>,
+    kl: Vec<(u32, u32)>,
     /// Position in S's values of (krows[i], kcols[j]), at i + kr·j.
     update: Vec<usize>,
 }
@@ -99,7 +104,7 @@ pub struct CondensedStructure {
     /// Kept indices in increasing order.
     kept: Vec<usize>,
     /// (position in A's values, position in S's) of the kept×kept entries.
-    kk: Vec<(usize, usize)>,
+    kk: Vec<(u32, u32)>,
     /// S's pattern, its trailing unknowns, whether it is factorised dense
     /// and then the dense index of each of its entries (in its order).
     spattern: Arc<Pattern>,
@@ -129,67 +134,89 @@ pub struct CondensedLu {
 }
 
 impl CondensedStructure {
-    /// [`CondensedLu::with_dense_limit`]'s structure.
+    /// [`CondensedLu::with_dense_limit`]'s structure. Two passes over A's
+    /// pattern: the first finds each block's kept columns and rows and
+    /// counts its entries of each kind, the second writes the gather maps
+    /// into arrays of their final size (no growth, no copy).
     pub fn new(pattern: &Pattern, blocks: &[Vec<usize>], trailing: usize, dense_limit: usize) -> Result<Self> {
         let n = pattern.n;
         let invalid = |why: String| Error::new(Status::ErrInvalidDimension, format!("condensed LU: {why}"));
-        let mut owner = vec![usize::MAX; n];
+        if pattern.nnz() >= u32::MAX as usize || n >= u32::MAX as usize {
+            return Err(invalid(format!("{} entries exceed the 32-bit gather maps", pattern.nnz())));
+        }
+        // Per index: (its block, its place in the block), or (KEPT, its
+        // place among the kept): one load per entry instead of three.
+        let mut slot = vec![(KEPT, 0u32); n];
         for (e, b) in blocks.iter().enumerate() {
             if b.is_empty() {
                 return Err(invalid(format!("block {e} is empty")));
             }
-            for &i in b {
-                if i >= n || owner[i] != usize::MAX {
+            for (k, &i) in b.iter().enumerate() {
+                if i >= n || slot[i].0 != KEPT {
                     return Err(invalid(format!("index {i} of block {e} is out of range or in two blocks")));
                 }
-                owner[i] = e;
+                slot[i] = (e as u32, k as u32);
             }
         }
-        if owner[n.saturating_sub(trailing)..].iter().any(|&o| o != usize::MAX) {
+        if slot[n.saturating_sub(trailing)..].iter().any(|s| s.0 != KEPT) {
             return Err(invalid("a trailing unknown is private to a block".into()));
         }
-        let kept: Vec<usize> = (0..n).filter(|&i| owner[i] == usize::MAX).collect();
+        let mut kept = Vec::new();
+        for (i, s) in slot.iter_mut().enumerate() {
+            if s.0 == KEPT {
+                s.1 = kept.len() as u32;
+                kept.push(i);
+            }
+        }
         if kept.is_empty() {
             return Err(invalid("no unknown is kept".into()));
         }
-        let mut kept_pos = vec![usize::MAX; n];
-        for (k, &i) in kept.iter().enumerate() {
-            kept_pos[i] = k;
-        }
-        let mut local_pos = vec![usize::MAX; n];
-        for b in blocks {
-            for (k, &i) in b.iter().enumerate() {
-                local_pos[i] = k;
-            }
-        }
         // Each block's kept columns (from its rows) and kept rows (from its
-        // columns); an entry joining two different blocks breaks the form.
+        // columns), and its entries of each kind; an entry joining two
+        // different blocks breaks the form.
         let mut kcols: Vec<Vec<usize>> = vec![Vec::new(); blocks.len()];
         let mut krows: Vec<Vec<usize>> = vec![Vec::new(); blocks.len()];
+        let mut counts = vec![[0usize; 3]; blocks.len()];
         let mut kk_entries = Vec::new();
         // A's kept–kept entries in pattern order (p, for the gather map).
         let mut kk_sources = Vec::new();
         // A kept row already listed for a block (the block that listed it
         // last): the rows repeat for each of a block's columns.
-        let mut listed = vec![usize::MAX; kept.len()];
+        let mut listed = vec![KEPT; kept.len()];
         for j in 0..n {
-            for p in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
-                let i = pattern.row_idx[p];
-                match (owner[i], owner[j]) {
-                    (usize::MAX, usize::MAX) => {
-                        kk_entries.push((kept_pos[i], kept_pos[j]));
-                        kk_sources.push(p);
+            let (oj, pj) = slot[j];
+            let range = pattern.col_ptr[j]..pattern.col_ptr[j + 1];
+            if oj == KEPT {
+                for p in range {
+                    let (oi, pi) = slot[pattern.row_idx[p]];
+                    if oi == KEPT {
+                        kk_entries.push((pi as usize, pj as usize));
+                        kk_sources.push(p as u32);
+                    } else {
+                        let e = oi as usize;
+                        // Columns come in order: a repeat is the last one.
+                        if kcols[e].last() != Some(&(pj as usize)) {
+                            kcols[e].push(pj as usize);
+                        }
+                        counts[e][1] += 1;
                     }
-                    // Columns come in order: a repeat is the last one.
-                    (e, usize::MAX) if kcols[e].last() != Some(&kept_pos[j]) => kcols[e].push(kept_pos[j]),
-                    (usize::MAX, e) if listed[kept_pos[i]] != e => {
-                        listed[kept_pos[i]] = e;
-                        krows[e].push(kept_pos[i]);
+                }
+            } else {
+                let e = oj as usize;
+                for p in range {
+                    let (oi, pi) = slot[pattern.row_idx[p]];
+                    if oi == KEPT {
+                        if listed[pi as usize] != oj {
+                            listed[pi as usize] = oj;
+                            krows[e].push(pi as usize);
+                        }
+                        counts[e][2] += 1;
+                    } else if oi == oj {
+                        counts[e][0] += 1;
+                    } else {
+                        let i = pattern.row_idx[p];
+                        return Err(invalid(format!("entry ({i}, {j}) joins blocks {oi} and {oj}")));
                     }
-                    // Already listed.
-                    (_, usize::MAX) | (usize::MAX, _) => {}
-                    (e, f) if e != f => return Err(invalid(format!("entry ({i}, {j}) joins blocks {e} and {f}"))),
-                    _ => {}
                 }
             }
         }
@@ -199,86 +226,92 @@ impl CondensedStructure {
             v.sort_unstable();
             v.dedup();
         }
+        // A block's dense arrays are indexed in 32 bits too.
+        for (e, b) in blocks.iter().enumerate() {
+            let widest = b.len() * b.len().max(kcols[e].len()).max(krows[e].len());
+            if widest >= u32::MAX as usize {
+                return Err(invalid(format!("block {e}'s dense arrays ({widest} entries) exceed 32-bit indices")));
+            }
+        }
         // S's entries: A's kept–kept ones, each block's fill krows × kcols
         // (column-major, as `update` reads it), the diagonal (a zero there
         // is still a pivot slot); the pattern and every entry's position
         // from one counting sort.
         let mut entries = kk_entries;
+        entries.reserve(kcols.iter().zip(&krows).map(|(c, r)| c.len() * r.len()).sum());
         for e in 0..blocks.len() {
             for &c in &kcols[e] {
                 entries.extend(krows[e].iter().map(|&r| (r, c)));
             }
         }
         let (spattern, at) = Pattern::with_positions_and_diagonal(kept.len(), &entries);
-        let kk: Vec<(usize, usize)> = kk_sources.iter().zip(&at).map(|(&p, &q)| (p, q as usize)).collect();
+        let kk: Vec<(u32, u32)> = kk_sources.iter().zip(&at).map(|(&p, &q)| (p, q)).collect();
         let mut fill = at[kk.len()..].iter().map(|&q| q as usize);
         let mut out: Vec<BlockMaps> = blocks
             .iter()
             .zip(kcols)
             .zip(krows)
-            .map(|((local, kcols), krows)| {
-                let (m, kc, kr) = (local.len(), kcols.len(), krows.len());
+            .zip(&counts)
+            .map(|(((local, kcols), krows), &[ll, lk, kl])| {
+                let (kr, kc) = (krows.len(), kcols.len());
                 let update: Vec<usize> = fill.by_ref().take(kr * kc).collect();
                 BlockMaps {
                     local: local.clone(),
                     kcols,
                     krows,
-                    // At most this many: sized once (growing them was a
-                    // tenth of a rod's set-up).
-                    ll: Vec::with_capacity(m * m),
-                    lk: Vec::with_capacity(m * kc),
-                    kl: Vec::with_capacity(kr * m),
+                    ll: Vec::with_capacity(ll),
+                    lk: Vec::with_capacity(lk),
+                    kl: Vec::with_capacity(kl),
                     update,
                 }
             })
             .collect();
         // The gather maps, A's entries in pattern order.
-        let mut last_col: Option<(usize, usize, usize)> = None;
         // A kept row's position in the krows of the block that last asked
         // (block, position): a block's columns reach the same kept rows, so
         // one search per block and row, not per entry.
-        let mut row_at = vec![(usize::MAX, 0usize); kept.len()];
+        let mut row_at = vec![(KEPT, 0u32); kept.len()];
         for j in 0..n {
-            for p in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
-                let i = pattern.row_idx[p];
-                match (owner[i], owner[j]) {
-                    (usize::MAX, usize::MAX) => {}
-                    (e, usize::MAX) => {
-                        let b = &mut out[e];
-                        // Consecutive entries of one column and block (the
-                        // usual case) reuse one search.
-                        let c = match last_col {
-                            Some((f, jj, c)) if f == e && jj == j => c,
-                            _ => b.kcols.binary_search(&kept_pos[j]).expect("kept column"),
-                        };
-                        last_col = Some((e, j, c));
-                        b.lk.push((p, local_pos[i] + b.local.len() * c));
+            let (oj, pj) = slot[j];
+            let range = pattern.col_ptr[j]..pattern.col_ptr[j + 1];
+            if oj == KEPT {
+                // One search per block the column reaches (its entries of
+                // one block are consecutive: the block's rows are).
+                let mut last: Option<(u32, u32)> = None;
+                for p in range {
+                    let (oi, pi) = slot[pattern.row_idx[p]];
+                    if oi == KEPT {
+                        continue;
                     }
-                    (usize::MAX, e) => {
-                        let b = &mut out[e];
-                        let r = match row_at[kept_pos[i]] {
-                            (f, r) if f == e => r,
+                    let b = &mut out[oi as usize];
+                    let c = match last {
+                        Some((f, c)) if f == oi => c,
+                        _ => b.kcols.binary_search(&(pj as usize)).expect("kept column") as u32,
+                    };
+                    last = Some((oi, c));
+                    let m = b.local.len() as u32;
+                    b.lk.push((p as u32, pi + m * c));
+                }
+            } else {
+                let b = &mut out[oj as usize];
+                let (m, kr) = (b.local.len() as u32, b.krows.len() as u32);
+                for p in range {
+                    let (oi, pi) = slot[pattern.row_idx[p]];
+                    if oi == KEPT {
+                        let r = match row_at[pi as usize] {
+                            (f, r) if f == oj => r,
                             _ => {
-                                let r = b.krows.binary_search(&kept_pos[i]).expect("kept row");
-                                row_at[kept_pos[i]] = (e, r);
+                                let r = b.krows.binary_search(&(pi as usize)).expect("kept row") as u32;
+                                row_at[pi as usize] = (oj, r);
                                 r
                             }
                         };
-                        b.kl.push((p, r + b.krows.len() * local_pos[j]));
-                    }
-                    (e, _) => {
-                        let b = &mut out[e];
-                        b.ll.push((p, local_pos[i] + b.local.len() * local_pos[j]));
+                        b.kl.push((p as u32, r + kr * pj));
+                    } else {
+                        b.ll.push((p as u32, pi + m * pj));
                     }
                 }
             }
-        }
-        // Kept per thread (crate::linalg::bordered): the maps' memory,
-        // not the capacity reserved above.
-        for b in &mut out {
-            b.ll.shrink_to_fit();
-            b.lk.shrink_to_fit();
-            b.kl.shrink_to_fit();
         }
         let widest = out.iter().map(|b| (b.local.len(), b.kcols.len())).max().unwrap_or((0, 0));
         let req = StackReq::any_of(&[
@@ -337,7 +370,10 @@ impl CondensedLu {
             Kept::Sparse(_) => s.req,
         };
         Ok(CondensedLu {
-            blocks: s.maps.iter().map(Block::new).collect(),
+            // Sized by the first factorisation, which overwrites them
+            // (~50 kB a Gauss(4) element: zeroing them here as well was a
+            // tenth of a new rod's set-up).
+            blocks: Vec::new(),
             schur_values: vec![0.0; s.spattern.nnz()],
             schur,
             blocks_sign: 1.0,
@@ -377,6 +413,9 @@ impl CondensedLu {
     /// or S is ErrNotConverged, a non-finite entry ErrNonFiniteResult.
     pub fn factorise(&mut self, values: &[f64]) -> Result<()> {
         self.factorised = false;
+        if self.blocks.len() != self.structure.maps.len() {
+            self.blocks = self.structure.maps.iter().map(Block::new).collect();
+        }
         for b in &mut self.blocks {
             b.rows.ready = false;
         }
@@ -388,22 +427,22 @@ impl CondensedLu {
         }
         self.schur_values.fill(0.0);
         for &(p, q) in &self.structure.kk {
-            self.schur_values[q] += values[p];
+            self.schur_values[q as usize] += values[p as usize];
         }
         let (mut sign, mut negative) = (1.0, 0);
         for (e, (b, s)) in self.blocks.iter_mut().zip(&self.structure.maps).enumerate() {
             let m = s.local.len();
             b.lu.fill(0.0);
             for &(p, q) in &s.ll {
-                b.lu[q] += values[p];
+                b.lu[q as usize] += values[p as usize];
             }
             b.lk_values.fill(0.0);
             for &(p, q) in &s.lk {
-                b.lk_values[q] += values[p];
+                b.lk_values[q as usize] += values[p as usize];
             }
             b.kl_values.fill(0.0);
             for &(p, q) in &s.kl {
-                b.kl_values[q] += values[p];
+                b.kl_values[q as usize] += values[p as usize];
             }
             let (kr, kc) = (s.krows.len(), s.kcols.len());
             let stack = MemStack::new(&mut self.buffer);
@@ -623,7 +662,8 @@ impl CondensedLu {
 
     /// Entries of the factors: the blocks' dense LUs and X, S's L + U.
     pub fn fill(&self) -> usize {
-        self.blocks.iter().map(|b| b.lu.len() + b.x.len()).sum::<usize>() + self.schur.fill()
+        let s = &*self.structure;
+        s.maps.iter().map(|b| b.local.len() * (b.local.len() + b.kcols.len())).sum::<usize>() + self.schur.fill()
     }
 }
 
@@ -697,7 +737,7 @@ impl Kept {
     fn fill(&self) -> usize {
         match self {
             Kept::Sparse(lu) => lu.fill(),
-            Kept::Dense(d) => d.lu.len(),
+            Kept::Dense(d) => d.n * d.n,
         }
     }
 
@@ -728,15 +768,16 @@ struct DenseKept {
 
 impl DenseKept {
     fn new(n: usize) -> Self {
+        // The arrays are sized by the first factorisation.
         DenseKept {
             n,
-            lu: vec![0.0; n * n],
-            perm: vec![0; n],
-            perm_inv: vec![0; n],
+            lu: Vec::new(),
+            perm: Vec::new(),
+            perm_inv: Vec::new(),
             rows: Rows::default(),
             sign: 1.0,
             negative: 0,
-            w: vec![0.0; n],
+            w: Vec::new(),
         }
     }
 
@@ -744,7 +785,12 @@ impl DenseKept {
     /// (finite: A's were checked). A zero pivot is ErrNotConverged.
     fn factorise(&mut self, values: &[f64], at: &[usize], stack: &mut MemStack) -> Result<()> {
         self.rows.ready = false;
-        self.lu.fill(0.0);
+        let n = self.n;
+        if self.lu.len() != n * n {
+            (self.lu, self.perm, self.perm_inv, self.w) = (vec![0.0; n * n], vec![0; n], vec![0; n], vec![0.0; n]);
+        } else {
+            self.lu.fill(0.0);
+        }
         for (&d, v) in at.iter().zip(values) {
             self.lu[d] = *v;
         }

@@ -112,9 +112,10 @@ struct Structure {
     pattern: Pattern,
     /// Per block, the pattern position of each (output k, input j) the
     /// tape says output k depends on, in the order of
-    /// [`Tape::dependencies`] (outputs in turn), or usize::MAX (Λ,
-    /// params): one entry per structural nonzero, not outputs × inputs.
-    positions: Vec<Vec<usize>>,
+    /// [`Tape::dependencies`] (outputs in turn), or u32::MAX (Λ,
+    /// params): one entry per structural nonzero, not outputs × inputs
+    /// (32 bits: half what the Jacobian's scatter streams).
+    positions: Vec<Vec<u32>>,
     /// What it was built from: per block, its tape (for its
     /// dependencies), the unknown behind each input (None for Λ and
     /// params) and its rows.
@@ -198,10 +199,10 @@ impl Structure {
         // Blocks whose rows strictly increase: their outputs' rows in a
         // column come in order.
         let increasing: Vec<bool> = blocks.iter().map(|b| b.rows.windows(2).all(|w| w[0] < w[1])).collect();
-        let mut positions: Vec<Vec<usize>> =
-            which.iter().map(|&t| vec![usize::MAX; tapes[t].1.entries.len()]).collect();
+        let mut positions: Vec<Vec<u32>> = which.iter().map(|&t| vec![u32::MAX; tapes[t].1.entries.len()]).collect();
         let unknown_entries: usize =
             readers.iter().map(|&(e, j)| tapes[which[e as usize]].1.of(j as usize).len()).sum();
+        assert!(unknown_entries + n < u32::MAX as usize, "system too large for 32-bit positions");
         let mut col_ptr = Vec::with_capacity(n + 1);
         let mut row_idx = Vec::with_capacity(unknown_entries + n);
         col_ptr.push(0);
@@ -227,7 +228,7 @@ impl Structure {
                     row_idx.extend(list[split..].iter().map(|&(k, _)| rows[k as usize]));
                     let at = &mut positions[e];
                     for (r, &(_, d)) in list.iter().enumerate() {
-                        at[d as usize] = begin + r + usize::from(!diagonal && r >= split);
+                        at[d as usize] = (begin + r + usize::from(!diagonal && r >= split)) as u32;
                     }
                     col_ptr.push(row_idx.len());
                     continue;
@@ -255,7 +256,7 @@ impl Structure {
                 if row_idx.len() == begin || row_idx[row_idx.len() - 1] != i {
                     row_idx.push(i);
                 }
-                positions[e as usize][d as usize] = row_idx.len() - 1;
+                positions[e as usize][d as usize] = (row_idx.len() - 1) as u32;
             }
             if !diagonal_placed {
                 row_idx.push(c);
@@ -559,7 +560,7 @@ impl AssembledSystem {
     /// Add block `b`'s local Jacobian (`local(k·inputs + j)`, row-major)
     /// into ∂R/∂x at its pattern `positions` and ∂R/∂Λ: only the inputs
     /// each output depends on (structural).
-    fn scatter_jacobian(b: &Block, positions: &[usize], local: impl Fn(usize) -> f64, jx: &mut [f64], jl: &mut [f64]) {
+    fn scatter_jacobian(b: &Block, positions: &[u32], local: impl Fn(usize) -> f64, jx: &mut [f64], jl: &mut [f64]) {
         let nin = b.inputs.len();
         let mut at = positions.iter();
         for (k, &row) in b.rows.iter().enumerate() {
@@ -567,7 +568,7 @@ impl AssembledSystem {
                 let e = k * nin + j as usize;
                 let p = *at.next().expect("one position per dependency");
                 match b.inputs[j as usize] {
-                    Slot::Unknown(_) => jx[p] += local(e),
+                    Slot::Unknown(_) => jx[p as usize] += local(e),
                     Slot::Lambda => jl[row] += local(e),
                     Slot::Param(_) => {}
                 }
@@ -840,7 +841,7 @@ mod tests {
             }
             // first (a = 2, b = 3, Λ third): ∂R0/∂x0 = 2x1, ∂R2/∂x3 = 2x2; and
             // ∂R3/∂Λ = 3 (R3 = 3Λ + x2), the Λ column through the kept
-            // positions' usize::MAX.
+            // positions' u32::MAX.
             let (mut jx, mut jl) = (vec![0.0; p.nnz()], vec![0.0; 4]);
             first.jacobian(&[0.3, -1.1, 0.7, 1.9], 0.4, &mut jx, &mut jl);
             assert!((jx[p.position(0, 0).unwrap()] + 2.2).abs() < 1e-14, "∂R0/∂x0 = {}", jx[p.position(0, 0).unwrap()]);
@@ -964,8 +965,8 @@ mod tests {
                 for k in 0..b.rows.len() {
                     for &j in b.tape.dependencies(k) {
                         let want = match b.inputs[j as usize] {
-                            Slot::Unknown(_) => *found.next().unwrap() as usize,
-                            _ => usize::MAX,
+                            Slot::Unknown(_) => *found.next().unwrap(),
+                            _ => u32::MAX,
                         };
                         assert_eq!(built.positions[e][d], want, "case {case}: block {e}, output {k}, input {j}");
                         d += 1;

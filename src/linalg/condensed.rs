@@ -52,7 +52,7 @@ struct BlockMaps {
     lk: Vec<(u32, u32)>,
     kl: Vec<(u32, u32)>,
     /// Position in S's values of (krows[i], kcols[j]), at i + kr·j.
-    update: Vec<usize>,
+    update: Vec<u32>,
 }
 
 /// One block's dense arrays, column-major.
@@ -109,7 +109,7 @@ pub struct CondensedStructure {
     /// and then the dense index of each of its entries (in its order).
     spattern: Arc<Pattern>,
     trailing_kept: usize,
-    dense_at: Option<Vec<usize>>,
+    dense_at: Option<Vec<u32>>,
     /// faer's dense work space.
     req: StackReq,
 }
@@ -190,7 +190,7 @@ impl CondensedStructure {
                 for p in range {
                     let (oi, pi) = slot[pattern.row_idx[p]];
                     if oi == KEPT {
-                        kk_entries.push((pi as usize, pj as usize));
+                        kk_entries.push((pi, pj));
                         kk_sources.push(p as u32);
                     } else {
                         let e = oi as usize;
@@ -241,12 +241,12 @@ impl CondensedStructure {
         entries.reserve(kcols.iter().zip(&krows).map(|(c, r)| c.len() * r.len()).sum());
         for e in 0..blocks.len() {
             for &c in &kcols[e] {
-                entries.extend(krows[e].iter().map(|&r| (r, c)));
+                entries.extend(krows[e].iter().map(|&r| (r as u32, c as u32)));
             }
         }
-        let (spattern, at) = Pattern::with_positions_and_diagonal(kept.len(), &entries);
+        let (spattern, at) = Pattern::with_positions_and_diagonal_u32(kept.len(), &entries);
         let kk: Vec<(u32, u32)> = kk_sources.iter().zip(&at).map(|(&p, &q)| (p, q)).collect();
-        let mut fill = at[kk.len()..].iter().map(|&q| q as usize);
+        let mut fill = at[kk.len()..].iter().copied();
         let mut out: Vec<BlockMaps> = blocks
             .iter()
             .zip(kcols)
@@ -254,7 +254,7 @@ impl CondensedStructure {
             .zip(&counts)
             .map(|(((local, kcols), krows), &[ll, lk, kl])| {
                 let (kr, kc) = (krows.len(), kcols.len());
-                let update: Vec<usize> = fill.by_ref().take(kr * kc).collect();
+                let update: Vec<u32> = fill.by_ref().take(kr * kc).collect();
                 BlockMaps {
                     local: local.clone(),
                     kcols,
@@ -319,11 +319,13 @@ impl CondensedStructure {
             dense_solves::solve_in_place_scratch::<usize, f64>(widest.0, widest.1.max(1), Par::Seq),
         ]);
         let trailing_kept = trailing.min(kept.len());
-        let dense_at = (kept.len() <= dense_limit).then(|| {
-            let nk = kept.len();
+        let nk = kept.len();
+        // (A dense S indexed in 32 bits: nk ≤ 65535.)
+        let dense_at = (nk <= dense_limit && nk * nk < u32::MAX as usize).then(|| {
             let mut at = Vec::with_capacity(spattern.nnz());
             for j in 0..nk {
-                at.extend(spattern.row_idx[spattern.col_ptr[j]..spattern.col_ptr[j + 1]].iter().map(|&i| i + nk * j));
+                let rows = &spattern.row_idx[spattern.col_ptr[j]..spattern.col_ptr[j + 1]];
+                at.extend(rows.iter().map(|&i| (i + nk * j) as u32));
             }
             at
         });
@@ -466,7 +468,7 @@ impl CondensedLu {
                 Par::Seq,
             );
             for (&q, v) in s.update.iter().zip(&b.product) {
-                self.schur_values[q] -= v;
+                self.schur_values[q as usize] -= v;
             }
         }
         let at = self.structure.dense_at.as_deref().unwrap_or_default();
@@ -684,7 +686,7 @@ enum Kept {
 
 impl Kept {
     /// `at`: a dense S's index of each of its pattern's entries.
-    fn factorise(&mut self, values: &[f64], at: &[usize], stack: &mut MemStack) -> Result<()> {
+    fn factorise(&mut self, values: &[f64], at: &[u32], stack: &mut MemStack) -> Result<()> {
         match self {
             Kept::Sparse(lu) => lu.factorise_exact(values),
             Kept::Dense(d) => d.factorise(values, at, stack),
@@ -783,7 +785,7 @@ impl DenseKept {
 
     /// Factorise S from its values in pattern order, entry k at `lu[at[k]]`
     /// (finite: A's were checked). A zero pivot is ErrNotConverged.
-    fn factorise(&mut self, values: &[f64], at: &[usize], stack: &mut MemStack) -> Result<()> {
+    fn factorise(&mut self, values: &[f64], at: &[u32], stack: &mut MemStack) -> Result<()> {
         self.rows.ready = false;
         let n = self.n;
         if self.lu.len() != n * n {
@@ -792,7 +794,7 @@ impl DenseKept {
             self.lu.fill(0.0);
         }
         for (&d, v) in at.iter().zip(values) {
-            self.lu[d] = *v;
+            self.lu[d as usize] = *v;
         }
         let (sign, negative) = factor_block(self.n, &mut self.lu, &mut self.perm, &mut self.perm_inv, stack)
             .ok_or_else(|| Error::new(Status::ErrNotConverged, "condensed LU: the kept system is singular"))?;

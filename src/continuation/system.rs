@@ -212,23 +212,27 @@ impl Structure {
             let readers = &readers[start[c] as usize..start[c + 1] as usize];
             // One block reads the column and its rows increase (a rod's
             // stage unknowns): the column's rows are that block's, in
-            // order, with the diagonal placed among them — two tight loops.
+            // order, with the diagonal placed among them (no merge, no
+            // repeat to skip).
             if let [(e, j)] = *readers {
                 let (e, j) = (e as usize, j as usize);
                 if increasing[e] {
                     let rows = &blocks[e].rows;
-                    let list = tapes[which[e]].1.of(j);
-                    let split = list.partition_point(|&(k, _)| rows[k as usize] < c);
-                    let diagonal = list.get(split).is_some_and(|&(k, _)| rows[k as usize] == c);
-                    let begin = row_idx.len();
-                    row_idx.extend(list[..split].iter().map(|&(k, _)| rows[k as usize]));
-                    if !diagonal {
-                        row_idx.push(c);
-                    }
-                    row_idx.extend(list[split..].iter().map(|&(k, _)| rows[k as usize]));
                     let at = &mut positions[e];
-                    for (r, &(_, d)) in list.iter().enumerate() {
-                        at[d as usize] = (begin + r + usize::from(!diagonal && r >= split)) as u32;
+                    let mut diagonal_placed = false;
+                    for &(k, d) in tapes[which[e]].1.of(j) {
+                        let i = rows[k as usize];
+                        if !diagonal_placed && i >= c {
+                            if i > c {
+                                row_idx.push(c);
+                            }
+                            diagonal_placed = true;
+                        }
+                        at[d as usize] = row_idx.len() as u32;
+                        row_idx.push(i);
+                    }
+                    if !diagonal_placed {
+                        row_idx.push(c);
                     }
                     col_ptr.push(row_idx.len());
                     continue;

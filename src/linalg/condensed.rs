@@ -133,6 +133,123 @@ pub struct CondensedLu {
     pub solves: usize,
 }
 
+/// The rows of a sorted column that lie in lo..lo + m (a contiguous
+/// block's own): one run, as a range of the column. Found by walking in
+/// from both ends over the rows outside it (the few kept rows, which the
+/// caller visits anyway): a binary search's chain of dependent loads
+/// took a third of the structure's build.
+fn own_run(rows: &[usize], lo: usize, m: usize) -> std::ops::Range<usize> {
+    let mut a = 0;
+    while a < rows.len() && rows[a] < lo {
+        a += 1;
+    }
+    let mut c = rows.len();
+    while c > a && rows[c - 1] >= lo + m {
+        c -= 1;
+    }
+    a..c
+}
+
+/// Kept row `pi`'s position in block `e`'s krows: `row_at` keeps the block
+/// that last asked and the answer (a block's columns reach the same kept
+/// rows: one search per block and row, not per entry).
+fn kept_rank(row_at: &mut [(u32, u32)], krows: &[usize], e: u32, pi: u32) -> u32 {
+    match row_at[pi as usize] {
+        (f, r) if f == e => r,
+        _ => {
+            let r = krows.binary_search(&(pi as usize)).expect("kept row") as u32;
+            row_at[pi as usize] = (e, r);
+            r
+        }
+    }
+}
+
+/// The kept system's pattern, merged column by column from sorted lists:
+/// column c of S holds A's kept rows of kept column c (`kk`, (row, column)
+/// in A's column order), the kept rows of every block whose kept columns
+/// include c, and c. Returns it with each kk entry's position and each
+/// block's update map (position of (krows[i], kcols[j]) at i + kr·j);
+/// None if a list is out of order (a pattern whose rows are not sorted).
+fn kept_pattern(
+    nk: usize,
+    kk: &[(u32, u32)],
+    kcols: &[Vec<usize>],
+    krows: &[Vec<usize>],
+) -> Option<(Pattern, Vec<u32>, Vec<Vec<u32>>)> {
+    // The blocks reaching each kept column: (block, the column's index in
+    // its kcols).
+    let mut start = vec![0usize; nk + 1];
+    for cols in kcols {
+        for &c in cols {
+            start[c + 1] += 1;
+        }
+    }
+    for c in 0..nk {
+        start[c + 1] += start[c];
+    }
+    let mut next = start.clone();
+    let mut reach = vec![(0u32, 0u32); start[nk]];
+    for (e, cols) in kcols.iter().enumerate() {
+        for (j, &c) in cols.iter().enumerate() {
+            reach[next[c]] = (e as u32, j as u32);
+            next[c] += 1;
+        }
+    }
+    let mut updates: Vec<Vec<u32>> = kcols.iter().zip(krows).map(|(c, r)| vec![0; c.len() * r.len()]).collect();
+    let fill: usize = updates.iter().map(Vec::len).sum();
+    let mut kk_at = vec![0u32; kk.len()];
+    let mut col_ptr = Vec::with_capacity(nk + 1);
+    let mut row_idx = Vec::with_capacity(kk.len() + fill + nk);
+    col_ptr.push(0);
+    let mut t = 0;
+    let mut cursor: Vec<usize> = Vec::new();
+    for c in 0..nk {
+        let kk_end = t + kk[t..].iter().take_while(|&&(_, j)| j as usize == c).count();
+        let blocks = &reach[start[c]..start[c + 1]];
+        cursor.clear();
+        cursor.resize(blocks.len(), 0);
+        let begin = row_idx.len();
+        let mut diagonal_placed = false;
+        loop {
+            // The least head of the lists (the diagonal one of them).
+            let mut row = if t < kk_end { kk[t].0 as usize } else { usize::MAX };
+            for (&(e, _), &at) in blocks.iter().zip(&cursor) {
+                if let Some(&r) = krows[e as usize].get(at) {
+                    row = row.min(r);
+                }
+            }
+            if !diagonal_placed && c < row {
+                row = c;
+            }
+            if row == usize::MAX {
+                break;
+            }
+            if row_idx.len() > begin && row_idx[row_idx.len() - 1] >= row {
+                return None;
+            }
+            let at = row_idx.len() as u32;
+            row_idx.push(row);
+            diagonal_placed |= row == c;
+            while t < kk_end && kk[t].0 as usize == row {
+                kk_at[t] = at;
+                t += 1;
+            }
+            for (&(e, j), k) in blocks.iter().zip(cursor.iter_mut()) {
+                let rows = &krows[e as usize];
+                if rows.get(*k) == Some(&row) {
+                    updates[e as usize][*k + rows.len() * j as usize] = at;
+                    *k += 1;
+                }
+            }
+        }
+        if t != kk_end {
+            return None;
+        }
+        col_ptr.push(row_idx.len());
+    }
+    (t == kk.len()).then_some((Pattern { n: nk, col_ptr, row_idx }, kk_at, updates))
+}
+
 impl CondensedStructure {
     /// [`CondensedLu::with_dense_limit`]'s structure. Two passes over A's
     /// pattern: the first finds each block's kept columns and rows and
@@ -174,6 +291,10 @@ impl CondensedStructure {
         // Each block's kept columns (from its rows) and kept rows (from its
         // columns), and its entries of each kind; an entry joining two
         // different blocks breaks the form.
+        // A block whose indices run lo, lo + 1, …: its start (a rod's
+        // element: its stage unknowns).
+        let contiguous: Vec<Option<usize>> =
+            blocks.iter().map(|b| b.windows(2).all(|w| w[1] == w[0] + 1).then_some(b[0])).collect();
         let mut kcols: Vec<Vec<usize>> = vec![Vec::new(); blocks.len()];
         let mut krows: Vec<Vec<usize>> = vec![Vec::new(); blocks.len()];
         let mut counts = vec![[0usize; 3]; blocks.len()];
@@ -203,7 +324,18 @@ impl CondensedStructure {
                 }
             } else {
                 let e = oj as usize;
-                for p in range {
+                // A contiguous block's own rows are one run of the column:
+                // counted whole, the rows around it looked up.
+                let (own, others) = match contiguous[e] {
+                    Some(lo) => {
+                        let run = own_run(&pattern.row_idx[range.clone()], lo, blocks[e].len());
+                        counts[e][0] += run.len();
+                        let (a, b) = (range.start + run.start, range.start + run.end);
+                        (true, [range.start..a, b..range.end])
+                    }
+                    None => (false, [range, 0..0]),
+                };
+                for p in others.into_iter().flatten() {
                     let (oi, pi) = slot[pattern.row_idx[p]];
                     if oi == KEPT {
                         if listed[pi as usize] != oj {
@@ -211,7 +343,7 @@ impl CondensedStructure {
                             krows[e].push(pi as usize);
                         }
                         counts[e][2] += 1;
-                    } else if oi == oj {
+                    } else if oi == oj && !own {
                         counts[e][0] += 1;
                     } else {
                         let i = pattern.row_idx[p];
@@ -233,43 +365,28 @@ impl CondensedStructure {
                 return Err(invalid(format!("block {e}'s dense arrays ({widest} entries) exceed 32-bit indices")));
             }
         }
-        // S's entries: A's kept–kept ones, each block's fill krows × kcols
-        // (column-major, as `update` reads it), the diagonal (a zero there
-        // is still a pivot slot); the pattern and every entry's position
-        // from one counting sort.
-        let mut entries = kk_entries;
-        entries.reserve(kcols.iter().zip(&krows).map(|(c, r)| c.len() * r.len()).sum());
-        for e in 0..blocks.len() {
-            for &c in &kcols[e] {
-                entries.extend(krows[e].iter().map(|&r| (r as u32, c as u32)));
-            }
-        }
-        let (spattern, at) = Pattern::with_positions_and_diagonal_u32(kept.len(), &entries);
-        let kk: Vec<(u32, u32)> = kk_sources.iter().zip(&at).map(|(&p, &q)| (p, q)).collect();
-        let mut fill = at[kk.len()..].iter().copied();
+        // S's pattern: A's kept–kept entries, each block's fill krows ×
+        // kcols, the diagonal (a zero there is still a pivot slot).
+        let (spattern, kk_at, updates) = kept_pattern(kept.len(), &kk_entries, &kcols, &krows)
+            .ok_or_else(|| invalid("the pattern's rows are not in increasing order".into()))?;
+        let kk: Vec<(u32, u32)> = kk_sources.into_iter().zip(kk_at).collect();
         let mut out: Vec<BlockMaps> = blocks
             .iter()
             .zip(kcols)
             .zip(krows)
+            .zip(updates)
             .zip(&counts)
-            .map(|(((local, kcols), krows), &[ll, lk, kl])| {
-                let (kr, kc) = (krows.len(), kcols.len());
-                let update: Vec<u32> = fill.by_ref().take(kr * kc).collect();
-                BlockMaps {
-                    local: local.clone(),
-                    kcols,
-                    krows,
-                    ll: Vec::with_capacity(ll),
-                    lk: Vec::with_capacity(lk),
-                    kl: Vec::with_capacity(kl),
-                    update,
-                }
+            .map(|((((local, kcols), krows), update), &[ll, lk, kl])| BlockMaps {
+                local: local.clone(),
+                kcols,
+                krows,
+                ll: Vec::with_capacity(ll),
+                lk: Vec::with_capacity(lk),
+                kl: Vec::with_capacity(kl),
+                update,
             })
             .collect();
-        // The gather maps, A's entries in pattern order.
-        // A kept row's position in the krows of the block that last asked
-        // (block, position): a block's columns reach the same kept rows, so
-        // one search per block and row, not per entry.
+        // The gather maps, A's entries in pattern order ([`kept_rank`]).
         let mut row_at = vec![(KEPT, 0u32); kept.len()];
         for j in 0..n {
             let (oj, pj) = slot[j];
@@ -293,22 +410,31 @@ impl CondensedStructure {
                     b.lk.push((p as u32, pi + m * c));
                 }
             } else {
-                let b = &mut out[oj as usize];
+                let e = oj as usize;
+                let b = &mut out[e];
                 let (m, kr) = (b.local.len() as u32, b.krows.len() as u32);
-                for p in range {
-                    let (oi, pi) = slot[pattern.row_idx[p]];
-                    if oi == KEPT {
-                        let r = match row_at[pi as usize] {
-                            (f, r) if f == oj => r,
-                            _ => {
-                                let r = b.krows.binary_search(&(pi as usize)).expect("kept row") as u32;
-                                row_at[pi as usize] = (oj, r);
-                                r
+                match contiguous[e] {
+                    // The run of own rows straight into A_LL's map; the
+                    // rows around it are kept (checked by the first pass).
+                    Some(lo) => {
+                        let run = own_run(&pattern.row_idx[range.clone()], lo, m as usize);
+                        let (a, c) = (range.start + run.start, range.start + run.end);
+                        for p in (range.start..a).chain(c..range.end) {
+                            let r = kept_rank(&mut row_at, &b.krows, oj, slot[pattern.row_idx[p]].1);
+                            b.kl.push((p as u32, r + kr * pj));
+                        }
+                        b.ll.extend((a..c).map(|q| (q as u32, (pattern.row_idx[q] - lo) as u32 + m * pj)));
+                    }
+                    None => {
+                        for p in range {
+                            let (oi, pi) = slot[pattern.row_idx[p]];
+                            if oi == KEPT {
+                                let r = kept_rank(&mut row_at, &b.krows, oj, pi);
+                                b.kl.push((p as u32, r + kr * pj));
+                            } else {
+                                b.ll.push((p as u32, pi + m * pj));
                             }
-                        };
-                        b.kl.push((p as u32, r + kr * pj));
-                    } else {
-                        b.ll.push((p as u32, pi + m * pj));
+                        }
                     }
                 }
             }
@@ -1109,6 +1235,86 @@ mod tests {
                     let diff = z1.iter().zip(&z2).fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
                     assert!(diff <= 1e-12 * scale, "case {elements}×{m} transpose {transpose}: {diff:e}");
                 }
+            }
+        }
+    }
+
+    /// The same collocation matrix with its unknowns renumbered by a
+    /// pseudo-random permutation (each block's indices scattered, so the
+    /// general, non-contiguous gather is taken) and with a block's indices
+    /// listed backwards: the condensation still solves like the whole
+    /// sparse LU of the permuted matrix (reference, 1e-12) and keeps its
+    /// determinant sign; and the kept system's merged pattern and update
+    /// positions are those of the counting-sort construction
+    /// (`Pattern::with_positions_and_diagonal` on the kept–kept and fill
+    /// entries).
+    #[test]
+    fn scattered_blocks_condense_like_the_whole_lu() {
+        for (elements, m, k, seed) in [(5, 8, 3, 2), (3, 6, 2, 4), (8, 52, 13, 3)] {
+            let (pattern, values, blocks) = collocation(elements, m, k, seed);
+            let n = pattern.n;
+            // perm[i]: the new index of unknown i.
+            let mut perm: Vec<usize> = (0..n).collect();
+            let mut state = seed.wrapping_add(17);
+            for i in (1..n).rev() {
+                state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                perm.swap(i, (state >> 33) as usize % (i + 1));
+            }
+            let entries: Vec<(usize, usize)> =
+                (0..n).flat_map(|j| (pattern.col_ptr[j]..pattern.col_ptr[j + 1]).map(move |p| (p, j))).collect();
+            let permuted = Pattern::from_entries(n, entries.iter().map(|&(p, j)| (perm[pattern.row_idx[p]], perm[j])));
+            let mut pvalues = vec![0.0; permuted.nnz()];
+            for &(p, j) in &entries {
+                pvalues[permuted.position(perm[pattern.row_idx[p]], perm[j]).unwrap()] = values[p];
+            }
+            let mut pblocks: Vec<Vec<usize>> = blocks.iter().map(|b| b.iter().map(|&i| perm[i]).collect()).collect();
+            pblocks[0].reverse();
+            // Trailing kept unknowns must stay kept: none here.
+            let mut whole = SparseLu::new(permuted.clone()).unwrap();
+            whole.factorise(&pvalues).unwrap();
+            for limit in [0, usize::MAX] {
+                let mut cond = CondensedLu::with_dense_limit(&permuted, &pblocks, 0, limit).unwrap();
+                cond.factorise(&pvalues).unwrap();
+                assert_eq!(cond.determinant_sign(), whole.determinant_sign_and_log().0);
+                for transpose in [false, true] {
+                    let b: Vec<f64> = (0..n).map(|i| ((i * 7 + 3) % 11) as f64 - 5.0).collect();
+                    let (mut z1, mut z2) = (b.clone(), b.clone());
+                    if transpose {
+                        whole.solve_transpose(&mut z1);
+                        cond.solve_transpose(&mut z2);
+                    } else {
+                        whole.solve(&mut z1);
+                        cond.solve(&mut z2);
+                    }
+                    let scale = z1.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+                    let diff = z1.iter().zip(&z2).fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+                    assert!(diff <= 1e-12 * scale, "{elements}×{m}, limit {limit}, transpose {transpose}: {diff:e}");
+                }
+            }
+            // The kept system's structure against the counting sort's.
+            for (pat, blk) in [(&pattern, &blocks), (&permuted, &pblocks)] {
+                let s = CondensedStructure::new(pat, blk, 0, usize::MAX).unwrap();
+                let kept_pos = |i: usize| s.kept.binary_search(&i).unwrap();
+                let mut list = Vec::new();
+                for j in 0..pat.n {
+                    for p in pat.col_ptr[j]..pat.col_ptr[j + 1] {
+                        let i = pat.row_idx[p];
+                        if s.kept.binary_search(&i).is_ok() && s.kept.binary_search(&j).is_ok() {
+                            list.push((kept_pos(i), kept_pos(j)));
+                        }
+                    }
+                }
+                let kk = list.len();
+                for b in &s.maps {
+                    for &c in &b.kcols {
+                        list.extend(b.krows.iter().map(|&r| (r, c)));
+                    }
+                }
+                let (reference, at) = Pattern::with_positions_and_diagonal(s.kept.len(), &list);
+                assert_eq!(*s.spattern, reference);
+                assert_eq!(s.kk.iter().map(|&(_, q)| q).collect::<Vec<_>>(), at[..kk]);
+                let updates: Vec<u32> = s.maps.iter().flat_map(|b| b.update.iter().copied()).collect();
+                assert_eq!(updates, at[kk..]);
             }
         }
     }

@@ -25,23 +25,6 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par};
 use std::sync::Arc;
 
-/// An entry index of [`Pattern::build`]'s lists: usize or u32.
-trait EntryIndex: Copy {
-    fn ix(self) -> usize;
-}
-
-impl EntryIndex for usize {
-    fn ix(self) -> usize {
-        self
-    }
-}
-
-impl EntryIndex for u32 {
-    fn ix(self) -> usize {
-        self as usize
-    }
-}
-
 /// A square sparsity pattern in compressed columns (row indices sorted).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Pattern {
@@ -76,17 +59,10 @@ impl Pattern {
         Self::build(n, entries, true)
     }
 
-    /// [`Pattern::with_positions_and_diagonal`] from 32-bit entries (half
-    /// the memory a large entry list takes).
-    pub(crate) fn with_positions_and_diagonal_u32(n: usize, entries: &[(u32, u32)]) -> (Self, Vec<u32>) {
-        Self::build(n, entries, true)
-    }
-
-    fn build<I: EntryIndex>(n: usize, entries: &[(I, I)], diagonal: bool) -> (Self, Vec<u32>) {
+    fn build(n: usize, entries: &[(usize, usize)], diagonal: bool) -> (Self, Vec<u32>) {
         assert!(entries.len() < u32::MAX as usize && n < u32::MAX as usize, "pattern too large for 32-bit positions");
         let mut col_ptr = vec![0u32; n + 1];
         for &(i, j) in entries {
-            let (i, j) = (i.ix(), j.ix());
             assert!(i < n && j < n, "entry ({i}, {j}) outside a {n}×{n} pattern");
             col_ptr[j + 1] += 1;
         }
@@ -97,7 +73,6 @@ impl Pattern {
         // (row, entry index) by column, in the entries' order.
         let mut by_column = vec![(0u32, 0u32); entries.len()];
         for (e, &(i, j)) in entries.iter().enumerate() {
-            let (i, j) = (i.ix(), j.ix());
             by_column[next[j] as usize] = (i as u32, e as u32);
             next[j] += 1;
         }

@@ -550,3 +550,69 @@ fn a_located_pitchfork_is_within_its_tolerance_from_1e_5_to_1e_13() {
         }
     }
 }
+
+/// An ANM step whose end point fails to correct is halved; the samples it
+/// had delivered past the halved end are taken back and delivered once,
+/// by the step that reaches them (reference: the circle's closed form,
+/// x1 = √(1 − Λ²); each requested Λ exactly once, in order). The end
+/// point's first correction past Λ = 0.3 is made to fail: its residual is
+/// poisoned (NaN) at a Λ that is no sample's. Without the take-back the
+/// samples between the halved end and the first end were listed twice.
+#[test]
+fn a_halved_anm_step_delivers_each_sample_once() {
+    use rodkit::continuation::{Problem, SeriesProblem};
+    use rodkit::linalg::sparse::Pattern;
+    struct FailOnce(AssembledSystem, usize);
+    impl Problem for FailOnce {
+        fn dim(&self) -> usize {
+            self.0.dim()
+        }
+        fn pattern(&self) -> &Pattern {
+            self.0.pattern()
+        }
+        fn residual(&mut self, x: &[f64], l: f64, r: &mut [f64]) {
+            self.0.residual(x, l, r);
+            let on_grid = ((l * 100.0).round() - l * 100.0).abs() < 1e-9;
+            if self.1 > 0 && l > 0.3 && !on_grid {
+                self.1 -= 1;
+                r[0] = f64::NAN;
+            }
+        }
+        fn jacobian(&mut self, x: &[f64], l: f64, jx: &mut [f64], jl: &mut [f64]) {
+            self.0.jacobian(x, l, jx, jl);
+        }
+    }
+    impl SeriesProblem for FailOnce {
+        fn series_begin(&mut self, x0: &[f64], lambda0: f64, max_order: usize) {
+            self.0.series_begin(x0, lambda0, max_order)
+        }
+        fn series_order(&mut self, p: usize, xp: &[f64], lambda_p: f64, out: &mut [f64]) {
+            self.0.series_order(p, xp, lambda_p, out)
+        }
+    }
+    let targets: Vec<f64> = (1..90).map(|k| k as f64 / 100.0).collect();
+    let opts = Options {
+        max_steps: 200,
+        residual_tol: 1e-12,
+        initial_step: 0.05,
+        max_step: 0.5,
+        lambda_range: (-0.5, 0.9),
+        samples: targets.clone(),
+        ..Default::default()
+    };
+    let anm = AnmOptions { order: 20, epsilon: 1e-10, pade: false };
+    // Two poisoned residuals: the end point's own and its correction's
+    // first (one alone is corrected away).
+    let mut p = FailOnce(circle(), 2);
+    let start = Start::Point { x: vec![1.0, 0.0, 0.0], lambda: 0.0, increasing: true };
+    let b = continue_anm(&mut p, start, &opts, &anm, |x, _| x.to_vec(), |_| true).unwrap();
+    assert_eq!(p.1, 0, "the end point's correction was never made to fail");
+    assert_eq!(b.stop, Stop::LambdaRange);
+    let got: Vec<f64> = b.samples.iter().map(|s| s.lambda).collect();
+    assert_eq!(got, targets, "each requested Λ once, in order");
+    for s in &b.samples {
+        assert!(on_circle(&s.outputs, s.lambda) < 1e-11, "off the circle at Λ {}", s.lambda);
+        assert!((s.outputs[0] - (1.0 - s.lambda * s.lambda).sqrt()).abs() < 1e-11);
+    }
+    assert!(b.missed_samples.is_empty(), "{:?}", b.missed_samples);
+}

@@ -29,7 +29,7 @@ use super::corrector::{correct, Plane, Reuse};
 use super::indicator::Indicator;
 use super::newton::Start;
 use super::pade::{self, Curve};
-use super::run::{resume_step, validate_resume, Factors, Run};
+use super::run::{resume_step, validate_resume, Factors, Placed, Run};
 use super::{Branch, Options, Record, Resume, SeriesProblem, Stop};
 use crate::error::{self, Error, Result};
 use crate::nonlinear::scaled_max_norm;
@@ -161,9 +161,18 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             Some(d) => Curve::Pade(&expansion.series, d),
             None => Curve::Series(&expansion.series),
         };
-        let kept = samples(&mut run, problem, &curve, a, &here, &mut observe);
+        let (kept, mut delivered) = samples(&mut run, problem, &curve, a, &here, &mut observe);
         let end = match end_point(&mut run, problem, &curve, a, &here, &v, kept)? {
-            End::Reached(end) => end,
+            End::Reached(end) => {
+                // A halved step: the samples past its end are the next
+                // step's (delivered from its own start, not twice).
+                if end.a < a && !end.target {
+                    let mut past: Vec<Placed> =
+                        delivered.drain(..).filter(|&(t, _)| t > end.a).map(|(_, p)| p).collect();
+                    run.withdraw(&mut past);
+                }
+                end
+            }
             End::Stopped(stop, a) => {
                 run.deliver_pending(problem, (&here.tx, here.tl), &mut observe, true);
                 return Ok(run.finish(stop, here, a, None));
@@ -298,7 +307,9 @@ impl Expansion {
 /// (corrected on this step's factorisation when its residual is above the
 /// tolerance). Returns whether the step's factorisation is still in hand
 /// (false when a sample needed a fresh one: the end point's correction then
-/// factorises at its own prediction, nearer than the step's start).
+/// factorises at its own prediction, nearer than the step's start), and
+/// where each sample went with its curve parameter (to take back those a
+/// halved step does not reach: [`Run::withdraw`]).
 fn samples<P: SeriesProblem + ?Sized>(
     run: &mut Run,
     problem: &mut P,
@@ -306,10 +317,11 @@ fn samples<P: SeriesProblem + ?Sized>(
     a: f64,
     here: &State,
     observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
-) -> bool {
+) -> (bool, Vec<(f64, Placed)>) {
     let (lam0, lam1) = (here.lambda, curve.lambda(a));
     let record = run.records.len() - 1;
     let mut refactorised = false;
+    let mut delivered = Vec::new();
     let opts = run.opts;
     for &target in &opts.samples {
         if (target - lam0) * (target - lam1) > 0.0 || target == lam0 {
@@ -320,13 +332,15 @@ fn samples<P: SeriesProblem + ?Sized>(
             curve.evaluate(t, &mut xs, None);
             // After a deferred sample (none wait at a step's start: the
             // loop's top delivered them) the later ones wait too, in order.
+            let mark = run.sample_mark();
             match run.has_pending() {
                 true => run.defer(xs, target, record),
                 false => refactorised |= run.sample(problem, xs, (target, (&here.tx, here.tl)), record, observe, true),
             }
+            delivered.extend(run.placed_since(mark).map(|p| (t, p)));
         }
     }
-    !refactorised
+    (!refactorised, delivered)
 }
 
 /// The corrected end of a step.

@@ -177,6 +177,10 @@ pub(crate) struct Run<'o> {
 /// A sample deferred by [`Run::sample`]: its load, its prediction on the
 /// step's curve, the record of the step's start and the chord iterations
 /// spent on it.
+/// Where a sample went: (0 samples, 1 missed loads, 2 pending; index).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct Placed(u8, usize);
+
 struct Pending {
     target: f64,
     prediction: Vec<f64>,
@@ -623,6 +627,31 @@ impl<'o> Run<'o> {
                 newton_iterations: iterations,
             }),
             _ => self.missed.push(target),
+        }
+    }
+
+    /// The lengths of the samples, missed loads and pending samples: a
+    /// mark to tell where the next sample goes ([`Run::placed_since`]).
+    pub fn sample_mark(&self) -> [usize; 3] {
+        [self.samples.len(), self.missed.len(), self.pending.len()]
+    }
+
+    /// Where the one sample delivered since `mark` went.
+    pub fn placed_since(&self, mark: [usize; 3]) -> Option<Placed> {
+        let now = self.sample_mark();
+        (0..3).find(|&k| now[k] > mark[k]).map(|k| Placed(k as u8, mark[k]))
+    }
+
+    /// Take back samples a step delivered past the end it reached (a
+    /// halved step: the next step delivers them, from its own start).
+    pub fn withdraw(&mut self, placed: &mut [Placed]) {
+        placed.sort_unstable_by(|a, b| b.cmp(a));
+        for &Placed(list, i) in placed.iter() {
+            match list {
+                0 => drop(self.samples.remove(i)),
+                1 => drop(self.missed.remove(i)),
+                _ => drop(self.pending.remove(i)),
+            }
         }
     }
 

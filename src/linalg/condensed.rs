@@ -103,13 +103,14 @@ pub struct CondensedStructure {
     maps: Vec<BlockMaps>,
     /// Kept indices in increasing order.
     kept: Vec<usize>,
-    /// (position in A's values, position in S's) of the kept×kept entries.
+    /// (position in A's values, position in S's) of the kept×kept entries:
+    /// in S's sparse values, or its dense column-major array (i + nk·j)
+    /// when S is factorised dense (then it has no sparse pattern: S's
+    /// entries are accumulated in the dense array the LU works in).
     kk: Vec<(u32, u32)>,
-    /// S's pattern, its trailing unknowns, whether it is factorised dense
-    /// and then the dense index of each of its entries (in its order).
-    spattern: Arc<Pattern>,
+    /// S's pattern when S is sparse, and its trailing unknowns.
+    spattern: Option<Arc<Pattern>>,
     trailing_kept: usize,
-    dense_at: Option<Vec<u32>>,
     /// faer's dense work space.
     req: StackReq,
 }
@@ -367,8 +368,25 @@ impl CondensedStructure {
         }
         // S's pattern: A's kept–kept entries, each block's fill krows ×
         // kcols, the diagonal (a zero there is still a pivot slot).
-        let (spattern, kk_at, updates) = kept_pattern(kept.len(), &kk_entries, &kcols, &krows)
-            .ok_or_else(|| invalid("the pattern's rows are not in increasing order".into()))?;
+        let nk = kept.len();
+        // (A dense S indexed in 32 bits: nk ≤ 65535.)
+        let dense = nk <= dense_limit && nk * nk < u32::MAX as usize;
+        let (spattern, kk_at, updates) = match dense {
+            true => {
+                let kk_at = kk_entries.iter().map(|&(i, j)| i + nk as u32 * j).collect();
+                let updates = kcols
+                    .iter()
+                    .zip(&krows)
+                    .map(|(c, r)| c.iter().flat_map(|&j| r.iter().map(move |&i| (i + nk * j) as u32)).collect())
+                    .collect();
+                (None, kk_at, updates)
+            }
+            false => {
+                let (p, kk_at, updates) = kept_pattern(nk, &kk_entries, &kcols, &krows)
+                    .ok_or_else(|| invalid("the pattern's rows are not in increasing order".into()))?;
+                (Some(Arc::new(p)), kk_at, updates)
+            }
+        };
         let kk: Vec<(u32, u32)> = kk_sources.into_iter().zip(kk_at).collect();
         let mut out: Vec<BlockMaps> = blocks
             .iter()
@@ -445,17 +463,7 @@ impl CondensedStructure {
             dense_solves::solve_in_place_scratch::<usize, f64>(widest.0, widest.1.max(1), Par::Seq),
         ]);
         let trailing_kept = trailing.min(kept.len());
-        let nk = kept.len();
-        // (A dense S indexed in 32 bits: nk ≤ 65535.)
-        let dense_at = (nk <= dense_limit && nk * nk < u32::MAX as usize).then(|| {
-            let mut at = Vec::with_capacity(spattern.nnz());
-            for j in 0..nk {
-                let rows = &spattern.row_idx[spattern.col_ptr[j]..spattern.col_ptr[j + 1]];
-                at.extend(rows.iter().map(|&i| (i + nk * j) as u32));
-            }
-            at
-        });
-        Ok(CondensedStructure { maps: out, kept, kk, spattern: Arc::new(spattern), trailing_kept, dense_at, req })
+        Ok(CondensedStructure { maps: out, kept, kk, spattern, trailing_kept, req })
     }
 }
 
@@ -486,9 +494,9 @@ impl CondensedLu {
     pub fn from_structure(structure: Arc<CondensedStructure>) -> Result<Self> {
         let s = &*structure;
         let nk = s.kept.len();
-        let schur = match &s.dense_at {
-            Some(_) => Kept::Dense(DenseKept::new(nk)),
-            None => Kept::Sparse(Box::new(SparseLu::shared(s.spattern.clone(), s.trailing_kept)?)),
+        let schur = match &s.spattern {
+            None => Kept::Dense(DenseKept::new(nk)),
+            Some(p) => Kept::Sparse(Box::new(SparseLu::shared(p.clone(), s.trailing_kept)?)),
         };
         let req = match &schur {
             Kept::Dense(_) => StackReq::any_of(&[
@@ -502,7 +510,7 @@ impl CondensedLu {
             // (~50 kB a Gauss(4) element: zeroing them here as well was a
             // tenth of a new rod's set-up).
             blocks: Vec::new(),
-            schur_values: vec![0.0; s.spattern.nnz()],
+            schur_values: vec![0.0; s.spattern.as_ref().map_or(0, |p| p.nnz())],
             schur,
             blocks_sign: 1.0,
             blocks_negative: 0,
@@ -553,9 +561,17 @@ impl CondensedLu {
                 format!("condensed LU: matrix entry {k} is not finite"),
             ));
         }
-        self.schur_values.fill(0.0);
+        // S accumulates where its LU works: the dense array, or its sparse
+        // values.
+        let schur: &mut [f64] = match &mut self.schur {
+            Kept::Dense(d) => d.zeroed(),
+            Kept::Sparse(_) => {
+                self.schur_values.fill(0.0);
+                &mut self.schur_values
+            }
+        };
         for &(p, q) in &self.structure.kk {
-            self.schur_values[q as usize] += values[p as usize];
+            schur[q as usize] += values[p as usize];
         }
         let (mut sign, mut negative) = (1.0, 0);
         for (e, (b, s)) in self.blocks.iter_mut().zip(&self.structure.maps).enumerate() {
@@ -594,11 +610,10 @@ impl CondensedLu {
                 Par::Seq,
             );
             for (&q, v) in s.update.iter().zip(&b.product) {
-                self.schur_values[q as usize] -= v;
+                schur[q as usize] -= v;
             }
         }
-        let at = self.structure.dense_at.as_deref().unwrap_or_default();
-        self.schur.factorise(&self.schur_values, at, MemStack::new(&mut self.buffer))?;
+        self.schur.factorise(&self.schur_values, MemStack::new(&mut self.buffer))?;
         self.blocks_sign = sign;
         self.blocks_negative = negative;
         self.factorised = true;
@@ -811,11 +826,12 @@ enum Kept {
 }
 
 impl Kept {
-    /// `at`: a dense S's index of each of its pattern's entries.
-    fn factorise(&mut self, values: &[f64], at: &[u32], stack: &mut MemStack) -> Result<()> {
+    /// A sparse S from its `values`; a dense one from its own array
+    /// ([`DenseKept::zeroed`], accumulated since).
+    fn factorise(&mut self, values: &[f64], stack: &mut MemStack) -> Result<()> {
         match self {
             Kept::Sparse(lu) => lu.factorise_exact(values),
-            Kept::Dense(d) => d.factorise(values, at, stack),
+            Kept::Dense(d) => d.factorise(stack),
         }
     }
 
@@ -909,9 +925,9 @@ impl DenseKept {
         }
     }
 
-    /// Factorise S from its values in pattern order, entry k at `lu[at[k]]`
-    /// (finite: A's were checked). A zero pivot is ErrNotConverged.
-    fn factorise(&mut self, values: &[f64], at: &[u32], stack: &mut MemStack) -> Result<()> {
+    /// The dense array zeroed (sized on first use), for S's entries to be
+    /// accumulated in before [`DenseKept::factorise`].
+    fn zeroed(&mut self) -> &mut [f64] {
         self.rows.ready = false;
         let n = self.n;
         if self.lu.len() != n * n {
@@ -919,9 +935,12 @@ impl DenseKept {
         } else {
             self.lu.fill(0.0);
         }
-        for (&d, v) in at.iter().zip(values) {
-            self.lu[d as usize] = *v;
-        }
+        &mut self.lu
+    }
+
+    /// Factorise S in place (accumulated since [`DenseKept::zeroed`];
+    /// finite: A's entries were checked). A zero pivot is ErrNotConverged.
+    fn factorise(&mut self, stack: &mut MemStack) -> Result<()> {
         let (sign, negative) = factor_block(self.n, &mut self.lu, &mut self.perm, &mut self.perm_inv, stack)
             .ok_or_else(|| Error::new(Status::ErrNotConverged, "condensed LU: the kept system is singular"))?;
         (self.sign, self.negative) = (sign, negative);
@@ -1293,7 +1312,8 @@ mod tests {
             }
             // The kept system's structure against the counting sort's.
             for (pat, blk) in [(&pattern, &blocks), (&permuted, &pblocks)] {
-                let s = CondensedStructure::new(pat, blk, 0, usize::MAX).unwrap();
+                // A sparse S (dense limit 0): the one with a pattern.
+                let s = CondensedStructure::new(pat, blk, 0, 0).unwrap();
                 let kept_pos = |i: usize| s.kept.binary_search(&i).unwrap();
                 let mut list = Vec::new();
                 for j in 0..pat.n {
@@ -1311,7 +1331,7 @@ mod tests {
                     }
                 }
                 let (reference, at) = Pattern::with_positions_and_diagonal(s.kept.len(), &list);
-                assert_eq!(*s.spattern, reference);
+                assert_eq!(**s.spattern.as_ref().unwrap(), reference);
                 assert_eq!(s.kk.iter().map(|&(_, q)| q).collect::<Vec<_>>(), at[..kk]);
                 let updates: Vec<u32> = s.maps.iter().flat_map(|b| b.update.iter().copied()).collect();
                 assert_eq!(updates, at[kk..]);

@@ -320,8 +320,8 @@ fn unknown(slot: &Slot) -> Option<usize> {
 
 /// Structures kept on this thread: at most [`KEPT_STRUCTURES`], the least
 /// recently used dropped first, each of at most [`KEPT_ENTRIES`] pattern
-/// entries (~24 bytes each with the key and positions: ≤ 3 MB apiece; a
-/// larger system's set-up is small beside its solves).
+/// entries (~12 bytes each with the positions: ≤ 1.6 MB apiece; a larger
+/// system's set-up is small beside its solves).
 const KEPT_STRUCTURES: usize = 8;
 const KEPT_ENTRIES: usize = 1 << 17;
 

@@ -157,9 +157,9 @@ impl Structure {
 
 /// Structures kept on this thread: at most [`KEPT_STRUCTURES`], the least
 /// recently used dropped first, each of a pattern of at most
-/// [`KEPT_ENTRIES`] entries (~50 bytes an entry with A's and B's patterns,
-/// the maps and the condensation's: ≤ 7 MB apiece; a larger system's
-/// set-up is small beside its factorisations).
+/// [`KEPT_ENTRIES`] entries (~17 bytes an entry with B's pattern and the
+/// condensation's 32-bit maps: ≤ 2.2 MB apiece; a larger system's set-up
+/// is small beside its factorisations).
 const KEPT_STRUCTURES: usize = 8;
 const KEPT_ENTRIES: usize = 1 << 17;
 

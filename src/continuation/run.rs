@@ -174,13 +174,13 @@ pub(crate) struct Run<'o> {
     mode_work: ModeWork,
 }
 
-/// A sample deferred by [`Run::sample`]: its load, its prediction on the
-/// step's curve, the record of the step's start and the chord iterations
-/// spent on it.
 /// Where a sample went: (0 samples, 1 missed loads, 2 pending; index).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Placed(u8, usize);
 
+/// A sample deferred by [`Run::sample`]: its load, its prediction on the
+/// step's curve, the record of the step's start and the chord iterations
+/// spent on it.
 struct Pending {
     target: f64,
     prediction: Vec<f64>,

@@ -145,6 +145,11 @@ impl Bordered {
         counts: &mut Counts,
         exact: bool,
     ) -> Result<()> {
+        // (A border factorised before any Jacobian: a zero matrix, refused
+        // by the LU as before its array was sized lazily.)
+        if self.jx.len() != self.nnz {
+            self.jx = vec![0.0; self.nnz];
+        }
         let mean = 1.0 / self.n.max(1) as f64;
         for j in 0..self.n {
             self.row[j] = mean * vx[j] / (scaling.x[j] * scaling.x[j]);

@@ -119,7 +119,8 @@ impl Structure {
         // The border row and column reach every block: kept.
         let condensed = match blocks.is_empty() {
             true => None,
-            false => CondensedStructure::new(&big, blocks, trailing + 1, DENSE_KEPT).ok().map(Arc::new),
+            // B's rows were checked sorted and in range above.
+            false => CondensedStructure::of_sorted(&big, blocks, trailing + 1, DENSE_KEPT).ok().map(Arc::new),
         };
         Ok(Structure { trailing, blocks: blocks.to_vec(), big: Arc::new(big), condensed })
     }
@@ -308,6 +309,7 @@ impl BorderedLu {
     /// them ([`super::bordering`]), else B's own LU. If A's factorisation
     /// or the border's Schur scalar fails, B's own LU decides.
     pub fn factorise(&mut self, a: &[f64], c: &[f64], r: &[f64], d: f64) -> Result<()> {
+        self.check_lengths(a, c, r)?;
         self.assemble(a, c, r, d);
         self.blocks_active = false;
         if let Fast::Condensed(lu) = &mut self.fast {
@@ -359,6 +361,7 @@ impl BorderedLu {
         if self.condensed() {
             return self.factorise(a, c, r, d);
         }
+        self.check_lengths(a, c, r)?;
         self.assemble(a, c, r, d);
         self.blocks_active = false;
         self.lu.factorise_exact(&self.values)
@@ -403,6 +406,24 @@ impl BorderedLu {
         } else {
             self.lu.solve(rhs);
         }
+    }
+
+    /// A's values (its pattern's length) and the border's (n each).
+    fn check_lengths(&self, a: &[f64], c: &[f64], r: &[f64]) -> Result<()> {
+        let nnz = self.structure.big.nnz() - 2 * self.n - 1;
+        if a.len() != nnz || c.len() != self.n || r.len() != self.n {
+            return Err(Error::new(
+                Status::ErrInvalidDimension,
+                format!(
+                    "bordered LU: {} matrix values and borders of {} and {} (want {nnz} and {})",
+                    a.len(),
+                    c.len(),
+                    r.len(),
+                    self.n
+                ),
+            ));
+        }
+        Ok(())
     }
 
     fn assemble(&mut self, a: &[f64], c: &[f64], r: &[f64], d: f64) {
@@ -721,6 +742,10 @@ impl BorderedLu {
     /// ‖Ã‖_F of the current matrix.
     fn scaled_frobenius(&self) -> f64 {
         let p = self.lu.pattern();
+        // (No matrix assembled yet: its values are sized by the first.)
+        if self.values.len() != p.nnz() {
+            return 0.0;
+        }
         let mut sum = 0.0;
         for j in 0..p.n {
             for k in p.col_ptr[j]..p.col_ptr[j + 1] {
@@ -1118,6 +1143,18 @@ mod block_tests {
             let err = BorderedLu::new(&bad).err().map(|e| e.status);
             assert_eq!(err, Some(Status::ErrInvalidDimension), "rows {rows:?}");
         }
+        // Values of the wrong lengths are refused, not sliced past their end;
+        // before any matrix, the singular-value floor is zero.
+        let mut lu = BorderedLu::new(&good).unwrap();
+        assert_eq!(lu.singular_floor(), 0.0);
+        let (a, c) = (vec![2.0, 1.0, 1.0, 1.0, 3.0], vec![1.0; 3]);
+        for (a, c, r) in [(&a[..4], &c[..], &c[..]), (&a[..], &c[..2], &c[..]), (&a[..], &c[..], &c[..2])] {
+            let err = lu.factorise(a, c, r, 0.0).err().map(|e| e.status);
+            assert_eq!(err, Some(Status::ErrInvalidDimension));
+            let err = lu.factorise_exact(a, c, r, 0.0).err().map(|e| e.status);
+            assert_eq!(err, Some(Status::ErrInvalidDimension));
+        }
+        assert!(lu.factorise(&a, &c, &c, 0.0).is_ok());
     }
 
     fn random(seed: &mut u64) -> f64 {

@@ -257,6 +257,32 @@ impl CondensedStructure {
     /// counts its entries of each kind, the second writes the gather maps
     /// into arrays of their final size (no growth, no copy).
     pub fn new(pattern: &Pattern, blocks: &[Vec<usize>], trailing: usize, dense_limit: usize) -> Result<Self> {
+        // Pattern's invariant (its fields are public), on which the gather's
+        // runs of a block's own rows rely: each column's rows increasing
+        // and in range.
+        let n = pattern.n;
+        let sorted = pattern.col_ptr.len() == n + 1
+            && (0..n).all(|j| {
+                let rows = &pattern.row_idx[pattern.col_ptr[j]..pattern.col_ptr[j + 1]];
+                rows.windows(2).all(|w| w[0] < w[1]) && rows.last().is_none_or(|&i| i < n)
+            });
+        if !sorted {
+            return Err(Error::new(
+                Status::ErrInvalidDimension,
+                "condensed LU: the pattern's rows are not increasing and in range in every column",
+            ));
+        }
+        Self::of_sorted(pattern, blocks, trailing, dense_limit)
+    }
+
+    /// [`CondensedStructure::new`] for a pattern whose rows are known
+    /// increasing and in range (a bordered LU's, checked as it is built).
+    pub(crate) fn of_sorted(
+        pattern: &Pattern,
+        blocks: &[Vec<usize>],
+        trailing: usize,
+        dense_limit: usize,
+    ) -> Result<Self> {
         let n = pattern.n;
         let invalid = |why: String| Error::new(Status::ErrInvalidDimension, format!("condensed LU: {why}"));
         if pattern.nnz() >= u32::MAX as usize || n >= u32::MAX as usize {
@@ -369,8 +395,16 @@ impl CondensedStructure {
         // S's pattern: A's kept–kept entries, each block's fill krows ×
         // kcols, the diagonal (a zero there is still a pivot slot).
         let nk = kept.len();
-        // (A dense S indexed in 32 bits: nk ≤ 65535.)
+        // (A dense S indexed in 32 bits: nk ≤ 65535; a sparse one's entries
+        // at most A's kept ones, the fill and the diagonal.)
         let dense = nk <= dense_limit && nk * nk < u32::MAX as usize;
+        let fill: usize = kcols.iter().zip(&krows).map(|(c, r)| c.len() * r.len()).sum();
+        if !dense && kk_entries.len() + fill + nk >= u32::MAX as usize {
+            return Err(invalid(format!(
+                "a kept system of up to {} entries exceeds 32-bit positions",
+                kk_entries.len() + fill + nk
+            )));
+        }
         let (spattern, kk_at, updates) = match dense {
             true => {
                 let kk_at = kk_entries.iter().map(|&(i, j)| i + nk as u32 * j).collect();
@@ -1424,6 +1458,13 @@ mod tests {
         blocks[0].extend(6..8);
         let err = CondensedLu::new(&pattern, &blocks, 0).err().unwrap();
         assert_eq!(err.status, Status::ErrInvalidDimension);
+        // A column whose rows are out of order (Pattern's fields are
+        // public): refused, not gathered as if kept row 2 were the block's.
+        let unsorted = Pattern { n: 3, col_ptr: vec![0, 3, 5, 8], row_idx: vec![0, 2, 1, 0, 1, 0, 1, 2] };
+        let err = CondensedLu::new(&unsorted, &[vec![0, 1]], 0).err().unwrap();
+        assert_eq!(err.status, Status::ErrInvalidDimension);
+        let sorted = Pattern { n: 3, col_ptr: vec![0, 3, 5, 8], row_idx: vec![0, 1, 2, 0, 1, 0, 1, 2] };
+        assert!(CondensedLu::new(&sorted, &[vec![0, 1]], 0).is_ok());
     }
 
     /// Reference: a 3×3 by hand (det = −2 by cofactors), and its solves.

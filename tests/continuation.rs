@@ -4,7 +4,8 @@
 use rodkit::continuation::anm::{continue_anm, AnmOptions};
 use rodkit::continuation::newton::{continue_newton, Start};
 use rodkit::continuation::system::{AssembledSystem, Block, Slot};
-use rodkit::continuation::{Options, Stop};
+use rodkit::continuation::{Options, Problem, SeriesProblem, Stop};
+use rodkit::linalg::sparse::Pattern;
 use rodkit::taylor::{Scalar, Tape};
 use std::sync::Arc;
 
@@ -24,6 +25,37 @@ fn circle() -> AssembledSystem {
 
 fn on_circle(x: &[f64], l: f64) -> f64 {
     (x[0] * x[0] + l * l - 1.0).abs().max((x[1] - x[0] * l).abs()).max((x[2] - x[0] * x[0] * l * l).abs())
+}
+
+/// A system whose residual's first entry turns NaN wherever `poison(Λ)`
+/// says (the engines' handling of a failed evaluation).
+struct Poisoned<F: FnMut(f64) -> bool>(AssembledSystem, F);
+
+impl<F: FnMut(f64) -> bool> Problem for Poisoned<F> {
+    fn dim(&self) -> usize {
+        self.0.dim()
+    }
+    fn pattern(&self) -> &Pattern {
+        self.0.pattern()
+    }
+    fn residual(&mut self, x: &[f64], l: f64, r: &mut [f64]) {
+        self.0.residual(x, l, r);
+        if (self.1)(l) {
+            r[0] = f64::NAN;
+        }
+    }
+    fn jacobian(&mut self, x: &[f64], l: f64, jx: &mut [f64], jl: &mut [f64]) {
+        self.0.jacobian(x, l, jx, jl);
+    }
+}
+
+impl<F: FnMut(f64) -> bool> SeriesProblem for Poisoned<F> {
+    fn series_begin(&mut self, x0: &[f64], lambda0: f64, max_order: usize) {
+        self.0.series_begin(x0, lambda0, max_order)
+    }
+    fn series_order(&mut self, p: usize, xp: &[f64], lambda_p: f64, out: &mut [f64]) {
+        self.0.series_order(p, xp, lambda_p, out)
+    }
 }
 
 /// Options that take the circle from (1, 0) past its fold at Λ = 1 and
@@ -230,27 +262,7 @@ fn switch_at_a_located_pitchfork_follows_the_new_branch() {
 /// branch ends with its valid records (no NaN among them).
 #[test]
 fn nan_residual_is_never_converged() {
-    use rodkit::continuation::Problem;
-    use rodkit::linalg::sparse::Pattern;
-    struct Poisoned(AssembledSystem);
-    impl Problem for Poisoned {
-        fn dim(&self) -> usize {
-            self.0.dim()
-        }
-        fn pattern(&self) -> &Pattern {
-            self.0.pattern()
-        }
-        fn residual(&mut self, x: &[f64], l: f64, r: &mut [f64]) {
-            self.0.residual(x, l, r);
-            if l > 0.5 {
-                r[0] = f64::NAN;
-            }
-        }
-        fn jacobian(&mut self, x: &[f64], l: f64, jx: &mut [f64], jl: &mut [f64]) {
-            self.0.jacobian(x, l, jx, jl);
-        }
-    }
-    let mut p = Poisoned(circle());
+    let mut p = Poisoned(circle(), |l| l > 0.5);
     let opts = Options { max_steps: 100, residual_tol: 1e-12, initial_step: 0.05, max_step: 0.2, ..Default::default() };
     let b = continue_newton(
         &mut p,
@@ -560,36 +572,6 @@ fn a_located_pitchfork_is_within_its_tolerance_from_1e_5_to_1e_13() {
 /// samples between the halved end and the first end were listed twice.
 #[test]
 fn a_halved_anm_step_delivers_each_sample_once() {
-    use rodkit::continuation::{Problem, SeriesProblem};
-    use rodkit::linalg::sparse::Pattern;
-    struct FailOnce(AssembledSystem, usize);
-    impl Problem for FailOnce {
-        fn dim(&self) -> usize {
-            self.0.dim()
-        }
-        fn pattern(&self) -> &Pattern {
-            self.0.pattern()
-        }
-        fn residual(&mut self, x: &[f64], l: f64, r: &mut [f64]) {
-            self.0.residual(x, l, r);
-            let on_grid = ((l * 100.0).round() - l * 100.0).abs() < 1e-9;
-            if self.1 > 0 && l > 0.3 && !on_grid {
-                self.1 -= 1;
-                r[0] = f64::NAN;
-            }
-        }
-        fn jacobian(&mut self, x: &[f64], l: f64, jx: &mut [f64], jl: &mut [f64]) {
-            self.0.jacobian(x, l, jx, jl);
-        }
-    }
-    impl SeriesProblem for FailOnce {
-        fn series_begin(&mut self, x0: &[f64], lambda0: f64, max_order: usize) {
-            self.0.series_begin(x0, lambda0, max_order)
-        }
-        fn series_order(&mut self, p: usize, xp: &[f64], lambda_p: f64, out: &mut [f64]) {
-            self.0.series_order(p, xp, lambda_p, out)
-        }
-    }
     let targets: Vec<f64> = (1..90).map(|k| k as f64 / 100.0).collect();
     let opts = Options {
         max_steps: 200,
@@ -603,10 +585,16 @@ fn a_halved_anm_step_delivers_each_sample_once() {
     let anm = AnmOptions { order: 20, epsilon: 1e-10, pade: false };
     // Two poisoned residuals: the end point's own and its correction's
     // first (one alone is corrected away).
-    let mut p = FailOnce(circle(), 2);
+    let left = std::cell::Cell::new(2);
+    let mut p = Poisoned(circle(), |l: f64| {
+        let on_grid = ((l * 100.0).round() - l * 100.0).abs() < 1e-9;
+        let poison = left.get() > 0 && l > 0.3 && !on_grid;
+        left.set(left.get() - usize::from(poison));
+        poison
+    });
     let start = Start::Point { x: vec![1.0, 0.0, 0.0], lambda: 0.0, increasing: true };
     let b = continue_anm(&mut p, start, &opts, &anm, |x, _| x.to_vec(), |_| true).unwrap();
-    assert_eq!(p.1, 0, "the end point's correction was never made to fail");
+    assert_eq!(left.get(), 0, "the end point's correction was never made to fail");
     assert_eq!(b.stop, Stop::LambdaRange);
     let got: Vec<f64> = b.samples.iter().map(|s| s.lambda).collect();
     assert_eq!(got, targets, "each requested Λ once, in order");

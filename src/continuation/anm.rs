@@ -161,15 +161,14 @@ pub fn continue_anm<P: SeriesProblem + ?Sized>(
             Some(d) => Curve::Pade(&expansion.series, d),
             None => Curve::Series(&expansion.series),
         };
-        let (kept, mut delivered) = samples(&mut run, problem, &curve, a, &here, &mut observe);
+        let (kept, delivered) = samples(&mut run, problem, &curve, a, &here, &mut observe);
         let end = match end_point(&mut run, problem, &curve, a, &here, &v, kept)? {
             End::Reached(end) => {
                 // A halved step: the samples past its end are the next
                 // step's (delivered from its own start, not twice).
                 if end.a < a && !end.target {
-                    let mut past: Vec<Placed> =
-                        delivered.drain(..).filter(|&(t, _)| t > end.a).map(|(_, p)| p).collect();
-                    run.withdraw(&mut past);
+                    let past: Vec<Placed> = delivered.iter().filter(|&&(t, _)| t > end.a).map(|&(_, p)| p).collect();
+                    run.withdraw(&past);
                 }
                 end
             }
@@ -332,12 +331,15 @@ fn samples<P: SeriesProblem + ?Sized>(
             curve.evaluate(t, &mut xs, None);
             // After a deferred sample (none wait at a step's start: the
             // loop's top delivered them) the later ones wait too, in order.
-            let mark = run.sample_mark();
-            match run.has_pending() {
+            let placed = match run.has_pending() {
                 true => run.defer(xs, target, record),
-                false => refactorised |= run.sample(problem, xs, (target, (&here.tx, here.tl)), record, observe, true),
-            }
-            delivered.extend(run.placed_since(mark).map(|p| (t, p)));
+                false => {
+                    let (fresh, placed) = run.sample(problem, xs, (target, (&here.tx, here.tl)), record, observe, true);
+                    refactorised |= fresh;
+                    placed
+                }
+            };
+            delivered.push((t, placed));
         }
     }
     (!refactorised, delivered)

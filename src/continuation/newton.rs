@@ -407,7 +407,7 @@ fn samples<P: Problem + ?Sized>(
         for theta in all_roots(|t| lambda_at(t) - target, 1.0) {
             let mut xs = vec![0.0; at.x.len()];
             hermite(at, next, step, theta, &mut xs);
-            refactorised |= run.sample(problem, xs, (target, (&next.tx, next.tl)), record, observe, false);
+            refactorised |= run.sample(problem, xs, (target, (&next.tx, next.tl)), record, observe, false).0;
         }
     }
     refactorised

@@ -174,9 +174,14 @@ pub(crate) struct Run<'o> {
     mode_work: ModeWork,
 }
 
-/// Where a sample went: (0 samples, 1 missed loads, 2 pending; index).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub struct Placed(u8, usize);
+/// Where a sample went: its index in the branch's samples, its missed
+/// loads or the pending samples ([`Run::withdraw`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Placed {
+    Sample(usize),
+    Missed(usize),
+    Pending(usize),
+}
 
 /// A sample deferred by [`Run::sample`]: its load, its prediction on the
 /// step's curve, the record of the step's start and the chord iterations
@@ -585,7 +590,8 @@ impl<'o> Run<'o> {
     /// point's factorisation (the end of the step, nearer a sample late in
     /// it than its start: a chord there saves the factorisation). It
     /// counts as refactorised: the step's factorisation did not reach it,
-    /// so it will not reach the end point either.
+    /// so it will not reach the end point either. Also returns where the
+    /// sample went.
     pub fn sample<P: Problem + ?Sized>(
         &mut self,
         problem: &mut P,
@@ -594,18 +600,27 @@ impl<'o> Run<'o> {
         record: usize,
         observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
         defer: bool,
-    ) -> bool {
+    ) -> (bool, Placed) {
         let mut refactorised = false;
         let tol = self.opts.residual_tol;
         let mut spent = 0;
-        match deliver_sample(problem, &mut self.ctx, &mut xs, target, t, tol, &mut refactorised, (defer, &mut spent)) {
+        let placed = match deliver_sample(
+            problem,
+            &mut self.ctx,
+            &mut xs,
+            target,
+            t,
+            tol,
+            &mut refactorised,
+            (defer, &mut spent),
+        ) {
             Ok(None) => {
-                self.defer_sample(Pending { target, prediction: xs, record, spent });
                 refactorised = true;
+                self.defer_sample(Pending { target, prediction: xs, record, spent })
             }
             result => self.settle(result, &xs, target, record, observe),
-        }
-        refactorised
+        };
+        (refactorised, placed)
     }
 
     /// A corrected sample into the branch's samples; a failed one into its
@@ -617,40 +632,39 @@ impl<'o> Run<'o> {
         target: f64,
         record: usize,
         observe: &mut impl FnMut(&[f64], f64) -> Vec<f64>,
-    ) {
+    ) -> Placed {
         match result {
-            Ok(Some((iterations, residual))) => self.samples.push(Sample {
-                lambda: target,
-                record,
-                outputs: observe(xs, target),
-                residual,
-                newton_iterations: iterations,
-            }),
-            _ => self.missed.push(target),
+            Ok(Some((iterations, residual))) => {
+                self.samples.push(Sample {
+                    lambda: target,
+                    record,
+                    outputs: observe(xs, target),
+                    residual,
+                    newton_iterations: iterations,
+                });
+                Placed::Sample(self.samples.len() - 1)
+            }
+            _ => {
+                self.missed.push(target);
+                Placed::Missed(self.missed.len() - 1)
+            }
         }
     }
 
-    /// The lengths of the samples, missed loads and pending samples: a
-    /// mark to tell where the next sample goes ([`Run::placed_since`]).
-    pub fn sample_mark(&self) -> [usize; 3] {
-        [self.samples.len(), self.missed.len(), self.pending.len()]
-    }
-
-    /// Where the one sample delivered since `mark` went.
-    pub fn placed_since(&self, mark: [usize; 3]) -> Option<Placed> {
-        let now = self.sample_mark();
-        (0..3).find(|&k| now[k] > mark[k]).map(|k| Placed(k as u8, mark[k]))
-    }
-
     /// Take back samples a step delivered past the end it reached (a
-    /// halved step: the next step delivers them, from its own start).
-    pub fn withdraw(&mut self, placed: &mut [Placed]) {
-        placed.sort_unstable_by(|a, b| b.cmp(a));
-        for &Placed(list, i) in placed.iter() {
-            match list {
-                0 => drop(self.samples.remove(i)),
-                1 => drop(self.missed.remove(i)),
-                _ => drop(self.pending.remove(i)),
+    /// halved step: the next step delivers them, from its own start). They
+    /// are the last of their lists: taken from each list's end first.
+    pub fn withdraw(&mut self, placed: &[Placed]) {
+        let index = |p: &Placed| match *p {
+            Placed::Sample(i) | Placed::Missed(i) | Placed::Pending(i) => i,
+        };
+        let mut placed = placed.to_vec();
+        placed.sort_unstable_by_key(|p| std::cmp::Reverse(index(p)));
+        for p in placed {
+            match p {
+                Placed::Sample(i) => drop(self.samples.remove(i)),
+                Placed::Missed(i) => drop(self.missed.remove(i)),
+                Placed::Pending(i) => drop(self.pending.remove(i)),
             }
         }
     }
@@ -663,13 +677,14 @@ impl<'o> Run<'o> {
     /// Defer a sample without trying the current factorisation: one
     /// after a deferred one in the same step, so that the samples keep
     /// their order along the branch.
-    pub fn defer(&mut self, xs: Vec<f64>, target: f64, record: usize) {
-        self.defer_sample(Pending { target, prediction: xs, record, spent: 0 });
+    pub fn defer(&mut self, xs: Vec<f64>, target: f64, record: usize) -> Placed {
+        self.defer_sample(Pending { target, prediction: xs, record, spent: 0 })
     }
 
-    fn defer_sample(&mut self, p: Pending) {
+    fn defer_sample(&mut self, p: Pending) -> Placed {
         self.ctx.counts.deferred_samples += 1;
         self.pending.push(p);
+        Placed::Pending(self.pending.len() - 1)
     }
 
     /// The deferred samples ([`Run::sample`]), by chord on the current

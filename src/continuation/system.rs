@@ -16,7 +16,7 @@
 
 use super::{Problem, SeriesProblem};
 use crate::kept::Recent;
-use crate::linalg::sparse::Pattern;
+use crate::linalg::sparse::{group_by_key, ColumnWriter, Pattern};
 use crate::taylor::batch::{
     eval_lanes, give_back, grow_pooled, jacobian_lanes, BatchJacobianWork, BatchTaylorWork, Lanes, LANES,
 };
@@ -150,9 +150,6 @@ impl Structure {
     fn build(n: usize, blocks: &[Block]) -> Self {
         assert!(n < u32::MAX as usize, "system too large for 32-bit rows");
         let mut covered = vec![false; n];
-        // Per column, how many block inputs read it (then where its
-        // readers start).
-        let mut start = vec![0u32; n + 1];
         for b in blocks {
             assert_eq!(b.inputs.len(), b.tape.inputs(), "block inputs do not match its tape");
             assert_eq!(b.rows.len(), b.tape.outputs(), "block rows do not match its tape");
@@ -163,27 +160,19 @@ impl Structure {
             for s in &b.inputs {
                 if let Slot::Unknown(c) = *s {
                     assert!(c < n, "block input unknown {c} outside a {n}-unknown system");
-                    start[c + 1] += 1;
                 }
             }
         }
         if let Some(row) = covered.iter().position(|c| !c) {
             panic!("equation {row} receives no block output");
         }
-        for c in 0..n {
-            start[c + 1] += start[c];
-        }
         // (block, input) of each column's readers, in block order.
-        let mut next = start.clone();
-        let mut readers = vec![(0u32, 0u32); start[n] as usize];
-        for (e, b) in blocks.iter().enumerate() {
-            for (j, s) in b.inputs.iter().enumerate() {
-                if let Slot::Unknown(c) = *s {
-                    readers[next[c] as usize] = (e as u32, j as u32);
-                    next[c] += 1;
-                }
-            }
-        }
+        let (start, readers) = group_by_key(
+            n,
+            blocks.iter().enumerate().flat_map(|(e, b)| {
+                b.inputs.iter().enumerate().filter_map(move |(j, s)| unknown(s).map(|c| (c, (e as u32, j as u32))))
+            }),
+        );
         // Each distinct tape's dependencies by input.
         let mut tapes: Vec<(&Tape, ByInput)> = Vec::new();
         let which: Vec<usize> = blocks
@@ -209,31 +198,20 @@ impl Structure {
         // A column's (row, block, index in the block's dependency order).
         let mut column: Vec<(u32, u32, u32)> = Vec::new();
         for c in 0..n {
-            let readers = &readers[start[c] as usize..start[c + 1] as usize];
+            let readers = &readers[start[c]..start[c + 1]];
             // One block reads the column and its rows increase (a rod's
             // stage unknowns): the column's rows are that block's, in
-            // order, with the diagonal placed among them (no merge, no
-            // repeat to skip).
+            // order (no gather into a list, no sort).
             if let [(e, j)] = *readers {
                 let (e, j) = (e as usize, j as usize);
                 if increasing[e] {
                     let rows = &blocks[e].rows;
                     let at = &mut positions[e];
-                    let mut diagonal_placed = false;
+                    let mut column = ColumnWriter::new(&row_idx, c, true);
                     for &(k, d) in tapes[which[e]].1.of(j) {
-                        let i = rows[k as usize];
-                        if !diagonal_placed && i >= c {
-                            if i > c {
-                                row_idx.push(c);
-                            }
-                            diagonal_placed = true;
-                        }
-                        at[d as usize] = row_idx.len() as u32;
-                        row_idx.push(i);
+                        at[d as usize] = column.push_new(&mut row_idx, rows[k as usize]) as u32;
                     }
-                    if !diagonal_placed {
-                        row_idx.push(c);
-                    }
+                    column.finish(&mut row_idx);
                     col_ptr.push(row_idx.len());
                     continue;
                 }
@@ -247,24 +225,11 @@ impl Structure {
             if column.windows(2).any(|w| w[0].0 > w[1].0) {
                 column.sort_unstable();
             }
-            let begin = row_idx.len();
-            let mut diagonal_placed = false;
+            let mut writer = ColumnWriter::new(&row_idx, c, true);
             for &(i, e, d) in &column {
-                let i = i as usize;
-                if !diagonal_placed && i >= c {
-                    if i > c {
-                        row_idx.push(c);
-                    }
-                    diagonal_placed = true;
-                }
-                if row_idx.len() == begin || row_idx[row_idx.len() - 1] != i {
-                    row_idx.push(i);
-                }
-                positions[e as usize][d as usize] = (row_idx.len() - 1) as u32;
+                positions[e as usize][d as usize] = writer.push(&mut row_idx, i as usize) as u32;
             }
-            if !diagonal_placed {
-                row_idx.push(c);
-            }
+            writer.finish(&mut row_idx);
             col_ptr.push(row_idx.len());
         }
         let key =
@@ -283,25 +248,9 @@ struct ByInput {
 
 impl ByInput {
     fn new(tape: &Tape) -> Self {
-        let mut start = vec![0usize; tape.inputs() + 1];
-        for k in 0..tape.outputs() {
-            for &j in tape.dependencies(k) {
-                start[j as usize + 1] += 1;
-            }
-        }
-        for j in 0..tape.inputs() {
-            start[j + 1] += start[j];
-        }
-        let mut next = start.clone();
-        let mut entries = vec![(0u32, 0u32); start[tape.inputs()]];
-        let mut d = 0u32;
-        for k in 0..tape.outputs() {
-            for &j in tape.dependencies(k) {
-                entries[next[j as usize]] = (k as u32, d);
-                next[j as usize] += 1;
-                d += 1;
-            }
-        }
+        let in_order =
+            (0..tape.outputs()).flat_map(|k| tape.dependencies(k).iter().map(move |&j| (j as usize, k as u32)));
+        let (start, entries) = group_by_key(tape.inputs(), in_order.enumerate().map(|(d, (j, k))| (j, (k, d as u32))));
         ByInput { start, entries }
     }
 

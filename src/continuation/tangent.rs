@@ -125,12 +125,18 @@ impl Bordered {
 
     fn evaluate<P: Problem + ?Sized>(&mut self, problem: &mut P, x: &[f64], lambda: f64, counts: &mut Counts) {
         let t = Instant::now();
-        if self.jx.len() != self.nnz {
-            self.jx = vec![0.0; self.nnz];
-        }
+        self.size_jacobian();
         problem.jacobian(x, lambda, &mut self.jx, &mut self.jl);
         counts.times.jacobians += t.elapsed();
         counts.jacobians += 1;
+    }
+
+    /// The Jacobian's array, sized on first use (the first evaluation
+    /// writes it whole: zeroing it at set-up as well was wasted).
+    fn size_jacobian(&mut self) {
+        if self.jx.len() != self.nnz {
+            self.jx = vec![0.0; self.nnz];
+        }
     }
 
     /// Re-factorise the current Jacobian with another border (for solves).
@@ -145,11 +151,9 @@ impl Bordered {
         counts: &mut Counts,
         exact: bool,
     ) -> Result<()> {
-        // (A border factorised before any Jacobian: a zero matrix, refused
-        // by the LU as before its array was sized lazily.)
-        if self.jx.len() != self.nnz {
-            self.jx = vec![0.0; self.nnz];
-        }
+        // (A border factorised before any Jacobian: a zero matrix, which
+        // the LU refuses.)
+        self.size_jacobian();
         let mean = 1.0 / self.n.max(1) as f64;
         for j in 0..self.n {
             self.row[j] = mean * vx[j] / (scaling.x[j] * scaling.x[j]);

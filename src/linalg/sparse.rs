@@ -25,6 +25,80 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par};
 use std::sync::Arc;
 
+/// Items grouped by their key in 0..keys, each group in the items' order
+/// (a counting sort): where each key's group starts (keys + 1 offsets),
+/// and the items.
+pub(crate) fn group_by_key<T: Copy + Default>(
+    keys: usize,
+    items: impl Iterator<Item = (usize, T)> + Clone,
+) -> (Vec<usize>, Vec<T>) {
+    let mut start = vec![0usize; keys + 1];
+    for (k, _) in items.clone() {
+        start[k + 1] += 1;
+    }
+    for k in 0..keys {
+        start[k + 1] += start[k];
+    }
+    let mut next = start.clone();
+    let mut grouped = vec![T::default(); start[keys]];
+    for (k, t) in items {
+        grouped[next[k]] = t;
+        next[k] += 1;
+    }
+    (start, grouped)
+}
+
+/// One column of a pattern being written: its rows pushed in increasing
+/// order (a repeat merged with the one before), column j's diagonal placed
+/// among them when asked (a zero there is still a pivot slot).
+pub(crate) struct ColumnWriter {
+    begin: usize,
+    j: usize,
+    diagonal_due: bool,
+}
+
+impl ColumnWriter {
+    pub(crate) fn new(row_idx: &[usize], j: usize, diagonal: bool) -> Self {
+        ColumnWriter { begin: row_idx.len(), j, diagonal_due: diagonal }
+    }
+
+    /// Row i (≥ the last pushed) into `row_idx`: its position there.
+    #[inline]
+    pub(crate) fn push(&mut self, row_idx: &mut Vec<usize>, i: usize) -> usize {
+        self.diagonal_before(row_idx, i);
+        if row_idx.len() == self.begin || row_idx[row_idx.len() - 1] != i {
+            row_idx.push(i);
+        }
+        row_idx.len() - 1
+    }
+
+    /// [`ColumnWriter::push`] of a row known above the last pushed (no
+    /// repeat to look for: a column's rows from one block).
+    #[inline]
+    pub(crate) fn push_new(&mut self, row_idx: &mut Vec<usize>, i: usize) -> usize {
+        self.diagonal_before(row_idx, i);
+        row_idx.push(i);
+        row_idx.len() - 1
+    }
+
+    #[inline]
+    fn diagonal_before(&mut self, row_idx: &mut Vec<usize>, i: usize) {
+        if self.diagonal_due && i >= self.j {
+            if i > self.j {
+                row_idx.push(self.j);
+            }
+            self.diagonal_due = false;
+        }
+    }
+
+    /// The diagonal, if every row was above it.
+    pub(crate) fn finish(self, row_idx: &mut Vec<usize>) {
+        if self.diagonal_due {
+            row_idx.push(self.j);
+        }
+    }
+}
+
 /// A square sparsity pattern in compressed columns (row indices sorted).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Pattern {
@@ -85,24 +159,11 @@ impl Pattern {
             if c.windows(2).any(|w| w[0].0 > w[1].0) {
                 c.sort_unstable();
             }
-            let start = row_idx.len();
-            let mut diagonal_placed = !diagonal;
+            let mut column = ColumnWriter::new(&row_idx, j, diagonal);
             for &(i, e) in c.iter() {
-                let i = i as usize;
-                if !diagonal_placed && i >= j {
-                    if i > j {
-                        row_idx.push(j);
-                    }
-                    diagonal_placed = true;
-                }
-                if row_idx.len() == start || row_idx[row_idx.len() - 1] != i {
-                    row_idx.push(i);
-                }
-                positions[e as usize] = (row_idx.len() - 1) as u32;
+                positions[e as usize] = column.push(&mut row_idx, i as usize) as u32;
             }
-            if !diagonal_placed {
-                row_idx.push(j);
-            }
+            column.finish(&mut row_idx);
             compact.push(row_idx.len());
         }
         (Pattern { n, col_ptr: compact, row_idx }, positions)
